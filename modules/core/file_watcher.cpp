@@ -1,0 +1,108 @@
+// core::FileWatcher — inotify on directories with debounce, polling fallback.
+#include "file_watcher.h"
+
+#include "core.h"
+
+#include <cerrno>
+#include <fcntl.h>
+#include <sys/inotify.h>
+#include <unistd.h>
+
+namespace core {
+namespace fs = std::filesystem;
+
+namespace {
+double nowMs() { return secondsSinceStart() * 1000.0; }
+} // namespace
+
+FileWatcher::FileWatcher(std::vector<fs::path> dirs, double debounceMs)
+    : m_dirs(std::move(dirs)), m_debounceMs(debounceMs) {
+    m_fd = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+    if (m_fd < 0) {
+        logWarn("inotify unavailable, polling files for changes instead");
+        scanPolling();
+        return;
+    }
+    for (auto& d : m_dirs) addWatches(d);
+}
+
+FileWatcher::~FileWatcher() {
+    if (m_fd >= 0) close(m_fd);
+}
+
+void FileWatcher::addWatches(const fs::path& dir) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) return;
+    const uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE | IN_DELETE |
+                          IN_MODIFY | IN_DELETE_SELF;
+    int wd = inotify_add_watch(m_fd, dir.c_str(), mask);
+    if (wd >= 0) m_wdToDir[wd] = dir;
+    for (auto& e : fs::directory_iterator(dir, ec))
+        if (e.is_directory(ec)) addWatches(e.path());
+}
+
+void FileWatcher::drainInotify() {
+    alignas(inotify_event) char buf[16384];
+    for (;;) {
+        ssize_t n = read(m_fd, buf, sizeof buf);
+        if (n <= 0) break;
+        for (char* p = buf; p < buf + n;) {
+            auto* ev = reinterpret_cast<inotify_event*>(p);
+            p += sizeof(inotify_event) + ev->len;
+            auto it = m_wdToDir.find(ev->wd);
+            if (it == m_wdToDir.end() || ev->len == 0) continue;
+            fs::path path = it->second / ev->name;
+            std::string name = ev->name;
+            // editor temporaries and our own atomic-write temporaries are not model files
+            if (name.empty() || name[0] == '.' || name.back() == '~' ||
+                name.ends_with(".tmp") || name.ends_with(".swp"))
+                continue;
+            if ((ev->mask & IN_ISDIR) && (ev->mask & (IN_CREATE | IN_MOVED_TO))) addWatches(path);
+            m_pending[path] = nowMs();
+        }
+    }
+}
+
+void FileWatcher::scanPolling() {
+    std::map<fs::path, long long> now;
+    std::error_code ec;
+    for (auto& d : m_dirs)
+        for (auto it = fs::recursive_directory_iterator(d, ec);
+             !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+            if (!it->is_regular_file(ec)) continue;
+            auto t = fs::last_write_time(it->path(), ec);
+            now[it->path()] = t.time_since_epoch().count();
+        }
+    const double t = nowMs();
+    for (auto& [p, s] : now) {
+        auto it = m_pollStamp.find(p);
+        if (it == m_pollStamp.end() || it->second != s) m_pending[p] = t;
+    }
+    for (auto& [p, s] : m_pollStamp)
+        if (!now.count(p)) m_pending[p] = t;
+    m_pollStamp = std::move(now);
+}
+
+std::vector<fs::path> FileWatcher::poll() {
+    const double t = nowMs();
+    if (m_fd >= 0) {
+        drainInotify();
+    } else if (t - m_lastScanMs > 250.0) {
+        bool first = m_lastScanMs < -1e8;
+        m_lastScanMs = t;
+        scanPolling();
+        if (first) m_pending.clear();
+    }
+    std::vector<fs::path> settled;
+    for (auto it = m_pending.begin(); it != m_pending.end();) {
+        if (t - it->second >= m_debounceMs) {
+            settled.push_back(it->first);
+            it = m_pending.erase(it);
+        } else {
+            ++it;
+        }
+    }
+    return settled;
+}
+
+} // namespace core

@@ -1,0 +1,109 @@
+// core text/file helpers: whole-file IO with clear errors, UTF-8 validation (RFC 3629),
+// FNV-1a 64-bit content hashes.
+#include "core.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace core {
+
+std::string readFile(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw Error(path.string(), 0, "is a directory, expected a file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path.string(), 0, std::string("cannot open: ") + std::strerror(errno));
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+void writeFile(const std::filesystem::path& path, std::string_view bytes) {
+    std::filesystem::path tmp = path;
+    tmp += ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out)
+            throw Error(path.string(), 0,
+                        std::string("cannot write: ") + std::strerror(errno));
+        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        out.flush();
+        if (!out) {
+            std::filesystem::remove(tmp);
+            throw Error(path.string(), 0, "write failed (disk full?)");
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp);
+        throw Error(path.string(), 0, "cannot write: " + ec.message());
+    }
+}
+
+std::optional<size_t> firstInvalidUtf8(std::string_view s) {
+    size_t i = 0;
+    const size_t n = s.size();
+    while (i < n) {
+        unsigned char c = static_cast<unsigned char>(s[i]);
+        if (c == 0) return i; // NUL bytes mean binary data, not text
+        if (c < 0x80) {
+            ++i;
+            continue;
+        }
+        int len = 0;
+        uint32_t cp = 0;
+        if ((c & 0xE0) == 0xC0) len = 2, cp = c & 0x1F;
+        else if ((c & 0xF0) == 0xE0) len = 3, cp = c & 0x0F;
+        else if ((c & 0xF8) == 0xF0) len = 4, cp = c & 0x07;
+        else return i;
+        if (i + len > n) return i;
+        for (int k = 1; k < len; ++k) {
+            unsigned char cc = static_cast<unsigned char>(s[i + k]);
+            if ((cc & 0xC0) != 0x80) return i;
+            cp = (cp << 6) | (cc & 0x3F);
+        }
+        // reject overlong forms, surrogates and values past U+10FFFF
+        if ((len == 2 && cp < 0x80) || (len == 3 && cp < 0x800) || (len == 4 && cp < 0x10000) ||
+            (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF)
+            return i;
+        i += len;
+    }
+    return std::nullopt;
+}
+
+int lineOfOffset(std::string_view text, size_t offset) {
+    int line = 1;
+    for (size_t i = 0; i < offset && i < text.size(); ++i)
+        if (text[i] == '\n') ++line;
+    return line;
+}
+
+uint64_t fnv1a64(std::string_view bytes) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (unsigned char c : bytes) {
+        h ^= c;
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+std::string hashHex(std::string_view bytes) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(fnv1a64(bytes)));
+    return std::string("fnv1a64:") + buf;
+}
+
+std::string relativeTo(const std::filesystem::path& p, const std::filesystem::path& base) {
+    std::error_code ec;
+    auto ap = std::filesystem::weakly_canonical(p, ec);
+    auto ab = std::filesystem::weakly_canonical(base, ec);
+    auto rel = ap.lexically_relative(ab);
+    if (!rel.empty() && *rel.begin() != "..") return rel.generic_string();
+    return p.generic_string();
+}
+
+} // namespace core

@@ -1,0 +1,153 @@
+// gl: the OpenGL layer. One Context interface with two implementations — a GLFW window
+// (OpenGL 4.5 core) and an EGL headless context (Mesa surfaceless or device platform, no X
+// server) — plus RAII GL objects, program compilation with logs, stage timing (GL timer
+// queries + CPU clocks) and framebuffer readback. Every stage renders into FBOs, so the
+// window only presents them and headless runs produce the same pixels.
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+struct GLFWwindow;
+
+namespace gl {
+
+// ---- context ----------------------------------------------------------------------------------
+class Context {
+public:
+    virtual ~Context() = default;
+    virtual void makeCurrent() = 0;
+    virtual GLFWwindow* window() const { return nullptr; } // null when headless
+    bool headless() const { return window() == nullptr; }
+    std::string renderer() const;
+    std::string version() const;
+};
+
+// EGL headless context (surfaceless, then device platform, then default display).
+// Throws core::Error with the reason when no OpenGL 4.5 core context can be created.
+std::unique_ptr<Context> createHeadlessContext(bool debug = true);
+// GLFW window with an OpenGL 4.5 core context. Throws core::Error when it cannot open one.
+std::unique_ptr<Context> createWindowContext(int width, int height, const std::string& title,
+                                             bool debug = true);
+// True when a display server is reachable (DISPLAY / WAYLAND_DISPLAY set and GLFW starts).
+bool displayAvailable();
+
+// Routes KHR_debug messages to the core log (called by both context constructors).
+void installDebugOutput();
+
+// ---- RAII objects -------------------------------------------------------------------------------
+template <void (*Deleter)(GLuint)> class Handle {
+public:
+    Handle() = default;
+    explicit Handle(GLuint id) : m_id(id) {}
+    ~Handle() { reset(); }
+    Handle(Handle&& o) noexcept : m_id(std::exchange(o.m_id, 0)) {}
+    Handle& operator=(Handle&& o) noexcept {
+        if (this != &o) {
+            reset();
+            m_id = std::exchange(o.m_id, 0);
+        }
+        return *this;
+    }
+    Handle(const Handle&) = delete;
+    Handle& operator=(const Handle&) = delete;
+    GLuint id() const { return m_id; }
+    explicit operator bool() const { return m_id != 0; }
+    void reset() {
+        if (m_id) Deleter(m_id);
+        m_id = 0;
+    }
+
+private:
+    GLuint m_id = 0;
+};
+void deleteBuffer(GLuint id);
+void deleteTexture(GLuint id);
+void deleteFramebuffer(GLuint id);
+void deleteProgram(GLuint id);
+void deleteVertexArray(GLuint id);
+using Buffer = Handle<deleteBuffer>;
+using Texture = Handle<deleteTexture>;
+using FramebufferId = Handle<deleteFramebuffer>;
+using Program = Handle<deleteProgram>;
+using VertexArray = Handle<deleteVertexArray>;
+
+Buffer createBuffer(size_t bytes, const void* data, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
+
+// RGBA colour target (RGBA8 or RGBA32F) with an FBO around it.
+class RenderTarget {
+public:
+    void resize(int width, int height, GLenum internalFormat = GL_RGBA8);
+    void bind() const;
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    GLuint texture() const { return m_color.id(); }
+    GLuint framebuffer() const { return m_fbo.id(); }
+
+private:
+    Texture m_color;
+    FramebufferId m_fbo;
+    int m_width = 0, m_height = 0;
+    GLenum m_format = 0;
+};
+
+// ---- programs -----------------------------------------------------------------------------------
+struct ShaderStage {
+    GLenum type; // GL_COMPUTE_SHADER, GL_VERTEX_SHADER, ...
+    std::string source;
+};
+// Compile or link failure; `log` is the raw driver log, `stage` the failing stage (0: link).
+class ProgramError : public std::runtime_error {
+public:
+    ProgramError(GLenum stage, std::string log)
+        : std::runtime_error(log), m_stage(stage), m_log(std::move(log)) {}
+    GLenum stage() const { return m_stage; }
+    const std::string& log() const { return m_log; }
+
+private:
+    GLenum m_stage;
+    std::string m_log;
+};
+Program buildProgram(const std::vector<ShaderStage>& stages); // throws ProgramError
+GLint uniformLocation(const Program& p, const char* name);      // -1 when unused/absent
+
+// ---- timing -------------------------------------------------------------------------------------
+// Per-stage timings: CPU wall clock and GPU time (GL_TIME_ELAPSED). GPU results are collected
+// without stalling on a later call to collectTimings().
+struct StageTiming {
+    std::string stage;
+    double cpuMs = 0;
+    double gpuMs = -1; // -1 until the query result arrives
+    long long runs = 0;
+};
+class ScopedStageTimer {
+public:
+    explicit ScopedStageTimer(std::string stage);
+    ~ScopedStageTimer();
+    ScopedStageTimer(const ScopedStageTimer&) = delete;
+    ScopedStageTimer& operator=(const ScopedStageTimer&) = delete;
+
+private:
+    std::string m_stage;
+    GLuint m_query = 0;
+    double m_startMs;
+};
+void collectTimings(bool wait = false);
+std::vector<StageTiming> timings();
+// A named measurement that is not a GL stage (e.g. save-to-pixels latency).
+void recordTiming(const std::string& stage, double cpuMs);
+
+// ---- readback -----------------------------------------------------------------------------------
+// Reads an RGBA8 rectangle of the bound read framebuffer, rows top-to-bottom.
+std::vector<unsigned char> readPixelsRGBA8(GLuint fbo, int x, int y, int width, int height);
+// Writes RGBA8 pixels (top row first) as PNG; throws core::Error naming the path.
+void writePng(const std::filesystem::path& path, int width, int height,
+              const std::vector<unsigned char>& rgba);
+
+} // namespace gl

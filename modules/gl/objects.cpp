@@ -1,0 +1,125 @@
+// gl RAII objects, render targets, program building and KHR_debug output.
+#include "gl.h"
+
+#include "core/core.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace gl {
+
+void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
+void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
+void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
+void deleteProgram(GLuint id) { glDeleteProgram(id); }
+void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
+
+Buffer createBuffer(size_t bytes, const void* data, GLbitfield flags) {
+    GLuint id = 0;
+    glCreateBuffers(1, &id);
+    glNamedBufferStorage(id, static_cast<GLsizeiptr>(bytes), data, flags);
+    return Buffer(id);
+}
+
+void RenderTarget::resize(int width, int height, GLenum internalFormat) {
+    if (width == m_width && height == m_height && internalFormat == m_format && m_fbo) return;
+    m_width = width;
+    m_height = height;
+    m_format = internalFormat;
+    GLuint tex = 0, fbo = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &tex);
+    glTextureStorage2D(tex, 1, internalFormat, width, height);
+    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glCreateFramebuffers(1, &fbo);
+    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, tex, 0);
+    GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+    m_color = Texture(tex);
+    m_fbo = FramebufferId(fbo);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        throw core::Error("framebuffer incomplete (status 0x" + std::to_string(status) + ")");
+}
+
+void RenderTarget::bind() const {
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
+    glViewport(0, 0, m_width, m_height);
+}
+
+namespace {
+std::string shaderLog(GLuint shader) {
+    GLint len = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<size_t>(std::max(len, 1)), '\0');
+    glGetShaderInfoLog(shader, len, nullptr, log.data());
+    log.resize(std::strlen(log.c_str()));
+    return log;
+}
+std::string programLog(GLuint program) {
+    GLint len = 0;
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<size_t>(std::max(len, 1)), '\0');
+    glGetProgramInfoLog(program, len, nullptr, log.data());
+    log.resize(std::strlen(log.c_str()));
+    return log;
+}
+} // namespace
+
+Program buildProgram(const std::vector<ShaderStage>& stages) {
+    Program program(glCreateProgram());
+    std::vector<GLuint> shaders;
+    auto cleanup = [&] {
+        for (GLuint s : shaders) glDeleteShader(s);
+    };
+    for (const auto& st : stages) {
+        GLuint s = glCreateShader(st.type);
+        shaders.push_back(s);
+        const char* src = st.source.c_str();
+        glShaderSource(s, 1, &src, nullptr);
+        glCompileShader(s);
+        GLint ok = 0;
+        glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+        if (!ok) {
+            std::string log = shaderLog(s);
+            cleanup();
+            throw ProgramError(st.type, log.empty() ? "compile failed (empty log)" : log);
+        }
+        glAttachShader(program.id(), s);
+    }
+    glLinkProgram(program.id());
+    cleanup();
+    GLint ok = 0;
+    glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+    if (!ok) {
+        std::string log = programLog(program.id());
+        throw ProgramError(0, log.empty() ? "link failed (empty log)" : log);
+    }
+    return program;
+}
+
+GLint uniformLocation(const Program& p, const char* name) {
+    return glGetUniformLocation(p.id(), name);
+}
+
+namespace {
+void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei,
+                              const GLchar* message, const void*) {
+    if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
+    core::LogLevel level = core::LogLevel::Debug;
+    // shader compiler messages are reported through ProgramError, mapped to the user's file
+    if (source == GL_DEBUG_SOURCE_SHADER_COMPILER) level = core::LogLevel::Debug;
+    else if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH)
+        level = core::LogLevel::Error;
+    else if (severity == GL_DEBUG_SEVERITY_MEDIUM)
+        level = core::LogLevel::Warn;
+    core::log(level, "GL debug [" + std::to_string(id) + "]: " + message);
+}
+} // namespace
+
+void installDebugOutput() {
+    if (!epoxy_has_gl_extension("GL_KHR_debug") && epoxy_gl_version() < 43) return;
+    glEnable(GL_DEBUG_OUTPUT);
+    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    glDebugMessageCallback(debugCallback, nullptr);
+}
+
+} // namespace gl

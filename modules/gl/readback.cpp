@@ -1,0 +1,29 @@
+// gl readback: framebuffer pixels to memory and PNG (stb_image_write from Debian's libstb).
+#include "gl.h"
+
+#include "core/core.h"
+
+#include <stb_image_write.h>
+
+namespace gl {
+
+std::vector<unsigned char> readPixelsRGBA8(GLuint fbo, int x, int y, int width, int height) {
+    std::vector<unsigned char> pixels(static_cast<size_t>(width) * height * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(x, y, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+    // GL rows are bottom-up; flip to top-down.
+    const size_t row = static_cast<size_t>(width) * 4;
+    for (int r = 0; r < height / 2; ++r)
+        std::swap_ranges(pixels.begin() + r * row, pixels.begin() + (r + 1) * row,
+                         pixels.begin() + (height - 1 - r) * row);
+    return pixels;
+}
+
+void writePng(const std::filesystem::path& path, int width, int height,
+              const std::vector<unsigned char>& rgba) {
+    if (!stbi_write_png(path.c_str(), width, height, 4, rgba.data(), width * 4))
+        throw core::Error(path.string(), 0, "cannot write PNG (directory missing or not writable?)");
+}
+
+} // namespace gl

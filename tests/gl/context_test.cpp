@@ -1,0 +1,60 @@
+// Headless GL context: OpenGL 4.5 core through EGL, compute shaders, FBO readback.
+#include "gl/gl.h"
+
+#include <gtest/gtest.h>
+
+TEST(HeadlessContext, GivesGl45CoreWithCompute) {
+    auto ctx = gl::createHeadlessContext();
+    ASSERT_TRUE(ctx);
+    EXPECT_TRUE(ctx->headless());
+    EXPECT_GE(epoxy_gl_version(), 45);
+    EXPECT_FALSE(ctx->renderer().empty());
+
+    const char* src = R"(#version 450
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) buffer Out { float v[]; };
+void main() { v[gl_GlobalInvocationID.x] = float(gl_GlobalInvocationID.x) * 0.5; })";
+    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, src}});
+    gl::Buffer buf = gl::createBuffer(256 * sizeof(float), nullptr);
+    glUseProgram(p.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.id());
+    {
+        gl::ScopedStageTimer t("test_compute");
+        glDispatchCompute(4, 1, 1);
+    }
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> out(256);
+    glGetNamedBufferSubData(buf.id(), 0, 256 * sizeof(float), out.data());
+    for (int i = 0; i < 256; ++i) EXPECT_EQ(out[i], i * 0.5f);
+    gl::collectTimings(true);
+    auto t = gl::timings();
+    ASSERT_EQ(t.size(), 1u);
+    EXPECT_GE(t[0].gpuMs, 0.0);
+}
+
+TEST(HeadlessContext, CompileErrorsCarryTheDriverLog) {
+    auto ctx = gl::createHeadlessContext();
+    try {
+        gl::buildProgram({{GL_COMPUTE_SHADER, "#version 450\nlayout(local_size_x=1) in;\n"
+                                              "void main() { undefined_thing = 1; }\n"}});
+        FAIL() << "expected a compile error";
+    } catch (const gl::ProgramError& e) {
+        EXPECT_EQ(e.stage(), static_cast<GLenum>(GL_COMPUTE_SHADER));
+        EXPECT_NE(e.log().find("undefined_thing"), std::string::npos) << e.log();
+    }
+}
+
+TEST(HeadlessContext, RenderTargetClearAndReadback) {
+    auto ctx = gl::createHeadlessContext();
+    gl::RenderTarget rt;
+    rt.resize(8, 4);
+    rt.bind();
+    glClearColor(1.0f, 0.5f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    auto px = gl::readPixelsRGBA8(rt.framebuffer(), 0, 0, 8, 4);
+    ASSERT_EQ(px.size(), 8u * 4u * 4u);
+    EXPECT_EQ(px[0], 255);
+    EXPECT_NEAR(px[1], 128, 1);
+    EXPECT_EQ(px[2], 0);
+    EXPECT_EQ(px[3], 255);
+}
