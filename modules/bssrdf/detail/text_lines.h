@@ -23,11 +23,15 @@ inline std::vector<std::string_view> splitLines(std::string_view text) {
     return lines;
 }
 
-inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+inline bool isBlank(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
 
 inline std::string_view trim(std::string_view s) {
-    while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
-    while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
+    while (!s.empty() && isBlank(s.front()))
+        s.remove_prefix(1);
+    while (!s.empty() && isBlank(s.back()))
+        s.remove_suffix(1);
     return s;
 }
 
@@ -36,9 +40,11 @@ inline std::vector<std::string_view> tokenize(std::string_view s) {
     std::vector<std::string_view> out;
     size_t i = 0;
     while (i < s.size()) {
-        while (i < s.size() && isBlank(s[i])) ++i;
+        while (i < s.size() && isBlank(s[i]))
+            ++i;
         size_t j = i;
-        while (j < s.size() && !isBlank(s[j])) ++j;
+        while (j < s.size() && !isBlank(s[j]))
+            ++j;
         if (j > i) out.push_back(s.substr(i, j - i));
         i = j;
     }

@@ -1,0 +1,207 @@
+// Capture record/replay for the workbench stages (material, pencil_plot).
+#include "capture_io.h"
+
+#include "capture/capture.h"
+#include "core/core.h"
+#include "gl/gl.h"
+#include "panels/panels.h"
+#include "settings_json.h"
+
+#include <sstream>
+
+namespace app {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+struct StageTable {
+    std::string stage, file, key;
+    capture::Table table;
+    double absTol, relTol;
+    std::string note;
+};
+
+// GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in
+// the profile's tail that is ~63 ulp, i.e. 63 · 2^-24 ≈ 3.8e-6 relative, plus the same again
+// for the arithmetic around it. 1e-5 relative covers a different driver; on the same driver
+// replays are bit-exact.
+constexpr double kProfileRelTol = 1e-5;
+// σ from R_dr/l_d: the bisection brackets α′ to 2^-27; float32 DiffuseReflectance moves the
+// root by ~1 ulp of α′ ≈ 6e-8, amplified by 1/(1−α′) in σa (≤ ~1e3 for the presets).
+constexpr double kInvertedRelTol = 1e-4;
+
+std::string gpuString(GLenum e) {
+    const GLubyte* s = glGetString(e);
+    return s ? reinterpret_cast<const char*>(s) : "";
+}
+
+std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& missing) {
+    std::vector<StageTable> out;
+    for (auto& e : wb.library().entries()) {
+        const std::string name = e.model ? e.model->name : e.file.stem().string();
+        auto& v = wb.view(e.displayPath);
+        if (!e.usable() || !v.effective) {
+            missing.push_back(name + ": " +
+                              (e.problem ? e.problem->text()
+                                         : v.materialProblem.empty() ? "not computed"
+                                                                     : v.materialProblem));
+            continue;
+        }
+        const MaterialSettings& s = v.override ? v.own : wb.shared();
+        StageTable m{"material/" + name, "material_" + name + ".csv", "channel", {}, 0, 0, ""};
+        m.table.comments = {"model " + e.displayPath, "effective sigma in 1/mm"};
+        m.table.columns = {"channel", "sigma_a", "sigma_s"};
+        for (int c = 0; c < 3; ++c)
+            m.table.rows.push_back({double(c), v.effective->sigmaA[c], v.effective->sigmaS[c]});
+        if (s.mode == ParamMode::RdrLd) {
+            m.relTol = kInvertedRelTol;
+            m.note = "inverted from R_dr/l_d with float32 GPU DiffuseReflectance";
+        } else {
+            m.note = "copied from the inputs (exact)";
+        }
+        out.push_back(std::move(m));
+
+        StageTable p{"pencil_plot/" + name, "pencil_plot_" + name + ".csv", "r_mm", {}, 0,
+                     kProfileRelTol, "float32 GPU evaluation of Bssrdf(); GLSL exp <= (3+2|x|) ulp"};
+        p.table.comments = {"model " + e.displayPath,
+                            "Bssrdf(Xi=0, Wi=n, Xo=(r,0,0), Wo=n) in 1/mm^2"};
+        p.table.columns = {"r_mm", "R", "G", "B"};
+        for (size_t i = 0; i < v.profile.r.size(); ++i)
+            p.table.rows.push_back({v.profile.r[i], v.profile.value[i].x, v.profile.value[i].y,
+                                    v.profile.value[i].z});
+        out.push_back(std::move(p));
+    }
+    return out;
+}
+
+json paramsJson(Workbench& wb) {
+    json models = json::object();
+    for (auto& e : wb.library().entries()) {
+        auto& v = wb.view(e.displayPath);
+        models[e.displayPath] = {{"visible", v.visible},
+                                 {"override", v.override},
+                                 {"own", toJson(v.own)},
+                                 {"values", toJson(e.values)}};
+    }
+    return {{"shared", toJson(wb.shared())}, {"models", models}};
+}
+
+void applyParams(Workbench& wb, const json& params, const std::string& where) {
+    if (!params.contains("shared") || !params.contains("models"))
+        throw core::Error(where, 0, "params needs 'shared' and 'models'");
+    wb.shared() = materialFromJson(params["shared"], where + " (params.shared)");
+    for (auto it = params["models"].begin(); it != params["models"].end(); ++it) {
+        auto* e = wb.library().find(it.key());
+        if (!e) continue; // reported as an input problem / missing stage
+        const std::string w = where + " (params.models." + it.key() + ")";
+        auto& v = wb.view(it.key());
+        v.visible = it->value("visible", true);
+        v.override = it->value("override", false);
+        v.own = materialFromJson(it->at("own"), w);
+        auto values = valuesFromJson(it->at("values"), w);
+        for (auto& [k, val] : values)
+            if (e->values.count(k)) e->values[k] = val;
+    }
+}
+
+} // namespace
+
+void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name) {
+    if (!capture::isValidName(name))
+        throw core::Error(name, 0,
+                          "invalid capture name (letters, digits, '_', '-', '.' only)");
+    wb.update();
+    std::vector<std::string> missing;
+    auto tables = stageTables(wb, missing);
+    if (tables.empty())
+        throw core::Error(dir.string(), 0, "nothing to record: no model produced output");
+    capture::Manifest m;
+    m.name = name;
+    m.createdUtc = capture::utcNow();
+    m.programVersion = BW_VERSION;
+    m.glRenderer = gpuString(GL_RENDERER);
+    m.glVersion = gpuString(GL_VERSION);
+    for (auto& e : wb.library().entries()) {
+        std::string text = core::readFile(e.file);
+        m.models.push_back({e.displayPath, core::hashHex(text), text});
+    }
+    m.params = paramsJson(wb);
+    m.settings = {{"plot", toJson(wb.plotSettings())}, {"r_max_mm", wb.rMaxMm()}, {"seed", 0}};
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
+    for (auto& t : tables)
+        m.outputs.push_back(capture::writeCsvStage(dir, t.stage, t.file, t.table, t.absTol,
+                                                   t.relTol, t.note));
+    capture::writeManifest(dir, m);
+    for (const auto& s : missing) core::logWarn("capture " + name + ": not recorded: " + s);
+}
+
+std::string recordCapture(Workbench& wb, const std::string& name) {
+    fs::path dir = wb.root() / "captures" / name;
+    recordCaptureTo(wb, dir, name);
+    return core::relativeTo(dir, wb.root());
+}
+
+int replayCapture(const fs::path& captureDir, const fs::path& root, bool update, std::string& out) {
+    capture::Manifest m;
+    try {
+        m = capture::readManifest(captureDir);
+    } catch (const core::Error& e) {
+        out = std::string("ERROR ") + e.what() + "\n";
+        return 2;
+    }
+    capture::ReplayReport report;
+    if (!update) report.inputProblems = capture::checkInputs(m, captureDir, root);
+    std::vector<fs::path> models;
+    for (const auto& mf : m.models)
+        if (fs::exists(root / mf.path)) models.push_back(root / mf.path);
+    const std::string where = (captureDir / capture::kManifestFileName).string();
+    try {
+        Workbench wb(root, false, models);
+        applyParams(wb, m.params, where);
+        if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
+        wb.plotSettings() = plotFromJson(m.settings["plot"], where + " (settings.plot)");
+        wb.update();
+        std::vector<std::string> missing;
+        auto tables = stageTables(wb, missing);
+        for (auto& rec : m.outputs) {
+            auto it = std::find_if(tables.begin(), tables.end(),
+                                   [&](const StageTable& t) { return t.stage == rec.stage; });
+            if (it == tables.end()) {
+                capture::Comparison c;
+                c.stage = rec.stage;
+                c.message = "stage not produced by this run";
+                for (const auto& s : missing) c.message += "; " + s;
+                report.stages.push_back(c);
+                continue;
+            }
+            if (update) {
+                rec = capture::writeCsvStage(captureDir, rec.stage, rec.file, it->table,
+                                             rec.absTol, rec.relTol, rec.tolNote);
+                capture::Comparison c;
+                c.stage = rec.stage;
+                c.pass = true;
+                c.message = "updated";
+                report.stages.push_back(c);
+            } else {
+                report.stages.push_back(capture::compareCsvStage(rec, captureDir, it->table, it->key));
+            }
+        }
+        if (update) {
+            m.glRenderer = gpuString(GL_RENDERER);
+            m.glVersion = gpuString(GL_VERSION);
+            for (auto& mf : m.models)
+                if (fs::exists(root / mf.path)) mf.hash = capture::hashFile(root / mf.path);
+            capture::writeManifest(captureDir, m);
+        }
+    } catch (const core::Error& e) {
+        out = std::string("ERROR ") + e.what() + "\n";
+        return 2;
+    }
+    out = report.text();
+    return report.pass() ? 0 : 1;
+}
+
+} // namespace app

@@ -1,0 +1,23 @@
+// Record and replay captures of the workbench state (format: modules/capture, README in
+// captures/). Stages recorded now: per model, the effective material (σ after inversion) and
+// the pencil-beam profile.
+#pragma once
+
+#include "workbench.h"
+
+#include <filesystem>
+#include <string>
+
+namespace app {
+
+// Writes <dir>/manifest.json + stage outputs for the current state. Throws core::Error.
+void recordCaptureTo(Workbench& wb, const std::filesystem::path& dir, const std::string& name);
+
+// Replays a capture headless (needs a current GL context): recomputes every stage from the
+// recorded inputs and compares with the recorded outputs. Prints one line per stage to
+// `out`. Returns 0 when everything passes, 1 on any failure, 2 when the capture is unreadable.
+// update: rewrite the outputs (and their hashes) from this run instead of comparing.
+int replayCapture(const std::filesystem::path& captureDir, const std::filesystem::path& root,
+                  bool update, std::string& out);
+
+} // namespace app

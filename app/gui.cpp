@@ -1,0 +1,174 @@
+// ImGui frame loop, windowed or headless, with layout + panel visibility persistence
+// (ImGui's ini file plus a custom settings section for the View menu toggles).
+#include "gui.h"
+
+#include "core/core.h"
+#include "panels/panels.h"
+
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <imgui_internal.h>
+
+#include <cstdlib>
+#include <cstring>
+
+namespace app {
+namespace fs = std::filesystem;
+
+namespace {
+UiState* g_ui = nullptr; // the settings handler needs to reach the panel toggles
+
+struct PanelFlag {
+    const char* key;
+    bool UiState::*flag;
+};
+const PanelFlag kPanels[] = {{"Models", &UiState::showModels},
+                             {"Parameters", &UiState::showParameters},
+                             {"PencilPlot", &UiState::showPencil},
+                             {"ErrorsLog", &UiState::showErrors},
+                             {"Timings", &UiState::showTimings}};
+
+void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
+    return std::strcmp(name, "Panels") == 0 ? static_cast<void*>(g_ui) : nullptr;
+}
+void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
+    auto* ui = static_cast<UiState*>(entry);
+    for (const auto& p : kPanels) {
+        std::string prefix = std::string(p.key) + "=";
+        if (std::strncmp(line, prefix.c_str(), prefix.size()) == 0)
+            ui->*(p.flag) = line[prefix.size()] == '1';
+    }
+}
+void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffer* buf) {
+    if (!g_ui) return;
+    buf->appendf("[%s][Panels]\n", handler->TypeName);
+    for (const auto& p : kPanels) buf->appendf("%s=%d\n", p.key, g_ui->*(p.flag) ? 1 : 0);
+    buf->append("\n");
+}
+
+std::string iniPath() {
+    const char* xdg = std::getenv("XDG_CONFIG_HOME");
+    const char* home = std::getenv("HOME");
+    fs::path dir = xdg && *xdg ? fs::path(xdg) : fs::path(home ? home : ".") / ".config";
+    dir /= "bssrdf-workbench";
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    return (dir / "imgui.ini").string();
+}
+
+void drawPanels(Workbench& wb, UiState& ui) {
+    drawMenuBar(wb, ui);
+    if (ui.showModels) drawModelsPanel(wb, ui);
+    if (ui.showParameters) drawParametersPanel(wb, ui);
+    if (ui.showPencil) drawPencilPanel(wb, ui);
+    if (ui.showErrors) drawErrorsPanel(wb, ui);
+    if (ui.showTimings) drawTimingsPanel(wb, ui);
+}
+
+// Reads back the region a panel asked for (PNG export) from `fbo` after rendering.
+void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight) {
+    if (ui.pngExportPath.empty()) return;
+    int x0 = int(ui.pngRect[0]), y0 = int(ui.pngRect[1]);
+    int w = int(ui.pngRect[2]) - x0, h = int(ui.pngRect[3]) - y0;
+    std::string path = ui.pngExportPath;
+    ui.pngExportPath.clear();
+    if (w <= 0 || h <= 0) return;
+    try {
+        auto px = gl::readPixelsRGBA8(fbo, x0, fbHeight - (y0 + h), w, h);
+        gl::writePng(path, w, h, px);
+        ui.status = "wrote " + path;
+    } catch (const core::Error& e) {
+        wb.reportActionError(std::string("export PNG: ") + e.what());
+    }
+}
+} // namespace
+
+int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
+    UiState ui;
+    g_ui = &ui;
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    ImGui::StyleColorsDark();
+    ImGui::GetStyle().WindowRounding = 3.0f;
+    static std::string ini; // must outlive the context
+    ini = iniPath();
+    io.IniFilename = opt.persistLayout ? ini.c_str() : nullptr;
+    ImGuiSettingsHandler handler;
+    handler.TypeName = "BssrdfWorkbench";
+    handler.TypeHash = ImHashStr("BssrdfWorkbench");
+    handler.ReadOpenFn = panelsReadOpen;
+    handler.ReadLineFn = panelsReadLine;
+    handler.WriteAllFn = panelsWriteAll;
+    ImGui::GetCurrentContext()->SettingsHandlers.push_back(handler);
+    if (opt.persistLayout) ImGui::LoadIniSettingsFromDisk(ini.c_str());
+
+    int rc = 0;
+    if (!ctx.headless()) {
+        GLFWwindow* win = ctx.window();
+        ImGui_ImplGlfw_InitForOpenGL(win, true);
+        ImGui_ImplOpenGL3_Init("#version 450");
+        while (!glfwWindowShouldClose(win) && !ui.quit) {
+            glfwWaitEventsTimeout(0.03); // idle without spinning; the watcher is polled below
+            bool changed = wb.update();
+            ImGui_ImplOpenGL3_NewFrame();
+            ImGui_ImplGlfw_NewFrame();
+            ImGui::NewFrame();
+            drawPanels(wb, ui);
+            ImGui::Render();
+            int w = 0, h = 0;
+            glfwGetFramebufferSize(win, &w, &h);
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            glViewport(0, 0, w, h);
+            glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            servicePngExport(wb, ui, 0, h);
+            glfwSwapBuffers(win);
+            if (changed) wb.framePresented();
+            gl::collectTimings();
+        }
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+    } else {
+        gl::RenderTarget target;
+        target.resize(opt.width, opt.height);
+        ImGui_ImplOpenGL3_Init("#version 450");
+        io.DisplaySize = ImVec2(float(opt.width), float(opt.height));
+        io.DisplayFramebufferScale = ImVec2(1, 1);
+        for (int f = 0; f < std::max(1, opt.frames) && !ui.quit; ++f) {
+            io.DeltaTime = 1.0f / 60.0f;
+            io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
+            bool changed = wb.update();
+            ImGui_ImplOpenGL3_NewFrame();
+            ImGui::NewFrame();
+            drawPanels(wb, ui);
+            ImGui::Render();
+            target.bind();
+            glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            servicePngExport(wb, ui, target.framebuffer(), opt.height);
+            if (changed) wb.framePresented();
+            gl::collectTimings(true);
+        }
+        if (!opt.screenshotPath.empty()) {
+            try {
+                auto px = gl::readPixelsRGBA8(target.framebuffer(), 0, 0, opt.width, opt.height);
+                gl::writePng(opt.screenshotPath, opt.width, opt.height, px);
+            } catch (const core::Error& e) {
+                core::logError(e.what());
+                rc = 1;
+            }
+        }
+        ImGui_ImplOpenGL3_Shutdown();
+    }
+    if (opt.persistLayout) ImGui::SaveIniSettingsToDisk(ini.c_str());
+    ImGui::DestroyContext();
+    g_ui = nullptr;
+    return rc;
+}
+
+} // namespace app

@@ -1,0 +1,163 @@
+// bssrdf-workbench: command line + frame loop entry. Subcommands: gui (default), screenshot,
+// profile, invert, record, replay. Everything but a windowed `gui` runs without a display.
+#include "capture_io.h"
+#include "cli.h"
+#include "core/core.h"
+#include "gl/gl.h"
+#include "gui.h"
+#include "workbench.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Project root (holds materials/ and shaders/): --root, $BSSRDF_WORKBENCH_ROOT, the source
+// tree this binary was built from, or the current directory.
+fs::path findRoot(const std::string& given) {
+    auto ok = [](const fs::path& p) {
+        return fs::is_directory(p / "materials") && fs::is_directory(p / "shaders");
+    };
+    if (!given.empty()) {
+        if (!ok(given))
+            throw core::Error(given, 0, "--root: expected a folder with materials/ and shaders/");
+        return given;
+    }
+    if (const char* env = std::getenv("BSSRDF_WORKBENCH_ROOT"); env && ok(env)) return env;
+    if (ok(BW_SOURCE_ROOT)) return BW_SOURCE_ROOT;
+    if (ok(fs::current_path())) return fs::current_path();
+    throw core::Error("cannot find the project root (materials/ and shaders/); pass --root");
+}
+
+bool parseSize(const std::string& s, int& w, int& h) {
+    return std::sscanf(s.c_str(), "%dx%d", &w, &h) == 2 && w >= 64 && h >= 64 && w <= 8192 &&
+           h <= 8192;
+}
+
+int runHeadlessDefault(const fs::path& root, const std::string& outDir) {
+    fs::path out = outDir.empty() ? fs::path("out") / "default" : fs::path(outDir);
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec) throw core::Error(out.string(), 0, "cannot create output folder: " + ec.message());
+    auto ctx = gl::createHeadlessContext();
+    std::printf("GL: %s | %s\n", ctx->renderer().c_str(), ctx->version().c_str());
+    app::Workbench wb(root, false, {root / "materials" / "dipole.bssrdf"});
+    app::recordCaptureTo(wb, out / "capture", "default");
+    std::string text;
+    int rc = app::replayCapture(out / "capture", root, false, text);
+    std::printf("%s", text.c_str());
+    app::GuiOptions opt;
+    opt.persistLayout = false;
+    opt.screenshotPath = (out / "workbench.png").string();
+    app::Workbench full(root, false);
+    rc |= app::runGui(full, *ctx, opt);
+    std::printf("outputs:\n  capture    %s\n  screenshot %s\n",
+                fs::absolute(out / "capture").string().c_str(),
+                fs::absolute(out / "workbench.png").string().c_str());
+    return rc;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App cli{"bssrdf-workbench " BW_VERSION
+                 " — develop, inspect and validate analytic BSSRDF models"};
+    cli.require_subcommand(0, 1);
+    std::string rootArg;
+    bool verbose = false;
+    cli.add_option("--root", rootArg, "project root holding materials/ and shaders/");
+    cli.add_flag("-v,--verbose", verbose, "echo info messages to stderr");
+
+    bool headless = false;
+    std::string headlessOut;
+    cli.add_flag("--headless", headless,
+                 "no window: record + replay the default capture and save a screenshot");
+    cli.add_option("--out-dir", headlessOut, "where --headless writes (default out/default)");
+
+    auto* gui = cli.add_subcommand("gui", "interactive workbench (default)");
+    gui->add_flag("--headless", headless, "same as the top-level --headless");
+
+    auto* shot = cli.add_subcommand("screenshot", "run the full GUI headless and save a PNG");
+    std::string shotOut, shotSize = "1280x860";
+    int shotFrames = 3;
+    shot->add_option("--out", shotOut, "PNG file")->required();
+    shot->add_option("--frames", shotFrames, "frames to run before saving")->check(CLI::Range(1, 10000));
+    shot->add_option("--size", shotSize, "WxH in pixels");
+
+    auto* prof = cli.add_subcommand("profile", "pencil-beam profile of a model as CSV");
+    app::ProfileArgs pa;
+    prof->add_option("--model", pa.model, ".bssrdf file")->required();
+    prof->add_option("--preset", pa.preset, "Jensen et al. 2001 preset (sigma_s', sigma_a)");
+    prof->add_option("--sigma-a", pa.sigmaA, "absorption R,G,B in 1/mm");
+    prof->add_option("--sigma-s", pa.sigmaS, "scattering R,G,B in 1/mm");
+    prof->add_option("--g", pa.g, "mean cosine (default 0)");
+    prof->add_option("--eta", pa.eta, "relative index of refraction (default 1.3)");
+    prof->add_option("--rmax", pa.rMax, "largest radius in mm (default 5 x largest l_d)");
+    prof->add_option("--samples", pa.samples, "number of radii (default 512)");
+    prof->add_option("--out", pa.out, "CSV file: # header, then r_mm,R,G,B")->required();
+
+    auto* inv = cli.add_subcommand("invert", "R_dr / l_d -> sigma_a, sigma_s (1/mm)");
+    app::InvertArgs ia;
+    inv->add_option("--model", ia.model, ".bssrdf file with a diffuseReflectance section")->required();
+    inv->add_option("--rdr", ia.rdr, "total diffuse reflectance R,G,B in [0,1]")->required();
+    inv->add_option("--ld", ia.ld, "diffuse mean free path R,G,B in mm")->required();
+    inv->add_option("--g", ia.g, "mean cosine (default 0)");
+    inv->add_option("--eta", ia.eta, "relative index of refraction (default 1.3)");
+
+    auto* rec = cli.add_subcommand("record", "record a capture of the default state headless");
+    app::RecordArgs ra;
+    rec->add_option("--name", ra.name, "capture name (folder under captures/)")->required();
+    rec->add_option("--model", ra.models, "model files (default: every materials/*.bssrdf)");
+    rec->add_option("--preset", ra.preset, "material preset (default Marble)");
+    rec->add_option("--out", ra.outDir, "folder (default captures/NAME)");
+
+    auto* rep = cli.add_subcommand("replay", "recompute a capture headless and compare");
+    std::string repDir;
+    bool repUpdate = false;
+    rep->add_option("capture", repDir, "capture folder, e.g. captures/dipole_marble")->required();
+    rep->add_flag("--update", repUpdate, "rewrite the recorded outputs from this run");
+
+    CLI11_PARSE(cli, argc, argv);
+    if (verbose) core::setLogEchoLevel(core::LogLevel::Info);
+
+    try {
+        const fs::path root = findRoot(rootArg);
+        if (*prof) return app::runProfile(root, pa);
+        if (*inv) return app::runInvert(root, ia);
+        if (*rec) return app::runRecord(root, ra);
+        if (*rep) return app::runReplay(root, repDir, repUpdate);
+        if (*shot) {
+            app::GuiOptions opt;
+            if (!parseSize(shotSize, opt.width, opt.height))
+                throw core::Error("--size", 0, "expected WxH between 64 and 8192, got '" + shotSize + "'");
+            opt.frames = shotFrames;
+            opt.screenshotPath = shotOut;
+            opt.persistLayout = false;
+            auto ctx = gl::createHeadlessContext();
+            app::Workbench wb(root, false);
+            int rc = app::runGui(wb, *ctx, opt);
+            if (rc == 0) std::printf("wrote %s\n", shotOut.c_str());
+            return rc;
+        }
+        if (!headless && !gl::displayAvailable()) {
+            std::printf("no display found (DISPLAY/WAYLAND_DISPLAY unset or unreachable): "
+                        "running the default capture headless\n");
+            headless = true;
+        }
+        if (headless) return runHeadlessDefault(root, headlessOut);
+        auto ctx = gl::createWindowContext(1400, 900, "BSSRDF Workbench");
+        app::Workbench wb(root, true);
+        app::GuiOptions opt;
+        return app::runGui(wb, *ctx, opt);
+    } catch (const core::Error& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,92 @@
+// Pencil plot panel (thesis 3.6.3): radial profiles of every loaded model on the semi-infinite
+// slab under a normally incident pencil beam; y axis linear/log/sqrt, optional r·R(r),
+// channel R/G/B/luminance, solo mode, hover readout, CSV and PNG export.
+#include "panels.h"
+
+#include "core/core.h"
+#include "gl/gl.h"
+
+#include <imgui.h>
+
+#include <cstdio>
+
+namespace app {
+
+void drawPencilPanel(Workbench& wb, UiState& ui) {
+    ImGui::SetNextWindowPos(ImVec2(346, 28), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(900, 560), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Pencil plot", &ui.showPencil)) {
+        ImGui::End();
+        return;
+    }
+    PlotSettings& ps = wb.plotSettings();
+    int scale = static_cast<int>(ps.yScale);
+    ImGui::SetNextItemWidth(90);
+    ImGui::Combo("y axis", &scale, "linear\0log\0sqrt\0");
+    ps.yScale = static_cast<plot::Scale>(scale);
+    ImGui::SameLine();
+    ImGui::Checkbox("r * R(r)", &ps.rTimesR);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(100);
+    ImGui::Combo("channel", &ps.channel, "red\0green\0blue\0luminance\0");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(160);
+    if (ImGui::BeginCombo("solo", ps.solo.empty() ? "(all models)" : ps.solo.c_str())) {
+        if (ImGui::Selectable("(all models)", ps.solo.empty())) ps.solo.clear();
+        for (auto& e : wb.library().entries())
+            if (ImGui::Selectable(e.displayPath.c_str(), ps.solo == e.displayPath))
+                ps.solo = e.displayPath;
+        ImGui::EndCombo();
+    }
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::InputInt("samples", &ps.samples, 256)) ps.samples = std::clamp(ps.samples, 512, 16384);
+    ImGui::SameLine();
+    ImGui::Checkbox("fixed range", &ps.fixedRange);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(120);
+    if (ps.fixedRange) {
+        float r = float(ps.rMaxMm);
+        if (ImGui::DragFloat("r max [mm]", &r, 0.1f, 0.01f, 1000.0f, "%.3g")) ps.rMaxMm = r;
+    } else {
+        float k = float(ps.rangeLd);
+        if (ImGui::DragFloat("x largest l_d", &k, 0.05f, 0.1f, 50.0f, "%.2f")) ps.rangeLd = k;
+    }
+    ImGui::SameLine();
+    ImGui::TextDisabled("r in [0, %.3g] mm", wb.rMaxMm());
+
+    static char exportPath[256] = "pencil_plot";
+    ImGui::SetNextItemWidth(160);
+    ImGui::InputText("##export", exportPath, sizeof exportPath);
+    ImGui::SameLine();
+    auto series = wb.plotSeries();
+    if (ImGui::Button("Export CSV")) {
+        std::string path = std::string(exportPath) + ".csv";
+        try {
+            plot::writeCsv(path, series, "r_mm");
+            ui.status = "wrote " + path;
+        } catch (const core::Error& e) {
+            wb.reportActionError(std::string("export CSV: ") + e.what());
+        }
+    }
+    ImGui::SameLine();
+    bool wantPng = ImGui::Button("Export PNG");
+
+    plot::Axis x{0.0, wb.rMaxMm(), plot::Scale::Linear, "r [mm]"};
+    plot::Axis y = plot::autoRange(series, ps.yScale, true, 12.0);
+    y.label = ps.rTimesR ? "r * R(r) [1/mm]" : "R(r) [1/mm^2]";
+    const char* chName[4] = {"red", "green", "blue", "luminance"};
+    std::string title = "Pencil beam on a semi-infinite slab - " +
+                        std::string(ps.solo.empty() ? chName[ps.channel] : "R, G, B of " + ps.solo);
+    plot::PlotState st = plot::drawPlot("pencil", ImVec2(-1, -1), series, x, y, title,
+                                        Workbench::normalisationNote());
+    if (wantPng) {
+        ui.pngExportPath = std::string(exportPath) + ".png";
+        ui.pngRect[0] = st.min.x;
+        ui.pngRect[1] = st.min.y;
+        ui.pngRect[2] = st.max.x;
+        ui.pngRect[3] = st.max.y;
+    }
+    ImGui::End();
+}
+
+} // namespace app

@@ -1,0 +1,44 @@
+// Timings panel: per stage CPU and GPU (GL timer query) time, run count, and the measured
+// hot-reload latency from file save to new pixels.
+#include "panels.h"
+
+#include "gl/gl.h"
+
+#include <imgui.h>
+
+namespace app {
+
+void drawTimingsPanel(Workbench&, UiState& ui) {
+    ImGui::SetNextWindowPos(ImVec2(914, 596), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(332, 260), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Timings", &ui.showTimings)) {
+        ImGui::End();
+        return;
+    }
+    ImGui::Text("frame %.2f ms (%.0f fps)", 1000.0f / ImGui::GetIO().Framerate,
+                ImGui::GetIO().Framerate);
+    if (ImGui::BeginTable("timings", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
+        ImGui::TableSetupColumn("stage");
+        ImGui::TableSetupColumn("CPU ms");
+        ImGui::TableSetupColumn("GPU ms");
+        ImGui::TableSetupColumn("runs");
+        ImGui::TableHeadersRow();
+        for (const auto& t : gl::timings()) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(t.stage.c_str());
+            ImGui::TableNextColumn();
+            ImGui::Text("%.3f", t.cpuMs);
+            ImGui::TableNextColumn();
+            if (t.gpuMs >= 0) ImGui::Text("%.3f", t.gpuMs);
+            else ImGui::TextDisabled("-");
+            ImGui::TableNextColumn();
+            ImGui::Text("%lld", t.runs);
+        }
+        ImGui::EndTable();
+    }
+    ImGui::TextDisabled("hot reload target: <= 150 ms save -> pixels");
+    ImGui::End();
+}
+
+} // namespace app

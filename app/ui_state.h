@@ -1,0 +1,24 @@
+// UI-only state: which panels are open, pending popups and export requests.
+#pragma once
+
+#include <string>
+
+namespace app {
+
+struct UiState {
+    bool showModels = true;
+    bool showParameters = true;
+    bool showPencil = true;
+    bool showErrors = true;
+    bool showTimings = true;
+    bool quit = false;
+    bool openModelPopup = false;
+    bool recordPopup = false;
+    char pathBuffer[512] = "";
+    char nameBuffer[128] = "my_capture";
+    std::string pngExportPath; // set by the pencil panel; the runner reads pixels after render
+    float pngRect[4] = {0, 0, 0, 0}; // x0, y0, x1, y1 in framebuffer pixels (top-left origin)
+    std::string status;           // one-line status shown in the menu bar
+};
+
+} // namespace app

@@ -1,0 +1,280 @@
+// Workbench state and stage graph: reload → material (inversion) → pencil profile.
+#include "workbench.h"
+
+#include "core/core.h"
+#include "gl/gl.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include <sys/stat.h>
+
+namespace app {
+namespace fs = std::filesystem;
+
+namespace {
+double epochSeconds() {
+    return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
+std::string keyOf(const MaterialSettings& s, long long generation) {
+    std::ostringstream k;
+    k.precision(17);
+    const auto& p = s.params;
+    k << generation << '|' << int(s.mode) << '|' << p.sigmaA.x << ',' << p.sigmaA.y << ','
+      << p.sigmaA.z << '|' << p.sigmaS.x << ',' << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g
+      << '|' << p.eta << '|' << p.scale << '|' << s.rdr.x << ',' << s.rdr.y << ',' << s.rdr.z
+      << '|' << s.ld.x << ',' << s.ld.y << ',' << s.ld.z;
+    return k.str();
+}
+} // namespace
+
+bssrdf::Builtins builtinsOf(const material::MaterialParams& p) {
+    bssrdf::Builtins b;
+    b.sigmaA = glm::vec3(p.sigmaA);
+    b.sigmaS = glm::vec3(p.sigmaS);
+    b.g = static_cast<float>(p.g);
+    b.ior = static_cast<float>(p.eta);
+    b.scale = static_cast<float>(p.scale);
+    return b;
+}
+
+material::MaterialParams effectiveParams(const bssrdf::ModelEntry& e, const MaterialSettings& s) {
+    material::MaterialParams p = s.params;
+    if (s.mode == ParamMode::Sigma) {
+        material::validate(p, "parameters");
+        return p;
+    }
+    if (!e.hasInversion())
+        throw core::Error(e.displayPath, 0,
+                          "R_dr / l_d parametrisation unavailable: the model has no "
+                          "diffuseReflectance section");
+    // g, η and scale are validated on their own; σ comes from the inversion.
+    material::MaterialParams probe = p;
+    probe.sigmaA = glm::dvec3(0.01);
+    probe.sigmaS = glm::dvec3(1.0);
+    material::validate(probe, "parameters");
+    gl::ScopedStageTimer timer("inversion");
+    const GLuint program = e.programs.at("invert_rdr.comp").id();
+    auto batch = [&](const std::vector<glm::dvec3>& alpha) {
+        return bssrdf::evaluateDiffuseReflectance(program, *e.model, e.values, builtinsOf(p),
+                                                  alpha);
+    };
+    glm::dvec3 alphaPrime = material::solveAlphaPrime(s.rdr, batch);
+    auto sig = material::sigmaFromAlphaPrime(alphaPrime, s.ld, p.g);
+    p.sigmaA = sig.sigmaA;
+    p.sigmaS = sig.sigmaS;
+    material::validate(p, "inverted parameters");
+    return p;
+}
+
+Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& models)
+    : m_root(fs::absolute(root).lexically_normal()) {
+    try {
+        m_presets = material::loadPresets(m_root / "materials" / "presets.json");
+    } catch (const core::Error& e) {
+        m_actionErrors.push_back(e.what());
+    }
+    if (const auto* p = material::findPreset(m_presets, m_shared.preset))
+        m_shared.params = material::applyPreset(*p, m_shared.params);
+    m_library = std::make_unique<bssrdf::ModelLibrary>(
+        m_root, std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp"});
+    if (models.empty()) m_library->scanAll();
+    for (const auto& m : models) {
+        if (!fs::exists(m)) throw core::Error(m.string(), 0, "no such model file");
+        m_library->reload(m);
+    }
+    if (watch)
+        m_watcher = std::make_unique<core::FileWatcher>(
+            std::vector<fs::path>{m_root / "materials", m_root / "shaders"});
+    update();
+}
+
+void Workbench::reloadAll() {
+    std::vector<fs::path> files;
+    for (const auto& e : m_library->entries()) files.push_back(e.file);
+    std::error_code ec;
+    for (auto& d : fs::directory_iterator(m_root / "materials", ec))
+        if (d.path().extension() == ".bssrdf") {
+            fs::path f = fs::absolute(d.path()).lexically_normal();
+            if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+        }
+    for (const auto& f : files) m_library->reload(f);
+    for (auto& [k, v] : m_views) v.materialKey.clear(), v.profileKey.clear();
+    update();
+}
+
+void Workbench::openModel(const fs::path& file) {
+    if (!fs::exists(file)) throw core::Error(file.string(), 0, "no such file");
+    if (file.extension() != ".bssrdf")
+        throw core::Error(file.string(), 0, "not a .bssrdf model file");
+    m_library->open(file);
+    update();
+}
+
+void Workbench::applyPreset(MaterialSettings& s, const std::string& name) {
+    const auto* p = material::findPreset(m_presets, name);
+    if (!p) throw core::Error("preset", 0, "unknown preset '" + name + "'");
+    s.params = material::applyPreset(*p, s.params);
+    s.preset = name;
+    s.mode = ParamMode::Sigma;
+}
+
+MaterialSettings& Workbench::settingsFor(const std::string& displayPath) {
+    auto& v = m_views[displayPath];
+    return v.override ? v.own : m_shared;
+}
+
+void Workbench::computeMaterial(bssrdf::ModelEntry& e, ModelView& v) {
+    const MaterialSettings& s = v.override ? v.own : m_shared;
+    std::string key = keyOf(s, e.generation);
+    if (key == v.materialKey) return;
+    v.materialKey = key;
+    try {
+        v.effective = effectiveParams(e, s);
+        v.materialProblem.clear();
+    } catch (const core::Error& err) {
+        v.effective.reset();
+        v.materialProblem = err.what();
+    }
+}
+
+double Workbench::autoRMax() const {
+    double ld = 0;
+    for (const auto& e : m_library->entries()) {
+        auto it = m_views.find(e.displayPath);
+        if (it == m_views.end() || !it->second.effective || !it->second.visible) continue;
+        glm::dvec3 l = material::diffuseMeanFreePath(*it->second.effective);
+        for (int c = 0; c < 3; ++c)
+            if (std::isfinite(l[c])) ld = std::max(ld, l[c]);
+    }
+    return ld > 0 ? m_plot.rangeLd * ld : 20.0;
+}
+
+void Workbench::computeProfile(bssrdf::ModelEntry& e, ModelView& v) {
+    if (!v.effective || !e.usable()) return;
+    std::ostringstream k;
+    k.precision(17);
+    k << v.materialKey << '|' << m_rMax << '|' << m_plot.samples;
+    for (auto& [n, val] : e.values) k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
+    if (k.str() == v.profileKey) return;
+    v.profileKey = k.str();
+    gl::ScopedStageTimer timer("pencil plot");
+    v.profile = bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model,
+                                        e.values, builtinsOf(*v.effective),
+                                        bssrdf::radiusGrid(m_rMax, m_plot.samples));
+}
+
+bool Workbench::update() {
+    bool changed = false;
+    if (m_watcher) {
+        auto paths = m_watcher->poll();
+        if (!paths.empty()) {
+            for (const auto& p : paths) {
+                struct stat st {};
+                if (::stat(p.c_str(), &st) == 0) {
+                    double s = double(st.st_mtim.tv_sec) + 1e-9 * double(st.st_mtim.tv_nsec);
+                    if (!m_pendingSaveTime || s < *m_pendingSaveTime) m_pendingSaveTime = s;
+                }
+            }
+            changed |= m_library->onFilesChanged(paths);
+        }
+    }
+    // drop views of models that disappeared
+    for (auto it = m_views.begin(); it != m_views.end();) {
+        bool alive = false;
+        for (auto& e : m_library->entries()) alive |= e.displayPath == it->first;
+        it = alive ? std::next(it) : m_views.erase(it);
+    }
+    for (auto& e : m_library->entries())
+        if (e.usable()) computeMaterial(e, m_views[e.displayPath]);
+    double rMax = m_plot.fixedRange ? m_plot.rMaxMm : autoRMax();
+    if (!(rMax > 0) || !std::isfinite(rMax)) rMax = 20.0;
+    if (rMax != m_rMax) changed = true;
+    m_rMax = rMax;
+    for (auto& e : m_library->entries()) {
+        if (!e.usable()) continue;
+        auto& v = m_views[e.displayPath];
+        std::string before = v.profileKey;
+        computeProfile(e, v);
+        changed |= before != v.profileKey;
+    }
+    return changed;
+}
+
+void Workbench::framePresented() {
+    if (!m_pendingSaveTime) return;
+    glFinish();
+    double latencyMs = (epochSeconds() - *m_pendingSaveTime) * 1000.0;
+    m_pendingSaveTime.reset();
+    if (latencyMs >= 0 && latencyMs < 60000) {
+        gl::recordTiming("hot reload: save -> new pixels", latencyMs);
+        core::logInfo("hot reload: save to new pixels " + std::to_string(latencyMs) + " ms");
+    }
+}
+
+std::vector<ErrorItem> Workbench::errors() const {
+    std::vector<ErrorItem> out;
+    for (const auto& e : m_library->entries()) {
+        if (e.problem) {
+            bool shader = e.problem->file.rfind("shaders/", 0) == 0;
+            out.push_back({shader ? "shader" : "model", e.problem->text()});
+        }
+        auto it = m_views.find(e.displayPath);
+        if (it != m_views.end() && !it->second.materialProblem.empty())
+            out.push_back({"material", e.displayPath + ": " + it->second.materialProblem});
+    }
+    for (const auto& p : m_library->problems()) out.push_back({"shader", p.text()});
+    for (const auto& a : m_actionErrors) out.push_back({"action", a});
+    return out;
+}
+
+void Workbench::reportActionError(const std::string& text) {
+    core::logError(text);
+    m_actionErrors.push_back(text);
+}
+
+std::string Workbench::normalisationNote() {
+    return "Bssrdf(Xi=0, Wi=n, Xo=(r,0,0), Wo=n): R_d per unit power entering the medium [1/mm^2]";
+}
+
+std::vector<plot::Series> Workbench::plotSeries() const {
+    std::vector<plot::Series> out;
+    size_t index = 0;
+    auto valueOf = [&](const glm::dvec3& v, int channel) {
+        return channel < 3 ? v[channel] : material::luminance(v);
+    };
+    for (const auto& e : m_library->entries()) {
+        auto it = m_views.find(e.displayPath);
+        size_t colorIndex = index++;
+        if (it == m_views.end() || it->second.profile.r.empty()) continue;
+        const ModelView& v = it->second;
+        if (!m_plot.solo.empty() && m_plot.solo != e.displayPath) continue;
+        if (m_plot.solo.empty() && !v.visible) continue;
+        const std::string name = e.model ? e.model->name : e.displayPath;
+        auto make = [&](int channel, const std::string& label, uint32_t color) {
+            plot::Series s;
+            s.label = label;
+            s.color = color;
+            s.x = v.profile.r;
+            s.y.resize(s.x.size());
+            for (size_t i = 0; i < s.x.size(); ++i) {
+                double y = valueOf(v.profile.value[i], channel);
+                s.y[i] = m_plot.rTimesR ? y * s.x[i] : y;
+            }
+            out.push_back(std::move(s));
+        };
+        if (!m_plot.solo.empty()) {
+            make(0, name + " R", 0xff4040ffu);
+            make(1, name + " G", 0xff40ff40u);
+            make(2, name + " B", 0xffff6040u);
+        } else {
+            make(m_plot.channel, name, plot::defaultColor(colorIndex));
+        }
+    }
+    return out;
+}
+
+} // namespace app

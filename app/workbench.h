@@ -1,0 +1,121 @@
+// The workbench state and its stage graph (no ImGui here; panels only show and edit it).
+// Stages of the foundation:
+//   models    — .bssrdf files (hot-reloaded, last good kept)          bssrdf::ModelLibrary
+//   material  — σ per model: as given, or inverted from R_dr / l_d    material + invert_rdr.comp
+//   pencil    — pencil-beam profile per model on the GPU               pencil_profile.comp
+// Each stage remembers a key of its inputs and re-runs only when that key changes.
+#pragma once
+
+#include "bssrdf/program_library.h"
+#include "core/file_watcher.h"
+#include "material/material.h"
+#include "plot/plot.h"
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace app {
+
+enum class ParamMode { Sigma, RdrLd };
+
+// Material inputs as the user edits them (thesis 3.6.1).
+struct MaterialSettings {
+    ParamMode mode = ParamMode::Sigma;
+    material::MaterialParams params;   // σ mode (g, η, scale apply in both modes)
+    glm::dvec3 rdr{0.6, 0.45, 0.3};    // R_dr / l_d mode
+    glm::dvec3 ld{8.0, 4.0, 2.0};      // mm
+    std::string preset = "Marble";
+};
+
+// Pencil plot settings (thesis 3.6.3).
+struct PlotSettings {
+    plot::Scale yScale = plot::Scale::Log;
+    bool rTimesR = false;
+    int channel = 3;      // 0 R, 1 G, 2 B, 3 luminance
+    std::string solo;     // display path of the soloed model, empty = all models
+    int samples = 512;
+    bool fixedRange = false;
+    double rMaxMm = 20.0; // used when fixedRange
+    double rangeLd = 5.0; // otherwise: this many diffuse mean free paths (largest l_d)
+};
+
+// Per-model view state and stage results.
+struct ModelView {
+    bool visible = true;
+    bool override = false;   // own material settings instead of the shared ones
+    MaterialSettings own;
+    std::optional<material::MaterialParams> effective; // σ actually used
+    std::string materialProblem;                       // why `effective` is missing
+    std::string materialKey;
+    bssrdf::Profile profile;
+    std::string profileKey;
+};
+
+struct ErrorItem {
+    std::string source; // "model", "shader", "material", "action"
+    std::string text;   // "file:line: message"
+};
+
+class Workbench {
+public:
+    // root: project root holding materials/ and shaders/. watch: enable hot reload.
+    // models: load exactly these files instead of every materials/*.bssrdf (CLI, replay).
+    Workbench(std::filesystem::path root, bool watch,
+              const std::vector<std::filesystem::path>& models = {});
+
+    // Polls the file watcher and re-runs stale stages. Returns true when anything changed.
+    bool update();
+    // Called after a frame with the new results is on screen: closes the save→pixels clock.
+    void framePresented();
+
+    void reloadAll();
+    void openModel(const std::filesystem::path& file);
+    void applyPreset(MaterialSettings& s, const std::string& name);
+    MaterialSettings& settingsFor(const std::string& displayPath); // own or shared
+
+    bssrdf::ModelLibrary& library() { return *m_library; }
+    ModelView& view(const std::string& displayPath) { return m_views[displayPath]; }
+    const std::vector<material::Preset>& presets() const { return m_presets; }
+    MaterialSettings& shared() { return m_shared; }
+    PlotSettings& plotSettings() { return m_plot; }
+    const std::filesystem::path& root() const { return m_root; }
+    double rMaxMm() const { return m_rMax; }
+    bool watching() const { return m_watcher != nullptr; }
+
+    // Every current problem (Errors panel): broken models/shaders, bad parameters, failed
+    // user actions (which stay until dismissed).
+    std::vector<ErrorItem> errors() const;
+    void reportActionError(const std::string& text);
+    void clearActionErrors() { m_actionErrors.clear(); }
+
+    // Plot series for the current settings (one per visible model, or R/G/B when soloed).
+    std::vector<plot::Series> plotSeries() const;
+    static std::string normalisationNote();
+
+private:
+    void computeMaterial(bssrdf::ModelEntry& e, ModelView& v);
+    void computeProfile(bssrdf::ModelEntry& e, ModelView& v);
+    double autoRMax() const;
+
+    std::filesystem::path m_root;
+    std::unique_ptr<bssrdf::ModelLibrary> m_library;
+    std::unique_ptr<core::FileWatcher> m_watcher;
+    std::vector<material::Preset> m_presets;
+    MaterialSettings m_shared;
+    PlotSettings m_plot;
+    std::map<std::string, ModelView> m_views;
+    std::vector<std::string> m_actionErrors;
+    double m_rMax = 20.0;
+    std::optional<double> m_pendingSaveTime; // seconds since epoch of the save being timed
+};
+
+// Effective σ for one model: validates, and inverts R_dr / l_d with the model's own
+// DiffuseReflectance on the GPU. Throws core::Error with a clear message.
+material::MaterialParams effectiveParams(const bssrdf::ModelEntry& e, const MaterialSettings& s);
+bssrdf::Builtins builtinsOf(const material::MaterialParams& p);
+
+} // namespace app

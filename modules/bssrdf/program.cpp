@@ -1,0 +1,143 @@
+// bssrdf GPU half: program building with #line source maps, uniforms, consumer dispatch.
+#include "bssrdf/program.h"
+
+#include "bssrdf/diagnostics.h"
+#include "core/core.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+namespace bssrdf {
+
+ParamValues defaultValues(const Model& m) {
+    ParamValues v;
+    for (const auto& p : m.params) v[p.name] = p.value;
+    return v;
+}
+
+ParamValues carryOver(const Model& newModel, const Model& oldModel, const ParamValues& old) {
+    ParamValues v = defaultValues(newModel);
+    for (const auto& p : newModel.params) {
+        const Param* before = oldModel.findParam(p.name);
+        auto it = old.find(p.name);
+        if (!before || before->type != p.type || it == old.end()) continue;
+        auto value = it->second;
+        if (p.type == ParamType::Float) value[0] = std::clamp(value[0], p.min, p.max);
+        v[p.name] = value;
+    }
+    return v;
+}
+
+std::string ShaderSources::readTemplate(const std::string& name, std::string& displayPath) const {
+    displayPath = "shaders/" + name;
+    try {
+        return core::readFile(root / "shaders" / name);
+    } catch (const core::Error& e) {
+        throw core::Error(displayPath, 0, e.message());
+    }
+}
+
+IncludeResolver ShaderSources::includeResolver() const {
+    auto r = root;
+    return [r](const std::string& include, std::string& display) {
+        display = "shaders/" + include;
+        try {
+            return core::readFile(r / "shaders" / include);
+        } catch (const core::Error& e) {
+            throw core::Error(display, 0, e.message());
+        }
+    };
+}
+
+gl::Program buildModelProgram(const Model& m, const std::string& templateName,
+                              const ShaderSources& src) {
+    std::string templatePath;
+    const std::string text = src.readTemplate(templateName, templatePath);
+    AssembledShader sh = assemble(text, templatePath, &m, src.includeResolver());
+    try {
+        return gl::buildProgram({{GL_COMPUTE_SHADER, sh.glsl}});
+    } catch (const gl::ProgramError& e) {
+        auto diags = parseDriverLog(e.log(), sh.map);
+        std::string all = formatDiagnostics(e.log(), sh.map);
+        for (const auto& d : diags)
+            if (d.severity == "error") throw core::Error(d.file, d.line, d.message + "\n" + all);
+        // link errors (e.g. a missing function) carry no line: blame the model file
+        throw core::Error(m.path, 0, (e.stage() == 0 ? "link failed: " : "compile failed: ") + all);
+    }
+}
+
+void setUniforms(GLuint program, const Model& m, const ParamValues& values, const Builtins& b) {
+    glUseProgram(program);
+    auto loc = [&](const char* n) { return glGetUniformLocation(program, n); };
+    glUniform3fv(loc("SigmaA"), 1, glm::value_ptr(b.sigmaA));
+    glUniform3fv(loc("SigmaS"), 1, glm::value_ptr(b.sigmaS));
+    glUniform1f(loc("G"), b.g);
+    glUniform1f(loc("IOR"), b.ior);
+    glUniform1f(loc("Scale"), b.scale);
+    for (const auto& p : m.params) {
+        auto it = values.find(p.name);
+        auto v = it != values.end() ? it->second : p.value;
+        GLint l = loc(p.name.c_str());
+        if (l < 0) continue; // declared but unused: the driver removed it
+        switch (p.type) {
+        case ParamType::Float: glUniform1f(l, v[0]); break;
+        case ParamType::Bool: glUniform1i(l, v[0] != 0.0f ? 1 : 0); break;
+        case ParamType::Color: glUniform3f(l, v[0], v[1], v[2]); break;
+        }
+    }
+}
+
+std::vector<double> radiusGrid(double rMaxMm, int samples) {
+    std::vector<double> r(static_cast<size_t>(samples));
+    for (int i = 0; i < samples; ++i) {
+        // computed in float exactly as the GPU will see it, so CSV radii match the evaluation
+        r[i] = static_cast<double>(static_cast<float>(rMaxMm * i / (samples - 1)));
+    }
+    return r;
+}
+
+namespace {
+// Uploads `in` (vec4 per entry), dispatches, reads back vec4 per entry.
+std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t count) {
+    const size_t bytes = count * 4 * sizeof(float);
+    gl::Buffer inBuf = gl::createBuffer(bytes, in.data());
+    gl::Buffer outBuf = gl::createBuffer(bytes, nullptr);
+    glUseProgram(program);
+    glUniform1ui(glGetUniformLocation(program, "Count"), static_cast<GLuint>(count));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, inBuf.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, outBuf.id());
+    glDispatchCompute(static_cast<GLuint>((count + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> out(count * 4);
+    glGetNamedBufferSubData(outBuf.id(), 0, static_cast<GLsizeiptr>(bytes), out.data());
+    return out;
+}
+} // namespace
+
+Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& values,
+                        const Builtins& b, const std::vector<double>& radii) {
+    setUniforms(program, m, values, b);
+    std::vector<float> in(radii.size() * 4, 0.0f);
+    for (size_t i = 0; i < radii.size(); ++i) in[4 * i] = static_cast<float>(radii[i]);
+    auto out = runBatch(program, in, radii.size());
+    Profile p;
+    p.r = radii;
+    p.value.resize(radii.size());
+    for (size_t i = 0; i < radii.size(); ++i)
+        p.value[i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};
+    return p;
+}
+
+std::vector<glm::dvec3> evaluateDiffuseReflectance(GLuint program, const Model& m,
+                                                   const ParamValues& values, const Builtins& b,
+                                                   const std::vector<glm::dvec3>& alphaPrime) {
+    setUniforms(program, m, values, b);
+    std::vector<float> in(alphaPrime.size() * 4, 0.0f);
+    for (size_t i = 0; i < alphaPrime.size(); ++i)
+        for (int c = 0; c < 3; ++c) in[4 * i + c] = static_cast<float>(alphaPrime[i][c]);
+    auto out = runBatch(program, in, alphaPrime.size());
+    std::vector<glm::dvec3> r(alphaPrime.size());
+    for (size_t i = 0; i < r.size(); ++i) r[i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};
+    return r;
+}
+
+} // namespace bssrdf

@@ -1,0 +1,68 @@
+// bssrdf GPU half: builds one GL program per (model, consumer template) from
+// shaders/<template> + the model's sections (see assembly.h), maps driver errors back to
+// `materials/NAME.bssrdf:LINE`, sets built-in and user uniforms, and runs the two consumers
+// of the foundation:
+//   - pencil_profile.comp: the pencil-beam profile of thesis 3.6.3 — Bssrdf(Xi = 0,
+//     Wi = n, Xo = (r,0,0), Wo = n) on a radius grid (mm) on the semi-infinite slab;
+//   - invert_rdr.comp: DiffuseReflectance(α′) at a batch of α′ values, the inner step of the
+//     GPU bisection of thesis 3.4.
+#pragma once
+
+#include "bssrdf/assembly.h"
+#include "bssrdf/bssrdf.h"
+#include "gl/gl.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace bssrdf {
+
+// Current values of a model's user parameters (Float: [0], Bool: [0] 0/1, Color: rgb).
+using ParamValues = std::map<std::string, std::array<float, 3>>;
+ParamValues defaultValues(const Model& m);
+// Values that survive a reload: same name and same type; everything else takes the default.
+ParamValues carryOver(const Model& newModel, const Model& oldModel, const ParamValues& old);
+
+// Built-in uniforms every model sees (materials/README.md): σ in 1/mm, scale in mm/unit.
+struct Builtins {
+    glm::vec3 sigmaA{0.0f}, sigmaS{1.0f};
+    float g = 0.0f, ior = 1.3f, scale = 1.0f;
+};
+
+// Where templates live: <root>/shaders/NAME; display paths are relative to root.
+struct ShaderSources {
+    std::filesystem::path root;
+    std::string readTemplate(const std::string& name, std::string& displayPath) const;
+    IncludeResolver includeResolver() const;
+};
+
+// Assemble + compile + link. Throws core::Error(file, line, message) for the first error
+// diagnostic; message carries every diagnostic ("could not parse driver log" + raw log when
+// the log format is unknown).
+gl::Program buildModelProgram(const Model& m, const std::string& templateName,
+                              const ShaderSources& src);
+
+void setUniforms(GLuint program, const Model& m, const ParamValues& values, const Builtins& b);
+
+// Radius grid used by the pencil plot: `samples` radii from 0 to rMax (mm), inclusive.
+std::vector<double> radiusGrid(double rMaxMm, int samples);
+
+struct Profile {
+    std::vector<double> r;           // mm
+    std::vector<glm::dvec3> value;   // Bssrdf() RGB, 1/mm² for the shipped models
+};
+// Runs pencil_profile.comp. `program` must come from buildModelProgram(m, "pencil_profile.comp").
+Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& values,
+                        const Builtins& b, const std::vector<double>& radii);
+
+// Runs invert_rdr.comp on a batch of α′ (one vec3 per entry) and returns R_dr(α′).
+std::vector<glm::dvec3> evaluateDiffuseReflectance(GLuint program, const Model& m,
+                                                   const ParamValues& values, const Builtins& b,
+                                                   const std::vector<glm::dvec3>& alphaPrime);
+
+} // namespace bssrdf

@@ -1,0 +1,128 @@
+// bssrdf model library with keep-last-good reload semantics.
+#include "bssrdf/program_library.h"
+
+#include "core/core.h"
+
+#include <algorithm>
+
+namespace bssrdf {
+namespace fs = std::filesystem;
+
+std::string Problem::text() const { return core::formatLocation(file, line, message); }
+
+ModelLibrary::ModelLibrary(fs::path root, std::vector<std::string> consumers)
+    : m_root(std::move(root)), m_consumers(std::move(consumers)) {
+    m_sources.root = m_root;
+}
+
+std::string ModelLibrary::displayPathOf(const fs::path& file) const {
+    return core::relativeTo(file, m_root);
+}
+
+void ModelLibrary::scanAll() {
+    std::vector<fs::path> files;
+    std::error_code ec;
+    for (auto& e : fs::directory_iterator(m_root / "materials", ec))
+        if (e.path().extension() == ".bssrdf") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (auto& f : files) reload(f);
+}
+
+ModelEntry* ModelLibrary::find(const std::string& key) {
+    for (auto& e : m_entries)
+        if (e.displayPath == key || (e.model && e.model->name == key) ||
+            e.file.stem().string() == key)
+            return &e;
+    return nullptr;
+}
+
+ModelEntry& ModelLibrary::open(const fs::path& file) {
+    reload(fs::absolute(file));
+    for (auto& e : m_entries)
+        if (fs::equivalent(e.file, file)) return e;
+    throw core::Error(file.string(), 0, "cannot open model");
+}
+
+void ModelLibrary::load(ModelEntry& e) {
+    Model parsed;
+    try {
+        parsed = loadModel(e.file, e.displayPath);
+    } catch (const core::Error& err) {
+        e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(),
+                            err.message()};
+        core::logError("model " + e.problem->text() +
+                       (e.model ? " (keeping the last good version)" : ""));
+        return;
+    }
+    for (const auto& n : parsed.notes) core::logInfo(n);
+    std::map<std::string, gl::Program> programs;
+    for (const auto& consumer : m_consumers) {
+        if (consumer == "invert_rdr.comp" && !parsed.diffuseReflectance) continue;
+        try {
+            core::Stopwatch sw;
+            programs[consumer] = buildModelProgram(parsed, consumer, m_sources);
+            core::logDebug("built " + consumer + " for " + e.displayPath + " in " +
+                           std::to_string(sw.ms()) + " ms");
+        } catch (const core::Error& err) {
+            e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(),
+                                err.message()};
+            core::logError("model " + e.problem->text() +
+                           (e.model ? " (keeping the last good version)" : ""));
+            return;
+        }
+    }
+    e.values = e.model ? carryOver(parsed, *e.model, e.values) : defaultValues(parsed);
+    e.model = std::move(parsed);
+    e.programs = std::move(programs);
+    if (e.problem) core::logInfo(e.displayPath + ": recovered");
+    e.problem.reset();
+    ++e.generation;
+}
+
+bool ModelLibrary::reload(const fs::path& fileIn) {
+    fs::path file = fs::absolute(fileIn).lexically_normal();
+    auto it = std::find_if(m_entries.begin(), m_entries.end(),
+                           [&](const ModelEntry& e) { return e.file == file; });
+    std::error_code ec;
+    if (!fs::exists(file, ec)) {
+        if (it == m_entries.end()) return false;
+        core::logInfo(it->displayPath + ": deleted, model removed");
+        m_entries.erase(it);
+        return true;
+    }
+    if (it == m_entries.end()) {
+        ModelEntry e;
+        e.file = file;
+        e.displayPath = displayPathOf(file);
+        m_entries.push_back(std::move(e));
+        it = std::prev(m_entries.end());
+        std::sort(m_entries.begin(), m_entries.end(),
+                  [](const ModelEntry& a, const ModelEntry& b) { return a.displayPath < b.displayPath; });
+        it = std::find_if(m_entries.begin(), m_entries.end(),
+                          [&](const ModelEntry& x) { return x.file == file; });
+    }
+    load(*it);
+    return true;
+}
+
+void ModelLibrary::rebuildPrograms() {
+    m_problems.clear();
+    for (auto& e : m_entries) load(e);
+}
+
+bool ModelLibrary::onFilesChanged(const std::vector<fs::path>& paths) {
+    bool changed = false, shaders = false;
+    for (const auto& p : paths) {
+        if (p.extension() == ".bssrdf") changed |= reload(p);
+        else if (p.extension() == ".comp" || p.extension() == ".glsl" ||
+                 p.extension() == ".vert" || p.extension() == ".frag")
+            shaders = true;
+    }
+    if (shaders) {
+        rebuildPrograms();
+        changed = true;
+    }
+    return changed;
+}
+
+} // namespace bssrdf

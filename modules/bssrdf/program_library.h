@@ -1,0 +1,70 @@
+// bssrdf model library: every materials/*.bssrdf with its last good parse, its last good GL
+// program per consumer, its parameter values and its current problem. Reloading keeps the
+// last good state on any error (parse, compile, link, missing function) and recovers on the
+// next good save; parameter values survive when name and type persist.
+#pragma once
+
+#include "bssrdf/program.h"
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bssrdf {
+
+struct Problem {
+    std::string file; // display path, e.g. materials/dipole.bssrdf or shaders/x.comp
+    int line = 0;
+    std::string message;
+    std::string text() const; // "file:line: message"
+};
+
+struct ModelEntry {
+    std::filesystem::path file;
+    std::string displayPath;              // relative to the project root
+    std::optional<Model> model;           // last good parse (absent until one succeeds)
+    std::map<std::string, gl::Program> programs; // consumer template -> last good program
+    ParamValues values;
+    std::optional<Problem> problem;       // set while the file on disk is broken
+    long long generation = 0;             // bumps on every successful (re)load
+    bool usable() const { return model.has_value() && programs.count("pencil_profile.comp"); }
+    bool hasInversion() const { return model && model->diffuseReflectance.has_value(); }
+};
+
+class ModelLibrary {
+public:
+    ModelLibrary(std::filesystem::path root, std::vector<std::string> consumers);
+
+    // Loads every materials/*.bssrdf (sorted by name).
+    void scanAll();
+    // Re-reads one model file (added, changed or deleted). Returns true if anything changed.
+    bool reload(const std::filesystem::path& file);
+    // A shader template or include changed: rebuild every model's programs.
+    void rebuildPrograms();
+    // Reacts to a list of changed paths from the file watcher; returns true if anything changed.
+    bool onFilesChanged(const std::vector<std::filesystem::path>& paths);
+    // Adds a model file outside materials/ (File → Open model / CLI --model).
+    ModelEntry& open(const std::filesystem::path& file);
+
+    std::vector<ModelEntry>& entries() { return m_entries; }
+    const std::vector<ModelEntry>& entries() const { return m_entries; }
+    ModelEntry* find(const std::string& nameOrPath);
+    const std::filesystem::path& root() const { return m_root; }
+    const ShaderSources& sources() const { return m_sources; }
+    // Problems not tied to one model (e.g. a shader template that fails for every model).
+    const std::vector<Problem>& problems() const { return m_problems; }
+
+private:
+    void load(ModelEntry& e);
+    std::string displayPathOf(const std::filesystem::path& file) const;
+
+    std::filesystem::path m_root;
+    ShaderSources m_sources;
+    std::vector<std::string> m_consumers;
+    std::vector<ModelEntry> m_entries;
+    std::vector<Problem> m_problems;
+};
+
+} // namespace bssrdf

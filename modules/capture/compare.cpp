@@ -1,0 +1,131 @@
+// capture comparison: per-value tolerance test |a-b| <= absTol + relTol*|b| (b = expected),
+// reporting the worst value (by excess over its limit) with its location.
+#include "capture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace capture {
+
+namespace {
+
+std::string fmt(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+std::string columnList(const std::vector<std::string>& columns) {
+    std::string out;
+    for (const std::string& c : columns)
+        out += (out.empty() ? "" : ", ") + c;
+    return out;
+}
+
+// Empty when every row has one value per column.
+std::string raggedProblem(const char* which, const Table& t) {
+    for (size_t r = 0; r < t.rows.size(); ++r)
+        if (t.rows[r].size() != t.columns.size())
+            return std::string(which) + " row " + std::to_string(r + 1) + " has " +
+                   std::to_string(t.rows[r].size()) + " values for " +
+                   std::to_string(t.columns.size()) + " columns";
+    return "";
+}
+
+// Shape, names and tolerance problems that make a value-by-value comparison meaningless.
+std::string structuralProblem(const Table& expected, const Table& actual, double absTol,
+                              double relTol, const std::string& keyColumn) {
+    if (!(absTol >= 0) || !(relTol >= 0) || !std::isfinite(absTol) || !std::isfinite(relTol))
+        return "invalid tolerance: absTol " + fmt("%g", absTol) + ", relTol " + fmt("%g", relTol);
+    if (expected.columns.size() != actual.columns.size())
+        return "column count differs: expected " + std::to_string(expected.columns.size()) + " (" +
+               columnList(expected.columns) + "), got " + std::to_string(actual.columns.size()) +
+               " (" + columnList(actual.columns) + ")";
+    for (size_t c = 0; c < expected.columns.size(); ++c)
+        if (expected.columns[c] != actual.columns[c])
+            return "column " + std::to_string(c + 1) + " name differs: expected '" +
+                   expected.columns[c] + "', got '" + actual.columns[c] + "'";
+    if (expected.rows.size() != actual.rows.size())
+        return "row count differs: expected " + std::to_string(expected.rows.size()) + ", got " +
+               std::to_string(actual.rows.size());
+    if (!keyColumn.empty() && expected.columnIndex(keyColumn) < 0)
+        return "key column '" + keyColumn + "' not found";
+    std::string ragged = raggedProblem("expected", expected);
+    return ragged.empty() ? raggedProblem("actual", actual) : ragged;
+}
+
+} // namespace
+
+Comparison compareTables(const std::string& stage, const Table& expected, const Table& actual,
+                         double absTol, double relTol, const std::string& keyColumn) {
+    Comparison c;
+    c.stage = stage;
+    c.absTol = absTol;
+    c.relTol = relTol;
+    c.message = structuralProblem(expected, actual, absTol, relTol, keyColumn);
+    if (!c.message.empty()) return c;
+
+    const int key = keyColumn.empty() ? -1 : expected.columnIndex(keyColumn);
+    bool worstFails = false;
+    for (size_t r = 0; r < expected.rows.size(); ++r) {
+        for (size_t col = 0; col < expected.columns.size(); ++col) {
+            const double b = expected.rows[r][col];
+            const double a = actual.rows[r][col];
+            const double limit = std::isfinite(b) ? absTol + relTol * std::fabs(b) : 0.0;
+            double diff = 0, excess = 0;
+            bool ok = true;
+            if ((std::isnan(a) && std::isnan(b)) || a == b) {
+                ok = true; // includes NaN == NaN and equal infinities
+            } else if (!std::isfinite(a) || !std::isfinite(b)) {
+                ok = false;
+                diff = std::fabs(a - b);
+                excess = INFINITY;
+            } else {
+                diff = std::fabs(a - b);
+                ok = diff <= limit;
+                excess = limit > 0 ? diff / limit : INFINITY;
+                c.worstAbs = std::max(c.worstAbs, diff);
+                c.worstRel = std::max(c.worstRel, b != 0 ? diff / std::fabs(b) : INFINITY);
+            }
+            ++c.values;
+            if (!ok) ++c.failing;
+            const bool worse =
+                (!ok && !worstFails) || ((!ok) == worstFails && excess > c.worstExcess);
+            if (!worse) continue;
+            worstFails = !ok;
+            c.worstExcess = excess;
+            c.expected = b;
+            c.actual = a;
+            c.diff = diff;
+            c.limit = limit;
+            c.where = "row " + std::to_string(r + 1);
+            if (key >= 0)
+                c.where += " (" + keyColumn + "=" + fmt("%.6g", expected.rows[r][key]) + ")";
+            c.where += ", column " + expected.columns[col];
+        }
+    }
+    c.pass = c.failing == 0;
+    return c;
+}
+
+std::string formatComparison(const Comparison& c) {
+    std::string out = std::string(c.pass ? "PASS " : "FAIL ") + c.stage + "  ";
+    if (!c.message.empty()) return out + c.message;
+    const std::string values = std::to_string(c.values) + (c.values == 1 ? " value" : " values");
+    if (c.values == 0) return out + "no values to compare (empty tables)";
+    if (c.where.empty()) return out + values + ", exact match";
+    const std::string tol = "absTol " + fmt("%g", c.absTol) + ", relTol " + fmt("%g", c.relTol);
+    if (c.pass)
+        return out + values + ", worst diff " + fmt("%.3g", c.diff) + " (limit " +
+               fmt("%.3g", c.limit) + ", " + fmt("%.3g", 100 * c.worstExcess) +
+               "% of tolerance) at " + c.where;
+    out += std::to_string(c.failing) + " of " + values + " out of tolerance; worst at " + c.where +
+           ": expected " + fmt("%.17g", c.expected) + ", got " + fmt("%.17g", c.actual);
+    if (std::isfinite(c.expected) && std::isfinite(c.actual))
+        out += ", diff " + fmt("%.3g", c.diff) + " > limit " + fmt("%.3g", c.limit) + " (" +
+               fmt("%.3g", c.worstExcess) + "x tolerance)";
+    return out + " [" + tol + "]";
+}
+
+} // namespace capture

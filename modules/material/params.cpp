@@ -1,0 +1,67 @@
+// material parameters: validation, derived diffusion quantities, swatch colours.
+#include "material.h"
+
+#include "core/core.h"
+
+#include <cmath>
+
+namespace material {
+namespace {
+const char* kChannel[3] = {"R", "G", "B"};
+std::string num(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", v);
+    return b;
+}
+} // namespace
+
+void validate(const MaterialParams& p, const std::string& what) {
+    for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite(p.sigmaA[c]) || !std::isfinite(p.sigmaS[c]))
+            throw core::Error(what, 0,
+                              std::string("sigma_a and sigma_s must be finite (channel ") +
+                                  kChannel[c] + ")");
+        if (p.sigmaA[c] < 0)
+            throw core::Error(what, 0,
+                              std::string("sigma_a must be >= 0 1/mm (channel ") + kChannel[c] +
+                                  " is " + num(p.sigmaA[c]) + ")");
+        if (p.sigmaS[c] <= 0)
+            throw core::Error(what, 0,
+                              std::string("sigma_s must be > 0 1/mm (channel ") + kChannel[c] +
+                                  " is " + num(p.sigmaS[c]) + ")");
+    }
+    if (!std::isfinite(p.eta) || p.eta <= 0)
+        throw core::Error(what, 0, "eta (relative index of refraction) must be > 0, got " +
+                                       num(p.eta));
+    if (!std::isfinite(p.g) || std::abs(p.g) >= 1)
+        throw core::Error(what, 0, "g (mean cosine) must satisfy |g| < 1, got " + num(p.g));
+    if (!std::isfinite(p.scale) || p.scale <= 0)
+        throw core::Error(what, 0, "scale (mm per unit) must be > 0, got " + num(p.scale));
+}
+
+glm::dvec3 reducedAlbedo(const MaterialParams& p) {
+    glm::dvec3 sps = p.sigmaS * (1.0 - p.g);
+    return sps / (sps + p.sigmaA);
+}
+
+glm::dvec3 diffuseMeanFreePath(const MaterialParams& p) {
+    glm::dvec3 spt = p.sigmaS * (1.0 - p.g) + p.sigmaA;
+    glm::dvec3 ld;
+    for (int c = 0; c < 3; ++c) {
+        double sigmaTr = std::sqrt(3.0 * p.sigmaA[c] * spt[c]);
+        ld[c] = sigmaTr > 0 ? 1.0 / sigmaTr : INFINITY;
+    }
+    return ld;
+}
+
+double luminance(const glm::dvec3& rgb) {
+    return 0.2126 * rgb.r + 0.7152 * rgb.g + 0.0722 * rgb.b;
+}
+
+glm::dvec3 swatch(const glm::dvec3& rgb) {
+    double l = luminance(rgb);
+    if (!(l > 0) || !std::isfinite(l)) return glm::dvec3(0.75);
+    return rgb * (0.75 / l);
+}
+
+} // namespace material

@@ -1,0 +1,238 @@
+// .bssrdf parser (thesis Appendix A.2): shipped models, file-level structure and every error.
+#include "test_util.h"
+
+#include <algorithm>
+
+using namespace bssrdf_test;
+using bssrdf::ParamType;
+
+namespace {
+
+bssrdf::Model loadShipped(const std::string& name) {
+    return bssrdf::loadModel(sourceRoot() + "/materials/" + name + ".bssrdf",
+                             "materials/" + name + ".bssrdf");
+}
+
+// The section's first code line is the line after its ::begin, and its text matches the file.
+void expectSectionAt(const bssrdf::Model& m, const std::optional<bssrdf::Section>& s,
+                     const std::string& name) {
+    ASSERT_TRUE(s.has_value()) << name;
+    EXPECT_EQ(s->name, name);
+    EXPECT_EQ(s->beginLine, lineContaining(m.source, "::begin " + name));
+    EXPECT_EQ(s->firstLine, s->beginLine + 1);
+    const int endLine = lineContaining(m.source, "::end " + name);
+    EXPECT_EQ(std::count(s->code.begin(), s->code.end(), '\n'), endLine - s->firstLine);
+}
+
+} // namespace
+
+TEST(BssrdfParser, DipoleMatchesThesisListing) {
+    const auto m = loadShipped("dipole");
+    EXPECT_EQ(m.path, "materials/dipole.bssrdf");
+    EXPECT_EQ(m.name, "dipole");
+    EXPECT_EQ(m.hash, core::hashHex(m.source));
+    EXPECT_TRUE(m.attrs.analytic && m.attrs.radial && m.attrs.noWi && m.attrs.noWo);
+    ASSERT_EQ(m.params.size(), 1u);
+    const bssrdf::Param* p = m.findParam("Multiplier");
+    ASSERT_NE(p, nullptr);
+    EXPECT_EQ(p->type, ParamType::Float);
+    EXPECT_EQ(p->min, 0.0f);
+    EXPECT_EQ(p->max, 10.0f);
+    EXPECT_EQ(p->value[0], 1.0f);
+    EXPECT_EQ(p->line, lineContaining(m.source, "float Multiplier"));
+    EXPECT_EQ(m.findParam("Nope"), nullptr);
+    expectSectionAt(m, m.initializer, "initializer");
+    expectSectionAt(m, m.diffuseReflectance, "diffuseReflectance");
+    expectSectionAt(m, m.shader, "shader");
+    EXPECT_NE(m.shader->code.find("Multiplier/(4.0*PI)*AlphaPrime"), std::string::npos);
+    EXPECT_TRUE(m.notes.empty());
+}
+
+TEST(BssrdfParser, BetterDipoleParses) {
+    const auto m = loadShipped("better_dipole");
+    EXPECT_EQ(m.name, "better_dipole");
+    EXPECT_TRUE(m.attrs.analytic && m.attrs.radial && m.attrs.noWi && m.attrs.noWo);
+    EXPECT_TRUE(m.params.empty());
+    expectSectionAt(m, m.initializer, "initializer");
+    expectSectionAt(m, m.diffuseReflectance, "diffuseReflectance");
+    expectSectionAt(m, m.shader, "shader");
+    EXPECT_TRUE(m.notes.empty());
+}
+
+TEST(BssrdfParser, CrlfFileParsesLikeLf) {
+    const auto lf = loadShipped("dipole");
+    std::string crlf;
+    for (char c : lf.source) {
+        if (c == '\n') crlf += '\r';
+        crlf += c;
+    }
+    const auto m = bssrdf::parseModel(crlf, "materials/dipole.bssrdf");
+    EXPECT_EQ(m.shader->code, lf.shader->code);
+    EXPECT_EQ(m.shader->firstLine, lf.shader->firstLine);
+    EXPECT_EQ(m.initializer->code, lf.initializer->code);
+    ASSERT_EQ(m.params.size(), 1u);
+    EXPECT_EQ(m.params[0].line, lf.params[0].line);
+    EXPECT_EQ(m.shader->code.find('\r'), std::string::npos);
+}
+
+TEST(BssrdfParser, CommentsAndBlankLinesBeforeAttributesAndBetweenSections) {
+    const std::string text =
+        "# header\n\n  analytic   radial\n# between\n\n" + kShader + "   # trailing\n";
+    const auto m = bssrdf::parseModel(text, kPath);
+    EXPECT_TRUE(m.attrs.radial);
+    EXPECT_FALSE(m.attrs.noWi);
+    EXPECT_EQ(m.shader->beginLine, 6);
+    EXPECT_EQ(m.shader->firstLine, 7);
+    EXPECT_FALSE(m.initializer.has_value());
+    EXPECT_FALSE(m.diffuseReflectance.has_value());
+}
+
+TEST(BssrdfParser, SectionCodeIsVerbatimIncludingHashLines) {
+    const std::string text = "analytic\n::begin shader\n#define K 2.0\n\n  // c\n"
+                             "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) { return vec3(K); }\n"
+                             "::end shader\n";
+    const auto m = bssrdf::parseModel(text, kPath);
+    EXPECT_EQ(m.shader->code, "#define K 2.0\n\n  // c\nvec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, "
+                              "vec3 Wo) { return vec3(K); }\n");
+}
+
+TEST(BssrdfParser, UnknownSectionIsANoteNotAnError) {
+    const std::string text = "analytic\n::begin foo\nanything ::: here\n::end foo\n" + kShader;
+    const auto m = bssrdf::parseModel(text, kPath);
+    ASSERT_EQ(m.notes.size(), 1u);
+    EXPECT_NE(m.notes[0].find("materials/t.bssrdf:2: unknown section 'foo' ignored"),
+              std::string::npos)
+        << m.notes[0];
+}
+
+TEST(BssrdfParser, LoadMissingFileReportsDisplayPath) {
+    try {
+        bssrdf::loadModel("/nonexistent/x.bssrdf", "materials/x.bssrdf");
+        FAIL() << "expected an error";
+    } catch (const core::Error& e) {
+        EXPECT_EQ(e.file(), "materials/x.bssrdf");
+        EXPECT_EQ(e.line(), 0);
+    }
+}
+
+// ---- file-level errors -------------------------------------------------------------------
+
+TEST(BssrdfParserErrors, EmptyFile) {
+    expectParseError("", 1, "empty file: expected an attribute line starting with 'analytic'");
+    expectParseError("\n\n", 2, "empty file");
+}
+
+TEST(BssrdfParserErrors, CommentsOnly) {
+    expectParseError("# a model\n\n# nothing else\n", 3, "empty file: expected an attribute");
+}
+
+TEST(BssrdfParserErrors, BinaryNulByte) {
+    std::string text = "analytic\n::begin shader\n";
+    text += std::string("ab\0cd\n", 6);
+    expectParseError(text, 3, "not a UTF-8 text file (invalid byte at offset 26)");
+}
+
+TEST(BssrdfParserErrors, InvalidUtf8) {
+    expectParseError("analytic\n\n# caf\xC3(\n" + kShader, 3,
+                     "not a UTF-8 text file (invalid byte at offset 15)");
+    expectParseError("\xFF\xFE"
+                     "a\0n",
+                     1, "not a UTF-8 text file (invalid byte at offset 0)");
+}
+
+TEST(BssrdfParserErrors, MissingAnalytic) {
+    expectParseError("radial no_wi\n" + kShader, 1, "missing mandatory attribute 'analytic'");
+    expectParseError("# c\n" + kShader, 2, "missing mandatory attribute 'analytic'");
+}
+
+TEST(BssrdfParserErrors, UnknownAttribute) {
+    expectParseError("\nanalytic shiny\n" + kShader, 2, "unknown attribute 'shiny'");
+}
+
+TEST(BssrdfParserErrors, DuplicateAttribute) {
+    expectParseError("analytic radial radial\n" + kShader, 1, "duplicate attribute 'radial'");
+}
+
+TEST(BssrdfParserErrors, UnterminatedSectionReportsBeginLine) {
+    expectParseError("analytic\n\n::begin shader\nvec3 Bssrdf(vec3 Xi) {}\n\n", 3,
+                     "section 'shader' is not terminated (missing '::end shader')");
+}
+
+TEST(BssrdfParserErrors, NestedBegin) {
+    expectParseError("analytic\n::begin shader\nint x;\n::begin parameters\n::end parameters\n"
+                     "::end shader\n",
+                     4, "nested '::begin' inside section 'shader' (opened at line 2)");
+}
+
+TEST(BssrdfParserErrors, EndNameMismatch) {
+    expectParseError("analytic\n::begin parameters\n::end shader\n" + kShader, 3,
+                     "'::end shader' does not match '::begin parameters'");
+}
+
+TEST(BssrdfParserErrors, EndWithoutName) {
+    expectParseError("analytic\n::begin parameters\n::end\n" + kShader, 3,
+                     "'::end' without a section name");
+}
+
+TEST(BssrdfParserErrors, EndWithoutBegin) {
+    expectParseError("analytic\n\n::end shader\n" + kShader, 3,
+                     "'::end shader' without a matching '::begin'");
+}
+
+TEST(BssrdfParserErrors, DuplicateSection) {
+    expectParseError("analytic\n" + kShader + "\n" + kShader, 6,
+                     "duplicate section 'shader' (first opened at line 2)");
+}
+
+TEST(BssrdfParserErrors, BeginWithoutName) {
+    expectParseError("analytic\n::begin   \n::end\n", 2, "'::begin' without a section name");
+}
+
+TEST(BssrdfParserErrors, BeginWithTwoNames) {
+    expectParseError("analytic\n::begin shader extra\n", 2, "extra text 'extra'");
+}
+
+TEST(BssrdfParserErrors, StrayTextOutsideSections) {
+    expectParseError("analytic\n" + kShader + "float x;\n", 5,
+                     "unexpected text outside a section: 'float x;'");
+}
+
+TEST(BssrdfParserErrors, UnknownDirective) {
+    expectParseError("analytic\n::start shader\n", 2, "unknown directive '::start'");
+    expectParseError("analytic\n::begin shader\n::ned shader\n", 3, "unknown directive '::ned'");
+}
+
+TEST(BssrdfParserErrors, MissingShaderSection) {
+    expectParseError("analytic\n::begin parameters\nfloat X 0 1 0.5\n::end parameters\n", 4,
+                     "missing ::begin shader section");
+}
+
+TEST(BssrdfParserErrors, ShaderWithoutBssrdf) {
+    expectParseError("analytic\n\n::begin shader\nvec3 Foo() { return vec3(0); }\n::end shader\n",
+                     3,
+                     "section 'shader' does not define vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, "
+                     "vec3 Wo)");
+    // a commented-out definition does not count
+    expectParseError("analytic\n::begin shader\n// vec3 Bssrdf(vec3 Xi) {}\n"
+                     "/* vec3 Bssrdf(\n */\n::end shader\n",
+                     2, "does not define vec3 Bssrdf(");
+}
+
+TEST(BssrdfParserErrors, DiffuseReflectanceWithoutFunction) {
+    expectParseError("analytic\n" + kShader +
+                         "::begin diffuseReflectance\nvec3 Rd(vec3 a) { return a; }\n"
+                         "::end diffuseReflectance\n",
+                     5, "section 'diffuseReflectance' does not define vec3 DiffuseReflectance(");
+}
+
+TEST(BssrdfParserErrors, InitializerWithoutInit) {
+    expectParseError("analytic\n::begin initializer\nfloat k;\n::end initializer\n" + kShader, 2,
+                     "section 'initializer' does not define void init()");
+}
+
+TEST(BssrdfParser, DefinitionsAllowWhitespace) {
+    const std::string text = "analytic\n::begin initializer\nvoid  init ( ) {}\n"
+                             "::end initializer\n::begin shader\nvec3\n  Bssrdf (vec3 Xi, vec3 "
+                             "Wi, vec3 Xo, vec3 Wo) { return Xi; }\n::end shader\n";
+    EXPECT_NO_THROW(bssrdf::parseModel(text, kPath));
+}
