@@ -49,7 +49,7 @@ std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& mis
             continue;
         }
         const MaterialSettings& s = v.override ? v.own : wb.shared();
-        StageTable m{"material/" + name, "material_" + name + ".csv", "channel", {}, 0, 0, ""};
+        StageTable m{"material." + name, "material_" + name + ".csv", "channel", {}, 0, 0, ""};
         m.table.comments = {"model " + e.displayPath, "effective sigma in 1/mm"};
         m.table.columns = {"channel", "sigma_a", "sigma_s"};
         for (int c = 0; c < 3; ++c)
@@ -62,7 +62,7 @@ std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& mis
         }
         out.push_back(std::move(m));
 
-        StageTable p{"pencil_plot/" + name, "pencil_plot_" + name + ".csv", "r_mm", {}, 0,
+        StageTable p{"pencil_plot." + name, "pencil_plot_" + name + ".csv", "r_mm", {}, 0,
                      kProfileRelTol, "float32 GPU evaluation of Bssrdf(); GLSL exp <= (3+2|x|) ulp"};
         p.table.comments = {"model " + e.displayPath,
                             "Bssrdf(Xi=0, Wi=n, Xo=(r,0,0), Wo=n) in 1/mm^2"};

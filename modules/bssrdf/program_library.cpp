@@ -50,8 +50,8 @@ void ModelLibrary::load(ModelEntry& e) {
     } catch (const core::Error& err) {
         e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(),
                             err.message()};
-        core::logError("model " + e.problem->text() +
-                       (e.model ? " (keeping the last good version)" : ""));
+        core::logError(std::string(e.model ? "keeping the last good version: " : "") +
+                       e.problem->text());
         return;
     }
     for (const auto& n : parsed.notes) core::logInfo(n);
@@ -66,8 +66,8 @@ void ModelLibrary::load(ModelEntry& e) {
         } catch (const core::Error& err) {
             e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(),
                                 err.message()};
-            core::logError("model " + e.problem->text() +
-                           (e.model ? " (keeping the last good version)" : ""));
+            core::logError(std::string(e.model ? "keeping the last good version: " : "") +
+                           e.problem->text());
             return;
         }
     }

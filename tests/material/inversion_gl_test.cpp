@@ -1,0 +1,148 @@
+// R_dr / l_d inversion round trip on the GPU (thesis 3.4) for every Jensen et al. 2001 preset
+// and both shipped models: σ → (R_dr, l_d) in double precision by independent C++ closed
+// forms → GPU bisection over the model's own DiffuseReflectance → σ, within 1e-4 relative.
+#include "../support/gl_fixture.h"
+#include "material/material.h"
+#include "workbench.h"
+
+#include <cmath>
+
+namespace {
+
+double classicRdr(double a, double eta) { // thesis eq. (3.2)
+    const double fdr = -1.440 / (eta * eta) + 0.710 / eta + 0.668 + 0.0636 * eta;
+    const double A = (1 + fdr) / (1 - fdr), t = std::sqrt(3 * (1 - a));
+    return a / 2 * (1 + std::exp(-4.0 / 3.0 * A * t)) * std::exp(-t);
+}
+
+// d'Eon 2012 closed form (derivation in materials/better_dipole.bssrdf), in double, with the
+// same definition of the Fresnel moments (128-step midpoint rule on the exact Fresnel term).
+double betterRdr(double a, double eta) {
+    double c1 = 0, c2 = 0;
+    for (int i = 0; i < 128; ++i) {
+        const double mu = (i + 0.5) / 128, sin2t = eta * eta * (1 - mu * mu);
+        double f = 1;
+        if (sin2t < 1) {
+            const double ct = std::sqrt(1 - sin2t);
+            const double rs = (eta * mu - ct) / (eta * mu + ct), rp = (mu - eta * ct) / (mu + eta * ct);
+            f = 0.5 * (rs * rs + rp * rp);
+        }
+        c1 += f * mu / 128;
+        c2 += f * mu * mu / 128;
+    }
+    const double A = (1 + 3 * c2) / (1 - 2 * c1), cphi = 0.25 * (1 - 2 * c1), ce = 0.5 * (1 - 3 * c2);
+    const double D = (2 - a) / 3, s = std::sqrt((1 - a) / D), zr = 1, zv = 1 + 4 * A * D;
+    const double phiInt = s > 0 ? (std::exp(-s * zr) - std::exp(-s * zv)) / (2 * D * s)
+                                : (zv - zr) / (2 * D);
+    return a * (cphi * phiInt + ce * 0.5 * (std::exp(-s * zr) + std::exp(-s * zv)));
+}
+
+struct Loaded {
+    std::unique_ptr<app::Workbench> wb;
+    bssrdf::ModelEntry* entry;
+};
+Loaded load(const std::string& model) {
+    testsupport::context();
+    Loaded l;
+    l.wb = std::make_unique<app::Workbench>(testsupport::sourceRoot(), false,
+                                            std::vector<std::filesystem::path>{
+                                                testsupport::sourceRoot() / "materials" / model});
+    l.entry = &l.wb->library().entries().at(0);
+    return l;
+}
+
+std::string invertError(bssrdf::ModelEntry& e, const app::MaterialSettings& s) {
+    try {
+        app::effectiveParams(e, s);
+    } catch (const core::Error& err) {
+        return err.what();
+    }
+    return "";
+}
+
+} // namespace
+
+TEST(InversionGpu, RoundTripForEveryPresetAndModel) {
+    auto presets = material::loadPresets(testsupport::sourceRoot() / "materials/presets.json");
+    for (const char* model : {"dipole.bssrdf", "better_dipole.bssrdf"}) {
+        auto l = load(model);
+        ASSERT_TRUE(l.entry->hasInversion());
+        for (double g : {0.0, 0.7}) {
+            for (const auto& pr : presets) {
+                if (pr.name == "Spectralon") continue; // σa = 0: l_d infinite, tested below
+                const material::MaterialParams truth = material::applyPreset(pr, [&] {
+                    material::MaterialParams b;
+                    b.g = g;
+                    return b;
+                }());
+                app::MaterialSettings s;
+                s.mode = app::ParamMode::RdrLd;
+                s.params.g = truth.g;
+                s.params.eta = truth.eta;
+                const glm::dvec3 a = material::reducedAlbedo(truth);
+                s.ld = material::diffuseMeanFreePath(truth);
+                for (int c = 0; c < 3; ++c)
+                    s.rdr[c] = std::string(model) == "dipole.bssrdf" ? classicRdr(a[c], truth.eta)
+                                                                     : betterRdr(a[c], truth.eta);
+                material::MaterialParams got = app::effectiveParams(*l.entry, s);
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_NEAR(got.sigmaA[c] / truth.sigmaA[c], 1.0, 1e-4)
+                        << model << " " << pr.name << " g=" << g << " channel " << c;
+                    EXPECT_NEAR(got.sigmaS[c] / truth.sigmaS[c], 1.0, 1e-4)
+                        << model << " " << pr.name << " g=" << g << " channel " << c;
+                }
+            }
+        }
+    }
+}
+
+TEST(InversionGpu, ClearErrorsForTargetsThatCannotBeInverted) {
+    auto l = load("dipole.bssrdf");
+    app::MaterialSettings s;
+    s.mode = app::ParamMode::RdrLd;
+    s.rdr = {0.5, 1.3, 0.5}; // R_dr of the dipole lies in [0, 1]
+    std::string m = invertError(*l.entry, s);
+    EXPECT_NE(m.find("outside the invertible range"), std::string::npos) << m;
+    EXPECT_NE(m.find("channel G"), std::string::npos) << m;
+    s.rdr = {0.5, -0.1, 0.5};
+    EXPECT_NE(invertError(*l.entry, s).find("outside the invertible range"), std::string::npos);
+    // Spectralon: no absorption means R_dr = R_dr(1) = 1 and an infinite l_d.
+    s.rdr = {1.0, 0.5, 0.5};
+    m = invertError(*l.entry, s);
+    EXPECT_NE(m.find("infinite"), std::string::npos) << m;
+    s.rdr = {0.5, 0.5, 0.5};
+    s.ld = {1.0, 0.0, 1.0};
+    m = invertError(*l.entry, s);
+    EXPECT_NE(m.find("l_d"), std::string::npos) << m;
+    s.ld = {1.0, 1.0, 1.0};
+    s.params.g = 1.0;
+    EXPECT_NE(invertError(*l.entry, s).find("|g| < 1"), std::string::npos);
+}
+
+TEST(InversionGpu, ModelWithoutDiffuseReflectanceDisablesTheMode) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("nodr", {});
+    std::string text = testsupport::readText(testsupport::sourceRoot() / "materials/dipole.bssrdf");
+    auto b = text.find("::begin diffuseReflectance");
+    auto e = text.find("::end diffuseReflectance");
+    ASSERT_NE(b, std::string::npos);
+    text.erase(b, e + std::string("::end diffuseReflectance").size() - b);
+    core::writeFile(root / "materials/nodr.bssrdf", text);
+    app::Workbench wb(root, false);
+    auto& entry = wb.library().entries().at(0);
+    ASSERT_TRUE(entry.usable()) << (entry.problem ? entry.problem->text() : "");
+    EXPECT_FALSE(entry.hasInversion());
+    app::MaterialSettings s;
+    s.mode = app::ParamMode::RdrLd;
+    std::string m = invertError(entry, s);
+    EXPECT_NE(m.find("no diffuseReflectance section"), std::string::npos) << m;
+    // the workbench shows it as a material problem of that model, σ mode still works
+    wb.shared().mode = app::ParamMode::RdrLd;
+    wb.update();
+    EXPECT_FALSE(wb.view(entry.displayPath).effective.has_value());
+    EXPECT_FALSE(wb.errors().empty());
+    wb.shared().mode = app::ParamMode::Sigma;
+    wb.update();
+    EXPECT_TRUE(wb.view(entry.displayPath).effective.has_value());
+    std::filesystem::remove_all(root);
+}

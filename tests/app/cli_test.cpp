@@ -1,0 +1,526 @@
+// End-to-end tests of the bssrdf-workbench command line: each test runs the real executable
+// (BW_EXE) with --root BW_SOURCE_ROOT in a fresh temporary working folder, captures stdout and
+// stderr together plus the exit status, and checks outputs (CSV, PNG, printed numbers) and
+// that every rejected input fails with a message naming the offending argument or file.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+namespace fs = std::filesystem;
+
+// ---- helpers ------------------------------------------------------------------------------
+
+class TempDir {
+  public:
+    TempDir() {
+        static std::atomic<int> counter{0};
+        std::random_device rd;
+        m_path = fs::temp_directory_path() /
+                 ("bw_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) +
+                  "_" + std::to_string(rd()));
+        fs::create_directories(m_path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(m_path, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const fs::path& path() const { return m_path; }
+
+  private:
+    fs::path m_path;
+};
+
+struct RunResult {
+    int code = -1;      // exit status, or 128 + signal number
+    std::string output; // stdout and stderr interleaved
+};
+
+std::string describe(const std::vector<std::string>& args, const RunResult& r) {
+    std::string s = "command: bssrdf-workbench";
+    for (const auto& a : args) s += " " + a;
+    s += "\nexit code: " + std::to_string(r.code) + "\noutput:\n" + r.output;
+    return s;
+}
+
+// Runs BW_EXE --root BW_SOURCE_ROOT ARGS... in `cwd` (fork/exec, no shell).
+RunResult runExe(const std::vector<std::string>& args, const fs::path& cwd) {
+    std::vector<std::string> full = {BW_EXE, "--root", BW_SOURCE_ROOT};
+    full.insert(full.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : full) argv.push_back(a.data());
+    argv.push_back(nullptr);
+
+    int fds[2];
+    if (::pipe(fds) != 0) return {-1, "pipe() failed"};
+    pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return {-1, "fork() failed"};
+    }
+    if (pid == 0) {
+        ::close(fds[0]);
+        ::dup2(fds[1], STDOUT_FILENO);
+        ::dup2(fds[1], STDERR_FILENO);
+        ::close(fds[1]);
+        int devnull = ::open("/dev/null", O_RDONLY);
+        if (devnull >= 0) ::dup2(devnull, STDIN_FILENO);
+        if (::chdir(cwd.c_str()) != 0) ::_exit(126);
+        ::execv(argv[0], argv.data());
+        ::_exit(127);
+    }
+    ::close(fds[1]);
+    RunResult r;
+    char buf[4096];
+    for (;;) {
+        ssize_t n = ::read(fds[0], buf, sizeof buf);
+        if (n > 0) r.output.append(buf, static_cast<size_t>(n));
+        else if (n < 0 && errno == EINTR) continue;
+        else break;
+    }
+    ::close(fds[0]);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFEXITED(status)) r.code = WEXITSTATUS(status);
+    else if (WIFSIGNALED(status)) r.code = 128 + WTERMSIG(status);
+    return r;
+}
+
+std::string readText(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+void writeText(const fs::path& p, const std::string& text) {
+    std::ofstream f(p, std::ios::binary);
+    f << text;
+}
+
+std::vector<std::string> splitLines(const std::string& text) {
+    std::vector<std::string> lines;
+    std::stringstream ss(text);
+    std::string line;
+    while (std::getline(ss, line)) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        lines.push_back(line);
+    }
+    return lines;
+}
+
+bool contains(const std::string& hay, const std::string& needle) {
+    return hay.find(needle) != std::string::npos;
+}
+
+std::vector<std::string> splitOn(const std::string& s, char sep) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, sep)) out.push_back(item);
+    return out;
+}
+
+double toDouble(const std::string& s, bool& ok) {
+    char* end = nullptr;
+    errno = 0;
+    double v = std::strtod(s.c_str(), &end);
+    ok = !s.empty() && end == s.c_str() + s.size();
+    return v;
+}
+
+// A parsed profile CSV: '#' header lines, the column header row, then r_mm,R,G,B rows.
+struct ProfileCsv {
+    std::vector<std::string> comments;
+    std::string header;
+    std::vector<std::array<double, 4>> rows;
+    std::vector<std::string> problems; // malformed lines
+};
+
+ProfileCsv parseProfile(const std::string& text) {
+    ProfileCsv csv;
+    bool inData = false;
+    for (const auto& line : splitLines(text)) {
+        if (!inData) {
+            if (!line.empty() && line[0] == '#') {
+                csv.comments.push_back(line);
+                continue;
+            }
+            csv.header = line;
+            inData = true;
+            continue;
+        }
+        if (line.empty()) continue;
+        auto cells = splitOn(line, ',');
+        if (cells.size() != 4) {
+            csv.problems.push_back("not 4 columns: " + line);
+            continue;
+        }
+        std::array<double, 4> row{};
+        for (int i = 0; i < 4; ++i) {
+            bool ok = false;
+            row[i] = toDouble(cells[i], ok);
+            if (!ok) csv.problems.push_back("not a number: " + line);
+        }
+        csv.rows.push_back(row);
+    }
+    return csv;
+}
+
+std::string findComment(const ProfileCsv& csv, const std::string& prefix) {
+    for (const auto& c : csv.comments)
+        if (c.rfind(prefix, 0) == 0) return c;
+    return {};
+}
+
+// "# key a b c ..." -> the numbers after the key.
+std::vector<double> commentNumbers(const std::string& line, size_t skipWords) {
+    std::stringstream ss(line);
+    std::string w;
+    for (size_t i = 0; i < skipWords && (ss >> w); ++i) {
+    }
+    std::vector<double> v;
+    while (ss >> w) {
+        bool ok = false;
+        double d = toDouble(w, ok);
+        if (!ok) break;
+        v.push_back(d);
+    }
+    return v;
+}
+
+const std::string kDipole = "materials/dipole.bssrdf";
+fs::path sourceRoot() { return fs::path(BW_SOURCE_ROOT); }
+
+class Cli : public ::testing::Test {
+  protected:
+    RunResult run(const std::vector<std::string>& args) {
+        return runExe(args, m_dir.path());
+    }
+    // Expects a failure (non-zero exit) whose output mentions every fragment.
+    void expectFailure(const std::vector<std::string>& args,
+                       const std::vector<std::string>& fragments) {
+        RunResult r = run(args);
+        EXPECT_NE(r.code, 0) << describe(args, r);
+        for (const auto& f : fragments)
+            EXPECT_TRUE(contains(r.output, f))
+                << "expected the message to contain '" << f << "'\n"
+                << describe(args, r);
+    }
+    const fs::path& dir() const { return m_dir.path(); }
+
+    TempDir m_dir;
+};
+
+// ---- profile ------------------------------------------------------------------------------
+
+TEST_F(Cli, ProfilePresetWritesCsvWithHeaderAndDefaultSamples) {
+    std::vector<std::string> args = {"profile", "--model", kDipole, "--preset", "Marble",
+                                     "--out", "marble.csv"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    fs::path csvPath = dir() / "marble.csv";
+    ASSERT_TRUE(fs::exists(csvPath)) << describe(args, r);
+    ProfileCsv csv = parseProfile(readText(csvPath));
+
+    // Header: model path and the material actually used.
+    EXPECT_TRUE(contains(findComment(csv, "# model "), "dipole.bssrdf"));
+    std::string sa = findComment(csv, "# sigma_a ");
+    std::string ss = findComment(csv, "# sigma_s ");
+    ASSERT_FALSE(sa.empty()) << "no '# sigma_a' header line";
+    ASSERT_FALSE(ss.empty()) << "no '# sigma_s' header line";
+    EXPECT_FALSE(findComment(csv, "# g ").empty()) << "no '# g' header line";
+    EXPECT_FALSE(findComment(csv, "# eta ").empty()) << "no '# eta' header line";
+    // Marble (Jensen et al. 2001, materials/presets.json) with g = 0: sigma_s = sigma_s'.
+    auto saV = commentNumbers(sa, 2), ssV = commentNumbers(ss, 2);
+    ASSERT_EQ(saV.size(), 3u) << sa;
+    ASSERT_EQ(ssV.size(), 3u) << ss;
+    const double kSa[3] = {0.0021, 0.0041, 0.0071}, kSs[3] = {2.19, 2.62, 3.00};
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(saV[c], kSa[c], 1e-9) << sa;
+        EXPECT_NEAR(ssV[c], kSs[c], 1e-9) << ss;
+    }
+    auto eta = commentNumbers(findComment(csv, "# eta "), 2);
+    ASSERT_EQ(eta.size(), 1u);
+    EXPECT_NEAR(eta[0], 1.3, 1e-12);
+    auto g = commentNumbers(findComment(csv, "# g "), 2);
+    ASSERT_EQ(g.size(), 1u);
+    EXPECT_EQ(g[0], 0.0);
+
+    EXPECT_EQ(csv.header, "r_mm,R,G,B");
+    EXPECT_TRUE(csv.problems.empty()) << csv.problems.front();
+    ASSERT_EQ(csv.rows.size(), 512u);
+    EXPECT_EQ(csv.rows.front()[0], 0.0);
+    for (size_t i = 0; i < csv.rows.size(); ++i) {
+        const auto& row = csv.rows[i];
+        for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(row[k])) << "row " << i;
+        for (int k = 1; k < 4; ++k) EXPECT_GT(row[k], 0.0) << "row " << i << " column " << k;
+        if (i > 0) EXPECT_GT(row[0], csv.rows[i - 1][0]) << "r not increasing at row " << i;
+    }
+    // A diffusion profile falls off with distance: the first value exceeds the last.
+    for (int k = 1; k < 4; ++k) EXPECT_GT(csv.rows.front()[k], csv.rows.back()[k]);
+}
+
+TEST_F(Cli, ProfileExplicitCoefficientsSamplesAndRange) {
+    std::vector<std::string> args = {"profile",   "--model",  kDipole,     "--sigma-a",
+                                     "0.01,0.02,0.03", "--sigma-s", "1,1,1", "--samples",
+                                     "600",       "--rmax",   "10",        "--out",
+                                     "explicit.csv"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    ProfileCsv csv = parseProfile(readText(dir() / "explicit.csv"));
+    EXPECT_EQ(csv.header, "r_mm,R,G,B");
+    EXPECT_TRUE(csv.problems.empty()) << csv.problems.front();
+    ASSERT_EQ(csv.rows.size(), 600u);
+    EXPECT_EQ(csv.rows.front()[0], 0.0);
+    EXPECT_NEAR(csv.rows.back()[0], 10.0, 1e-6);
+    for (size_t i = 0; i < csv.rows.size(); ++i) {
+        for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(csv.rows[i][k])) << "row " << i;
+        for (int k = 1; k < 4; ++k) EXPECT_GT(csv.rows[i][k], 0.0) << "row " << i;
+        if (i > 0) EXPECT_GT(csv.rows[i][0], csv.rows[i - 1][0]) << "row " << i;
+    }
+    auto saV = commentNumbers(findComment(csv, "# sigma_a "), 2);
+    ASSERT_EQ(saV.size(), 3u);
+    EXPECT_NEAR(saV[0], 0.01, 1e-12);
+    EXPECT_NEAR(saV[1], 0.02, 1e-12);
+    EXPECT_NEAR(saV[2], 0.03, 1e-12);
+}
+
+TEST_F(Cli, ProfileRejectsBadCoefficients) {
+    const std::vector<std::string> base = {"profile", "--model", kDipole, "--out", "bad.csv"};
+    auto with = [&](std::vector<std::string> extra) {
+        std::vector<std::string> a = base;
+        a.insert(a.end(), extra.begin(), extra.end());
+        return a;
+    };
+    expectFailure(with({"--sigma-a", "-1,0,0", "--sigma-s", "1,1,1"}), {"sigma_a"});
+    expectFailure(with({"--sigma-a", "0,0,0", "--sigma-s", "0,1,1"}), {"sigma_s"});
+    expectFailure(with({"--sigma-a", "nan,0,0", "--sigma-s", "1,1,1"}), {"sigma_a"});
+    expectFailure(with({"--sigma-a", "inf,0,0", "--sigma-s", "1,1,1"}), {"sigma_a"});
+    expectFailure(with({"--sigma-a", "0.1,0.1,0.1", "--sigma-s", "1,inf,1"}), {"sigma_s"});
+    expectFailure(with({"--sigma-a", "0.1", "--sigma-s", "1", "--eta", "0"}), {"eta"});
+    expectFailure(with({"--sigma-a", "0.1", "--sigma-s", "1", "--g", "1"}), {"g (mean cosine)"});
+    expectFailure(with({"--sigma-a", "1,2", "--sigma-s", "1,1,1"}), {"--sigma-a"});
+    expectFailure(with({"--sigma-a", "abc", "--sigma-s", "1,1,1"}), {"--sigma-a", "abc"});
+    expectFailure(with({"--sigma-a", "0.1,0.1,0.1", "--sigma-s", "1,x,1"}), {"--sigma-s"});
+    expectFailure(with({"--sigma-a", "0.1,0.1,0.1"}), {"--sigma-s"});
+    expectFailure(with({"--preset", "Marble", "--sigma-a", "0.1,0.1,0.1"}), {"--preset"});
+    EXPECT_FALSE(fs::exists(dir() / "bad.csv")) << "a rejected profile still wrote its CSV";
+}
+
+TEST_F(Cli, ProfileRejectsBadPresetModelAndOutput) {
+    expectFailure({"profile", "--model", kDipole, "--preset", "NoSuchMaterial", "--out", "x.csv"},
+                  {"preset", "NoSuchMaterial"});
+    expectFailure(
+        {"profile", "--model", "does/not/exist.bssrdf", "--preset", "Marble", "--out", "x.csv"},
+        {"--model", "does/not/exist.bssrdf"});
+    expectFailure({"profile", "--model", kDipole, "--preset", "Marble", "--out", "/proc/nope/x.csv"},
+                  {"/proc/nope/x.csv"});
+    expectFailure({"profile", "--model", kDipole, "--preset", "Marble", "--samples", "1", "--out",
+                   "x.csv"},
+                  {"--samples"});
+    expectFailure({"profile", "--model", kDipole, "--preset", "Marble", "--rmax", "-2", "--out",
+                   "x.csv"},
+                  {"--rmax"});
+    EXPECT_FALSE(fs::exists(dir() / "x.csv"));
+}
+
+// A GLSL error inside the shader section is reported against the user's file and line.
+TEST_F(Cli, ProfileReportsShaderErrorAtModelFileLine) {
+    auto lines = splitLines(readText(sourceRoot() / kDipole));
+    int begin = -1, end = -1;
+    for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
+        if (lines[i].rfind("::begin shader", 0) == 0) begin = i;
+        if (lines[i].rfind("::end shader", 0) == 0) end = i;
+    }
+    ASSERT_GE(begin, 0);
+    ASSERT_GT(end, begin);
+    // A statement line inside the function body: indented, a declaration ending with ';'.
+    int target = -1;
+    for (int i = begin + 1; i < end; ++i) {
+        const auto& l = lines[i];
+        if (l.size() > 4 && (l[0] == ' ' || l[0] == '\t') && contains(l, "vec3 ") &&
+            l.back() == ';' && !contains(l, "return")) {
+            target = i;
+            break;
+        }
+    }
+    ASSERT_GE(target, 0) << "no statement line found in the shader section of " << kDipole;
+    lines[target] = "    vec3 Broken = ;";
+    std::string text;
+    for (const auto& l : lines) text += l + "\n";
+    const fs::path broken = dir() / "broken.bssrdf";
+    writeText(broken, text);
+    const std::string where = broken.string() + ":" + std::to_string(target + 1);
+
+    expectFailure({"profile", "--model", broken.string(), "--preset", "Marble", "--out", "x.csv"},
+                  {where});
+    expectFailure({"invert", "--model", broken.string(), "--rdr", "0.5,0.5,0.5", "--ld", "1,1,1"},
+                  {where});
+    EXPECT_FALSE(fs::exists(dir() / "x.csv"));
+}
+
+// ---- invert -------------------------------------------------------------------------------
+
+// Classical dipole (materials/dipole.bssrdf): R_dr(alpha') of its diffuseReflectance section
+// and l_d = 1/sigma_tr, evaluated in double precision to check the printed inversion.
+struct Forward {
+    double rdr, ld;
+};
+Forward dipoleForward(double sigmaA, double sigmaS, double eta) {
+    double fdr = -1.44 / (eta * eta) + 0.71 / eta + 0.668 + 0.0636 * eta;
+    double A = (1 + fdr) / (1 - fdr);
+    double sigmaT = sigmaA + sigmaS; // g = 0
+    double alpha = sigmaS / sigmaT;
+    double T = std::sqrt(3 * (1 - alpha));
+    double rdr = alpha * 0.5 * (1 + std::exp(-4.0 / 3.0 * A * T)) * std::exp(-T);
+    double sigmaTr = std::sqrt(3 * sigmaA * sigmaT);
+    return {rdr, 1 / sigmaTr};
+}
+
+TEST_F(Cli, InvertPrintsCoefficientsThatReproduceTheInputs) {
+    std::vector<std::string> args = {"invert", "--model", kDipole, "--rdr", "0.5,0.6,0.7",
+                                     "--ld",   "1,2,3"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    auto lines = splitLines(r.output);
+    lines.erase(std::remove(lines.begin(), lines.end(), std::string()), lines.end());
+    ASSERT_EQ(lines.size(), 2u) << describe(args, r);
+    double values[2][3];
+    const char* names[2] = {"sigma_a", "sigma_s"};
+    for (int k = 0; k < 2; ++k) {
+        std::stringstream ss(lines[k]);
+        std::string name;
+        ss >> name;
+        ASSERT_EQ(name, names[k]) << describe(args, r);
+        for (int c = 0; c < 3; ++c) {
+            std::string w;
+            ASSERT_TRUE(static_cast<bool>(ss >> w)) << describe(args, r);
+            bool ok = false;
+            values[k][c] = toDouble(w, ok);
+            ASSERT_TRUE(ok) << "not a number: " << w;
+            ASSERT_TRUE(std::isfinite(values[k][c])) << lines[k];
+        }
+        std::string extra;
+        EXPECT_FALSE(static_cast<bool>(ss >> extra)) << "trailing text: " << lines[k];
+    }
+    const double rdr[3] = {0.5, 0.6, 0.7}, ld[3] = {1, 2, 3};
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GE(values[0][c], 0.0) << lines[0];
+        EXPECT_GT(values[1][c], 0.0) << lines[1];
+        Forward f = dipoleForward(values[0][c], values[1][c], 1.3);
+        EXPECT_NEAR(f.rdr, rdr[c], 1e-3 * rdr[c]) << "channel " << c;
+        EXPECT_NEAR(f.ld, ld[c], 1e-3 * ld[c]) << "channel " << c;
+    }
+}
+
+TEST_F(Cli, InvertRejectsBadInputs) {
+    expectFailure({"invert", "--model", kDipole, "--rdr", "1.5,0.5,0.5", "--ld", "1,1,1"},
+                  {"R_dr"});
+    expectFailure({"invert", "--model", kDipole, "--rdr", "-0.1,0.5,0.5", "--ld", "1,1,1"},
+                  {"R_dr"});
+    expectFailure({"invert", "--model", kDipole, "--rdr", "0.5,0.5,0.5", "--ld", "0,1,1"},
+                  {"l_d"});
+    expectFailure({"invert", "--model", kDipole, "--rdr", "0.5,0.5", "--ld", "1,1,1"}, {"--rdr"});
+    expectFailure({"invert", "--model", kDipole, "--rdr", "0.5,0.5,0.5", "--ld", "1,x,1"},
+                  {"--ld"});
+    expectFailure({"invert", "--model", "does/not/exist.bssrdf", "--rdr", "0.5", "--ld", "1"},
+                  {"--model", "does/not/exist.bssrdf"});
+}
+
+TEST_F(Cli, InvertNeedsDiffuseReflectanceSection) {
+    std::string text = readText(sourceRoot() / kDipole);
+    size_t b = text.find("::begin diffuseReflectance");
+    size_t e = text.find("::end diffuseReflectance");
+    ASSERT_NE(b, std::string::npos);
+    ASSERT_NE(e, std::string::npos);
+    e = text.find('\n', e);
+    ASSERT_NE(e, std::string::npos);
+    text.erase(b, e + 1 - b);
+    const fs::path model = dir() / "no_rdr.bssrdf";
+    writeText(model, text);
+    expectFailure({"invert", "--model", model.string(), "--rdr", "0.5,0.6,0.7", "--ld", "1,2,3"},
+                  {"diffuseReflectance"});
+}
+
+// ---- screenshot ---------------------------------------------------------------------------
+
+TEST_F(Cli, ScreenshotWritesPngOfRequestedSize) {
+    std::vector<std::string> args = {"screenshot", "--out",    "shot.png", "--size",
+                                     "640x400",    "--frames", "2"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    const fs::path png = dir() / "shot.png";
+    ASSERT_TRUE(fs::exists(png)) << describe(args, r);
+    std::string bytes = readText(png);
+    ASSERT_GE(bytes.size(), 24u);
+    const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    for (int i = 0; i < 8; ++i)
+        ASSERT_EQ(static_cast<unsigned char>(bytes[i]), sig[i]) << "PNG signature byte " << i;
+    // IHDR: big-endian width and height at bytes 16..23.
+    auto be32 = [&](size_t o) {
+        uint32_t v = 0;
+        for (size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(bytes[o + i]);
+        return v;
+    };
+    EXPECT_EQ(bytes.substr(12, 4), "IHDR");
+    EXPECT_EQ(be32(16), 640u);
+    EXPECT_EQ(be32(20), 400u);
+}
+
+TEST_F(Cli, ScreenshotRejectsBadSize) {
+    expectFailure({"screenshot", "--out", "tiny.png", "--size", "10x10"}, {"--size"});
+    expectFailure({"screenshot", "--out", "tiny.png", "--size", "big"}, {"--size"});
+    EXPECT_FALSE(fs::exists(dir() / "tiny.png"));
+}
+
+// ---- help, replay -------------------------------------------------------------------------
+
+TEST_F(Cli, HelpListsSubcommands) {
+    RunResult r = run({"--help"});
+    ASSERT_EQ(r.code, 0) << describe({"--help"}, r);
+    for (const char* sub : {"gui", "screenshot", "profile", "invert", "record", "replay"})
+        EXPECT_TRUE(contains(r.output, sub)) << sub << "\n" << r.output;
+}
+
+TEST_F(Cli, ProfileHelpDocumentsOptions) {
+    RunResult r = run({"profile", "--help"});
+    ASSERT_EQ(r.code, 0) << describe({"profile", "--help"}, r);
+    for (const char* opt : {"--model", "--preset", "--sigma-a", "--sigma-s", "--out"})
+        EXPECT_TRUE(contains(r.output, opt)) << opt << "\n" << r.output;
+}
+
+TEST_F(Cli, UnknownSubcommandFails) {
+    RunResult r = run({"no-such-command"});
+    EXPECT_NE(r.code, 0) << describe({"no-such-command"}, r);
+    EXPECT_TRUE(contains(r.output, "no-such-command")) << r.output;
+}
+
+TEST_F(Cli, ReplayMissingCaptureNamesManifest) {
+    std::vector<std::string> args = {"replay", "/nonexistent/capture"};
+    RunResult r = run(args);
+    EXPECT_EQ(r.code, 2) << describe(args, r);
+    EXPECT_TRUE(contains(r.output, "manifest.json")) << describe(args, r);
+}
+
+} // namespace

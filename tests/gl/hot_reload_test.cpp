@@ -1,0 +1,146 @@
+// Hot reload end to end with real files, inotify and GL: write a model, see the new output;
+// write a broken one, keep the old output and get the error; fix it, recover. Parameter
+// values survive; models appear and disappear with their files; shaders reload too.
+#include "../support/gl_fixture.h"
+#include "workbench.h"
+
+#include <fstream>
+#include <thread>
+
+using testsupport::lineOf;
+using testsupport::replaced;
+
+namespace {
+namespace fs = std::filesystem;
+
+// Runs wb.update() until `done` holds (5 s limit: the debounce is 40 ms, a rebuild ~100 ms).
+template <class F> bool waitFor(app::Workbench& wb, F done) {
+    core::Stopwatch sw;
+    while (sw.ms() < 5000) {
+        wb.update();
+        if (done()) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+}
+
+double valueAt0(app::Workbench& wb, const std::string& path) {
+    auto& v = wb.view(path);
+    return v.profile.value.empty() ? -1.0 : v.profile.value[0].x;
+}
+
+// Editor-style save: write a temporary next to the file and rename it over the original.
+void saveLikeAnEditor(const fs::path& file, const std::string& text) {
+    fs::path tmp = file.parent_path() / ("." + file.filename().string() + ".swp");
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+    }
+    fs::rename(tmp, file);
+}
+} // namespace
+
+TEST(HotReload, EditBreakRecover) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("hot", {"dipole.bssrdf"});
+    const fs::path file = root / "materials/dipole.bssrdf";
+    const std::string path = "materials/dipole.bssrdf";
+    const std::string good = testsupport::readText(file);
+    app::Workbench wb(root, true);
+    ASSERT_TRUE(wb.watching());
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+
+    // 1. a good edit of the GLSL shows up as new output
+    std::string doubled = replaced(good, "return Multiplier/(4.0*PI)", "return 2.0*Multiplier/(4.0*PI)");
+    saveLikeAnEditor(file, doubled);
+    ASSERT_TRUE(waitFor(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-6 * base; }));
+
+    // 2. a user-set value survives a reload when name and type persist
+    wb.library().find(path)->values["Multiplier"] = {1.5f, 0, 0};
+    wb.update();
+    ASSERT_NEAR(valueAt0(wb, path), 3 * base, 1e-5 * base);
+    saveLikeAnEditor(file, doubled + "\n# a comment\n");
+    ASSERT_TRUE(waitFor(wb, [&] { return wb.library().find(path)->generation >= 3; }));
+    EXPECT_FLOAT_EQ(wb.library().find(path)->values["Multiplier"][0], 1.5f);
+    EXPECT_NEAR(valueAt0(wb, path), 3 * base, 1e-5 * base);
+
+    // 3. a broken save keeps the last good program and output, and names file:line
+    std::string broken = replaced(doubled, "    vec3 Zr = Lu;", "    vec3 Zr = Lu +* ;");
+    saveLikeAnEditor(file, broken);
+    ASSERT_TRUE(waitFor(wb, [&] { return wb.library().find(path)->problem.has_value(); }));
+    auto* e = wb.library().find(path);
+    EXPECT_EQ(e->problem->file, path);
+    EXPECT_EQ(e->problem->line, lineOf(broken, "Lu +* ;"));
+    EXPECT_TRUE(e->usable());
+    EXPECT_NEAR(valueAt0(wb, path), 3 * base, 1e-5 * base);
+    bool listed = false;
+    for (const auto& err : wb.errors())
+        listed |= err.text.find(path + ":" + std::to_string(e->problem->line)) != std::string::npos;
+    EXPECT_TRUE(listed);
+
+    // 4. the next good save recovers by itself
+    std::string tripled = replaced(good, "return Multiplier/(4.0*PI)", "return 3.0*Multiplier/(4.0*PI)");
+    saveLikeAnEditor(file, tripled);
+    ASSERT_TRUE(waitFor(wb, [&] { return !wb.library().find(path)->problem.has_value(); }));
+    wb.library().find(path)->values["Multiplier"] = {1.0f, 0, 0};
+    ASSERT_TRUE(waitFor(wb, [&] { return std::abs(valueAt0(wb, path) - 3 * base) < 1e-5 * base; }));
+    EXPECT_TRUE(wb.errors().empty());
+    fs::remove_all(root);
+}
+
+TEST(HotReload, ModelsAppearAndDisappearWithTheirFiles) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("appear", {"dipole.bssrdf"});
+    app::Workbench wb(root, true);
+    ASSERT_EQ(wb.library().entries().size(), 1u);
+    fs::copy_file(testsupport::sourceRoot() / "materials/better_dipole.bssrdf",
+                  root / "materials/better_dipole.bssrdf");
+    ASSERT_TRUE(waitFor(wb, [&] { return wb.library().entries().size() == 2; }));
+    EXPECT_TRUE(waitFor(wb, [&] { return valueAt0(wb, "materials/better_dipole.bssrdf") > 0; }));
+    fs::remove(root / "materials/dipole.bssrdf"); // deleted while watched
+    ASSERT_TRUE(waitFor(wb, [&] { return wb.library().entries().size() == 1; }));
+    EXPECT_EQ(wb.library().entries()[0].displayPath, "materials/better_dipole.bssrdf");
+    EXPECT_EQ(wb.plotSeries().size(), 1u);
+    EXPECT_TRUE(wb.errors().empty());
+    fs::remove_all(root);
+}
+
+TEST(HotReload, BrokenShaderTemplateKeepsProgramsAndRecovers) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("shader", {"dipole.bssrdf"});
+    app::Workbench wb(root, true);
+    const std::string path = "materials/dipole.bssrdf";
+    const double base = valueAt0(wb, path);
+    const fs::path tplFile = root / "shaders/pencil_profile.comp";
+    const std::string tpl = testsupport::readText(tplFile);
+    saveLikeAnEditor(tplFile, replaced(tpl, "    init();", "    init(;"));
+    ASSERT_TRUE(waitFor(wb, [&] { return wb.library().find(path)->problem.has_value(); }));
+    EXPECT_EQ(wb.library().find(path)->problem->file, "shaders/pencil_profile.comp");
+    EXPECT_TRUE(wb.library().find(path)->usable());
+    // a changed template that still works doubles the output
+    saveLikeAnEditor(tplFile, replaced(tpl, "values[i] = vec4(Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);",
+                                       "values[i] = vec4(2.0*Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);"));
+    ASSERT_TRUE(waitFor(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-6 * base; }));
+    EXPECT_FALSE(wb.library().find(path)->problem.has_value());
+    fs::remove_all(root);
+}
+
+TEST(HotReload, NonUtf8AndEmptySavesAreErrorsNotCrashes) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("binary", {"dipole.bssrdf"});
+    app::Workbench wb(root, true);
+    const std::string path = "materials/dipole.bssrdf";
+    const double base = valueAt0(wb, path);
+    saveLikeAnEditor(root / "materials/dipole.bssrdf", std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10));
+    ASSERT_TRUE(waitFor(wb, [&] { return wb.library().find(path)->problem.has_value(); }));
+    EXPECT_NE(wb.library().find(path)->problem->message.find("UTF-8"), std::string::npos);
+    EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base);
+    saveLikeAnEditor(root / "materials/dipole.bssrdf", "");
+    ASSERT_TRUE(waitFor(wb, [&] {
+        auto* e = wb.library().find(path);
+        return e->problem && e->problem->message.find("empty") != std::string::npos;
+    }));
+    EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base);
+    fs::remove_all(root);
+}

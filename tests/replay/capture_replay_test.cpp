@@ -1,0 +1,107 @@
+// Captures end to end: record → replay PASS; a tampered output, a missing output, a changed
+// model and a corrupt manifest all FAIL with a message naming the stage or file.
+#include "../support/gl_fixture.h"
+#include "capture/capture.h"
+#include "capture_io.h"
+
+namespace {
+namespace fs = std::filesystem;
+
+struct Recorded {
+    fs::path root, dir;
+};
+Recorded record(const std::string& tag) {
+    testsupport::context();
+    Recorded r;
+    r.root = testsupport::makeProjectRoot(tag, {"dipole.bssrdf", "better_dipole.bssrdf"});
+    r.dir = r.root / "captures" / "rec";
+    app::Workbench wb(r.root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    wb.view("materials/better_dipole.bssrdf").override = true;
+    auto& own = wb.view("materials/better_dipole.bssrdf").own;
+    own.mode = app::ParamMode::RdrLd;
+    own.rdr = {0.7, 0.5, 0.3};
+    own.ld = {3.0, 1.5, 0.7};
+    wb.library().find("materials/dipole.bssrdf")->values["Multiplier"] = {1.25f, 0, 0};
+    wb.plotSettings().samples = 600;
+    app::recordCaptureTo(wb, r.dir, "rec");
+    return r;
+}
+int replay(const Recorded& r, std::string& out, bool update = false) {
+    return app::replayCapture(r.dir, r.root, update, out);
+}
+} // namespace
+
+TEST(CaptureReplay, RecordThenReplayPasses) {
+    auto r = record("pass");
+    auto m = capture::readManifest(r.dir);
+    EXPECT_EQ(m.models.size(), 2u);
+    EXPECT_EQ(m.outputs.size(), 4u); // material + pencil plot per model
+    EXPECT_FALSE(m.glRenderer.empty());
+    EXPECT_NE(m.models[0].source.find("::begin shader"), std::string::npos);
+    std::string out;
+    EXPECT_EQ(replay(r, out), 0) << out;
+    EXPECT_NE(out.find("PASS pencil_plot.dipole"), std::string::npos) << out;
+    EXPECT_NE(out.find("PASS material.better_dipole"), std::string::npos) << out;
+    // the recorded state was really restored: Multiplier 1.25 and the inverted material
+    auto table = capture::readCsv(r.dir / "material_better_dipole.csv");
+    EXPECT_NE(table.rows[0][1], 0.032); // not Skin1's sigma_a: came from R_dr/l_d
+    fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, TamperedOutputFailsNamingTheStage) {
+    auto r = record("tamper");
+    auto t = capture::readCsv(r.dir / "pencil_plot_dipole.csv");
+    t.rows[37][2] *= 1.001; // 0.1 %: far above float32 evaluation error (1e-5)
+    capture::writeCsv(r.dir / "pencil_plot_dipole.csv", t);
+    std::string out;
+    EXPECT_EQ(replay(r, out), 1) << out;
+    EXPECT_NE(out.find("FAIL pencil_plot.dipole"), std::string::npos) << out;
+    EXPECT_NE(out.find("row 38"), std::string::npos) << out;
+    EXPECT_NE(out.find("PASS pencil_plot.better_dipole"), std::string::npos) << out;
+    // --update rewrites on purpose, after which replay passes again
+    EXPECT_EQ(replay(r, out, true), 0) << out;
+    EXPECT_EQ(replay(r, out), 0) << out;
+    fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, MissingOutputFails) {
+    auto r = record("missing");
+    fs::remove(r.dir / "material_dipole.csv");
+    std::string out;
+    EXPECT_EQ(replay(r, out), 1) << out;
+    EXPECT_NE(out.find("material_dipole.csv"), std::string::npos) << out;
+    EXPECT_NE(out.find("FAIL material.dipole"), std::string::npos) << out;
+    fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, ChangedModelHashFails) {
+    auto r = record("hash");
+    std::string text = testsupport::readText(r.root / "materials/dipole.bssrdf");
+    core::writeFile(r.root / "materials/dipole.bssrdf", text + "\n# edited after recording\n");
+    std::string out;
+    EXPECT_EQ(replay(r, out), 1) << out;
+    EXPECT_NE(out.find("materials/dipole.bssrdf: content hash changed"), std::string::npos) << out;
+    fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, MissingModelFails) {
+    auto r = record("nomodel");
+    fs::remove(r.root / "materials/better_dipole.bssrdf");
+    std::string out;
+    EXPECT_EQ(replay(r, out), 1) << out;
+    EXPECT_NE(out.find("materials/better_dipole.bssrdf: missing"), std::string::npos) << out;
+    EXPECT_NE(out.find("FAIL pencil_plot.better_dipole"), std::string::npos) << out;
+    fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, CorruptManifestIsUnreadable) {
+    auto r = record("corrupt");
+    std::string text = testsupport::readText(r.dir / "manifest.json");
+    text.insert(text.find("\"outputs\""), "{{{ not json ");
+    core::writeFile(r.dir / "manifest.json", text);
+    std::string out;
+    EXPECT_EQ(replay(r, out), 2) << out;
+    EXPECT_NE(out.find("manifest.json:"), std::string::npos) << out;
+    fs::remove_all(r.root);
+}

@@ -1,0 +1,55 @@
+// Shared by GL tests: one headless context per test binary, a throwaway project root, helpers.
+#pragma once
+
+#include "core/core.h"
+#include "gl/gl.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace testsupport {
+
+inline gl::Context& context() {
+    static std::unique_ptr<gl::Context> ctx = gl::createHeadlessContext();
+    ctx->makeCurrent();
+    return *ctx;
+}
+
+inline std::filesystem::path sourceRoot() { return BW_SOURCE_ROOT; }
+
+// A fresh project root in /tmp with a copy of shaders/ and materials/ (only the listed models).
+inline std::filesystem::path makeProjectRoot(const std::string& tag,
+                                             const std::vector<std::string>& models) {
+    namespace fs = std::filesystem;
+    fs::path root = fs::temp_directory_path() / ("bw_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    fs::create_directories(root / "materials");
+    fs::create_directories(root / "captures");
+    fs::copy(sourceRoot() / "shaders", root / "shaders", fs::copy_options::recursive);
+    fs::copy_file(sourceRoot() / "materials" / "presets.json", root / "materials" / "presets.json");
+    for (const auto& m : models)
+        fs::copy_file(sourceRoot() / "materials" / m, root / "materials" / m);
+    return root;
+}
+
+inline std::string readText(const std::filesystem::path& p) { return core::readFile(p); }
+
+// Replaces the first occurrence of `from` with `to`; fails the test if absent.
+inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    auto pos = text.find(from);
+    EXPECT_NE(pos, std::string::npos) << "missing: " << from;
+    if (pos != std::string::npos) text.replace(pos, from.size(), to);
+    return text;
+}
+
+// 1-based line of the first line containing `needle`.
+inline int lineOf(const std::string& text, const std::string& needle) {
+    auto pos = text.find(needle);
+    EXPECT_NE(pos, std::string::npos) << needle;
+    return core::lineOfOffset(text, pos);
+}
+
+} // namespace testsupport
