@@ -85,6 +85,59 @@ void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight) {
 }
 } // namespace
 
+HeadlessGui::HeadlessGui(Workbench& wb, int width, int height)
+    : m_wb(wb), m_width(width), m_height(height) {
+    if (!ImGui::GetCurrentContext()) {
+        static UiState ownUi;
+        ownUi = UiState{};
+        g_ui = &ownUi;
+        ImGui::CreateContext();
+        ImGui::GetIO().IniFilename = nullptr;
+        ImGui::StyleColorsDark();
+        m_ownsContext = true;
+    }
+    m_target.resize(width, height);
+    ImGui_ImplOpenGL3_Init("#version 450");
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(float(width), float(height));
+    io.DisplayFramebufferScale = ImVec2(1, 1);
+}
+
+HeadlessGui::~HeadlessGui() {
+    if (!m_ownsContext) return;
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui::DestroyContext();
+    g_ui = nullptr;
+}
+
+bool HeadlessGui::frame() {
+    ImGuiIO& io = ImGui::GetIO();
+    io.DeltaTime = 1.0f / 60.0f;
+    io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
+    const bool changed = m_wb.update();
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui::NewFrame();
+    drawPanels(m_wb, *g_ui);
+    ImGui::Render();
+    m_target.bind();
+    glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    servicePngExport(m_wb, *g_ui, m_target.framebuffer(), m_height);
+    // A headless frame is "presented" when its pixels exist: finish like a swap would, so
+    // software rasterisers (llvmpipe) do not pile frames up until the next readback.
+    glFinish();
+    if (changed) m_wb.framePresented();
+    gl::collectTimings(true);
+    return changed;
+}
+
+std::vector<unsigned char> HeadlessGui::pixels() const {
+    auto px = gl::readPixelsRGBA8(m_target.framebuffer(), 0, 0, m_width, m_height);
+    for (size_t i = 3; i < px.size(); i += 4) px[i] = 255; // the UI has no meaningful alpha
+    return px;
+}
+
 int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     UiState ui;
     g_ui = &ui;
@@ -133,34 +186,16 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
     } else {
-        gl::RenderTarget target;
-        target.resize(opt.width, opt.height);
-        ImGui_ImplOpenGL3_Init("#version 450");
-        io.DisplaySize = ImVec2(float(opt.width), float(opt.height));
-        io.DisplayFramebufferScale = ImVec2(1, 1);
-        for (int f = 0; f < std::max(1, opt.frames) && !ui.quit; ++f) {
-            io.DeltaTime = 1.0f / 60.0f;
-            io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
-            bool changed = wb.update();
-            ImGui_ImplOpenGL3_NewFrame();
-            ImGui::NewFrame();
-            drawPanels(wb, ui);
-            ImGui::Render();
-            target.bind();
-            glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
-            glClear(GL_COLOR_BUFFER_BIT);
-            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-            servicePngExport(wb, ui, target.framebuffer(), opt.height);
-            if (changed) wb.framePresented();
-            gl::collectTimings(true);
-        }
-        if (!opt.screenshotPath.empty()) {
-            try {
-                auto px = gl::readPixelsRGBA8(target.framebuffer(), 0, 0, opt.width, opt.height);
-                gl::writePng(opt.screenshotPath, opt.width, opt.height, px);
-            } catch (const core::Error& e) {
-                core::logError(e.what());
-                rc = 1;
+        {
+            HeadlessGui gui(wb, opt.width, opt.height);
+            for (int f = 0; f < std::max(1, opt.frames) && !ui.quit; ++f) gui.frame();
+            if (!opt.screenshotPath.empty()) {
+                try {
+                    gl::writePng(opt.screenshotPath, opt.width, opt.height, gui.pixels());
+                } catch (const core::Error& e) {
+                    core::logError(e.what());
+                    rc = 1;
+                }
             }
         }
         ImGui_ImplOpenGL3_Shutdown();

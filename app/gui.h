@@ -6,6 +6,7 @@
 #include "workbench.h"
 
 #include <string>
+#include <vector>
 
 namespace app {
 
@@ -14,6 +15,26 @@ struct GuiOptions {
     int frames = 3;             // headless: frames to run before the screenshot
     std::string screenshotPath; // headless: PNG of what a user would see
     bool persistLayout = true;  // load/save window layout and panel visibility
+};
+
+// The whole UI rendered into an FBO on the current (headless) context, one frame per call.
+class HeadlessGui {
+public:
+    HeadlessGui(Workbench& wb, int width, int height);
+    ~HeadlessGui();
+    HeadlessGui(const HeadlessGui&) = delete;
+    HeadlessGui& operator=(const HeadlessGui&) = delete;
+    // Updates the workbench, draws every open panel, renders; returns whether stages re-ran.
+    bool frame();
+    std::vector<unsigned char> pixels() const; // RGBA8, top row first, opaque
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+private:
+    Workbench& m_wb;
+    int m_width, m_height;
+    gl::RenderTarget m_target;
+    bool m_ownsContext = false; // created its own ImGui context (used outside runGui)
 };
 
 // Runs until the window closes (windowed) or for `frames` frames (headless). Returns 0 on

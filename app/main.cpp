@@ -1,5 +1,6 @@
 // bssrdf-workbench: command line + frame loop entry. Subcommands: gui (default), screenshot,
 // profile, invert, record, replay. Everything but a windowed `gui` runs without a display.
+#include "bench.h"
 #include "capture_io.h"
 #include "cli.h"
 #include "core/core.h"
@@ -121,6 +122,12 @@ int main(int argc, char** argv) {
     rep->add_option("capture", repDir, "capture folder, e.g. captures/dipole_marble")->required();
     rep->add_flag("--update", repUpdate, "rewrite the recorded outputs from this run");
 
+    auto* bench = cli.add_subcommand("bench", "benchmarks (print measured ratios; not tests)");
+    bench->require_subcommand(1);
+    auto* benchReload = bench->add_subcommand("reload", "hot reload: save -> new pixels latency");
+    int reloadRuns = 10;
+    benchReload->add_option("--runs", reloadRuns, "edits to time (default 10)")->check(CLI::Range(1, 1000));
+
     CLI11_PARSE(cli, argc, argv);
     if (verbose) core::setLogEchoLevel(core::LogLevel::Info);
 
@@ -130,6 +137,7 @@ int main(int argc, char** argv) {
         if (*inv) return app::runInvert(root, ia);
         if (*rec) return app::runRecord(root, ra);
         if (*rep) return app::runReplay(root, repDir, repUpdate);
+        if (*benchReload) return app::benchReload(root, reloadRuns);
         if (*shot) {
             app::GuiOptions opt;
             if (!parseSize(shotSize, opt.width, opt.height))
