@@ -34,15 +34,18 @@ int benchReload(const fs::path& root, int runs) {
     Workbench wb(tmp, true);
     wb.plotSettings().samples = 512;
     HeadlessGui gui(wb, 1280, 860);
-    for (int i = 0; i < 3; ++i) gui.frame(); // warm up: fonts, first compiles
+    for (int i = 0; i < 3; ++i)
+        gui.frame(); // warm up: fonts, first compiles
 
     std::vector<double> latencies;
     const std::string anchor = "return Multiplier/(4.0*PI)";
     for (int run = 0; run < runs; ++run) {
-        std::string edited = model;
-        edited.replace(edited.find(anchor), anchor.size(),
-                       "return " + std::to_string(1.0 + 0.01 * (run + 1) + 1e-6 * (::getpid() % 997)) +
-                           "*Multiplier/(4.0*PI)"); // unique per run: no shader-cache hits
+        const size_t at = model.find(anchor);
+        const std::string edited =
+            model.substr(0, at) + "return " +
+            std::to_string(1.0 + 0.01 * (run + 1) + 1e-6 * (::getpid() % 997)) +
+            "*Multiplier/(4.0*PI)" + model.substr(at + anchor.size());
+        // (the factor is unique per run and process: no shader-cache hits)
         const fs::path file = tmp / "materials/dipole.bssrdf";
         const fs::path swp = tmp / "materials/.dipole.bssrdf.swp";
         { std::ofstream(swp, std::ios::binary) << edited; }
@@ -63,9 +66,9 @@ int benchReload(const fs::path& root, int runs) {
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
         glFinish();
-        const double now = std::chrono::duration<double>(
-                               std::chrono::system_clock::now().time_since_epoch())
-                               .count();
+        const double now =
+            std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+                .count();
         latencies.push_back((now - saved) * 1000.0);
         std::printf("run %2d  save -> new pixels %7.1f ms  (%d frames, last frame %.1f ms)\n",
                     run + 1, latencies.back(), frames, lastFrameMs);

@@ -43,9 +43,9 @@ std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& mis
         auto& v = wb.view(e.displayPath);
         if (!e.usable() || !v.effective) {
             missing.push_back(name + ": " +
-                              (e.problem ? e.problem->text()
-                                         : v.materialProblem.empty() ? "not computed"
-                                                                     : v.materialProblem));
+                              (e.problem                   ? e.problem->text()
+                               : v.materialProblem.empty() ? "not computed"
+                                                           : v.materialProblem));
             continue;
         }
         const MaterialSettings& s = v.override ? v.own : wb.shared();
@@ -62,14 +62,19 @@ std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& mis
         }
         out.push_back(std::move(m));
 
-        StageTable p{"pencil_plot." + name, "pencil_plot_" + name + ".csv", "r_mm", {}, 0,
-                     kProfileRelTol, "float32 GPU evaluation of Bssrdf(); GLSL exp <= (3+2|x|) ulp"};
+        StageTable p{"pencil_plot." + name,
+                     "pencil_plot_" + name + ".csv",
+                     "r_mm",
+                     {},
+                     0,
+                     kProfileRelTol,
+                     "float32 GPU evaluation of Bssrdf(); GLSL exp <= (3+2|x|) ulp"};
         p.table.comments = {"model " + e.displayPath,
                             "Bssrdf(Xi=0, Wi=n, Xo=(r,0,0), Wo=n) in 1/mm^2"};
         p.table.columns = {"r_mm", "R", "G", "B"};
         for (size_t i = 0; i < v.profile.r.size(); ++i)
-            p.table.rows.push_back({v.profile.r[i], v.profile.value[i].x, v.profile.value[i].y,
-                                    v.profile.value[i].z});
+            p.table.rows.push_back(
+                {v.profile.r[i], v.profile.value[i].x, v.profile.value[i].y, v.profile.value[i].z});
         out.push_back(std::move(p));
     }
     return out;
@@ -109,8 +114,7 @@ void applyParams(Workbench& wb, const json& params, const std::string& where) {
 
 void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name) {
     if (!capture::isValidName(name))
-        throw core::Error(name, 0,
-                          "invalid capture name (letters, digits, '_', '-', '.' only)");
+        throw core::Error(name, 0, "invalid capture name (letters, digits, '_', '-', '.' only)");
     wb.update();
     std::vector<std::string> missing;
     auto tables = stageTables(wb, missing);
@@ -132,10 +136,11 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
     fs::create_directories(dir, ec);
     if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
     for (auto& t : tables)
-        m.outputs.push_back(capture::writeCsvStage(dir, t.stage, t.file, t.table, t.absTol,
-                                                   t.relTol, t.note));
+        m.outputs.push_back(
+            capture::writeCsvStage(dir, t.stage, t.file, t.table, t.absTol, t.relTol, t.note));
     capture::writeManifest(dir, m);
-    for (const auto& s : missing) core::logWarn("capture " + name + ": not recorded: " + s);
+    for (const auto& s : missing)
+        core::logWarn("capture " + name + ": not recorded: " + s);
 }
 
 std::string recordCapture(Workbench& wb, const std::string& name) {
@@ -173,20 +178,22 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
                 capture::Comparison c;
                 c.stage = rec.stage;
                 c.message = "stage not produced by this run";
-                for (const auto& s : missing) c.message += "; " + s;
+                for (const auto& s : missing)
+                    c.message += "; " + s;
                 report.stages.push_back(c);
                 continue;
             }
             if (update) {
-                rec = capture::writeCsvStage(captureDir, rec.stage, rec.file, it->table,
-                                             rec.absTol, rec.relTol, rec.tolNote);
+                rec = capture::writeCsvStage(captureDir, rec.stage, rec.file, it->table, rec.absTol,
+                                             rec.relTol, rec.tolNote);
                 capture::Comparison c;
                 c.stage = rec.stage;
                 c.pass = true;
                 c.message = "updated";
                 report.stages.push_back(c);
             } else {
-                report.stages.push_back(capture::compareCsvStage(rec, captureDir, it->table, it->key));
+                report.stages.push_back(
+                    capture::compareCsvStage(rec, captureDir, it->table, it->key));
             }
         }
         if (update) {

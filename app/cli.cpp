@@ -40,7 +40,9 @@ std::string fmt(double v) {
     std::snprintf(b, sizeof b, "%.9g", v);
     return b;
 }
-std::string rgb(const glm::dvec3& v) { return fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z); }
+std::string rgb(const glm::dvec3& v) {
+    return fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z);
+}
 
 fs::path resolveModel(const fs::path& root, const std::string& model) {
     fs::path p = model;
@@ -125,7 +127,8 @@ int runInvert(const fs::path& root, const InvertArgs& a) {
         if (!(s.rdr[c] >= 0 && s.rdr[c] <= 1))
             throw core::Error("--rdr", 0, "R_dr must lie in [0, 1], got " + fmt(s.rdr[c]));
         if (!(s.ld[c] > 0) || !std::isfinite(s.ld[c]))
-            throw core::Error("--ld", 0, "l_d must be a positive length in mm, got " + fmt(s.ld[c]));
+            throw core::Error("--ld", 0,
+                              "l_d must be a positive length in mm, got " + fmt(s.ld[c]));
     }
     auto ctx = gl::createHeadlessContext(false);
     Workbench wb(root, false, {model});
@@ -138,7 +141,8 @@ int runInvert(const fs::path& root, const InvertArgs& a) {
 
 int runRecord(const fs::path& root, const RecordArgs& a) {
     std::vector<fs::path> models;
-    for (const auto& m : a.models) models.push_back(resolveModel(root, m));
+    for (const auto& m : a.models)
+        models.push_back(resolveModel(root, m));
     auto ctx = gl::createHeadlessContext(false);
     Workbench wb(root, false, models);
     if (!a.preset.empty()) wb.applyPreset(wb.shared(), a.preset);

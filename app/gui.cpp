@@ -44,7 +44,8 @@ void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const cha
 void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffer* buf) {
     if (!g_ui) return;
     buf->appendf("[%s][Panels]\n", handler->TypeName);
-    for (const auto& p : kPanels) buf->appendf("%s=%d\n", p.key, g_ui->*(p.flag) ? 1 : 0);
+    for (const auto& p : kPanels)
+        buf->appendf("%s=%d\n", p.key, g_ui->*(p.flag) ? 1 : 0);
     buf->append("\n");
 }
 
@@ -134,7 +135,8 @@ bool HeadlessGui::frame() {
 
 std::vector<unsigned char> HeadlessGui::pixels() const {
     auto px = gl::readPixelsRGBA8(m_target.framebuffer(), 0, 0, m_width, m_height);
-    for (size_t i = 3; i < px.size(); i += 4) px[i] = 255; // the UI has no meaningful alpha
+    for (size_t i = 3; i < px.size(); i += 4)
+        px[i] = 255; // the UI has no meaningful alpha
     return px;
 }
 
@@ -188,7 +190,8 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     } else {
         {
             HeadlessGui gui(wb, opt.width, opt.height);
-            for (int f = 0; f < std::max(1, opt.frames) && !ui.quit; ++f) gui.frame();
+            for (int f = 0; f < std::max(1, opt.frames) && !ui.quit; ++f)
+                gui.frame();
             if (!opt.screenshotPath.empty()) {
                 try {
                     gl::writePng(opt.screenshotPath, opt.width, opt.height, gui.pixels());

@@ -19,7 +19,7 @@ struct GuiOptions {
 
 // The whole UI rendered into an FBO on the current (headless) context, one frame per call.
 class HeadlessGui {
-public:
+  public:
     HeadlessGui(Workbench& wb, int width, int height);
     ~HeadlessGui();
     HeadlessGui(const HeadlessGui&) = delete;
@@ -30,7 +30,7 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
 
-private:
+  private:
     Workbench& m_wb;
     int m_width, m_height;
     gl::RenderTarget m_target;

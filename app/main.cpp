@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
     std::string shotOut, shotSize = "1280x860";
     int shotFrames = 3;
     shot->add_option("--out", shotOut, "PNG file")->required();
-    shot->add_option("--frames", shotFrames, "frames to run before saving")->check(CLI::Range(1, 10000));
+    shot->add_option("--frames", shotFrames, "frames to run before saving")
+        ->check(CLI::Range(1, 10000));
     shot->add_option("--size", shotSize, "WxH in pixels");
 
     auto* prof = cli.add_subcommand("profile", "pencil-beam profile of a model as CSV");
@@ -103,7 +104,8 @@ int main(int argc, char** argv) {
 
     auto* inv = cli.add_subcommand("invert", "R_dr / l_d -> sigma_a, sigma_s (1/mm)");
     app::InvertArgs ia;
-    inv->add_option("--model", ia.model, ".bssrdf file with a diffuseReflectance section")->required();
+    inv->add_option("--model", ia.model, ".bssrdf file with a diffuseReflectance section")
+        ->required();
     inv->add_option("--rdr", ia.rdr, "total diffuse reflectance R,G,B in [0,1]")->required();
     inv->add_option("--ld", ia.ld, "diffuse mean free path R,G,B in mm")->required();
     inv->add_option("--g", ia.g, "mean cosine (default 0)");
@@ -126,7 +128,8 @@ int main(int argc, char** argv) {
     bench->require_subcommand(1);
     auto* benchReload = bench->add_subcommand("reload", "hot reload: save -> new pixels latency");
     int reloadRuns = 10;
-    benchReload->add_option("--runs", reloadRuns, "edits to time (default 10)")->check(CLI::Range(1, 1000));
+    benchReload->add_option("--runs", reloadRuns, "edits to time (default 10)")
+        ->check(CLI::Range(1, 1000));
 
     CLI11_PARSE(cli, argc, argv);
     if (verbose) core::setLogEchoLevel(core::LogLevel::Info);
@@ -141,7 +144,8 @@ int main(int argc, char** argv) {
         if (*shot) {
             app::GuiOptions opt;
             if (!parseSize(shotSize, opt.width, opt.height))
-                throw core::Error("--size", 0, "expected WxH between 64 and 8192, got '" + shotSize + "'");
+                throw core::Error("--size", 0,
+                                  "expected WxH between 64 and 8192, got '" + shotSize + "'");
             opt.frames = shotFrames;
             opt.screenshotPath = shotOut;
             opt.persistLayout = false;

@@ -7,7 +7,9 @@ namespace app {
 using nlohmann::json;
 
 namespace {
-json vec(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+json vec(const glm::dvec3& v) {
+    return json::array({v.x, v.y, v.z});
+}
 glm::dvec3 vecFrom(const json& j, const char* key, const std::string& where) {
     if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3)
         throw core::Error(where, 0, std::string("'") + key + "' must be an array of 3 numbers");
@@ -66,10 +68,14 @@ json toJson(const PlotSettings& s) {
 PlotSettings plotFromJson(const json& j, const std::string& where) {
     PlotSettings s;
     std::string scale = get<std::string>(j, "y_scale", where);
-    if (scale == "linear") s.yScale = plot::Scale::Linear;
-    else if (scale == "log") s.yScale = plot::Scale::Log;
-    else if (scale == "sqrt") s.yScale = plot::Scale::Sqrt;
-    else throw core::Error(where, 0, "y_scale must be linear, log or sqrt");
+    if (scale == "linear")
+        s.yScale = plot::Scale::Linear;
+    else if (scale == "log")
+        s.yScale = plot::Scale::Log;
+    else if (scale == "sqrt")
+        s.yScale = plot::Scale::Sqrt;
+    else
+        throw core::Error(where, 0, "y_scale must be linear, log or sqrt");
     s.rTimesR = get<bool>(j, "r_times_r", where);
     s.channel = get<int>(j, "channel", where);
     s.solo = get<std::string>(j, "solo", where);
@@ -83,7 +89,8 @@ PlotSettings plotFromJson(const json& j, const std::string& where) {
 
 json toJson(const bssrdf::ParamValues& v) {
     json j = json::object();
-    for (const auto& [k, val] : v) j[k] = json::array({val[0], val[1], val[2]});
+    for (const auto& [k, val] : v)
+        j[k] = json::array({val[0], val[1], val[2]});
     return j;
 }
 

@@ -18,7 +18,7 @@ struct UiState {
     char nameBuffer[128] = "my_capture";
     std::string pngExportPath; // set by the pencil panel; the runner reads pixels after render
     float pngRect[4] = {0, 0, 0, 0}; // x0, y0, x1, y1 in framebuffer pixels (top-left origin)
-    std::string status;           // one-line status shown in the menu bar
+    std::string status;              // one-line status shown in the menu bar
 };
 
 } // namespace app

@@ -25,8 +25,8 @@ std::string keyOf(const MaterialSettings& s, long long generation) {
     const auto& p = s.params;
     k << generation << '|' << int(s.mode) << '|' << p.sigmaA.x << ',' << p.sigmaA.y << ','
       << p.sigmaA.z << '|' << p.sigmaS.x << ',' << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g
-      << '|' << p.eta << '|' << p.scale << '|' << s.rdr.x << ',' << s.rdr.y << ',' << s.rdr.z
-      << '|' << s.ld.x << ',' << s.ld.y << ',' << s.ld.z;
+      << '|' << p.eta << '|' << p.scale << '|' << s.rdr.x << ',' << s.rdr.y << ',' << s.rdr.z << '|'
+      << s.ld.x << ',' << s.ld.y << ',' << s.ld.z;
     return k.str();
 }
 } // namespace
@@ -94,15 +94,18 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
 
 void Workbench::reloadAll() {
     std::vector<fs::path> files;
-    for (const auto& e : m_library->entries()) files.push_back(e.file);
+    for (const auto& e : m_library->entries())
+        files.push_back(e.file);
     std::error_code ec;
     for (auto& d : fs::directory_iterator(m_root / "materials", ec))
         if (d.path().extension() == ".bssrdf") {
             fs::path f = fs::absolute(d.path()).lexically_normal();
             if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
         }
-    for (const auto& f : files) m_library->reload(f);
-    for (auto& [k, v] : m_views) v.materialKey.clear(), v.profileKey.clear();
+    for (const auto& f : files)
+        m_library->reload(f);
+    for (auto& [k, v] : m_views)
+        v.materialKey.clear(), v.profileKey.clear();
     update();
 }
 
@@ -158,7 +161,8 @@ void Workbench::computeProfile(bssrdf::ModelEntry& e, ModelView& v) {
     std::ostringstream k;
     k.precision(17);
     k << v.materialKey << '|' << m_rMax << '|' << m_plot.samples;
-    for (auto& [n, val] : e.values) k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
+    for (auto& [n, val] : e.values)
+        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
     if (k.str() == v.profileKey) return;
     v.profileKey = k.str();
     gl::ScopedStageTimer timer("pencil plot");
@@ -185,7 +189,8 @@ bool Workbench::update() {
     // drop views of models that disappeared
     for (auto it = m_views.begin(); it != m_views.end();) {
         bool alive = false;
-        for (auto& e : m_library->entries()) alive |= e.displayPath == it->first;
+        for (auto& e : m_library->entries())
+            alive |= e.displayPath == it->first;
         it = alive ? std::next(it) : m_views.erase(it);
     }
     for (auto& e : m_library->entries())
@@ -226,8 +231,10 @@ std::vector<ErrorItem> Workbench::errors() const {
         if (it != m_views.end() && !it->second.materialProblem.empty())
             out.push_back({"material", e.displayPath + ": " + it->second.materialProblem});
     }
-    for (const auto& p : m_library->problems()) out.push_back({"shader", p.text()});
-    for (const auto& a : m_actionErrors) out.push_back({"action", a});
+    for (const auto& p : m_library->problems())
+        out.push_back({"shader", p.text()});
+    for (const auto& a : m_actionErrors)
+        out.push_back({"action", a});
     return out;
 }
 

@@ -25,9 +25,9 @@ enum class ParamMode { Sigma, RdrLd };
 // Material inputs as the user edits them (thesis 3.6.1).
 struct MaterialSettings {
     ParamMode mode = ParamMode::Sigma;
-    material::MaterialParams params;   // σ mode (g, η, scale apply in both modes)
-    glm::dvec3 rdr{0.6, 0.45, 0.3};    // R_dr / l_d mode
-    glm::dvec3 ld{8.0, 4.0, 2.0};      // mm
+    material::MaterialParams params; // σ mode (g, η, scale apply in both modes)
+    glm::dvec3 rdr{0.6, 0.45, 0.3};  // R_dr / l_d mode
+    glm::dvec3 ld{8.0, 4.0, 2.0};    // mm
     std::string preset = "Marble";
 };
 
@@ -35,8 +35,8 @@ struct MaterialSettings {
 struct PlotSettings {
     plot::Scale yScale = plot::Scale::Log;
     bool rTimesR = false;
-    int channel = 3;      // 0 R, 1 G, 2 B, 3 luminance
-    std::string solo;     // display path of the soloed model, empty = all models
+    int channel = 3;  // 0 R, 1 G, 2 B, 3 luminance
+    std::string solo; // display path of the soloed model, empty = all models
     int samples = 512;
     bool fixedRange = false;
     double rMaxMm = 20.0; // used when fixedRange
@@ -46,7 +46,7 @@ struct PlotSettings {
 // Per-model view state and stage results.
 struct ModelView {
     bool visible = true;
-    bool override = false;   // own material settings instead of the shared ones
+    bool override = false; // own material settings instead of the shared ones
     MaterialSettings own;
     std::optional<material::MaterialParams> effective; // σ actually used
     std::string materialProblem;                       // why `effective` is missing
@@ -61,7 +61,7 @@ struct ErrorItem {
 };
 
 class Workbench {
-public:
+  public:
     // root: project root holding materials/ and shaders/. watch: enable hot reload.
     // models: load exactly these files instead of every materials/*.bssrdf (CLI, replay).
     Workbench(std::filesystem::path root, bool watch,
@@ -96,7 +96,7 @@ public:
     std::vector<plot::Series> plotSeries() const;
     static std::string normalisationNote();
 
-private:
+  private:
     void computeMaterial(bssrdf::ModelEntry& e, ModelView& v);
     void computeProfile(bssrdf::ModelEntry& e, ModelView& v);
     double autoRMax() const;

@@ -39,7 +39,8 @@ void drawPencilPanel(Workbench& wb, UiState& ui) {
         ImGui::EndCombo();
     }
     ImGui::SetNextItemWidth(90);
-    if (ImGui::InputInt("samples", &ps.samples, 256)) ps.samples = std::clamp(ps.samples, 512, 16384);
+    if (ImGui::InputInt("samples", &ps.samples, 256))
+        ps.samples = std::clamp(ps.samples, 512, 16384);
     ImGui::SameLine();
     ImGui::Checkbox("fixed range", &ps.fixedRange);
     ImGui::SameLine();

@@ -30,8 +30,10 @@ void drawTimingsPanel(Workbench&, UiState& ui) {
             ImGui::TableNextColumn();
             ImGui::Text("%.3f", t.cpuMs);
             ImGui::TableNextColumn();
-            if (t.gpuMs >= 0) ImGui::Text("%.3f", t.gpuMs);
-            else ImGui::TextDisabled("-");
+            if (t.gpuMs >= 0)
+                ImGui::Text("%.3f", t.gpuMs);
+            else
+                ImGui::TextDisabled("-");
             ImGui::TableNextColumn();
             ImGui::Text("%lld", t.runs);
         }

@@ -10,7 +10,8 @@ namespace bssrdf {
 
 ParamValues defaultValues(const Model& m) {
     ParamValues v;
-    for (const auto& p : m.params) v[p.name] = p.value;
+    for (const auto& p : m.params)
+        v[p.name] = p.value;
     return v;
 }
 
@@ -79,9 +80,15 @@ void setUniforms(GLuint program, const Model& m, const ParamValues& values, cons
         GLint l = loc(p.name.c_str());
         if (l < 0) continue; // declared but unused: the driver removed it
         switch (p.type) {
-        case ParamType::Float: glUniform1f(l, v[0]); break;
-        case ParamType::Bool: glUniform1i(l, v[0] != 0.0f ? 1 : 0); break;
-        case ParamType::Color: glUniform3f(l, v[0], v[1], v[2]); break;
+        case ParamType::Float:
+            glUniform1f(l, v[0]);
+            break;
+        case ParamType::Bool:
+            glUniform1i(l, v[0] != 0.0f ? 1 : 0);
+            break;
+        case ParamType::Color:
+            glUniform3f(l, v[0], v[1], v[2]);
+            break;
         }
     }
 }
@@ -117,7 +124,8 @@ Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& value
                         const Builtins& b, const std::vector<double>& radii) {
     setUniforms(program, m, values, b);
     std::vector<float> in(radii.size() * 4, 0.0f);
-    for (size_t i = 0; i < radii.size(); ++i) in[4 * i] = static_cast<float>(radii[i]);
+    for (size_t i = 0; i < radii.size(); ++i)
+        in[4 * i] = static_cast<float>(radii[i]);
     auto out = runBatch(program, in, radii.size());
     Profile p;
     p.r = radii;
@@ -133,10 +141,12 @@ std::vector<glm::dvec3> evaluateDiffuseReflectance(GLuint program, const Model& 
     setUniforms(program, m, values, b);
     std::vector<float> in(alphaPrime.size() * 4, 0.0f);
     for (size_t i = 0; i < alphaPrime.size(); ++i)
-        for (int c = 0; c < 3; ++c) in[4 * i + c] = static_cast<float>(alphaPrime[i][c]);
+        for (int c = 0; c < 3; ++c)
+            in[4 * i + c] = static_cast<float>(alphaPrime[i][c]);
     auto out = runBatch(program, in, alphaPrime.size());
     std::vector<glm::dvec3> r(alphaPrime.size());
-    for (size_t i = 0; i < r.size(); ++i) r[i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};
+    for (size_t i = 0; i < r.size(); ++i)
+        r[i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};
     return r;
 }
 

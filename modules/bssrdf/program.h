@@ -53,8 +53,8 @@ void setUniforms(GLuint program, const Model& m, const ParamValues& values, cons
 std::vector<double> radiusGrid(double rMaxMm, int samples);
 
 struct Profile {
-    std::vector<double> r;           // mm
-    std::vector<glm::dvec3> value;   // Bssrdf() RGB, 1/mm² for the shipped models
+    std::vector<double> r;         // mm
+    std::vector<glm::dvec3> value; // Bssrdf() RGB, 1/mm² for the shipped models
 };
 // Runs pencil_profile.comp. `program` must come from buildModelProgram(m, "pencil_profile.comp").
 Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& values,

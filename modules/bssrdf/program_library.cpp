@@ -8,7 +8,9 @@
 namespace bssrdf {
 namespace fs = std::filesystem;
 
-std::string Problem::text() const { return core::formatLocation(file, line, message); }
+std::string Problem::text() const {
+    return core::formatLocation(file, line, message);
+}
 
 ModelLibrary::ModelLibrary(fs::path root, std::vector<std::string> consumers)
     : m_root(std::move(root)), m_consumers(std::move(consumers)) {
@@ -25,7 +27,8 @@ void ModelLibrary::scanAll() {
     for (auto& e : fs::directory_iterator(m_root / "materials", ec))
         if (e.path().extension() == ".bssrdf") files.push_back(e.path());
     std::sort(files.begin(), files.end());
-    for (auto& f : files) reload(f);
+    for (auto& f : files)
+        reload(f);
 }
 
 ModelEntry* ModelLibrary::find(const std::string& key) {
@@ -48,13 +51,14 @@ void ModelLibrary::load(ModelEntry& e) {
     try {
         parsed = loadModel(e.file, e.displayPath);
     } catch (const core::Error& err) {
-        e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(),
-                            err.message()};
+        e.problem =
+            Problem{err.file().empty() ? e.displayPath : err.file(), err.line(), err.message()};
         core::logError(std::string(e.model ? "keeping the last good version: " : "") +
                        e.problem->text());
         return;
     }
-    for (const auto& n : parsed.notes) core::logInfo(n);
+    for (const auto& n : parsed.notes)
+        core::logInfo(n);
     std::map<std::string, gl::Program> programs;
     for (const auto& consumer : m_consumers) {
         if (consumer == "invert_rdr.comp" && !parsed.diffuseReflectance) continue;
@@ -64,8 +68,8 @@ void ModelLibrary::load(ModelEntry& e) {
             core::logDebug("built " + consumer + " for " + e.displayPath + " in " +
                            std::to_string(sw.ms()) + " ms");
         } catch (const core::Error& err) {
-            e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(),
-                                err.message()};
+            e.problem =
+                Problem{err.file().empty() ? e.displayPath : err.file(), err.line(), err.message()};
             core::logError(std::string(e.model ? "keeping the last good version: " : "") +
                            e.problem->text());
             return;
@@ -96,8 +100,9 @@ bool ModelLibrary::reload(const fs::path& fileIn) {
         e.displayPath = displayPathOf(file);
         m_entries.push_back(std::move(e));
         it = std::prev(m_entries.end());
-        std::sort(m_entries.begin(), m_entries.end(),
-                  [](const ModelEntry& a, const ModelEntry& b) { return a.displayPath < b.displayPath; });
+        std::sort(m_entries.begin(), m_entries.end(), [](const ModelEntry& a, const ModelEntry& b) {
+            return a.displayPath < b.displayPath;
+        });
         it = std::find_if(m_entries.begin(), m_entries.end(),
                           [&](const ModelEntry& x) { return x.file == file; });
     }
@@ -107,15 +112,17 @@ bool ModelLibrary::reload(const fs::path& fileIn) {
 
 void ModelLibrary::rebuildPrograms() {
     m_problems.clear();
-    for (auto& e : m_entries) load(e);
+    for (auto& e : m_entries)
+        load(e);
 }
 
 bool ModelLibrary::onFilesChanged(const std::vector<fs::path>& paths) {
     bool changed = false, shaders = false;
     for (const auto& p : paths) {
-        if (p.extension() == ".bssrdf") changed |= reload(p);
-        else if (p.extension() == ".comp" || p.extension() == ".glsl" ||
-                 p.extension() == ".vert" || p.extension() == ".frag")
+        if (p.extension() == ".bssrdf")
+            changed |= reload(p);
+        else if (p.extension() == ".comp" || p.extension() == ".glsl" || p.extension() == ".vert" ||
+                 p.extension() == ".frag")
             shaders = true;
     }
     if (shaders) {

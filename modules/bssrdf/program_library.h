@@ -23,18 +23,18 @@ struct Problem {
 
 struct ModelEntry {
     std::filesystem::path file;
-    std::string displayPath;              // relative to the project root
-    std::optional<Model> model;           // last good parse (absent until one succeeds)
+    std::string displayPath;                     // relative to the project root
+    std::optional<Model> model;                  // last good parse (absent until one succeeds)
     std::map<std::string, gl::Program> programs; // consumer template -> last good program
     ParamValues values;
-    std::optional<Problem> problem;       // set while the file on disk is broken
-    long long generation = 0;             // bumps on every successful (re)load
+    std::optional<Problem> problem; // set while the file on disk is broken
+    long long generation = 0;       // bumps on every successful (re)load
     bool usable() const { return model.has_value() && programs.count("pencil_profile.comp"); }
     bool hasInversion() const { return model && model->diffuseReflectance.has_value(); }
 };
 
 class ModelLibrary {
-public:
+  public:
     ModelLibrary(std::filesystem::path root, std::vector<std::string> consumers);
 
     // Loads every materials/*.bssrdf (sorted by name).
@@ -56,7 +56,7 @@ public:
     // Problems not tied to one model (e.g. a shader template that fails for every model).
     const std::vector<Problem>& problems() const { return m_problems; }
 
-private:
+  private:
     void load(ModelEntry& e);
     std::string displayPathOf(const std::filesystem::path& file) const;
 

@@ -20,14 +20,14 @@ namespace core {
 
 // An error at a boundary (file parse, load, compile, CLI argument). line 0 = whole file.
 class Error : public std::runtime_error {
-public:
+  public:
     Error(std::string file, int line, std::string message);
     explicit Error(std::string message) : Error("", 0, std::move(message)) {}
     const std::string& file() const { return m_file; }
     int line() const { return m_line; }
     const std::string& message() const { return m_message; }
 
-private:
+  private:
     std::string m_file;
     int m_line;
     std::string m_message;
@@ -44,10 +44,18 @@ struct LogEntry {
     double seconds; // since program start
 };
 void log(LogLevel level, std::string text);
-inline void logDebug(std::string t) { log(LogLevel::Debug, std::move(t)); }
-inline void logInfo(std::string t) { log(LogLevel::Info, std::move(t)); }
-inline void logWarn(std::string t) { log(LogLevel::Warn, std::move(t)); }
-inline void logError(std::string t) { log(LogLevel::Error, std::move(t)); }
+inline void logDebug(std::string t) {
+    log(LogLevel::Debug, std::move(t));
+}
+inline void logInfo(std::string t) {
+    log(LogLevel::Info, std::move(t));
+}
+inline void logWarn(std::string t) {
+    log(LogLevel::Warn, std::move(t));
+}
+inline void logError(std::string t) {
+    log(LogLevel::Error, std::move(t));
+}
 std::vector<LogEntry> logSnapshot();
 void logClear();
 void setLogEchoLevel(LogLevel minLevel); // entries at or above go to stderr (default Warn)
@@ -71,16 +79,15 @@ std::string relativeTo(const std::filesystem::path& p, const std::filesystem::pa
 
 // ---- timing -----------------------------------------------------------------------------------
 class Stopwatch {
-public:
+  public:
     Stopwatch() : m_start(std::chrono::steady_clock::now()) {}
     void reset() { m_start = std::chrono::steady_clock::now(); }
     double ms() const {
-        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                         m_start)
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - m_start)
             .count();
     }
 
-private:
+  private:
     std::chrono::steady_clock::time_point m_start;
 };
 double secondsSinceStart();

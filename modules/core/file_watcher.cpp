@@ -12,7 +12,9 @@ namespace core {
 namespace fs = std::filesystem;
 
 namespace {
-double nowMs() { return secondsSinceStart() * 1000.0; }
+double nowMs() {
+    return secondsSinceStart() * 1000.0;
+}
 } // namespace
 
 FileWatcher::FileWatcher(std::vector<fs::path> dirs, double debounceMs)
@@ -23,7 +25,8 @@ FileWatcher::FileWatcher(std::vector<fs::path> dirs, double debounceMs)
         scanPolling();
         return;
     }
-    for (auto& d : m_dirs) addWatches(d);
+    for (auto& d : m_dirs)
+        addWatches(d);
 }
 
 FileWatcher::~FileWatcher() {
@@ -54,8 +57,8 @@ void FileWatcher::drainInotify() {
             fs::path path = it->second / ev->name;
             std::string name = ev->name;
             // editor temporaries and our own atomic-write temporaries are not model files
-            if (name.empty() || name[0] == '.' || name.back() == '~' ||
-                name.ends_with(".tmp") || name.ends_with(".swp"))
+            if (name.empty() || name[0] == '.' || name.back() == '~' || name.ends_with(".tmp") ||
+                name.ends_with(".swp"))
                 continue;
             if ((ev->mask & IN_ISDIR) && (ev->mask & (IN_CREATE | IN_MOVED_TO))) addWatches(path);
             m_pending[path] = nowMs();

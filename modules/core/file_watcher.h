@@ -13,7 +13,7 @@
 namespace core {
 
 class FileWatcher {
-public:
+  public:
     explicit FileWatcher(std::vector<std::filesystem::path> dirs, double debounceMs = 40.0);
     ~FileWatcher();
     FileWatcher(const FileWatcher&) = delete;
@@ -23,7 +23,7 @@ public:
     std::vector<std::filesystem::path> poll();
     bool usingInotify() const { return m_fd >= 0; }
 
-private:
+  private:
     void addWatches(const std::filesystem::path& dir);
     void drainInotify();
     void scanPolling();
@@ -32,8 +32,8 @@ private:
     double m_debounceMs;
     int m_fd = -1;
     std::map<int, std::filesystem::path> m_wdToDir;
-    std::map<std::filesystem::path, double> m_pending;           // path -> last event time (ms)
-    std::map<std::filesystem::path, long long> m_pollStamp;      // polling fallback
+    std::map<std::filesystem::path, double> m_pending;      // path -> last event time (ms)
+    std::map<std::filesystem::path, long long> m_pollStamp; // polling fallback
     double m_lastScanMs = -1e9;
 };
 

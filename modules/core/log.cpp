@@ -20,10 +20,14 @@ double secondsSinceStart() {
 
 const char* logLevelName(LogLevel level) {
     switch (level) {
-    case LogLevel::Debug: return "debug";
-    case LogLevel::Info: return "info";
-    case LogLevel::Warn: return "warning";
-    case LogLevel::Error: return "error";
+    case LogLevel::Debug:
+        return "debug";
+    case LogLevel::Info:
+        return "info";
+    case LogLevel::Warn:
+        return "warning";
+    case LogLevel::Error:
+        return "error";
     }
     return "?";
 }

@@ -27,8 +27,7 @@ void writeFile(const std::filesystem::path& path, std::string_view bytes) {
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         if (!out)
-            throw Error(path.string(), 0,
-                        std::string("cannot write: ") + std::strerror(errno));
+            throw Error(path.string(), 0, std::string("cannot write: ") + std::strerror(errno));
         out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
         out.flush();
         if (!out) {
@@ -56,10 +55,14 @@ std::optional<size_t> firstInvalidUtf8(std::string_view s) {
         }
         int len = 0;
         uint32_t cp = 0;
-        if ((c & 0xE0) == 0xC0) len = 2, cp = c & 0x1F;
-        else if ((c & 0xF0) == 0xE0) len = 3, cp = c & 0x0F;
-        else if ((c & 0xF8) == 0xF0) len = 4, cp = c & 0x07;
-        else return i;
+        if ((c & 0xE0) == 0xC0)
+            len = 2, cp = c & 0x1F;
+        else if ((c & 0xF0) == 0xE0)
+            len = 3, cp = c & 0x0F;
+        else if ((c & 0xF8) == 0xF0)
+            len = 4, cp = c & 0x07;
+        else
+            return i;
         if (i + len > n) return i;
         for (int k = 1; k < len; ++k) {
             unsigned char cc = static_cast<unsigned char>(s[i + k]);

@@ -10,7 +10,7 @@ namespace gl {
 namespace {
 
 class EglContext final : public Context {
-public:
+  public:
     explicit EglContext(bool debug) {
         m_display = openDisplay();
         EGLint major = 0, minor = 0;
@@ -54,7 +54,7 @@ public:
             throw core::Error("EGL: eglMakeCurrent failed (error 0x" + hex(eglGetError()) + ")");
     }
 
-private:
+  private:
     static std::string hex(EGLint v) {
         char b[16];
         std::snprintf(b, sizeof b, "%x", static_cast<unsigned>(v));
@@ -70,8 +70,8 @@ private:
             EGLDeviceEXT devices[8];
             EGLint n = 0;
             if (eglQueryDevicesEXT(8, devices, &n) && n > 0) {
-                EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[0],
-                                                        nullptr);
+                EGLDisplay d =
+                    eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
                 if (d != EGL_NO_DISPLAY) return d;
             }
         }

@@ -15,7 +15,7 @@ void glfwErrorCallback(int code, const char* text) {
 }
 
 class GlfwContext final : public Context {
-public:
+  public:
     GlfwContext(int width, int height, const std::string& title, bool debug) {
         glfwSetErrorCallback(glfwErrorCallback);
         if (!glfwInit()) throw core::Error("GLFW: cannot initialise (no display?)");
@@ -40,7 +40,7 @@ public:
     void makeCurrent() override { glfwMakeContextCurrent(m_window); }
     GLFWwindow* window() const override { return m_window; }
 
-private:
+  private:
     GLFWwindow* m_window = nullptr;
 };
 

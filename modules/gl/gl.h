@@ -20,7 +20,7 @@ namespace gl {
 
 // ---- context ----------------------------------------------------------------------------------
 class Context {
-public:
+  public:
     virtual ~Context() = default;
     virtual void makeCurrent() = 0;
     virtual GLFWwindow* window() const { return nullptr; } // null when headless
@@ -43,7 +43,7 @@ void installDebugOutput();
 
 // ---- RAII objects -------------------------------------------------------------------------------
 template <void (*Deleter)(GLuint)> class Handle {
-public:
+  public:
     Handle() = default;
     explicit Handle(GLuint id) : m_id(id) {}
     ~Handle() { reset(); }
@@ -64,7 +64,7 @@ public:
         m_id = 0;
     }
 
-private:
+  private:
     GLuint m_id = 0;
 };
 void deleteBuffer(GLuint id);
@@ -82,7 +82,7 @@ Buffer createBuffer(size_t bytes, const void* data, GLbitfield flags = GL_DYNAMI
 
 // RGBA colour target (RGBA8 or RGBA32F) with an FBO around it.
 class RenderTarget {
-public:
+  public:
     void resize(int width, int height, GLenum internalFormat = GL_RGBA8);
     void bind() const;
     int width() const { return m_width; }
@@ -90,7 +90,7 @@ public:
     GLuint texture() const { return m_color.id(); }
     GLuint framebuffer() const { return m_fbo.id(); }
 
-private:
+  private:
     Texture m_color;
     FramebufferId m_fbo;
     int m_width = 0, m_height = 0;
@@ -104,18 +104,18 @@ struct ShaderStage {
 };
 // Compile or link failure; `log` is the raw driver log, `stage` the failing stage (0: link).
 class ProgramError : public std::runtime_error {
-public:
+  public:
     ProgramError(GLenum stage, std::string log)
         : std::runtime_error(log), m_stage(stage), m_log(std::move(log)) {}
     GLenum stage() const { return m_stage; }
     const std::string& log() const { return m_log; }
 
-private:
+  private:
     GLenum m_stage;
     std::string m_log;
 };
 Program buildProgram(const std::vector<ShaderStage>& stages); // throws ProgramError
-GLint uniformLocation(const Program& p, const char* name);      // -1 when unused/absent
+GLint uniformLocation(const Program& p, const char* name);    // -1 when unused/absent
 
 // ---- timing -------------------------------------------------------------------------------------
 // Per-stage timings: CPU wall clock and GPU time (GL_TIME_ELAPSED). GPU results are collected
@@ -127,13 +127,13 @@ struct StageTiming {
     long long runs = 0;
 };
 class ScopedStageTimer {
-public:
+  public:
     explicit ScopedStageTimer(std::string stage);
     ~ScopedStageTimer();
     ScopedStageTimer(const ScopedStageTimer&) = delete;
     ScopedStageTimer& operator=(const ScopedStageTimer&) = delete;
 
-private:
+  private:
     std::string m_stage;
     GLuint m_query = 0;
     double m_startMs;

@@ -8,11 +8,21 @@
 
 namespace gl {
 
-void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
-void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
-void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
-void deleteProgram(GLuint id) { glDeleteProgram(id); }
-void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
+void deleteBuffer(GLuint id) {
+    glDeleteBuffers(1, &id);
+}
+void deleteTexture(GLuint id) {
+    glDeleteTextures(1, &id);
+}
+void deleteFramebuffer(GLuint id) {
+    glDeleteFramebuffers(1, &id);
+}
+void deleteProgram(GLuint id) {
+    glDeleteProgram(id);
+}
+void deleteVertexArray(GLuint id) {
+    glDeleteVertexArrays(1, &id);
+}
 
 Buffer createBuffer(size_t bytes, const void* data, GLbitfield flags) {
     GLuint id = 0;
@@ -68,7 +78,8 @@ Program buildProgram(const std::vector<ShaderStage>& stages) {
     Program program(glCreateProgram());
     std::vector<GLuint> shaders;
     auto cleanup = [&] {
-        for (GLuint s : shaders) glDeleteShader(s);
+        for (GLuint s : shaders)
+            glDeleteShader(s);
     };
     for (const auto& st : stages) {
         GLuint s = glCreateShader(st.type);
@@ -106,7 +117,8 @@ void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum seve
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
     core::LogLevel level = core::LogLevel::Debug;
     // shader compiler messages are reported through ProgramError, mapped to the user's file
-    if (source == GL_DEBUG_SOURCE_SHADER_COMPILER) level = core::LogLevel::Debug;
+    if (source == GL_DEBUG_SOURCE_SHADER_COMPILER)
+        level = core::LogLevel::Debug;
     else if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH)
         level = core::LogLevel::Error;
     else if (severity == GL_DEBUG_SEVERITY_MEDIUM)

@@ -23,7 +23,8 @@ std::vector<unsigned char> readPixelsRGBA8(GLuint fbo, int x, int y, int width, 
 void writePng(const std::filesystem::path& path, int width, int height,
               const std::vector<unsigned char>& rgba) {
     if (!stbi_write_png(path.c_str(), width, height, 4, rgba.data(), width * 4))
-        throw core::Error(path.string(), 0, "cannot write PNG (directory missing or not writable?)");
+        throw core::Error(path.string(), 0,
+                          "cannot write PNG (directory missing or not writable?)");
 }
 
 } // namespace gl

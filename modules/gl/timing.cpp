@@ -56,7 +56,8 @@ void collectTimings(bool wait) {
 std::vector<StageTiming> timings() {
     std::lock_guard lock(g_mutex);
     std::vector<StageTiming> out;
-    for (auto& [k, v] : g_table) out.push_back(v);
+    for (auto& [k, v] : g_table)
+        out.push_back(v);
     return out;
 }
 

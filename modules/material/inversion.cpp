@@ -25,13 +25,16 @@ std::vector<double> floatGrid(double lo, double hi, int n) {
     std::vector<double> g(static_cast<size_t>(n) + 1, hi);
     const float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);
     int count = 0;
-    for (float f = flo; f < fhi && count <= n; f = std::nextafter(f, 2.0f)) ++count;
+    for (float f = flo; f < fhi && count <= n; f = std::nextafter(f, 2.0f))
+        ++count;
     if (count <= n) {
         float f = flo;
-        for (int i = 0; i <= n && f <= fhi; ++i, f = std::nextafter(f, 2.0f)) g[i] = f;
+        for (int i = 0; i <= n && f <= fhi; ++i, f = std::nextafter(f, 2.0f))
+            g[i] = f;
         return g;
     }
-    for (int i = 0; i <= n; ++i) g[i] = static_cast<float>(lo + (hi - lo) * (double(i) / n));
+    for (int i = 0; i <= n; ++i)
+        g[i] = static_cast<float>(lo + (hi - lo) * (double(i) / n));
     g[0] = flo;
     g[n] = fhi;
     return g;
@@ -42,14 +45,16 @@ glm::dvec3 solveAlphaPrime(const glm::dvec3& target, const RdrBatch& evaluate, i
                            int rounds) {
     for (int c = 0; c < 3; ++c)
         if (!std::isfinite(target[c]))
-            throw core::Error("R_dr", 0, std::string("R_dr is not finite in channel ") +
-                                             kChannel[c]);
+            throw core::Error("R_dr", 0,
+                              std::string("R_dr is not finite in channel ") + kChannel[c]);
     glm::dvec3 lo(0.0), hi(1.0), rLo(0.0), rHi(0.0);
     for (int round = 0; round < rounds; ++round) {
         std::vector<double> grid[3];
-        for (int c = 0; c < 3; ++c) grid[c] = floatGrid(lo[c], hi[c], subdivisions);
+        for (int c = 0; c < 3; ++c)
+            grid[c] = floatGrid(lo[c], hi[c], subdivisions);
         std::vector<glm::dvec3> alpha(subdivisions + 1);
-        for (int i = 0; i <= subdivisions; ++i) alpha[i] = {grid[0][i], grid[1][i], grid[2][i]};
+        for (int i = 0; i <= subdivisions; ++i)
+            alpha[i] = {grid[0][i], grid[1][i], grid[2][i]};
         std::vector<glm::dvec3> r = evaluate(alpha);
         if (static_cast<int>(r.size()) != subdivisions + 1)
             throw core::Error("R_dr", 0, "DiffuseReflectance evaluation returned wrong size");
@@ -62,9 +67,8 @@ glm::dvec3 solveAlphaPrime(const glm::dvec3& target, const RdrBatch& evaluate, i
                 if (!(target[c] >= std::min(rmin, rmax) && target[c] <= std::max(rmin, rmax)))
                     throw core::Error("R_dr", 0,
                                       "R_dr = " + num(target[c]) + " (channel " + kChannel[c] +
-                                          ") is outside the invertible range [" + num(rmin) +
-                                          ", " + num(rmax) +
-                                          "] of this model's DiffuseReflectance");
+                                          ") is outside the invertible range [" + num(rmin) + ", " +
+                                          num(rmax) + "] of this model's DiffuseReflectance");
             }
             const bool increasing = r[subdivisions][c] >= r[0][c];
             int found = -1;
@@ -77,8 +81,8 @@ glm::dvec3 solveAlphaPrime(const glm::dvec3& target, const RdrBatch& evaluate, i
                 // the bracket is already two adjacent floats: nothing left to split
                 if (std::nextafter(static_cast<float>(lo[c]), 2.0f) >= hi[c]) continue;
                 throw core::Error("R_dr", 0,
-                                  std::string("bisection lost the root in channel ") +
-                                      kChannel[c] + " (DiffuseReflectance not monotonic?)");
+                                  std::string("bisection lost the root in channel ") + kChannel[c] +
+                                      " (DiffuseReflectance not monotonic?)");
             }
             lo[c] = grid[c][found];
             hi[c] = grid[c][found + 1];
@@ -114,9 +118,9 @@ SigmaPair sigmaFromAlphaPrime(const glm::dvec3& alphaPrime, const glm::dvec3& ld
                                   " needs reduced albedo 1 (no absorption): l_d would be "
                                   "infinite; use the sigma parametrisation instead");
         double sigmaTPrime = 1.0 / (ld[c] * std::sqrt(3.0 * (1.0 - a))); // (3.3)
-        double sigmaSPrime = a * sigmaTPrime;                             // (3.4)
-        out.sigmaA[c] = sigmaTPrime - sigmaSPrime;                        // (3.5)
-        out.sigmaS[c] = sigmaSPrime / (1.0 - g);                          // (2.24)
+        double sigmaSPrime = a * sigmaTPrime;                            // (3.4)
+        out.sigmaA[c] = sigmaTPrime - sigmaSPrime;                       // (3.5)
+        out.sigmaS[c] = sigmaSPrime / (1.0 - g);                         // (2.24)
     }
     return out;
 }

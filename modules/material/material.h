@@ -44,8 +44,8 @@ const Preset* findPreset(const std::vector<Preset>& presets, const std::string& 
 MaterialParams applyPreset(const Preset& preset, MaterialParams base);
 
 // Derived quantities of the classical diffusion theory (thesis 2.4): per channel.
-glm::dvec3 reducedAlbedo(const MaterialParams& p);          // α′ = σ′s/σ′t
-glm::dvec3 diffuseMeanFreePath(const MaterialParams& p);    // l_d = 1/σtr, σtr = √(3σa σ′t)
+glm::dvec3 reducedAlbedo(const MaterialParams& p);       // α′ = σ′s/σ′t
+glm::dvec3 diffuseMeanFreePath(const MaterialParams& p); // l_d = 1/σtr, σtr = √(3σa σ′t)
 
 // R_dr / l_d → σ given the solved α′ (thesis eqs. 3.3–3.5 and 2.24). Throws core::Error when
 // α′ = 1 or l_d is not positive/finite.

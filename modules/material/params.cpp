@@ -31,8 +31,8 @@ void validate(const MaterialParams& p, const std::string& what) {
                                   " is " + num(p.sigmaS[c]) + ")");
     }
     if (!std::isfinite(p.eta) || p.eta <= 0)
-        throw core::Error(what, 0, "eta (relative index of refraction) must be > 0, got " +
-                                       num(p.eta));
+        throw core::Error(what, 0,
+                          "eta (relative index of refraction) must be > 0, got " + num(p.eta));
     if (!std::isfinite(p.g) || std::abs(p.g) >= 1)
         throw core::Error(what, 0, "g (mean cosine) must satisfy |g| < 1, got " + num(p.g));
     if (!std::isfinite(p.scale) || p.scale <= 0)

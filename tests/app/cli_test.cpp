@@ -32,9 +32,9 @@ class TempDir {
     TempDir() {
         static std::atomic<int> counter{0};
         std::random_device rd;
-        m_path = fs::temp_directory_path() /
-                 ("bw_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) +
-                  "_" + std::to_string(rd()));
+        m_path =
+            fs::temp_directory_path() / ("bw_cli_test_" + std::to_string(::getpid()) + "_" +
+                                         std::to_string(counter++) + "_" + std::to_string(rd()));
         fs::create_directories(m_path);
     }
     ~TempDir() {
@@ -56,7 +56,8 @@ struct RunResult {
 
 std::string describe(const std::vector<std::string>& args, const RunResult& r) {
     std::string s = "command: bssrdf-workbench";
-    for (const auto& a : args) s += " " + a;
+    for (const auto& a : args)
+        s += " " + a;
     s += "\nexit code: " + std::to_string(r.code) + "\noutput:\n" + r.output;
     return s;
 }
@@ -66,7 +67,8 @@ RunResult runExe(const std::vector<std::string>& args, const fs::path& cwd) {
     std::vector<std::string> full = {BW_EXE, "--root", BW_SOURCE_ROOT};
     full.insert(full.end(), args.begin(), args.end());
     std::vector<char*> argv;
-    for (auto& a : full) argv.push_back(a.data());
+    for (auto& a : full)
+        argv.push_back(a.data());
     argv.push_back(nullptr);
 
     int fds[2];
@@ -93,16 +95,21 @@ RunResult runExe(const std::vector<std::string>& args, const fs::path& cwd) {
     char buf[4096];
     for (;;) {
         ssize_t n = ::read(fds[0], buf, sizeof buf);
-        if (n > 0) r.output.append(buf, static_cast<size_t>(n));
-        else if (n < 0 && errno == EINTR) continue;
-        else break;
+        if (n > 0)
+            r.output.append(buf, static_cast<size_t>(n));
+        else if (n < 0 && errno == EINTR)
+            continue;
+        else
+            break;
     }
     ::close(fds[0]);
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
     }
-    if (WIFEXITED(status)) r.code = WEXITSTATUS(status);
-    else if (WIFSIGNALED(status)) r.code = 128 + WTERMSIG(status);
+    if (WIFEXITED(status))
+        r.code = WEXITSTATUS(status);
+    else if (WIFSIGNALED(status))
+        r.code = 128 + WTERMSIG(status);
     return r;
 }
 
@@ -137,7 +144,8 @@ std::vector<std::string> splitOn(const std::string& s, char sep) {
     std::vector<std::string> out;
     std::stringstream ss(s);
     std::string item;
-    while (std::getline(ss, item, sep)) out.push_back(item);
+    while (std::getline(ss, item, sep))
+        out.push_back(item);
     return out;
 }
 
@@ -210,22 +218,21 @@ std::vector<double> commentNumbers(const std::string& line, size_t skipWords) {
 }
 
 const std::string kDipole = "materials/dipole.bssrdf";
-fs::path sourceRoot() { return fs::path(BW_SOURCE_ROOT); }
+fs::path sourceRoot() {
+    return fs::path(BW_SOURCE_ROOT);
+}
 
 class Cli : public ::testing::Test {
   protected:
-    RunResult run(const std::vector<std::string>& args) {
-        return runExe(args, m_dir.path());
-    }
+    RunResult run(const std::vector<std::string>& args) { return runExe(args, m_dir.path()); }
     // Expects a failure (non-zero exit) whose output mentions every fragment.
     void expectFailure(const std::vector<std::string>& args,
                        const std::vector<std::string>& fragments) {
         RunResult r = run(args);
         EXPECT_NE(r.code, 0) << describe(args, r);
         for (const auto& f : fragments)
-            EXPECT_TRUE(contains(r.output, f))
-                << "expected the message to contain '" << f << "'\n"
-                << describe(args, r);
+            EXPECT_TRUE(contains(r.output, f)) << "expected the message to contain '" << f << "'\n"
+                                               << describe(args, r);
     }
     const fs::path& dir() const { return m_dir.path(); }
 
@@ -235,8 +242,8 @@ class Cli : public ::testing::Test {
 // ---- profile ------------------------------------------------------------------------------
 
 TEST_F(Cli, ProfilePresetWritesCsvWithHeaderAndDefaultSamples) {
-    std::vector<std::string> args = {"profile", "--model", kDipole, "--preset", "Marble",
-                                     "--out", "marble.csv"};
+    std::vector<std::string> args = {"profile", "--model", kDipole,     "--preset",
+                                     "Marble",  "--out",   "marble.csv"};
     RunResult r = run(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     fs::path csvPath = dir() / "marble.csv";
@@ -273,19 +280,23 @@ TEST_F(Cli, ProfilePresetWritesCsvWithHeaderAndDefaultSamples) {
     EXPECT_EQ(csv.rows.front()[0], 0.0);
     for (size_t i = 0; i < csv.rows.size(); ++i) {
         const auto& row = csv.rows[i];
-        for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(row[k])) << "row " << i;
-        for (int k = 1; k < 4; ++k) EXPECT_GT(row[k], 0.0) << "row " << i << " column " << k;
-        if (i > 0) EXPECT_GT(row[0], csv.rows[i - 1][0]) << "r not increasing at row " << i;
+        for (int k = 0; k < 4; ++k)
+            ASSERT_TRUE(std::isfinite(row[k])) << "row " << i;
+        for (int k = 1; k < 4; ++k)
+            EXPECT_GT(row[k], 0.0) << "row " << i << " column " << k;
+        if (i > 0) {
+            EXPECT_GT(row[0], csv.rows[i - 1][0]) << "r not increasing at row " << i;
+        }
     }
     // A diffusion profile falls off with distance: the first value exceeds the last.
-    for (int k = 1; k < 4; ++k) EXPECT_GT(csv.rows.front()[k], csv.rows.back()[k]);
+    for (int k = 1; k < 4; ++k)
+        EXPECT_GT(csv.rows.front()[k], csv.rows.back()[k]);
 }
 
 TEST_F(Cli, ProfileExplicitCoefficientsSamplesAndRange) {
-    std::vector<std::string> args = {"profile",   "--model",  kDipole,     "--sigma-a",
-                                     "0.01,0.02,0.03", "--sigma-s", "1,1,1", "--samples",
-                                     "600",       "--rmax",   "10",        "--out",
-                                     "explicit.csv"};
+    std::vector<std::string> args = {
+        "profile",   "--model", kDipole,  "--sigma-a", "0.01,0.02,0.03", "--sigma-s",   "1,1,1",
+        "--samples", "600",     "--rmax", "10",        "--out",          "explicit.csv"};
     RunResult r = run(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     ProfileCsv csv = parseProfile(readText(dir() / "explicit.csv"));
@@ -295,9 +306,13 @@ TEST_F(Cli, ProfileExplicitCoefficientsSamplesAndRange) {
     EXPECT_EQ(csv.rows.front()[0], 0.0);
     EXPECT_NEAR(csv.rows.back()[0], 10.0, 1e-6);
     for (size_t i = 0; i < csv.rows.size(); ++i) {
-        for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(csv.rows[i][k])) << "row " << i;
-        for (int k = 1; k < 4; ++k) EXPECT_GT(csv.rows[i][k], 0.0) << "row " << i;
-        if (i > 0) EXPECT_GT(csv.rows[i][0], csv.rows[i - 1][0]) << "row " << i;
+        for (int k = 0; k < 4; ++k)
+            ASSERT_TRUE(std::isfinite(csv.rows[i][k])) << "row " << i;
+        for (int k = 1; k < 4; ++k)
+            EXPECT_GT(csv.rows[i][k], 0.0) << "row " << i;
+        if (i > 0) {
+            EXPECT_GT(csv.rows[i][0], csv.rows[i - 1][0]) << "row " << i;
+        }
     }
     auto saV = commentNumbers(findComment(csv, "# sigma_a "), 2);
     ASSERT_EQ(saV.size(), 3u);
@@ -334,14 +349,15 @@ TEST_F(Cli, ProfileRejectsBadPresetModelAndOutput) {
     expectFailure(
         {"profile", "--model", "does/not/exist.bssrdf", "--preset", "Marble", "--out", "x.csv"},
         {"--model", "does/not/exist.bssrdf"});
-    expectFailure({"profile", "--model", kDipole, "--preset", "Marble", "--out", "/proc/nope/x.csv"},
-                  {"/proc/nope/x.csv"});
-    expectFailure({"profile", "--model", kDipole, "--preset", "Marble", "--samples", "1", "--out",
-                   "x.csv"},
-                  {"--samples"});
-    expectFailure({"profile", "--model", kDipole, "--preset", "Marble", "--rmax", "-2", "--out",
-                   "x.csv"},
-                  {"--rmax"});
+    expectFailure(
+        {"profile", "--model", kDipole, "--preset", "Marble", "--out", "/proc/nope/x.csv"},
+        {"/proc/nope/x.csv"});
+    expectFailure(
+        {"profile", "--model", kDipole, "--preset", "Marble", "--samples", "1", "--out", "x.csv"},
+        {"--samples"});
+    expectFailure(
+        {"profile", "--model", kDipole, "--preset", "Marble", "--rmax", "-2", "--out", "x.csv"},
+        {"--rmax"});
     EXPECT_FALSE(fs::exists(dir() / "x.csv"));
 }
 
@@ -368,7 +384,8 @@ TEST_F(Cli, ProfileReportsShaderErrorAtModelFileLine) {
     ASSERT_GE(target, 0) << "no statement line found in the shader section of " << kDipole;
     lines[target] = "    vec3 Broken = ;";
     std::string text;
-    for (const auto& l : lines) text += l + "\n";
+    for (const auto& l : lines)
+        text += l + "\n";
     const fs::path broken = dir() / "broken.bssrdf";
     writeText(broken, text);
     const std::string where = broken.string() + ":" + std::to_string(target + 1);
@@ -399,8 +416,8 @@ Forward dipoleForward(double sigmaA, double sigmaS, double eta) {
 }
 
 TEST_F(Cli, InvertPrintsCoefficientsThatReproduceTheInputs) {
-    std::vector<std::string> args = {"invert", "--model", kDipole, "--rdr", "0.5,0.6,0.7",
-                                     "--ld",   "1,2,3"};
+    std::vector<std::string> args = {"invert",      "--model", kDipole, "--rdr",
+                                     "0.5,0.6,0.7", "--ld",    "1,2,3"};
     RunResult r = run(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     auto lines = splitLines(r.output);
@@ -439,8 +456,7 @@ TEST_F(Cli, InvertRejectsBadInputs) {
                   {"R_dr"});
     expectFailure({"invert", "--model", kDipole, "--rdr", "-0.1,0.5,0.5", "--ld", "1,1,1"},
                   {"R_dr"});
-    expectFailure({"invert", "--model", kDipole, "--rdr", "0.5,0.5,0.5", "--ld", "0,1,1"},
-                  {"l_d"});
+    expectFailure({"invert", "--model", kDipole, "--rdr", "0.5,0.5,0.5", "--ld", "0,1,1"}, {"l_d"});
     expectFailure({"invert", "--model", kDipole, "--rdr", "0.5,0.5", "--ld", "1,1,1"}, {"--rdr"});
     expectFailure({"invert", "--model", kDipole, "--rdr", "0.5,0.5,0.5", "--ld", "1,x,1"},
                   {"--ld"});
@@ -480,7 +496,8 @@ TEST_F(Cli, ScreenshotWritesPngOfRequestedSize) {
     // IHDR: big-endian width and height at bytes 16..23.
     auto be32 = [&](size_t o) {
         uint32_t v = 0;
-        for (size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(bytes[o + i]);
+        for (size_t i = 0; i < 4; ++i)
+            v = (v << 8) | static_cast<unsigned char>(bytes[o + i]);
         return v;
     };
     EXPECT_EQ(bytes.substr(12, 4), "IHDR");

@@ -41,7 +41,8 @@ TEST(FileWatcher, SeesWriteRenameAndDelete) {
     EXPECT_EQ(r[0].filename(), "a.bssrdf");
 
     // A burst of writes is reported once.
-    for (int i = 0; i < 10; ++i) std::ofstream(dir / "a.bssrdf") << i;
+    for (int i = 0; i < 10; ++i)
+        std::ofstream(dir / "a.bssrdf") << i;
     r = waitFor(w);
     EXPECT_EQ(r.size(), 1u);
 

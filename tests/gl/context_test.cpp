@@ -25,7 +25,8 @@ void main() { v[gl_GlobalInvocationID.x] = float(gl_GlobalInvocationID.x) * 0.5;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> out(256);
     glGetNamedBufferSubData(buf.id(), 0, 256 * sizeof(float), out.data());
-    for (int i = 0; i < 256; ++i) EXPECT_EQ(out[i], i * 0.5f);
+    for (int i = 0; i < 256; ++i)
+        EXPECT_EQ(out[i], i * 0.5f);
     gl::collectTimings(true);
     auto t = gl::timings();
     ASSERT_EQ(t.size(), 1u);

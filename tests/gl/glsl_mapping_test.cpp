@@ -49,8 +49,8 @@ TEST(GlslMapping, TypeErrorsAndUndeclaredNamesLandOnTheirLines) {
     EXPECT_EQ(e.problem->line, lineOf(text, "UndeclaredThing")) << e.problem->text();
     EXPECT_NE(e.problem->message.find("UndeclaredThing"), std::string::npos);
 
-    std::string typed = replaced(dipole(), "    A = (1.0 + Fdr)/(1.0 - Fdr);",
-                                 "    A = vec2(1.0, Fdr);");
+    std::string typed =
+        replaced(dipole(), "    A = (1.0 + Fdr)/(1.0 - Fdr);", "    A = vec2(1.0, Fdr);");
     auto q = loadModelText("type", "typed.bssrdf", typed);
     auto& f = q.lib->entries().at(0);
     ASSERT_TRUE(f.problem.has_value());

@@ -52,7 +52,8 @@ TEST(HotReload, EditBreakRecover) {
     ASSERT_GT(base, 0.0);
 
     // 1. a good edit of the GLSL shows up as new output
-    std::string doubled = replaced(good, "return Multiplier/(4.0*PI)", "return 2.0*Multiplier/(4.0*PI)");
+    std::string doubled =
+        replaced(good, "return Multiplier/(4.0*PI)", "return 2.0*Multiplier/(4.0*PI)");
     saveLikeAnEditor(file, doubled);
     ASSERT_TRUE(waitFor(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-6 * base; }));
 
@@ -80,7 +81,8 @@ TEST(HotReload, EditBreakRecover) {
     EXPECT_TRUE(listed);
 
     // 4. the next good save recovers by itself
-    std::string tripled = replaced(good, "return Multiplier/(4.0*PI)", "return 3.0*Multiplier/(4.0*PI)");
+    std::string tripled =
+        replaced(good, "return Multiplier/(4.0*PI)", "return 3.0*Multiplier/(4.0*PI)");
     saveLikeAnEditor(file, tripled);
     ASSERT_TRUE(waitFor(wb, [&] { return !wb.library().find(path)->problem.has_value(); }));
     wb.library().find(path)->values["Multiplier"] = {1.0f, 0, 0};
@@ -119,8 +121,9 @@ TEST(HotReload, BrokenShaderTemplateKeepsProgramsAndRecovers) {
     EXPECT_EQ(wb.library().find(path)->problem->file, "shaders/pencil_profile.comp");
     EXPECT_TRUE(wb.library().find(path)->usable());
     // a changed template that still works doubles the output
-    saveLikeAnEditor(tplFile, replaced(tpl, "values[i] = vec4(Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);",
-                                       "values[i] = vec4(2.0*Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);"));
+    saveLikeAnEditor(
+        tplFile, replaced(tpl, "values[i] = vec4(Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);",
+                          "values[i] = vec4(2.0*Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);"));
     ASSERT_TRUE(waitFor(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-6 * base; }));
     EXPECT_FALSE(wb.library().find(path)->problem.has_value());
     fs::remove_all(root);
@@ -132,7 +135,9 @@ TEST(HotReload, NonUtf8AndEmptySavesAreErrorsNotCrashes) {
     app::Workbench wb(root, true);
     const std::string path = "materials/dipole.bssrdf";
     const double base = valueAt0(wb, path);
-    saveLikeAnEditor(root / "materials/dipole.bssrdf", std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10));
+    saveLikeAnEditor(root / "materials/dipole.bssrdf", std::string("\x7f"
+                                                                   "ELF\x02\x01\x01\0\0\0",
+                                                                   10));
     ASSERT_TRUE(waitFor(wb, [&] { return wb.library().find(path)->problem.has_value(); }));
     EXPECT_NE(wb.library().find(path)->problem->message.find("UTF-8"), std::string::npos);
     EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base);

@@ -24,16 +24,18 @@ double betterRdr(double a, double eta) {
         double f = 1;
         if (sin2t < 1) {
             const double ct = std::sqrt(1 - sin2t);
-            const double rs = (eta * mu - ct) / (eta * mu + ct), rp = (mu - eta * ct) / (mu + eta * ct);
+            const double rs = (eta * mu - ct) / (eta * mu + ct),
+                         rp = (mu - eta * ct) / (mu + eta * ct);
             f = 0.5 * (rs * rs + rp * rp);
         }
         c1 += f * mu / 128;
         c2 += f * mu * mu / 128;
     }
-    const double A = (1 + 3 * c2) / (1 - 2 * c1), cphi = 0.25 * (1 - 2 * c1), ce = 0.5 * (1 - 3 * c2);
+    const double A = (1 + 3 * c2) / (1 - 2 * c1), cphi = 0.25 * (1 - 2 * c1),
+                 ce = 0.5 * (1 - 3 * c2);
     const double D = (2 - a) / 3, s = std::sqrt((1 - a) / D), zr = 1, zv = 1 + 4 * A * D;
-    const double phiInt = s > 0 ? (std::exp(-s * zr) - std::exp(-s * zv)) / (2 * D * s)
-                                : (zv - zr) / (2 * D);
+    const double phiInt =
+        s > 0 ? (std::exp(-s * zr) - std::exp(-s * zv)) / (2 * D * s) : (zv - zr) / (2 * D);
     return a * (cphi * phiInt + ce * 0.5 * (std::exp(-s * zr) + std::exp(-s * zv)));
 }
 
@@ -44,9 +46,9 @@ struct Loaded {
 Loaded load(const std::string& model) {
     testsupport::context();
     Loaded l;
-    l.wb = std::make_unique<app::Workbench>(testsupport::sourceRoot(), false,
-                                            std::vector<std::filesystem::path>{
-                                                testsupport::sourceRoot() / "materials" / model});
+    l.wb = std::make_unique<app::Workbench>(
+        testsupport::sourceRoot(), false,
+        std::vector<std::filesystem::path>{testsupport::sourceRoot() / "materials" / model});
     l.entry = &l.wb->library().entries().at(0);
     return l;
 }

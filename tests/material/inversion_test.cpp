@@ -34,7 +34,8 @@ TEST(Inversion, RecoversAlphaPrimeAcrossTheRange) {
     for (double a : {0.05, 0.3, 0.8, 0.99, 0.9999, 0.999973}) {
         glm::dvec3 alpha(a, a * 0.5, std::sqrt(a));
         glm::dvec3 target;
-        for (int c = 0; c < 3; ++c) target[c] = classicRdr(alpha[c], 1.3);
+        for (int c = 0; c < 3; ++c)
+            target[c] = classicRdr(alpha[c], 1.3);
         glm::dvec3 got = material::solveAlphaPrime(target, floatBatch(1.3, &calls));
         for (int c = 0; c < 3; ++c) {
             // relative accuracy in 1 − α′ is what σa inherits (eq. 3.5)

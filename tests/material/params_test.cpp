@@ -66,7 +66,8 @@ TEST(MaterialParams, PresetsMatchJensen2001) {
     auto p = material::applyPreset(*marble, base);
     EXPECT_DOUBLE_EQ(p.sigmaS.x, 2.19 / 0.5);
     EXPECT_DOUBLE_EQ(p.g, 0.5);
-    for (const auto& pr : presets) EXPECT_NO_THROW(material::validate(material::applyPreset(pr, {})));
+    for (const auto& pr : presets)
+        EXPECT_NO_THROW(material::validate(material::applyPreset(pr, {})));
 }
 
 TEST(MaterialParams, BadPresetFileNamesLine) {

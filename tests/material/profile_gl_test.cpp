@@ -107,8 +107,8 @@ TEST(PencilProfileGpu, ProfileIntegratesToDiffuseReflectance) {
             GLuint prog = e.programs.at("pencil_profile.comp").id();
             auto integrate = [&](int n) {
                 auto radii = bssrdf::radiusGrid(40 * ld, n);
-                auto p = bssrdf::evaluateProfile(prog, *e.model, e.values,
-                                                 app::builtinsOf(params), radii);
+                auto p = bssrdf::evaluateProfile(prog, *e.model, e.values, app::builtinsOf(params),
+                                                 radii);
                 double sum = 0;
                 for (int i = 1; i < n; ++i)
                     sum += 0.5 * (p.value[i].x * radii[i] + p.value[i - 1].x * radii[i - 1]) *
@@ -122,10 +122,9 @@ TEST(PencilProfileGpu, ProfileIntegratesToDiffuseReflectance) {
             if (std::string(model) == "dipole.bssrdf") {
                 closed = jensenRdr(alphaP, c.eta);
             } else {
-                auto r = bssrdf::evaluateDiffuseReflectance(e.programs.at("invert_rdr.comp").id(),
-                                                            *e.model, e.values,
-                                                            app::builtinsOf(params),
-                                                            {glm::dvec3(alphaP)});
+                auto r = bssrdf::evaluateDiffuseReflectance(
+                    e.programs.at("invert_rdr.comp").id(), *e.model, e.values,
+                    app::builtinsOf(params), {glm::dvec3(alphaP)});
                 closed = r[0].x;
             }
             EXPECT_NEAR(fine, closed, 4 * richardson + 1e-5 * closed)
