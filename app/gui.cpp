@@ -133,6 +133,8 @@ bool HeadlessGui::frame() {
     return changed;
 }
 
+UiState& HeadlessGui::ui() { return *g_ui; }
+
 std::vector<unsigned char> HeadlessGui::pixels() const {
     auto px = gl::readPixelsRGBA8(m_target.framebuffer(), 0, 0, m_width, m_height);
     for (size_t i = 3; i < px.size(); i += 4)

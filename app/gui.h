@@ -3,6 +3,7 @@
 #pragma once
 
 #include "gl/gl.h"
+#include "ui_state.h"
 #include "workbench.h"
 
 #include <string>
@@ -27,6 +28,7 @@ class HeadlessGui {
     // Updates the workbench, draws every open panel, renders; returns whether stages re-ran.
     bool frame();
     std::vector<unsigned char> pixels() const; // RGBA8, top row first, opaque
+    UiState& ui();                             // panel toggles and pending requests
     int width() const { return m_width; }
     int height() const { return m_height; }
 

@@ -16,6 +16,7 @@ struct UiState {
     bool recordPopup = false;
     char pathBuffer[512] = "";
     char nameBuffer[128] = "my_capture";
+    std::string plotPngRequest; // Export PNG: the pencil panel turns it into the two below
     std::string pngExportPath; // set by the pencil panel; the runner reads pixels after render
     float pngRect[4] = {0, 0, 0, 0}; // x0, y0, x1, y1 in framebuffer pixels (top-left origin)
     std::string status;              // one-line status shown in the menu bar

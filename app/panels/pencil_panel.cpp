@@ -70,7 +70,7 @@ void drawPencilPanel(Workbench& wb, UiState& ui) {
         }
     }
     ImGui::SameLine();
-    bool wantPng = ImGui::Button("Export PNG");
+    if (ImGui::Button("Export PNG")) ui.plotPngRequest = std::string(exportPath) + ".png";
 
     plot::Axis x{0.0, wb.rMaxMm(), plot::Scale::Linear, "r [mm]"};
     plot::Axis y = plot::autoRange(series, ps.yScale, true, 12.0);
@@ -80,8 +80,9 @@ void drawPencilPanel(Workbench& wb, UiState& ui) {
                         std::string(ps.solo.empty() ? chName[ps.channel] : "R, G, B of " + ps.solo);
     plot::PlotState st = plot::drawPlot("pencil", ImVec2(-1, -1), series, x, y, title,
                                         Workbench::normalisationNote());
-    if (wantPng) {
-        ui.pngExportPath = std::string(exportPath) + ".png";
+    if (!ui.plotPngRequest.empty()) {
+        ui.pngExportPath = ui.plotPngRequest;
+        ui.plotPngRequest.clear();
         ui.pngRect[0] = st.min.x;
         ui.pngRect[1] = st.min.y;
         ui.pngRect[2] = st.max.x;

@@ -31,7 +31,10 @@ double valueAt0(app::Workbench& wb, const std::string& path) {
 
 // Editor-style save: write a temporary next to the file and rename it over the original.
 void saveLikeAnEditor(const fs::path& file, const std::string& text) {
-    fs::path tmp = file.parent_path() / ("." + file.filename().string() + ".swp");
+    std::string name = ".";
+    name += file.filename().string();
+    name += ".swp";
+    const fs::path tmp = file.parent_path() / name;
     {
         std::ofstream out(tmp, std::ios::binary);
         out << text;
