@@ -28,7 +28,7 @@ void drawErrorsPanel(Workbench& wb, UiState& ui) {
             ImGui::EndTabItem();
         }
         if (ImGui::BeginTabItem("Log")) {
-            static int minLevel = 1;
+            int& minLevel = ui.logMinLevel;
             ImGui::SetNextItemWidth(100);
             ImGui::Combo("level", &minLevel, "debug\0info\0warning\0error\0");
             ImGui::SameLine();

@@ -47,7 +47,7 @@ void drawParametersPanel(Workbench& wb, UiState& ui) {
         return;
     }
     // Which settings are edited: the shared ones or a model's own.
-    static std::string target; // display path; empty = shared
+    std::string& target = ui.paramsTarget; // display path; empty = shared
     std::string targetLabel = target.empty() ? "all models (shared)" : target;
     if (ImGui::BeginCombo("applies to", targetLabel.c_str())) {
         if (ImGui::Selectable("all models (shared)", target.empty())) target.clear();

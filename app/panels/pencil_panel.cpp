@@ -55,9 +55,9 @@ void drawPencilPanel(Workbench& wb, UiState& ui) {
     ImGui::SameLine();
     ImGui::TextDisabled("r in [0, %.3g] mm", wb.rMaxMm());
 
-    static char exportPath[256] = "pencil_plot";
+    char* exportPath = ui.exportName;
     ImGui::SetNextItemWidth(160);
-    ImGui::InputText("##export", exportPath, sizeof exportPath);
+    ImGui::InputText("##export", exportPath, sizeof ui.exportName);
     ImGui::SameLine();
     auto series = wb.plotSeries();
     if (ImGui::Button("Export CSV")) {
