@@ -17,11 +17,13 @@ void drawTimingsPanel(Workbench&, UiState& ui) {
     }
     ImGui::Text("frame %.2f ms (%.0f fps)", 1000.0f / ImGui::GetIO().Framerate,
                 ImGui::GetIO().Framerate);
-    if (ImGui::BeginTable("timings", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
-        ImGui::TableSetupColumn("stage");
-        ImGui::TableSetupColumn("CPU ms");
-        ImGui::TableSetupColumn("GPU ms");
-        ImGui::TableSetupColumn("runs");
+    if (ImGui::BeginTable("timings", 4,
+                          ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders |
+                              ImGuiTableFlags_SizingFixedFit)) {
+        ImGui::TableSetupColumn("stage", ImGuiTableColumnFlags_WidthStretch);
+        ImGui::TableSetupColumn("CPU ms", ImGuiTableColumnFlags_WidthFixed, 60);
+        ImGui::TableSetupColumn("GPU ms", ImGuiTableColumnFlags_WidthFixed, 60);
+        ImGui::TableSetupColumn("runs", ImGuiTableColumnFlags_WidthFixed, 36);
         ImGui::TableHeadersRow();
         for (const auto& t : gl::timings()) {
             ImGui::TableNextRow();

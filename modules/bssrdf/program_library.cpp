@@ -46,16 +46,21 @@ ModelEntry& ModelLibrary::open(const fs::path& file) {
     throw core::Error(file.string(), 0, "cannot open model");
 }
 
+namespace {
+// Records why a (re)load failed; the entry keeps its last good model and programs.
+void fail(ModelEntry& e, const core::Error& err) {
+    e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(), err.message()};
+    core::logError(std::string(e.model ? "keeping the last good version: " : "") +
+                   e.problem->text());
+}
+} // namespace
+
 void ModelLibrary::load(ModelEntry& e) {
     Model parsed;
     try {
         parsed = loadModel(e.file, e.displayPath);
     } catch (const core::Error& err) {
-        e.problem =
-            Problem{err.file().empty() ? e.displayPath : err.file(), err.line(), err.message()};
-        core::logError(std::string(e.model ? "keeping the last good version: " : "") +
-                       e.problem->text());
-        return;
+        return fail(e, err);
     }
     for (const auto& n : parsed.notes)
         core::logInfo(n);
@@ -68,11 +73,7 @@ void ModelLibrary::load(ModelEntry& e) {
             core::logDebug("built " + consumer + " for " + e.displayPath + " in " +
                            std::to_string(sw.ms()) + " ms");
         } catch (const core::Error& err) {
-            e.problem =
-                Problem{err.file().empty() ? e.displayPath : err.file(), err.line(), err.message()};
-            core::logError(std::string(e.model ? "keeping the last good version: " : "") +
-                           e.problem->text());
-            return;
+            return fail(e, err);
         }
     }
     e.values = e.model ? carryOver(parsed, *e.model, e.values) : defaultValues(parsed);

@@ -3,19 +3,13 @@
 #include "material.h"
 
 #include "core/core.h"
+#include "detail/messages.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace material {
-namespace {
-const char* kChannel[3] = {"R", "G", "B"};
-std::string num(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.6g", v);
-    return b;
-}
-} // namespace
+using detail::num;
 
 namespace {
 // Grid of `n`+1 float32 values from lo to hi (both exact floats). When [lo, hi] holds no more
@@ -45,8 +39,8 @@ glm::dvec3 solveAlphaPrime(const glm::dvec3& target, const RdrBatch& evaluate, i
                            int rounds) {
     for (int c = 0; c < 3; ++c)
         if (!std::isfinite(target[c]))
-            throw core::Error("R_dr", 0,
-                              std::string("R_dr is not finite in channel ") + kChannel[c]);
+            throw core::Error(
+                "R_dr", 0, std::string("R_dr is not finite in channel ") + detail::channelName(c));
     glm::dvec3 lo(0.0), hi(1.0), rLo(0.0), rHi(0.0);
     for (int round = 0; round < rounds; ++round) {
         std::vector<double> grid[3];
@@ -66,7 +60,8 @@ glm::dvec3 solveAlphaPrime(const glm::dvec3& target, const RdrBatch& evaluate, i
                                       "DiffuseReflectance is not finite at alpha' = 0 or 1");
                 if (!(target[c] >= std::min(rmin, rmax) && target[c] <= std::max(rmin, rmax)))
                     throw core::Error("R_dr", 0,
-                                      "R_dr = " + num(target[c]) + " (channel " + kChannel[c] +
+                                      "R_dr = " + num(target[c]) + " (channel " +
+                                          detail::channelName(c) +
                                           ") is outside the invertible range [" + num(rmin) + ", " +
                                           num(rmax) + "] of this model's DiffuseReflectance");
             }
@@ -81,7 +76,8 @@ glm::dvec3 solveAlphaPrime(const glm::dvec3& target, const RdrBatch& evaluate, i
                 // the bracket is already two adjacent floats: nothing left to split
                 if (std::nextafter(static_cast<float>(lo[c]), 2.0f) >= hi[c]) continue;
                 throw core::Error("R_dr", 0,
-                                  std::string("bisection lost the root in channel ") + kChannel[c] +
+                                  std::string("bisection lost the root in channel ") +
+                                      detail::channelName(c) +
                                       " (DiffuseReflectance not monotonic?)");
             }
             lo[c] = grid[c][found];
@@ -110,11 +106,11 @@ SigmaPair sigmaFromAlphaPrime(const glm::dvec3& alphaPrime, const glm::dvec3& ld
         if (!(ld[c] > 0) || !std::isfinite(ld[c]))
             throw core::Error("l_d", 0,
                               std::string("l_d must be a positive finite length in mm (channel ") +
-                                  kChannel[c] + " is " + num(ld[c]) + ")");
+                                  detail::channelName(c) + " is " + num(ld[c]) + ")");
         double a = alphaPrime[c];
         if (!(a < 1.0))
             throw core::Error("R_dr", 0,
-                              std::string("R_dr in channel ") + kChannel[c] +
+                              std::string("R_dr in channel ") + detail::channelName(c) +
                                   " needs reduced albedo 1 (no absorption): l_d would be "
                                   "infinite; use the sigma parametrisation instead");
         double sigmaTPrime = 1.0 / (ld[c] * std::sqrt(3.0 * (1.0 - a))); // (3.3)

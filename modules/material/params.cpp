@@ -2,33 +2,27 @@
 #include "material.h"
 
 #include "core/core.h"
+#include "detail/messages.h"
 
 #include <cmath>
 
 namespace material {
-namespace {
-const char* kChannel[3] = {"R", "G", "B"};
-std::string num(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", v);
-    return b;
-}
-} // namespace
+using detail::num;
 
 void validate(const MaterialParams& p, const std::string& what) {
     for (int c = 0; c < 3; ++c) {
         if (!std::isfinite(p.sigmaA[c]) || !std::isfinite(p.sigmaS[c]))
             throw core::Error(what, 0,
                               std::string("sigma_a and sigma_s must be finite (channel ") +
-                                  kChannel[c] + ")");
+                                  detail::channelName(c) + ")");
         if (p.sigmaA[c] < 0)
             throw core::Error(what, 0,
-                              std::string("sigma_a must be >= 0 1/mm (channel ") + kChannel[c] +
-                                  " is " + num(p.sigmaA[c]) + ")");
+                              std::string("sigma_a must be >= 0 1/mm (channel ") +
+                                  detail::channelName(c) + " is " + num(p.sigmaA[c]) + ")");
         if (p.sigmaS[c] <= 0)
             throw core::Error(what, 0,
-                              std::string("sigma_s must be > 0 1/mm (channel ") + kChannel[c] +
-                                  " is " + num(p.sigmaS[c]) + ")");
+                              std::string("sigma_s must be > 0 1/mm (channel ") +
+                                  detail::channelName(c) + " is " + num(p.sigmaS[c]) + ")");
     }
     if (!std::isfinite(p.eta) || p.eta <= 0)
         throw core::Error(what, 0,
