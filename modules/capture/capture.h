@@ -38,9 +38,10 @@ struct StageOutput {
     std::string stage;             // e.g. "pencil_plot"; unique within a capture
     std::string file;              // relative to the capture folder, e.g. "pencil_plot.csv"
     std::string kind = "csv";      // one of knownOutputKinds()
-    double absTol = 0, relTol = 0; // value passes if |a-b| <= absTol + relTol*|b|
+    double absTol = 0, relTol = 0; // csv: value passes if |a-b| <= absTol + relTol*|b|
     std::string tolNote;           // why this tolerance ("float32 GPU evaluation: 64 ulp rel")
     std::string hash;              // content hash of the file when recorded
+    double alpha = 0; // csv_stat: family-wise false-alarm probability of the z-test (0, 1)
 };
 
 struct Manifest {
@@ -70,7 +71,7 @@ nlohmann::json toJson(const Manifest& manifest);
 // Validates like readManifest; errors name `fileForErrors` with line 0.
 Manifest fromJson(const nlohmann::json& json, const std::string& fileForErrors);
 
-std::vector<std::string> knownOutputKinds(); // {"csv"}
+std::vector<std::string> knownOutputKinds(); // {"csv", "csv_stat"}
 bool isValidName(std::string_view name);     // non-empty, [A-Za-z0-9_.-], not "." or ".."
 bool isHash(std::string_view text);          // "fnv1a64:" + 16 lowercase hex digits
 // "" when `path` is a plain relative path that stays inside its folder, else the reason.
@@ -113,6 +114,8 @@ struct Comparison {
     std::string where; // e.g. "row 37 (r_mm=1.23), column G"; rows count from 1
     double expected = 0, actual = 0, diff = 0, limit = 0;
     std::string message; // why it failed without a value location (shape, names, file)
+    bool statistical = false; // csv_stat: worstExcess = max|z| / zLimit, limit = zLimit
+    double alpha = 0;         // csv_stat: family-wise false-alarm probability
 };
 
 // `keyColumn` (optional) names a column whose expected value is shown in `where`.
@@ -124,6 +127,18 @@ Comparison compareTables(const std::string& stage, const Table& expected, const 
 //   "FAIL pencil_plot  row count differs: expected 200, got 199"
 std::string formatComparison(const Comparison& comparison);
 
+// Monte Carlo tables (kind "csv_stat"): every column X that has a companion column
+// "X_stderr" holds estimates with standard errors. Each such value pair is compared by
+// z = |a − b| / sqrt(se_a² + se_b²) against the two-sided Bonferroni limit
+// z_lim = Φ⁻¹(1 − alpha / (2m)) over the m compared values (so all of them pass together with
+// probability ≥ 1 − alpha when both runs estimate the same means). Identical values (same
+// build, same seed) give z = 0. Columns without a companion (e.g. r_mm) and values whose
+// standard errors are both 0 must match exactly.
+Comparison compareStatTables(const std::string& stage, const Table& expected, const Table& actual,
+                             double alpha, const std::string& keyColumn = "");
+// Φ⁻¹(1 − p) for 0 < p < 1 (upper standard-normal quantile).
+double normalUpperQuantile(double p);
+
 // ---- recording and replay -------------------------------------------------------------------
 // core::hashHex of the file's bytes; throws core::Error naming the path when unreadable.
 std::string hashFile(const std::filesystem::path& path);
@@ -132,6 +147,10 @@ std::string hashFile(const std::filesystem::path& path);
 StageOutput writeCsvStage(const std::filesystem::path& captureDir, const std::string& stage,
                           const std::string& file, const Table& table, double absTol, double relTol,
                           const std::string& tolNote);
+// As writeCsvStage for a "csv_stat" output compared with compareStatTables at `alpha`.
+StageOutput writeCsvStatStage(const std::filesystem::path& captureDir, const std::string& stage,
+                              const std::string& file, const Table& table, double alpha,
+                              const std::string& tolNote);
 // Reads the recorded CSV of `output` from `captureDir` and compares `actual` against it with
 // the recorded tolerance. An unreadable recorded file gives a failing Comparison (message).
 Comparison compareCsvStage(const StageOutput& output, const std::filesystem::path& captureDir,

@@ -109,9 +109,96 @@ Comparison compareTables(const std::string& stage, const Table& expected, const 
     return c;
 }
 
+double normalUpperQuantile(double p) {
+    // bisection on the upper tail Q(z) = erfc(z/√2)/2, monotone decreasing in z
+    double lo = -40, hi = 40;
+    for (int i = 0; i < 200; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        if (0.5 * std::erfc(mid / std::sqrt(2.0)) > p) lo = mid;
+        else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+Comparison compareStatTables(const std::string& stage, const Table& expected, const Table& actual,
+                             double alpha, const std::string& keyColumn) {
+    Comparison c;
+    c.stage = stage;
+    c.statistical = true;
+    c.alpha = alpha;
+    if (!(alpha > 0 && alpha < 1)) {
+        c.message = "invalid alpha " + fmt("%g", alpha) + " (must lie in (0, 1))";
+        return c;
+    }
+    c.message = structuralProblem(expected, actual, 0, 0, keyColumn);
+    if (!c.message.empty()) return c;
+    const size_t ncol = expected.columns.size();
+    std::vector<int> companion(ncol, -1);
+    std::vector<bool> isStderr(ncol, false);
+    size_t m = 0;
+    for (size_t col = 0; col < ncol; ++col) {
+        int se = expected.columnIndex(expected.columns[col] + "_stderr");
+        if (se >= 0) {
+            companion[col] = se;
+            isStderr[size_t(se)] = true;
+            m += expected.rows.size();
+        }
+    }
+    const double zLimit = normalUpperQuantile(alpha / (2.0 * double(std::max<size_t>(m, 1))));
+    c.limit = zLimit;
+    const int key = keyColumn.empty() ? -1 : expected.columnIndex(keyColumn);
+    bool worstFails = false;
+    for (size_t r = 0; r < expected.rows.size(); ++r) {
+        for (size_t col = 0; col < ncol; ++col) {
+            if (isStderr[col]) continue; // judged with its value column
+            const double b = expected.rows[r][col], a = actual.rows[r][col];
+            double z = 0;
+            bool ok = (std::isnan(a) && std::isnan(b)) || a == b;
+            if (!ok && companion[col] >= 0) {
+                const double sb = expected.rows[r][size_t(companion[col])];
+                const double sa = actual.rows[r][size_t(companion[col])];
+                const double se = std::sqrt(sa * sa + sb * sb);
+                z = se > 0 && std::isfinite(se) ? std::fabs(a - b) / se : INFINITY;
+                ok = z <= zLimit;
+            } else if (!ok) {
+                z = INFINITY; // deterministic column: must match exactly
+            }
+            ++c.values;
+            if (!ok) ++c.failing;
+            const double excess = z / zLimit;
+            const bool worse =
+                (!ok && !worstFails) || ((!ok) == worstFails && excess > c.worstExcess);
+            if (!worse || (ok && z == 0)) continue;
+            worstFails = !ok;
+            c.worstExcess = excess;
+            c.expected = b;
+            c.actual = a;
+            c.diff = z;
+            c.where = "row " + std::to_string(r + 1);
+            if (key >= 0)
+                c.where += " (" + keyColumn + "=" + fmt("%.6g", expected.rows[r][key]) + ")";
+            c.where += ", column " + expected.columns[col];
+        }
+    }
+    c.pass = c.failing == 0;
+    return c;
+}
+
 std::string formatComparison(const Comparison& c) {
     std::string out = std::string(c.pass ? "PASS " : "FAIL ") + c.stage + "  ";
     if (!c.message.empty()) return out + c.message;
+    if (c.statistical) {
+        const std::string values = std::to_string(c.values) + " values";
+        const std::string rule = "z-test, Bonferroni |z| <= " + fmt("%.3g", c.limit) +
+                                 " for family alpha " + fmt("%g", c.alpha);
+        if (c.where.empty()) return out + values + ", identical [" + rule + "]";
+        if (c.pass)
+            return out + values + ", worst |z| " + fmt("%.3g", c.diff) + " at " + c.where + " [" +
+                   rule + "]";
+        return out + std::to_string(c.failing) + " of " + values + " fail; worst |z| " +
+               fmt("%.3g", c.diff) + " at " + c.where + ": expected " +
+               fmt("%.9g", c.expected) + ", got " + fmt("%.9g", c.actual) + " [" + rule + "]";
+    }
     const std::string values = std::to_string(c.values) + (c.values == 1 ? " value" : " values");
     if (c.values == 0) return out + "no values to compare (empty tables)";
     if (c.where.empty()) return out + values + ", exact match";

@@ -119,7 +119,12 @@ class Reader {
     }
 
     StageOutput output(const json& j, const JsonPath& at) {
-        expectKeys(j, at, {"stage", "file", "kind", "absTol", "relTol", "tolNote", "hash"});
+        const bool stat = j.is_object() && j.contains("kind") && j["kind"].is_string() &&
+                          j["kind"].get<std::string>() == "csv_stat";
+        if (stat)
+            expectKeys(j, at, {"stage", "file", "kind", "alpha", "tolNote", "hash"});
+        else
+            expectKeys(j, at, {"stage", "file", "kind", "absTol", "relTol", "tolNote", "hash"});
         StageOutput o;
         o.stage = string(j, at, "stage");
         if (!isValidName(o.stage))
@@ -136,11 +141,17 @@ class Reader {
                 known += (known.empty() ? "" : ", ") + k;
             fail(child(at, "kind"), "unknown output kind '" + o.kind + "' (known: " + known + ")");
         }
-        o.absTol = number(j, at, "absTol");
-        o.relTol = number(j, at, "relTol");
-        for (const char* key : {"absTol", "relTol"}) {
-            double t = j.at(key).get<double>();
-            if (!(t >= 0) || !std::isfinite(t)) fail(child(at, key), "must be finite and >= 0");
+        if (stat) {
+            o.alpha = number(j, at, "alpha");
+            if (!(o.alpha > 0 && o.alpha < 1)) fail(child(at, "alpha"), "must lie in (0, 1)");
+        } else {
+            o.absTol = number(j, at, "absTol");
+            o.relTol = number(j, at, "relTol");
+            for (const char* key : {"absTol", "relTol"}) {
+                double t = j.at(key).get<double>();
+                if (!(t >= 0) || !std::isfinite(t))
+                    fail(child(at, key), "must be finite and >= 0");
+            }
         }
         o.tolNote = string(j, at, "tolNote");
         o.hash = string(j, at, "hash");
@@ -208,7 +219,7 @@ std::string parseErrorMessage(const std::string& what) {
 } // namespace
 
 std::vector<std::string> knownOutputKinds() {
-    return {"csv"};
+    return {"csv", "csv_stat"};
 }
 
 bool isValidName(std::string_view name) {
@@ -267,14 +278,17 @@ nlohmann::json toJson(const Manifest& m) {
     j["params"] = m.params;
     j["settings"] = m.settings;
     j["outputs"] = json::array();
-    for (const StageOutput& o : m.outputs)
-        j["outputs"].push_back({{"stage", o.stage},
-                                {"file", o.file},
-                                {"kind", o.kind},
-                                {"absTol", o.absTol},
-                                {"relTol", o.relTol},
-                                {"tolNote", o.tolNote},
-                                {"hash", o.hash}});
+    for (const StageOutput& o : m.outputs) {
+        json out = {{"stage", o.stage}, {"file", o.file},       {"kind", o.kind},
+                    {"tolNote", o.tolNote}, {"hash", o.hash}};
+        if (o.kind == "csv_stat") {
+            out["alpha"] = o.alpha;
+        } else {
+            out["absTol"] = o.absTol;
+            out["relTol"] = o.relTol;
+        }
+        j["outputs"].push_back(std::move(out));
+    }
     return j;
 }
 

@@ -38,14 +38,25 @@ StageOutput writeCsvStage(const std::filesystem::path& captureDir, const std::st
     return out;
 }
 
+StageOutput writeCsvStatStage(const std::filesystem::path& captureDir, const std::string& stage,
+                              const std::string& file, const Table& table, double alpha,
+                              const std::string& tolNote) {
+    if (!(alpha > 0 && alpha < 1))
+        throw core::Error((captureDir / file).string(), 0, "alpha must lie in (0, 1)");
+    StageOutput out = writeCsvStage(captureDir, stage, file, table, 0, 0, tolNote);
+    out.kind = "csv_stat";
+    out.alpha = alpha;
+    return out;
+}
+
 Comparison compareCsvStage(const StageOutput& output, const std::filesystem::path& captureDir,
                            const Table& actual, const std::string& keyColumn) {
     Comparison failed;
     failed.stage = output.stage;
     failed.absTol = output.absTol;
     failed.relTol = output.relTol;
-    if (output.kind != "csv") {
-        failed.message = "output kind is '" + output.kind + "', not csv";
+    if (output.kind != "csv" && output.kind != "csv_stat") {
+        failed.message = "output kind is '" + output.kind + "', not csv or csv_stat";
         return failed;
     }
     Table expected;
@@ -55,6 +66,8 @@ Comparison compareCsvStage(const StageOutput& output, const std::filesystem::pat
         failed.message = std::string("cannot read the recorded output: ") + e.what();
         return failed;
     }
+    if (output.kind == "csv_stat")
+        return compareStatTables(output.stage, expected, actual, output.alpha, keyColumn);
     return compareTables(output.stage, expected, actual, output.absTol, output.relTol, keyColumn);
 }
 

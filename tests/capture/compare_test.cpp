@@ -169,3 +169,48 @@ TEST(Compare, EmptyTables) {
     EXPECT_TRUE(c.pass);
     EXPECT_EQ(capture::formatComparison(c), "PASS s  no values to compare (empty tables)");
 }
+
+// ---- Monte Carlo tables: per-value z-test with a Bonferroni limit -----------------------
+namespace {
+capture::Table mcTable(double shift, double stderrScale) {
+    capture::Table t;
+    t.columns = {"r_mm", "Rd", "Rd_stderr"};
+    for (int i = 0; i < 50; ++i)
+        t.rows.push_back({0.1 * i, 1.0 / (1 + i) + shift, 0.01 * stderrScale});
+    return t;
+}
+} // namespace
+
+TEST(CompareStat, QuantileMatchesKnownValues) {
+    EXPECT_NEAR(capture::normalUpperQuantile(0.025), 1.959964, 1e-5);
+    EXPECT_NEAR(capture::normalUpperQuantile(0.5), 0.0, 1e-9);
+    EXPECT_NEAR(capture::normalUpperQuantile(1e-5), 4.264891, 1e-5);
+}
+
+TEST(CompareStat, IdenticalPassesAndShiftsAreJudgedByZ) {
+    auto a = mcTable(0, 1);
+    auto same = capture::compareStatTables("ref", a, a, 1e-3, "r_mm");
+    EXPECT_TRUE(same.pass) << capture::formatComparison(same);
+    EXPECT_EQ(same.values, 100u); // 50 r_mm (exact) + 50 Rd (z-test)
+    // limit for m = 50 values at family alpha 1e-3: Φ⁻¹(1 − 1e-5) = 4.2649
+    const double zLim = capture::normalUpperQuantile(1e-3 / 100);
+    const double se = 0.01 * std::sqrt(2.0);
+    auto below = capture::compareStatTables("ref", a, mcTable(0.99 * zLim * se, 1), 1e-3);
+    EXPECT_TRUE(below.pass) << capture::formatComparison(below);
+    auto above = capture::compareStatTables("ref", a, mcTable(1.01 * zLim * se, 1), 1e-3, "r_mm");
+    EXPECT_FALSE(above.pass);
+    EXPECT_EQ(above.failing, 50u);
+    EXPECT_NE(capture::formatComparison(above).find("FAIL ref"), std::string::npos);
+    EXPECT_NE(capture::formatComparison(above).find("column Rd"), std::string::npos);
+}
+
+TEST(CompareStat, DeterministicColumnsMustMatchExactly) {
+    auto a = mcTable(0, 1), b = mcTable(0, 1);
+    b.rows[3][0] += 1e-12; // r_mm has no stderr companion
+    auto c = capture::compareStatTables("ref", a, b, 1e-3);
+    EXPECT_FALSE(c.pass);
+    EXPECT_NE(c.where.find("column r_mm"), std::string::npos);
+    auto bad = capture::compareStatTables("ref", a, a, 1.5);
+    EXPECT_FALSE(bad.pass);
+    EXPECT_NE(bad.message.find("alpha"), std::string::npos);
+}
