@@ -7,6 +7,7 @@
 #include "panels/panels.h"
 #include "settings_json.h"
 
+#include <optional>
 #include <sstream>
 
 namespace app {
@@ -20,6 +21,7 @@ struct StageTable {
     capture::Table table;
     double absTol, relTol;
     std::string note;
+    double alpha = 0; // > 0: Monte Carlo output compared by z-test (kind csv_stat)
 };
 
 // GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in
@@ -34,6 +36,38 @@ constexpr double kInvertedRelTol = 1e-4;
 std::string gpuString(GLenum e) {
     const GLubyte* s = glGetString(e);
     return s ? reinterpret_cast<const char*>(s) : "";
+}
+
+// The path-traced reference (when enabled): raw MCML-convention R_d per channel with its
+// standard errors, compared statistically on replay. The last row (r_mm = -1) holds the
+// total diffuse reflectance per channel.
+constexpr double kReferenceAlpha = 1e-3;
+std::optional<capture::Table> referenceTable(Workbench& wb) {
+    if (!wb.referenceSettings().enabled) return std::nullopt;
+    ReferenceSnapshot snap = wb.finishReference();
+    if (!snap.problem.empty()) throw core::Error("reference", 0, snap.problem);
+    if (snap.pathsDone == 0) return std::nullopt;
+    capture::Table t;
+    t.comments = {"path-traced reference, sigma of " + wb.referenceModel(),
+                  "R_d per unit area per incident photon (MCML convention), 1/mm^2",
+                  "paths per channel " + std::to_string(snap.pathsDone),
+                  "last row (r_mm = -1): total diffuse reflectance per channel"};
+    t.columns = {"r_mm", "R", "R_stderr", "G", "G_stderr", "B", "B_stderr"};
+    for (size_t i = 0; i < snap.channel[0].rMid.size(); ++i) {
+        std::vector<double> row{snap.channel[0].rMid[i]};
+        for (int c = 0; c < 3; ++c) {
+            row.push_back(snap.channel[c].rd[i]);
+            row.push_back(snap.channel[c].rdStderr[i]);
+        }
+        t.rows.push_back(std::move(row));
+    }
+    std::vector<double> totals{-1};
+    for (int c = 0; c < 3; ++c) {
+        totals.push_back(snap.channel[c].totalRd);
+        totals.push_back(snap.channel[c].totalRdStderr);
+    }
+    t.rows.push_back(std::move(totals));
+    return t;
 }
 
 std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& missing) {
@@ -77,7 +111,17 @@ std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& mis
                 {v.profile.r[i], v.profile.value[i].x, v.profile.value[i].y, v.profile.value[i].z});
         out.push_back(std::move(p));
     }
+    if (auto ref = referenceTable(wb))
+        out.push_back({"reference", "reference.csv", "r_mm", std::move(*ref), 0, 0,
+                       "Monte Carlo: per-value z-test, Bonferroni over all bins and channels",
+                       kReferenceAlpha});
     return out;
+}
+
+capture::StageOutput writeStage(const fs::path& dir, const StageTable& t) {
+    if (t.alpha > 0)
+        return capture::writeCsvStatStage(dir, t.stage, t.file, t.table, t.alpha, t.note);
+    return capture::writeCsvStage(dir, t.stage, t.file, t.table, t.absTol, t.relTol, t.note);
 }
 
 json paramsJson(Workbench& wb) {
@@ -131,13 +175,18 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
         m.models.push_back({e.displayPath, core::hashHex(text), text});
     }
     m.params = paramsJson(wb);
-    m.settings = {{"plot", toJson(wb.plotSettings())}, {"r_max_mm", wb.rMaxMm()}, {"seed", 0}};
+    const ReferenceSettings& rs = wb.referenceSettings();
+    m.settings = {
+        {"plot", toJson(wb.plotSettings())},
+        {"r_max_mm", wb.rMaxMm()},
+        {"seed", rs.seed},
+        {"reference",
+         {{"enabled", rs.enabled}, {"paths", rs.paths}, {"bins", rs.bins}, {"seed", rs.seed}}}};
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
     for (auto& t : tables)
-        m.outputs.push_back(
-            capture::writeCsvStage(dir, t.stage, t.file, t.table, t.absTol, t.relTol, t.note));
+        m.outputs.push_back(writeStage(dir, t));
     capture::writeManifest(dir, m);
     for (const auto& s : missing)
         core::logWarn("capture " + name + ": not recorded: " + s);
@@ -168,6 +217,16 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         applyParams(wb, m.params, where);
         if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
         wb.plotSettings() = plotFromJson(m.settings["plot"], where + " (settings.plot)");
+        if (m.settings.contains("reference")) {
+            const json& r = m.settings["reference"];
+            try {
+                wb.referenceSettings() = {r.at("enabled").get<bool>(),
+                                          r.at("paths").get<uint64_t>(), r.at("bins").get<int>(),
+                                          r.at("seed").get<uint64_t>()};
+            } catch (const json::exception& e) {
+                throw core::Error(where, 0, std::string("settings.reference: ") + e.what());
+            }
+        }
         wb.update();
         std::vector<std::string> missing;
         auto tables = stageTables(wb, missing);
@@ -184,8 +243,7 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
                 continue;
             }
             if (update) {
-                rec = capture::writeCsvStage(captureDir, rec.stage, rec.file, it->table, rec.absTol,
-                                             rec.relTol, rec.tolNote);
+                rec = writeStage(captureDir, *it);
                 capture::Comparison c;
                 c.stage = rec.stage;
                 c.pass = true;

@@ -146,6 +146,11 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
     auto ctx = gl::createHeadlessContext(false);
     Workbench wb(root, false, models);
     if (!a.preset.empty()) wb.applyPreset(wb.shared(), a.preset);
+    if (a.referencePaths > 0) {
+        wb.referenceSettings().enabled = true;
+        wb.referenceSettings().paths = a.referencePaths;
+        wb.referenceSettings().bins = a.referenceBins;
+    }
     wb.update();
     fs::path dir = a.outDir.empty() ? root / "captures" / a.name : fs::path(a.outDir);
     recordCaptureTo(wb, dir, a.name);

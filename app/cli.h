@@ -1,6 +1,7 @@
 // Command-line subcommands that never need a display: profile, invert, record, replay.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -29,6 +30,8 @@ int runInvert(const std::filesystem::path& root, const InvertArgs& a);
 struct RecordArgs {
     std::string name, preset, outDir;
     std::vector<std::string> models;
+    uint64_t referencePaths = 0; // > 0: also record the path-traced reference (per channel)
+    int referenceBins = 200;
 };
 int runRecord(const std::filesystem::path& root, const RecordArgs& a);
 

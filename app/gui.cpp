@@ -133,7 +133,9 @@ bool HeadlessGui::frame() {
     return changed;
 }
 
-UiState& HeadlessGui::ui() { return *g_ui; }
+UiState& HeadlessGui::ui() {
+    return *g_ui;
+}
 
 std::vector<unsigned char> HeadlessGui::pixels() const {
     auto px = gl::readPixelsRGBA8(m_target.framebuffer(), 0, 0, m_width, m_height);

@@ -3,6 +3,7 @@
 #include "bench.h"
 #include "capture_io.h"
 #include "cli.h"
+#include "cli_slab.h"
 #include "core/core.h"
 #include "gl/gl.h"
 #include "gui.h"
@@ -117,6 +118,12 @@ int main(int argc, char** argv) {
     rec->add_option("--model", ra.models, "model files (default: every materials/*.bssrdf)");
     rec->add_option("--preset", ra.preset, "material preset (default Marble)");
     rec->add_option("--out", ra.outDir, "folder (default captures/NAME)");
+    rec->add_option("--reference-paths", ra.referencePaths,
+                    "also record the path-traced pencil-beam reference with this many paths per "
+                    "channel (default 0: off)");
+    rec->add_option("--reference-bins", ra.referenceBins,
+                    "radial bins of the reference (default 200)")
+        ->check(CLI::Range(1, 100000));
 
     auto* rep = cli.add_subcommand("replay", "recompute a capture headless and compare");
     std::string repDir;
@@ -124,12 +131,34 @@ int main(int argc, char** argv) {
     rep->add_option("capture", repDir, "capture folder, e.g. captures/dipole_marble")->required();
     rep->add_flag("--update", repUpdate, "rewrite the recorded outputs from this run");
 
+    auto* slab = cli.add_subcommand(
+        "slab", "path-traced pencil beam on a semi-infinite slab: R_d(r) with standard errors");
+    app::SlabArgs sa;
+    slab->add_option("--sigma-a", sa.sigmaA, "absorption coefficient in 1/mm (default 0.01)");
+    slab->add_option("--sigma-s", sa.sigmaS, "scattering coefficient in 1/mm (default 1)");
+    slab->add_option("--g", sa.g, "Henyey-Greenstein mean cosine (default 0)");
+    slab->add_option("--eta", sa.eta, "relative index of refraction (default 1.3)");
+    slab->add_option("--rmax", sa.rMax, "histogram radius in mm (default 10 l_d)");
+    slab->add_option("--bins", sa.bins, "radial bins (default 200)");
+    slab->add_option("--paths", sa.paths, "photon paths (default 1e6)");
+    slab->add_option("--seed", sa.seed, "random seed (default 1)");
+    slab->add_option("--threads", sa.threads, "worker threads (default: all cores)");
+    slab->add_flag("--analog", sa.analog, "analog absorption (thesis Algorithm 1 as printed)");
+    bool slabGpu = false;
+    slab->add_flag("--gpu", slabGpu, "trace on the GL compute tracer instead of the CPU");
+    slab->add_option("--out", sa.out, "CSV file: # header, then r_mm,Rd_per_mm2,stderr")
+        ->required();
+
     auto* bench = cli.add_subcommand("bench", "benchmarks (print measured ratios; not tests)");
     bench->require_subcommand(1);
     auto* benchReload = bench->add_subcommand("reload", "hot reload: save -> new pixels latency");
     int reloadRuns = 10;
     benchReload->add_option("--runs", reloadRuns, "edits to time (default 10)")
         ->check(CLI::Range(1, 1000));
+    auto* benchPt = bench->add_subcommand("pathtrace", "path tracer: paths/s and time to 1% error");
+    double benchSeconds = 4.0;
+    benchPt->add_option("--seconds", benchSeconds, "seconds per case and tracer (default 4)")
+        ->check(CLI::Range(0.5, 600.0));
 
     CLI11_PARSE(cli, argc, argv);
     if (verbose) core::setLogEchoLevel(core::LogLevel::Info);
@@ -141,6 +170,11 @@ int main(int argc, char** argv) {
         if (*rec) return app::runRecord(root, ra);
         if (*rep) return app::runReplay(root, repDir, repUpdate);
         if (*benchReload) return app::benchReload(root, reloadRuns);
+        if (*benchPt) return app::benchPathtrace(root, benchSeconds);
+        if (*slab) {
+            if (slabGpu) return app::runSlabGpuCli(root, sa);
+            return app::runSlabCli(sa);
+        }
         if (*shot) {
             app::GuiOptions opt;
             if (!parseSize(shotSize, opt.width, opt.height))

@@ -17,9 +17,9 @@ struct UiState {
     char pathBuffer[512] = "";
     char nameBuffer[128] = "my_capture";
     std::string plotPngRequest; // Export PNG: the pencil panel turns it into the two below
-    std::string pngExportPath; // set by the pencil panel; the runner reads pixels after render
-    float pngRect[4] = {0, 0, 0, 0}; // x0, y0, x1, y1 in framebuffer pixels (top-left origin)
-    std::string status;              // one-line status shown in the menu bar
+    std::string pngExportPath;  // set by the pencil panel; the runner reads pixels after render
+    float pngRect[4] = {0, 0, 0, 0};      // x0, y0, x1, y1 in framebuffer pixels (top-left origin)
+    std::string status;                   // one-line status shown in the menu bar
     std::string paramsTarget;             // Parameters panel: display path edited, "" = shared
     char exportName[256] = "pencil_plot"; // Pencil plot: export file name without extension
     int logMinLevel = 1;                  // Errors / Log panel: 0 debug .. 3 error

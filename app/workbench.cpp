@@ -1,6 +1,8 @@
 // Workbench state and stage graph: reload → material (inversion) → pencil profile.
 #include "workbench.h"
 
+#include "reference_plot.h"
+
 #include "core/core.h"
 #include "gl/gl.h"
 
@@ -206,7 +208,50 @@ bool Workbench::update() {
         computeProfile(e, v);
         changed |= before != v.profileKey;
     }
+    updateReference();
+    if (m_ref->version() != m_refVersion) {
+        m_refVersion = m_ref->version();
+        changed = true;
+    }
     return changed;
+}
+
+void Workbench::updateReference() {
+    if (!m_refSettings.enabled) {
+        if (!m_refKey.empty()) m_ref->cancel();
+        m_refKey.clear();
+        return;
+    }
+    // σ of the soloed model, else of the first visible model with a usable material
+    const ModelView* source = nullptr;
+    std::string name;
+    for (const auto& e : m_library->entries()) {
+        auto it = m_views.find(e.displayPath);
+        if (it == m_views.end() || !it->second.effective) continue;
+        if (!m_plot.solo.empty() ? m_plot.solo == e.displayPath : it->second.visible) {
+            source = &it->second;
+            name = e.displayPath;
+            break;
+        }
+    }
+    if (!source) return;
+    const auto& p = *source->effective;
+    std::array<pathtrace::Medium, 3> media;
+    for (int c = 0; c < 3; ++c)
+        media[c] = {p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
+    pathtrace::SlabSettings s;
+    s.rMaxMm = m_rMax;
+    s.bins = m_refSettings.bins;
+    s.seed = m_refSettings.seed;
+    std::ostringstream k;
+    k.precision(17);
+    k << p.sigmaA.x << ',' << p.sigmaA.y << ',' << p.sigmaA.z << '|' << p.sigmaS.x << ','
+      << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g << '|' << p.eta << '|' << m_rMax << '|'
+      << s.bins << '|' << s.seed << '|' << m_refSettings.paths;
+    if (k.str() == m_refKey) return;
+    m_refKey = k.str();
+    m_refModel = name;
+    m_ref->start(media, s, m_refSettings.paths);
 }
 
 void Workbench::framePresented() {
@@ -233,6 +278,10 @@ std::vector<ErrorItem> Workbench::errors() const {
     }
     for (const auto& p : m_library->problems())
         out.push_back({"shader", p.text()});
+    if (m_refSettings.enabled) {
+        std::string problem = m_ref->snapshot().problem;
+        if (!problem.empty()) out.push_back({"reference", problem});
+    }
     for (const auto& a : m_actionErrors)
         out.push_back({"action", a});
     return out;
@@ -281,6 +330,44 @@ std::vector<plot::Series> Workbench::plotSeries() const {
             make(m_plot.channel, name, plot::defaultColor(colorIndex));
         }
     }
+    if (!m_refSettings.enabled) return out;
+    ReferenceSnapshot snap = m_ref->snapshot();
+    if (snap.pathsDone == 0) return out;
+    if (!m_plot.solo.empty()) {
+        for (int c = 0; c < 3; ++c) {
+            plot::Series ref = referenceSeries(snap, c, m_plot.rTimesR);
+            ref.label = std::string("path traced ") + "RGB"[c];
+            out.push_back(std::move(ref));
+        }
+        return out;
+    }
+    plot::Series ref = referenceSeries(snap, m_plot.channel, m_plot.rTimesR);
+    // error figures of each model that uses the reference's σ, at the plotted channel's l_d
+    const ModelView* src = nullptr;
+    if (auto it = m_views.find(m_refModel); it != m_views.end()) src = &it->second;
+    for (auto& s : out) {
+        for (const auto& e : m_library->entries()) {
+            auto it = m_views.find(e.displayPath);
+            if (!e.model || s.label != e.model->name || it == m_views.end()) continue;
+            const auto& mine = it->second.effective;
+            const bool sameMedium =
+                src && mine && src->effective && mine->sigmaA == src->effective->sigmaA &&
+                mine->sigmaS == src->effective->sigmaS && mine->g == src->effective->g &&
+                mine->eta == src->effective->eta;
+            if (!sameMedium) {
+                s.label += "  (other sigma: no error figures)";
+                continue;
+            }
+            glm::dvec3 ld = material::diffuseMeanFreePath(*it->second.effective);
+            ModelError err = modelError(s, ref, ld[m_plot.channel < 3 ? m_plot.channel : 1]);
+            if (!err.valid) continue;
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "  rel.L2 %.1f%%  ratio@1ld %.3f  @4ld %.3f",
+                          100 * err.relL2, err.ratioAt1, err.ratioAt4);
+            s.label += buf;
+        }
+    }
+    out.push_back(std::move(ref));
     return out;
 }
 

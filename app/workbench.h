@@ -10,6 +10,7 @@
 #include "core/file_watcher.h"
 #include "material/material.h"
 #include "plot/plot.h"
+#include "reference_stage.h"
 
 #include <filesystem>
 #include <map>
@@ -92,14 +93,29 @@ class Workbench {
     void reportActionError(const std::string& text);
     void clearActionErrors() { m_actionErrors.clear(); }
 
-    // Plot series for the current settings (one per visible model, or R/G/B when soloed).
+    // Plot series for the current settings (one per visible model, or R/G/B when soloed),
+    // then the path-traced reference when enabled; model labels carry their error against it.
     std::vector<plot::Series> plotSeries() const;
+
+    // Path-traced reference (pencil plot): settings, the model whose σ it uses, its state.
+    ReferenceSettings& referenceSettings() { return m_refSettings; }
+    const std::string& referenceModel() const { return m_refModel; }
+    ReferenceSnapshot referenceSnapshot() const { return m_ref->snapshot(); }
+    void restartReference() { m_refKey.clear(); }
+    void cancelReference() { m_ref->cancel(); }
+    // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
+    ReferenceSnapshot finishReference() {
+        updateReference();
+        m_ref->wait();
+        return m_ref->snapshot();
+    }
     static std::string normalisationNote();
 
   private:
     void computeMaterial(bssrdf::ModelEntry& e, ModelView& v);
     void computeProfile(bssrdf::ModelEntry& e, ModelView& v);
     double autoRMax() const;
+    void updateReference();
 
     std::filesystem::path m_root;
     std::unique_ptr<bssrdf::ModelLibrary> m_library;
@@ -111,6 +127,10 @@ class Workbench {
     std::vector<std::string> m_actionErrors;
     double m_rMax = 20.0;
     std::optional<double> m_pendingSaveTime; // seconds since epoch of the save being timed
+    ReferenceSettings m_refSettings;
+    std::unique_ptr<ReferenceRunner> m_ref = std::make_unique<ReferenceRunner>();
+    std::string m_refKey, m_refModel;
+    uint64_t m_refVersion = 0;
 };
 
 // Effective σ for one model: validates, and inverts R_dr / l_d with the model's own

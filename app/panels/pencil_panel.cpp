@@ -8,9 +8,56 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace app {
+
+namespace {
+// Path-traced reference: on/off, path budget, bins, seed, progress, paths/s, cancel.
+void drawReferenceControls(Workbench& wb) {
+    ReferenceSettings& rs = wb.referenceSettings();
+    ImGui::Checkbox("path-traced reference", &rs.enabled);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "Volumetric path tracer on the slab (MCML convention), renormalised\n"
+            "to unit power entering: R_d(r) / (1 - R_sp). Band: +-2 standard errors.");
+    if (!rs.enabled) return;
+    ImGui::SameLine();
+    int millions = int(rs.paths / 100000);
+    ImGui::SetNextItemWidth(110);
+    if (ImGui::InputInt("x1e5 paths/ch", &millions, 5))
+        rs.paths = uint64_t(std::clamp(millions, 1, 100000)) * 100000;
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::InputInt("bins", &rs.bins, 25)) rs.bins = std::clamp(rs.bins, 10, 5000);
+    ImGui::SameLine();
+    int seed = int(rs.seed);
+    ImGui::SetNextItemWidth(80);
+    if (ImGui::InputInt("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
+    ReferenceSnapshot snap = wb.referenceSnapshot();
+    if (!snap.problem.empty()) {
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
+        return;
+    }
+    const float frac =
+        snap.pathsTarget ? float(double(snap.pathsDone) / double(snap.pathsTarget)) : 0.0f;
+    char overlay[96];
+    std::snprintf(overlay, sizeof overlay, "%llu / %llu paths per channel",
+                  (unsigned long long)snap.pathsDone, (unsigned long long)snap.pathsTarget);
+    ImGui::SetNextItemWidth(320);
+    ImGui::ProgressBar(frac, ImVec2(320, 0), overlay);
+    ImGui::SameLine();
+    ImGui::TextDisabled("%.3g paths/s | sigma of %s", snap.pathsPerSecond,
+                        wb.referenceModel().c_str());
+    ImGui::SameLine();
+    if (snap.running) {
+        if (ImGui::SmallButton("cancel")) wb.cancelReference();
+    } else if (ImGui::SmallButton("restart")) {
+        wb.restartReference();
+    }
+}
+} // namespace
 
 void drawPencilPanel(Workbench& wb, UiState& ui) {
     ImGui::SetNextWindowPos(ImVec2(346, 28), ImGuiCond_FirstUseEver);
@@ -71,6 +118,8 @@ void drawPencilPanel(Workbench& wb, UiState& ui) {
     }
     ImGui::SameLine();
     if (ImGui::Button("Export PNG")) ui.plotPngRequest = std::string(exportPath) + ".png";
+
+    drawReferenceControls(wb);
 
     plot::Axis x{0.0, wb.rMaxMm(), plot::Scale::Linear, "r [mm]"};
     plot::Axis y = plot::autoRange(series, ps.yScale, true, 12.0);

@@ -113,7 +113,7 @@ struct Comparison {
     // At the value with the worst excess (valid when `where` is non-empty):
     std::string where; // e.g. "row 37 (r_mm=1.23), column G"; rows count from 1
     double expected = 0, actual = 0, diff = 0, limit = 0;
-    std::string message; // why it failed without a value location (shape, names, file)
+    std::string message;      // why it failed without a value location (shape, names, file)
     bool statistical = false; // csv_stat: worstExcess = max|z| / zLimit, limit = zLimit
     double alpha = 0;         // csv_stat: family-wise false-alarm probability
 };

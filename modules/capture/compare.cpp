@@ -114,8 +114,10 @@ double normalUpperQuantile(double p) {
     double lo = -40, hi = 40;
     for (int i = 0; i < 200; ++i) {
         const double mid = 0.5 * (lo + hi);
-        if (0.5 * std::erfc(mid / std::sqrt(2.0)) > p) lo = mid;
-        else hi = mid;
+        if (0.5 * std::erfc(mid / std::sqrt(2.0)) > p)
+            lo = mid;
+        else
+            hi = mid;
     }
     return 0.5 * (lo + hi);
 }
@@ -196,8 +198,8 @@ std::string formatComparison(const Comparison& c) {
             return out + values + ", worst |z| " + fmt("%.3g", c.diff) + " at " + c.where + " [" +
                    rule + "]";
         return out + std::to_string(c.failing) + " of " + values + " fail; worst |z| " +
-               fmt("%.3g", c.diff) + " at " + c.where + ": expected " +
-               fmt("%.9g", c.expected) + ", got " + fmt("%.9g", c.actual) + " [" + rule + "]";
+               fmt("%.3g", c.diff) + " at " + c.where + ": expected " + fmt("%.9g", c.expected) +
+               ", got " + fmt("%.9g", c.actual) + " [" + rule + "]";
     }
     const std::string values = std::to_string(c.values) + (c.values == 1 ? " value" : " values");
     if (c.values == 0) return out + "no values to compare (empty tables)";

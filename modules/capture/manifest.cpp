@@ -149,8 +149,7 @@ class Reader {
             o.relTol = number(j, at, "relTol");
             for (const char* key : {"absTol", "relTol"}) {
                 double t = j.at(key).get<double>();
-                if (!(t >= 0) || !std::isfinite(t))
-                    fail(child(at, key), "must be finite and >= 0");
+                if (!(t >= 0) || !std::isfinite(t)) fail(child(at, key), "must be finite and >= 0");
             }
         }
         o.tolNote = string(j, at, "tolNote");
@@ -279,8 +278,11 @@ nlohmann::json toJson(const Manifest& m) {
     j["settings"] = m.settings;
     j["outputs"] = json::array();
     for (const StageOutput& o : m.outputs) {
-        json out = {{"stage", o.stage}, {"file", o.file},       {"kind", o.kind},
-                    {"tolNote", o.tolNote}, {"hash", o.hash}};
+        json out = {{"stage", o.stage},
+                    {"file", o.file},
+                    {"kind", o.kind},
+                    {"tolNote", o.tolNote},
+                    {"hash", o.hash}};
         if (o.kind == "csv_stat") {
             out["alpha"] = o.alpha;
         } else {

@@ -1,0 +1,136 @@
+// `bssrdf-workbench slab`: runs pathtrace::runSlab and writes R_d(r) as CSV (see cli_slab.h).
+#include "cli_slab.h"
+
+#include "core/core.h"
+#include "gl/gl.h"
+#include "pathtrace/gpu_slab.h"
+#include "pathtrace/pathtrace.h"
+
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <sstream>
+
+namespace app {
+namespace {
+std::string fmt(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.9g", v);
+    return b;
+}
+} // namespace
+
+double defaultSlabRMax(const pathtrace::Medium& m) {
+    const double sigmaSReduced = m.sigmaS * (1 - m.g);
+    const double sigmaTr = std::sqrt(3 * m.sigmaA * (m.sigmaA + sigmaSReduced));
+    if (sigmaTr > 0 && std::isfinite(sigmaTr)) return 10 / sigmaTr;
+    return 100 / sigmaSReduced;
+}
+
+namespace {
+struct SlabSetup {
+    pathtrace::Medium m;
+    pathtrace::SlabSettings s;
+};
+
+SlabSetup prepare(const SlabArgs& a) {
+    SlabSetup k;
+    k.m.sigmaA = a.sigmaA;
+    k.m.sigmaS = a.sigmaS;
+    k.m.g = a.g;
+    k.m.eta = a.eta;
+    pathtrace::validate(k.m, "slab");
+    if (a.out.empty()) throw core::Error("--out", 0, "give the CSV file to write");
+    if (!std::isnan(a.rMax) && !(a.rMax > 0 && std::isfinite(a.rMax)))
+        throw core::Error("--rmax", 0, "rMax must be a positive length in mm, got " + fmt(a.rMax));
+    k.s.rMaxMm = std::isnan(a.rMax) ? defaultSlabRMax(k.m) : a.rMax;
+    k.s.bins = a.bins;
+    k.s.paths = a.paths;
+    k.s.seed = a.seed;
+    k.s.threads = a.threads;
+    k.s.estimator = a.analog ? pathtrace::Estimator::Analog : pathtrace::Estimator::Implicit;
+    pathtrace::validate(k.s);
+    return k;
+}
+
+std::function<void(uint64_t)> progressLine(const pathtrace::SlabSettings& s,
+                                           core::Stopwatch& clock) {
+    return [&s, &clock](uint64_t done) {
+        const double sec = clock.ms() / 1000.0;
+        std::fprintf(stderr, "\rslab: %5.1f%%  %llu / %llu paths  %.0f paths/s   ",
+                     100.0 * double(done) / double(s.paths), static_cast<unsigned long long>(done),
+                     static_cast<unsigned long long>(s.paths), sec > 0 ? double(done) / sec : 0.0);
+        std::fflush(stderr);
+    };
+}
+
+void writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabResult& r,
+                  const std::string& device) {
+    const auto& m = k.m;
+    const auto& s = k.s;
+    const double perSecond = r.seconds > 0 ? double(r.paths) / r.seconds : 0;
+    std::ostringstream out;
+    out << "# bssrdf-workbench slab " << BW_VERSION << "\n"
+        << "# " << device
+        << " path-traced pencil beam at normal incidence on the semi-infinite "
+           "slab z < 0 (thesis 3.2, Algorithm 1)\n"
+        << "# R_d(r): diffuse reflectance per unit area per incident photon, 1/mm^2, MCML "
+           "convention (specular reflection excluded)\n"
+        << "# sigma_a " << fmt(m.sigmaA) << " 1/mm\n"
+        << "# sigma_s " << fmt(m.sigmaS) << " 1/mm\n"
+        << "# g " << fmt(m.g) << "\n"
+        << "# eta " << fmt(m.eta) << "\n"
+        << "# r_max_mm " << fmt(s.rMaxMm) << "\n"
+        << "# bins " << s.bins << "\n"
+        << "# bin_width_mm " << fmt(s.rMaxMm / s.bins) << "\n"
+        << "# seed " << s.seed << "\n"
+        << "# threads " << s.threads << "\n"
+        << "# estimator " << (a.analog ? "analog" : "implicit") << "\n"
+        << "# roulette_weight " << fmt(s.rouletteWeight) << "\n"
+        << "# roulette_survival " << fmt(s.rouletteSurvival) << "\n"
+        << "# roulette_after " << s.rouletteAfter << "\n"
+        << "# paths " << r.paths << "\n"
+        << "# total_Rd " << fmt(r.totalRd) << " +- " << fmt(r.totalRdStderr) << "\n"
+        << "# specular " << fmt(r.specular) << "\n"
+        << "# absorbed " << fmt(r.absorbed) << " +- " << fmt(r.absorbedStderr) << "\n"
+        << "# roulette_net " << fmt(r.rouletteNet) << " +- " << fmt(r.rouletteNetStderr)
+        << " (expected 0)\n"
+        << "# events_per_path " << fmt(r.paths ? double(r.events) / double(r.paths) : 0) << "\n"
+        << "# wall_s " << fmt(r.seconds) << "\n"
+        << "# paths_per_s " << fmt(perSecond) << "\n"
+        << "r_mm,Rd_per_mm2,stderr\n";
+    for (size_t i = 0; i < r.rd.size(); ++i)
+        out << fmt(r.rMid[i]) << ',' << fmt(r.rd[i]) << ',' << fmt(r.rdStderr[i]) << '\n';
+    core::writeFile(a.out, out.str());
+    std::fprintf(stderr, "wrote %s (%llu paths, R_d %s +- %s, %.1f s, %.0f paths/s)\n",
+                 a.out.c_str(), static_cast<unsigned long long>(r.paths), fmt(r.totalRd).c_str(),
+                 fmt(r.totalRdStderr).c_str(), r.seconds, perSecond);
+}
+} // namespace
+
+int runSlabCli(const SlabArgs& a) {
+    const SlabSetup k = prepare(a);
+    core::Stopwatch clock;
+    const pathtrace::SlabResult r = pathtrace::runSlab(k.m, k.s, progressLine(k.s, clock));
+    std::fprintf(stderr, "\n");
+    writeSlabCsv(a, k, r, "CPU");
+    return 0;
+}
+
+int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a) {
+    const SlabSetup k = prepare(a);
+    auto ctx = gl::createHeadlessContext(false);
+    pathtrace::GpuSlabTracer tracer(root / "shaders" / "pathtrace_slab.comp");
+    tracer.reset(k.m, k.s);
+    core::Stopwatch clock;
+    auto progress = progressLine(k.s, clock);
+    while (!tracer.finished())
+        progress(tracer.step(pathtrace::GpuSlabTracer::kMaxPathsPerRound));
+    std::fprintf(stderr, "\n");
+    pathtrace::SlabResult r = pathtrace::finalize(tracer.tally(), k.s);
+    r.seconds = tracer.seconds();
+    writeSlabCsv(a, k, r, std::string("GPU (") + ctx->renderer() + ")");
+    return 0;
+}
+
+} // namespace app

@@ -1,0 +1,39 @@
+// `bssrdf-workbench slab`: the CPU path-traced pencil-beam reference (pathtrace::runSlab, thesis
+// Section 3.2 / Algorithm 1) written as CSV — R_d(r) with per-bin standard errors in the MCML
+// convention (1/mm² per incident photon, specular reflection excluded), every parameter and the
+// totals in '#' header lines. No display or GL needed.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace pathtrace {
+struct Medium;
+}
+
+namespace app {
+
+struct SlabArgs {
+    double sigmaA = 0.01, sigmaS = 1.0; // 1/mm
+    double g = 0, eta = 1.3;
+    double rMax = NAN; // mm; NaN: defaultSlabRMax
+    int bins = 200;
+    uint64_t paths = 1000000, seed = 1;
+    int threads = 0;     // 0: all hardware threads
+    bool analog = false; // Estimator::Analog (Algorithm 1 as printed) instead of Implicit
+    std::string out;     // CSV path (required)
+};
+
+// 10 diffuse mean free paths l_d = 1/σtr, σtr = √(3σa(σa + σs(1 − g))); with σa = 0 (no
+// l_d), 100 transport mean free paths 1/(σs(1 − g)).
+double defaultSlabRMax(const pathtrace::Medium& m);
+
+// Validates (core::Error naming the argument), runs with a progress line on stderr, writes
+// the CSV. Returns 0.
+int runSlabCli(const SlabArgs& a);
+// The same on the GL compute tracer (shaders/pathtrace_slab.comp under `root`), headless.
+int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a);
+
+} // namespace app

@@ -1,0 +1,139 @@
+// pathtrace: the unbiased volumetric reference (thesis 3.2, Algorithm 1), CPU half.
+//   Homogeneous medium under a dielectric boundary. Distance sampling s = −ln(1−ξ)/σt,
+//   Henyey–Greenstein phase sampling by exact inversion, exact unpolarised Fresnel with
+//   reflection/transmission roulette at every boundary hit, the thesis's long-path roulette.
+//   RGB is traced one channel at a time, each channel its own medium (Medium below).
+//   Randomness: one counter-based stream per path index (PCG32 seeded by (seed, path)), paths
+//   tallied in fixed-size chunks merged in chunk order, so results are bitwise identical for
+//   any thread count.
+//   Geometry here: the semi-infinite slab z < 0 under a normally incident pencil beam at the
+//   origin; tallies in the MCML convention (Wang, Jacques & Zheng 1995): R_d(r) is diffuse
+//   reflectance per unit area per incident photon (1/mm²), excluding the specular reflection
+//   at entry but including the Fresnel loss on entering.
+//   Estimator (slab_tracer.cpp): the photon enters with weight 1 − R_sp (R_sp tallied as
+//   `specular`, not sampled). Implicit absorption (default): at every interaction the weight is
+//   multiplied by the albedo α = σs/σt and the expected absorbed weight w(1 − α) is tallied as
+//   absorbed; Russian roulette below `rouletteWeight` (survive with `rouletteSurvival`,
+//   w /= p). Estimator::Analog is Algorithm 1 as printed (absorb with probability 1 − α).
+//   Boundary hits: Fresnel roulette (reflect with probability R(θ), else exit; the thesis's
+//   f_t = 1 − R). Long-path roulette (thesis 3.2): after `rouletteAfter` interactions, each
+//   further interaction ends the path with probability 0.9, else w *= 10. Roulette weight
+//   changes are tallied as `roulette` loss, so per path, exactly up to rounding,
+//       specular + reflected + absorbed + rouletteLoss = 1,
+//   with E[rouletteLoss] = 0 (every estimator is unbiased). Note: the long-path roulette
+//   (p = 0.1, ×10 at every interaction past the limit) multiplies a surviving path's second
+//   moment by 10 per interaction, so its variance is unbounded in principle; keep
+//   rouletteAfter well above the typical path length (the default 1000 is, for α <= 0.99
+//   under the weight roulette), where its share of the estimate is negligible.
+//   Defaults of the weight roulette (0.1, 0.5) were tuned on the reference case η 1.3,
+//   σa 0.01, σs 1, g 0 (1/mm) for time to 1 % error at r = l_d and 4 l_d.
+//   Files: rng.h (PCG32 streams), sampling.h (distance, HG, direction frame), fresnel.h,
+//   slab_tracer.cpp (the path loop), tally.cpp (sums, merge, finalize), run_slab.cpp (threads,
+//   chunk-ordered merge), validate.cpp.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pathtrace {
+
+struct Medium {
+    double sigmaA = 0.01; // 1/mm, >= 0
+    double sigmaS = 1.0;  // 1/mm, > 0
+    double g = 0.0;       // HG mean cosine, |g| < 1
+    double eta = 1.3;     // relative index of refraction (medium / outside), > 0
+};
+// Throws core::Error("<what>", 0, msg) naming the field.
+void validate(const Medium& m, const std::string& what = "medium");
+
+enum class Estimator {
+    Implicit, // absorption by weight + weight roulette (efficient; the default)
+    Analog,   // thesis Algorithm 1 as printed: absorption by roulette
+};
+
+struct SlabSettings {
+    double rMaxMm = 10.0; // histogram covers [0, rMax)
+    int bins = 200;       // radial bins of equal width
+    uint64_t paths = 1000000;
+    uint64_t seed = 1;
+    int threads = 0;               // 0: all hardware threads
+    int rouletteAfter = 1000;      // long-path roulette after this many events (thesis 3.2)
+    double rouletteWeight = 0.1;   // Implicit: roulette when the weight falls below this
+    double rouletteSurvival = 0.5; // Implicit: its survival probability p (weight /= p)
+    Estimator estimator = Estimator::Implicit;
+};
+// Throws core::Error naming the field: rMax <= 0 or non-finite, bins < 1 or too many
+// (> 1e7), paths == 0 or absurd (> 1e13), threads < 0, rouletteAfter < 1, rouletteWeight
+// not in (0, 1), rouletteSurvival not in (0, 1].
+void validate(const SlabSettings& s);
+
+// Mergeable sums over paths (per-path first and second moments of every figure).
+struct SlabTally {
+    uint64_t paths = 0;
+    // Per radial bin: Σ w, Σ w² (w: the weight a path left there; at most one bin per path).
+    std::vector<double> binSum, binSumSq;
+    double rdSum = 0, rdSumSq = 0;             // total diffuse reflectance
+    double absSum = 0, absSumSq = 0;           // absorbed
+    double specular = 0;                       // R_sp per path (deterministic, the same for all)
+    double rouletteSum = 0, rouletteSumSq = 0; // weight removed by roulettes (E = 0)
+    uint64_t events = 0;                       // interactions (scattering or absorption) traced
+    // Adds the other's sums (bins must agree; an empty tally adopts the other's size).
+    void merge(const SlabTally& other);
+};
+
+// What one path did (tracePath): the per-path accounting identity
+//   specular + reflected + absorbed + rouletteLoss == 1 holds up to rounding.
+struct PathRecord {
+    double specular = 0;     // R_sp
+    double reflected = 0;    // weight that left through the surface (0 when it did not)
+    double absorbed = 0;     // absorbed weight (expected, under Estimator::Implicit)
+    double rouletteLoss = 0; // weight removed minus weight added by roulettes
+    double exitR = -1;       // radius of the exit point, mm (-1: did not exit)
+    uint32_t events = 0;     // interactions
+    bool exited = false;
+};
+// Paths are tallied and merged in chunks of this many, whatever the thread count.
+constexpr uint64_t kChunkPaths = 16384;
+
+// Traces path `pathIndex` (its own random stream) and returns its accounting. Validates first.
+PathRecord tracePath(const Medium& m, const SlabSettings& s, uint64_t pathIndex);
+// An empty tally sized for s.bins.
+SlabTally makeTally(const SlabSettings& s);
+// Adds one path to a tally (in this order every sum is formed path by path).
+void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s);
+// Radial bin of an exit radius, or -1 beyond rMax.
+int binOf(double r, const SlabSettings& s);
+
+struct SlabResult {
+    std::vector<double> rMid;     // bin centres, mm
+    std::vector<double> rd;       // R_d(r), 1/mm², MCML convention
+    std::vector<double> rdStderr; // standard error of rd
+    double totalRd = 0, totalRdStderr = 0;
+    double specular = 0; // R_sp
+    double absorbed = 0, absorbedStderr = 0;
+    uint64_t paths = 0;
+    double seconds = 0;
+    double rouletteNet = 0, rouletteNetStderr = 0; // mean roulette loss (expected 0)
+    uint64_t events = 0;
+};
+
+// Traces paths [first, first + count) (deterministic per path index), summed path by path.
+// `cancel` may be null; when it is set the tally covers the paths done so far (t.paths).
+SlabTally traceSlab(const Medium& m, const SlabSettings& s, uint64_t first, uint64_t count,
+                    const std::atomic<bool>* cancel = nullptr);
+// Multi-threaded run of s.paths paths in chunks of kChunkPaths; tallies are summed path by path
+// in path order, so the result is bitwise identical to traceSlab(m, s, 0, s.paths) for any
+// thread count. `progress(done)` is called from the calling thread about every 50 ms. When
+// `cancel` is set, the result covers the completed prefix of chunks only (fewer paths, still
+// unbiased). Validates first (core::Error).
+SlabResult runSlab(const Medium& m, const SlabSettings& s,
+                   const std::function<void(uint64_t done)>& progress = {},
+                   const std::atomic<bool>* cancel = nullptr);
+// rd[i] = binSum / (paths · π(r_{i+1}² − r_i²)) in 1/mm²; standard errors from the per-path
+// second moments, sqrt((ΣX²/N − (ΣX/N)²)/(N − 1)) (/ area for bins); infinite for N < 2.
+SlabResult finalize(const SlabTally& t, const SlabSettings& s);
+
+} // namespace pathtrace

@@ -1,0 +1,125 @@
+// pathtrace/tally: per-path sums and their finalisation into R_d(r) with standard errors.
+//   Every figure X (weight left in a radial bin, total diffuse reflectance, absorbed weight,
+//   roulette loss) is summed per path as ΣX and ΣX²; each path leaves through the surface at
+//   most once, so it contributes to at most one bin. Estimates: mean X̄ = ΣX/N and standard
+//   error sqrt((ΣX²/N − X̄²)/(N − 1)) (the unbiased sample variance of the mean). R_d(r) in the
+//   MCML convention (Wang, Jacques & Zheng 1995, eq. 4.7): weight per annulus area
+//   π(r_{i+1}² − r_i²) per incident photon, 1/mm².
+#include "core/core.h"
+#include "pathtrace/pathtrace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+namespace pathtrace {
+
+SlabTally makeTally(const SlabSettings& s) {
+    SlabTally t;
+    t.binSum.assign(static_cast<size_t>(s.bins), 0.0);
+    t.binSumSq.assign(static_cast<size_t>(s.bins), 0.0);
+    return t;
+}
+
+int binOf(double r, const SlabSettings& s) {
+    if (!(r >= 0.0) || !(r < s.rMaxMm)) return -1;
+    const int b = static_cast<int>(r * (s.bins / s.rMaxMm));
+    return b < s.bins ? b : s.bins - 1; // r just below rMax rounding up
+}
+
+void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s) {
+    ++t.paths;
+    t.specular = p.specular;
+    t.events += p.events;
+    if (p.exited) {
+        const double w = p.reflected;
+        t.rdSum += w;
+        t.rdSumSq += w * w;
+        const int b = binOf(p.exitR, s);
+        if (b >= 0 && static_cast<size_t>(b) < t.binSum.size()) {
+            t.binSum[static_cast<size_t>(b)] += w;
+            t.binSumSq[static_cast<size_t>(b)] += w * w;
+        }
+    }
+    t.absSum += p.absorbed;
+    t.absSumSq += p.absorbed * p.absorbed;
+    t.rouletteSum += p.rouletteLoss;
+    t.rouletteSumSq += p.rouletteLoss * p.rouletteLoss;
+}
+
+void SlabTally::merge(const SlabTally& o) {
+    if (binSum.empty() && paths == 0) {
+        binSum.assign(o.binSum.size(), 0.0);
+        binSumSq.assign(o.binSumSq.size(), 0.0);
+    }
+    if (binSum.size() != o.binSum.size() || binSumSq.size() != o.binSumSq.size())
+        throw core::Error("slab tally", 0,
+                          "cannot merge tallies with " + std::to_string(binSum.size()) + " and " +
+                              std::to_string(o.binSum.size()) + " bins");
+    if (o.paths == 0) return;
+    if (paths == 0) specular = o.specular;
+    paths += o.paths;
+    for (size_t i = 0; i < binSum.size(); ++i) {
+        binSum[i] += o.binSum[i];
+        binSumSq[i] += o.binSumSq[i];
+    }
+    rdSum += o.rdSum;
+    rdSumSq += o.rdSumSq;
+    absSum += o.absSum;
+    absSumSq += o.absSumSq;
+    rouletteSum += o.rouletteSum;
+    rouletteSumSq += o.rouletteSumSq;
+    events += o.events;
+}
+
+namespace {
+// Mean and standard error of the mean from Σx, Σx² over n samples.
+void meanStderr(double sum, double sumSq, uint64_t n, double& mean, double& err) {
+    if (n == 0) {
+        mean = 0.0;
+        err = std::numeric_limits<double>::infinity();
+        return;
+    }
+    const double N = static_cast<double>(n);
+    mean = sum / N;
+    if (n < 2) {
+        err = std::numeric_limits<double>::infinity();
+        return;
+    }
+    const double var = sumSq / N - mean * mean;
+    err = std::sqrt(std::max(0.0, var) / (N - 1.0));
+}
+} // namespace
+
+SlabResult finalize(const SlabTally& t, const SlabSettings& s) {
+    if (t.binSum.size() != static_cast<size_t>(s.bins) || t.binSumSq.size() != t.binSum.size())
+        throw core::Error("slab tally", 0,
+                          "tally has " + std::to_string(t.binSum.size()) +
+                              " bins but the settings ask for " + std::to_string(s.bins));
+    SlabResult r;
+    r.paths = t.paths;
+    r.events = t.events;
+    r.specular = t.specular;
+    const size_t n = t.binSum.size();
+    r.rMid.resize(n);
+    r.rd.resize(n);
+    r.rdStderr.resize(n);
+    const double dr = s.rMaxMm / s.bins;
+    for (size_t i = 0; i < n; ++i) {
+        const double r0 = dr * static_cast<double>(i), r1 = dr * static_cast<double>(i + 1);
+        const double area = std::numbers::pi * (r1 * r1 - r0 * r0);
+        r.rMid[i] = 0.5 * (r0 + r1);
+        double mean, err;
+        meanStderr(t.binSum[i], t.binSumSq[i], t.paths, mean, err);
+        r.rd[i] = mean / area;
+        r.rdStderr[i] = err / area;
+    }
+    meanStderr(t.rdSum, t.rdSumSq, t.paths, r.totalRd, r.totalRdStderr);
+    meanStderr(t.absSum, t.absSumSq, t.paths, r.absorbed, r.absorbedStderr);
+    meanStderr(t.rouletteSum, t.rouletteSumSq, t.paths, r.rouletteNet, r.rouletteNetStderr);
+    return r;
+}
+
+} // namespace pathtrace

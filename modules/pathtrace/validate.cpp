@@ -1,0 +1,62 @@
+// pathtrace/validate: input checks at the boundary of the tracers (core::Error naming the
+// field). The hot loops assume what is checked here: σt > 0 and finite, 0 <= α <= 1, |g| < 1
+// (HG is a density only there), η > 0 finite (Fresnel), a histogram that fits in memory.
+#include "core/core.h"
+#include "pathtrace/pathtrace.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace pathtrace {
+namespace {
+std::string num(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.9g", v);
+    return b;
+}
+} // namespace
+
+void validate(const Medium& m, const std::string& what) {
+    if (!std::isfinite(m.sigmaA) || m.sigmaA < 0)
+        throw core::Error(what, 0, "sigma_a must be finite and >= 0 (1/mm), got " + num(m.sigmaA));
+    if (!std::isfinite(m.sigmaS) || m.sigmaS <= 0)
+        throw core::Error(what, 0, "sigma_s must be finite and > 0 (1/mm), got " + num(m.sigmaS));
+    if (!std::isfinite(m.sigmaA + m.sigmaS))
+        throw core::Error(what, 0, "sigma_a + sigma_s overflows");
+    if (!std::isfinite(m.g) || !(std::fabs(m.g) < 1))
+        throw core::Error(what, 0, "g must lie in (-1, 1), got " + num(m.g));
+    if (!std::isfinite(m.eta) || m.eta <= 0)
+        throw core::Error(what, 0, "eta must be finite and > 0, got " + num(m.eta));
+}
+
+void validate(const SlabSettings& s) {
+    const std::string what = "slab settings";
+    if (!std::isfinite(s.rMaxMm) || s.rMaxMm <= 0)
+        throw core::Error(what, 0, "rMax must be a finite length > 0 mm, got " + num(s.rMaxMm));
+    if (s.bins < 1) throw core::Error(what, 0, "bins must be >= 1, got " + std::to_string(s.bins));
+    if (s.bins > 10000000)
+        throw core::Error(
+            what, 0, "bins: more bins than memory allows (" + std::to_string(s.bins) + " > 10^7)");
+    if (s.paths == 0) throw core::Error(what, 0, "paths must be >= 1");
+    if (s.paths > 10000000000000ull)
+        throw core::Error(what, 0,
+                          "paths: absurd path count " + std::to_string(s.paths) + " (> 10^13)");
+    if (s.threads < 0)
+        throw core::Error(what, 0,
+                          "threads must be >= 0 (0: all hardware threads), got " +
+                              std::to_string(s.threads));
+    if (s.rouletteAfter < 1)
+        throw core::Error(what, 0,
+                          "rouletteAfter must be >= 1, got " + std::to_string(s.rouletteAfter));
+    if (!(s.rouletteWeight > 0 && s.rouletteWeight < 1))
+        throw core::Error(what, 0,
+                          "rouletteWeight must lie in (0, 1), got " + num(s.rouletteWeight));
+    if (!(s.rouletteSurvival > 0 && s.rouletteSurvival <= 1))
+        throw core::Error(what, 0,
+                          "rouletteSurvival must lie in (0, 1], got " + num(s.rouletteSurvival));
+    if (s.estimator != Estimator::Implicit && s.estimator != Estimator::Analog)
+        throw core::Error(what, 0, "estimator: unknown value");
+}
+
+} // namespace pathtrace

@@ -1,0 +1,64 @@
+// pathtrace_tally.glsl: exact, order-independent tallies for the GPU path tracers with 32-bit
+// integer atomics only (float atomics are not core OpenGL); no #version here. Needs
+// common/pathtrace_rng.glsl first.
+//
+// A tally slot holds Σv and Σv² over the paths that reached it, each as a 64-bit unsigned
+// fixed-point number with 32 fraction bits (unit 2^-32), stored as two uint words (lo, hi):
+//   word 4·slot + 0/1: Σv lo/hi,   word 4·slot + 2/3: Σv² lo/hi.
+// A 64-bit add is an atomicAdd on lo plus, when it wrapped (old + lo < old), a carry into hi:
+// every wrap is seen by exactly one adder, so the pair is an exact 64-bit sum in any order.
+// Values are rounded to the 2^-32 grid stochastically with the path's own random numbers
+// (round up with probability equal to the remainder), so E[tally] = Σv: the quantisation adds
+// variance below 2^-66 per contribution and no bias (up to the 2^-24 resolution of the
+// rounding variate: < 2^-56 per contribution). v² is formed in float (relative error 2^-24,
+// round to nearest) before that; it only feeds the standard errors.
+//
+// Overflow: a path adds at most one value per slot and atomic adds take only v ≤ HEAVY (16),
+// so v² ≤ 256 and a slot grows by < (256 + 1)·2^32 per path: 2^23 paths between host
+// readbacks cannot wrap 64 bits (the host reads back after every dispatch, in which at most
+// 2^16 new + 2^16 resumed paths end).
+// Heavier values (possible only after long-path roulette survivals, ×10 each), and anything
+// non-finite or negative, go to the heavy list as float bits (slot, bits) for the host to
+// add exactly; the host sizes it for every slot a path can reach (exit, absorbed, roulette
+// loss: 3 per path of a dispatch), so it cannot fill, and the count shows any excess.
+
+const float PT_HEAVY_WEIGHT = 16.0;
+
+layout(std430, binding = 0) coherent buffer PtTally { uint ptAcc[]; };
+layout(std430, binding = 1) coherent buffer PtHeavy {
+    uint ptHeavyCount;
+    uint ptHeavyPad;
+    uvec2 ptHeavy[];
+};
+
+// v in [0, 2^31) as 32.32 fixed point, stochastically rounded with xi in [0, 1).
+uvec2 ptFixed(float v, float xi) {
+    float ip = floor(v);
+    float scaled = (v - ip) * 4294967296.0; // exact: a float minus its integer part, times 2^32
+    float fl = floor(scaled);
+    uint lo = uint(fl);
+    uint hi = uint(ip);
+    if (xi < scaled - fl) {
+        lo += 1u;
+        if (lo == 0u) hi += 1u;
+    }
+    return uvec2(lo, hi);
+}
+
+void ptAdd64(uint word, uvec2 v) {
+    uint old = atomicAdd(ptAcc[word], v.x);
+    uint carry = (old + v.x < old) ? 1u : 0u;
+    if (v.y + carry != 0u) atomicAdd(ptAcc[word + 1u], v.y + carry);
+}
+
+// Adds one path's value v to slot `slot` (first and second moment).
+void ptTally(uint slot, float v, inout Rng rng) {
+    if (v == 0.0) return;
+    if (!(v > 0.0 && v <= PT_HEAVY_WEIGHT)) {
+        uint i = atomicAdd(ptHeavyCount, 1u);
+        if (i < uint(ptHeavy.length())) ptHeavy[i] = uvec2(slot, floatBitsToUint(v));
+        return;
+    }
+    ptAdd64(4u * slot, ptFixed(v, rngUniform(rng)));
+    ptAdd64(4u * slot + 2u, ptFixed(v * v, rngUniform(rng)));
+}
