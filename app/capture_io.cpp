@@ -176,12 +176,15 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
     }
     m.params = paramsJson(wb);
     const ReferenceSettings& rs = wb.referenceSettings();
-    m.settings = {
-        {"plot", toJson(wb.plotSettings())},
-        {"r_max_mm", wb.rMaxMm()},
-        {"seed", rs.seed},
-        {"reference",
-         {{"enabled", rs.enabled}, {"paths", rs.paths}, {"bins", rs.bins}, {"seed", rs.seed}}}};
+    m.settings = {{"plot", toJson(wb.plotSettings())},
+                  {"r_max_mm", wb.rMaxMm()},
+                  {"seed", rs.seed},
+                  {"reference",
+                   {{"enabled", rs.enabled},
+                    {"paths", rs.paths},
+                    {"bins", rs.bins},
+                    {"seed", rs.seed},
+                    {"gpu", rs.gpu}}}};
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
@@ -222,7 +225,7 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
             try {
                 wb.referenceSettings() = {r.at("enabled").get<bool>(),
                                           r.at("paths").get<uint64_t>(), r.at("bins").get<int>(),
-                                          r.at("seed").get<uint64_t>()};
+                                          r.at("seed").get<uint64_t>(), r.value("gpu", false)};
             } catch (const json::exception& e) {
                 throw core::Error(where, 0, std::string("settings.reference: ") + e.what());
             }

@@ -4,6 +4,7 @@
 #include "core/core.h"
 
 #include <algorithm>
+#include <string>
 
 namespace app {
 
@@ -86,6 +87,78 @@ void ReferenceRunner::wait() {
 ReferenceSnapshot ReferenceRunner::snapshot() const {
     std::lock_guard lock(m_mutex);
     return m_snapshot;
+}
+
+void GpuReference::start(const std::array<pathtrace::Medium, 3>& media,
+                         const pathtrace::SlabSettings& s, uint64_t pathsPerChannel) {
+    m_problem.clear();
+    m_done = m_target = 0;
+    m_seconds = 0;
+    m_media = media;
+    try {
+        for (int c = 0; c < 3; ++c) {
+            m_settings[c] = s;
+            m_settings[c].paths = pathsPerChannel;
+            m_settings[c].seed = s.seed * 3 + uint64_t(c); // independent channels
+            if (!m_tracers[c])
+                m_tracers[c] = std::make_unique<pathtrace::GpuSlabTracer>(m_shaderFile);
+            m_tracers[c]->reset(media[c], m_settings[c]);
+        }
+        m_target = pathsPerChannel;
+    } catch (const core::Error& e) {
+        m_problem = e.what();
+    }
+}
+
+bool GpuReference::step(double budgetMs) {
+    if (m_done >= m_target || !m_problem.empty()) return false;
+    core::Stopwatch clock;
+    const uint64_t before = m_done;
+    try {
+        // a few thousand paths per channel per slice keep a frame near its budget on llvmpipe
+        while (m_done < m_target && clock.ms() < budgetMs) {
+            const uint64_t n = std::min<uint64_t>(4096, m_target - m_done);
+            for (int c = 0; c < 3; ++c)
+                m_tracers[c]->step(n);
+            m_done = m_tracers[0]->pathsDone();
+        }
+    } catch (const core::Error& e) {
+        m_problem = e.what();
+    }
+    m_seconds += clock.ms() * 1e-3;
+    return m_done != before;
+}
+
+void GpuReference::reload() {
+    try {
+        for (auto& t : m_tracers)
+            if (t) t->reload();
+        m_shaderProblem.clear();
+        // a successful reload starts the tallies over (with the channel-0 seed base)
+        pathtrace::SlabSettings base = m_settings[0];
+        base.seed /= 3;
+        if (m_target > 0) start(m_media, base, m_target);
+    } catch (const core::Error& e) {
+        m_shaderProblem = e.what();
+        core::logError("path tracer shader: " + m_shaderProblem + " (previous program kept)");
+    }
+}
+
+ReferenceSnapshot GpuReference::snapshot() const {
+    ReferenceSnapshot snap;
+    snap.problem = m_problem.empty() ? m_shaderProblem : m_problem;
+    snap.pathsDone = m_done;
+    snap.pathsTarget = m_target;
+    snap.running = m_done < m_target && m_problem.empty();
+    snap.device = "GPU";
+    snap.pathsPerSecond = m_seconds > 0 ? 3.0 * double(m_done) / m_seconds : 0;
+    if (m_done == 0) return snap;
+    for (int c = 0; c < 3; ++c) {
+        pathtrace::SlabSettings s = m_settings[c];
+        s.paths = m_done;
+        snap.channel[c] = pathtrace::finalize(m_tracers[c]->tally(), s);
+    }
+    return snap;
 }
 
 } // namespace app

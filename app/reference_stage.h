@@ -3,10 +3,13 @@
 // the UI never waits. The plot reads snapshots; any change of inputs restarts the run.
 #pragma once
 
+#include "pathtrace/gpu_slab.h"
 #include "pathtrace/pathtrace.h"
 
 #include <array>
 #include <atomic>
+#include <filesystem>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -18,6 +21,7 @@ struct ReferenceSettings {
     uint64_t paths = 2000000; // per channel
     int bins = 200;
     uint64_t seed = 1;
+    bool gpu = false; // GL compute tracer, sliced per frame on the GL thread, instead of the CPU
 };
 
 struct ReferenceSnapshot {
@@ -26,6 +30,7 @@ struct ReferenceSnapshot {
     double pathsPerSecond = 0;               // all channels together
     std::array<pathtrace::SlabResult, 3> channel;
     std::string problem;
+    std::string device = "CPU";
 };
 
 class ReferenceRunner {
@@ -54,6 +59,32 @@ class ReferenceRunner {
     std::atomic<uint64_t> m_version{0};
     mutable std::mutex m_mutex;
     ReferenceSnapshot m_snapshot;
+};
+
+// The same reference on the GL compute tracer (shaders/pathtrace_slab.comp). GL work must stay
+// on the GL thread, so the frame loop calls step() with a time budget: the UI keeps its frame
+// rate while paths accumulate. reload() recompiles the shader after an edit; on a compile
+// error the previous program keeps running and problem() names file:line.
+class GpuReference {
+  public:
+    explicit GpuReference(std::filesystem::path shaderFile) : m_shaderFile(std::move(shaderFile)) {}
+    void start(const std::array<pathtrace::Medium, 3>& media, const pathtrace::SlabSettings& s,
+               uint64_t pathsPerChannel);
+    // Traces for about `budgetMs`; returns true when new paths arrived.
+    bool step(double budgetMs);
+    void reload();
+    void cancel() { m_target = m_done; }
+    ReferenceSnapshot snapshot() const;
+
+  private:
+    std::filesystem::path m_shaderFile;
+    std::array<std::unique_ptr<pathtrace::GpuSlabTracer>, 3> m_tracers;
+    std::array<pathtrace::SlabSettings, 3> m_settings;
+    std::array<pathtrace::Medium, 3> m_media;
+    uint64_t m_target = 0, m_done = 0;
+    double m_seconds = 0;
+    std::string m_problem;       // the run cannot go on (bad input, tally error)
+    std::string m_shaderProblem; // the last edit failed to compile: old program still runs
 };
 
 } // namespace app

@@ -81,6 +81,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     }
     if (const auto* p = material::findPreset(m_presets, m_shared.preset))
         m_shared.params = material::applyPreset(*p, m_shared.params);
+    m_gpuRef = std::make_unique<GpuReference>(m_root / "shaders" / "pathtrace_slab.comp");
     m_library = std::make_unique<bssrdf::ModelLibrary>(
         m_root, std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp"});
     if (models.empty()) m_library->scanAll();
@@ -186,6 +187,12 @@ bool Workbench::update() {
                 }
             }
             changed |= m_library->onFilesChanged(paths);
+            for (const auto& p : paths)
+                if (p.filename().string().rfind("pathtrace", 0) == 0) {
+                    m_gpuRef->reload(); // the GPU reference's shader or one of its includes
+                    changed = true;
+                    break;
+                }
         }
     }
     // drop views of models that disappeared
@@ -209,19 +216,32 @@ bool Workbench::update() {
         changed |= before != v.profileKey;
     }
     updateReference();
-    if (m_ref->version() != m_refVersion) {
-        m_refVersion = m_ref->version();
+    if (m_ref->version() + m_gpuSteps != m_refVersion) {
+        m_refVersion = m_ref->version() + m_gpuSteps;
         changed = true;
     }
     return changed;
 }
 
+ReferenceSnapshot Workbench::finishReference() {
+    updateReference();
+    if (m_refSettings.gpu) {
+        while (m_gpuRef->step(1000.0)) {
+        }
+    } else {
+        m_ref->wait();
+    }
+    return referenceSnapshot();
+}
+
 void Workbench::updateReference() {
     if (!m_refSettings.enabled) {
-        if (!m_refKey.empty()) m_ref->cancel();
+        if (!m_refKey.empty()) cancelReference();
         m_refKey.clear();
         return;
     }
+    // GPU work is sliced per frame on this (the GL) thread
+    if (m_refSettings.gpu && m_gpuRef->step(8.0)) ++m_gpuSteps;
     // σ of the soloed model, else of the first visible model with a usable material
     const ModelView* source = nullptr;
     std::string name;
@@ -247,11 +267,15 @@ void Workbench::updateReference() {
     k.precision(17);
     k << p.sigmaA.x << ',' << p.sigmaA.y << ',' << p.sigmaA.z << '|' << p.sigmaS.x << ','
       << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g << '|' << p.eta << '|' << m_rMax << '|'
-      << s.bins << '|' << s.seed << '|' << m_refSettings.paths;
+      << s.bins << '|' << s.seed << '|' << m_refSettings.paths << '|' << m_refSettings.gpu;
     if (k.str() == m_refKey) return;
     m_refKey = k.str();
     m_refModel = name;
-    m_ref->start(media, s, m_refSettings.paths);
+    cancelReference();
+    if (m_refSettings.gpu)
+        m_gpuRef->start(media, s, m_refSettings.paths);
+    else
+        m_ref->start(media, s, m_refSettings.paths);
 }
 
 void Workbench::framePresented() {
@@ -279,7 +303,7 @@ std::vector<ErrorItem> Workbench::errors() const {
     for (const auto& p : m_library->problems())
         out.push_back({"shader", p.text()});
     if (m_refSettings.enabled) {
-        std::string problem = m_ref->snapshot().problem;
+        std::string problem = referenceSnapshot().problem;
         if (!problem.empty()) out.push_back({"reference", problem});
     }
     for (const auto& a : m_actionErrors)
@@ -331,7 +355,7 @@ std::vector<plot::Series> Workbench::plotSeries() const {
         }
     }
     if (!m_refSettings.enabled) return out;
-    ReferenceSnapshot snap = m_ref->snapshot();
+    ReferenceSnapshot snap = referenceSnapshot();
     if (snap.pathsDone == 0) return out;
     if (!m_plot.solo.empty()) {
         for (int c = 0; c < 3; ++c) {

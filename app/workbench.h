@@ -100,15 +100,16 @@ class Workbench {
     // Path-traced reference (pencil plot): settings, the model whose σ it uses, its state.
     ReferenceSettings& referenceSettings() { return m_refSettings; }
     const std::string& referenceModel() const { return m_refModel; }
-    ReferenceSnapshot referenceSnapshot() const { return m_ref->snapshot(); }
-    void restartReference() { m_refKey.clear(); }
-    void cancelReference() { m_ref->cancel(); }
-    // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
-    ReferenceSnapshot finishReference() {
-        updateReference();
-        m_ref->wait();
-        return m_ref->snapshot();
+    ReferenceSnapshot referenceSnapshot() const {
+        return m_refSettings.gpu ? m_gpuRef->snapshot() : m_ref->snapshot();
     }
+    void restartReference() { m_refKey.clear(); }
+    void cancelReference() {
+        m_ref->cancel();
+        m_gpuRef->cancel();
+    }
+    // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
+    ReferenceSnapshot finishReference();
     static std::string normalisationNote();
 
   private:
@@ -129,8 +130,9 @@ class Workbench {
     std::optional<double> m_pendingSaveTime; // seconds since epoch of the save being timed
     ReferenceSettings m_refSettings;
     std::unique_ptr<ReferenceRunner> m_ref = std::make_unique<ReferenceRunner>();
+    std::unique_ptr<GpuReference> m_gpuRef;
     std::string m_refKey, m_refModel;
-    uint64_t m_refVersion = 0;
+    uint64_t m_refVersion = 0, m_gpuSteps = 0;
 };
 
 // Effective σ for one model: validates, and inverts R_dr / l_d with the model's own

@@ -35,6 +35,11 @@ void drawReferenceControls(Workbench& wb) {
     int seed = int(rs.seed);
     ImGui::SetNextItemWidth(80);
     if (ImGui::InputInt("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
+    ImGui::SameLine();
+    ImGui::Checkbox("GPU", &rs.gpu);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_slab.comp, hot-reloaded), a slice "
+                          "per frame;\noff: CPU tracer in a background thread");
     ReferenceSnapshot snap = wb.referenceSnapshot();
     if (!snap.problem.empty()) {
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
@@ -48,7 +53,7 @@ void drawReferenceControls(Workbench& wb) {
     ImGui::SetNextItemWidth(320);
     ImGui::ProgressBar(frac, ImVec2(320, 0), overlay);
     ImGui::SameLine();
-    ImGui::TextDisabled("%.3g paths/s | sigma of %s", snap.pathsPerSecond,
+    ImGui::TextDisabled("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
                         wb.referenceModel().c_str());
     ImGui::SameLine();
     if (snap.running) {

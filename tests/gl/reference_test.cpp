@@ -100,3 +100,64 @@ TEST(Reference, CaptureRecordsAndReplaysItStatistically) {
     EXPECT_NE(out.find("FAIL reference"), std::string::npos) << out;
     std::filesystem::remove_all(root);
 }
+
+TEST(Reference, GpuTracerIsSlicedPerFrameAndHotReloads) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("refgpu", {"dipole.bssrdf"});
+    app::Workbench wb(root, true);
+    wb.applyPreset(wb.shared(), "Skin1");
+    wb.plotSettings().fixedRange = true;
+    wb.plotSettings().rMaxMm = 6.0;
+    wb.referenceSettings() = {true, 30000, 30, 3, true};
+    // one update = one frame: a slice of the run, not all of it
+    wb.update();
+    auto first = wb.referenceSnapshot();
+    EXPECT_TRUE(first.problem.empty()) << first.problem;
+    EXPECT_EQ(first.device, "GPU");
+    EXPECT_LT(first.pathsDone, 30000u);
+    auto snap = wb.finishReference();
+    ASSERT_EQ(snap.pathsDone, 30000u);
+    EXPECT_FALSE(snap.running);
+    EXPECT_EQ(wb.plotSeries().size(), 2u);
+
+    // the same run on the CPU estimates the same profile: z-test per bin, Bonferroni over 30
+    wb.referenceSettings().gpu = false;
+    auto cpu = wb.finishReference();
+    ASSERT_EQ(cpu.pathsDone, 30000u);
+    double worst = 0;
+    for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < 30; ++i) {
+            const double se = std::hypot(snap.channel[c].rdStderr[i], cpu.channel[c].rdStderr[i]);
+            if (se > 0)
+                worst =
+                    std::max(worst, std::abs(snap.channel[c].rd[i] - cpu.channel[c].rd[i]) / se);
+        }
+    EXPECT_LT(worst, capture::normalUpperQuantile(0.001 / (2 * 90)));
+
+    // a broken shader edit keeps the old program running and names file:line; a fix recovers
+    wb.referenceSettings().gpu = true;
+    wb.update();
+    const auto file = root / "shaders/pathtrace_slab.comp";
+    const std::string good = testsupport::readText(file);
+    const std::string marker = "void main()";
+    const int line = testsupport::lineOf(good, marker);
+    core::writeFile(
+        file, testsupport::replaced(good, marker, "void main() { brokenCall(); }\nvoid main2()"));
+    core::Stopwatch sw;
+    while (wb.referenceSnapshot().problem.empty() && sw.ms() < 5000)
+        wb.update();
+    const std::string problem = wb.referenceSnapshot().problem;
+    EXPECT_NE(problem.find("shaders/pathtrace_slab.comp:" + std::to_string(line)),
+              std::string::npos)
+        << problem;
+    const uint64_t before = wb.referenceSnapshot().pathsDone;
+    for (int i = 0; i < 3; ++i)
+        wb.update();
+    EXPECT_GE(wb.referenceSnapshot().pathsDone, before); // still running on the old program
+    core::writeFile(file, good);
+    sw.reset();
+    while (!wb.referenceSnapshot().problem.empty() && sw.ms() < 5000)
+        wb.update();
+    EXPECT_TRUE(wb.referenceSnapshot().problem.empty()) << wb.referenceSnapshot().problem;
+    std::filesystem::remove_all(root);
+}
