@@ -97,6 +97,10 @@ class RenderTarget {
     GLenum m_format = 0;
 };
 
+// Creates (or re-creates on a size change) an RGBA8 texture and uploads `rgba` (top row
+// first, as images are stored here; the caller flips UVs when drawing).
+void uploadRGBA8(Texture& texture, int width, int height, const unsigned char* rgba);
+
 // ---- programs -----------------------------------------------------------------------------------
 struct ShaderStage {
     GLenum type; // GL_COMPUTE_SHADER, GL_VERTEX_SHADER, ...

@@ -55,6 +55,24 @@ void RenderTarget::bind() const {
     glViewport(0, 0, m_width, m_height);
 }
 
+void uploadRGBA8(Texture& texture, int width, int height, const unsigned char* rgba) {
+    GLint w = 0, h = 0;
+    if (texture) {
+        glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_WIDTH, &w);
+        glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_HEIGHT, &h);
+    }
+    if (!texture || w != width || h != height) {
+        GLuint id = 0;
+        glCreateTextures(GL_TEXTURE_2D, 1, &id);
+        glTextureStorage2D(id, 1, GL_RGBA8, width, height);
+        glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        texture = Texture(id);
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+}
+
 namespace {
 std::string shaderLog(GLuint shader) {
     GLint len = 0;

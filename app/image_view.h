@@ -1,0 +1,35 @@
+// Lit-sphere image helpers (pure CPU): merging independent progressive passes, HDR display
+// (exposure, gamma), the signed difference view with its colour bar, pixel readouts.
+#pragma once
+
+#include "pathtrace/lit_sphere.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace app {
+
+// Combines two independent estimates of the same image made from n_a and n_b samples:
+// mean = (n_a m_a + n_b m_b)/(n_a + n_b), variance of the mean likewise with squared weights.
+pathtrace::Image combine(const pathtrace::Image& a, const pathtrace::Image& b);
+
+// RGBA8 for display: value · 2^exposure, then ^(1/gamma), clamped.
+std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float gamma);
+
+// Signed difference a − b of the luminance, mapped to blue (negative) – black – red
+// (positive) with |a − b| = range at full saturation.
+std::vector<uint8_t> differenceMap(const pathtrace::Image& a, const pathtrace::Image& b,
+                                   float range);
+std::array<uint8_t, 3> divergingColor(float t); // t in [−1, 1]
+
+// Largest |a − b| of the luminance over the pixels (a default range for the difference view).
+float maxAbsDifference(const pathtrace::Image& a, const pathtrace::Image& b);
+
+struct PixelValue {
+    bool valid = false;
+    std::array<float, 3> mean{}, stderr_{};
+};
+PixelValue pixelAt(const pathtrace::Image& img, int x, int y);
+
+} // namespace app

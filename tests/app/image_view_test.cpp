@@ -1,0 +1,57 @@
+// Lit-sphere image helpers: merging passes, display mapping, difference view, readouts.
+#include "image_view.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace {
+pathtrace::Image flat(float value, float variance, uint64_t samples) {
+    pathtrace::Image img;
+    img.width = 4;
+    img.height = 2;
+    img.mean.assign(24, value);
+    img.variance.assign(24, variance);
+    img.samples = samples;
+    return img;
+}
+} // namespace
+
+TEST(ImageView, CombineWeightsBySampleCount) {
+    // two independent passes: 100 samples with mean 1, 300 with mean 2
+    auto c = app::combine(flat(1.0f, 0.04f, 100), flat(2.0f, 0.01f, 300));
+    EXPECT_EQ(c.samples, 400u);
+    EXPECT_FLOAT_EQ(c.mean[5], 1.75f);
+    // variance of the mean: (100² · 0.04 + 300² · 0.01) / 400² = (400 + 900) / 160000
+    EXPECT_FLOAT_EQ(c.variance[5], 1300.0f / 160000.0f);
+    // merging equal halves of per-sample variance σ²: σ²/n_a → σ²/(n_a + n_b)
+    auto h = app::combine(flat(1.0f, 1.0f / 50, 50), flat(1.0f, 1.0f / 50, 50));
+    EXPECT_FLOAT_EQ(h.variance[0], 1.0f / 100);
+    EXPECT_EQ(app::combine(pathtrace::Image{}, flat(3, 0, 7)).mean[0], 3.0f);
+}
+
+TEST(ImageView, TonemapExposureAndGamma) {
+    auto img = flat(0.25f, 0, 1);
+    auto px = app::tonemap(img, 1.0f, 1.0f); // 0.25 · 2 = 0.5
+    EXPECT_EQ(px[0], 128);
+    EXPECT_EQ(px[3], 255);
+    px = app::tonemap(img, 2.0f, 2.0f); // (0.25 · 4)^(1/2) = 1
+    EXPECT_EQ(px[1], 255);
+    px = app::tonemap(img, 0.0f, 2.0f); // 0.25^(1/2) = 0.5
+    EXPECT_EQ(px[2], 128);
+}
+
+TEST(ImageView, DifferenceIsSignedAndReadoutHasStderr) {
+    auto a = flat(1.0f, 0.04f, 10), b = flat(0.5f, 0.0f, 10);
+    EXPECT_NEAR(app::maxAbsDifference(a, b), 0.5f, 1e-6);
+    auto d = app::differenceMap(a, b, 0.5f);
+    EXPECT_EQ(d[0], 255); // positive: red at full range
+    EXPECT_LT(d[2], 60);
+    auto e = app::differenceMap(b, a, 0.5f);
+    EXPECT_EQ(e[2], 255); // negative: blue
+    auto v = app::pixelAt(a, 3, 1);
+    ASSERT_TRUE(v.valid);
+    EXPECT_FLOAT_EQ(v.mean[0], 1.0f);
+    EXPECT_FLOAT_EQ(v.stderr_[0], 0.2f);
+    EXPECT_FALSE(app::pixelAt(a, 4, 0).valid);
+}
