@@ -24,11 +24,10 @@ struct PanelFlag {
     const char* key;
     bool UiState::*flag;
 };
-const PanelFlag kPanels[] = {{"Models", &UiState::showModels},
-                             {"Parameters", &UiState::showParameters},
-                             {"PencilPlot", &UiState::showPencil},
-                             {"ErrorsLog", &UiState::showErrors},
-                             {"Timings", &UiState::showTimings}};
+const PanelFlag kPanels[] = {
+    {"Models", &UiState::showModels},     {"Parameters", &UiState::showParameters},
+    {"PencilPlot", &UiState::showPencil}, {"ErrorsLog", &UiState::showErrors},
+    {"Timings", &UiState::showTimings},   {"LitSpheres", &UiState::showLitSpheres}};
 
 void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
     return std::strcmp(name, "Panels") == 0 ? static_cast<void*>(g_ui) : nullptr;
@@ -66,6 +65,7 @@ void drawPanels(Workbench& wb, UiState& ui) {
     if (ui.showPencil) drawPencilPanel(wb, ui);
     if (ui.showErrors) drawErrorsPanel(wb, ui);
     if (ui.showTimings) drawTimingsPanel(wb, ui);
+    if (ui.showLitSpheres) drawLitSpherePanel(wb, ui);
 }
 
 // Reads back the region a panel asked for (PNG export) from `fbo` after rendering.

@@ -22,8 +22,7 @@ pathtrace::Image combine(const pathtrace::Image& a, const pathtrace::Image& b) {
     const double na = double(a.samples), nb = double(b.samples), n = na + nb;
     for (size_t i = 0; i < a.mean.size(); ++i) {
         out.mean[i] = float((na * a.mean[i] + nb * b.mean[i]) / n);
-        out.variance[i] =
-            float((na * na * a.variance[i] + nb * nb * b.variance[i]) / (n * n));
+        out.variance[i] = float((na * na * a.variance[i] + nb * nb * b.variance[i]) / (n * n));
     }
     out.samples = a.samples + b.samples;
     return out;

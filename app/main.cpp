@@ -3,6 +3,7 @@
 #include "bench.h"
 #include "capture_io.h"
 #include "cli.h"
+#include "cli_image.h"
 #include "cli_slab.h"
 #include "core/core.h"
 #include "gl/gl.h"
@@ -35,9 +36,10 @@ fs::path findRoot(const std::string& given) {
     throw core::Error("cannot find the project root (materials/ and shaders/); pass --root");
 }
 
-bool parseSize(const std::string& s, int& w, int& h) {
-    return std::sscanf(s.c_str(), "%dx%d", &w, &h) == 2 && w >= 64 && h >= 64 && w <= 8192 &&
-           h <= 8192;
+bool parseSize(const std::string& s, int& w, int& h, int minSide = 64) {
+    char tail = 0;
+    return std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &tail) == 2 && w >= minSide && h >= minSide &&
+           w <= 8192 && h <= 8192;
 }
 
 int runHeadlessDefault(const fs::path& root, const std::string& outDir) {
@@ -149,6 +151,32 @@ int main(int argc, char** argv) {
     slab->add_option("--out", sa.out, "CSV file: # header, then r_mm,Rd_per_mm2,stderr")
         ->required();
 
+    // sphere / mesh: the path-traced lit object (radiant exitance per pixel, EXR with variance)
+    app::ImageArgs ima;
+    std::string imSigmaA = "0.01", imSigmaS = "1", imLight = "0,0,1", imSize = "128x128";
+    auto addImageOptions = [&](CLI::App* c) {
+        c->add_option("--sigma-a", imSigmaA,
+                      "absorption R,G,B (or one value) in 1/mm (default 0.01)");
+        c->add_option("--sigma-s", imSigmaS, "scattering R,G,B (or one value) in 1/mm (default 1)");
+        c->add_option("--g", ima.g, "Henyey-Greenstein mean cosine (default 0)");
+        c->add_option("--eta", ima.eta, "relative index of refraction (default 1.3)");
+        c->add_option("--radius", ima.radiusMm,
+                      "sphere radius in mm; mesh: half its longest axis (default 10)");
+        c->add_option("--light", imLight,
+                      "direction towards the light x,y,z (default 0,0,1: the view axis)");
+        c->add_option("--size", imSize, "image WxH (default 128x128)");
+        c->add_option("--spp", ima.spp, "paths per covered pixel (default 64)");
+        c->add_option("--seed", ima.seed, "random seed (default 1)");
+        c->add_option("--threads", ima.threads, "worker threads (default: all cores)");
+        c->add_option("--out", ima.out, "EXR file: R,G,B exitance and varR,varG,varB")->required();
+    };
+    auto* sphere = cli.add_subcommand("sphere", "path-traced lit sphere (thesis 3.6.2) as EXR");
+    addImageOptions(sphere);
+    auto* meshCmd = cli.add_subcommand("mesh", "path-traced lit mesh (Embree) as EXR");
+    addImageOptions(meshCmd);
+    meshCmd->add_option("--mesh", ima.mesh, "closed, outward-facing triangle mesh (OBJ)")
+        ->required();
+
     auto* bench = cli.add_subcommand("bench", "benchmarks (print measured ratios; not tests)");
     bench->require_subcommand(1);
     auto* benchReload = bench->add_subcommand("reload", "hot reload: save -> new pixels latency");
@@ -171,6 +199,20 @@ int main(int argc, char** argv) {
         if (*rep) return app::runReplay(root, repDir, repUpdate);
         if (*benchReload) return app::benchReload(root, reloadRuns);
         if (*benchPt) return app::benchPathtrace(root, benchSeconds);
+        if (*sphere || *meshCmd) {
+            const glm::dvec3 sa = app::parseRgb(imSigmaA, "--sigma-a");
+            const glm::dvec3 ss = app::parseRgb(imSigmaS, "--sigma-s");
+            const glm::dvec3 light = app::parseRgb(imLight, "--light");
+            for (int c = 0; c < 3; ++c) {
+                ima.sigmaA[c] = sa[c];
+                ima.sigmaS[c] = ss[c];
+                ima.light[c] = light[c];
+            }
+            if (!parseSize(imSize, ima.width, ima.height, 1))
+                throw core::Error("--size", 0,
+                                  "expected WxH between 1 and 8192, got '" + imSize + "'");
+            return *sphere ? app::runSphereCli(ima) : app::runMeshCli(ima);
+        }
         if (*slab) {
             if (slabGpu) return app::runSlabGpuCli(root, sa);
             return app::runSlabCli(sa);

@@ -1,6 +1,8 @@
 // UI-only state: which panels are open, pending popups and export requests.
 #pragma once
 
+#include "gl/gl.h"
+
 #include <string>
 
 namespace app {
@@ -11,6 +13,7 @@ struct UiState {
     bool showPencil = true;
     bool showErrors = true;
     bool showTimings = true;
+    bool showLitSpheres = false; // View → Lit spheres
     bool quit = false;
     bool openModelPopup = false;
     bool recordPopup = false;
@@ -23,6 +26,12 @@ struct UiState {
     std::string paramsTarget;             // Parameters panel: display path edited, "" = shared
     char exportName[256] = "pencil_plot"; // Pencil plot: export file name without extension
     int logMinLevel = 1;                  // Errors / Log panel: 0 debug .. 3 error
+    // Lit spheres panel: display settings, textures, the clicked pixel
+    float sphereExposure = 0.0f, sphereGamma = 2.2f, diffRange = 0.0f; // 0: automatic
+    int sphereView = 0; // 0 path traced, 1 integrated, 2 side by side, 3 difference
+    int sphereViewShown = -1;
+    int pickX = -1, pickY = -1;
+    gl::Texture sphereTex[3];
 };
 
 } // namespace app

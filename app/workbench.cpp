@@ -83,7 +83,8 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         m_shared.params = material::applyPreset(*p, m_shared.params);
     m_gpuRef = std::make_unique<GpuReference>(m_root / "shaders" / "pathtrace_slab.comp");
     m_library = std::make_unique<bssrdf::ModelLibrary>(
-        m_root, std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp"});
+        m_root,
+        std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp", "sphere_bssrdf.comp"});
     if (models.empty()) m_library->scanAll();
     for (const auto& m : models) {
         if (!fs::exists(m)) throw core::Error(m.string(), 0, "no such model file");
@@ -216,11 +217,96 @@ bool Workbench::update() {
         changed |= before != v.profileKey;
     }
     updateReference();
+    changed |= updateLitSpheres(8.0);
     if (m_ref->version() + m_gpuSteps != m_refVersion) {
         m_refVersion = m_ref->version() + m_gpuSteps;
         changed = true;
     }
     return changed;
+}
+
+const bssrdf::ModelEntry* Workbench::sourceModel(const ModelView** view) const {
+    for (const auto& e : m_library->entries()) {
+        auto it = m_views.find(e.displayPath);
+        if (it == m_views.end() || !it->second.effective || !e.usable()) continue;
+        if (!m_plot.solo.empty() ? m_plot.solo == e.displayPath : it->second.visible) {
+            if (view) *view = &it->second;
+            return &e;
+        }
+    }
+    return nullptr;
+}
+
+bool Workbench::updateLitSpheres(double budgetMs) {
+    if (!m_sphere.enabled) {
+        if (!m_sphereKey.empty()) m_ptSphere->cancel();
+        m_sphereKey.clear();
+        return false;
+    }
+    const ModelView* view = nullptr;
+    const bssrdf::ModelEntry* e = sourceModel(&view);
+    if (!e) return false;
+    const auto& p = *view->effective;
+    pathtrace::LitSphereSetup setup;
+    setup.radiusMm = m_sphere.radiusMm;
+    for (int i = 0; i < 3; ++i)
+        setup.lightDir[i] = m_sphere.lightDir[i];
+    setup.width = setup.height = m_sphere.size;
+    setup.seed = m_sphere.seed;
+    std::ostringstream k;
+    k.precision(17);
+    k << e->displayPath << '|' << e->generation << '|' << view->materialKey << '|' << setup.radiusMm
+      << '|' << setup.lightDir[0] << ',' << setup.lightDir[1] << ',' << setup.lightDir[2] << '|'
+      << setup.width << '|' << setup.seed << '|' << m_sphere.pathSpp;
+    for (auto& [n, val] : e->values)
+        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
+    bool changed = false;
+    if (k.str() != m_sphereKey) {
+        m_sphereKey = k.str();
+        m_sphereModel = e->displayPath;
+        m_sphereProblem.clear();
+        m_ptSppSeen = 0;
+        std::array<pathtrace::Medium, 3> media;
+        for (int c = 0; c < 3; ++c)
+            media[c] = {p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
+        try {
+            m_integrator.reset(setup);
+            m_ptSphere->start(media, setup, m_sphere.pathSpp);
+        } catch (const core::Error& err) {
+            m_sphereProblem = err.what();
+            m_ptSphere->cancel();
+        }
+        changed = true;
+    }
+    if (!m_sphereProblem.empty()) return changed;
+    // the GPU integration takes a slice per frame, sized to stay near the budget
+    const uint64_t done = m_integrator.samplesPerPixelDone();
+    if (done < uint64_t(m_sphere.integratedSpp) && e->programs.count("sphere_bssrdf.comp")) {
+        const int n = int(std::min<uint64_t>(uint64_t(m_integratedSlice),
+                                             uint64_t(m_sphere.integratedSpp) - done));
+        core::Stopwatch sw;
+        m_integrator.step(e->programs.at("sphere_bssrdf.comp").id(), *e->model, e->values,
+                          builtinsOf(p), n); // timed inside as "sphere BSSRDF integration"
+        const double ms = sw.ms();
+        if (ms < 0.5 * budgetMs)
+            m_integratedSlice = std::min(m_integratedSlice * 2, 4096);
+        else if (ms > budgetMs)
+            m_integratedSlice = std::max(m_integratedSlice / 2, 1);
+        changed = true;
+    }
+    if (m_ptSphere->sppDone() != m_ptSppSeen) {
+        m_ptSppSeen = m_ptSphere->sppDone();
+        changed = true;
+    }
+    return changed;
+}
+
+void Workbench::finishLitSpheres() {
+    updateLitSpheres(1e9);
+    while (m_sphere.enabled && m_sphereProblem.empty() &&
+           m_integrator.samplesPerPixelDone() < uint64_t(m_sphere.integratedSpp))
+        if (!updateLitSpheres(1e9)) break;
+    m_ptSphere->wait();
 }
 
 ReferenceSnapshot Workbench::finishReference() {
@@ -305,6 +391,11 @@ std::vector<ErrorItem> Workbench::errors() const {
     if (m_refSettings.enabled) {
         std::string problem = referenceSnapshot().problem;
         if (!problem.empty()) out.push_back({"reference", problem});
+    }
+    if (m_sphere.enabled) {
+        if (!m_sphereProblem.empty()) out.push_back({"lit sphere", m_sphereProblem});
+        std::string pt = m_ptSphere->problem();
+        if (!pt.empty()) out.push_back({"lit sphere", pt});
     }
     for (const auto& a : m_actionErrors)
         out.push_back({"action", a});

@@ -8,6 +8,7 @@
 
 #include "bssrdf/program_library.h"
 #include "core/file_watcher.h"
+#include "lit_sphere_stage.h"
 #include "material/material.h"
 #include "plot/plot.h"
 #include "reference_stage.h"
@@ -110,6 +111,18 @@ class Workbench {
     }
     // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
     ReferenceSnapshot finishReference();
+
+    // Lit spheres (thesis 3.5, 3.6.2): path traced and BSSRDF integrated, same setup.
+    LitSphereSettings& litSphereSettings() { return m_sphere; }
+    const std::string& litSphereModel() const { return m_sphereModel; }
+    pathtrace::Image pathTracedSphere() const { return m_ptSphere->image(); }
+    pathtrace::Image integratedSphere() const { return m_integrator.image(); }
+    const PathTracedSphere& pathTracer() const { return *m_ptSphere; }
+    uint64_t integratedSppDone() const { return m_integrator.samplesPerPixelDone(); }
+    const std::string& litSphereProblem() const { return m_sphereProblem; }
+    void restartLitSpheres() { m_sphereKey.clear(); }
+    // Runs both renderings to their targets (tests, captures).
+    void finishLitSpheres();
     static std::string normalisationNote();
 
   private:
@@ -117,6 +130,9 @@ class Workbench {
     void computeProfile(bssrdf::ModelEntry& e, ModelView& v);
     double autoRMax() const;
     void updateReference();
+    // Returns the model whose σ the reference / lit spheres use (solo, else first visible).
+    const bssrdf::ModelEntry* sourceModel(const ModelView** view) const;
+    bool updateLitSpheres(double budgetMs);
 
     std::filesystem::path m_root;
     std::unique_ptr<bssrdf::ModelLibrary> m_library;
@@ -133,6 +149,12 @@ class Workbench {
     std::unique_ptr<GpuReference> m_gpuRef;
     std::string m_refKey, m_refModel;
     uint64_t m_refVersion = 0, m_gpuSteps = 0;
+    LitSphereSettings m_sphere;
+    std::unique_ptr<PathTracedSphere> m_ptSphere = std::make_unique<PathTracedSphere>();
+    bssrdf::SphereIntegrator m_integrator;
+    std::string m_sphereKey, m_sphereModel, m_sphereProblem;
+    int m_ptSppSeen = 0;
+    int m_integratedSlice = 16;
 };
 
 // Effective σ for one model: validates, and inverts R_dr / l_d with the model's own

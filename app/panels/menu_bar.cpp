@@ -24,6 +24,7 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
             ImGui::MenuItem("Pencil plot", nullptr, &ui.showPencil);
             ImGui::MenuItem("Errors / Log", nullptr, &ui.showErrors);
             ImGui::MenuItem("Timings", nullptr, &ui.showTimings);
+            ImGui::MenuItem("Lit spheres", nullptr, &ui.showLitSpheres);
             ImGui::EndMenu();
         }
         const size_t n = wb.errors().size();

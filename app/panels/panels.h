@@ -12,6 +12,7 @@ void drawParametersPanel(Workbench& wb, UiState& ui);
 void drawPencilPanel(Workbench& wb, UiState& ui);
 void drawErrorsPanel(Workbench& wb, UiState& ui);
 void drawTimingsPanel(Workbench& wb, UiState& ui);
+void drawLitSpherePanel(Workbench& wb, UiState& ui);
 
 // Records the current state as captures/<name> (File → Record capture). Defined in capture_io.
 std::string recordCapture(Workbench& wb, const std::string& name);

@@ -18,21 +18,27 @@ std::map<std::string, StageTiming> g_table;
 std::vector<Pending> g_pending;
 } // namespace
 
+// GL_TIME_ELAPSED queries cannot nest: a timer opened inside another one measures CPU time
+// only (its GPU time is part of the enclosing stage's).
+thread_local int t_openQueries = 0;
+
 ScopedStageTimer::ScopedStageTimer(std::string stage)
     : m_stage(std::move(stage)), m_startMs(core::secondsSinceStart() * 1000.0) {
+    if (t_openQueries++ > 0) return;
     glGenQueries(1, &m_query);
     glBeginQuery(GL_TIME_ELAPSED, m_query);
 }
 
 ScopedStageTimer::~ScopedStageTimer() {
-    glEndQuery(GL_TIME_ELAPSED);
+    --t_openQueries;
+    if (m_query) glEndQuery(GL_TIME_ELAPSED);
     const double cpu = core::secondsSinceStart() * 1000.0 - m_startMs;
     std::lock_guard lock(g_mutex);
     auto& t = g_table[m_stage];
     t.stage = m_stage;
     t.cpuMs = cpu;
     ++t.runs;
-    g_pending.push_back({m_stage, m_query});
+    if (m_query) g_pending.push_back({m_stage, m_query});
 }
 
 void collectTimings(bool wait) {

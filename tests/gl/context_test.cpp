@@ -59,3 +59,21 @@ TEST(HeadlessContext, RenderTargetClearAndReadback) {
     EXPECT_EQ(px[2], 0);
     EXPECT_EQ(px[3], 255);
 }
+
+TEST(HeadlessContext, NestedStageTimersDoNotNestGlQueries) {
+    auto ctx = gl::createHeadlessContext();
+    {
+        gl::ScopedStageTimer outer("outer");
+        gl::ScopedStageTimer inner("inner"); // CPU time only: queries cannot nest
+    }
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    gl::collectTimings(true);
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    bool outerHasGpu = false, innerSeen = false;
+    for (const auto& t : gl::timings()) {
+        if (t.stage == "outer") outerHasGpu = t.gpuMs >= 0;
+        if (t.stage == "inner") innerSeen = t.runs == 1 && t.gpuMs < 0;
+    }
+    EXPECT_TRUE(outerHasGpu);
+    EXPECT_TRUE(innerSeen);
+}

@@ -1,0 +1,158 @@
+// `bssrdf-workbench sphere` / `mesh`: lit sphere / lit mesh images as EXR (see cli_image.h).
+#include "cli_image.h"
+
+#include "core/core.h"
+#include "pathtrace/camera.h"
+#include "pathtrace/image_io.h"
+#include "pathtrace/lit_sphere.h"
+#include "pathtrace/mesh_tracer.h"
+#include "pathtrace/pathtrace.h"
+#include "pathtrace/sphere_tracer.h"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+namespace app {
+namespace {
+
+std::string fmt(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+struct ImageSetup {
+    std::array<pathtrace::Medium, 3> media;
+    pathtrace::LitSphereSetup setup;
+};
+
+ImageSetup prepare(const ImageArgs& a) {
+    static const char* names[3] = {"red", "green", "blue"};
+    ImageSetup k;
+    for (int c = 0; c < 3; ++c) {
+        pathtrace::Medium& m = k.media[static_cast<size_t>(c)];
+        m.sigmaA = a.sigmaA[c];
+        m.sigmaS = a.sigmaS[c];
+        m.g = a.g;
+        m.eta = a.eta;
+        pathtrace::validate(m, std::string("medium (") + names[c] + ")");
+    }
+    if (a.out.empty()) throw core::Error("--out", 0, "give the EXR file to write");
+    if (!std::isfinite(a.radiusMm) || !(a.radiusMm > 0))
+        throw core::Error("--radius", 0,
+                          "radius must be a finite length > 0 mm, got " + fmt(a.radiusMm));
+    const double l2 = a.light[0] * a.light[0] + a.light[1] * a.light[1] + a.light[2] * a.light[2];
+    if (!std::isfinite(l2) || !(l2 > 0))
+        throw core::Error("--light", 0,
+                          "light direction must be finite and non-zero, got (" + fmt(a.light[0]) +
+                              ", " + fmt(a.light[1]) + ", " + fmt(a.light[2]) + ")");
+    if (a.width < 1 || a.width > 16384)
+        throw core::Error("--width", 0, "must lie in [1, 16384], got " + std::to_string(a.width));
+    if (a.height < 1 || a.height > 16384)
+        throw core::Error("--height", 0, "must lie in [1, 16384], got " + std::to_string(a.height));
+    if (a.spp < 1 || a.spp > 10000000)
+        throw core::Error("--spp", 0, "must lie in [1, 10^7], got " + std::to_string(a.spp));
+    if (double(a.spp) * a.width * a.height > 1e12)
+        throw core::Error("--spp", 0,
+                          "absurd path count: spp x pixels = " +
+                              fmt(double(a.spp) * a.width * a.height) + " (> 10^12)");
+    if (a.threads < 0)
+        throw core::Error("--threads", 0,
+                          "must be >= 0 (0: all hardware threads), got " +
+                              std::to_string(a.threads));
+    pathtrace::LitSphereSetup& s = k.setup;
+    s.radiusMm = a.radiusMm;
+    for (int i = 0; i < 3; ++i)
+        s.lightDir[i] = a.light[i];
+    s.width = a.width;
+    s.height = a.height;
+    s.samplesPerPixel = a.spp;
+    s.seed = a.seed;
+    s.threads = a.threads;
+    pathtrace::validate(s);
+    return k;
+}
+
+std::function<void(uint64_t)> progressLine(const char* what, uint64_t total,
+                                           const core::Stopwatch& clock) {
+    return [what, total, &clock](uint64_t done) {
+        const double sec = clock.ms() / 1000.0;
+        std::fprintf(stderr, "\r%s: %5.1f%%  %llu / %llu paths  %.0f paths/s   ", what,
+                     total ? 100.0 * double(done) / double(total) : 100.0,
+                     static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
+                     sec > 0 ? double(done) / sec : 0.0);
+        std::fflush(stderr);
+    };
+}
+
+// Writes the EXR and prints: paths, seconds, paths/s, specular fraction, mean exitance over
+// the lit pixels (centre ray hits and n·lightDir > 0 there).
+void finish(const ImageArgs& a, const char* what, const pathtrace::Image& img,
+            const pathtrace::ImageStats& st, const std::string& extra) {
+    pathtrace::writeExr(a.out, img);
+    double lit[3] = {0, 0, 0};
+    size_t nLit = 0;
+    for (size_t p = 0; p < st.pixels.footprint.size(); ++p) {
+        if (!(st.pixels.footprint[p] > 0) || !(st.pixels.cosLight[p] > 0)) continue;
+        ++nLit;
+        for (int c = 0; c < 3; ++c)
+            lit[c] += img.mean[3 * p + static_cast<size_t>(c)];
+    }
+    double spec[3];
+    for (int c = 0; c < 3; ++c) {
+        const auto& ch = st.channel[static_cast<size_t>(c)];
+        spec[c] = ch.incident > 0 ? ch.specular / ch.incident : 0;
+        lit[c] = nLit ? lit[c] / double(nLit) : 0;
+    }
+    const double rate = st.seconds > 0 ? double(st.paths) / st.seconds : 0;
+    uint64_t events = 0;
+    for (const auto& ch : st.channel)
+        events += ch.events;
+    const double perPath = st.paths ? double(events) / (3.0 * double(st.paths)) : 0;
+    std::printf("%s: wrote %s (%dx%d%s): %llu paths per channel (%.1f events each), %.2f s, %.0f "
+                "paths/s (all 3 channels); specular %.4g %.4g %.4g of incident; mean exitance "
+                "over %zu lit pixels %.5g %.5g %.5g\n",
+                what, a.out.c_str(), img.width, img.height, extra.c_str(),
+                static_cast<unsigned long long>(st.paths), perPath, st.seconds, rate, spec[0],
+                spec[1], spec[2], nLit, lit[0], lit[1], lit[2]);
+    std::fflush(stdout);
+}
+
+} // namespace
+
+int runSphereCli(const ImageArgs& a) {
+    const ImageSetup k = prepare(a);
+    const uint64_t total = pathtrace::litSpherePaths(k.setup);
+    core::Stopwatch clock;
+    pathtrace::ImageStats st;
+    const pathtrace::Image img = pathtrace::traceLitSphere(
+        k.media, k.setup, progressLine("sphere", total, clock), nullptr, {}, &st);
+    std::fprintf(stderr, "\n");
+    finish(a, "sphere", img, st, ", radius " + fmt(a.radiusMm) + " mm");
+    return 0;
+}
+
+int runMeshCli(const ImageArgs& a) {
+    if (a.mesh.empty()) throw core::Error("--mesh", 0, "give the OBJ file to trace");
+    const ImageSetup k = prepare(a);
+    const pathtrace::LitMesh mesh = pathtrace::loadLitMesh(a.mesh);
+    const uint64_t total = mesh.pathCount(k.setup);
+    core::Stopwatch clock;
+    pathtrace::ImageStats st;
+    const pathtrace::Image img =
+        mesh.trace(k.media, k.setup, progressLine("mesh", total, clock), nullptr, {}, &st);
+    std::fprintf(stderr, "\n");
+    uint64_t leaks = 0;
+    for (const auto& ch : st.channel)
+        leaks += ch.leaks;
+    std::string extra = ", " + a.mesh + ", " + std::to_string(mesh.mesh().triangles.size()) +
+                        " triangles, scale " + fmt(2 * a.radiusMm) + " mm of the longest axis";
+    if (leaks) extra += ", " + std::to_string(leaks) + " leaked paths";
+    finish(a, "mesh", img, st, extra);
+    return 0;
+}
+
+} // namespace app

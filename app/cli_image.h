@@ -1,0 +1,33 @@
+// `bssrdf-workbench sphere` / `mesh`: the path-traced lit sphere or lit mesh image (pathtrace::
+// traceLitSphere / LitMesh::trace, thesis 3.2 on the setup of 3.5 / 3.6.2, pathtrace/
+// lit_sphere.h) written as an OpenEXR file: channels R, G, B = radiant exitance per unit
+// irradiance, varR, varG, varB = variance of the mean (pathtrace/image_io.h). No display or GL
+// needed. Progress on stderr; a one-line summary on stdout.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace app {
+
+struct ImageArgs {
+    double sigmaA[3] = {0.01, 0.01, 0.01}; // 1/mm, RGB (app::parseRgb replicates a scalar)
+    double sigmaS[3] = {1.0, 1.0, 1.0};    // 1/mm, RGB
+    double g = 0, eta = 1.3;
+    double radiusMm = 10;          // sphere radius; meshes: the longest axis is 2·radius mm
+    double light[3] = {0, 0, 1};   // towards the light (normalised on use)
+    int width = 128, height = 128; // pixels
+    uint64_t spp = 64, seed = 1;   // paths = spp × pixels covered by the object
+    int threads = 0;               // 0: all hardware threads
+    std::string mesh;              // OBJ file (runMeshCli)
+    std::string out;               // EXR file to write (required)
+};
+
+// Validate (core::Error naming the argument or file: σ, g, η via pathtrace::validate per
+// channel; 1 <= width, height <= 16384; 1 <= spp <= 10^7; light finite and non-zero; radius
+// finite > 0; threads >= 0; --out given; the mesh missing, malformed, open, inconsistently wound
+// or inward), trace, write the EXR, print the summary. Return 0.
+int runSphereCli(const ImageArgs& a);
+int runMeshCli(const ImageArgs& a);
+
+} // namespace app

@@ -1,0 +1,76 @@
+// Lit-sphere stage: progressive path-traced sphere in a background thread (see header).
+#include "lit_sphere_stage.h"
+
+#include "core/core.h"
+#include "image_view.h"
+#include "pathtrace/sphere_tracer.h"
+
+#include <algorithm>
+
+namespace app {
+
+void PathTracedSphere::cancel() {
+    m_cancel = true;
+    if (m_thread.joinable()) m_thread.join();
+    m_cancel = false;
+}
+
+void PathTracedSphere::wait() {
+    if (m_thread.joinable()) m_thread.join();
+}
+
+void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
+                             const pathtrace::LitSphereSetup& s, int targetSpp) {
+    cancel();
+    {
+        std::lock_guard lock(m_mutex);
+        m_image = pathtrace::Image{};
+        m_problem.clear();
+    }
+    m_sppDone = 0;
+    m_rate = 0;
+    m_target = targetSpp;
+    m_thread = std::thread([this, media, s, targetSpp] {
+        // passes of a few samples per pixel, each with its own seed: independent estimates
+        // merged by sample count, so the picture sharpens while the user watches
+        const int perPass = 2;
+        core::Stopwatch clock;
+        uint64_t paths = 0;
+        for (int done = 0, pass = 0; done < targetSpp && !m_cancel; ++pass) {
+            pathtrace::LitSphereSetup p = s;
+            p.samplesPerPixel = uint64_t(std::min(perPass, targetSpp - done));
+            p.seed = s.seed * 1000003ull + uint64_t(pass);
+            p.threads =
+                std::max(1u, std::thread::hardware_concurrency() - 1); // keep a core for the UI
+            pathtrace::Image img;
+            try {
+                img = pathtrace::traceLitSphere(media, p, {}, &m_cancel);
+            } catch (const core::Error& e) {
+                std::lock_guard lock(m_mutex);
+                m_problem = e.what();
+                return;
+            }
+            if (m_cancel) break; // a cut pass is dropped: the image stays a merge of whole passes
+            done += int(p.samplesPerPixel);
+            paths += 3 * pathtrace::litSpherePaths(p);
+            {
+                std::lock_guard lock(m_mutex);
+                m_image = combine(m_image, img);
+            }
+            m_sppDone = done;
+            m_rate = double(paths) / std::max(1e-9, clock.ms() * 1e-3);
+        }
+    });
+}
+
+pathtrace::Image PathTracedSphere::image() const {
+    std::lock_guard lock(m_mutex);
+    return m_image;
+}
+
+std::string PathTracedSphere::problem() const {
+    std::lock_guard lock(m_mutex);
+    return m_problem;
+}
+
+} // namespace app

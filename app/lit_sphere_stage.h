@@ -1,0 +1,56 @@
+// Lit-sphere stage (thesis 3.5, 3.6.2): the same sphere, light and camera (pathtrace/
+// lit_sphere.h) rendered two ways, progressively:
+//   - path traced: the volumetric tracer in a background thread, in passes of a few samples
+//     per pixel merged as independent estimates (the UI never waits);
+//   - BSSRDF integrated: the selected model's Bssrdf() integrated over the sphere by uniform
+//     area sampling on the GPU (shaders/sphere_bssrdf.comp), a slice per frame on the GL
+//     thread.
+#pragma once
+
+#include "bssrdf/sphere_integrator.h"
+#include "pathtrace/lit_sphere.h"
+#include "pathtrace/pathtrace.h"
+
+#include <array>
+#include <atomic>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace app {
+
+struct LitSphereSettings {
+    bool enabled = false;
+    double radiusMm = 10.0;
+    float lightDir[3] = {0.5f, 0.5f, 0.7071f}; // towards the light
+    int size = 128;                            // square image
+    int pathSpp = 64;                          // path tracer target, samples per pixel
+    int integratedSpp = 4096;                  // BSSRDF integration target, samples per pixel
+    uint64_t seed = 1;
+};
+
+class PathTracedSphere {
+  public:
+    ~PathTracedSphere() { cancel(); }
+    void start(const std::array<pathtrace::Medium, 3>& media, const pathtrace::LitSphereSetup& s,
+               int targetSpp);
+    void cancel();
+    void wait();
+    pathtrace::Image image() const;
+    int sppDone() const { return m_sppDone.load(); }
+    int sppTarget() const { return m_target; }
+    double pathsPerSecond() const { return m_rate.load(); }
+    std::string problem() const;
+
+  private:
+    std::thread m_thread;
+    std::atomic<bool> m_cancel{false};
+    std::atomic<int> m_sppDone{0};
+    std::atomic<double> m_rate{0};
+    int m_target = 0;
+    mutable std::mutex m_mutex;
+    pathtrace::Image m_image;
+    std::string m_problem;
+};
+
+} // namespace app

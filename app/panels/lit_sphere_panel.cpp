@@ -1,0 +1,152 @@
+// Lit spheres panel (thesis 3.6.2): the path-traced sphere and the selected model integrated
+// over the sphere, same camera, light and radius in mm; tabs, side by side, signed difference
+// with a colour bar; HDR exposure and gamma; samples per pixel; progress; click a pixel for
+// its value and standard error in both.
+#include "panels.h"
+
+#include "../image_view.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace app {
+
+namespace {
+
+// Draws `rgba` (top row first) as an image of `side` pixels; a click selects a pixel.
+void imageWithPick(gl::Texture& tex, const std::vector<uint8_t>& rgba, int w, int h, float side,
+                   UiState& ui) {
+    if (rgba.empty() || w <= 0) {
+        ImGui::Dummy(ImVec2(side, side));
+        return;
+    }
+    gl::uploadRGBA8(tex, w, h, rgba.data());
+    ImVec2 pos = ImGui::GetCursorScreenPos();
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(tex.id())),
+                 ImVec2(side, side));
+    if (ImGui::IsItemClicked()) {
+        ImVec2 m = ImGui::GetMousePos();
+        ui.pickX = std::clamp(int((m.x - pos.x) / side * float(w)), 0, w - 1);
+        ui.pickY = std::clamp(int((m.y - pos.y) / side * float(h)), 0, h - 1);
+    }
+    if (ui.pickX >= 0 && ui.pickY >= 0) { // mark the picked pixel
+        const float s = side / float(w);
+        ImVec2 a(pos.x + float(ui.pickX) * s, pos.y + float(ui.pickY) * s);
+        ImGui::GetWindowDrawList()->AddRect(
+            a, ImVec2(a.x + std::max(s, 3.0f), a.y + std::max(s, 3.0f)),
+            IM_COL32(255, 255, 0, 255));
+    }
+}
+
+void readout(const char* name, const pathtrace::Image& img, const UiState& ui) {
+    auto v = pixelAt(img, ui.pickX, ui.pickY);
+    if (!v.valid) return;
+    ImGui::Text("%-18s R %.4g +- %.2g  G %.4g +- %.2g  B %.4g +- %.2g", name, v.mean[0],
+                v.stderr_[0], v.mean[1], v.stderr_[1], v.mean[2], v.stderr_[2]);
+}
+
+void colourBar(float range) {
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    ImVec2 p = ImGui::GetCursorScreenPos();
+    const float w = 240, h = 12;
+    for (int i = 0; i < 48; ++i) {
+        auto c = divergingColor(-1.0f + 2.0f * (float(i) + 0.5f) / 48.0f);
+        dl->AddRectFilled(ImVec2(p.x + w * float(i) / 48, p.y),
+                          ImVec2(p.x + w * float(i + 1) / 48, p.y + h),
+                          IM_COL32(c[0], c[1], c[2], 255));
+    }
+    ImGui::Dummy(ImVec2(w, h));
+    ImGui::Text("-%.3g (integrated brighter)   0   +%.3g (path traced brighter)", range, range);
+}
+
+} // namespace
+
+void drawLitSpherePanel(Workbench& wb, UiState& ui) {
+    ImGui::SetNextWindowPos(ImVec2(420, 60), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(760, 560), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Lit spheres", &ui.showLitSpheres)) {
+        ImGui::End();
+        return;
+    }
+    LitSphereSettings& s = wb.litSphereSettings();
+    ImGui::Checkbox("render", &s.enabled);
+    ImGui::SameLine();
+    float radius = float(s.radiusMm);
+    ImGui::SetNextItemWidth(110);
+    if (ImGui::DragFloat("radius [mm]", &radius, 0.1f, 0.1f, 1000.0f, "%.3g"))
+        s.radiusMm = std::max(radius, 0.01f);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(200);
+    if (ImGui::SliderFloat3("light dir", s.lightDir, -1.0f, 1.0f, "%.2f")) {
+        if (std::abs(s.lightDir[0]) + std::abs(s.lightDir[1]) + std::abs(s.lightDir[2]) < 1e-3f)
+            s.lightDir[2] = 1.0f;
+    }
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::InputInt("size", &s.size, 32)) s.size = std::clamp(s.size, 16, 1024);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::InputInt("path spp", &s.pathSpp, 16)) s.pathSpp = std::clamp(s.pathSpp, 1, 100000);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(110);
+    if (ImGui::InputInt("BSSRDF spp", &s.integratedSpp, 1024))
+        s.integratedSpp = std::clamp(s.integratedSpp, 1, 10000000);
+    ImGui::SetNextItemWidth(120);
+    ImGui::SliderFloat("exposure", &ui.sphereExposure, -10.0f, 10.0f, "%.1f EV");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(120);
+    ImGui::SliderFloat("gamma", &ui.sphereGamma, 0.5f, 4.0f, "%.2f");
+    if (!s.enabled) {
+        ImGui::TextDisabled("Renders the first visible (or soloed) model's material both ways.");
+        ImGui::End();
+        return;
+    }
+    const auto& pt = wb.pathTracer();
+    ImGui::Text("model %s | path traced %d / %d spp (%.3g paths/s) | integrated %llu / %d spp",
+                wb.litSphereModel().c_str(), pt.sppDone(), pt.sppTarget(), pt.pathsPerSecond(),
+                (unsigned long long)wb.integratedSppDone(), s.integratedSpp);
+    if (!wb.litSphereProblem().empty())
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", wb.litSphereProblem().c_str());
+
+    const pathtrace::Image a = wb.pathTracedSphere(), b = wb.integratedSphere();
+    const float avail = ImGui::GetContentRegionAvail().x;
+    if (ImGui::BeginTabBar("views")) {
+        const char* names[4] = {"Path traced", "BSSRDF integrated", "Side by side", "Difference"};
+        // a view chosen from outside (state restore, tests) selects its tab once
+        const int wanted = ui.sphereView != ui.sphereViewShown ? ui.sphereView : -1;
+        for (int i = 0; i < 4; ++i)
+            if (ImGui::BeginTabItem(names[i], nullptr,
+                                    i == wanted ? ImGuiTabItemFlags_SetSelected : 0)) {
+                ui.sphereView = i;
+                ImGui::EndTabItem();
+            }
+        ui.sphereViewShown = ui.sphereView;
+        ImGui::EndTabBar();
+    }
+    const float side = std::min(ui.sphereView == 2 ? avail * 0.5f - 8 : avail, 420.0f);
+    if (ui.sphereView == 0 || ui.sphereView == 2)
+        imageWithPick(ui.sphereTex[0], tonemap(a, ui.sphereExposure, ui.sphereGamma), a.width,
+                      a.height, side, ui);
+    if (ui.sphereView == 2) ImGui::SameLine();
+    if (ui.sphereView == 1 || ui.sphereView == 2)
+        imageWithPick(ui.sphereTex[1], tonemap(b, ui.sphereExposure, ui.sphereGamma), b.width,
+                      b.height, side, ui);
+    if (ui.sphereView == 3) {
+        float range = ui.diffRange > 0 ? ui.diffRange : maxAbsDifference(a, b);
+        imageWithPick(ui.sphereTex[2], differenceMap(a, b, range), a.width, a.height, side, ui);
+        colourBar(range);
+        ImGui::SetNextItemWidth(160);
+        ImGui::DragFloat("range (0: auto)", &ui.diffRange, 0.001f, 0.0f, 10.0f, "%.4g");
+    }
+    if (ui.pickX >= 0) {
+        ImGui::Text("pixel (%d, %d): radiant exitance per unit irradiance", ui.pickX, ui.pickY);
+        readout("path traced", a, ui);
+        readout("BSSRDF integrated", b, ui);
+    } else {
+        ImGui::TextDisabled("click a pixel for its value and standard error in both images");
+    }
+    ImGui::End();
+}
+
+} // namespace app

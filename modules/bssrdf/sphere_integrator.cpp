@@ -1,0 +1,115 @@
+// bssrdf sphere integrator host side (see sphere_integrator.h): validation, uniforms,
+// dispatches and the double accumulation of the per-dispatch float sums.
+#include "bssrdf/sphere_integrator.h"
+
+#include "core/core.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace bssrdf {
+
+namespace {
+
+constexpr GLuint kSumsBinding = 0; // shaders/sphere_bssrdf.comp
+constexpr int kLocalSize = 8;      // local_size_x = local_size_y = 8
+constexpr int kMaxSide = 8192;
+
+std::string num(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+} // namespace
+
+void SphereIntegrator::reset(const pathtrace::LitSphereSetup& setup) {
+    const std::string what = "lit sphere";
+    if (!std::isfinite(setup.radiusMm) || setup.radiusMm <= 0)
+        throw core::Error(what, 0,
+                          "radius must be a finite length > 0 mm, got " + num(setup.radiusMm));
+    if (setup.width < 1 || setup.height < 1 || setup.width > kMaxSide || setup.height > kMaxSide)
+        throw core::Error(what, 0,
+                          "image size must lie in [1, " + std::to_string(kMaxSide) + "]², got " +
+                              std::to_string(setup.width) + "x" + std::to_string(setup.height));
+    const double* l = setup.lightDir;
+    const double len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    if (!std::isfinite(len) || len <= 0)
+        throw core::Error(what, 0, "light direction must be a finite non-zero vector");
+    m_setup = setup;
+    for (int c = 0; c < 3; ++c)
+        m_lightDir[c] = l[c] / len;
+    const size_t pixels = static_cast<size_t>(setup.width) * static_cast<size_t>(setup.height);
+    m_sums = gl::createBuffer(pixels * 8 * sizeof(float), nullptr);
+    m_readback.assign(pixels * 8, 0.0f);
+    m_sum.assign(pixels * 3, 0.0);
+    m_sumSq.assign(pixels * 3, 0.0);
+    m_samples = 0;
+    m_seconds = 0;
+}
+
+void SphereIntegrator::step(GLuint program, const Model& m, const ParamValues& values,
+                            const Builtins& b, int samplesPerPixel) {
+    if (samplesPerPixel <= 0 || !m_sums) return;
+    core::Stopwatch clock;
+    gl::ScopedStageTimer timer("sphere BSSRDF integration");
+    setUniforms(program, m, values, b); // also glUseProgram
+    auto loc = [&](const char* n) { return glGetUniformLocation(program, n); };
+    const pathtrace::LitSphereSetup& s = m_setup;
+    glUniform2i(loc("SphereSize"), s.width, s.height);
+    glUniform1f(loc("SphereRadius"), static_cast<float>(s.radiusMm));
+    glUniform1f(loc("SphereExtent"), static_cast<float>(s.extent()));
+    glUniform3f(loc("SphereLightDir"), static_cast<float>(m_lightDir[0]),
+                static_cast<float>(m_lightDir[1]), static_cast<float>(m_lightDir[2]));
+    glUniform2ui(loc("SphereSeed"), static_cast<GLuint>(s.seed), static_cast<GLuint>(s.seed >> 32));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSumsBinding, m_sums.id());
+    const auto groupsX = static_cast<GLuint>((s.width + kLocalSize - 1) / kLocalSize);
+    const auto groupsY = static_cast<GLuint>((s.height + kLocalSize - 1) / kLocalSize);
+    const size_t pixels = m_sum.size() / 3;
+    for (int done = 0; done < samplesPerPixel;) {
+        const int k = std::min(kMaxSamplesPerDispatch, samplesPerPixel - done);
+        glUniform2ui(loc("SphereFirstSample"), static_cast<GLuint>(m_samples),
+                     static_cast<GLuint>(m_samples >> 32));
+        glUniform1ui(loc("SphereSamples"), static_cast<GLuint>(k));
+        glDispatchCompute(groupsX, groupsY, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(m_sums.id(), 0,
+                                static_cast<GLsizeiptr>(m_readback.size() * sizeof(float)),
+                                m_readback.data());
+        for (size_t p = 0; p < pixels; ++p)
+            for (size_t c = 0; c < 3; ++c) {
+                m_sum[3 * p + c] += m_readback[8 * p + c];
+                m_sumSq[3 * p + c] += m_readback[8 * p + 4 + c];
+            }
+        m_samples += static_cast<uint64_t>(k);
+        done += k;
+    }
+    m_seconds += clock.ms() * 1e-3;
+}
+
+pathtrace::Image SphereIntegrator::image() const {
+    pathtrace::Image img;
+    img.width = m_sum.empty() ? 0 : m_setup.width;
+    img.height = m_sum.empty() ? 0 : m_setup.height;
+    img.mean.assign(m_sum.size(), 0.0f);
+    img.variance.assign(m_sum.size(), 0.0f);
+    const auto pixels = static_cast<uint64_t>(m_sum.size() / 3);
+    img.samples = m_samples * pixels;
+    if (m_samples == 0) return img;
+    const auto n = static_cast<double>(m_samples);
+    for (size_t i = 0; i < m_sum.size(); ++i) {
+        const double mean = m_sum[i] / n;
+        double var = 0.0;
+        if (m_samples >= 2)
+            var = std::max(0.0, (m_sumSq[i] / n - mean * mean) / (n - 1.0));
+        else if (m_sum[i] != 0.0 || m_sumSq[i] != 0.0)
+            var = std::numeric_limits<double>::infinity();
+        img.mean[i] = static_cast<float>(mean);
+        img.variance[i] = static_cast<float>(var);
+    }
+    return img;
+}
+
+} // namespace bssrdf

@@ -1,0 +1,55 @@
+// The lit-sphere stage in the app: both renderings of the same setup progress, restart on a
+// material change, and the panel draws (tabs, difference view, pixel readout).
+#include "../support/gl_fixture.h"
+#include "gui.h"
+#include "image_view.h"
+
+#include <cmath>
+
+TEST(LitSphereStage, PathTracedAndIntegratedImagesOfTheSameSetup) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("sphere", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    auto& s = wb.litSphereSettings();
+    s.enabled = true;
+    s.size = 24;
+    s.radiusMm = 5;
+    s.pathSpp = 4;
+    s.integratedSpp = 512;
+    wb.update();
+    wb.finishLitSpheres();
+    EXPECT_TRUE(wb.litSphereProblem().empty()) << wb.litSphereProblem();
+    auto a = wb.pathTracedSphere(), b = wb.integratedSphere();
+    ASSERT_EQ(a.width, 24);
+    ASSERT_EQ(b.width, 24);
+    EXPECT_EQ(wb.pathTracer().sppDone(), 4);
+    EXPECT_EQ(wb.integratedSppDone(), 512u);
+    // the centre pixel is lit in both, a corner (off the sphere) is 0 in both
+    auto pa = app::pixelAt(a, 12, 12), pb = app::pixelAt(b, 12, 12);
+    EXPECT_GT(pa.mean[0], 0.0f);
+    EXPECT_GT(pb.mean[0], 0.0f);
+    EXPECT_EQ(app::pixelAt(a, 0, 0).mean[0], 0.0f);
+    EXPECT_EQ(app::pixelAt(b, 0, 0).mean[0], 0.0f);
+    // the dipole and the path tracer see the same scene: red exitance of the same magnitude
+    EXPECT_LT(std::abs(std::log(pa.mean[0] / pb.mean[0])), std::log(3.0));
+
+    // a material change restarts both
+    wb.applyPreset(wb.shared(), "Marble");
+    wb.update();
+    wb.finishLitSpheres();
+    EXPECT_EQ(wb.integratedSppDone(), 512u);
+    EXPECT_NE(app::pixelAt(wb.integratedSphere(), 12, 12).mean[0], pb.mean[0]);
+
+    // the panel draws every view without errors
+    app::HeadlessGui gui(wb, 1280, 860);
+    gui.ui().showLitSpheres = true;
+    gui.ui().pickX = 12;
+    gui.ui().pickY = 12;
+    for (int v = 0; v < 4; ++v) {
+        gui.ui().sphereView = v;
+        gui.frame();
+    }
+    EXPECT_TRUE(wb.errors().empty());
+    std::filesystem::remove_all(root);
+}
