@@ -2,11 +2,13 @@
 #include "capture_io.h"
 
 #include "capture/capture.h"
+#include "pathtrace/image_io.h"
 #include "core/core.h"
 #include "gl/gl.h"
 #include "panels/panels.h"
 #include "settings_json.h"
 
+#include <cmath>
 #include <optional>
 #include <sstream>
 
@@ -124,6 +126,61 @@ capture::StageOutput writeStage(const fs::path& dir, const StageTable& t) {
     return capture::writeCsvStage(dir, t.stage, t.file, t.table, t.absTol, t.relTol, t.note);
 }
 
+// Lit-sphere images (when the stage is on): EXR with a variance per pixel, compared by
+// per-pixel z-tests (kind exr_stat) on replay.
+constexpr double kImageAlpha = 1e-3;
+struct ImageStage {
+    std::string stage, file;
+    pathtrace::Image image;
+};
+std::vector<ImageStage> imageStages(Workbench& wb) {
+    if (!wb.litSphereSettings().enabled) return {};
+    wb.finishLitSpheres();
+    if (!wb.litSphereProblem().empty()) throw core::Error("lit spheres", 0, wb.litSphereProblem());
+    return {{"lit_sphere.path_traced", "lit_sphere_path_traced.exr", wb.pathTracedSphere()},
+            {"lit_sphere.integrated", "lit_sphere_integrated.exr", wb.integratedSphere()}};
+}
+// x, y, then each channel with its standard error: the form compareStatTables reads.
+capture::Table imageTable(const pathtrace::Image& img) {
+    capture::Table t;
+    t.columns = {"x", "y", "R", "R_stderr", "G", "G_stderr", "B", "B_stderr"};
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const size_t p = size_t(y) * size_t(img.width) + size_t(x);
+            std::vector<double> row{double(x), double(y)};
+            for (int c = 0; c < 3; ++c) {
+                row.push_back(img.mean[3 * p + c]);
+                row.push_back(std::sqrt(std::max(0.0, double(img.variance[3 * p + c]))));
+            }
+            t.rows.push_back(std::move(row));
+        }
+    return t;
+}
+json sphereJson(const LitSphereSettings& s) {
+    return {{"enabled", s.enabled},
+            {"radius_mm", s.radiusMm},
+            {"light", {s.lightDir[0], s.lightDir[1], s.lightDir[2]}},
+            {"size", s.size},
+            {"path_spp", s.pathSpp},
+            {"integrated_spp", s.integratedSpp},
+            {"seed", s.seed}};
+}
+LitSphereSettings sphereFromJson(const json& j, const std::string& where) {
+    LitSphereSettings s;
+    try {
+        s.enabled = j.at("enabled").get<bool>();
+        s.radiusMm = j.at("radius_mm").get<double>();
+        for (int i = 0; i < 3; ++i) s.lightDir[i] = j.at("light").at(i).get<float>();
+        s.size = j.at("size").get<int>();
+        s.pathSpp = j.at("path_spp").get<int>();
+        s.integratedSpp = j.at("integrated_spp").get<int>();
+        s.seed = j.at("seed").get<uint64_t>();
+    } catch (const json::exception& e) {
+        throw core::Error(where, 0, std::string("settings.lit_spheres: ") + e.what());
+    }
+    return s;
+}
+
 json paramsJson(Workbench& wb) {
     json models = json::object();
     for (auto& e : wb.library().entries()) {
@@ -184,12 +241,19 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
                     {"paths", rs.paths},
                     {"bins", rs.bins},
                     {"seed", rs.seed},
-                    {"gpu", rs.gpu}}}};
+                    {"gpu", rs.gpu}}},
+                  {"lit_spheres", sphereJson(wb.litSphereSettings())}};
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
     for (auto& t : tables)
         m.outputs.push_back(writeStage(dir, t));
+    for (auto& im : imageStages(wb)) {
+        pathtrace::writeExr(dir / im.file, im.image);
+        m.outputs.push_back(capture::describeFileStage(
+            dir, im.stage, im.file, "exr_stat", kImageAlpha,
+            "Monte Carlo image: per-pixel z-test, Bonferroni over all pixels and channels"));
+    }
     capture::writeManifest(dir, m);
     for (const auto& s : missing)
         core::logWarn("capture " + name + ": not recorded: " + s);
@@ -230,10 +294,38 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
                 throw core::Error(where, 0, std::string("settings.reference: ") + e.what());
             }
         }
+        if (m.settings.contains("lit_spheres"))
+            wb.litSphereSettings() = sphereFromJson(m.settings["lit_spheres"], where);
         wb.update();
         std::vector<std::string> missing;
         auto tables = stageTables(wb, missing);
+        auto images = imageStages(wb);
         for (auto& rec : m.outputs) {
+            if (rec.kind == "exr_stat") {
+                auto im = std::find_if(images.begin(), images.end(),
+                                       [&](const ImageStage& i) { return i.stage == rec.stage; });
+                capture::Comparison c;
+                c.stage = rec.stage;
+                if (im == images.end()) {
+                    c.message = "stage not produced by this run (lit spheres off?)";
+                } else if (update) {
+                    pathtrace::writeExr(captureDir / rec.file, im->image);
+                    rec = capture::describeFileStage(captureDir, rec.stage, rec.file, rec.kind,
+                                                     rec.alpha, rec.tolNote);
+                    c.pass = true;
+                    c.message = "updated";
+                } else {
+                    try {
+                        c = capture::compareStatTables(rec.stage,
+                                                       imageTable(pathtrace::readExr(captureDir / rec.file)),
+                                                       imageTable(im->image), rec.alpha);
+                    } catch (const core::Error& e) {
+                        c.message = std::string("cannot read the recorded image: ") + e.what();
+                    }
+                }
+                report.stages.push_back(c);
+                continue;
+            }
             auto it = std::find_if(tables.begin(), tables.end(),
                                    [&](const StageTable& t) { return t.stage == rec.stage; });
             if (it == tables.end()) {

@@ -151,6 +151,13 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         wb.referenceSettings().paths = a.referencePaths;
         wb.referenceSettings().bins = a.referenceBins;
     }
+    if (a.litSphereSize > 0) {
+        auto& ls = wb.litSphereSettings();
+        ls.enabled = true;
+        ls.size = a.litSphereSize;
+        ls.pathSpp = 8;
+        ls.integratedSpp = 1024;
+    }
     wb.update();
     fs::path dir = a.outDir.empty() ? root / "captures" / a.name : fs::path(a.outDir);
     recordCaptureTo(wb, dir, a.name);

@@ -32,6 +32,7 @@ struct RecordArgs {
     std::vector<std::string> models;
     uint64_t referencePaths = 0; // > 0: also record the path-traced reference (per channel)
     int referenceBins = 200;
+    int litSphereSize = 0; // > 0: also record the lit-sphere images at this size
 };
 int runRecord(const std::filesystem::path& root, const RecordArgs& a);
 

@@ -123,6 +123,10 @@ int main(int argc, char** argv) {
     rec->add_option("--reference-paths", ra.referencePaths,
                     "also record the path-traced pencil-beam reference with this many paths per "
                     "channel (default 0: off)");
+    rec->add_option("--lit-spheres", ra.litSphereSize,
+                    "also record the lit-sphere images (path traced and BSSRDF integrated) at "
+                    "this size in pixels (default 0: off)")
+        ->check(CLI::Range(0, 1024));
     rec->add_option("--reference-bins", ra.referenceBins,
                     "radial bins of the reference (default 200)")
         ->check(CLI::Range(1, 100000));

@@ -288,7 +288,9 @@ bool Workbench::updateLitSpheres(double budgetMs) {
         m_integrator.step(e->programs.at("sphere_bssrdf.comp").id(), *e->model, e->values,
                           builtinsOf(p), n); // timed inside as "sphere BSSRDF integration"
         const double ms = sw.ms();
-        if (ms < 0.5 * budgetMs)
+        if (budgetMs < 0)
+            m_integratedSlice = kFixedSlice; // fixed slices (finishLitSpheres)
+        else if (ms < 0.5 * budgetMs)
             m_integratedSlice = std::min(m_integratedSlice * 2, 4096);
         else if (ms > budgetMs)
             m_integratedSlice = std::max(m_integratedSlice / 2, 1);
@@ -302,10 +304,14 @@ bool Workbench::updateLitSpheres(double budgetMs) {
 }
 
 void Workbench::finishLitSpheres() {
-    updateLitSpheres(1e9);
+    // restart and take fixed slices: the GPU sums then do not depend on frame timings, so the
+    // same build and seed give bitwise the same images (captures rely on it)
+    m_sphereKey.clear();
+    m_integratedSlice = kFixedSlice;
+    updateLitSpheres(-1);
     while (m_sphere.enabled && m_sphereProblem.empty() &&
            m_integrator.samplesPerPixelDone() < uint64_t(m_sphere.integratedSpp))
-        if (!updateLitSpheres(1e9)) break;
+        if (!updateLitSpheres(-1)) break;
     m_ptSphere->wait();
 }
 

@@ -132,6 +132,7 @@ class Workbench {
     void updateReference();
     // Returns the model whose σ the reference / lit spheres use (solo, else first visible).
     const bssrdf::ModelEntry* sourceModel(const ModelView** view) const;
+    // budgetMs < 0: fixed slices of kFixedSlice samples (deterministic), else adaptive.
     bool updateLitSpheres(double budgetMs);
 
     std::filesystem::path m_root;
@@ -155,6 +156,7 @@ class Workbench {
     std::string m_sphereKey, m_sphereModel, m_sphereProblem;
     int m_ptSppSeen = 0;
     int m_integratedSlice = 16;
+    static constexpr int kFixedSlice = 256;
 };
 
 // Effective σ for one model: validates, and inverts R_dr / l_d with the model's own

@@ -71,7 +71,10 @@ nlohmann::json toJson(const Manifest& manifest);
 // Validates like readManifest; errors name `fileForErrors` with line 0.
 Manifest fromJson(const nlohmann::json& json, const std::string& fileForErrors);
 
-std::vector<std::string> knownOutputKinds(); // {"csv", "csv_stat"}
+std::vector<std::string> knownOutputKinds(); // {"csv", "csv_stat", "exr_stat"}
+// Kinds compared by z-test at `alpha` (csv_stat; exr_stat: images with a variance per pixel,
+// read and converted to tables by the app, which owns the image format).
+bool isStatisticalKind(std::string_view kind);
 bool isValidName(std::string_view name);     // non-empty, [A-Za-z0-9_.-], not "." or ".."
 bool isHash(std::string_view text);          // "fnv1a64:" + 16 lowercase hex digits
 // "" when `path` is a plain relative path that stays inside its folder, else the reason.
@@ -150,6 +153,11 @@ StageOutput writeCsvStage(const std::filesystem::path& captureDir, const std::st
 // As writeCsvStage for a "csv_stat" output compared with compareStatTables at `alpha`.
 StageOutput writeCsvStatStage(const std::filesystem::path& captureDir, const std::string& stage,
                               const std::string& file, const Table& table, double alpha,
+                              const std::string& tolNote);
+// Describes a file the caller wrote itself (e.g. an EXR image): validates the names and alpha
+// (statistical kinds) and fills in the content hash.
+StageOutput describeFileStage(const std::filesystem::path& captureDir, const std::string& stage,
+                              const std::string& file, const std::string& kind, double alpha,
                               const std::string& tolNote);
 // Reads the recorded CSV of `output` from `captureDir` and compares `actual` against it with
 // the recorded tolerance. An unreadable recorded file gives a failing Comparison (message).

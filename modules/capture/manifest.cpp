@@ -120,7 +120,7 @@ class Reader {
 
     StageOutput output(const json& j, const JsonPath& at) {
         const bool stat = j.is_object() && j.contains("kind") && j["kind"].is_string() &&
-                          j["kind"].get<std::string>() == "csv_stat";
+                          isStatisticalKind(j["kind"].get<std::string>());
         if (stat)
             expectKeys(j, at, {"stage", "file", "kind", "alpha", "tolNote", "hash"});
         else
@@ -218,7 +218,11 @@ std::string parseErrorMessage(const std::string& what) {
 } // namespace
 
 std::vector<std::string> knownOutputKinds() {
-    return {"csv", "csv_stat"};
+    return {"csv", "csv_stat", "exr_stat"};
+}
+
+bool isStatisticalKind(std::string_view kind) {
+    return kind == "csv_stat" || kind == "exr_stat";
 }
 
 bool isValidName(std::string_view name) {
@@ -283,7 +287,7 @@ nlohmann::json toJson(const Manifest& m) {
                     {"kind", o.kind},
                     {"tolNote", o.tolNote},
                     {"hash", o.hash}};
-        if (o.kind == "csv_stat") {
+        if (isStatisticalKind(o.kind)) {
             out["alpha"] = o.alpha;
         } else {
             out["absTol"] = o.absTol;

@@ -2,6 +2,8 @@
 // and the replay report the CLI prints.
 #include "capture.h"
 
+#include <algorithm>
+
 #include "core/core.h"
 
 #include <cmath>
@@ -33,6 +35,29 @@ StageOutput writeCsvStage(const std::filesystem::path& captureDir, const std::st
     out.kind = "csv";
     out.absTol = absTol;
     out.relTol = relTol;
+    out.tolNote = tolNote;
+    out.hash = hashFile(path);
+    return out;
+}
+
+StageOutput describeFileStage(const std::filesystem::path& captureDir, const std::string& stage,
+                              const std::string& file, const std::string& kind, double alpha,
+                              const std::string& tolNote) {
+    const std::filesystem::path path = captureDir / file;
+    if (!isValidName(stage))
+        throw core::Error(path.string(), 0, "'" + stage + "' is not a valid stage name");
+    std::string problem = relativePathProblem(file);
+    if (!problem.empty()) throw core::Error(path.string(), 0, problem);
+    auto kinds = knownOutputKinds();
+    if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
+        throw core::Error(path.string(), 0, "unknown output kind '" + kind + "'");
+    if (isStatisticalKind(kind) && !(alpha > 0 && alpha < 1))
+        throw core::Error(path.string(), 0, "alpha must lie in (0, 1)");
+    StageOutput out;
+    out.stage = stage;
+    out.file = file;
+    out.kind = kind;
+    out.alpha = isStatisticalKind(kind) ? alpha : 0;
     out.tolNote = tolNote;
     out.hash = hashFile(path);
     return out;

@@ -3,6 +3,9 @@
 #include "../support/gl_fixture.h"
 #include "capture/capture.h"
 #include "capture_io.h"
+#include "pathtrace/image_io.h"
+
+#include <cmath>
 
 namespace {
 namespace fs = std::filesystem;
@@ -104,4 +107,45 @@ TEST(CaptureReplay, CorruptManifestIsUnreadable) {
     EXPECT_EQ(replay(r, out), 2) << out;
     EXPECT_NE(out.find("manifest.json:"), std::string::npos) << out;
     fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, LitSphereImagesAreComparedPerPixel) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("images", {"dipole.bssrdf"});
+    const auto dir = root / "captures" / "img";
+    {
+        app::Workbench wb(root, false);
+        wb.applyPreset(wb.shared(), "Skin1");
+        auto& s = wb.litSphereSettings();
+        s.enabled = true;
+        s.size = 16;
+        s.radiusMm = 4;
+        s.pathSpp = 4;
+        s.integratedSpp = 256;
+        app::recordCaptureTo(wb, dir, "img");
+    }
+    auto m = capture::readManifest(dir);
+    int images = 0;
+    for (const auto& o : m.outputs) images += o.kind == "exr_stat";
+    EXPECT_EQ(images, 2);
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    EXPECT_NE(out.find("PASS lit_sphere.path_traced"), std::string::npos) << out;
+    EXPECT_NE(out.find("PASS lit_sphere.integrated"), std::string::npos) << out;
+    // same build, same seed: bitwise the same images (z = 0 everywhere)
+    for (const char* stage : {"lit_sphere.path_traced", "lit_sphere.integrated"}) {
+        const auto at = out.find(stage);
+        ASSERT_NE(at, std::string::npos);
+        const std::string line = out.substr(at, out.find('\n', at) - at);
+        EXPECT_NE(line.find("identical"), std::string::npos) << line;
+    }
+    // a pixel moved by 20 of its standard errors fails, naming the stage
+    auto img = pathtrace::readExr(dir / "lit_sphere_integrated.exr");
+    const size_t p = (8 * 16 + 8) * 3;
+    img.mean[p] += 20.0f * std::sqrt(img.variance[p]);
+    pathtrace::writeExr(dir / "lit_sphere_integrated.exr", img);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
+    EXPECT_NE(out.find("FAIL lit_sphere.integrated"), std::string::npos) << out;
+    EXPECT_NE(out.find("PASS lit_sphere.path_traced"), std::string::npos) << out;
+    std::filesystem::remove_all(root);
 }
