@@ -2,10 +2,10 @@
 #include "capture_io.h"
 
 #include "capture/capture.h"
-#include "pathtrace/image_io.h"
 #include "core/core.h"
 #include "gl/gl.h"
 #include "panels/panels.h"
+#include "pathtrace/image_io.h"
 #include "settings_json.h"
 
 #include <cmath>
@@ -170,7 +170,8 @@ LitSphereSettings sphereFromJson(const json& j, const std::string& where) {
     try {
         s.enabled = j.at("enabled").get<bool>();
         s.radiusMm = j.at("radius_mm").get<double>();
-        for (int i = 0; i < 3; ++i) s.lightDir[i] = j.at("light").at(i).get<float>();
+        for (int i = 0; i < 3; ++i)
+            s.lightDir[i] = j.at("light").at(i).get<float>();
         s.size = j.at("size").get<int>();
         s.pathSpp = j.at("path_spp").get<int>();
         s.integratedSpp = j.at("integrated_spp").get<int>();
@@ -316,9 +317,9 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
                     c.message = "updated";
                 } else {
                     try {
-                        c = capture::compareStatTables(rec.stage,
-                                                       imageTable(pathtrace::readExr(captureDir / rec.file)),
-                                                       imageTable(im->image), rec.alpha);
+                        c = capture::compareStatTables(
+                            rec.stage, imageTable(pathtrace::readExr(captureDir / rec.file)),
+                            imageTable(im->image), rec.alpha);
                     } catch (const core::Error& e) {
                         c.message = std::string("cannot read the recorded image: ") + e.what();
                     }

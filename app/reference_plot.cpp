@@ -7,7 +7,8 @@ namespace app {
 
 plot::Series referenceSeries(const ReferenceSnapshot& snap, int channel, bool rTimesR) {
     plot::Series s;
-    s.label = "path traced (" + std::to_string(snap.pathsDone) + " paths/channel)";
+    s.label = "path traced R_d/(1-R_sp) (" + std::to_string(snap.pathsDone) + " paths/channel, " +
+              snap.device + ")";
     s.color = 0xffe0e0e0u;
     s.marker = true;
     s.dashed = true;

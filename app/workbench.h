@@ -121,6 +121,8 @@ class Workbench {
     uint64_t integratedSppDone() const { return m_integrator.samplesPerPixelDone(); }
     const std::string& litSphereProblem() const { return m_sphereProblem; }
     void restartLitSpheres() { m_sphereKey.clear(); }
+    // Stops the path tracer where it is (the image keeps the passes completed so far).
+    void cancelLitSpheres() { m_ptSphere->cancel(); }
     // Runs both renderings to their targets (tests, captures).
     void finishLitSpheres();
     static std::string normalisationNote();

@@ -106,6 +106,10 @@ void drawLitSpherePanel(Workbench& wb, UiState& ui) {
     ImGui::Text("model %s | path traced %d / %d spp (%.3g paths/s) | integrated %llu / %d spp",
                 wb.litSphereModel().c_str(), pt.sppDone(), pt.sppTarget(), pt.pathsPerSecond(),
                 (unsigned long long)wb.integratedSppDone(), s.integratedSpp);
+    if (pt.sppDone() < pt.sppTarget()) {
+        ImGui::SameLine();
+        if (ImGui::SmallButton("cancel path tracing")) wb.cancelLitSpheres();
+    }
     if (!wb.litSphereProblem().empty())
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", wb.litSphereProblem().c_str());
 

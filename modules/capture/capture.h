@@ -75,8 +75,8 @@ std::vector<std::string> knownOutputKinds(); // {"csv", "csv_stat", "exr_stat"}
 // Kinds compared by z-test at `alpha` (csv_stat; exr_stat: images with a variance per pixel,
 // read and converted to tables by the app, which owns the image format).
 bool isStatisticalKind(std::string_view kind);
-bool isValidName(std::string_view name);     // non-empty, [A-Za-z0-9_.-], not "." or ".."
-bool isHash(std::string_view text);          // "fnv1a64:" + 16 lowercase hex digits
+bool isValidName(std::string_view name); // non-empty, [A-Za-z0-9_.-], not "." or ".."
+bool isHash(std::string_view text);      // "fnv1a64:" + 16 lowercase hex digits
 // "" when `path` is a plain relative path that stays inside its folder, else the reason.
 std::string relativePathProblem(std::string_view path);
 std::string utcNow(); // current time as "YYYY-MM-DDTHH:MM:SSZ"

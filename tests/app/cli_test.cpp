@@ -541,3 +541,69 @@ TEST_F(Cli, ReplayMissingCaptureNamesManifest) {
 }
 
 } // namespace
+
+// ---- path tracer: slab, sphere, mesh ----------------------------------------------------------
+
+TEST_F(Cli, SlabWritesHistogramWithStandardErrors) {
+    std::vector<std::string> args = {"slab",    "--sigma-a", "0.1",     "--sigma-s", "1",
+                                     "--paths", "20000",     "--bins",  "25",        "--rmax",
+                                     "5",       "--out",     "slab.csv"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    const std::string text = readText(dir() / "slab.csv");
+    for (const char* key : {"# sigma_a 0.1", "# paths 20000", "# total_Rd ", "# specular ",
+                            "# absorbed ", "# wall_s ", "# paths_per_s ", "r_mm,Rd_per_mm2,stderr"})
+        EXPECT_TRUE(contains(text, key)) << key;
+    int rows = 0;
+    for (const auto& line : splitLines(text))
+        if (!line.empty() && line[0] != '#' && line[0] != 'r') {
+            auto v = splitOn(line, ',');
+            ASSERT_EQ(v.size(), 3u) << line;
+            EXPECT_NEAR(std::stod(v[0]), 0.1 + 0.2 * rows, 1e-9); // bin centres
+            EXPECT_GE(std::stod(v[2]), 0.0);
+            ++rows;
+        }
+    EXPECT_EQ(rows, 25);
+}
+
+TEST_F(Cli, SlabRejectsBadInputs) {
+    const std::vector<std::string> base = {"slab", "--paths", "1000", "--out", "x.csv"};
+    auto with = [&](std::vector<std::string> extra) {
+        auto a = base;
+        a.insert(a.end(), extra.begin(), extra.end());
+        return a;
+    };
+    expectFailure(with({"--sigma-a", "-0.1"}), {"sigma_a"});
+    expectFailure(with({"--sigma-s", "0"}), {"sigma_s"});
+    expectFailure(with({"--g", "1"}), {"g"});
+    expectFailure(with({"--eta", "0"}), {"eta"});
+    expectFailure(with({"--bins", "0"}), {"bins"});
+    expectFailure(with({"--rmax", "-1"}), {"rmax"});
+    expectFailure({"slab", "--paths", "0", "--out", "x.csv"}, {"path"});
+    expectFailure({"slab", "--paths", "1000", "--out", "/proc/nope/x.csv"}, {"/proc/nope/x.csv"});
+    // sigma_a = 0 (no absorption) is valid
+    RunResult r = run({"slab", "--sigma-a", "0", "--paths", "2000", "--out", "ok.csv"});
+    EXPECT_EQ(r.code, 0) << r.output;
+}
+
+TEST_F(Cli, SphereAndMeshWriteExrAndRejectBadMeshes) {
+    RunResult r = run({"sphere", "--size", "16x16", "--spp", "2", "--out", "s.exr"});
+    ASSERT_EQ(r.code, 0) << r.output;
+    const std::string exr = readText(dir() / "s.exr");
+    ASSERT_GE(exr.size(), 4u);
+    EXPECT_EQ(static_cast<unsigned char>(exr[0]), 0x76); // OpenEXR magic 76 2f 31 01
+    EXPECT_EQ(static_cast<unsigned char>(exr[1]), 0x2f);
+    expectFailure({"mesh", "--mesh", "missing.obj", "--out", "m.exr"}, {"missing.obj"});
+    {
+        std::ofstream bad(dir() / "open.obj");
+        bad << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"; // one triangle: open
+    }
+    expectFailure({"mesh", "--mesh", "open.obj", "--size", "8x8", "--out", "m.exr"}, {"open"});
+    {
+        std::ofstream bad(dir() / "garbage.obj");
+        bad << "v 0 zero 0\nf 1 2\n";
+    }
+    expectFailure({"mesh", "--mesh", "garbage.obj", "--out", "m.exr"}, {"garbage.obj"});
+    expectFailure({"sphere", "--light", "0,0,0", "--out", "s.exr"}, {"light"});
+    expectFailure({"sphere", "--spp", "0", "--out", "s.exr"}, {"--spp"});
+}

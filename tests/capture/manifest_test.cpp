@@ -200,7 +200,8 @@ TEST(Manifest, InvalidValues) {
     core::Error e = readEdited(tmp.path(), [](json& j) { j["outputs"][0]["relTol"] = -1e-5; });
     EXPECT_EQ(e.message(), "outputs[0].relTol: must be finite and >= 0");
     e = readEdited(tmp.path(), [](json& j) { j["outputs"][0]["kind"] = "png"; });
-    EXPECT_EQ(e.message(), "outputs[0].kind: unknown output kind 'png' (known: csv, csv_stat, exr_stat)");
+    EXPECT_EQ(e.message(),
+              "outputs[0].kind: unknown output kind 'png' (known: csv, csv_stat, exr_stat)");
     e = readEdited(tmp.path(), [](json& j) { j["outputs"][0]["hash"] = "abc"; });
     EXPECT_NE(e.message().find("not a content hash"), std::string::npos);
     e = readEdited(tmp.path(), [](json& j) { j["name"] = "my capture"; });

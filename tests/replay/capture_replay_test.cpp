@@ -126,7 +126,8 @@ TEST(CaptureReplay, LitSphereImagesAreComparedPerPixel) {
     }
     auto m = capture::readManifest(dir);
     int images = 0;
-    for (const auto& o : m.outputs) images += o.kind == "exr_stat";
+    for (const auto& o : m.outputs)
+        images += o.kind == "exr_stat";
     EXPECT_EQ(images, 2);
     std::string out;
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
