@@ -163,7 +163,8 @@ json sphereJson(const LitSphereSettings& s) {
             {"size", s.size},
             {"path_spp", s.pathSpp},
             {"integrated_spp", s.integratedSpp},
-            {"seed", s.seed}};
+            {"seed", s.seed},
+            {"gpu", s.gpu}};
 }
 LitSphereSettings sphereFromJson(const json& j, const std::string& where) {
     LitSphereSettings s;
@@ -176,6 +177,7 @@ LitSphereSettings sphereFromJson(const json& j, const std::string& where) {
         s.pathSpp = j.at("path_spp").get<int>();
         s.integratedSpp = j.at("integrated_spp").get<int>();
         s.seed = j.at("seed").get<uint64_t>();
+        s.gpu = j.value("gpu", false);
     } catch (const json::exception& e) {
         throw core::Error(where, 0, std::string("settings.lit_spheres: ") + e.what());
     }

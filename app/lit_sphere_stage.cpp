@@ -20,7 +20,7 @@ void PathTracedSphere::wait() {
 }
 
 void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
-                             const pathtrace::LitSphereSetup& s, int targetSpp) {
+                             const pathtrace::LitSphereSetup& s, int targetSpp, bool gpu) {
     cancel();
     {
         std::lock_guard lock(m_mutex);
@@ -30,6 +30,19 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
     m_sppDone = 0;
     m_rate = 0;
     m_target = targetSpp;
+    m_useGpu = gpu;
+    if (gpu) {
+        try {
+            if (!m_gpu) m_gpu = std::make_unique<pathtrace::GpuSphereTracer>(m_gpuShader);
+            pathtrace::LitSphereSetup p = s;
+            p.samplesPerPixel = uint64_t(targetSpp);
+            m_gpu->reset(media, p);
+            m_pathsPerSpp = std::max<uint64_t>(1, m_gpu->targetPaths() / uint64_t(targetSpp));
+        } catch (const core::Error& e) {
+            m_problem = e.what();
+        }
+        return;
+    }
     m_thread = std::thread([this, media, s, targetSpp] {
         // passes of a few samples per pixel, each with its own seed: independent estimates
         // merged by sample count, so the picture sharpens while the user watches
@@ -63,14 +76,46 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
     });
 }
 
+bool PathTracedSphere::stepGpu(double budgetMs) {
+    if (!m_useGpu || !m_gpu || !m_problem.empty() || m_gpu->finished()) return false;
+    core::Stopwatch clock;
+    const double before = m_gpu->seconds();
+    try {
+        do {
+            m_gpu->step(4096);
+        } while (!m_gpu->finished() && clock.ms() < budgetMs);
+    } catch (const core::Error& e) {
+        std::lock_guard lock(m_mutex);
+        m_problem = e.what();
+    }
+    m_sppDone = int(std::min<uint64_t>(m_gpu->pathsDone() / m_pathsPerSpp, uint64_t(m_target)));
+    const double sec = m_gpu->seconds();
+    m_rate = sec > 0 ? 3.0 * double(m_gpu->pathsDone()) / sec : 0.0;
+    (void)before;
+    return true;
+}
+
+void PathTracedSphere::reloadGpu() {
+    if (!m_gpu) return;
+    try {
+        m_gpu->reload(); // success starts the image over
+        m_shaderProblem.clear();
+        m_sppDone = 0;
+    } catch (const core::Error& e) {
+        m_shaderProblem = e.what();
+        core::logError("path tracer shader: " + m_shaderProblem + " (previous program kept)");
+    }
+}
+
 pathtrace::Image PathTracedSphere::image() const {
+    if (m_useGpu) return m_gpu && m_gpu->pathsDone() > 0 ? m_gpu->image() : pathtrace::Image{};
     std::lock_guard lock(m_mutex);
     return m_image;
 }
 
 std::string PathTracedSphere::problem() const {
     std::lock_guard lock(m_mutex);
-    return m_problem;
+    return m_problem.empty() ? m_shaderProblem : m_problem;
 }
 
 } // namespace app

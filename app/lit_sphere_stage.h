@@ -8,11 +8,14 @@
 #pragma once
 
 #include "bssrdf/sphere_integrator.h"
+#include "pathtrace/gpu_sphere.h"
 #include "pathtrace/lit_sphere.h"
 #include "pathtrace/pathtrace.h"
 
 #include <array>
 #include <atomic>
+#include <filesystem>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -27,13 +30,22 @@ struct LitSphereSettings {
     int pathSpp = 64;                          // path tracer target, samples per pixel
     int integratedSpp = 4096;                  // BSSRDF integration target, samples per pixel
     uint64_t seed = 1;
+    bool gpu = false; // path trace on the GL compute tracer (sliced per frame) instead of the CPU
 };
 
+// The path-traced sphere: CPU passes in a background thread, or the GL compute tracer
+// (shaders/pathtrace_sphere.comp) stepped from the GL thread with stepGpu().
 class PathTracedSphere {
   public:
+    explicit PathTracedSphere(std::filesystem::path gpuShader)
+        : m_gpuShader(std::move(gpuShader)) {}
     ~PathTracedSphere() { cancel(); }
     void start(const std::array<pathtrace::Medium, 3>& media, const pathtrace::LitSphereSetup& s,
-               int targetSpp);
+               int targetSpp, bool gpu = false);
+    // GPU mode: traces for about `budgetMs` (GL thread); returns true when paths were added.
+    bool stepGpu(double budgetMs);
+    // A path tracer shader changed: recompile; on error the old program keeps running.
+    void reloadGpu();
     void cancel();
     void wait();
     pathtrace::Image image() const;
@@ -51,6 +63,11 @@ class PathTracedSphere {
     mutable std::mutex m_mutex;
     pathtrace::Image m_image;
     std::string m_problem;
+    std::filesystem::path m_gpuShader;
+    std::unique_ptr<pathtrace::GpuSphereTracer> m_gpu;
+    bool m_useGpu = false;
+    uint64_t m_pathsPerSpp = 1;
+    std::string m_shaderProblem;
 };
 
 } // namespace app

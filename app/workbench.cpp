@@ -82,6 +82,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     if (const auto* p = material::findPreset(m_presets, m_shared.preset))
         m_shared.params = material::applyPreset(*p, m_shared.params);
     m_gpuRef = std::make_unique<GpuReference>(m_root / "shaders" / "pathtrace_slab.comp");
+    m_ptSphere = std::make_unique<PathTracedSphere>(m_root / "shaders" / "pathtrace_sphere.comp");
     m_library = std::make_unique<bssrdf::ModelLibrary>(
         m_root,
         std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp", "sphere_bssrdf.comp"});
@@ -190,7 +191,8 @@ bool Workbench::update() {
             changed |= m_library->onFilesChanged(paths);
             for (const auto& p : paths)
                 if (p.filename().string().rfind("pathtrace", 0) == 0) {
-                    m_gpuRef->reload(); // the GPU reference's shader or one of its includes
+                    m_gpuRef->reload(); // the GPU tracers' shaders or their includes
+                    m_ptSphere->reloadGpu();
                     changed = true;
                     break;
                 }
@@ -257,7 +259,7 @@ bool Workbench::updateLitSpheres(double budgetMs) {
     k.precision(17);
     k << e->displayPath << '|' << e->generation << '|' << view->materialKey << '|' << setup.radiusMm
       << '|' << setup.lightDir[0] << ',' << setup.lightDir[1] << ',' << setup.lightDir[2] << '|'
-      << setup.width << '|' << setup.seed << '|' << m_sphere.pathSpp;
+      << setup.width << '|' << setup.seed << '|' << m_sphere.pathSpp << '|' << m_sphere.gpu;
     for (auto& [n, val] : e->values)
         k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
     bool changed = false;
@@ -271,7 +273,7 @@ bool Workbench::updateLitSpheres(double budgetMs) {
             media[c] = {p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
         try {
             m_integrator.reset(setup);
-            m_ptSphere->start(media, setup, m_sphere.pathSpp);
+            m_ptSphere->start(media, setup, m_sphere.pathSpp, m_sphere.gpu);
         } catch (const core::Error& err) {
             m_sphereProblem = err.what();
             m_ptSphere->cancel();
@@ -296,6 +298,7 @@ bool Workbench::updateLitSpheres(double budgetMs) {
             m_integratedSlice = std::max(m_integratedSlice / 2, 1);
         changed = true;
     }
+    if (m_sphere.gpu) m_ptSphere->stepGpu(budgetMs < 0 ? 1e9 : 0.5 * budgetMs);
     if (m_ptSphere->sppDone() != m_ptSppSeen) {
         m_ptSppSeen = m_ptSphere->sppDone();
         changed = true;

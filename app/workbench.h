@@ -153,7 +153,7 @@ class Workbench {
     std::string m_refKey, m_refModel;
     uint64_t m_refVersion = 0, m_gpuSteps = 0;
     LitSphereSettings m_sphere;
-    std::unique_ptr<PathTracedSphere> m_ptSphere = std::make_unique<PathTracedSphere>();
+    std::unique_ptr<PathTracedSphere> m_ptSphere;
     bssrdf::SphereIntegrator m_integrator;
     std::string m_sphereKey, m_sphereModel, m_sphereProblem;
     int m_ptSppSeen = 0;

@@ -92,6 +92,11 @@ void drawLitSpherePanel(Workbench& wb, UiState& ui) {
     ImGui::SetNextItemWidth(110);
     if (ImGui::InputInt("BSSRDF spp", &s.integratedSpp, 1024))
         s.integratedSpp = std::clamp(s.integratedSpp, 1, 10000000);
+    ImGui::SameLine();
+    ImGui::Checkbox("GPU path tracer", &s.gpu);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
+                          "slice per frame;\noff: CPU tracer in a background thread");
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("exposure", &ui.sphereExposure, -10.0f, 10.0f, "%.1f EV");
     ImGui::SameLine();

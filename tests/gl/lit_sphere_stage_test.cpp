@@ -1,6 +1,7 @@
 // The lit-sphere stage in the app: both renderings of the same setup progress, restart on a
 // material change, and the panel draws (tabs, difference view, pixel readout).
 #include "../support/gl_fixture.h"
+#include "capture/capture.h"
 #include "gui.h"
 #include "image_view.h"
 
@@ -51,5 +52,40 @@ TEST(LitSphereStage, PathTracedAndIntegratedImagesOfTheSameSetup) {
         gui.frame();
     }
     EXPECT_TRUE(wb.errors().empty());
+    std::filesystem::remove_all(root);
+}
+
+TEST(LitSphereStage, GpuPathTracerAgreesWithTheCpuOne) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("spheregpu", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    auto& s = wb.litSphereSettings();
+    s.enabled = true;
+    s.size = 12;
+    s.radiusMm = 4;
+    s.pathSpp = 64;
+    s.integratedSpp = 16;
+    s.gpu = true;
+    wb.update(); // one frame: a slice
+    wb.finishLitSpheres();
+    EXPECT_TRUE(wb.errors().empty());
+    const auto gpu = wb.pathTracedSphere();
+    EXPECT_EQ(wb.pathTracer().sppDone(), 64);
+    s.gpu = false;
+    wb.finishLitSpheres();
+    const auto cpu = wb.pathTracedSphere();
+    ASSERT_EQ(gpu.width, cpu.width);
+    // per-pixel z-test with a Bonferroni limit over the covered pixels and channels
+    int tested = 0;
+    double worst = 0;
+    for (size_t i = 0; i < cpu.mean.size(); ++i) {
+        const double se = std::sqrt(double(cpu.variance[i]) + double(gpu.variance[i]));
+        if (!(se > 0)) continue;
+        ++tested;
+        worst = std::max(worst, std::abs(double(cpu.mean[i]) - double(gpu.mean[i])) / se);
+    }
+    EXPECT_GT(tested, 100);
+    EXPECT_LT(worst, capture::normalUpperQuantile(1e-3 / (2.0 * tested)));
     std::filesystem::remove_all(root);
 }
