@@ -137,6 +137,8 @@ std::vector<ImageStage> imageStages(Workbench& wb) {
     if (!wb.litSphereSettings().enabled) return {};
     wb.finishLitSpheres();
     if (!wb.litSphereProblem().empty()) throw core::Error("lit spheres", 0, wb.litSphereProblem());
+    if (!wb.litSphereSettings().mesh.empty()) // the BSSRDF integration covers the sphere only
+        return {{"lit_mesh.path_traced", "lit_mesh_path_traced.exr", wb.pathTracedSphere()}};
     return {{"lit_sphere.path_traced", "lit_sphere_path_traced.exr", wb.pathTracedSphere()},
             {"lit_sphere.integrated", "lit_sphere_integrated.exr", wb.integratedSphere()}};
 }
@@ -164,7 +166,8 @@ json sphereJson(const LitSphereSettings& s) {
             {"path_spp", s.pathSpp},
             {"integrated_spp", s.integratedSpp},
             {"seed", s.seed},
-            {"gpu", s.gpu}};
+            {"gpu", s.gpu},
+            {"mesh", s.mesh}};
 }
 LitSphereSettings sphereFromJson(const json& j, const std::string& where) {
     LitSphereSettings s;
@@ -178,6 +181,7 @@ LitSphereSettings sphereFromJson(const json& j, const std::string& where) {
         s.integratedSpp = j.at("integrated_spp").get<int>();
         s.seed = j.at("seed").get<uint64_t>();
         s.gpu = j.value("gpu", false);
+        s.mesh = j.value("mesh", std::string());
     } catch (const json::exception& e) {
         throw core::Error(where, 0, std::string("settings.lit_spheres: ") + e.what());
     }
@@ -234,6 +238,15 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
         std::string text = core::readFile(e.file);
         m.models.push_back({e.displayPath, core::hashHex(text), text});
     }
+    if (const std::string& mesh = wb.litSphereSettings().mesh;
+        !mesh.empty() && wb.litSphereSettings().enabled) {
+        // the mesh is an input like the models: path (relative to the root) and content hash
+        std::string text = core::readFile(wb.root() / mesh);
+        m.models.push_back({mesh, core::hashHex(text),
+                            text.size() < (1u << 20)
+                                ? text
+                                : "(mesh, " + std::to_string(text.size()) + " bytes)"});
+    }
     m.params = paramsJson(wb);
     const ReferenceSettings& rs = wb.referenceSettings();
     m.settings = {{"plot", toJson(wb.plotSettings())},
@@ -280,7 +293,8 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
     if (!update) report.inputProblems = capture::checkInputs(m, captureDir, root);
     std::vector<fs::path> models;
     for (const auto& mf : m.models)
-        if (fs::exists(root / mf.path)) models.push_back(root / mf.path);
+        if (fs::exists(root / mf.path) && fs::path(mf.path).extension() == ".bssrdf")
+            models.push_back(root / mf.path);
     const std::string where = (captureDir / capture::kManifestFileName).string();
     try {
         Workbench wb(root, false, models);

@@ -157,6 +157,10 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         ls.size = a.litSphereSize;
         ls.pathSpp = 8;
         ls.integratedSpp = 1024;
+        if (!a.litMesh.empty()) {
+            fs::path mesh = resolveModel(root, a.litMesh); // exists, absolute or under root
+            ls.mesh = core::relativeTo(mesh, root);
+        }
     }
     wb.update();
     fs::path dir = a.outDir.empty() ? root / "captures" / a.name : fs::path(a.outDir);

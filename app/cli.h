@@ -33,6 +33,7 @@ struct RecordArgs {
     uint64_t referencePaths = 0; // > 0: also record the path-traced reference (per channel)
     int referenceBins = 200;
     int litSphereSize = 0; // > 0: also record the lit-sphere images at this size
+    std::string litMesh;   // with litSphereSize: path trace this OBJ instead of the sphere
 };
 int runRecord(const std::filesystem::path& root, const RecordArgs& a);
 

@@ -20,7 +20,8 @@ void PathTracedSphere::wait() {
 }
 
 void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
-                             const pathtrace::LitSphereSetup& s, int targetSpp, bool gpu) {
+                             const pathtrace::LitSphereSetup& s, int targetSpp, bool gpu,
+                             const std::filesystem::path& mesh) {
     cancel();
     {
         std::lock_guard lock(m_mutex);
@@ -30,8 +31,21 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
     m_sppDone = 0;
     m_rate = 0;
     m_target = targetSpp;
-    m_useGpu = gpu;
-    if (gpu) {
+    m_useGpu = gpu && mesh.empty(); // the GL tracer knows the sphere only
+    if (!mesh.empty() && (mesh != m_meshPath || !m_mesh)) {
+        try {
+            m_mesh = std::make_shared<const pathtrace::LitMesh>(pathtrace::loadLitMesh(mesh));
+            m_meshPath = mesh;
+        } catch (const core::Error& e) {
+            m_mesh.reset();
+            m_meshPath.clear();
+            std::lock_guard lock(m_mutex);
+            m_problem = e.what();
+            return;
+        }
+    }
+    std::shared_ptr<const pathtrace::LitMesh> meshToTrace = mesh.empty() ? nullptr : m_mesh;
+    if (m_useGpu) {
         try {
             if (!m_gpu) m_gpu = std::make_unique<pathtrace::GpuSphereTracer>(m_gpuShader);
             pathtrace::LitSphereSetup p = s;
@@ -43,7 +57,7 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
         }
         return;
     }
-    m_thread = std::thread([this, media, s, targetSpp] {
+    m_thread = std::thread([this, media, s, targetSpp, meshToTrace] {
         // passes of a few samples per pixel, each with its own seed: independent estimates
         // merged by sample count, so the picture sharpens while the user watches
         const int perPass = 2;
@@ -57,7 +71,8 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
                 std::max(1u, std::thread::hardware_concurrency() - 1); // keep a core for the UI
             pathtrace::Image img;
             try {
-                img = pathtrace::traceLitSphere(media, p, {}, &m_cancel);
+                img = meshToTrace ? pathtrace::traceLitMesh(*meshToTrace, media, p, {}, &m_cancel)
+                                  : pathtrace::traceLitSphere(media, p, {}, &m_cancel);
             } catch (const core::Error& e) {
                 std::lock_guard lock(m_mutex);
                 m_problem = e.what();
@@ -65,7 +80,7 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
             }
             if (m_cancel) break; // a cut pass is dropped: the image stays a merge of whole passes
             done += int(p.samplesPerPixel);
-            paths += 3 * pathtrace::litSpherePaths(p);
+            paths += 3 * (meshToTrace ? meshToTrace->pathCount(p) : pathtrace::litSpherePaths(p));
             {
                 std::lock_guard lock(m_mutex);
                 m_image = combine(m_image, img);

@@ -10,6 +10,7 @@
 #include "bssrdf/sphere_integrator.h"
 #include "pathtrace/gpu_sphere.h"
 #include "pathtrace/lit_sphere.h"
+#include "pathtrace/mesh_tracer.h"
 #include "pathtrace/pathtrace.h"
 
 #include <array>
@@ -31,6 +32,7 @@ struct LitSphereSettings {
     int integratedSpp = 4096;                  // BSSRDF integration target, samples per pixel
     uint64_t seed = 1;
     bool gpu = false; // path trace on the GL compute tracer (sliced per frame) instead of the CPU
+    std::string mesh; // OBJ path: path trace this mesh (CPU, Embree) instead of the sphere
 };
 
 // The path-traced sphere: CPU passes in a background thread, or the GL compute tracer
@@ -41,7 +43,7 @@ class PathTracedSphere {
         : m_gpuShader(std::move(gpuShader)) {}
     ~PathTracedSphere() { cancel(); }
     void start(const std::array<pathtrace::Medium, 3>& media, const pathtrace::LitSphereSetup& s,
-               int targetSpp, bool gpu = false);
+               int targetSpp, bool gpu = false, const std::filesystem::path& mesh = {});
     // GPU mode: traces for about `budgetMs` (GL thread); returns true when paths were added.
     bool stepGpu(double budgetMs);
     // A path tracer shader changed: recompile; on error the old program keeps running.
@@ -68,6 +70,8 @@ class PathTracedSphere {
     bool m_useGpu = false;
     uint64_t m_pathsPerSpp = 1;
     std::string m_shaderProblem;
+    std::shared_ptr<const pathtrace::LitMesh> m_mesh; // loaded mesh (kept while the path stays)
+    std::filesystem::path m_meshPath;
 };
 
 } // namespace app

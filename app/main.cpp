@@ -127,6 +127,9 @@ int main(int argc, char** argv) {
                     "also record the lit-sphere images (path traced and BSSRDF integrated) at "
                     "this size in pixels (default 0: off)")
         ->check(CLI::Range(0, 1024));
+    rec->add_option("--lit-mesh", ra.litMesh,
+                    "with --lit-spheres: path trace this OBJ (a file under the project root) "
+                    "instead of the sphere");
     rec->add_option("--reference-bins", ra.referenceBins,
                     "radial bins of the reference (default 200)")
         ->check(CLI::Range(1, 100000));

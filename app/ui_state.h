@@ -31,6 +31,7 @@ struct UiState {
     int sphereView = 0; // 0 path traced, 1 integrated, 2 side by side, 3 difference
     int sphereViewShown = -1;
     int pickX = -1, pickY = -1;
+    char meshBuffer[512] = "";
     gl::Texture sphereTex[3];
 };
 

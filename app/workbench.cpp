@@ -259,7 +259,8 @@ bool Workbench::updateLitSpheres(double budgetMs) {
     k.precision(17);
     k << e->displayPath << '|' << e->generation << '|' << view->materialKey << '|' << setup.radiusMm
       << '|' << setup.lightDir[0] << ',' << setup.lightDir[1] << ',' << setup.lightDir[2] << '|'
-      << setup.width << '|' << setup.seed << '|' << m_sphere.pathSpp << '|' << m_sphere.gpu;
+      << setup.width << '|' << setup.seed << '|' << m_sphere.pathSpp << '|' << m_sphere.gpu << '|'
+      << m_sphere.mesh;
     for (auto& [n, val] : e->values)
         k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
     bool changed = false;
@@ -273,7 +274,12 @@ bool Workbench::updateLitSpheres(double budgetMs) {
             media[c] = {p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
         try {
             m_integrator.reset(setup);
-            m_ptSphere->start(media, setup, m_sphere.pathSpp, m_sphere.gpu);
+            std::filesystem::path mesh;
+            if (!m_sphere.mesh.empty()) {
+                mesh = m_sphere.mesh;
+                if (mesh.is_relative()) mesh = m_root / mesh;
+            }
+            m_ptSphere->start(media, setup, m_sphere.pathSpp, m_sphere.gpu, mesh);
         } catch (const core::Error& err) {
             m_sphereProblem = err.what();
             m_ptSphere->cancel();

@@ -94,6 +94,14 @@ void drawLitSpherePanel(Workbench& wb, UiState& ui) {
         s.integratedSpp = std::clamp(s.integratedSpp, 1, 10000000);
     ImGui::SameLine();
     ImGui::Checkbox("GPU path tracer", &s.gpu);
+    ImGui::SetNextItemWidth(260);
+    if (ImGui::InputText("mesh (OBJ, empty: sphere)", ui.meshBuffer, sizeof ui.meshBuffer,
+                         ImGuiInputTextFlags_EnterReturnsTrue))
+        s.mesh = ui.meshBuffer;
+    if (!s.mesh.empty())
+        ImGui::TextDisabled("path tracing %s on the CPU (longest axis = 2 x radius); the BSSRDF "
+                            "integration shows the sphere",
+                            s.mesh.c_str());
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
                           "slice per frame;\noff: CPU tracer in a background thread");

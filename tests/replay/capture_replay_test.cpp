@@ -4,6 +4,7 @@
 #include "capture/capture.h"
 #include "capture_io.h"
 #include "pathtrace/image_io.h"
+#include "pathtrace/mesh_geometry.h"
 
 #include <cmath>
 
@@ -148,5 +149,57 @@ TEST(CaptureReplay, LitSphereImagesAreComparedPerPixel) {
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
     EXPECT_NE(out.find("FAIL lit_sphere.integrated"), std::string::npos) << out;
     EXPECT_NE(out.find("PASS lit_sphere.path_traced"), std::string::npos) << out;
+    std::filesystem::remove_all(root);
+}
+
+TEST(CaptureReplay, LitMeshImageAndItsInputAreRecorded) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("meshcap", {"dipole.bssrdf"});
+    std::filesystem::create_directories(root / "meshes");
+    pathtrace::writeObj(root / "meshes/ball.obj", pathtrace::makeUvSphere(16, 32));
+    const auto dir = root / "captures" / "mesh";
+    {
+        app::Workbench wb(root, false);
+        wb.applyPreset(wb.shared(), "Skin1");
+        auto& s = wb.litSphereSettings();
+        s.enabled = true;
+        s.size = 12;
+        s.radiusMm = 4;
+        s.pathSpp = 2;
+        s.integratedSpp = 16;
+        s.mesh = "meshes/ball.obj";
+        app::recordCaptureTo(wb, dir, "mesh");
+    }
+    auto m = capture::readManifest(dir);
+    bool meshInput = false, meshImage = false;
+    for (const auto& f : m.models)
+        meshInput |= f.path == "meshes/ball.obj";
+    for (const auto& o : m.outputs)
+        meshImage |= o.stage == "lit_mesh.path_traced";
+    EXPECT_TRUE(meshInput);
+    EXPECT_TRUE(meshImage);
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    // an edited mesh is a changed input
+    pathtrace::writeObj(root / "meshes/ball.obj", pathtrace::makeUvSphere(12, 24));
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
+    EXPECT_NE(out.find("meshes/ball.obj: content hash changed"), std::string::npos) << out;
+    std::filesystem::remove_all(root);
+}
+
+TEST(CaptureReplay, BadMeshIsAnErrorEntryNotACrash) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("badmesh", {"dipole.bssrdf"});
+    core::writeFile(root / "open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    app::Workbench wb(root, false);
+    auto& s = wb.litSphereSettings();
+    s.enabled = true;
+    s.size = 8;
+    s.mesh = "open.obj";
+    wb.update();
+    bool listed = false;
+    for (const auto& e : wb.errors())
+        listed |= e.text.find("open") != std::string::npos;
+    EXPECT_TRUE(listed);
     std::filesystem::remove_all(root);
 }
