@@ -20,6 +20,7 @@
 #pragma once
 
 #include "gl/gl.h"
+#include "pathtrace/detail/gpu_work_queue.h"
 #include "pathtrace/pathtrace.h"
 
 #include <cstdint>
@@ -62,7 +63,7 @@ class GpuSlabTracer {
     void setEventBudget(uint32_t events);
     uint32_t eventBudget() const { return m_eventBudget; }
     // Path values tallied through the heavy-weight list (above 16) since reset (diagnostics).
-    uint64_t heavyTallies() const { return m_heavyTallies; }
+    uint64_t heavyTallies() const { return m_work.heavyTallies(); }
 
     // Recompiles the shader from disk. On failure throws core::Error
     // ("shaders/pathtrace_slab.comp:LINE: message", or the shaders/common/… file that has the
@@ -78,22 +79,18 @@ class GpuSlabTracer {
     void clearSums();
     void setMediumUniforms();
     void runRound(uint64_t first, uint64_t count);
-    void readTallies();
     void publish();
 
     std::filesystem::path m_shaderFile;
     gl::Program m_program;
     std::vector<int> m_loc; // uniform locations, indexed by the Uniform enum in gpu_slab.cpp
-    gl::Buffer m_acc, m_heavy, m_queue;
-    gl::Buffer m_suspended[2]; // ping-pong lists of paths suspended between dispatches
+    // Buffers, dispatch loop and exact sums in units of 2^-32 per slot (bins, beyond rMax,
+    // absorbed, loss+, loss−).
+    detail::GpuWorkQueue m_work;
     uint32_t m_eventBudget = kDefaultEventBudget;
     Medium m_medium;
     SlabSettings m_settings;
     SlabTally m_tally;
-    // Exact sums in units of 2^-32 per slot (bins, beyond rMax, absorbed, loss+, loss−).
-    std::vector<unsigned __int128> m_sum, m_sumSq;
-    uint64_t m_events = 0;
-    uint64_t m_heavyTallies = 0;
     double m_seconds = 0;
 };
 

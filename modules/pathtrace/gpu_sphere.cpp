@@ -3,11 +3,9 @@
 #include "pathtrace/gpu_sphere.h"
 
 #include "core/core.h"
-#include "pathtrace/gpu_shader.h"
 #include "pathtrace/sphere_tracer.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -17,23 +15,13 @@ namespace pathtrace {
 
 namespace {
 
-using u128 = unsigned __int128;
+using detail::kFixedOne;
+using detail::toDouble;
+using detail::wordThreshold;
 
 // Must match shaders/pathtrace_sphere.comp and common/pathtrace_tally.glsl.
-constexpr GLuint kAccBinding = 0, kHeavyBinding = 1, kQueueBinding = 2, kInBinding = 3,
-                 kOutBinding = 4;
-constexpr uint64_t kLocalSize = 64;
-constexpr uint64_t kHeavyPerItem = 2;       // pixel, exited
-constexpr uint64_t kSuspendedWords = 20;    // 5 uvec4 per suspended path
-constexpr uint64_t kQueueWords = 5;         // next, inTaken, outCount, events lo/hi
-constexpr uint64_t kItemsPerInvocation = 4; // invocations launched per item of work
-constexpr uint64_t kMaxGroups = 1024;       // at most 65536 invocations per dispatch
-constexpr uint64_t kMaxInvocations = kMaxGroups * kLocalSize;
+constexpr uint64_t kHeavyPerItem = 2; // pixel, exited
 constexpr uint64_t kMaxItemsPerRound = 3 * GpuSphereTracer::kMaxPathsPerRound;
-// Items ending in one dispatch: at most the round's new items plus the suspended ones.
-constexpr uint64_t kHeavyCapacity = kHeavyPerItem * (kMaxItemsPerRound + kMaxInvocations);
-constexpr double kFixedOne = 4294967296.0;     // 2^32: the tallies' unit is 2^-32
-constexpr double kMaxHeavy = 35184372088832.0; // 2^45: beyond it a square could overflow u128
 
 enum Uniform {
     uSeed,
@@ -79,16 +67,6 @@ constexpr const char* kUniformNames[uCount] = {"Seed",
                                                "SurviveWeight",
                                                "WeightGain"};
 
-// p in [0, 1] as a threshold on a uniform 32-bit word: P(word < t) = t / 2^32.
-uint32_t wordThreshold(double p) {
-    const double t = std::floor(p * kFixedOne);
-    return t >= kFixedOne - 1.0 ? 0xFFFFFFFFu : static_cast<uint32_t>(std::max(0.0, t));
-}
-
-double toDouble(u128 units) {
-    return std::ldexp(static_cast<double>(units), -32);
-}
-
 // Mean and standard error of the mean of scale·x from Σx, Σx² over n samples.
 void meanStderr(double sum, double sumSq, uint64_t n, double scale, double& mean, double& err) {
     if (n == 0) {
@@ -110,7 +88,7 @@ void meanStderr(double sum, double sumSq, uint64_t n, double scale, double& mean
 } // namespace
 
 GpuSphereTracer::GpuSphereTracer(std::filesystem::path shaderFile)
-    : m_shaderFile(std::move(shaderFile)) {
+    : m_shaderFile(std::move(shaderFile)), m_work(kHeavyPerItem, kMaxItemsPerRound) {
     reload();
     reset(m_media, LitSphereSetup{});
 }
@@ -118,13 +96,7 @@ GpuSphereTracer::GpuSphereTracer(std::filesystem::path shaderFile)
 GpuSphereTracer::~GpuSphereTracer() = default;
 
 void GpuSphereTracer::reload() {
-    GpuShaderSource source = loadGpuShader(m_shaderFile);
-    gl::Program program = buildGpuShader(source); // throws core::Error; nothing changed yet
-    std::vector<int> loc(uCount);
-    for (int i = 0; i < uCount; ++i)
-        loc[static_cast<size_t>(i)] = gl::uniformLocation(program, kUniformNames[i]);
-    m_program = std::move(program);
-    m_loc = std::move(loc);
+    detail::buildTracerProgram(m_shaderFile, kUniformNames, m_program, m_loc);
     clearSums();
 }
 
@@ -142,24 +114,14 @@ void GpuSphereTracer::reset(const std::array<Medium, 3>& media, const LitSphereS
     m_options = options;
     m_target = target;
     m_pixels = std::move(pixels);
-    const size_t slots = 3 * (m_pixels.footprint.size() + 1);
-    m_acc = gl::createBuffer(slots * 4 * sizeof(uint32_t), nullptr);
-    if (!m_heavy) m_heavy = gl::createBuffer(8 + kHeavyCapacity * 8, nullptr);
-    if (!m_queue) m_queue = gl::createBuffer(kQueueWords * sizeof(uint32_t), nullptr);
-    for (auto& list : m_suspended)
-        if (!list) list = gl::createBuffer(kMaxInvocations * kSuspendedWords * 4, nullptr);
+    m_work.allocate(3 * (m_pixels.footprint.size() + 1));
     clearSums();
 }
 
 void GpuSphereTracer::clearSums() {
-    const size_t slots = 3 * (m_pixels.footprint.size() + 1);
-    m_sum.assign(slots, 0);
-    m_sumSq.assign(slots, 0);
+    m_work.clear(3 * (m_pixels.footprint.size() + 1));
     m_paths = 0;
-    m_events = 0;
     m_seconds = 0;
-    if (m_acc)
-        glClearNamedBufferData(m_acc.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
 }
 
 void GpuSphereTracer::setEventBudget(uint32_t events) {
@@ -244,79 +206,7 @@ void GpuSphereTracer::runRound(uint64_t first, uint64_t paths) {
                         static_cast<GLuint>(first >> 32));
     glProgramUniform1ui(p, at(uItemCount), static_cast<GLuint>(count));
     glProgramUniform1ui(p, at(uEventBudget), m_eventBudget);
-    glClearNamedBufferData(m_queue.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-    uint64_t taken = 0;   // new items started so far
-    uint32_t inCount = 0; // paths suspended by the previous dispatch
-    for (int cur = 0;; cur ^= 1) {
-        glProgramUniform1ui(p, at(uInCount), inCount);
-        const uint32_t zeros[4] = {0, 0, 0, 0}; // inTaken, outCount, events (next stays)
-        glNamedBufferSubData(m_queue.id(), 4, 16, zeros);
-        glNamedBufferSubData(m_heavy.id(), 0, 8, zeros);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccBinding, m_acc.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeavyBinding, m_heavy.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kQueueBinding, m_queue.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kInBinding, m_suspended[cur].id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOutBinding, m_suspended[cur ^ 1].id());
-        // suspended paths first: at least one invocation per suspended path
-        const uint64_t perGroup = kLocalSize * kItemsPerInvocation;
-        const uint64_t groups =
-            std::clamp<uint64_t>(std::max((inCount + kLocalSize - 1) / kLocalSize,
-                                          (inCount + (count - taken) + perGroup - 1) / perGroup),
-                                 1, kMaxGroups);
-        glUseProgram(p);
-        glDispatchCompute(static_cast<GLuint>(groups), 1, 1);
-        glUseProgram(0);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-
-        uint32_t queue[kQueueWords] = {};
-        glGetNamedBufferSubData(m_queue.id(), 0, sizeof queue, queue);
-        readTallies();
-        m_events += (uint64_t(queue[4]) << 32) | queue[3];
-        taken = std::min<uint64_t>(queue[0], count);
-        if (queue[1] < inCount)
-            throw core::Error(m_shaderFile.string(), 0,
-                              "suspended paths left behind (" + std::to_string(queue[1]) + " of " +
-                                  std::to_string(inCount) + " resumed)");
-        inCount = queue[2];
-        if (inCount > groups * kLocalSize)
-            throw core::Error(m_shaderFile.string(), 0,
-                              "suspended-path list overflowed (" + std::to_string(inCount) +
-                                  " paths from " + std::to_string(groups * kLocalSize) +
-                                  " invocations)");
-        if (taken >= count && inCount == 0) return;
-    }
-}
-
-void GpuSphereTracer::readTallies() {
-    const size_t slots = m_sum.size();
-    std::vector<uint32_t> acc(slots * 4);
-    glGetNamedBufferSubData(m_acc.id(), 0, static_cast<GLsizeiptr>(acc.size() * 4), acc.data());
-    glClearNamedBufferData(m_acc.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-    for (size_t i = 0; i < slots; ++i) {
-        m_sum[i] += (u128(acc[4 * i + 1]) << 32) | acc[4 * i];
-        m_sumSq[i] += (u128(acc[4 * i + 3]) << 32) | acc[4 * i + 2];
-    }
-    uint32_t heavyCount = 0;
-    glGetNamedBufferSubData(m_heavy.id(), 0, 4, &heavyCount);
-    if (heavyCount == 0) return;
-    if (heavyCount > kHeavyCapacity)
-        throw core::Error(m_shaderFile.string(), 0,
-                          "heavy-weight list overflowed (" + std::to_string(heavyCount) +
-                              " entries): the shader tallied more than 2 values per path");
-    std::vector<uint32_t> heavy(2 * size_t(heavyCount));
-    glGetNamedBufferSubData(m_heavy.id(), 8, static_cast<GLsizeiptr>(heavy.size() * 4),
-                            heavy.data());
-    for (size_t k = 0; k < heavyCount; ++k) {
-        const uint32_t slot = heavy[2 * k];
-        const double v = std::bit_cast<float>(heavy[2 * k + 1]);
-        if (slot >= slots || !std::isfinite(v) || v < 0.0 || v > kMaxHeavy)
-            throw core::Error(m_shaderFile.string(), 0,
-                              "path tally out of range: slot " + std::to_string(slot) + ", value " +
-                                  std::to_string(v));
-        // v > 16 is a float with ulp >= 2^-19: v·2^32 is an integer (see gpu_slab.cpp)
-        m_sum[slot] += static_cast<u128>(v * kFixedOne);
-        m_sumSq[slot] += static_cast<u128>(std::nearbyint(v * v * kFixedOne));
-    }
+    m_work.runRound(p, at(uInCount), count, m_shaderFile);
 }
 
 Image GpuSphereTracer::image() const {
@@ -335,8 +225,8 @@ Image GpuSphereTracer::image() const {
             const double area = m_pixels.footprint[p];
             if (!(area > 0)) continue; // centre ray misses: 0, variance 0
             double mean, err;
-            meanStderr(toDouble(m_sum[base + p]), toDouble(m_sumSq[base + p]), m_paths,
-                       source / area, mean, err);
+            meanStderr(toDouble(m_work.sum()[base + p]), toDouble(m_work.sumSq()[base + p]),
+                       m_paths, source / area, mean, err);
             img.mean[3 * p + c] = static_cast<float>(mean);
             img.variance[3 * p + c] = static_cast<float>(err * err);
         }
@@ -351,7 +241,7 @@ std::array<double, 3> GpuSphereTracer::exitedPower(std::array<double, 3>* stderr
     for (size_t c = 0; c < 3; ++c) {
         const size_t slot = c * (n + 1) + n;
         double mean, err;
-        meanStderr(toDouble(m_sum[slot]), toDouble(m_sumSq[slot]), m_paths,
+        meanStderr(toDouble(m_work.sum()[slot]), toDouble(m_work.sumSq()[slot]), m_paths,
                    std::numbers::pi * R * R, mean, err);
         power[c] = mean;
         if (stderrOut) (*stderrOut)[c] = err;

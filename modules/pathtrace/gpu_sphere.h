@@ -19,6 +19,7 @@
 
 #include "gl/gl.h"
 #include "pathtrace/camera.h"
+#include "pathtrace/detail/gpu_work_queue.h"
 #include "pathtrace/lit_sphere.h"
 #include "pathtrace/pathtrace.h"
 
@@ -58,8 +59,8 @@ class GpuSphereTracer {
     uint64_t pathsDone() const { return m_paths; }
     uint64_t targetPaths() const { return m_target; }
     bool finished() const { return m_paths >= m_target; }
-    uint64_t events() const { return m_events; } // collisions, all channels (diagnostics)
-    double seconds() const { return m_seconds; } // wall time in step() since reset
+    uint64_t events() const { return m_work.events(); } // collisions, all channels (diagnostics)
+    double seconds() const { return m_seconds; }        // wall time in step() since reset
 
     void setEventBudget(uint32_t events); // clamped to [1, kMaxEventBudget]
     uint32_t eventBudget() const { return m_eventBudget; }
@@ -76,21 +77,19 @@ class GpuSphereTracer {
     void clearSums();
     void setUniforms();
     void runRound(uint64_t first, uint64_t count);
-    void readTallies();
 
     std::filesystem::path m_shaderFile;
     gl::Program m_program;
     std::vector<int> m_loc;
-    gl::Buffer m_acc, m_heavy, m_queue;
-    gl::Buffer m_suspended[2];
+    // Buffers, dispatch loop and exact sums in units of 2^-32: slot c·(P + 1) + p (pixel p),
+    // c·(P + 1) + P (exited).
+    detail::GpuWorkQueue m_work;
     uint32_t m_eventBudget = kDefaultEventBudget;
     std::array<Medium, 3> m_media{};
     LitSphereSetup m_setup;
     TraceOptions m_options;
     PixelGeometry m_pixels;
-    uint64_t m_target = 0, m_paths = 0, m_events = 0;
-    // Exact sums in units of 2^-32: slot c·(P + 1) + p (pixel p), c·(P + 1) + P (exited).
-    std::vector<unsigned __int128> m_sum, m_sumSq;
+    uint64_t m_target = 0, m_paths = 0;
     double m_seconds = 0;
 };
 
