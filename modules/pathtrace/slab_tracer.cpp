@@ -10,6 +10,7 @@
 //             += w(1 − α), roulette below rouletteWeight; then the long-path roulette, then an
 //             HG scattering (line 16).
 #include "core/core.h"
+#include "pathtrace/detail/collision.h"
 #include "pathtrace/detail/slab_chunk.h"
 #include "pathtrace/fresnel.h"
 #include "pathtrace/pathtrace.h"
@@ -51,7 +52,6 @@ Consts makeConsts(const Medium& m, const SlabSettings& s) {
 }
 
 // Survival test of probability 1/10 for the long-path roulette: 429496730 / 2^32.
-constexpr uint32_t kTenth = 429496730u;
 
 template <bool Analog, bool Isotropic> PathRecord traceOne(const Consts& c, Pcg32 rng) {
     PathRecord p;
@@ -90,31 +90,10 @@ template <bool Analog, bool Isotropic> PathRecord traceOne(const Consts& c, Pcg3
                 absorbed += w;
                 break;
             }
-        } else {
-            const double wn = w * c.albedo;
-            absorbed += w - wn;
-            w = wn;
-            if (w < c.rouletteWeight) {
-                if (rng.uniform32() < c.rouletteSurvival) {
-                    const double ws = w / c.rouletteSurvival;
-                    loss -= ws - w;
-                    w = ws;
-                } else {
-                    loss += w;
-                    break;
-                }
-            }
+        } else if (!detail::absorbAndRoulette(w, absorbed, loss, c, rng)) {
+            break;
         }
-        if (events > c.rouletteAfter) { // long-path roulette (thesis 3.2)
-            if (rng.nextU32() < kTenth) {
-                const double ws = w * 10.0;
-                loss -= ws - w;
-                w = ws;
-            } else {
-                loss += w;
-                break;
-            }
-        }
+        if (!detail::longPathRoulette(w, loss, events, c, rng)) break; // thesis 3.2
         if constexpr (Isotropic)
             u = sampleSphere(rng);
         else

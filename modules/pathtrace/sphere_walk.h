@@ -16,6 +16,7 @@
 #pragma once
 
 #include "pathtrace/camera.h"
+#include "pathtrace/detail/collision.h"
 #include "pathtrace/fresnel.h"
 #include "pathtrace/rng.h"
 #include "pathtrace/sampling.h"
@@ -87,7 +88,6 @@ struct Hit {
     double cosI; // u·n (> 0 when leaving; <= 0: the path was outside — a leak)
 };
 
-constexpr uint32_t kTenth = 429496730u; // 1/10 of 2^32 (long-path roulette survival)
 constexpr uint32_t kMaxBoundaryHits = 1u << 20;
 
 // Geo must provide
@@ -126,29 +126,8 @@ bool walk(const Consts& c, const Geo& geo, Pcg32& rng, Dir x, Dir u, double w, E
         }
         x = madd(x, u, s);
         ++events;
-        const double wn = w * c.albedo;
-        absorbed += w - wn;
-        w = wn;
-        if (w < c.rouletteWeight) {
-            if (rng.uniform32() < c.rouletteSurvival) {
-                const double ws = w / c.rouletteSurvival;
-                loss -= ws - w;
-                w = ws;
-            } else {
-                loss += w;
-                break;
-            }
-        }
-        if (events > c.rouletteAfter) { // long-path roulette (thesis 3.2)
-            if (rng.nextU32() < kTenth) {
-                const double ws = w * 10.0;
-                loss -= ws - w;
-                w = ws;
-            } else {
-                loss += w;
-                break;
-            }
-        }
+        if (!detail::absorbAndRoulette(w, absorbed, loss, c, rng)) break;
+        if (!detail::longPathRoulette(w, loss, events, c, rng)) break; // thesis 3.2
         if constexpr (Isotropic)
             u = sampleSphere(rng);
         else
