@@ -6,7 +6,7 @@
 //   outside never depend on Embree's normal convention.
 #pragma once
 
-#include "pathtrace/mesh_geometry.h"
+#include "pathtrace/mesh_alias.h"
 
 #include <array>
 #include <cstdint>

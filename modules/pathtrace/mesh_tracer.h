@@ -33,7 +33,7 @@
 
 #include "pathtrace/camera.h"
 #include "pathtrace/lit_sphere.h"
-#include "pathtrace/mesh_geometry.h"
+#include "pathtrace/mesh_alias.h"
 #include "pathtrace/pathtrace.h"
 
 #include <array>

@@ -3,8 +3,8 @@
 #include "../support/gl_fixture.h"
 #include "capture/capture.h"
 #include "capture_io.h"
+#include "mesh/mesh.h"
 #include "pathtrace/image_io.h"
-#include "pathtrace/mesh_geometry.h"
 
 #include <cmath>
 
@@ -156,7 +156,7 @@ TEST(CaptureReplay, LitMeshImageAndItsInputAreRecorded) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("meshcap", {"dipole.bssrdf"});
     std::filesystem::create_directories(root / "meshes");
-    pathtrace::writeObj(root / "meshes/ball.obj", pathtrace::makeUvSphere(16, 32));
+    mesh::writeObj(root / "meshes/ball.obj", mesh::makeUvSphere(16, 32));
     const auto dir = root / "captures" / "mesh";
     {
         app::Workbench wb(root, false);
@@ -181,7 +181,7 @@ TEST(CaptureReplay, LitMeshImageAndItsInputAreRecorded) {
     std::string out;
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     // an edited mesh is a changed input
-    pathtrace::writeObj(root / "meshes/ball.obj", pathtrace::makeUvSphere(12, 24));
+    mesh::writeObj(root / "meshes/ball.obj", mesh::makeUvSphere(12, 24));
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
     EXPECT_NE(out.find("meshes/ball.obj: content hash changed"), std::string::npos) << out;
     std::filesystem::remove_all(root);

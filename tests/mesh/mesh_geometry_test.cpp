@@ -1,10 +1,9 @@
-// pathtrace mesh geometry: the UV sphere is closed and outward, OBJ write/read round trip,
-// welding of split vertices, normalisation, and (d4) the errors: inward normals, one flipped
-// triangle (inconsistent winding), open and non-manifold meshes, missing and malformed files —
-// each naming the file.
+// mesh geometry: the UV sphere is closed and outward, OBJ write/read round trip, welding of
+// split vertices, normalisation, normals (kept or computed area-weighted) and UVs, and (d4) the
+// errors: inward normals, one flipped triangle (inconsistent winding), open and non-manifold
+// meshes, missing and malformed files — each naming the file.
 #include "core/core.h"
-#include "pathtrace/mesh_geometry.h"
-#include "pathtrace/mesh_tracer.h"
+#include "mesh/mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +14,7 @@
 #include <string>
 #include <unistd.h>
 
-using namespace pathtrace;
+using namespace mesh;
 namespace fs = std::filesystem;
 
 namespace {
@@ -152,33 +151,36 @@ TEST(MeshGeometry, RejectsBadTopologyNamingTheFile) {
     for (auto& t : inward.triangles)
         std::swap(t[1], t[2]);
     writeObj(dir / "inward.obj", inward);
-    expectError([&] { loadLitMesh(dir / "inward.obj"); },
-                {"inward.obj", "inward", "signed volume < 0", "flip the winding"});
+    expectError(
+        [&] { checkClosedOutward(loadObj(dir / "inward.obj"), (dir / "inward.obj").string()); },
+        {"inward.obj", "inward", "signed volume < 0", "flip the winding"});
 
     Mesh oneFlipped = makeUvSphere(8, 16);
     std::swap(oneFlipped.triangles[20][1], oneFlipped.triangles[20][2]);
     writeObj(dir / "flipped.obj", oneFlipped);
-    expectError([&] { loadLitMesh(dir / "flipped.obj"); },
-                {"flipped.obj", "inconsistent", "3 edges"});
+    expectError(
+        [&] { checkClosedOutward(loadObj(dir / "flipped.obj"), (dir / "flipped.obj").string()); },
+        {"flipped.obj", "inconsistent", "3 edges"});
 
     Mesh open = makeUvSphere(8, 16);
     open.triangles.erase(open.triangles.begin() + 30);
     writeObj(dir / "open.obj", open);
-    expectError([&] { loadLitMesh(dir / "open.obj"); },
+    expectError([&] { checkClosedOutward(loadObj(dir / "open.obj"), (dir / "open.obj").string()); },
                 {"open.obj", "open mesh", "not watertight", "3 boundary edges"});
 
     Mesh twice = makeUvSphere(8, 16); // every edge shared by four triangles
     const auto tris = twice.triangles;
     twice.triangles.insert(twice.triangles.end(), tris.begin(), tris.end());
-    expectError([&] { LitMesh(twice, "twice"); }, {"twice", "non-manifold"});
+    expectError([&] { checkClosedOutward(twice, "twice"); }, {"twice", "non-manifold"});
 
-    expectError([&] { LitMesh(Mesh{}, "empty"); }, {"empty"});
+    expectError([&] { checkClosedOutward(Mesh{}, "empty"); }, {"empty"});
 }
 
 TEST(MeshGeometry, MissingAndMalformedFilesNameTheFile) {
     TempDir dir;
     expectError([&] { loadObj(dir / "nope.obj"); }, {"nope.obj"});
-    expectError([&] { loadLitMesh(dir / "nope.obj"); }, {"nope.obj"});
+    expectError([&] { checkClosedOutward(loadObj(dir / "nope.obj"), (dir / "nope.obj").string()); },
+                {"nope.obj"});
     writeText(dir / "badv.obj", "v 0 0 0\nv 1 0 zero\nv 0 1 0\nf 1 2 3\n");
     expectError([&] { loadObj(dir / "badv.obj"); }, {"badv.obj:2", "malformed"});
     writeText(dir / "badf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
@@ -189,4 +191,57 @@ TEST(MeshGeometry, MissingAndMalformedFilesNameTheFile) {
     expectError([&] { loadObj(dir / "noface.obj"); }, {"noface.obj", "no triangles"});
     writeText(dir / "short.obj", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     expectError([&] { loadObj(dir / "short.obj"); }, {"short.obj:1", "malformed"});
+}
+
+// Normals: computed area-weighted when the OBJ has none, kept when it has them; UVs kept; a
+// vertex split by normals (sharp edges) still counts once for the topology.
+TEST(MeshGeometry, NormalsAndUvs) {
+    TempDir dir;
+    writeText(dir / "cube.obj", kSplitCube);
+    const Mesh cube = loadObj(dir / "cube.obj"); // no vn: 8 welded vertices, smooth normals
+    ASSERT_EQ(cube.normals.size(), cube.vertices.size());
+    EXPECT_TRUE(cube.uvs.empty());
+    // Corner normals point out of the corner (the three faces' triangles meeting there weigh by
+    // area, so the quads' diagonals tilt them off the exact diagonal).
+    for (size_t i = 0; i < cube.vertices.size(); ++i)
+        for (int a = 0; a < 3; ++a)
+            EXPECT_GT(cube.normals[i][a] * (cube.vertices[i][a] - 0.5f), 0.1f);
+
+    // Two right triangles sharing vertices 1 and 2, of areas 2 (normal +z) and 1 (normal +y):
+    // the shared normals are the area-weighted mean, the others their face's normal.
+    writeText(dir / "two.obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");
+    const Mesh two = loadObj(dir / "two.obj");
+    ASSERT_EQ(two.normals.size(), 4u);
+    const double w1 = 4.0, w2 = 2.0; // |(v1−v0) × (v2−v0)| of each face
+    const double len = std::hypot(w1, w2);
+    EXPECT_NEAR(two.normals[0][2], w1 / len, 1e-6);
+    EXPECT_NEAR(two.normals[0][1], w2 / len, 1e-6);
+    EXPECT_NEAR(two.normals[2][2], 1.0, 1e-6); // only in face 1
+    EXPECT_NEAR(two.normals[3][1], 1.0, 1e-6); // only in face 2
+
+    // Box with sharp edges and UVs: written and read back with its 24 vertices.
+    const Mesh box = makeBox(1, 2, 3);
+    writeObj(dir / "box.obj", box);
+    const Mesh back = loadObj(dir / "box.obj");
+    ASSERT_EQ(back.vertices.size(), 24u);
+    ASSERT_EQ(back.normals.size(), 24u);
+    ASSERT_EQ(back.uvs.size(), 24u);
+    for (size_t i = 0; i < 24; ++i) {
+        EXPECT_EQ(back.vertices[i], box.vertices[i]);
+        EXPECT_EQ(back.normals[i], box.normals[i]);
+        EXPECT_EQ(back.uvs[i], box.uvs[i]);
+    }
+    const MeshTopology t = analyseTopology(back);
+    EXPECT_EQ(t.edges, 18u); // 12 box edges + 6 face diagonals
+    EXPECT_EQ(t.boundaryEdges, 0u);
+    EXPECT_NO_THROW(checkClosedOutward(back, "box.obj"));
+
+    // One position used with two normals becomes two vertices; equal triples weld.
+    writeText(dir / "split.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvn 0 0 2\nvn 0 1 0\n"
+                                 "vt 0 0\nf 1/1/1 2/1/1 3/1/1\nf 1/1/2 4/1/2 2/1/2\n");
+    const Mesh split = loadObj(dir / "split.obj");
+    EXPECT_EQ(split.vertices.size(), 6u);
+    ASSERT_EQ(split.normals.size(), 6u);
+    EXPECT_EQ(split.normals[0], (std::array<float, 3>{0, 0, 1})); // normalised
+    EXPECT_EQ(split.uvs.size(), 6u);
 }
