@@ -1,0 +1,98 @@
+// pointcloud: point clouds covering a triangle mesh surface, for the hierarchical (Jensen–Buhler)
+// multiple-scattering evaluation (thesis 2.6.4, 3.3.1). Every point carries a position, a unit
+// normal, its surface area p_a (Σ p_a = A, the mesh area; uniform clouds use p_a = A/N) and the
+// index of the triangle it lies on.
+//   sampleUniform: area-weighted uniform random sampling — the triangle is chosen by binary
+//     search in the cumulative area table, the position by uniform barycentrics (the sqrt
+//     trick: b0 = 1 − √u1, b1 = u2·√u1). Random numbers are counter based (SplitMix64 of the
+//     seed and the sample index), so the result is identical for any thread count.
+//   relaxRepulsion: Turk's point repulsion (1992; thesis 2.6.4): each iteration every point
+//     moves by the sum of repulsive forces from the neighbours within r = 2·√(A/(N·π)), the
+//     move projected into its tangent plane and clamped, then re-projected onto the mesh (the
+//     closest point on the nearby triangles, found in a uniform grid of triangles, see
+//     relaxation.cpp). Double buffered, so parallel and deterministic.
+//   sampleElimination: weighted sample elimination (Yuksel 2015) from a uniform candidate set
+//     (candidateFactor·N), survivors keep their exact surface positions.
+//   measureUniformity: nearest-neighbour distance statistics (hash grid).
+//   writePly / readPly: binary little-endian PLY (x y z nx ny nz area, float32), the cache
+//     format; cacheKey names a cache entry from the mesh bytes and the parameters.
+// Errors are core::Error(file, 0, message).
+#pragma once
+
+#include "mesh/mesh.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace pointcloud {
+
+struct Point {
+    float p[3];
+    float n[3];
+    float area;
+    uint32_t triangle; // index into mesh.triangles; kNoTriangle when unknown (loaded from PLY)
+};
+inline constexpr uint32_t kNoTriangle = 0xffffffffu;
+
+struct PointCloud {
+    std::vector<Point> points;
+    double totalArea = 0; // A, the sampled mesh's surface area
+};
+
+// Total surface area of the mesh (sum of triangle areas, double precision).
+double meshArea(const mesh::Mesh& m);
+
+// N points uniformly distributed over the surface (see above), each with area A/N and the
+// normal interpolated from the vertex normals (normalised; the face normal when the mesh has
+// none). threads: 0 = all cores; the result does not depend on it. Throws core::Error when the
+// mesh has no area or n == 0.
+PointCloud sampleUniform(const mesh::Mesh& m, size_t n, uint64_t seed, int threads = 0);
+
+struct RepulsionOptions {
+    int iterations = 30;
+    double radiusScale = 1.0; // r = radiusScale · 2·√(A/(N·π))
+    double stepScale = 0.3;   // move = stepScale · r · Σ_j (1 − d_ij/r)·(p_i − p_j)/d_ij
+    int threads = 0;          // 0 = all cores; the result does not depend on it
+};
+// Turk's point repulsion applied to `initial` (points of `m`); areas stay A/N.
+PointCloud relaxRepulsion(const mesh::Mesh& m, const PointCloud& initial,
+                          const RepulsionOptions& options = {});
+
+struct EliminationOptions {
+    double candidateFactor = 5.0; // candidates = ceil(candidateFactor · N), from sampleUniform
+    int threads = 0;              // 0 = all cores; the result does not depend on it
+};
+// Weighted sample elimination (Yuksel 2015): exactly N points, areas A/N.
+//   r_max = √(A / (2√3·N)) (Yuksel's bound for N points on a surface of area A, the radius of
+//   the densest hexagonal packing); w_i = Σ_{j: d_ij < 2 r_max} (1 − d_ij/(2 r_max))^8; the
+//   sample of highest weight (ties: lowest index) is removed and its neighbours' weights
+//   reduced (indexed max-heap) until N remain. Yuksel's weight limiting (r_min) is not used.
+PointCloud sampleElimination(const mesh::Mesh& m, size_t n, uint64_t seed,
+                             const EliminationOptions& options = {});
+
+struct Uniformity {
+    double meanNN = 0; // mean nearest-neighbour distance
+    double minNN = 0;  // smallest nearest-neighbour distance
+    double maxNN = 0;  // largest nearest-neighbour distance
+    double cvNN = 0;   // coefficient of variation (standard deviation / mean)
+};
+// Euclidean nearest-neighbour distances (hash grid); all zero for fewer than two points.
+Uniformity measureUniformity(const PointCloud& cloud, int threads = 0);
+
+// Binary little-endian PLY: "element vertex N" with float properties x y z nx ny nz area, and
+// a "comment total_area <%.17g>" line (so totalArea round-trips exactly). Atomic write
+// (core::writeFile). Triangle indices are not stored: readPly sets kNoTriangle, and
+// totalArea to the comment's value (the sum of the areas when it is missing). readPly accepts
+// exactly that layout and throws core::Error(path, 0, ...) otherwise (bad magic, format,
+// element, property list, missing end_header, truncated or oversized data).
+void writePly(const std::filesystem::path& path, const PointCloud& cloud);
+PointCloud readPly(const std::filesystem::path& path);
+
+// Cache key: the 16 hex digits of core::hashHex over the mesh's vertex and triangle bytes
+// followed by "|n|method|seed" (the "fnv1a64:" prefix dropped so the key is a safe file name).
+std::string cacheKey(const mesh::Mesh& m, size_t n, const std::string& method, uint64_t seed);
+
+} // namespace pointcloud
