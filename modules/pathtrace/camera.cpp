@@ -3,6 +3,7 @@
 #include "pathtrace/camera.h"
 
 #include "core/core.h"
+#include "pathtrace/detail/mean_stderr.h"
 
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <string>
 
 namespace pathtrace {
+using detail::meanStderr;
 namespace {
 std::string num(double v) {
     char b[40];
@@ -17,22 +19,6 @@ std::string num(double v) {
     return b;
 }
 
-// Mean and standard error of the mean from Σx, Σx² over n samples.
-void meanStderr(double sum, double sumSq, uint64_t n, double scale, double& mean, double& err) {
-    if (n == 0) {
-        mean = 0;
-        err = std::numeric_limits<double>::infinity();
-        return;
-    }
-    const double N = static_cast<double>(n);
-    const double m = sum / N;
-    mean = scale * m;
-    if (n < 2) {
-        err = sum == 0 && sumSq == 0 ? 0 : std::numeric_limits<double>::infinity();
-        return;
-    }
-    err = scale * std::sqrt(std::max(0.0, sumSq / N - m * m) / (N - 1));
-}
 } // namespace
 
 void validate(const TraceOptions& o) {

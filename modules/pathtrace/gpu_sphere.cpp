@@ -3,6 +3,7 @@
 #include "pathtrace/gpu_sphere.h"
 
 #include "core/core.h"
+#include "pathtrace/detail/mean_stderr.h"
 #include "pathtrace/sphere_tracer.h"
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <string>
 
 namespace pathtrace {
+using detail::meanStderr;
 
 namespace {
 
@@ -66,24 +68,6 @@ constexpr const char* kUniformNames[uCount] = {"Seed",
                                                "RouletteWeight",
                                                "SurviveWeight",
                                                "WeightGain"};
-
-// Mean and standard error of the mean of scale·x from Σx, Σx² over n samples.
-void meanStderr(double sum, double sumSq, uint64_t n, double scale, double& mean, double& err) {
-    if (n == 0) {
-        mean = 0;
-        err = std::numeric_limits<double>::infinity();
-        return;
-    }
-    const double N = static_cast<double>(n);
-    const double m = sum / N;
-    mean = scale * m;
-    if (n < 2) {
-        err = sum == 0 && sumSq == 0 ? 0 : std::numeric_limits<double>::infinity();
-        return;
-    }
-    const double var = std::max(0.0, sumSq / N - m * m) / (N - 1.0);
-    err = std::fabs(scale) * std::sqrt(var);
-}
 
 } // namespace
 

@@ -6,6 +6,7 @@
 //   MCML convention (Wang, Jacques & Zheng 1995, eq. 4.7): weight per annulus area
 //   π(r_{i+1}² − r_i²) per incident photon, 1/mm².
 #include "core/core.h"
+#include "pathtrace/detail/mean_stderr.h"
 #include "pathtrace/pathtrace.h"
 
 #include <algorithm>
@@ -75,21 +76,9 @@ void SlabTally::merge(const SlabTally& o) {
 }
 
 namespace {
-// Mean and standard error of the mean from Σx, Σx² over n samples.
+// scale 1; fewer than 2 paths give an infinite standard error (detail/mean_stderr.h)
 void meanStderr(double sum, double sumSq, uint64_t n, double& mean, double& err) {
-    if (n == 0) {
-        mean = 0.0;
-        err = std::numeric_limits<double>::infinity();
-        return;
-    }
-    const double N = static_cast<double>(n);
-    mean = sum / N;
-    if (n < 2) {
-        err = std::numeric_limits<double>::infinity();
-        return;
-    }
-    const double var = sumSq / N - mean * mean;
-    err = std::sqrt(std::max(0.0, var) / (N - 1.0));
+    detail::meanStderr(sum, sumSq, n, 1.0, mean, err, false);
 }
 } // namespace
 
