@@ -145,6 +145,9 @@ struct Joiner {
 void runChunks(uint64_t paths, uint64_t chunkPaths, int threads, const ChunkCallbacks& callbacks,
                const std::function<void(uint64_t done)>& progress,
                const std::atomic<bool>* cancel) {
+    // Cancelled before the start: trace nothing (otherwise a worker could finish a chunk
+    // before the loop below first looks at the flag, making the result depend on timing).
+    if (cancel && cancel->load(std::memory_order_relaxed)) return;
     const uint64_t chunks = (paths + chunkPaths - 1) / chunkPaths;
     const int hw = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     const uint64_t want = static_cast<uint64_t>(threads > 0 ? threads : hw);
