@@ -85,6 +85,16 @@ void checkClosedOutward(const Mesh& m, const std::string& name);
 // when it is 0 or not finite).
 double normalizeMesh(Mesh& m, const std::string& name);
 
+// Prepares a loaded mesh for the point-cloud pipeline (thesis 3.3): rejects non-finite vertex
+// coordinates ("vertex K has a non-finite coordinate"), drops triangles of zero area (returns
+// how many; the caller reports them), rejects a mesh left with no area ("the mesh has no
+// surface area"), then normalises it (normalizeMesh). Errors are core::Error(name, 0, ...).
+struct RenderablePrep {
+    size_t droppedDegenerate = 0;
+    double originalLongestAxis = 0;
+};
+RenderablePrep prepareRenderable(Mesh& m, const std::string& name);
+
 // Welds bitwise-equal vertices (position, and normal/UV when present) and drops triangles that
 // repeat a vertex (in place).
 void weldVertices(Mesh& m);
