@@ -63,6 +63,10 @@ struct CounterRng {
     double uniform() { return double(next() >> 11) * 0x1.0p-53; } // [0, 1)
 };
 
+// Closest point on triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5);
+// returns the barycentrics (u, v, w) of the closest point, u·a + v·b + w·c (relaxation.cpp).
+V3 closestBarycentric(const V3& p, const V3& a, const V3& b, const V3& c);
+
 // Runs body(begin, end) over [0, n) in parallel with `threads` threads (0 = all cores).
 void parallelFor(size_t n, int threads, const std::function<void(size_t, size_t)>& body);
 

@@ -13,6 +13,9 @@
 //     relaxation.cpp). Double buffered, so parallel and deterministic.
 //   sampleElimination: weighted sample elimination (Yuksel 2015) from a uniform candidate set
 //     (candidateFactor·N), survivors keep their exact surface positions.
+//   sampleStratified / sampleStratifiedRepulsion: a stratified initial set (Morton-ordered
+//     triangles, triangular van der Corput points) relaxed by a fast Turk repulsion (compact
+//     cubic kernel, heavy-ball momentum, Verlet lists, local re-projection; fast_relaxation.cpp).
 //   measureUniformity: nearest-neighbour distance statistics (hash grid).
 //   writePly / readPly: binary little-endian PLY (x y z nx ny nz area, float32), the cache
 //     format; cacheKey names a cache entry from the mesh bytes and the parameters.
@@ -72,6 +75,33 @@ struct EliminationOptions {
 //   reduced (indexed max-heap) until N remain. Yuksel's weight limiting (r_min) is not used.
 PointCloud sampleElimination(const mesh::Mesh& m, size_t n, uint64_t seed,
                              const EliminationOptions& options = {});
+
+// Stratified sampling (no randomness beyond one offset per triangle): the triangles are put in
+// Morton order of their centroids, triangle t of that order gets
+//   k_t = round(N·C_t/A) − round(N·C_{t−1}/A) points (C_t the cumulative area, Σ k_t = N),
+// placed at consecutive points of the triangular van der Corput sequence (Basu & Owen 2015,
+// "Low discrepancy constructions in the triangle") starting at a random index drawn from
+// (seed, t). Areas A/N, normals interpolated as in sampleUniform; thread independent.
+PointCloud sampleStratified(const mesh::Mesh& m, size_t n, uint64_t seed, int threads = 0);
+
+struct StratifiedRepulsionOptions {
+    int iterations = 40;
+    double radiusScale = 2.0; // kernel radius R = radiusScale · d_hex, d_hex = √(2A/(√3·N))
+    double stepScale = 0.5;   // gradient step = stepScale · d_hex
+    double momentum = 0.7;    // heavy-ball coefficient β, in [0, 1)
+    int threads = 0;          // 0 = all cores; the result does not depend on it
+};
+// Fast even point cloud: sampleStratified, then Turk-style repulsion (Turk 1992) with a compact
+// cubic kernel and heavy-ball momentum (Polyak 1964):
+//   v_i ← T_i [ β·v_i + stepScale·d_hex · Σ_{j: d_ij < R} (1 − d_ij/R)³ (p_i − p_j)/d_ij ]
+//   p_i ← closest surface point to p_i + clamp(v_i, d_hex/2),  v_i ← the actual move,
+// T_i the projection into the tangent plane of p_i's normal. Neighbours come from Verlet lists
+// (Verlet 1967) of radius R + d_hex/2, rebuilt on a fixed schedule; the re-projection searches
+// only the triangles within d_hex of the point's current triangle (precomputed), with the same
+// closest-point rule and facing test as relaxRepulsion. Double buffered: deterministic for any
+// thread count. Exactly N points on triangles of m, areas A/N, in Morton order.
+PointCloud sampleStratifiedRepulsion(const mesh::Mesh& m, size_t n, uint64_t seed,
+                                     const StratifiedRepulsionOptions& options = {});
 
 struct Uniformity {
     double meanNN = 0; // mean nearest-neighbour distance

@@ -25,9 +25,7 @@
 
 namespace pointcloud {
 
-using namespace detail;
-
-namespace {
+namespace detail {
 
 // Closest point on triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5);
 // returns the barycentrics (u, v, w) of the closest point, u·a + v·b + w·c.
@@ -60,6 +58,12 @@ V3 closestBarycentric(const V3& p, const V3& a, const V3& b, const V3& c) {
     double v = vb * denom, w = vc * denom;
     return {1 - v - w, v, w};
 }
+
+} // namespace detail
+
+using namespace detail;
+
+namespace {
 
 // Uniform grid of triangles (dense, over the mesh bounding box, padded by one cell).
 class TriangleGrid {
