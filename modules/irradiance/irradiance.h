@@ -1,0 +1,196 @@
+// irradiance: the first pass of the Jensen–Buhler two-pass method (thesis 2.6.4, 3.3.2): the
+// irradiance of every point of a surface point cloud, cached for the hierarchical evaluation.
+//
+// Quantity. Per point p with unit normal n the stage stores the TRANSMITTED irradiance
+//     E_t(p) = ∫ Ft(η, n·ω) · L(ω) · max(0, n·ω) · V(p, ω) dω        (RGB, W/m² per unit L)
+// with Ft = 1 − R the exact unpolarised Fresnel transmittance of light entering from index 1
+// into relative index η = Settings::ior (common/irradiance_lighting.glsl, as
+// pathtrace/fresnel.h) and V the visibility. The renderer multiplies E_t by the point's area
+// and the BSSRDF's diffusion term (Jensen–Buhler: M_o = Σ_p R_d · E_t(p) · A_p; the entry
+// Fresnel factor is already in E_t).
+//
+// Light modes (Settings::mode):
+//   Directional  E_t = E0 · Ft(η, n·L) · max(0, n·L) · V, E0 = Settings::irradiance the RGB
+//                irradiance on a surface facing the light, L = Settings::direction (towards
+//                the light; normalised here), V from a shadow map (light_frame.h) filtered by
+//                Settings::filter, the four methods of thesis Fig. 3.3 (naive, offset, offset +
+//                hardware PCF, offset + PCF + jittered lookups; common/irradiance_shadow.glsl
+//                states the slope-scaled offset).
+//   Filtered     Directional times a projected texture T(uv) looked up in light space (uv of
+//                light_frame.h; texture row 0 = the image's top = v near 1, linear filtering,
+//                clamped at the edges). Default: a checkerboard of 8 × 8 squares of 8 texels,
+//                values 1 and 0.25 (grey).
+//   Ibl          E_t(n) = envIntensity · ∫ Ft(η, n·ω) L(R ω) max(0, n·ω) dω without occlusion,
+//                read from an irradiance cubemap (kCubeFaceSize² per face, linear, seamless)
+//                that is precomputed on the GPU by the quadrature of environment.h
+//                (irradiance_cubemap.comp) whenever the environment or η changes. The world
+//                frame is the environment's rotated by envRotation about +y:
+//                ω_world = R_y(envRotation)·ω_env, R_y(a)·(1,0,0) = (cos a, 0, −sin a).
+//   OccludedIbl  the same integral with V, estimated by Monte Carlo with the same K =
+//                occludedTotalSamples environment samples for every point (env_sampling.h),
+//                each a directional light with its own shadow map; incremental
+//                (beginOccluded / stepOccluded, occludedSamplesPerStep per step, ping-pong
+//                buffers of Σ Y and Σ Y²), deterministic for a seed; the standard error per
+//                point is from the per-sample values (conservative: the samples are
+//                stratified).
+// Positions are in mesh units (the mesh normalised to ~1 unit); only directions matter for
+// lighting, lengths only for the shadow offset (Settings::depthOffset, in mesh units).
+//
+// Errors are core::Error: file errors name the file (environment.h, projected textures);
+// settings errors (zero-length direction, shadow-map size outside [16, min(8192, GL max)],
+// η outside [1, 4], jitter samples outside [1, 16], negative or non-finite colours) name the
+// setting. A Stage needs a current OpenGL 4.5 context and is single threaded. Its calls change
+// the current program, SSBO bindings 0–3 and texture units 0–3 (the comparison samplers on
+// units 0 and 1 are unbound again), and Ibl enables GL_TEXTURE_CUBE_MAP_SEAMLESS; the shadow
+// pass restores the framebuffer binding, viewport and depth / cull / scissor state.
+// Cost (llvmpipe, 2 cores): the cubemap of the 128 × 64 default sky takes ~2 s (32768 nodes ×
+// 6144 texels); a directional pass over 100k points ~15–60 ms; an occluded step of 4 samples
+// at 1024² ~0.3 s.
+#pragma once
+
+#include "gl/gl.h"
+#include "irradiance/environment.h"
+#include "irradiance/light_frame.h"
+#include "mesh/mesh.h"
+#include "pointcloud/pointcloud.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace irradiance {
+
+enum class LightMode { Directional, Filtered, Ibl, OccludedIbl };
+enum class ShadowFilter { Naive, Offset, OffsetPcf, OffsetPcfJitter }; // thesis Fig. 3.3 a–d
+
+inline constexpr int kCubeFaceSize = 32;
+
+struct Settings {
+    LightMode mode = LightMode::Directional;
+    glm::vec3 direction{0.0f, 1.0f, 0.0f}; // towards the light (any non-zero length)
+    glm::vec3 irradiance{1.0f};            // E0, RGB, on a surface facing the light
+    ShadowFilter filter = ShadowFilter::OffsetPcfJitter;
+    int shadowMapSize = 2048;       // texels per side, [16, min(8192, GL_MAX_TEXTURE_SIZE)]
+    float depthOffset = 1e-3f;      // constant part of the shadow offset, mesh units
+    float slopeOffset = 1.0f;       // multiplier of the slope-scaled part (irradiance_shadow.glsl)
+    int jitterSamples = 8;          // PCF lookups of OffsetPcfJitter, [1, 16]
+    float jitterRadius = 1.5f;      // their disk radius in texels
+    float ior = 1.3f;               // η, relative index of refraction, [1, 4]
+    float envIntensity = 1.0f;      // multiplies the environment radiance
+    float envRotation = 0.0f;       // radians about +y
+    int occludedSamplesPerStep = 4; // shadow maps per step, [1, 64]
+    int occludedTotalSamples = 256; // K, [1, 2^20]
+    uint64_t seed = 1;              // environment samples of OccludedIbl
+};
+
+// Throws core::Error naming the first bad setting (see the header comment). maxTextureSize: the
+// GL limit (0 = do not check against it).
+void validateSettings(const Settings& s, int maxTextureSize = 0);
+
+// Ft(η, cos θ) = 1 − R of the exact unpolarised Fresnel equations (CPU, double); 0 for cos <= 0.
+double fresnelTransmittance(double cosTheta, double eta);
+
+class ShadowMaps;
+
+class Stage {
+  public:
+    // shaderDir: the project's shaders/ folder. Compiles the programs (core::Error with file and
+    // line on failure). Needs a current GL context.
+    explicit Stage(std::filesystem::path shaderDir);
+    ~Stage();
+    Stage(const Stage&) = delete;
+    Stage& operator=(const Stage&) = delete;
+
+    // Uploads the mesh (for shadow maps) and the points (positions in mesh units, normals of
+    // any non-zero length, normalised here; results come back in this order). Throws
+    // core::Error for an empty mesh, mismatched sizes, non-finite values or zero normals.
+    // Cancels a running occluded computation.
+    void setScene(const mesh::Mesh& m, const std::vector<glm::vec3>& positions,
+                  const std::vector<glm::vec3>& normals);
+    void setScene(const mesh::Mesh& m, const pointcloud::PointCloud& cloud);
+    size_t pointCount() const { return m_pointCount; }
+
+    // Projected texture of the Filtered mode: RGB floats, row 0 at the top, finite, >= 0.
+    void setProjectedTexture(int width, int height, const std::vector<float>& rgb,
+                             const std::string& name = "projected texture");
+    // PNG / JPG (stb_image; 8-bit sRGB decoded to linear) or EXR (R, G, B). core::Error(path).
+    void loadProjectedTexture(const std::filesystem::path& path);
+    void useCheckerTexture(); // the default
+
+    // The environment of Ibl / OccludedIbl (validated; core::Error naming `name` / the path).
+    void setEnvironment(const EnvironmentMap& env, const std::string& name = "environment");
+    void loadEnvironment(const std::filesystem::path& exr);
+    bool hasEnvironment() const { return m_env.width > 0; }
+    const EnvironmentMap& environment() const { return m_env; }
+
+    // Directional / Filtered / Ibl: the full result at once; OccludedIbl: runs
+    // beginOccluded + stepOccluded to the end. One value per point, input order. Also left on
+    // the GPU in resultBuffer(). Ibl modes throw core::Error when no environment is set.
+    std::vector<glm::vec3> compute(const Settings& s);
+
+    // Occluded IBL, incremental. beginOccluded draws the samples and clears the sums;
+    // stepOccluded processes the next occludedSamplesPerStep samples and returns true when all
+    // K are done (false while more remain; also false when nothing is running).
+    void beginOccluded(const Settings& s);
+    bool stepOccluded();
+    bool occludedRunning() const { return m_occ.active; }
+    int occludedSamplesDone() const { return m_occ.done; }
+    float occludedProgress() const; // samples done / K, 0 when nothing was begun
+    // The estimate from the samples done so far (mean of Y_k; empty before the first step or
+    // after cancel) and its standard error per channel (sqrt of the sample variance / k; 0 for
+    // k < 2).
+    std::vector<glm::vec3> occludedResult() const;
+    std::vector<glm::vec3> occludedStdError() const;
+    void cancelOccluded(); // discards the running computation
+
+    // For inspector panels (0 until made): a GL_TEXTURE_2D view of shadow map 0 (depth, the
+    // last directional light or the first sample of the last occluded step); the environment
+    // as GL_RGB32F lat-long texture; the irradiance cubemap (GL_RGBA32F, without
+    // envIntensity); the projected texture; the SSBO of vec4 per point holding the last
+    // compute() result (rgb = E_t, w = visibility of Directional / Filtered, else 1).
+    GLuint shadowMapTexture() const;
+    GLuint environmentTexture() const { return m_envTexture.id(); }
+    GLuint irradianceCubemap() const { return m_cube.id(); }
+    GLuint projectedTexture() const { return m_projected.id(); }
+    GLuint resultBuffer() const { return m_result.id(); }
+    // The light frame of the last Directional / Filtered compute().
+    const LightFrame& lastLightFrame() const { return m_lastFrame; }
+
+  private:
+    struct Occluded {
+        bool active = false;
+        Settings settings;
+        std::vector<glm::vec4> sampleDirs; // world direction (xyz)
+        std::vector<glm::vec4> sampleWeights;
+        int done = 0, total = 0;
+        int current = 0; // which of m_sums holds the sums
+    };
+
+    std::vector<glm::vec3> readResult() const;
+    void ensureCubemap(float ior);
+    void setShadowUniforms(const gl::Program& p, const Settings& s) const;
+    void bindShadowSamplers() const;
+    void dispatchPoints(const gl::Program& p) const;
+    std::vector<glm::vec3> computeDirect(const Settings& s);
+    std::vector<glm::vec3> computeIbl(const Settings& s);
+
+    std::filesystem::path m_shaderDir;
+    std::unique_ptr<ShadowMaps> m_shadow;
+    gl::Program m_direct, m_ibl, m_cubeProgram, m_occluded;
+    gl::Buffer m_points, m_result;
+    gl::Buffer m_sums[2];
+    size_t m_pointCount = 0;
+    BoundingSphere m_bounds;
+    LightFrame m_lastFrame;
+    gl::Texture m_projected, m_envTexture, m_cube;
+    EnvironmentMap m_env;
+    uint64_t m_envGeneration = 0, m_cubeGeneration = ~0ull;
+    float m_cubeIor = -1.0f;
+    Occluded m_occ;
+};
+
+} // namespace irradiance

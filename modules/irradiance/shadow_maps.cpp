@@ -1,0 +1,130 @@
+// irradiance/shadow_maps: depth array, mesh upload, shadow pass, comparison samplers (see
+// shadow_maps.h).
+#include "irradiance/shadow_maps.h"
+
+#include "core/core.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace irradiance {
+namespace {
+detail::Sampler makeSampler(GLenum filter) {
+    GLuint id = 0;
+    glCreateSamplers(1, &id);
+    glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, filter);
+    glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, filter);
+    glSamplerParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glSamplerParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    const float border[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    glSamplerParameterfv(id, GL_TEXTURE_BORDER_COLOR, border);
+    glSamplerParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glSamplerParameteri(id, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    return detail::Sampler(id);
+}
+} // namespace
+
+ShadowMaps::ShadowMaps(const std::filesystem::path& shaderDir)
+    : m_program(
+          detail::loadRenderProgram(shaderDir, "irradiance_shadow.vert", "irradiance_shadow.frag")),
+      m_nearest(makeSampler(GL_NEAREST)), m_linear(makeSampler(GL_LINEAR)) {
+    m_clipFromWorld = gl::uniformLocation(m_program, "ClipFromWorld");
+    GLuint vao = 0, fbo = 0;
+    glCreateVertexArrays(1, &vao);
+    m_vao = gl::VertexArray(vao);
+    glCreateFramebuffers(1, &fbo);
+    m_fbo = gl::FramebufferId(fbo);
+    glNamedFramebufferDrawBuffer(fbo, GL_NONE);
+    glNamedFramebufferReadBuffer(fbo, GL_NONE);
+}
+
+void ShadowMaps::setMesh(const mesh::Mesh& m) {
+    if (m.vertices.empty() || m.triangles.empty())
+        throw core::Error("irradiance: the mesh has no triangles");
+    m_vertices = gl::createBuffer(m.vertices.size() * sizeof(m.vertices[0]), m.vertices.data());
+    m_indices = gl::createBuffer(m.triangles.size() * sizeof(m.triangles[0]), m.triangles.data());
+    m_indexCount = static_cast<GLsizei>(3 * m.triangles.size());
+    const GLuint vao = m_vao.id();
+    glVertexArrayVertexBuffer(vao, 0, m_vertices.id(), 0, 3 * sizeof(float));
+    glVertexArrayElementBuffer(vao, m_indices.id());
+    glEnableVertexArrayAttrib(vao, 0);
+    glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, 0, 0);
+}
+
+void ShadowMaps::ensure(int size, int layers) {
+    if (size == m_size && layers <= m_layers && m_depth) return;
+    const int n = std::max(layers, 1);
+    GLuint tex = 0, view = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &tex);
+    glTextureStorage3D(tex, 1, GL_DEPTH_COMPONENT32F, size, size, n);
+    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    m_view.reset();
+    m_depth = gl::Texture(tex);
+    glGenTextures(1, &view); // a view needs a name without storage
+    glTextureView(view, GL_TEXTURE_2D, tex, GL_DEPTH_COMPONENT32F, 0, 1, 0, 1);
+    glTextureParameteri(view, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(view, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    m_view = gl::Texture(view);
+    m_size = size;
+    m_layers = n;
+}
+
+void ShadowMaps::render(int layer, const LightFrame& frame) {
+    GLint prevFbo = 0, viewport[4];
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    GLint prevDepthFunc = GL_LESS;
+    glGetIntegerv(GL_DEPTH_FUNC, &prevDepthFunc);
+    GLboolean prevDepthMask = GL_TRUE;
+    glGetBooleanv(GL_DEPTH_WRITEMASK, &prevDepthMask);
+    const GLboolean depthTest = glIsEnabled(GL_DEPTH_TEST), cull = glIsEnabled(GL_CULL_FACE),
+                    scissor = glIsEnabled(GL_SCISSOR_TEST);
+
+    glNamedFramebufferTextureLayer(m_fbo.id(), GL_DEPTH_ATTACHMENT, m_depth.id(), 0, layer);
+    const GLenum status = glCheckNamedFramebufferStatus(m_fbo.id(), GL_DRAW_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        throw core::Error("irradiance: shadow-map framebuffer incomplete (status " +
+                          std::to_string(status) + ")");
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_fbo.id());
+    glViewport(0, 0, m_size, m_size);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_SCISSOR_TEST);
+    const float one = 1.0f;
+    glClearNamedFramebufferfv(m_fbo.id(), GL_DEPTH, 0, &one);
+    glUseProgram(m_program.id());
+    const glm::mat4 m = frame.clipFromWorld();
+    glUniformMatrix4fv(m_clipFromWorld, 1, GL_FALSE, glm::value_ptr(m));
+    glBindVertexArray(m_vao.id());
+    glDrawElements(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(prevFbo));
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    glDepthFunc(static_cast<GLenum>(prevDepthFunc));
+    glDepthMask(prevDepthMask);
+    if (!depthTest) glDisable(GL_DEPTH_TEST);
+    if (cull) glEnable(GL_CULL_FACE);
+    if (scissor) glEnable(GL_SCISSOR_TEST);
+}
+
+void ShadowMaps::bind() const {
+    glBindTextureUnit(0, m_depth.id());
+    glBindTextureUnit(1, m_depth.id());
+    glBindSampler(0, m_nearest.id());
+    glBindSampler(1, m_linear.id());
+}
+
+void ShadowMaps::unbind() const {
+    glBindSampler(0, 0);
+    glBindSampler(1, 0);
+}
+
+} // namespace irradiance

@@ -1,0 +1,138 @@
+// irradiance/stage_occluded: image based lighting with occlusion (thesis 3.3.2, last
+// paragraphs; irradiance.h): shared environment samples, one shadow map per sample, running sums
+// Σ Y and Σ Y² per point in a ping-pong pair of SSBOs (shaders/irradiance_occluded.comp).
+#include "core/core.h"
+#include "irradiance/env_sampling.h"
+#include "irradiance/irradiance.h"
+#include "irradiance/shadow_maps.h"
+
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/vec4.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace irradiance {
+namespace {
+constexpr GLuint kGroup = 64;
+
+std::vector<glm::vec4> readVec4(GLuint buffer, size_t count) {
+    std::vector<glm::vec4> v(count);
+    if (count)
+        glGetNamedBufferSubData(buffer, 0, static_cast<GLsizeiptr>(count * sizeof(glm::vec4)),
+                                v.data());
+    return v;
+}
+} // namespace
+
+void Stage::beginOccluded(const Settings& s) {
+    GLint maxTex = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
+    Settings checked = s;
+    checked.mode = LightMode::OccludedIbl;
+    validateSettings(checked, maxTex);
+    if (!m_points) throw core::Error("irradiance: no scene (call setScene first)");
+    if (!hasEnvironment())
+        throw core::Error("irradiance: image based lighting needs an environment map");
+    cancelOccluded();
+    const std::vector<EnvSample> samples =
+        sampleEnvironment(m_env, checked.occludedTotalSamples, checked.seed);
+    const glm::mat3 R = worldFromEnvironment(checked.envRotation);
+    m_occ.settings = checked;
+    m_occ.sampleDirs.resize(samples.size());
+    m_occ.sampleWeights.resize(samples.size());
+    for (size_t k = 0; k < samples.size(); ++k) {
+        m_occ.sampleDirs[k] = glm::vec4(glm::normalize(R * samples[k].direction), 0.0f);
+        m_occ.sampleWeights[k] = glm::vec4(samples[k].weight * checked.envIntensity, 0.0f);
+    }
+    for (auto& b : m_sums)
+        glClearNamedBufferData(b.id(), GL_RGBA32F, GL_RGBA, GL_FLOAT, nullptr);
+    m_occ.current = 0;
+    m_occ.done = 0;
+    m_occ.total = checked.occludedTotalSamples;
+    m_occ.active = true;
+}
+
+bool Stage::stepOccluded() {
+    if (!m_occ.active) return false;
+    const Settings& s = m_occ.settings;
+    const int count = std::min(s.occludedSamplesPerStep, m_occ.total - m_occ.done);
+    m_shadow->ensure(s.shadowMapSize, s.occludedSamplesPerStep);
+    // per sample: direction (the frame's w), weight, u, v
+    std::vector<glm::vec4> block(4 * static_cast<size_t>(count));
+    for (int k = 0; k < count; ++k) {
+        const size_t g = static_cast<size_t>(m_occ.done + k);
+        const LightFrame f = makeLightFrame(glm::vec3(m_occ.sampleDirs[g]), m_bounds);
+        m_shadow->render(k, f);
+        block[4 * k] = glm::vec4(f.w, 0.0f);
+        block[4 * k + 1] = m_occ.sampleWeights[g];
+        block[4 * k + 2] = glm::vec4(f.u, 0.0f);
+        block[4 * k + 3] = glm::vec4(f.v, 0.0f);
+    }
+    const gl::Buffer blockBuf = gl::createBuffer(block.size() * sizeof(glm::vec4), block.data());
+    const GLuint p = m_occluded.id();
+    glUseProgram(p);
+    setShadowUniforms(m_occluded, s);
+    glProgramUniform1ui(p, gl::uniformLocation(m_occluded, "SampleCount"),
+                        static_cast<GLuint>(count));
+    glProgramUniform1ui(p, gl::uniformLocation(m_occluded, "FirstSample"),
+                        static_cast<GLuint>(m_occ.done));
+    glProgramUniform3fv(p, gl::uniformLocation(m_occluded, "LightCentre"), 1,
+                        glm::value_ptr(m_bounds.centre));
+    glProgramUniform1f(p, gl::uniformLocation(m_occluded, "LightExtent"),
+                       makeLightFrame(glm::vec3(0, 1, 0), m_bounds).extent);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_points.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_sums[m_occ.current].id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_sums[1 - m_occ.current].id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, blockBuf.id());
+    m_shadow->bind();
+    dispatchPoints(m_occluded);
+    m_shadow->unbind();
+    m_occ.current = 1 - m_occ.current;
+    m_occ.done += count;
+    if (m_occ.done >= m_occ.total) {
+        m_occ.active = false;
+        return true;
+    }
+    return false;
+}
+
+float Stage::occludedProgress() const {
+    return m_occ.total > 0 ? static_cast<float>(m_occ.done) / static_cast<float>(m_occ.total)
+                           : 0.0f;
+}
+
+std::vector<glm::vec3> Stage::occludedResult() const {
+    if (m_occ.done == 0) return {};
+    const std::vector<glm::vec4> sums = readVec4(m_sums[m_occ.current].id(), 2 * m_pointCount);
+    std::vector<glm::vec3> out(m_pointCount);
+    const float k = static_cast<float>(m_occ.done);
+    for (size_t i = 0; i < m_pointCount; ++i)
+        out[i] = glm::vec3(sums[2 * i]) / k;
+    return out;
+}
+
+std::vector<glm::vec3> Stage::occludedStdError() const {
+    if (m_occ.done == 0) return {};
+    const std::vector<glm::vec4> sums = readVec4(m_sums[m_occ.current].id(), 2 * m_pointCount);
+    std::vector<glm::vec3> out(m_pointCount, glm::vec3(0.0f));
+    const double k = m_occ.done;
+    if (m_occ.done < 2) return out;
+    for (size_t i = 0; i < m_pointCount; ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double mean = sums[2 * i][c] / k;
+            const double var = std::max(0.0, (sums[2 * i + 1][c] - k * mean * mean) / (k - 1.0));
+            out[i][c] = static_cast<float>(std::sqrt(var / k));
+        }
+    return out;
+}
+
+void Stage::cancelOccluded() {
+    m_occ.active = false;
+    m_occ.done = 0;
+    m_occ.total = 0;
+    m_occ.sampleDirs.clear();
+    m_occ.sampleWeights.clear();
+}
+
+} // namespace irradiance

@@ -1,0 +1,3 @@
+#version 450
+// Shadow pass: depth only (the framebuffer has no colour attachment).
+void main() {}

@@ -1,0 +1,295 @@
+// irradiance, directional and filtered lights (thesis 3.3.2, Fig. 3.3), headless GL:
+//   - unoccluded convex sphere: E_t = E0·Ft(n·L)·max(0, n·L) per point for the three offset
+//     filters; the naive filter gives either that or 0 (acne); back-facing points exactly 0.
+//     Points whose projection lies within 4 shadow-map texels of the silhouette are only checked
+//     to lie in [0, closed form]: there the filters' footprints (up to 1.234·1.5 + √2 ≈ 3.3
+//     texels for the jittered PCF) reach the silhouette and the slope-scaled offset is capped
+//     (tan θ <= 10), so partial shadowing is expected.
+//   - a plate above a box: points in the plate's shadow get 0 and lit points the closed form
+//     with the offset filters; the naive filter wrongly shadows a measurable fraction of the lit
+//     points (acne, Fig. 3.3 a) and the offset filters none. Points whose light ray passes
+//     within 5 texels of the plate's outline are skipped (the shadow edge is blurred by design).
+//   - filtered light: the projected texture value at the documented light-space uv
+//     (light_frame.h), bilinear, clamped; the default checker.
+#include "gl_stage.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace {
+using namespace irradiance;
+
+const glm::vec3 kE0(1.0f, 0.5f, 0.25f);
+
+glm::vec3 closedForm(const glm::vec3& n, const glm::vec3& L, double eta) {
+    const double c = glm::dot(n, L);
+    return kE0 * static_cast<float>(irrtest::ft(c, eta) * std::max(c, 0.0));
+}
+
+bool matches(const glm::vec3& got, const glm::vec3& want) {
+    for (int c = 0; c < 3; ++c)
+        if (std::abs(got[c] - want[c]) > 1e-5f * want[c] + 1e-7f) return false;
+    return true;
+}
+
+// The documented light basis (light_frame.h), recomputed here.
+struct Basis {
+    glm::vec3 u, v, w;
+};
+Basis basis(glm::vec3 L) {
+    Basis b;
+    b.w = glm::normalize(L);
+    const glm::vec3 a = std::abs(b.w.y) > 0.999f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
+    b.u = glm::normalize(glm::cross(a, b.w));
+    b.v = glm::cross(b.w, b.u);
+    return b;
+}
+
+TEST(IrradianceDirectional, ConvexSphereMatchesClosedFormForAllFilters) {
+    Stage& st = irrtest::stage();
+    const mesh::Mesh m = mesh::makeUvSphere(48, 96);
+    const auto P = irrtest::vertexPositions(m), N = irrtest::vertexNormals(m);
+    st.setScene(m, P, N);
+    Settings s;
+    s.mode = LightMode::Directional;
+    s.direction = glm::vec3(0.3f, 0.8f, 0.5f) * 3.0f; // any length
+    s.irradiance = kE0;
+    s.shadowMapSize = 512;
+    s.ior = 1.4f;
+    const glm::vec3 L = glm::normalize(s.direction);
+    const double texel = 2.0 * 1.02 * 0.5 / 512; // bounding radius 0.5
+    for (ShadowFilter f : {ShadowFilter::Naive, ShadowFilter::Offset, ShadowFilter::OffsetPcf,
+                           ShadowFilter::OffsetPcfJitter}) {
+        s.filter = f;
+        const auto E = st.compute(s);
+        ASSERT_EQ(E.size(), P.size());
+        int checked = 0, acne = 0, lit = 0;
+        for (size_t i = 0; i < P.size(); ++i) {
+            const double c = glm::dot(N[i], L);
+            const glm::vec3 want = closedForm(N[i], L, s.ior);
+            if (c <= 0) {
+                EXPECT_EQ(E[i], glm::vec3(0.0f)) << i;
+                continue;
+            }
+            const double toSilhouette = 0.5 * (1.0 - std::sqrt(1.0 - c * c));
+            if (toSilhouette < 4 * texel) { // near the terminator: a partial visibility
+                for (int k = 0; k < 3; ++k)
+                    EXPECT_TRUE(E[i][k] >= 0 && E[i][k] <= want[k] * (1 + 1e-5f) + 1e-7f) << i;
+                continue;
+            }
+            ++checked;
+            if (f == ShadowFilter::Naive && E[i] == glm::vec3(0.0f)) {
+                ++acne;
+                continue;
+            }
+            ++lit;
+            EXPECT_TRUE(matches(E[i], want))
+                << "filter " << int(f) << " point " << i << " got " << E[i].r << " want " << want.r;
+        }
+        EXPECT_GT(checked, 1500);
+        if (f == ShadowFilter::Naive) {
+            std::printf("naive filter on the sphere: %d of %d lit points in acne\n", acne, checked);
+            EXPECT_GT(lit, 0);
+        }
+    }
+    EXPECT_EQ(st.lastLightFrame().w, L);
+}
+
+// Plate (0.4 × 0.05 × 0.4, y in [0.075, 0.125]) above a box (1 × 0.2 × 1, top at y = −0.2).
+struct PlateScene {
+    mesh::Mesh mesh;
+    std::vector<glm::vec3> P, N;
+    glm::vec3 plateLo{-0.2f, 0.075f, -0.2f}, plateHi{0.2f, 0.125f, 0.2f};
+};
+PlateScene plateScene() {
+    PlateScene sc;
+    sc.mesh = {};
+    irrtest::append(sc.mesh, mesh::makeBox(1, 0.2, 1), glm::vec3(0, -0.3f, 0));
+    irrtest::append(sc.mesh, mesh::makeBox(0.4, 0.05, 0.4), glm::vec3(0, 0.1f, 0));
+    uint32_t r = 12345;
+    auto jitter = [&] {
+        r = r * 1664525u + 1013904223u;
+        return static_cast<float>((r >> 8) * (1.0 / 16777216.0)) - 0.5f;
+    };
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j) {
+            const float x = -0.48f + 0.96f * (i + 0.5f + 0.8f * jitter()) / 40;
+            const float z = -0.48f + 0.96f * (j + 0.5f + 0.8f * jitter()) / 40;
+            sc.P.emplace_back(x, -0.2f, z);
+            sc.N.emplace_back(0, 1, 0);
+        }
+    for (int i = 0; i < 10; ++i)
+        for (int j = 0; j < 10; ++j) {
+            sc.P.emplace_back(-0.18f + 0.36f * (i + 0.5f) / 10, 0.125f,
+                              -0.18f + 0.36f * (j + 0.5f) / 10);
+            sc.N.emplace_back(0, 1, 0);
+        }
+    return sc;
+}
+
+// Does the ray q + tL, t > 0, hit the box [lo, hi]? (slab test)
+bool hitsBox(glm::dvec3 q, glm::dvec3 L, glm::dvec3 lo, glm::dvec3 hi) {
+    double t0 = 1e-9, t1 = 1e30;
+    for (int a = 0; a < 3; ++a) {
+        if (std::abs(L[a]) < 1e-12) {
+            if (q[a] < lo[a] || q[a] > hi[a]) return false;
+            continue;
+        }
+        double ta = (lo[a] - q[a]) / L[a], tb = (hi[a] - q[a]) / L[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    return t0 <= t1;
+}
+
+double boundingRadius(const mesh::Mesh& m) {
+    glm::dvec3 lo(1e30), hi(-1e30);
+    for (const auto& v : m.vertices) {
+        lo = glm::min(lo, glm::dvec3(v[0], v[1], v[2]));
+        hi = glm::max(hi, glm::dvec3(v[0], v[1], v[2]));
+    }
+    const glm::dvec3 c = 0.5 * (lo + hi);
+    double r = 0;
+    for (const auto& v : m.vertices)
+        r = std::max(r, glm::length(glm::dvec3(v[0], v[1], v[2]) - c));
+    return r;
+}
+
+TEST(IrradianceDirectional, PlateShadowsTheBoxAndOffsetRemovesAcne) {
+    Stage& st = irrtest::stage();
+    const PlateScene sc = plateScene();
+    st.setScene(sc.mesh, sc.P, sc.N);
+    Settings s;
+    s.mode = LightMode::Directional;
+    s.direction = glm::vec3(0.3f, 1.0f, 0.2f);
+    s.irradiance = kE0;
+    s.shadowMapSize = 512;
+    const glm::dvec3 L = glm::normalize(glm::dvec3(s.direction));
+    const Basis b = basis(glm::vec3(L));
+    const double margin = 5 * 2.0 * 1.02 * boundingRadius(sc.mesh) / 512;
+    std::vector<int> state(sc.P.size()); // 0 lit, 1 shadowed, -1 near the shadow edge
+    int nLit = 0, nShadow = 0;
+    for (size_t i = 0; i < sc.P.size(); ++i) {
+        const glm::dvec3 q(sc.P[i]);
+        const bool sh = hitsBox(q, L, sc.plateLo, sc.plateHi);
+        bool edge = false;
+        for (int k = 0; k < 16; ++k) {
+            const double a = k * std::numbers::pi / 8;
+            const glm::dvec3 d =
+                margin * (std::cos(a) * glm::dvec3(b.u) + std::sin(a) * glm::dvec3(b.v));
+            edge |= hitsBox(q + d, L, sc.plateLo, sc.plateHi) != sh;
+        }
+        state[i] = edge ? -1 : (sh ? 1 : 0);
+        nLit += state[i] == 0;
+        nShadow += state[i] == 1;
+    }
+    ASSERT_GT(nShadow, 100);
+    ASSERT_GT(nLit, 500);
+    int wrongNaive = -1;
+    for (ShadowFilter f : {ShadowFilter::Naive, ShadowFilter::Offset, ShadowFilter::OffsetPcf,
+                           ShadowFilter::OffsetPcfJitter}) {
+        s.filter = f;
+        const auto E = st.compute(s);
+        int wrong = 0;
+        for (size_t i = 0; i < sc.P.size(); ++i) {
+            const glm::vec3 want = closedForm(sc.N[i], glm::vec3(L), s.ior);
+            if (state[i] == 1) {
+                EXPECT_EQ(E[i], glm::vec3(0.0f)) << "filter " << int(f) << " point " << i;
+            } else if (state[i] == 0) {
+                if (!matches(E[i], want)) {
+                    ++wrong;
+                    if (f == ShadowFilter::Naive) {
+                        EXPECT_EQ(E[i], glm::vec3(0.0f)) << i;
+                    }
+                }
+            }
+        }
+        if (f == ShadowFilter::Naive) {
+            wrongNaive = wrong;
+            std::printf("naive filter on the plate scene: %d of %d lit points in acne\n", wrong,
+                        nLit);
+            EXPECT_GT(wrong, nLit / 20); // acne: more than 5 % of the lit points
+        } else {
+            EXPECT_EQ(wrong, 0) << "filter " << int(f);
+            EXPECT_LT(wrong, wrongNaive);
+        }
+    }
+}
+
+// Bilinear lookup with clamp-to-edge of an RGB image (row 0 = top = v near 1).
+glm::vec3 bilinear(const std::vector<float>& img, int W, int H, glm::vec2 uv) {
+    auto texel = [&](int i, int j) { // GL texel (i, j), j = 0 the bottom row
+        i = std::clamp(i, 0, W - 1);
+        j = std::clamp(j, 0, H - 1);
+        const size_t k = 3 * (static_cast<size_t>(H - 1 - j) * W + i);
+        return glm::vec3(img[k], img[k + 1], img[k + 2]);
+    };
+    const float x = uv.x * W - 0.5f, y = uv.y * H - 0.5f;
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    const float fx = x - x0, fy = y - y0;
+    return (1 - fx) * (1 - fy) * texel(x0, y0) + fx * (1 - fy) * texel(x0 + 1, y0) +
+           (1 - fx) * fy * texel(x0, y0 + 1) + fx * fy * texel(x0 + 1, y0 + 1);
+}
+
+TEST(IrradianceFiltered, ProjectedTextureInLightSpace) {
+    Stage& st = irrtest::stage();
+    const mesh::Mesh m = mesh::makeUvSphere(32, 64);
+    const auto P = irrtest::vertexPositions(m), N = irrtest::vertexNormals(m);
+    st.setScene(m, P, N);
+    const int W = 4, H = 2;
+    const std::vector<float> img = {1.0f, 0.1f, 0.2f, 0.3f, 0.9f, 0.4f, 0.5f, 0.6f,
+                                    1.0f, 0.7f, 0.8f, 0.2f, 0.2f, 0.3f, 0.9f, 0.6f,
+                                    0.6f, 0.1f, 0.1f, 1.0f, 0.5f, 0.4f, 0.2f, 0.8f};
+    st.setProjectedTexture(W, H, img);
+    Settings s;
+    s.mode = LightMode::Filtered;
+    s.direction = glm::vec3(-0.4f, 0.5f, 0.7f);
+    s.irradiance = kE0;
+    s.shadowMapSize = 512;
+    s.filter = ShadowFilter::OffsetPcf;
+    const Basis b = basis(s.direction);
+    const float extent = 1.02f * 0.5f;
+    const double texel = 2.0 * extent / 512;
+    const auto E = st.compute(s);
+    double maxErr = 0;
+    int checked = 0;
+    for (size_t i = 0; i < P.size(); ++i) {
+        const double c = glm::dot(N[i], b.w);
+        if (c <= 0 || 0.5 * (1.0 - std::sqrt(1.0 - c * c)) < 4 * texel) continue;
+        const glm::vec2 uv =
+            glm::vec2(0.5f) + 0.5f * glm::vec2(glm::dot(P[i], b.u), glm::dot(P[i], b.v)) / extent;
+        const glm::vec3 want = closedForm(N[i], b.w, s.ior) * bilinear(img, W, H, uv);
+        const glm::vec3 base = closedForm(N[i], b.w, s.ior);
+        for (int k = 0; k < 3; ++k) {
+            // texture filtering weights: at least 8 fractional bits (1/256 of the texel range)
+            const double err = std::abs(E[i][k] - want[k]) / base[k];
+            maxErr = std::max(maxErr, err);
+            EXPECT_LT(err, 0.9 / 256 + 1e-5) << i << " channel " << k;
+        }
+        ++checked;
+    }
+    std::printf("filtered light: %d points, largest error %.3g of the texel range\n", checked,
+                maxErr);
+    EXPECT_GT(checked, 500);
+
+    // the default checker: only 1 and 0.25 inside squares, both present
+    st.useCheckerTexture();
+    const auto C = st.compute(s);
+    int ones = 0, quarters = 0;
+    for (size_t i = 0; i < P.size(); ++i) {
+        const glm::vec3 base = closedForm(N[i], b.w, s.ior);
+        if (base.r < 1e-3f) continue;
+        const float ratio = C[i].r / base.r;
+        EXPECT_TRUE(ratio >= 0.25f - 1e-4f && ratio <= 1.0f + 1e-4f) << ratio;
+        ones += ratio > 1.0f - 1e-4f;
+        quarters += ratio < 0.25f + 1e-4f;
+    }
+    EXPECT_GT(ones, 100);
+    EXPECT_GT(quarters, 100);
+}
+
+} // namespace
