@@ -1,0 +1,140 @@
+// render: the interactive point-cloud renderer of thesis 3.3.3 / 3.6.4 — the hierarchical
+// (Jensen–Buhler, thesis 2.6.4) BSSRDF evaluation on the GPU.
+//   1. G-buffer (shaders/render_gbuffer.*): the mesh rasterised with the orbit camera into
+//      RGBA32F position (mesh units, w = 1 hit / 0 miss), RGBA32F normal (interpolated vertex
+//      normal, normalised, not turned towards the camera) and depth.
+//   2. Traversal (shaders/octree_render.comp, a model consumer): per hit pixel the octree
+//      traversal of thesis Algorithm 2 exactly as modules/octree/octree.h specifies (the CPU
+//      replica octree::traverse does the same), or a brute-force sum over every point; the
+//      radiant exitance M and the radiance L_o = Ft(η, cos θo)/π · M. Radial models use the
+//      profile table (profile_table.h) unless Settings::directBssrdf.
+//   3. Tone map (shaders/render_tonemap.comp): exposure (stops) and gamma into RGBA8.
+// Images: pixel (x, y), y = 0 the top row; index p = y·width + x.
+// Mesa llvmpipe stops every loop of an invocation after 65535 iterations in total (nested
+// loops included), so the traversal runs in dispatches of at most kIterationsPerDispatch loop
+// iterations per pixel and resumes unfinished pixels (see the shader). If the driver's limit
+// still cuts a dispatch short (a model with loops of its own), the frame is rendered again
+// with half the iterations per dispatch (down to 256); below that every pixel of the frame
+// gets kFlagLoopLimit.
+// Every call needs the same current OpenGL 4.5 context.
+#pragma once
+
+#include "bssrdf/program.h"
+#include "gl/gl.h"
+#include "mesh/mesh.h"
+#include "octree/octree.h"
+#include "render/camera.h"
+#include "render/profile_table.h"
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace render {
+
+inline constexpr uint32_t kIterationsPerDispatch = 32768;
+// Render-level flag in Readback::stats[p].z besides octree::kFlagStackOverflow and
+// octree::kFlagIterationCap: the driver's loop limit cut the traversal short even at the
+// smallest dispatch size (the frame's values are then incomplete; set on every pixel).
+inline constexpr uint32_t kFlagLoopLimit = 4u;
+
+struct Settings {
+    int width = 640, height = 360; // 1 … 8192 each
+    Camera camera;                 // camera.aspect is replaced by width/height
+    float eps = 0.05f;             // ε of the solid-angle criterion (>= 0)
+    bool boundingBoxCriterion = false;
+    bool bruteForce = false;
+    bool directBssrdf = false; // radial models: call Bssrdf() instead of the profile table
+    uint32_t maxSteps = octree::kDefaultMaxSteps; // >= 1
+    int stackSize = octree::kStackSize;           // usable stack entries, 1 … kStackSize
+    float exposure = 0.0f, gamma = 2.2f;          // stops; gamma > 0
+    glm::vec3 background{0.12f, 0.12f, 0.14f};    // display colour of misses
+    // Loop iterations per pixel and traversal dispatch; 0 = kIterationsPerDispatch (lowered
+    // automatically when the driver's loop limit is hit). Results do not depend on it.
+    uint32_t iterationsPerDispatch = 0;
+    // The criterion of the CPU replica that matches these settings.
+    octree::Criterion criterion() const;
+};
+
+struct Frame {
+    int width = 0, height = 0;
+    GLuint ldr = 0;      // RGBA8, tone mapped
+    GLuint hdr = 0;      // RGBA32F, rgb = L_o, a = 1 hit / 0 miss
+    GLuint position = 0; // RGBA32F G-buffer
+    GLuint normal = 0;   // RGBA32F G-buffer
+    double gbufferMs = 0, profileMs = 0, traverseMs = 0, tonemapMs = 0; // CPU, after glFinish
+    int dispatches = 0; // traversal dispatches of the frame
+    uint32_t iterationsPerDispatch = 0;
+};
+
+struct Readback {
+    int width = 0, height = 0;
+    std::vector<glm::vec4> hdr;      // L_o, hit
+    std::vector<glm::vec4> exitance; // M (rgb), hit
+    std::vector<glm::uvec4> stats;   // steps, max stack depth, flags, evaluations
+    std::vector<glm::vec4> position; // xo (mesh units), hit
+    std::vector<glm::vec4> normal;   // no, 0
+    std::vector<unsigned char> ldr;  // RGBA8
+    size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
+};
+
+// One BSSRDF argument set in mm (positions) and unit directions.
+struct BssrdfPair {
+    glm::vec3 xi, wi, xo, wo;
+};
+// Bssrdf(xi, wi, xo, wo) for every pair on the GPU (shaders/render_pairs.comp; `program` from
+// bssrdf::buildModelProgram(m, "render_pairs.comp", sources)).
+std::vector<glm::vec3> evaluatePairs(GLuint program, const bssrdf::Model& m,
+                                     const bssrdf::ParamValues& values, const bssrdf::Builtins& b,
+                                     const std::vector<BssrdfPair>& pairs);
+// The pairs of a CPU replica trace, as the shader forms them: (scale·xi, wi, scale·xo, no).
+std::vector<BssrdfPair> tracePairs(const octree::Trace& t, float scale);
+
+class Renderer {
+  public:
+    explicit Renderer(bssrdf::ShaderSources src); // builds the G-buffer and tone-map programs
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    void setMesh(const mesh::Mesh& m); // normals computed when the mesh has none
+    void setOctree(const octree::Octree& t);
+    void updateAttributes(const octree::Octree& t); // node + point records only (same sizes)
+    // Builds the traversal, pairs (and for radial models the profile) programs; on a compile
+    // error throws core::Error(model file, line, …) and keeps the previous model and programs.
+    // Parameter values carry over (bssrdf::carryOver) until setMaterial.
+    void setModel(const bssrdf::Model& m);
+    void setMaterial(const bssrdf::ParamValues& values, const bssrdf::Builtins& b);
+
+    bool ready() const; // mesh, octree and model set
+    // G-buffer + traversal + tone map. Throws core::Error("render", 0, …) for invalid settings
+    // or when not ready().
+    Frame render(const Settings& s);
+    Readback readback() const; // of the last frame
+
+    // Progressive rendering, so an interactive caller never blocks for a whole frame: begin()
+    // runs the G-buffer (and profile table) and starts the traversal; advance(budgetMs) runs
+    // traversal dispatches until about budgetMs have passed (at least one) and returns true
+    // once the frame is complete and tone mapped. render() = begin + advance to the end; the
+    // result does not depend on how the work was split (Settings::iterationsPerDispatch sets
+    // the granularity). Readback of an unfinished frame shows partial sums.
+    void begin(const Settings& s);
+    bool advance(double budgetMs);
+    bool inProgress() const;
+    const Frame& currentFrame() const;
+
+    // The current model's Bssrdf on the GPU (render_pairs.comp) with the current material.
+    std::vector<glm::vec3> evaluatePairs(const std::vector<BssrdfPair>& pairs) const;
+    // The profile table of the last frame that used one (empty before; radial models only).
+    const ProfileTable& profileTable() const;
+    const bssrdf::Builtins& builtins() const;
+
+  private:
+    struct State;
+    std::unique_ptr<State> m; // GL objects inside
+};
+
+} // namespace render

@@ -1,0 +1,668 @@
+// Tests of the point-cloud renderer (modules/render; thesis 2.6.4, 3.3.3, 3.6.4): camera and
+// G-buffer geometry, ε = 0 hierarchical = brute force, the GPU traversal against its CPU
+// replica (octree::traverse + octree::accumulate with BSSRDF values from render_pairs.comp),
+// error vs ε and criterion, the radial profile table, the flat-plate closed form
+// M = E·R_dr of the classical dipole, the stack/iteration flags, and keep-last-good models.
+#include "render/render.h"
+
+#include "../support/gl_fixture.h"
+#include "bssrdf/bssrdf.h"
+#include "core/core.h"
+#include "mesh/mesh.h"
+#include "octree/octree.h"
+#include "pointcloud/pointcloud.h"
+
+#include <glm/glm.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Skin-like dipole material (1/mm) on a bunny 50 mm long.
+bssrdf::Builtins skin() {
+    bssrdf::Builtins b;
+    b.sigmaA = {0.032f, 0.17f, 0.48f};
+    b.sigmaS = {0.74f, 0.88f, 1.01f};
+    b.g = 0.0f;
+    b.ior = 1.3f;
+    b.scale = 50.0f;
+    return b;
+}
+
+const glm::vec3 kLight = glm::normalize(glm::vec3(0.4f, 0.8f, 0.45f));
+
+glm::vec3 irradianceOf(const glm::vec3& n) {
+    const float c = std::max(0.0f, glm::dot(n, kLight));
+    return glm::vec3(1.0f, 0.9f, 0.8f) * c;
+}
+
+struct Scene {
+    mesh::Mesh mesh;
+    octree::Octree tree;
+};
+
+Scene makeScene(const mesh::Mesh& m, size_t points, uint64_t seed) {
+    Scene s;
+    s.mesh = m;
+    const pointcloud::PointCloud pc = pointcloud::sampleUniform(m, points, seed);
+    std::vector<glm::vec3> p, n, e;
+    std::vector<float> a;
+    for (const auto& q : pc.points) {
+        p.emplace_back(q.p[0], q.p[1], q.p[2]);
+        n.emplace_back(q.n[0], q.n[1], q.n[2]);
+        a.push_back(q.area);
+        e.push_back(irradianceOf(n.back()));
+    }
+    s.tree = octree::build(p, n, a);
+    octree::setIrradiance(s.tree, e);
+    return s;
+}
+
+const Scene& bunny() {
+    static const Scene s = [] {
+        mesh::Mesh m = mesh::loadObj(testsupport::sourceRoot() / "third_party/bunny/bunny.obj");
+        mesh::normalizeMesh(m, "bunny");
+        return makeScene(m, 3000, 5);
+    }();
+    return s;
+}
+
+struct Fixture {
+    fs::path root;
+    bssrdf::Model dipole, better;
+    std::unique_ptr<render::Renderer> renderer;
+};
+
+Fixture& fixture() {
+    static Fixture f = [] {
+        testsupport::context();
+        Fixture x;
+        x.root = testsupport::makeProjectRoot("render", {"dipole.bssrdf", "better_dipole.bssrdf"});
+        x.dipole = bssrdf::loadModel(x.root / "materials/dipole.bssrdf", "materials/dipole.bssrdf");
+        x.better = bssrdf::loadModel(x.root / "materials/better_dipole.bssrdf",
+                                     "materials/better_dipole.bssrdf");
+        x.renderer = std::make_unique<render::Renderer>(bssrdf::ShaderSources{x.root});
+        return x;
+    }();
+    testsupport::context();
+    return f;
+}
+
+// The renderer set up on the bunny with the dipole and the skin material.
+render::Renderer& bunnyRenderer() {
+    Fixture& f = fixture();
+    f.renderer->setMesh(bunny().mesh);
+    f.renderer->setOctree(bunny().tree);
+    f.renderer->setModel(f.dipole);
+    f.renderer->setMaterial(bssrdf::defaultValues(f.dipole), skin());
+    return *f.renderer;
+}
+
+render::Settings smallSettings(const mesh::Mesh& m) {
+    render::Settings s;
+    s.width = 64;
+    s.height = 48;
+    s.camera.aspect = 64.0f / 48.0f;
+    s.camera.yaw = 0.5f;
+    s.camera.pitch = 0.3f;
+    s.camera.fit(m);
+    return s;
+}
+
+std::vector<size_t> hitPixels(const render::Readback& r) {
+    std::vector<size_t> hits;
+    for (size_t p = 0; p < r.position.size(); ++p)
+        if (r.position[p].w == 1.0f) hits.push_back(p);
+    return hits;
+}
+
+// Relative RMS difference of M over the hit pixels: sqrt(Σ|M − R|² / Σ|R|²).
+double relativeRms(const render::Readback& a, const render::Readback& ref) {
+    double num = 0, den = 0;
+    for (size_t p : hitPixels(ref))
+        for (int c = 0; c < 3; ++c) {
+            const double d = double(a.exitance[p][c]) - double(ref.exitance[p][c]);
+            num += d * d;
+            den += double(ref.exitance[p][c]) * double(ref.exitance[p][c]);
+        }
+    return std::sqrt(num / den);
+}
+
+} // namespace
+
+TEST(RenderCamera, FitFramesEveryVertex) {
+    mesh::Mesh m = bunny().mesh;
+    for (float yaw : {0.0f, 1.0f, 2.5f})
+        for (float aspect : {0.5f, 1.0f, 2.0f}) {
+            render::Camera c;
+            c.yaw = yaw;
+            c.pitch = 0.4f;
+            c.aspect = aspect;
+            c.fit(m);
+            const glm::mat4 vp = c.projection() * c.view();
+            float extent = 0.0f;
+            for (const auto& v : m.vertices) {
+                const glm::vec4 q = vp * glm::vec4(v[0], v[1], v[2], 1.0f);
+                ASSERT_GT(q.w, 0.0f);
+                EXPECT_LT(std::fabs(q.x / q.w), 1.0f);
+                EXPECT_LT(std::fabs(q.y / q.w), 1.0f);
+                EXPECT_GT(q.z / q.w, -1.0f);
+                EXPECT_LT(q.z / q.w, 1.0f);
+                extent = std::max({extent, std::fabs(q.x / q.w), std::fabs(q.y / q.w)});
+            }
+            EXPECT_GT(extent, 0.5f) << "the mesh should fill a good part of the view";
+        }
+}
+
+// G-buffer on a UV sphere of radius 0.5 seen from +z: hits lie on the sphere (up to the
+// faceting), normals are unit and close to the radial direction, the image is upright (row 0
+// at the top: the top rows see the +y half) and a resize gives the same surface.
+TEST(RenderGBuffer, SphereGeometryAndResize) {
+    Fixture& f = fixture();
+    const mesh::Mesh sphere = mesh::makeUvSphere(48, 96);
+    const Scene scene = makeScene(sphere, 500, 3);
+    f.renderer->setMesh(scene.mesh);
+    f.renderer->setOctree(scene.tree);
+    f.renderer->setModel(f.dipole);
+    f.renderer->setMaterial(bssrdf::defaultValues(f.dipole), skin());
+    render::Settings s;
+    s.width = 48;
+    s.height = 32;
+    s.camera.aspect = 1.5f;
+    s.camera.fit(sphere);
+    s.bruteForce = true;
+    for (int pass = 0; pass < 2; ++pass) {
+        f.renderer->render(s);
+        const render::Readback r = f.renderer->readback();
+        ASSERT_EQ(r.width, s.width);
+        ASSERT_EQ(r.height, s.height);
+        size_t hits = 0;
+        for (int y = 0; y < r.height; ++y)
+            for (int x = 0; x < r.width; ++x) {
+                const size_t p = r.index(x, y);
+                const glm::vec4 pos = r.position[p];
+                if (pos.w == 0.0f) {
+                    EXPECT_EQ(r.hdr[p].w, 0.0f);
+                    continue;
+                }
+                ++hits;
+                const float radius = glm::length(glm::vec3(pos));
+                EXPECT_NEAR(radius, 0.5f, 2e-3f);
+                const glm::vec3 n = glm::vec3(r.normal[p]);
+                EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
+                EXPECT_GT(glm::dot(n, glm::vec3(pos) / radius), 0.999f);
+                EXPECT_GT(pos.z, -0.05f) << "visible side faces the camera on +z";
+                if (y < r.height / 2 - 1) {
+                    EXPECT_GT(pos.y, 0.0f) << "row 0 is the top";
+                }
+                if (y > r.height / 2) {
+                    EXPECT_LT(pos.y, 0.0f);
+                }
+                EXPECT_EQ(r.hdr[p].w, 1.0f);
+                EXPECT_GT(r.exitance[p].x, 0.0f);
+            }
+        // projected disc: π R'² of the image area, R' the silhouette radius in pixels
+        EXPECT_GT(hits, size_t(0.25 * s.width * s.height));
+        EXPECT_EQ(r.position[r.index(0, 0)].w, 0.0f);
+        EXPECT_EQ(r.ldr[4 * r.index(0, 0)],
+                  static_cast<unsigned char>(std::lround(s.background.x * 255.0f)));
+        s.width /= 2; // half resolution while interacting
+        s.height /= 2;
+    }
+}
+
+// With ε = 0 no interior node is ever accepted (A_v < 0·d2 is false), so the traversal adds
+// every point exactly once, the same terms as brute force in another order. Both sums are of
+// positive terms: |Ŝ_h − Ŝ_b| <= 2(N − 1)u·S (u = 2^-24) is the rigorous bound; the RMS of the
+// relative difference over pixels must be far below it, at the random-walk scale 10·√N·u.
+TEST(RenderTraversal, EpsZeroEqualsBruteForce) {
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    s.bruteForce = true;
+    r.render(s);
+    const render::Readback brute = r.readback();
+    s.bruteForce = false;
+    s.eps = 0.0f;
+    r.render(s);
+    const render::Readback hier = r.readback();
+    const auto hits = hitPixels(brute);
+    ASSERT_GT(hits.size(), 300u);
+    const double n = double(bunny().tree.points.size());
+    const double u = std::ldexp(1.0, -24);
+    double sq = 0.0, worst = 0.0;
+    for (size_t p : hits) {
+        EXPECT_EQ(brute.stats[p].w, uint32_t(n));
+        EXPECT_EQ(hier.stats[p].w, uint32_t(n));
+        EXPECT_EQ(hier.stats[p].z, 0u);
+        EXPECT_EQ(brute.stats[p].x, 0u) << "brute force takes no traversal steps";
+        for (int c = 0; c < 3; ++c) {
+            const double b = brute.exitance[p][c], h = hier.exitance[p][c];
+            ASSERT_GT(b, 0.0);
+            const double rel = std::fabs(h - b) / b;
+            EXPECT_LE(rel, 2.0 * (n - 1.0) * u);
+            sq += rel * rel;
+            worst = std::max(worst, rel);
+        }
+    }
+    const double rms = std::sqrt(sq / (3.0 * double(hits.size())));
+    std::printf("eps=0 vs brute force: %zu pixels, N=%.0f, rms rel %.3g, max rel %.3g\n",
+                hits.size(), n, rms, worst);
+    EXPECT_LE(rms, 10.0 * std::sqrt(n) * u);
+}
+
+// Splitting the traversal into many short dispatches (each pixel saves its stack, cursor,
+// statistics and partial sum, and resumes) changes nothing: bitwise equal results.
+TEST(RenderTraversal, ResumedDispatchesAreBitwiseEqual) {
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    for (bool brute : {false, true}) {
+        s.bruteForce = brute;
+        s.eps = 0.05f;
+        s.iterationsPerDispatch = 0;
+        const render::Frame one = r.render(s);
+        const render::Readback a = r.readback();
+        s.iterationsPerDispatch = 37;
+        const render::Frame many = r.render(s);
+        const render::Readback b = r.readback();
+        std::printf("brute=%d: %d dispatch(es) of %u vs %d of %u iterations\n", int(brute),
+                    one.dispatches, one.iterationsPerDispatch, many.dispatches,
+                    many.iterationsPerDispatch);
+        EXPECT_EQ(one.dispatches, 1);
+        EXPECT_GT(many.dispatches, 20);
+        for (size_t p = 0; p < a.exitance.size(); ++p) {
+            ASSERT_EQ(a.exitance[p], b.exitance[p]) << p;
+            ASSERT_EQ(a.stats[p], b.stats[p]) << p;
+            ASSERT_EQ(a.hdr[p], b.hdr[p]) << p;
+        }
+    }
+}
+
+namespace {
+
+struct ReplicaResult {
+    size_t compared = 0, excluded = 0;
+    double worstRel = 0;
+};
+
+// Runs the CPU replica for every hit pixel of `gpu` and compares exitance and statistics.
+ReplicaResult compareWithReplica(render::Renderer& r, const render::Settings& s,
+                                 const render::Readback& gpu, const octree::Octree& tree) {
+    ReplicaResult res;
+    const octree::Criterion crit = s.criterion();
+    const float scale = r.builtins().scale;
+    std::vector<octree::Trace> traces;
+    std::vector<size_t> pixels;
+    std::vector<render::BssrdfPair> pairs;
+    for (size_t p : hitPixels(gpu)) {
+        octree::Trace t =
+            octree::traverse(tree, glm::vec3(gpu.position[p]), glm::vec3(gpu.normal[p]), crit);
+        if (t.closestMargin < 1e-5f) {
+            ++res.excluded;
+            continue;
+        }
+        const auto tp = render::tracePairs(t, scale);
+        pairs.insert(pairs.end(), tp.begin(), tp.end());
+        traces.push_back(std::move(t));
+        pixels.push_back(p);
+    }
+    const std::vector<glm::vec3> values = r.evaluatePairs(pairs);
+    size_t offset = 0;
+    for (size_t i = 0; i < traces.size(); ++i) {
+        octree::Trace& t = traces[i];
+        const size_t p = pixels[i];
+        std::vector<glm::vec3> v(values.begin() + long(offset),
+                                 values.begin() + long(offset + t.evaluations.size()));
+        offset += t.evaluations.size();
+        octree::accumulate(t, v, scale);
+        const glm::uvec4 st = gpu.stats[p];
+        EXPECT_EQ(st.x, uint32_t(t.steps.size())) << "pixel " << p;
+        EXPECT_EQ(st.y, t.maxStackDepth) << "pixel " << p;
+        EXPECT_EQ(st.z, t.flags) << "pixel " << p;
+        EXPECT_EQ(st.w, uint32_t(t.evaluations.size())) << "pixel " << p;
+        for (int c = 0; c < 3; ++c) {
+            const double cpu = t.radiantExitance[c], g = gpu.exitance[p][c];
+            const double rel = std::fabs(cpu - g) / std::max(std::fabs(cpu), 1e-30);
+            res.worstRel = std::max(res.worstRel, rel);
+            EXPECT_LE(rel, 1e-5) << "pixel " << p << " channel " << c << " cpu " << cpu << " gpu "
+                                 << g;
+        }
+        ++res.compared;
+    }
+    return res;
+}
+
+} // namespace
+
+// The GPU traversal is the CPU replica: same steps, stack depth, flags and evaluation counts,
+// and the same radiant exitance up to float rounding of the BSSRDF evaluation (1e-5
+// relative), for both criteria and several ε. Pixels whose traversal met a criterion test
+// within 1e-5 of its threshold (Trace::closestMargin) may decide differently and are excluded.
+TEST(RenderTraversal, MatchesCpuReplica) {
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    s.directBssrdf = true; // the replica's values come from Bssrdf() itself
+    for (bool bbox : {false, true})
+        for (float eps : {0.02f, 0.1f, 0.5f}) {
+            SCOPED_TRACE("bbox " + std::to_string(bbox) + " eps " + std::to_string(eps));
+            s.boundingBoxCriterion = bbox;
+            s.eps = eps;
+            r.render(s);
+            const render::Readback gpu = r.readback();
+            const ReplicaResult res = compareWithReplica(r, s, gpu, bunny().tree);
+            std::printf("replica bbox=%d eps=%.2f: %zu pixels compared, %zu excluded, worst rel "
+                        "%.3g\n",
+                        int(bbox), double(eps), res.compared, res.excluded, res.worstRel);
+            EXPECT_GT(res.compared, 300u);
+            EXPECT_LE(res.excluded * 50, res.compared) << "at most 2 % excluded";
+        }
+}
+
+// Flags: a tiny step budget stops every pixel with kFlagIterationCap after exactly maxSteps
+// steps; a one-entry stack overflows on pixels that need to push twice. Both agree with the
+// replica given the same limits.
+TEST(RenderTraversal, StackOverflowAndIterationCapFlags) {
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    s.directBssrdf = true;
+    s.eps = 0.05f;
+    s.maxSteps = 7;
+    r.render(s);
+    render::Readback gpu = r.readback();
+    for (size_t p : hitPixels(gpu)) {
+        EXPECT_EQ(gpu.stats[p].x, 7u);
+        EXPECT_TRUE(gpu.stats[p].z & octree::kFlagIterationCap);
+    }
+    compareWithReplica(r, s, gpu, bunny().tree);
+
+    s.maxSteps = octree::kDefaultMaxSteps;
+    s.stackSize = 1;
+    r.render(s);
+    gpu = r.readback();
+    size_t overflow = 0;
+    for (size_t p : hitPixels(gpu)) {
+        EXPECT_LE(gpu.stats[p].y, 1u);
+        if (gpu.stats[p].z & octree::kFlagStackOverflow) ++overflow;
+    }
+    EXPECT_GT(overflow, 0u);
+    compareWithReplica(r, s, gpu, bunny().tree);
+}
+
+// Error against brute force falls as ε falls; the bounding-box criterion (never farther than
+// the nearest point) is at least as accurate as the mean-position one at equal ε. Below the
+// float floor — the RMS difference of ε = 0 (every point, another summation order) from brute
+// force — differences are rounding, so comparisons allow that floor.
+TEST(RenderTraversal, ErrorDecreasesWithEps) {
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    s.bruteForce = true;
+    r.render(s);
+    const render::Readback brute = r.readback();
+    s.bruteForce = false;
+    s.eps = 0.0f;
+    r.render(s);
+    const double floor = relativeRms(r.readback(), brute);
+    std::printf("float floor (eps = 0): rel RMS %.3g\n", floor);
+    double previous[2] = {1e30, 1e30};
+    for (float eps : {0.8f, 0.2f, 0.05f, 0.0125f}) {
+        double err[2];
+        double evals[2];
+        for (int bbox = 0; bbox < 2; ++bbox) {
+            s.eps = eps;
+            s.boundingBoxCriterion = bbox != 0;
+            r.render(s);
+            const render::Readback h = r.readback();
+            err[bbox] = relativeRms(h, brute);
+            double e = 0;
+            for (size_t p : hitPixels(h))
+                e += h.stats[p].w;
+            evals[bbox] = e / double(hitPixels(h).size());
+            EXPECT_LT(err[bbox], std::max(previous[bbox], 2.0 * floor))
+                << "eps " << eps << " bbox " << bbox;
+            previous[bbox] = err[bbox];
+        }
+        std::printf("eps=%.4f: rel RMS default %.3g (%.0f evals/pixel), bbox %.3g (%.0f)\n",
+                    double(eps), err[0], evals[0], err[1], evals[1]);
+        EXPECT_LE(err[1], err[0] + floor) << "eps " << eps;
+    }
+}
+
+// The profile table of a radial model against Bssrdf() itself: (1) the table at random radii
+// in [0, rMax) vs render_pairs.comp, relative 1e-3 wherever R_c(r) >= 1e-6·R_c(0);
+// (2) whole renders with the table vs direct evaluation, relative 1e-3 per pixel.
+TEST(RenderProfileTable, AgreesWithDirectBssrdf) {
+    Fixture& f = fixture();
+    render::Renderer& r = bunnyRenderer();
+    for (const bssrdf::Model* model : {&f.dipole, &f.better}) {
+        SCOPED_TRACE(model->path);
+        r.setModel(*model);
+        r.setMaterial(bssrdf::defaultValues(*model), skin());
+        render::Settings s = smallSettings(bunny().mesh);
+        s.eps = 0.05f;
+        r.render(s);
+        const render::Readback table = r.readback();
+        const render::ProfileTable& t = r.profileTable();
+        ASSERT_EQ(t.values.size(), size_t(render::kProfileEntries));
+        ASSERT_GT(t.rMax, 0.0f);
+        std::printf("%s: rMax %.4g mm\n", model->path.c_str(), double(t.rMax));
+
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<float> u(0.0f, 1.0f);
+        const glm::vec3 n(0.0f, 0.0f, 1.0f);
+        std::vector<render::BssrdfPair> pairs{{glm::vec3(0.0f), n, glm::vec3(0.0f), n}};
+        std::vector<float> radii{0.0f};
+        for (int i = 0; i < 4000; ++i) {
+            const float q = u(rng);
+            const float rr = t.rMax * q * q * 0.9999f;
+            radii.push_back(rr);
+            pairs.push_back({glm::vec3(0.0f), n, glm::vec3(rr, 0.0f, 0.0f), n});
+        }
+        const std::vector<glm::vec3> direct = r.evaluatePairs(pairs);
+        double worst = 0;
+        size_t checked = 0;
+        for (size_t i = 0; i < radii.size(); ++i) {
+            const glm::vec3 tab = render::lookupProfile(t, radii[i]);
+            for (int c = 0; c < 3; ++c) {
+                if (direct[i][c] < 1e-6f * direct[0][c]) continue;
+                const double rel = std::fabs(double(tab[c]) - direct[i][c]) / direct[i][c];
+                worst = std::max(worst, rel);
+                ++checked;
+                EXPECT_LE(rel, 1e-3) << "r " << radii[i] << " channel " << c;
+            }
+        }
+        std::printf("  table vs direct: %zu values, worst rel %.3g\n", checked, worst);
+        EXPECT_GT(checked, 3000u);
+
+        s.directBssrdf = true;
+        r.render(s);
+        const render::Readback dir = r.readback();
+        double worstPixel = 0;
+        for (size_t p : hitPixels(dir)) {
+            EXPECT_EQ(dir.stats[p], table.stats[p]);
+            for (int c = 0; c < 3; ++c) {
+                const double rel = std::fabs(double(table.exitance[p][c]) - dir.exitance[p][c]) /
+                                   dir.exitance[p][c];
+                worstPixel = std::max(worstPixel, rel);
+                EXPECT_LE(rel, 1e-3);
+            }
+        }
+        std::printf("  renders table vs direct: worst pixel rel %.3g\n", worstPixel);
+    }
+}
+
+// Closed form: a plate lit uniformly (E per point) has M = E·∫R_d dA = E·R_dr far from its
+// edges, R_dr = α'/2·(1 + e^(−4/3·A·√(3(1−α'))))·e^(−√(3(1−α'))) for the classical dipole
+// (materials/dipole.bssrdf, its DiffuseReflectance section; computed here in double).
+// Points: a square grid of spacing h = 0.6·z_r on the top face, area h² each. The midpoint
+// rule of a smooth, decaying integrand errs by its Fourier transform at 2π/h (Poisson
+// summation), ~ 4·e^(−2π·z_r/h) ≈ 1e-4 here; the truncation at ρ = 12/σ_tr from the receiver
+// loses < 1e-5; float sums of ~24k positive terms < 1e-5. Bound used: 1e-3 relative.
+TEST(RenderClosedForm, PlateExitanceIsDiffuseReflectance) {
+    Fixture& f = fixture();
+    bssrdf::Builtins b;
+    b.sigmaA = glm::vec3(0.1f, 0.05f, 0.2f);
+    b.sigmaS = glm::vec3(1.0f, 1.5f, 1.0f);
+    b.ior = 1.3f;
+    b.scale = 1.0f; // mesh units are mm
+    const float thickness = 1.0f, half = 30.0f;
+    const mesh::Mesh plate = mesh::makeThinPlate(2.0 * half, 2.0 * half, thickness);
+    double zrMin = 1e30, sigmaTrMin = 1e30;
+    for (int c = 0; c < 3; ++c) {
+        const double st = double(b.sigmaA[c]) + double(b.sigmaS[c]);
+        zrMin = std::min(zrMin, 1.0 / st);
+        sigmaTrMin = std::min(sigmaTrMin, std::sqrt(3.0 * b.sigmaA[c] * st));
+    }
+    ASSERT_LT(12.0 / sigmaTrMin, half - 5.0) << "the plate must hold the profile";
+    const float h = float(0.6 * zrMin);
+    const int k = int(std::floor(2.0f * half / h));
+    const glm::vec3 e(1.0f, 2.0f, 0.5f);
+    std::vector<glm::vec3> p, n, irr;
+    std::vector<float> a;
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+            p.emplace_back(-half + (float(i) + 0.5f) * h, -half + (float(j) + 0.5f) * h,
+                           0.5f * thickness);
+            n.emplace_back(0.0f, 0.0f, 1.0f);
+            a.push_back(h * h);
+            irr.push_back(e);
+        }
+    octree::Octree tree = octree::build(p, n, a);
+    octree::setIrradiance(tree, irr);
+    f.renderer->setMesh(plate);
+    f.renderer->setOctree(tree);
+    f.renderer->setModel(f.dipole);
+    f.renderer->setMaterial(bssrdf::defaultValues(f.dipole), b);
+    render::Settings s;
+    s.width = s.height = 8;
+    s.camera.target = glm::vec3(0.0f, 0.0f, 0.5f * thickness);
+    s.camera.yaw = 0.0f; // camera on +z, looking down at the lit face
+    s.camera.pitch = 0.0f;
+    s.camera.distance = 20.0f;
+    s.camera.radius = 45.0f;
+    s.camera.fovY = 0.3f;
+    s.bruteForce = true;
+    s.directBssrdf = true;
+    f.renderer->render(s);
+    const render::Readback rb = f.renderer->readback();
+    const size_t centre = rb.index(4, 4);
+    ASSERT_EQ(rb.position[centre].w, 1.0f);
+    const glm::vec3 xo(rb.position[centre]);
+    ASSERT_LT(std::max(std::fabs(xo.x), std::fabs(xo.y)), 3.0f);
+    ASSERT_NEAR(xo.z, 0.5f * thickness, 1e-5f);
+
+    const double ior = b.ior;
+    const double fdr = -1.44 / (ior * ior) + 0.71 / ior + 0.668 + 0.0636 * ior;
+    const double A = (1.0 + fdr) / (1.0 - fdr);
+    for (int c = 0; c < 3; ++c) {
+        const double alpha = double(b.sigmaS[c]) / (double(b.sigmaS[c]) + double(b.sigmaA[c]));
+        const double t = std::sqrt(3.0 * (1.0 - alpha));
+        const double rdr = alpha * 0.5 * (1.0 + std::exp(-4.0 / 3.0 * A * t)) * std::exp(-t);
+        const double expected = double(e[c]) * rdr;
+        const double got = rb.exitance[centre][c];
+        std::printf("plate channel %d: M %.7g, E·R_dr %.7g, rel %.2g (%zu points)\n", c, got,
+                    expected, (got - expected) / expected, p.size());
+        EXPECT_NEAR(got / expected, 1.0, 1e-3);
+    }
+    // The radiance is Ft(η, cos θo)/π · M.
+    const glm::vec3 wo = glm::normalize(s.camera.position() - xo);
+    const double cosO =
+        std::min(1.0, std::fabs(double(glm::dot(glm::vec3(rb.normal[centre]), wo))));
+    const double sin2T = (1.0 - cosO * cosO) / (ior * ior);
+    const double cosT = std::sqrt(1.0 - sin2T);
+    const double rs = (cosO - ior * cosT) / (cosO + ior * cosT);
+    const double rp = (ior * cosO - cosT) / (ior * cosO + cosT);
+    const double ft = 1.0 - 0.5 * (rs * rs + rp * rp);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(rb.hdr[centre][c] / (ft / M_PI * rb.exitance[centre][c]), 1.0, 1e-5);
+}
+
+// A model that does not compile: setModel throws core::Error naming the model file and line,
+// and the renderer keeps the previous model (identical image afterwards).
+TEST(RenderModel, BrokenModelKeepsPreviousProgram) {
+    Fixture& f = fixture();
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    r.render(s);
+    const render::Readback before = r.readback();
+    const std::string good = testsupport::readText(f.root / "materials/dipole.bssrdf");
+    const std::string bad =
+        testsupport::replaced(good, "vec3 Dr = sqrt(R + Zr*Zr);", "vec3 Dr = sqrt(R + Zr*Zr;");
+    const bssrdf::Model broken = bssrdf::parseModel(bad, "materials/broken.bssrdf");
+    try {
+        r.setModel(broken);
+        FAIL() << "expected a compile error";
+    } catch (const core::Error& e) {
+        EXPECT_EQ(e.file(), "materials/broken.bssrdf");
+        EXPECT_EQ(e.line(), testsupport::lineOf(bad, "vec3 Dr = sqrt(R + Zr*Zr;")) << e.what();
+    }
+    EXPECT_TRUE(r.ready());
+    r.render(s);
+    const render::Readback after = r.readback();
+    for (size_t p = 0; p < before.exitance.size(); ++p) {
+        EXPECT_EQ(before.exitance[p], after.exitance[p]);
+        EXPECT_EQ(before.stats[p], after.stats[p]);
+    }
+}
+
+// A model with a loop of its own (64 iterations per Bssrdf call) exceeds llvmpipe's 65535 loop
+// iterations per invocation at the default dispatch size; the renderer notices (sentinel loop)
+// and renders again with fewer iterations per dispatch. The brute-force result then equals the
+// slot-order sum of the same BSSRDF values evaluated one per invocation (render_pairs.comp).
+TEST(RenderTraversal, ModelLoopsStayWithinTheDriverLimit) {
+    Fixture& f = fixture();
+    render::Renderer& r = bunnyRenderer();
+    const bssrdf::Model loopy = bssrdf::parseModel(
+        "analytic\n"
+        "::begin parameters\n"
+        "float Loops 0 1000 64\n"
+        "::end parameters\n"
+        "::begin shader\n"
+        "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+        "    float r2 = dot(Xo - Xi, Xo - Xi);\n"
+        "    vec3 s = vec3(0.0);\n"
+        "    for (int i = 0; i < int(Loops); ++i)\n"
+        "        s += vec3(1.0, 0.5, 0.25) * exp(-r2 * (0.01 + 0.001 * float(i)));\n"
+        "    return s / max(Loops, 1.0);\n"
+        "}\n"
+        "::end shader\n",
+        "materials/loopy.bssrdf");
+    r.setModel(loopy);
+    r.setMaterial(bssrdf::defaultValues(loopy), skin());
+    render::Settings s = smallSettings(bunny().mesh);
+    s.width = 32;
+    s.height = 24;
+    s.bruteForce = true;
+    const render::Frame frame = r.render(s);
+    std::printf("loopy model: %u iterations per dispatch, %d dispatches\n",
+                frame.iterationsPerDispatch, frame.dispatches);
+    EXPECT_LT(frame.iterationsPerDispatch, render::kIterationsPerDispatch);
+    const render::Readback gpu = r.readback();
+    const octree::Octree& tree = bunny().tree;
+    const float scale = r.builtins().scale;
+    size_t checked = 0;
+    for (size_t p : hitPixels(gpu)) {
+        if (checked++ % 7 != 0) continue; // a sample of pixels keeps the test fast
+        octree::Trace t;
+        t.xo = glm::vec3(gpu.position[p]);
+        t.no = glm::vec3(gpu.normal[p]);
+        for (const auto& q : tree.points) {
+            const glm::vec3 e(q.irradiance[0], q.irradiance[1], q.irradiance[2]);
+            t.evaluations.push_back(
+                {glm::vec3(q.positionArea[0], q.positionArea[1], q.positionArea[2]),
+                 glm::vec3(q.normal[0], q.normal[1], q.normal[2]), e * q.positionArea[3]});
+        }
+        t.steps.resize(1);
+        t.steps[0].evaluationCount = uint32_t(t.evaluations.size());
+        octree::accumulate(t, r.evaluatePairs(render::tracePairs(t, scale)), scale);
+        EXPECT_EQ(gpu.stats[p].z, 0u);
+        EXPECT_EQ(gpu.stats[p].w, uint32_t(tree.points.size()));
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(gpu.exitance[p][c] / t.radiantExitance[c], 1.0, 1e-5);
+    }
+    r.setModel(f.dipole);
+}
