@@ -3,6 +3,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace app {
 
@@ -15,5 +17,19 @@ int benchReload(const std::filesystem::path& root, int runs);
 // σa 0.01, σs 1, g 0, 0.15 mm bins), the single-core time to 1 % relative standard error in
 // the bins at r = l_d and 4 l_d for both estimators, against MCML 1.2.2's 44 s and 500 s.
 int benchPathtrace(const std::filesystem::path& root, double secondsPerRun);
+
+struct HierarchyBenchOptions {
+    size_t points = 100000;
+    std::string method = "stratified-repulsion";
+    int width = 640, height = 360;
+    int frames = 5, bruteFrames = 3;
+    int turkIterations = 500; // 0: skip the Turk reference
+    std::vector<float> eps{0.4f, 0.2f, 0.1f, 0.05f, 0.02f};
+};
+// bench hierarchy: hierarchical vs brute-force render pass of the default scene (bunny,
+// 100 000 points, 640x360) for several eps — one line each: eps, hier_ms, brute_ms, speedup,
+// rel_rmse (RMS of the difference / RMS of brute force) — and the point-cloud generation time
+// and nearest-neighbour CV against Turk's repulsion with `turkIterations` iterations.
+int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOptions& o);
 
 } // namespace app

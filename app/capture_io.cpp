@@ -1,6 +1,8 @@
 // Capture record/replay for the workbench stages (material, pencil_plot).
 #include "capture_io.h"
 
+#include "capture_scene.h"
+
 #include "capture/capture.h"
 #include "core/core.h"
 #include "gl/gl.h"
@@ -220,7 +222,8 @@ void applyParams(Workbench& wb, const json& params, const std::string& where) {
 
 } // namespace
 
-void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name) {
+void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name, int traceX,
+                     int traceY) {
     if (!capture::isValidName(name))
         throw core::Error(name, 0, "invalid capture name (letters, digits, '_', '-', '.' only)");
     wb.update();
@@ -237,6 +240,15 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
     for (auto& e : wb.library().entries()) {
         std::string text = core::readFile(e.file);
         m.models.push_back({e.displayPath, core::hashHex(text), text});
+    }
+    const SceneSettings& scene = wb.scene().settings();
+    if (scene.enabled) { // the scene's mesh is an input: path and content hash
+        const fs::path meshPath = fs::path(scene.meshFile).is_absolute()
+                                      ? fs::path(scene.meshFile)
+                                      : wb.root() / scene.meshFile;
+        std::string text = core::readFile(meshPath);
+        m.models.push_back({scene.meshFile, core::hashHex(text),
+                            "(mesh, " + std::to_string(text.size()) + " bytes)"});
     }
     if (const std::string& mesh = wb.litSphereSettings().mesh;
         !mesh.empty() && wb.litSphereSettings().enabled) {
@@ -258,7 +270,8 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
                     {"bins", rs.bins},
                     {"seed", rs.seed},
                     {"gpu", rs.gpu}}},
-                  {"lit_spheres", sphereJson(wb.litSphereSettings())}};
+                  {"lit_spheres", sphereJson(wb.litSphereSettings())},
+                  {"scene", sceneJson(scene, traceX, traceY)}};
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
@@ -269,6 +282,18 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
         m.outputs.push_back(capture::describeFileStage(
             dir, im.stage, im.file, "exr_stat", kImageAlpha,
             "Monte Carlo image: per-pixel z-test, Bonferroni over all pixels and channels"));
+    }
+    SceneCapture sc = sceneOutputs(wb, traceX, traceY);
+    for (auto& t : sc.tables)
+        m.outputs.push_back(
+            capture::writeCsvStage(dir, t.stage, t.file, t.table, t.absTol, t.relTol, t.note));
+    if (sc.image) {
+        pathtrace::writeExr(dir / sc.image->file, sc.image->image);
+        capture::StageOutput o = capture::describeFileStage(dir, sc.image->stage, sc.image->file,
+                                                            "exr", 0, sc.image->note);
+        o.absTol = sc.image->absTol;
+        o.relTol = sc.image->relTol;
+        m.outputs.push_back(o);
     }
     capture::writeManifest(dir, m);
     for (const auto& s : missing)
@@ -313,11 +338,44 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         }
         if (m.settings.contains("lit_spheres"))
             wb.litSphereSettings() = sphereFromJson(m.settings["lit_spheres"], where);
+        int traceX = -1, traceY = -1;
+        if (m.settings.contains("scene"))
+            applySceneJson(wb, m.settings["scene"], where, traceX, traceY);
         wb.update();
         std::vector<std::string> missing;
         auto tables = stageTables(wb, missing);
         auto images = imageStages(wb);
+        SceneCapture sc = sceneOutputs(wb, traceX, traceY);
+        for (auto& t : sc.tables)
+            tables.push_back(
+                {t.stage, t.file, t.key, std::move(t.table), t.absTol, t.relTol, t.note});
         for (auto& rec : m.outputs) {
+            if (rec.kind == "exr") {
+                capture::Comparison c;
+                c.stage = rec.stage;
+                if (!sc.image || sc.image->stage != rec.stage) {
+                    c.message = "stage not produced by this run (scene off?)";
+                } else if (update) {
+                    pathtrace::writeExr(captureDir / rec.file, sc.image->image);
+                    const double a = sc.image->absTol, r = sc.image->relTol;
+                    rec = capture::describeFileStage(captureDir, rec.stage, rec.file, rec.kind, 0,
+                                                     rec.tolNote);
+                    rec.absTol = a;
+                    rec.relTol = r;
+                    c.pass = true;
+                    c.message = "updated";
+                } else {
+                    try {
+                        c = capture::compareTables(
+                            rec.stage, renderTable(pathtrace::readExr(captureDir / rec.file)),
+                            renderTable(sc.image->image), rec.absTol, rec.relTol);
+                    } catch (const core::Error& e) {
+                        c.message = std::string("cannot read the recorded image: ") + e.what();
+                    }
+                }
+                report.stages.push_back(c);
+                continue;
+            }
             if (rec.kind == "exr_stat") {
                 auto im = std::find_if(images.begin(), images.end(),
                                        [&](const ImageStage& i) { return i.stage == rec.stage; });

@@ -1,6 +1,6 @@
 // Record and replay captures of the workbench state (format: modules/capture, README in
 // captures/). Stages recorded now: per model, the effective material (σ after inversion) and
-// the pencil-beam profile.
+// the pencil-beam profile; path-traced references and images; the mesh pipeline's stages.
 #pragma once
 
 #include "workbench.h"
@@ -11,7 +11,10 @@
 namespace app {
 
 // Writes <dir>/manifest.json + stage outputs for the current state. Throws core::Error.
-void recordCaptureTo(Workbench& wb, const std::filesystem::path& dir, const std::string& name);
+// With the scene on (wb.scene().settings().enabled), its stages are recorded too
+// (capture_scene.h), with the traversal of pixel (traceX, traceY) when both are >= 0.
+void recordCaptureTo(Workbench& wb, const std::filesystem::path& dir, const std::string& name,
+                     int traceX = -1, int traceY = -1);
 
 // Replays a capture headless (needs a current GL context): recomputes every stage from the
 // recorded inputs and compares with the recorded outputs. Prints one line per stage to

@@ -44,6 +44,8 @@ std::string rgb(const glm::dvec3& v) {
     return fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z);
 }
 
+} // namespace
+
 fs::path resolveModel(const fs::path& root, const std::string& model) {
     fs::path p = model;
     if (!fs::exists(p) && fs::exists(root / p)) p = root / p;
@@ -72,7 +74,6 @@ MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,
     material::validate(s.params, "arguments");
     return s;
 }
-} // namespace
 
 int runProfile(const fs::path& root, const ProfileArgs& a) {
     if (a.samples < 2) throw core::Error("--samples", 0, "must be >= 2");
@@ -162,9 +163,21 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
             ls.mesh = core::relativeTo(mesh, root);
         }
     }
+    int traceX = -1, traceY = -1;
+    if (a.scenePoints > 0) {
+        SceneSettings& s = wb.scene().settings();
+        s.enabled = true;
+        s.useCache = false;
+        s.meshFile = a.sceneMesh;
+        s.points.points = a.scenePoints;
+        s.render.width = a.sceneWidth;
+        s.render.height = a.sceneHeight;
+        traceX = a.traceX >= 0 ? a.traceX : a.sceneWidth / 2;
+        traceY = a.traceY >= 0 ? a.traceY : a.sceneHeight / 2;
+    }
     wb.update();
     fs::path dir = a.outDir.empty() ? root / "captures" / a.name : fs::path(a.outDir);
-    recordCaptureTo(wb, dir, a.name);
+    recordCaptureTo(wb, dir, a.name, traceX, traceY);
     std::printf("recorded %s\n", dir.string().c_str());
     return 0;
 }

@@ -14,6 +14,15 @@ namespace app {
 // "R,G,B" or a single number for all three channels; throws core::Error naming `argName`.
 glm::dvec3 parseRgb(const std::string& text, const std::string& argName);
 
+class Workbench;
+struct MaterialSettings;
+// A model file as given or relative to the root; throws core::Error("--model") when missing.
+std::filesystem::path resolveModel(const std::filesystem::path& root, const std::string& model);
+// Material settings from --preset or --sigma-a/--sigma-s (+ --g, --eta), validated.
+MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,
+                                  const std::string& sigmaA, const std::string& sigmaS,
+                                  std::optional<double> g, std::optional<double> eta);
+
 struct ProfileArgs {
     std::string model, preset, sigmaA, sigmaS, out;
     std::optional<double> g, eta, rMax;
@@ -34,6 +43,11 @@ struct RecordArgs {
     int referenceBins = 200;
     int litSphereSize = 0; // > 0: also record the lit-sphere images at this size
     std::string litMesh;   // with litSphereSize: path trace this OBJ instead of the sphere
+    // > 0: also record the mesh pipeline (thesis 3.3) with this many points
+    size_t scenePoints = 0;
+    std::string sceneMesh = "third_party/bunny/bunny.obj"; // relative to the root
+    int sceneWidth = 160, sceneHeight = 90;
+    int traceX = -1, traceY = -1; // traced pixel (default: the image centre)
 };
 int runRecord(const std::filesystem::path& root, const RecordArgs& a);
 

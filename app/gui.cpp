@@ -25,9 +25,12 @@ struct PanelFlag {
     bool UiState::*flag;
 };
 const PanelFlag kPanels[] = {
-    {"Models", &UiState::showModels},     {"Parameters", &UiState::showParameters},
-    {"PencilPlot", &UiState::showPencil}, {"ErrorsLog", &UiState::showErrors},
-    {"Timings", &UiState::showTimings},   {"LitSpheres", &UiState::showLitSpheres}};
+    {"Models", &UiState::showModels},         {"Parameters", &UiState::showParameters},
+    {"PencilPlot", &UiState::showPencil},     {"ErrorsLog", &UiState::showErrors},
+    {"Timings", &UiState::showTimings},       {"LitSpheres", &UiState::showLitSpheres},
+    {"PointCloud", &UiState::showPointCloud}, {"Octree", &UiState::showOctree},
+    {"Irradiance", &UiState::showIrradiance}, {"Render", &UiState::showRender},
+    {"Traversal", &UiState::showTraversal}};
 
 void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
     return std::strcmp(name, "Panels") == 0 ? static_cast<void*>(g_ui) : nullptr;
@@ -66,6 +69,15 @@ void drawPanels(Workbench& wb, UiState& ui) {
     if (ui.showErrors) drawErrorsPanel(wb, ui);
     if (ui.showTimings) drawTimingsPanel(wb, ui);
     if (ui.showLitSpheres) drawLitSpherePanel(wb, ui);
+    // The scene pipeline runs while one of its panels is open.
+    wb.scene().settings().enabled = ui.showPointCloud || ui.showOctree || ui.showIrradiance ||
+                                    ui.showRender || ui.showTraversal;
+    wb.setInteracting(false); // the Render panel sets it while the user drags
+    if (ui.showPointCloud) drawPointCloudPanel(wb, ui);
+    if (ui.showOctree) drawOctreePanel(wb, ui);
+    if (ui.showIrradiance) drawIrradiancePanel(wb, ui);
+    if (ui.showRender) drawRenderPanel(wb, ui);
+    if (ui.showTraversal) drawTraversalPanel(wb, ui);
 }
 
 // Reads back the region a panel asked for (PNG export) from `fbo` after rendering.
@@ -194,8 +206,12 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     } else {
         {
             HeadlessGui gui(wb, opt.width, opt.height);
-            for (int f = 0; f < std::max(1, opt.frames) && !ui.quit; ++f)
+            for (int f = 0; f < std::max(1, opt.frames) && !ui.quit; ++f) {
                 gui.frame();
+                // The first frame enables the scene when its panels are open; headless runs
+                // wait for it (point cloud, occluded IBL) so the image shows the result.
+                if (f == 0 && wb.scene().settings().enabled) wb.finishScene();
+            }
             if (!opt.screenshotPath.empty()) {
                 try {
                     gl::writePng(opt.screenshotPath, opt.width, opt.height, gui.pixels());

@@ -2,6 +2,12 @@
 #pragma once
 
 #include "gl/gl.h"
+#include "scene_stage.h"
+#include "scene_view.h"
+
+#include <memory>
+#include <optional>
+#include <vector>
 
 #include <string>
 
@@ -33,6 +39,33 @@ struct UiState {
     int pickX = -1, pickY = -1;
     char meshBuffer[512] = "";
     gl::Texture sphereTex[3];
+    // Scene panels (point cloud, octree, irradiance, render, traversal debugger)
+    bool showPointCloud = true, showOctree = false, showIrradiance = false, showRender = true,
+         showTraversal = false;
+    std::unique_ptr<SceneView> pointView, octreeView;
+    render::Camera inspectCamera; // the 3D inspector views' camera (not the render camera)
+    bool inspectCameraSet = false;
+    int colorBy = 0;            // 0 normal, 1 area, 2 irradiance, 3 radiance (from the frame)
+    int pickedPoint = -1;       // input index into the cloud
+    std::string pointColorsKey; // what the uploaded colours show
+    float colorMin = 0, colorMax = 1;
+    int octreeLevel = 2;
+    int selectedNode = 0;
+    bool highlightTrace = true;
+    std::string octreeBoxesKey;
+    char sceneMeshBuffer[512] = "third_party/bunny/bunny.obj";
+    char plyBuffer[512] = "";
+    char envBuffer[512] = "materials/env/default_sky.exr";
+    char textureBuffer[512] = "";
+    int heatmap = 0; // 0 image, 1 steps, 2 max stack depth, 3 relative error vs brute force
+    std::vector<glm::vec4> bruteExitance; // for heatmap 3, of the frame it was computed for
+    std::string bruteKey;
+    gl::Texture heatTex, shadowTex, cubeTex;
+    float heatMax = 0;
+    std::optional<PixelDebug> debug;
+    std::string debugProblem;
+    char traceFilter[64] = "";
+    bool showRecurse = true, showNodeEval = true, showPointEval = true;
 };
 
 } // namespace app

@@ -83,6 +83,8 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         m_shared.params = material::applyPreset(*p, m_shared.params);
     m_gpuRef = std::make_unique<GpuReference>(m_root / "shaders" / "pathtrace_slab.comp");
     m_ptSphere = std::make_unique<PathTracedSphere>(m_root / "shaders" / "pathtrace_sphere.comp");
+    m_scene = std::make_unique<SceneStage>(m_root);
+    m_scene->settings().enabled = false;
     m_library = std::make_unique<bssrdf::ModelLibrary>(
         m_root,
         std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp", "sphere_bssrdf.comp"});
@@ -189,6 +191,15 @@ bool Workbench::update() {
                 }
             }
             changed |= m_library->onFilesChanged(paths);
+            for (const auto& p : paths) {
+                const std::string name = p.filename().string();
+                if (name.rfind("octree_", 0) == 0 || name.rfind("render_", 0) == 0 ||
+                    name.rfind("irradiance_", 0) == 0 || name == "bssrdf_prelude.glsl") {
+                    ++m_shaderGeneration; // the scene's render and irradiance programs
+                    changed = true;
+                    break;
+                }
+            }
             for (const auto& p : paths)
                 if (p.filename().string().rfind("pathtrace", 0) == 0) {
                     m_gpuRef->reload(); // the GPU tracers' shaders or their includes
@@ -220,11 +231,23 @@ bool Workbench::update() {
     }
     updateReference();
     changed |= updateLitSpheres(8.0);
+    changed |= m_scene->update(sceneModelInput(), m_interacting, m_shaderGeneration);
     if (m_ref->version() + m_gpuSteps != m_refVersion) {
         m_refVersion = m_ref->version() + m_gpuSteps;
         changed = true;
     }
     return changed;
+}
+
+SceneModelInput Workbench::sceneModelInput() const {
+    SceneModelInput in;
+    const ModelView* view = nullptr;
+    in.entry = sourceModel(&view);
+    if (in.entry) {
+        in.builtins = builtinsOf(*view->effective);
+        in.materialKey = view->materialKey;
+    }
+    return in;
 }
 
 const bssrdf::ModelEntry* Workbench::sourceModel(const ModelView** view) const {
@@ -412,6 +435,8 @@ std::vector<ErrorItem> Workbench::errors() const {
         std::string pt = m_ptSphere->problem();
         if (!pt.empty()) out.push_back({"lit sphere", pt});
     }
+    for (const auto& p : m_scene->problems())
+        out.push_back({"scene", p});
     for (const auto& a : m_actionErrors)
         out.push_back({"action", a});
     return out;

@@ -12,6 +12,7 @@
 #include "material/material.h"
 #include "plot/plot.h"
 #include "reference_stage.h"
+#include "scene_stage.h"
 
 #include <filesystem>
 #include <map>
@@ -127,6 +128,17 @@ class Workbench {
     void finishLitSpheres();
     static std::string normalisationNote();
 
+    // Mesh rendering pipeline (thesis 3.3): mesh → point cloud → octree → irradiance → render.
+    // Off until enabled (the GUI enables it while a scene panel is open; captures and the CLI
+    // enable it when they need it).
+    SceneStage& scene() { return *m_scene; }
+    // The model and material the scene renders with (the same source model as the lit spheres).
+    SceneModelInput sceneModelInput() const;
+    // Runs every scene stage to completion (CLI, captures, tests).
+    void finishScene() { m_scene->finish(sceneModelInput(), m_shaderGeneration); }
+    void setInteracting(bool v) { m_interacting = v; }
+    long long shaderGeneration() const { return m_shaderGeneration; }
+
   private:
     void computeMaterial(bssrdf::ModelEntry& e, ModelView& v);
     void computeProfile(bssrdf::ModelEntry& e, ModelView& v);
@@ -159,6 +171,9 @@ class Workbench {
     int m_ptSppSeen = 0;
     int m_integratedSlice = 16;
     static constexpr int kFixedSlice = 256;
+    std::unique_ptr<SceneStage> m_scene;
+    long long m_shaderGeneration = 0;
+    bool m_interacting = false;
 };
 
 // Effective σ for one model: validates, and inverts R_dr / l_d with the model's own

@@ -25,6 +25,12 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
             ImGui::MenuItem("Errors / Log", nullptr, &ui.showErrors);
             ImGui::MenuItem("Timings", nullptr, &ui.showTimings);
             ImGui::MenuItem("Lit spheres", nullptr, &ui.showLitSpheres);
+            ImGui::Separator();
+            ImGui::MenuItem("Point cloud", nullptr, &ui.showPointCloud);
+            ImGui::MenuItem("Octree", nullptr, &ui.showOctree);
+            ImGui::MenuItem("Irradiance", nullptr, &ui.showIrradiance);
+            ImGui::MenuItem("Render", nullptr, &ui.showRender);
+            ImGui::MenuItem("Traversal debugger", nullptr, &ui.showTraversal);
             ImGui::EndMenu();
         }
         const size_t n = wb.errors().size();

@@ -71,7 +71,8 @@ nlohmann::json toJson(const Manifest& manifest);
 // Validates like readManifest; errors name `fileForErrors` with line 0.
 Manifest fromJson(const nlohmann::json& json, const std::string& fileForErrors);
 
-std::vector<std::string> knownOutputKinds(); // {"csv", "csv_stat", "exr_stat"}
+// "exr": a deterministic image (GPU render) compared per pixel and channel with absTol/relTol.
+std::vector<std::string> knownOutputKinds(); // {"csv", "csv_stat", "exr_stat", "exr"}
 // Kinds compared by z-test at `alpha` (csv_stat; exr_stat: images with a variance per pixel,
 // read and converted to tables by the app, which owns the image format).
 bool isStatisticalKind(std::string_view kind);

@@ -218,7 +218,7 @@ std::string parseErrorMessage(const std::string& what) {
 } // namespace
 
 std::vector<std::string> knownOutputKinds() {
-    return {"csv", "csv_stat", "exr_stat"};
+    return {"csv", "csv_stat", "exr_stat", "exr"};
 }
 
 bool isStatisticalKind(std::string_view kind) {

@@ -201,7 +201,7 @@ TEST(Manifest, InvalidValues) {
     EXPECT_EQ(e.message(), "outputs[0].relTol: must be finite and >= 0");
     e = readEdited(tmp.path(), [](json& j) { j["outputs"][0]["kind"] = "png"; });
     EXPECT_EQ(e.message(),
-              "outputs[0].kind: unknown output kind 'png' (known: csv, csv_stat, exr_stat)");
+              "outputs[0].kind: unknown output kind 'png' (known: csv, csv_stat, exr_stat, exr)");
     e = readEdited(tmp.path(), [](json& j) { j["outputs"][0]["hash"] = "abc"; });
     EXPECT_NE(e.message().find("not a content hash"), std::string::npos);
     e = readEdited(tmp.path(), [](json& j) { j["name"] = "my capture"; });

@@ -32,6 +32,12 @@ inline std::filesystem::path makeProjectRoot(const std::string& tag,
     fs::create_directories(root / "captures");
     fs::copy(sourceRoot() / "shaders", root / "shaders", fs::copy_options::recursive);
     fs::copy_file(sourceRoot() / "materials" / "presets.json", root / "materials" / "presets.json");
+    // the default scene's mesh and environment (the scene panels are open by default)
+    fs::create_directories(root / "third_party" / "bunny");
+    fs::copy_file(sourceRoot() / "third_party" / "bunny" / "bunny.obj",
+                  root / "third_party" / "bunny" / "bunny.obj");
+    fs::copy(sourceRoot() / "materials" / "env", root / "materials" / "env",
+             fs::copy_options::recursive);
     for (const auto& m : models)
         fs::copy_file(sourceRoot() / "materials" / m, root / "materials" / m);
     return root;

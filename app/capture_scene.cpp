@@ -1,0 +1,298 @@
+// Captures of the mesh pipeline (capture_scene.h).
+#include "capture_scene.h"
+
+#include "core/core.h"
+
+#include <cmath>
+
+namespace app {
+using nlohmann::json;
+
+namespace {
+
+// Float tolerances (stated in the manifest):
+// per-point irradiance: Ft, cos and the PCF average in float32, a handful of roundings of
+// 2^-24 each; 1e-5 relative, plus 1e-7 absolute for values that are ~0 in shadow.
+constexpr double kIrradianceRel = 1e-5, kIrradianceAbs = 1e-7;
+// render: a float32 sum of up to ~10^4 contributions (each Bssrdf() within a few ulp: GLSL
+// exp is (3 + 2|x|) ulp) — worst case n·2^-24 ≈ 6e-4 relative for the longest sums, typically
+// √n·2^-24; 1e-4 relative plus an absolute floor of 1e-6 of the image maximum.
+constexpr double kRenderRel = 1e-4;
+constexpr double kTraceRel = 1e-4;
+
+void pushHash(std::vector<double>& row, const std::string& hash) {
+    const std::string hex = hash.substr(hash.find(':') + 1);
+    for (int k = 0; k < 4; ++k)
+        row.push_back(double(std::stoul(hex.substr(size_t(4 * k), 4), nullptr, 16)));
+}
+
+json lightJson(const irradiance::Settings& l) {
+    return {{"mode", int(l.mode)},
+            {"direction", {l.direction.x, l.direction.y, l.direction.z}},
+            {"irradiance", {l.irradiance.x, l.irradiance.y, l.irradiance.z}},
+            {"filter", int(l.filter)},
+            {"shadow_map_size", l.shadowMapSize},
+            {"depth_offset", l.depthOffset},
+            {"slope_offset", l.slopeOffset},
+            {"jitter_samples", l.jitterSamples},
+            {"jitter_radius", l.jitterRadius},
+            {"env_intensity", l.envIntensity},
+            {"env_rotation", l.envRotation},
+            {"occluded_per_step", l.occludedSamplesPerStep},
+            {"occluded_samples", l.occludedTotalSamples},
+            {"seed", l.seed}};
+}
+
+glm::vec3 vec3Of(const json& j) {
+    return {j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
+}
+
+} // namespace
+
+json sceneJson(const SceneSettings& s, int traceX, int traceY) {
+    const render::Settings& r = s.render;
+    return {{"enabled", s.enabled},
+            {"mesh", s.meshFile},
+            {"point_cloud_file", s.pointCloudFile},
+            {"points",
+             {{"count", s.points.points},
+              {"method", s.points.method},
+              {"seed", s.points.seed},
+              {"iterations", s.points.repulsionIterations},
+              {"stratified_iterations", s.points.stratifiedIterations},
+              {"candidate_factor", s.points.candidateFactor}}},
+            {"light", lightJson(s.light)},
+            {"environment", s.environmentFile},
+            {"projected_texture", s.projectedTextureFile},
+            {"render",
+             {{"width", r.width},
+              {"height", r.height},
+              {"camera",
+               {{"target", {r.camera.target.x, r.camera.target.y, r.camera.target.z}},
+                {"yaw", r.camera.yaw},
+                {"pitch", r.camera.pitch},
+                {"distance", r.camera.distance},
+                {"fov_y", r.camera.fovY},
+                {"radius", r.camera.radius}}},
+              {"eps", r.eps},
+              {"bbox_criterion", r.boundingBoxCriterion},
+              {"brute_force", r.bruteForce},
+              {"direct_bssrdf", r.directBssrdf},
+              {"max_steps", r.maxSteps},
+              {"exposure", r.exposure},
+              {"gamma", r.gamma}}},
+            {"trace_pixel", {traceX, traceY}}};
+}
+
+void applySceneJson(Workbench& wb, const json& j, const std::string& where, int& traceX,
+                    int& traceY) {
+    SceneSettings& s = wb.scene().settings();
+    try {
+        s.enabled = j.at("enabled").get<bool>();
+        s.meshFile = j.at("mesh").get<std::string>();
+        s.pointCloudFile = j.value("point_cloud_file", std::string());
+        const json& p = j.at("points");
+        s.points.points = p.at("count").get<size_t>();
+        s.points.method = p.at("method").get<std::string>();
+        s.points.seed = p.at("seed").get<uint64_t>();
+        s.points.repulsionIterations = p.at("iterations").get<int>();
+        s.points.stratifiedIterations = p.at("stratified_iterations").get<int>();
+        s.points.candidateFactor = p.at("candidate_factor").get<double>();
+        const json& l = j.at("light");
+        s.light.mode = irradiance::LightMode(l.at("mode").get<int>());
+        s.light.direction = vec3Of(l.at("direction"));
+        s.light.irradiance = vec3Of(l.at("irradiance"));
+        s.light.filter = irradiance::ShadowFilter(l.at("filter").get<int>());
+        s.light.shadowMapSize = l.at("shadow_map_size").get<int>();
+        s.light.depthOffset = l.at("depth_offset").get<float>();
+        s.light.slopeOffset = l.at("slope_offset").get<float>();
+        s.light.jitterSamples = l.at("jitter_samples").get<int>();
+        s.light.jitterRadius = l.at("jitter_radius").get<float>();
+        s.light.envIntensity = l.at("env_intensity").get<float>();
+        s.light.envRotation = l.at("env_rotation").get<float>();
+        s.light.occludedSamplesPerStep = l.at("occluded_per_step").get<int>();
+        s.light.occludedTotalSamples = l.at("occluded_samples").get<int>();
+        s.light.seed = l.at("seed").get<uint64_t>();
+        s.environmentFile = j.at("environment").get<std::string>();
+        s.projectedTextureFile = j.at("projected_texture").get<std::string>();
+        const json& r = j.at("render");
+        s.render.width = r.at("width").get<int>();
+        s.render.height = r.at("height").get<int>();
+        const json& c = r.at("camera");
+        s.render.camera.target = vec3Of(c.at("target"));
+        s.render.camera.yaw = c.at("yaw").get<float>();
+        s.render.camera.pitch = c.at("pitch").get<float>();
+        s.render.camera.distance = c.at("distance").get<float>();
+        s.render.camera.fovY = c.at("fov_y").get<float>();
+        s.render.camera.radius = c.at("radius").get<float>();
+        s.render.eps = r.at("eps").get<float>();
+        s.render.boundingBoxCriterion = r.at("bbox_criterion").get<bool>();
+        s.render.bruteForce = r.at("brute_force").get<bool>();
+        s.render.directBssrdf = r.at("direct_bssrdf").get<bool>();
+        s.render.maxSteps = r.at("max_steps").get<uint32_t>();
+        s.render.exposure = r.at("exposure").get<float>();
+        s.render.gamma = r.at("gamma").get<float>();
+        traceX = j.at("trace_pixel").at(0).get<int>();
+        traceY = j.at("trace_pixel").at(1).get<int>();
+    } catch (const json::exception& e) {
+        throw core::Error(where, 0, std::string("settings.scene: ") + e.what());
+    }
+    s.useCache = false;      // replays regenerate: the cache must not hide a change
+    wb.scene().keepCamera(); // the recorded camera, not one fitted on load
+}
+
+capture::Table renderTable(const pathtrace::Image& img) {
+    capture::Table t;
+    t.columns = {"x", "y", "R", "G", "B"};
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const size_t p = size_t(y) * size_t(img.width) + size_t(x);
+            t.rows.push_back(
+                {double(x), double(y), img.mean[3 * p], img.mean[3 * p + 1], img.mean[3 * p + 2]});
+        }
+    return t;
+}
+
+SceneCapture sceneOutputs(Workbench& wb, int traceX, int traceY) {
+    SceneCapture out;
+    SceneStage& scene = wb.scene();
+    if (!scene.settings().enabled) return out;
+    wb.finishScene();
+    for (const auto& p : scene.problems())
+        throw core::Error(p);
+    if (!scene.hasFrame() || !scene.tree()) throw core::Error("scene", 0, "nothing was rendered");
+
+    const mesh::Mesh& m = scene.mesh();
+    SceneCaptureTable mt{
+        "scene.mesh", "scene_mesh.csv", "", {}, 0, 0, "CPU (OBJ parse + normalisation): exact"};
+    mt.table.comments = {"mesh " + scene.settings().meshFile + " after preparation",
+                         "hash " + scene.meshHash()};
+    mt.table.columns = {"vertices", "triangles", "area", "h0", "h1", "h2", "h3"};
+    std::vector<double> row{double(m.vertices.size()), double(m.triangles.size()),
+                            pointcloud::meshArea(m)};
+    pushHash(row, scene.meshHash());
+    mt.table.rows.push_back(row);
+    out.tables.push_back(std::move(mt));
+
+    const auto& cloud = scene.cloud();
+    std::string bytes(reinterpret_cast<const char*>(cloud.points.data()),
+                      cloud.points.size() * sizeof(cloud.points[0]));
+    const std::string cloudHash = core::hashHex(bytes);
+    const auto& u = scene.uniformity();
+    SceneCaptureTable pt{"scene.pointcloud",
+                         "scene_pointcloud.csv",
+                         "",
+                         {},
+                         0,
+                         0,
+                         "CPU, deterministic for any thread count: exact"};
+    pt.table.comments = {"hash " + cloudHash};
+    pt.table.columns = {"count",  "area", "mean_nn", "cv_nn", "min_nn",
+                        "max_nn", "h0",   "h1",      "h2",    "h3"};
+    row = {double(cloud.points.size()), cloud.totalArea, u.meanNN, u.cvNN, u.minNN, u.maxNN};
+    pushHash(row, cloudHash);
+    pt.table.rows.push_back(row);
+    out.tables.push_back(std::move(pt));
+
+    const octree::Octree& t = *scene.tree();
+    // The tree's hash covers the node records, which hold irradiance sums (GPU): hash the
+    // CPU-built structure only (descriptors and point order).
+    std::string tb(reinterpret_cast<const char*>(t.descriptors.data()),
+                   t.descriptors.size() * sizeof(uint32_t));
+    tb.append(reinterpret_cast<const char*>(t.order.data()), t.order.size() * sizeof(uint32_t));
+    const std::string treeHash = core::hashHex(tb);
+    SceneCaptureTable ot{"scene.octree",
+                         "scene_octree.csv",
+                         "depth",
+                         {},
+                         0,
+                         0,
+                         "CPU build: exact (structure hash: descriptors + point order)"};
+    ot.table.comments = {"hash " + treeHash,
+                         "first row: depth -1 = totals (nodes, leaves, max depth, bytes)"};
+    ot.table.columns = {"depth", "nodes", "leaves_or_maxdepth", "bytes", "h0", "h1", "h2", "h3"};
+    row = {-1, double(t.stats.nodes), double(t.stats.leaves), double(t.stats.bytes)};
+    pushHash(row, treeHash);
+    ot.table.rows.push_back(row);
+    for (size_t d = 0; d < t.stats.nodesPerDepth.size(); ++d)
+        ot.table.rows.push_back({double(d), double(t.stats.nodesPerDepth[d]), 0, 0, 0, 0, 0, 0});
+    out.tables.push_back(std::move(ot));
+
+    SceneCaptureTable it{"scene.irradiance",
+                         "scene_irradiance.csv",
+                         "point",
+                         {},
+                         kIrradianceAbs,
+                         kIrradianceRel,
+                         "GPU float32 Ft*cos*visibility per point: 1e-5 relative + 1e-7"};
+    it.table.comments = {"transmitted irradiance E_t per point (input order)"};
+    it.table.columns = {"point", "R", "G", "B"};
+    const auto& e = scene.irradiance();
+    for (size_t i = 0; i < e.size(); ++i)
+        it.table.rows.push_back({double(i), e[i].x, e[i].y, e[i].z});
+    out.tables.push_back(std::move(it));
+
+    const render::Readback rb = scene.readback();
+    SceneCaptureImage img;
+    img.stage = "scene.render";
+    img.file = "scene_render.exr";
+    img.image.width = rb.width;
+    img.image.height = rb.height;
+    img.image.samples = 1;
+    double maxV = 0;
+    for (size_t p = 0; p < rb.hdr.size(); ++p)
+        for (int c = 0; c < 3; ++c) {
+            img.image.mean.push_back(rb.hdr[p][c]);
+            maxV = std::max(maxV, double(rb.hdr[p][c]));
+        }
+    img.image.variance.assign(img.image.mean.size(), 0.0f);
+    img.relTol = kRenderRel;
+    img.absTol = 1e-6 * maxV;
+    img.note = "GPU float32 sums of up to ~1e4 Bssrdf() terms: 1e-4 relative + 1e-6 of the max";
+    out.image = std::move(img);
+
+    if (traceX >= 0 && traceY >= 0) {
+        PixelDebug d = scene.debugPixel(traceX, traceY);
+        SceneCaptureTable ts{"scene.trace_steps",
+                             "scene_trace_steps.csv",
+                             "step",
+                             {},
+                             0,
+                             0,
+                             "CPU replica of Algorithm 2: exact"};
+        ts.table.comments = {
+            "pixel " + std::to_string(traceX) + "," + std::to_string(traceY) +
+                (d.hit ? "" : " (background)"),
+            "decision 0 recurse, 1 node, 2 points; stack entries node<<8|childnum"};
+        ts.table.columns = {"step",        "node",       "decision",  "depth",
+                            "solid_angle", "stack_size", "stack_top", "evaluations"};
+        for (size_t k = 0; k < d.trace.steps.size(); ++k) {
+            const octree::Step& s = d.trace.steps[k];
+            ts.table.rows.push_back({double(k), double(s.node), double(int(s.decision)),
+                                     double(s.depth), double(s.solidAngle), double(s.stack.size()),
+                                     s.stack.empty() ? -1.0 : double(s.stack.back()),
+                                     double(s.evaluationCount)});
+        }
+        if (ts.table.rows.empty()) ts.table.rows.push_back({-1, 0, 0, 0, 0, 0, 0, 0});
+        out.tables.push_back(std::move(ts));
+        SceneCaptureTable tv{"scene.trace_values",
+                             "scene_trace_values.csv",
+                             "step",
+                             {},
+                             0,
+                             kTraceRel,
+                             "GPU-evaluated Bssrdf() summed in float: 1e-4 relative"};
+        tv.table.columns = {"step", "R", "G", "B", "sum_R", "sum_G", "sum_B"};
+        for (size_t k = 0; k < d.trace.steps.size(); ++k) {
+            const octree::Step& s = d.trace.steps[k];
+            tv.table.rows.push_back({double(k), s.contribution.x, s.contribution.y,
+                                     s.contribution.z, s.runningSum.x, s.runningSum.y,
+                                     s.runningSum.z});
+        }
+        if (tv.table.rows.empty()) tv.table.rows.push_back({-1, 0, 0, 0, 0, 0, 0});
+        out.tables.push_back(std::move(tv));
+    }
+    return out;
+}
+
+} // namespace app

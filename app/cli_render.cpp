@@ -1,0 +1,133 @@
+// `bssrdf-workbench render` (cli_render.h): the SceneStage pipeline run to completion headless.
+#include "cli_render.h"
+
+#include "cli.h"
+#include "core/core.h"
+#include "gl/gl.h"
+#include "pathtrace/image_io.h"
+#include "workbench.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+namespace app {
+namespace fs = std::filesystem;
+
+namespace {
+
+// "dir:x,y,z" or "ibl:FILE.exr" → the light settings.
+void parseLight(const std::string& text, SceneSettings& s) {
+    if (text.rfind("dir:", 0) == 0) {
+        const glm::dvec3 d = parseRgb(text.substr(4), "--light");
+        if (!(glm::dot(d, d) > 0) || !std::isfinite(glm::dot(d, d)))
+            throw core::Error("--light", 0, "the direction must be finite and non-zero");
+        s.light.mode = irradiance::LightMode::Directional;
+        s.light.direction = glm::vec3(d);
+        return;
+    }
+    if (text.rfind("ibl:", 0) == 0 && text.size() > 4) {
+        s.light.mode = irradiance::LightMode::Ibl;
+        s.environmentFile = text.substr(4);
+        return;
+    }
+    throw core::Error("--light", 0, "expected dir:x,y,z or ibl:FILE.exr, got '" + text + "'");
+}
+
+} // namespace
+
+int runRenderCli(const fs::path& root, const RenderArgs& a) {
+    if (a.out.empty()) throw core::Error("--out", 0, "give the EXR file to write");
+    if (a.mesh.empty()) throw core::Error("--mesh", 0, "give the OBJ file to render");
+    if (a.width < 1 || a.width > 8192 || a.height < 1 || a.height > 8192)
+        throw core::Error("--width", 0, "width and height must lie in [1, 8192]");
+    if (!(a.eps >= 0) || !std::isfinite(a.eps))
+        throw core::Error("--eps", 0, "must be a finite number >= 0");
+    if (!std::ifstream(a.mesh)) throw core::Error(a.mesh, 0, "--mesh: cannot open the file");
+    const fs::path model = resolveModel(root, a.model);
+    auto ctx = gl::createHeadlessContext(false);
+    Workbench wb(root, false, {model});
+    auto& e = wb.library().entries().at(0);
+    if (e.problem) throw core::Error(e.problem->file, e.problem->line, e.problem->message);
+    wb.shared() = settingsFromArgs(wb, a.preset, a.sigmaA, a.sigmaS, a.g, a.eta);
+    if (a.scale) {
+        wb.shared().params.scale = *a.scale;
+        material::validate(wb.shared().params, "--scale");
+    }
+    SceneSettings& s = wb.scene().settings();
+    s.enabled = true;
+    s.useCache = a.useCache;
+    s.meshFile = fs::absolute(a.mesh).string();
+    s.points.points = a.points;
+    s.points.method = a.method;
+    s.points.seed = a.seed;
+    pointcloud::checkOptions(s.points);
+    parseLight(a.light, s);
+    if (a.occluded) {
+        if (s.light.mode != irradiance::LightMode::Ibl)
+            throw core::Error("--occluded", 0, "needs --light ibl:FILE.exr");
+        s.light.mode = irradiance::LightMode::OccludedIbl;
+        s.light.occludedTotalSamples = a.occludedSamples;
+    }
+    if (s.light.mode == irradiance::LightMode::Directional)
+        s.light.irradiance = glm::vec3(a.irradiance);
+    else
+        s.light.envIntensity = a.irradiance;
+    if (!s.environmentFile.empty() && s.light.mode != irradiance::LightMode::Directional)
+        s.environmentFile = fs::absolute(s.environmentFile).string();
+    s.render.width = a.width;
+    s.render.height = a.height;
+    s.render.eps = a.eps;
+    s.render.boundingBoxCriterion = a.bboxCriterion;
+    s.render.bruteForce = a.bruteForce;
+    s.render.exposure = a.exposure;
+    core::Stopwatch clock;
+    wb.update();
+    wb.finishScene();
+    // Everything the pipeline refused is an error here (the GUI would keep the last good).
+    for (const auto& p : wb.scene().problems())
+        throw core::Error(p);
+    auto& v = wb.view(e.displayPath);
+    if (!v.effective) throw core::Error(e.displayPath, 0, v.materialProblem);
+    if (!wb.scene().hasFrame()) throw core::Error("render", 0, "nothing was rendered");
+    // The camera is fitted to the mesh on load; apply the requested orbit and render again.
+    s.render.camera.yaw = a.yaw;
+    s.render.camera.pitch = a.pitch;
+    wb.finishScene();
+    const render::Readback rb = wb.scene().readback();
+    pathtrace::Image img;
+    img.width = rb.width;
+    img.height = rb.height;
+    const size_t pixels = size_t(rb.width) * size_t(rb.height);
+    img.mean.resize(3 * pixels);
+    img.variance.assign(3 * pixels, 0.0f); // deterministic render: no variance
+    img.samples = 1;
+    uint64_t steps = 0, flagged = 0, hits = 0, maxSteps = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+        for (int c = 0; c < 3; ++c)
+            img.mean[3 * p + size_t(c)] = rb.hdr[p][c];
+        if (rb.position[p].w > 0.5f) {
+            ++hits;
+            steps += rb.stats[p].x;
+            maxSteps = std::max<uint64_t>(maxSteps, rb.stats[p].x);
+            flagged += rb.stats[p].z != 0;
+        }
+    }
+    pathtrace::writeExr(a.out, img);
+    if (!a.png.empty()) gl::writePng(a.png, rb.width, rb.height, rb.ldr);
+    const render::Frame& f = wb.scene().frame();
+    const auto* t = wb.scene().tree();
+    std::printf("%s with %s: %zu points (%s), octree %zu nodes depth %d, %dx%d, eps %g%s%s\n",
+                a.mesh.c_str(), e.displayPath.c_str(), wb.scene().cloud().points.size(),
+                a.method.c_str(), t->stats.nodes, t->stats.maxDepth, rb.width, rb.height, a.eps,
+                a.bboxCriterion ? " (bounding-box criterion)" : "",
+                a.bruteForce ? " BRUTE FORCE" : "");
+    std::printf("traversal %.1f ms (G-buffer %.1f ms, profile %.1f ms); mean steps/pixel %.1f, "
+                "max %llu; flagged pixels %llu; total %.1f s\n",
+                f.traverseMs, f.gbufferMs, f.profileMs, hits ? double(steps) / double(hits) : 0.0,
+                (unsigned long long)maxSteps, (unsigned long long)flagged, clock.ms() / 1000.0);
+    std::printf("wrote %s\n", a.out.c_str());
+    return 0;
+}
+
+} // namespace app

@@ -1,0 +1,151 @@
+// Octree panel (thesis 3.3.1, 3.3.3, Figs. 3.4–3.5): node boxes of one level (slider) over the
+// points, the depth histogram, leaf occupancy, memory and build time, and a decoder for a
+// selected node — its 32-bit child descriptor bit by bit, children or points, attributes. With
+// a traversal traced (debugger), the nodes it visited are drawn coloured by decision.
+#include "panels.h"
+#include "scene_panel_util.h"
+
+#include <algorithm>
+#include <cinttypes>
+
+namespace app {
+namespace {
+
+glm::vec3 decisionColor(octree::Decision d) {
+    switch (d) {
+    case octree::Decision::Recurse:
+        return {0.55f, 0.55f, 0.6f};
+    case octree::Decision::EvaluateNode:
+        return {1.0f, 0.55f, 0.1f};
+    case octree::Decision::EvaluatePoints:
+        return {0.2f, 0.9f, 0.3f};
+    }
+    return glm::vec3(1.0f);
+}
+
+void updateBoxes(Workbench& wb, UiState& ui, const octree::Octree& t) {
+    const bool trace = ui.highlightTrace && ui.debug && ui.debug->hit;
+    std::string key = std::to_string(ui.octreeLevel) + '|' + std::to_string(t.nodes.size()) + '|' +
+                      std::to_string(t.stats.nodesPerDepth.size()) + '|' +
+                      std::to_string(ui.selectedNode) + '|' +
+                      (trace ? std::to_string(ui.debug->x) + ',' + std::to_string(ui.debug->y) +
+                                   ',' + std::to_string(ui.debug->trace.steps.size())
+                             : "-");
+    if (!ui.octreeView) ui.octreeView = std::make_unique<SceneView>();
+    auto it = wb.scene().stats().find("scene.octree");
+    key += '|' + std::to_string(it == wb.scene().stats().end() ? 0 : it->second.runs);
+    if (key == ui.octreeBoxesKey) return;
+    ui.octreeBoxesKey = key;
+    std::vector<ViewBox> boxes;
+    auto boxOf = [&](uint32_t n, glm::vec3 c) {
+        const auto& r = t.nodes[n];
+        return ViewBox{
+            {r.boxMin[0], r.boxMin[1], r.boxMin[2]}, {r.boxMax[0], r.boxMax[1], r.boxMax[2]}, c};
+    };
+    if (trace) {
+        for (const auto& s : ui.debug->trace.steps)
+            boxes.push_back(boxOf(s.node, decisionColor(s.decision)));
+    } else {
+        for (uint32_t n = 0; n < t.descriptors.size() && boxes.size() < 60000; ++n)
+            if (int(t.depth[n]) == ui.octreeLevel)
+                boxes.push_back(boxOf(
+                    n, colorRamp(float(ui.octreeLevel) / float(std::max(1, t.stats.maxDepth)))));
+    }
+    if (ui.selectedNode >= 0 && size_t(ui.selectedNode) < t.nodes.size())
+        boxes.push_back(boxOf(uint32_t(ui.selectedNode), {1.0f, 1.0f, 1.0f}));
+    ui.octreeView->setBoxes(boxes);
+    std::vector<glm::vec3> pos, col;
+    for (const auto& p : t.points) {
+        pos.push_back({p.positionArea[0], p.positionArea[1], p.positionArea[2]});
+        col.push_back(glm::vec3(0.35f));
+    }
+    if (trace) { // the receiver
+        pos.push_back(ui.debug->trace.xo);
+        col.push_back({1.0f, 0.2f, 1.0f});
+    }
+    ui.octreeView->setPoints(pos, col);
+}
+
+} // namespace
+
+void drawOctreePanel(Workbench& wb, UiState& ui) {
+    ImGui::SetNextWindowPos(ImVec2(560, 420), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(520, 620), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Octree", &ui.showOctree)) {
+        ImGui::End();
+        return;
+    }
+    const octree::Octree* t = wb.scene().tree();
+    if (!t) {
+        ImGui::TextDisabled("no octree yet (it is built from the point cloud)");
+        ImGui::End();
+        return;
+    }
+    const auto& s = t->stats;
+    ImGui::Text("%zu nodes (%zu leaves), %zu points, depth %d, %.2f MiB, built in %.1f ms", s.nodes,
+                s.leaves, s.points, s.maxDepth, double(s.bytes) / (1 << 20), s.buildMs);
+    std::vector<float> depthHist(s.nodesPerDepth.begin(), s.nodesPerDepth.end());
+    std::vector<float> occ(s.leafOccupancy.begin(), s.leafOccupancy.end());
+    ImGui::PlotHistogram("nodes per depth", depthHist.data(), int(depthHist.size()), 0, nullptr,
+                         0.0f, FLT_MAX, ImVec2(220, 50));
+    ImGui::SameLine();
+    ImGui::PlotHistogram("points per leaf (0..15)", occ.data(), int(occ.size()), 0, nullptr, 0.0f,
+                         FLT_MAX, ImVec2(160, 50));
+    ImGui::SetNextItemWidth(200);
+    ImGui::SliderInt("level", &ui.octreeLevel, 0, s.maxDepth);
+    ImGui::SameLine();
+    ImGui::Checkbox("show traced pixel", &ui.highlightTrace);
+    if (ui.highlightTrace && ui.debug && ui.debug->hit)
+        ImGui::TextDisabled("visited nodes: grey recurse, orange node evaluated, green leaf "
+                            "points; magenta: the receiver");
+    updateBoxes(wb, ui, *t);
+    ImVec2 avail = ImGui::GetContentRegionAvail();
+    const float side = std::max(120.0f, std::min(avail.x, avail.y - 170));
+    float px = 0, py = 0;
+    if (inspectorImage(wb, ui, *ui.octreeView, ImVec2(side, side), 2.0f, px, py)) {
+        std::vector<glm::vec3> pos;
+        for (const auto& p : t->points)
+            pos.push_back({p.positionArea[0], p.positionArea[1], p.positionArea[2]});
+        const render::Camera& cam = ui.inspectCamera;
+        int slot = pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py);
+        if (slot >= 0) // select the leaf holding the picked point
+            for (uint32_t n = 0; n < t->descriptors.size(); ++n) {
+                const uint32_t d = t->descriptors[n];
+                if (octree::isLeaf(d) && uint32_t(slot) >= octree::descriptorIndex(d) &&
+                    uint32_t(slot) < octree::descriptorIndex(d) + octree::pointCount(d))
+                    ui.selectedNode = int(n);
+            }
+    }
+    ImGui::SetNextItemWidth(120);
+    ImGui::InputInt("node", &ui.selectedNode);
+    ui.selectedNode = std::clamp(ui.selectedNode, 0, int(t->descriptors.size()) - 1);
+    const uint32_t n = uint32_t(ui.selectedNode);
+    const uint32_t d = t->descriptors[n];
+    char bits[40];
+    for (int b = 31, k = 0; b >= 0; --b) {
+        bits[k++] = (d >> b) & 1u ? '1' : '0';
+        if (b == 8 || b == 4) bits[k++] = ' ';
+        bits[k] = 0;
+    }
+    ImGui::SameLine();
+    ImGui::Text("0x%08" PRIx32 " = %s", d, bits);
+    ImGui::Text("index(24) %u | points(4) %u | children(4) %u | depth %u, parent %u",
+                octree::descriptorIndex(d), octree::pointCount(d), octree::childCount(d),
+                t->depth[n], t->parent[n]);
+    if (octree::isLeaf(d))
+        ImGui::Text("leaf: points %u .. %u", octree::descriptorIndex(d),
+                    octree::descriptorIndex(d) + octree::pointCount(d) - 1);
+    else
+        ImGui::Text("children: nodes %u .. %u", octree::descriptorIndex(d),
+                    octree::descriptorIndex(d) + octree::childCount(d) - 1);
+    const auto& r = t->nodes[n];
+    ImGui::Text("sum E*A (%.4g, %.4g, %.4g), area %.4g", r.irradianceArea[0], r.irradianceArea[1],
+                r.irradianceArea[2], r.irradianceArea[3]);
+    ImGui::Text("mean P (%.4f, %.4f, %.4f)", r.meanPosition[0], r.meanPosition[1],
+                r.meanPosition[2]);
+    ImGui::Text("box (%.4f, %.4f, %.4f) .. (%.4f, %.4f, %.4f)", r.boxMin[0], r.boxMin[1],
+                r.boxMin[2], r.boxMax[0], r.boxMax[1], r.boxMax[2]);
+    ImGui::End();
+}
+
+} // namespace app

@@ -1,0 +1,187 @@
+// Point cloud panel (thesis 2.6.4, 3.3.1, the "most useful widget" of 3.6.4): the mesh and
+// point-cloud settings (file, count, method, seed, cache, a PLY loaded directly), the points as
+// splats coloured by normal, area, irradiance or radiance with a colour bar, the count, the
+// uniformity metrics and the generation time; click a point for all its values.
+#include "panels.h"
+#include "scene_panel_util.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace app {
+namespace {
+
+long long runsOf(const SceneStage& s, const char* stage) {
+    auto it = s.stats().find(stage);
+    return it == s.stats().end() ? 0 : it->second.runs;
+}
+
+float luminance(const glm::vec3& c) {
+    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
+
+// Radiance of each point as the last frame shows it: the HDR pixel the point projects to, when
+// the G-buffer there is the point's own surface (within `tol`); −1 when hidden or outside.
+std::vector<float> radianceFromFrame(SceneStage& scene, const std::vector<glm::vec3>& pos,
+                                     float tol) {
+    std::vector<float> out(pos.size(), -1.0f);
+    if (!scene.hasFrame()) return out;
+    render::Readback rb = scene.readback();
+    render::Camera cam = scene.settings().render.camera;
+    cam.aspect = float(rb.width) / float(rb.height);
+    const glm::mat4 vp = cam.projection() * cam.view();
+    for (size_t i = 0; i < pos.size(); ++i) {
+        glm::vec4 c = vp * glm::vec4(pos[i], 1.0f);
+        if (!(c.w > 0)) continue;
+        const int x = int((c.x / c.w * 0.5f + 0.5f) * float(rb.width));
+        const int y = int((0.5f - c.y / c.w * 0.5f) * float(rb.height));
+        if (x < 0 || y < 0 || x >= rb.width || y >= rb.height) continue;
+        const size_t p = rb.index(x, y);
+        if (rb.position[p].w < 0.5f) continue;
+        if (glm::length(glm::vec3(rb.position[p]) - pos[i]) > tol) continue;
+        out[i] = luminance(glm::vec3(rb.hdr[p]));
+    }
+    return out;
+}
+
+void uploadColors(Workbench& wb, UiState& ui) {
+    SceneStage& scene = wb.scene();
+    const auto& pts = scene.cloud().points;
+    std::string key = std::to_string(ui.colorBy) + '|' +
+                      std::to_string(runsOf(scene, "scene.pointcloud")) + '|' +
+                      std::to_string(runsOf(scene, "scene.irradiance")) +
+                      (ui.colorBy == 3 ? '|' + std::to_string(runsOf(scene, "scene.render")) : "");
+    if (key == ui.pointColorsKey && ui.pointView) return;
+    ui.pointColorsKey = key;
+    if (!ui.pointView) ui.pointView = std::make_unique<SceneView>();
+    std::vector<glm::vec3> pos(pts.size()), col(pts.size());
+    std::vector<float> value(pts.size(), 0.0f);
+    for (size_t i = 0; i < pts.size(); ++i)
+        pos[i] = {pts[i].p[0], pts[i].p[1], pts[i].p[2]};
+    const auto& e = scene.irradiance();
+    if (ui.colorBy == 1)
+        for (size_t i = 0; i < pts.size(); ++i)
+            value[i] = pts[i].area;
+    if (ui.colorBy == 2)
+        for (size_t i = 0; i < pts.size() && i < e.size(); ++i)
+            value[i] = luminance(e[i]);
+    if (ui.colorBy == 3)
+        value = radianceFromFrame(scene, pos, 2.0f * float(scene.uniformity().meanNN) + 1e-4f);
+    float lo = 1e30f, hi = -1e30f;
+    for (float v : value)
+        if (v >= 0) lo = std::min(lo, v), hi = std::max(hi, v);
+    if (lo > hi) lo = hi = 0;
+    ui.colorMin = lo;
+    ui.colorMax = hi;
+    for (size_t i = 0; i < pts.size(); ++i) {
+        if (ui.colorBy == 0)
+            col[i] = glm::vec3(pts[i].n[0], pts[i].n[1], pts[i].n[2]) * 0.5f + 0.5f;
+        else if (value[i] < 0)
+            col[i] = glm::vec3(0.3f);
+        else
+            col[i] = colorRamp(hi > lo ? (value[i] - lo) / (hi - lo) : 0.5f);
+    }
+    ui.pointView->setPoints(pos, col);
+}
+
+} // namespace
+
+void drawPointCloudPanel(Workbench& wb, UiState& ui) {
+    ImGui::SetNextWindowPos(ImVec2(20, 420), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(520, 560), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Point cloud", &ui.showPointCloud)) {
+        ImGui::End();
+        return;
+    }
+    SceneStage& scene = wb.scene();
+    SceneSettings& s = scene.settings();
+    ImGui::SetNextItemWidth(300);
+    if (ImGui::InputText("mesh (OBJ)", ui.sceneMeshBuffer, sizeof ui.sceneMeshBuffer,
+                         ImGuiInputTextFlags_EnterReturnsTrue))
+        s.meshFile = ui.sceneMeshBuffer;
+    int n = int(s.points.points);
+    ImGui::SetNextItemWidth(120);
+    if (ImGui::InputInt("points", &n, 1000, 10000, ImGuiInputTextFlags_EnterReturnsTrue))
+        s.points.points = size_t(std::max(n, 0));
+    ImGui::SameLine();
+    const char* methods[] = {"stratified-repulsion", "elimination", "repulsion", "uniform"};
+    int m = 0;
+    for (int k = 0; k < 4; ++k)
+        if (s.points.method == methods[k]) m = k;
+    ImGui::SetNextItemWidth(170);
+    if (ImGui::Combo("method", &m, methods, 4)) s.points.method = methods[m];
+    int seed = int(s.points.seed);
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::InputInt("seed", &seed)) s.points.seed = uint64_t(std::max(seed, 0));
+    if (s.points.method == "repulsion" || s.points.method == "stratified-repulsion") {
+        ImGui::SameLine();
+        ImGui::SetNextItemWidth(90);
+        int& it = s.points.method == "repulsion" ? s.points.repulsionIterations
+                                                 : s.points.stratifiedIterations;
+        if (ImGui::InputInt("iterations", &it, 10, 100, ImGuiInputTextFlags_EnterReturnsTrue))
+            it = std::clamp(it, 0, 100000);
+    }
+    ImGui::SameLine();
+    ImGui::Checkbox("disk cache", &s.useCache);
+    ImGui::SetNextItemWidth(300);
+    if (ImGui::InputText("load PLY (empty: generate)", ui.plyBuffer, sizeof ui.plyBuffer,
+                         ImGuiInputTextFlags_EnterReturnsTrue))
+        s.pointCloudFile = ui.plyBuffer;
+
+    if (scene.generating()) {
+        ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "generating %zu points ... %.1f s",
+                           s.points.points, scene.generatingSeconds());
+        ImGui::SameLine();
+        if (ImGui::SmallButton("cancel")) scene.cancelPointCloud();
+    }
+    const auto& cloud = scene.cloud();
+    if (cloud.points.empty()) {
+        ImGui::TextDisabled("no point cloud yet");
+        ImGui::End();
+        return;
+    }
+    const auto& u = scene.uniformity();
+    auto st = scene.stats().find("scene.pointcloud");
+    ImGui::Text("%zu points, area %.4g units^2 (A/N = %.3g), %s %.0f ms", cloud.points.size(),
+                cloud.totalArea, cloud.totalArea / double(cloud.points.size()),
+                scene.cloudFromCache() ? "read from cache in" : "made in",
+                st != scene.stats().end() ? st->second.ms : 0.0);
+    ImGui::Text("nearest neighbour: mean %.4g, CV %.4f, min/mean %.3f", u.meanNN, u.cvNN,
+                u.meanNN > 0 ? u.minNN / u.meanNN : 0.0);
+    const char* modes[] = {"normal", "area", "irradiance", "radiance (from the render)"};
+    ImGui::SetNextItemWidth(200);
+    ImGui::Combo("colour by", &ui.colorBy, modes, 4);
+    uploadColors(wb, ui);
+    if (ui.colorBy > 0)
+        rampBar(ui.colorMin, ui.colorMax,
+                ui.colorBy == 1   ? "units^2"
+                : ui.colorBy == 2 ? "(E_t luminance)"
+                                  : "(L_o luminance; grey: hidden)");
+    ImVec2 avail = ImGui::GetContentRegionAvail();
+    const float side = std::max(120.0f, std::min(avail.x, avail.y - 90));
+    float px = 0, py = 0;
+    std::vector<glm::vec3> pos;
+    if (inspectorImage(wb, ui, *ui.pointView, ImVec2(side, side), 3.0f, px, py)) {
+        pos.resize(cloud.points.size());
+        for (size_t i = 0; i < pos.size(); ++i)
+            pos[i] = {cloud.points[i].p[0], cloud.points[i].p[1], cloud.points[i].p[2]};
+        render::Camera cam = ui.inspectCamera;
+        ui.pickedPoint =
+            pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py);
+    }
+    if (ui.pickedPoint >= 0 && size_t(ui.pickedPoint) < cloud.points.size()) {
+        const auto& p = cloud.points[size_t(ui.pickedPoint)];
+        ImGui::Text("point %d: p (%.4f, %.4f, %.4f)  n (%.3f, %.3f, %.3f)  area %.4g",
+                    ui.pickedPoint, p.p[0], p.p[1], p.p[2], p.n[0], p.n[1], p.n[2], p.area);
+        const auto& e = scene.irradiance();
+        if (size_t(ui.pickedPoint) < e.size()) {
+            const glm::vec3 v = e[size_t(ui.pickedPoint)];
+            ImGui::Text("  E_t (%.4g, %.4g, %.4g)  triangle %u", v.x, v.y, v.z, p.triangle);
+        }
+    } else {
+        ImGui::TextDisabled("drag to orbit, wheel to zoom, click a point for its values");
+    }
+    ImGui::End();
+}
+
+} // namespace app

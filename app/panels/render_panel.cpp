@@ -1,0 +1,157 @@
+// Render panel (thesis 3.3.3, 3.6.4): the mesh rendered with the selected model by the
+// hierarchical octree traversal (or brute force), HDR exposure and gamma, the ε of the
+// solid-angle criterion or its bounding-box variant, and heatmaps of the traversal — nodes
+// visited per pixel, maximum stack depth, relative error against brute force. Drag to orbit,
+// wheel to zoom (half resolution while moving); click a pixel to trace it in the debugger.
+#include "panels.h"
+#include "scene_panel_util.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace app {
+namespace {
+
+float luminance(const glm::vec3& c) {
+    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
+
+// RGBA8 heatmap of the last frame: 1 steps, 2 max stack depth, 3 relative error vs brute.
+std::vector<unsigned char> heatmapOf(const render::Readback& rb, int mode,
+                                     const std::vector<glm::vec4>& brute, float& maxValue) {
+    std::vector<float> v(rb.stats.size(), -1.0f);
+    maxValue = 0;
+    for (size_t p = 0; p < v.size(); ++p) {
+        if (rb.position[p].w < 0.5f) continue;
+        if (mode == 1) v[p] = float(rb.stats[p].x);
+        if (mode == 2) v[p] = float(rb.stats[p].y);
+        if (mode == 3 && p < brute.size()) {
+            const float b = luminance(glm::vec3(brute[p]));
+            const float h = luminance(glm::vec3(rb.exitance[p]));
+            v[p] = b > 0 ? std::abs(h - b) / b : 0.0f;
+        }
+        maxValue = std::max(maxValue, v[p]);
+    }
+    std::vector<unsigned char> rgba(v.size() * 4, 0);
+    for (size_t p = 0; p < v.size(); ++p) {
+        glm::vec3 c = v[p] < 0 ? glm::vec3(0.12f) : colorRamp(maxValue > 0 ? v[p] / maxValue : 0);
+        if (rb.stats[p].z != 0) c = {1.0f, 0.0f, 1.0f}; // flagged: overflow / cap / loop limit
+        rgba[4 * p] = (unsigned char)(c.x * 255);
+        rgba[4 * p + 1] = (unsigned char)(c.y * 255);
+        rgba[4 * p + 2] = (unsigned char)(c.z * 255);
+        rgba[4 * p + 3] = 255;
+    }
+    return rgba;
+}
+
+} // namespace
+
+void drawRenderPanel(Workbench& wb, UiState& ui) {
+    ImGui::SetNextWindowPos(ImVec2(420, 40), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(700, 560), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Render", &ui.showRender)) {
+        ImGui::End();
+        return;
+    }
+    SceneStage& scene = wb.scene();
+    render::Settings& r = scene.settings().render;
+    ImGui::SetNextItemWidth(160);
+    ImGui::SliderFloat("eps (solid angle)", &r.eps, 0.001f, 2.0f, "%.4f",
+                       ImGuiSliderFlags_Logarithmic);
+    ImGui::SameLine();
+    ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
+    ImGui::SameLine();
+    ImGui::Checkbox("brute force", &r.bruteForce);
+    ImGui::SetNextItemWidth(120);
+    ImGui::SliderFloat("exposure", &r.exposure, -10.0f, 10.0f, "%.1f EV");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(100);
+    ImGui::SliderFloat("gamma", &r.gamma, 0.5f, 4.0f, "%.2f");
+    ImGui::SameLine();
+    ImGui::Checkbox("direct Bssrdf()", &r.directBssrdf);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "radial models: call Bssrdf() per evaluation instead of the profile table");
+    int size[2] = {r.width, r.height};
+    ImGui::SetNextItemWidth(140);
+    if (ImGui::InputInt2("size", size, ImGuiInputTextFlags_EnterReturnsTrue)) {
+        r.width = std::clamp(size[0], 16, 4096);
+        r.height = std::clamp(size[1], 16, 4096);
+    }
+    ImGui::SameLine();
+    ImGui::Checkbox("half resolution while moving", &scene.settings().halfResolutionWhileChanging);
+    const char* heat[] = {"image", "nodes visited", "max stack depth", "rel. error vs brute force"};
+    ImGui::SetNextItemWidth(200);
+    ImGui::Combo("show", &ui.heatmap, heat, 4);
+
+    const render::Frame& f = scene.frame();
+    if (!scene.hasFrame()) {
+        ImGui::TextDisabled(scene.generating() ? "waiting for the point cloud ..."
+                                               : "nothing rendered yet (needs a usable model, a "
+                                                 "mesh and its point cloud)");
+        ImGui::End();
+        return;
+    }
+    auto st = scene.stats().find("scene.render");
+    ImGui::Text("%dx%d | G-buffer %.1f ms, profile %.1f ms, traversal %.1f ms (%d dispatches), "
+                "tone map %.1f ms | %lld renders",
+                f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
+                f.tonemapMs, st != scene.stats().end() ? st->second.runs : 0);
+    GLuint tex = f.ldr;
+    if (ui.heatmap > 0) {
+        render::Readback rb = scene.readback();
+        if (ui.heatmap == 3) {
+            const std::string key = std::to_string(st->second.runs);
+            if (ui.bruteKey != key || ui.bruteExitance.size() != rb.exitance.size()) {
+                if (ImGui::Button("compute brute force for this view")) {
+                    ui.bruteExitance = scene.bruteForceExitance();
+                    ui.bruteKey = std::to_string(scene.stats().at("scene.render").runs);
+                    rb = scene.readback();
+                }
+            }
+        }
+        if (ui.heatmap != 3 || ui.bruteExitance.size() == rb.exitance.size()) {
+            std::vector<unsigned char> rgba =
+                heatmapOf(rb, ui.heatmap, ui.bruteExitance, ui.heatMax);
+            gl::uploadRGBA8(ui.heatTex, rb.width, rb.height, rgba.data());
+            tex = ui.heatTex.id();
+            rampBar(0, ui.heatMax,
+                    ui.heatmap == 3 ? "(magenta: flagged pixel)" : "(magenta: flagged)");
+        }
+    }
+    const float width = std::max(160.0f, ImGui::GetContentRegionAvail().x);
+    int px = -1, py = -1;
+    ImVec2 drag;
+    float wheel = 0;
+    if (pickImage(tex, f.width, f.height, width, px, py, false, &drag, &wheel)) {
+        try {
+            ui.debug = scene.debugPixel(px, py);
+            ui.debugProblem.clear();
+            ui.showTraversal = true;
+        } catch (const std::exception& e) {
+            ui.debugProblem = e.what();
+        }
+    }
+    const bool moving = drag.x != 0 || drag.y != 0 || wheel != 0;
+    if (moving) {
+        r.camera.yaw -= drag.x * 0.01f;
+        r.camera.pitch = std::clamp(r.camera.pitch + drag.y * 0.01f, -1.5f, 1.5f);
+        if (wheel != 0)
+            r.camera.distance = std::max(0.05f, r.camera.distance * std::pow(0.9f, wheel));
+    }
+    wb.setInteracting(moving || ImGui::IsAnyItemActive());
+    if (ui.debug && ui.debug->hit) {
+        const float s = width / float(f.width);
+        const ImVec2 o = ImGui::GetItemRectMin();
+        ImGui::GetWindowDrawList()->AddRect(
+            ImVec2(o.x + float(ui.debug->x) * s, o.y + float(ui.debug->y) * s),
+            ImVec2(o.x + float(ui.debug->x + 1) * s + 2, o.y + float(ui.debug->y + 1) * s + 2),
+            IM_COL32(255, 0, 255, 255));
+    }
+    if (!ui.debugProblem.empty())
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", ui.debugProblem.c_str());
+    ImGui::TextDisabled("drag: orbit, wheel: zoom, click: trace the pixel (Traversal panel)");
+    ImGui::End();
+}
+
+} // namespace app

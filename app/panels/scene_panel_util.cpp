@@ -1,0 +1,86 @@
+// Helpers shared by the scene panels (scene_panel_util.h).
+#include "scene_panel_util.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace app {
+
+void ensureInspectCamera(Workbench& wb, UiState& ui) {
+    if (ui.inspectCameraSet || !wb.scene().hasMesh()) return;
+    ui.inspectCamera = wb.scene().settings().render.camera;
+    ui.inspectCamera.fit(wb.scene().mesh());
+    ui.inspectCamera.yaw = wb.scene().settings().render.camera.yaw;
+    ui.inspectCamera.pitch = wb.scene().settings().render.camera.pitch;
+    ui.inspectCameraSet = true;
+}
+
+bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool flipY, ImVec2* drag,
+               float* wheel) {
+    if (!tex || w <= 0 || h <= 0) {
+        ImGui::Dummy(ImVec2(width, width * 0.5f));
+        return false;
+    }
+    const float height = width * float(h) / float(w);
+    const ImVec2 pos = ImGui::GetCursorScreenPos();
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(tex)), ImVec2(width, height),
+                 flipY ? ImVec2(0, 1) : ImVec2(0, 0), flipY ? ImVec2(1, 0) : ImVec2(1, 1));
+    // An invisible button over the image gives it an ID, so it can be dragged and clicked.
+    ImGui::SetCursorScreenPos(pos);
+    ImGui::PushID(static_cast<int>(tex));
+    ImGui::InvisibleButton("##image", ImVec2(width, height));
+    ImGui::PopID();
+    const bool hovered = ImGui::IsItemHovered();
+    if (drag) {
+        *drag = ImVec2(0, 0);
+        if (ImGui::IsItemActive() && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f)) {
+            *drag = ImGui::GetIO().MouseDelta;
+        }
+    }
+    if (wheel) *wheel = hovered ? ImGui::GetIO().MouseWheel : 0.0f;
+    const ImVec2 dragged = ImGui::GetMouseDragDelta(ImGuiMouseButton_Left, 0.0f);
+    if (ImGui::IsItemDeactivated() && dragged.x * dragged.x + dragged.y * dragged.y < 9.0f) {
+        const ImVec2 m = ImGui::GetMousePos();
+        px = std::clamp(int((m.x - pos.x) / width * float(w)), 0, w - 1);
+        py = std::clamp(int((m.y - pos.y) / height * float(h)), 0, h - 1);
+        return true;
+    }
+    return false;
+}
+
+bool inspectorImage(Workbench& wb, UiState& ui, SceneView& view, ImVec2 size, float pointSize,
+                    float& px, float& py) {
+    ensureInspectCamera(wb, ui);
+    render::Camera& cam = ui.inspectCamera;
+    const int w = std::max(16, int(size.x)), h = std::max(16, int(size.y));
+    cam.aspect = float(w) / float(h);
+    view.draw(w, h, cam.projection() * cam.view(), pointSize);
+    int ix = -1, iy = -1;
+    ImVec2 drag;
+    float wheel = 0;
+    const bool clicked = pickImage(view.texture(), w, h, float(w), ix, iy, true, &drag, &wheel);
+    if (drag.x != 0 || drag.y != 0) {
+        cam.yaw -= drag.x * 0.01f;
+        cam.pitch = std::clamp(cam.pitch + drag.y * 0.01f, -1.5f, 1.5f);
+    }
+    if (wheel != 0) cam.distance = std::max(0.05f, cam.distance * std::pow(0.9f, wheel));
+    px = float(ix) + 0.5f;
+    py = float(iy) + 0.5f;
+    return clicked;
+}
+
+void rampBar(float lo, float hi, const char* unit) {
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    const float w = 220, h = 10;
+    for (int i = 0; i < 44; ++i) {
+        const glm::vec3 c = colorRamp((float(i) + 0.5f) / 44.0f);
+        dl->AddRectFilled(ImVec2(p.x + w * float(i) / 44, p.y),
+                          ImVec2(p.x + w * float(i + 1) / 44, p.y + h),
+                          IM_COL32(int(c.x * 255), int(c.y * 255), int(c.z * 255), 255));
+    }
+    ImGui::Dummy(ImVec2(w, h));
+    ImGui::Text("%.4g  ..  %.4g %s", lo, hi, unit);
+}
+
+} // namespace app

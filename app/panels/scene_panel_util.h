@@ -1,0 +1,30 @@
+// Helpers shared by the scene panels: the 3D inspector view with orbit/zoom by mouse, colour
+// bars, and a pixel-picking image widget. No algorithms.
+#pragma once
+
+#include "../scene_view.h"
+#include "../ui_state.h"
+#include "../workbench.h"
+
+#include <imgui.h>
+
+#include <glm/vec3.hpp>
+
+#include <string>
+
+namespace app {
+
+// Shows a SceneView texture (drawn with ui.inspectCamera) filling `size`; dragging orbits,
+// the wheel zooms. Returns true and sets (px, py) (pixels from the top left) on a click.
+bool inspectorImage(Workbench& wb, UiState& ui, SceneView& view, ImVec2 size, float pointSize,
+                    float& px, float& py);
+// A horizontal colour bar of colorRamp with its end labels.
+void rampBar(float lo, float hi, const char* unit);
+// Shows an RGBA texture (row 0 at the top) of w × h scaled to `width`; returns true and the
+// pixel on a click. dragging reports the mouse delta through dx, dy (pixels) when non-null.
+bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool flipY = false,
+               ImVec2* drag = nullptr, float* wheel = nullptr);
+// Makes ui.inspectCamera frame the scene mesh (once).
+void ensureInspectCamera(Workbench& wb, UiState& ui);
+
+} // namespace app

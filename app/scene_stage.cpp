@@ -1,0 +1,463 @@
+// The mesh rendering pipeline as a stage graph (scene_stage.h).
+#include "scene_stage.h"
+
+#include "core/core.h"
+#include "gl/gl.h"
+
+#include <chrono>
+#include <sstream>
+
+namespace app {
+namespace fs = std::filesystem;
+
+SceneSettings::SceneSettings() {
+    points.points = 20000;
+    light.direction = {0.45f, 0.75f, 0.5f};
+    light.irradiance = glm::vec3(3.0f);
+    light.shadowMapSize = 1024;
+    render.width = 480;
+    render.height = 270;
+    render.eps = 0.05f;
+    render.camera.yaw = 0.5f;
+    render.camera.pitch = 0.2f;
+}
+
+namespace {
+
+std::string lightKey(const irradiance::Settings& s) {
+    std::ostringstream k;
+    k.precision(9);
+    k << int(s.mode) << '|' << s.direction.x << ',' << s.direction.y << ',' << s.direction.z << '|'
+      << s.irradiance.x << ',' << s.irradiance.y << ',' << s.irradiance.z << '|' << int(s.filter)
+      << '|' << s.shadowMapSize << '|' << s.depthOffset << '|' << s.slopeOffset << '|'
+      << s.jitterSamples << '|' << s.jitterRadius << '|' << s.ior << '|' << s.envIntensity << '|'
+      << s.envRotation << '|' << s.occludedSamplesPerStep << '|' << s.occludedTotalSamples << '|'
+      << s.seed;
+    return k.str();
+}
+
+std::string renderKey(const render::Settings& s) {
+    std::ostringstream k;
+    k.precision(9);
+    const render::Camera& c = s.camera;
+    k << s.width << 'x' << s.height << '|' << c.target.x << ',' << c.target.y << ',' << c.target.z
+      << '|' << c.yaw << ',' << c.pitch << ',' << c.distance << ',' << c.fovY << '|' << s.eps << '|'
+      << s.boundingBoxCriterion << s.bruteForce << s.directBssrdf << '|' << s.maxSteps << '|'
+      << s.stackSize << '|' << s.exposure << ',' << s.gamma;
+    return k.str();
+}
+
+double nowSeconds() {
+    return core::secondsSinceStart();
+}
+
+} // namespace
+
+SceneStage::SceneStage(fs::path root) : m_root(std::move(root)) {}
+
+SceneStage::~SceneStage() {
+    if (m_pending.valid()) m_pending.wait();
+}
+
+fs::path SceneStage::resolve(const std::string& file) const {
+    fs::path p(file);
+    return p.is_absolute() ? p : m_root / p;
+}
+
+void SceneStage::setProblem(const std::string& stage, const std::string& text) {
+    m_problems[stage] = text;
+    core::logError(stage + ": " + text);
+}
+void SceneStage::clearProblem(const std::string& stage) {
+    m_problems.erase(stage);
+}
+
+std::vector<std::string> SceneStage::problems() const {
+    std::vector<std::string> out;
+    for (const auto& [stage, text] : m_problems)
+        out.push_back(stage + ": " + text);
+    return out;
+}
+
+void SceneStage::ensureGl() {
+    if (!m_irradiance_stage)
+        m_irradiance_stage = std::make_unique<irradiance::Stage>(m_root / "shaders");
+    if (!m_renderer) m_renderer = std::make_unique<render::Renderer>(bssrdf::ShaderSources{m_root});
+}
+
+std::string SceneStage::meshHash() const {
+    if (!m_mesh) return "";
+    std::string bytes;
+    bytes.append(reinterpret_cast<const char*>(m_mesh->vertices.data()),
+                 m_mesh->vertices.size() * sizeof(m_mesh->vertices[0]));
+    bytes.append(reinterpret_cast<const char*>(m_mesh->triangles.data()),
+                 m_mesh->triangles.size() * sizeof(m_mesh->triangles[0]));
+    return core::hashHex(bytes);
+}
+
+bool SceneStage::updateMesh() {
+    const std::string key = m_settings.meshFile;
+    if (key == m_meshKey) return false;
+    m_meshKey = key;
+    core::Stopwatch clock;
+    try {
+        const fs::path file = resolve(key);
+        mesh::Mesh m = mesh::loadObj(file);
+        const mesh::RenderablePrep prep = mesh::prepareRenderable(m, key);
+        if (prep.droppedDegenerate)
+            core::logWarn(key + ": dropped " + std::to_string(prep.droppedDegenerate) +
+                          " degenerate (zero-area) triangles");
+        ensureGl();
+        m_renderer->setMesh(m);
+        m_mesh = std::move(m);
+        ++m_meshVersion;
+        if (!m_cameraFitted) {
+            m_settings.render.camera.fit(*m_mesh);
+            m_cameraFitted = true;
+        }
+        clearProblem("mesh");
+    } catch (const std::exception& e) {
+        setProblem("mesh", e.what());
+        return false;
+    }
+    StageStat& st = m_stats["scene.mesh"];
+    st.ms = clock.ms();
+    ++st.runs;
+    gl::recordTiming("scene.mesh", st.ms);
+    return true;
+}
+
+double SceneStage::generatingSeconds() const {
+    return m_pending.valid() ? nowSeconds() - m_pendingStart : 0.0;
+}
+
+void SceneStage::cancelPointCloud() {
+    // The generation itself cannot be interrupted; its result is dropped (the key is cleared so
+    // the next update does not adopt it).
+    if (m_pending.valid()) {
+        std::thread([f = std::move(m_pending)]() mutable { f.wait(); }).detach();
+        m_cloudKey = "(cancelled)";
+        core::logInfo("point cloud generation cancelled");
+    }
+}
+
+void SceneStage::applyCloud(pointcloud::PointCloud cloud, bool fromCache, double ms) {
+    std::vector<glm::vec3> pos(cloud.points.size()), nor(cloud.points.size());
+    std::vector<float> area(cloud.points.size());
+    for (size_t i = 0; i < cloud.points.size(); ++i) {
+        const auto& p = cloud.points[i];
+        pos[i] = {p.p[0], p.p[1], p.p[2]};
+        nor[i] = {p.n[0], p.n[1], p.n[2]};
+        area[i] = p.area;
+    }
+    octree::Octree tree;
+    {
+        gl::ScopedStageTimer t("scene.octree");
+        tree = octree::build(pos, nor, area); // throws: the previous cloud and tree stay
+    }
+    ensureGl();
+    m_irradiance_stage->setScene(*m_mesh, pos, nor);
+    m_renderer->setOctree(tree);
+    StageStat& ot = m_stats["scene.octree"];
+    ot.ms = tree.stats.buildMs;
+    ++ot.runs;
+    m_tree = std::move(tree);
+    m_cloud = std::move(cloud);
+    m_cloudFromCache = fromCache;
+    m_uniformity = pointcloud::measureUniformity(m_cloud);
+    StageStat& pc = m_stats["scene.pointcloud"];
+    pc.ms = ms;
+    ++pc.runs;
+    gl::recordTiming("scene.pointcloud", ms);
+    ++m_cloudVersion;
+    m_irradiance.clear();
+}
+
+bool SceneStage::updatePointCloud(bool wait) {
+    if (!m_mesh) return false;
+    const pointcloud::GenerateOptions& o = m_settings.points;
+    std::ostringstream k;
+    k << m_meshVersion << '|' << m_settings.pointCloudFile << '|' << pointcloud::methodTag(o) << '|'
+      << o.points << '|' << o.seed;
+    bool changed = false;
+    if (k.str() != m_cloudKey) {
+        m_cloudKey = k.str();
+        if (m_pending.valid()) {
+            cancelPointCloud();
+            m_cloudKey = k.str();
+        }
+        try {
+            if (!m_settings.pointCloudFile.empty()) {
+                core::Stopwatch clock;
+                pointcloud::PointCloud c = pointcloud::readPly(resolve(m_settings.pointCloudFile));
+                if (c.points.empty())
+                    throw core::Error(m_settings.pointCloudFile, 0, "the point cloud is empty");
+                if (c.points.size() > octree::kMaxIndex + 1u)
+                    throw core::Error(m_settings.pointCloudFile, 0,
+                                      "more than 2^24 points (the octree's 24-bit index)");
+                applyCloud(std::move(c), false, clock.ms());
+                clearProblem("point cloud");
+                return true;
+            }
+            pointcloud::checkOptions(o);
+            const fs::path cache = m_settings.useCache ? pointcloud::defaultCacheDir() : fs::path();
+            m_pendingStart = nowSeconds();
+            m_pending = std::async(std::launch::async, [m = *m_mesh, o, cache] {
+                return pointcloud::generate(m, o, cache);
+            });
+        } catch (const std::exception& e) {
+            setProblem("point cloud", e.what());
+            return false;
+        }
+    }
+    if (!m_pending.valid()) return false;
+    if (!wait && m_pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        return false;
+    try {
+        pointcloud::Generated g = m_pending.get();
+        applyCloud(std::move(g.cloud), g.fromCache, g.milliseconds);
+        clearProblem("point cloud");
+        changed = true;
+    } catch (const std::exception& e) {
+        setProblem("point cloud", e.what());
+    }
+    return changed;
+}
+
+bool SceneStage::updateIrradiance(long long shaderGeneration, bool finishOccluded) {
+    if (!m_tree || !m_irradiance_stage) return false;
+    irradiance::Stage& st = *m_irradiance_stage;
+    const irradiance::Settings& s = m_settings.light;
+    const bool ibl =
+        s.mode == irradiance::LightMode::Ibl || s.mode == irradiance::LightMode::OccludedIbl;
+    // Environment / projected texture files (loaded when named and changed).
+    if (ibl && m_settings.environmentFile != m_envKey) {
+        m_envKey = m_settings.environmentFile;
+        try {
+            st.loadEnvironment(resolve(m_envKey));
+            clearProblem("environment");
+        } catch (const std::exception& e) {
+            setProblem("environment", e.what());
+        }
+    }
+    if (s.mode == irradiance::LightMode::Filtered && m_settings.projectedTextureFile != m_texKey) {
+        m_texKey = m_settings.projectedTextureFile;
+        try {
+            if (m_texKey.empty())
+                st.useCheckerTexture();
+            else
+                st.loadProjectedTexture(resolve(m_texKey));
+            clearProblem("projected texture");
+        } catch (const std::exception& e) {
+            setProblem("projected texture", e.what());
+        }
+    }
+    std::ostringstream k;
+    k << m_cloudVersion << '|' << lightKey(s) << '|' << (ibl ? m_envKey : "") << '|'
+      << (s.mode == irradiance::LightMode::Filtered ? m_texKey : "") << '|' << shaderGeneration;
+    bool changed = false;
+    auto adopt = [&](std::vector<glm::vec3> e, double ms) {
+        octree::setIrradiance(*m_tree, e);
+        m_renderer->updateAttributes(*m_tree);
+        m_irradiance = std::move(e);
+        ++m_irrVersion;
+        StageStat& stat = m_stats["scene.irradiance"];
+        stat.ms = ms;
+        ++stat.runs;
+        changed = true;
+    };
+    if (k.str() != m_irrKey) {
+        m_irrKey = k.str();
+        if (st.occludedRunning()) st.cancelOccluded();
+        m_occludedActive = false;
+        try {
+            core::Stopwatch clock;
+            if (ibl && !st.hasEnvironment())
+                throw core::Error(m_settings.environmentFile, 0, "no environment map loaded");
+            if (s.mode == irradiance::LightMode::OccludedIbl) {
+                st.beginOccluded(s);
+                m_occludedActive = true;
+            } else {
+                std::vector<glm::vec3> e;
+                {
+                    gl::ScopedStageTimer t("scene.irradiance");
+                    e = st.compute(s);
+                    glFinish();
+                }
+                adopt(std::move(e), clock.ms());
+            }
+            clearProblem("irradiance");
+        } catch (const std::exception& e) {
+            setProblem("irradiance", e.what());
+        }
+    }
+    if (m_occludedActive) {
+        try {
+            core::Stopwatch clock;
+            bool done = false;
+            do {
+                gl::ScopedStageTimer t("scene.irradiance");
+                done = st.stepOccluded();
+                glFinish();
+            } while (finishOccluded && !done);
+            if (done) m_occludedActive = false;
+            std::vector<glm::vec3> e = st.occludedResult();
+            if (!e.empty()) adopt(std::move(e), clock.ms());
+        } catch (const std::exception& e) {
+            m_occludedActive = false;
+            setProblem("irradiance", e.what());
+        }
+    }
+    return changed;
+}
+
+float SceneStage::occludedProgress() const {
+    return m_irradiance_stage ? m_irradiance_stage->occludedProgress() : 0.0f;
+}
+bool SceneStage::occludedRunning() const {
+    return m_occludedActive;
+}
+void SceneStage::cancelOccluded() {
+    if (m_irradiance_stage && m_occludedActive) m_irradiance_stage->cancelOccluded();
+    m_occludedActive = false;
+}
+
+bool SceneStage::updateRender(const SceneModelInput& model, bool interacting,
+                              long long shaderGeneration, bool finishNow) {
+    if (!m_tree || !m_renderer || !model.entry || !model.entry->model || m_irradiance.empty())
+        return false;
+    const bssrdf::ModelEntry& e = *model.entry;
+    // Model program: rebuilt when the model file or a shader changes; a failure keeps the old.
+    std::ostringstream mk;
+    mk << e.displayPath << '|' << e.generation << '|' << shaderGeneration;
+    if (mk.str() != m_modelKey) {
+        m_modelKey = mk.str();
+        try {
+            m_renderer->setModel(*e.model);
+            clearProblem("render");
+        } catch (const std::exception& ex) {
+            setProblem("render", ex.what());
+        }
+    }
+    if (!m_renderer->ready()) return false;
+    const bool half = interacting && m_settings.halfResolutionWhileChanging;
+    render::Settings rs = m_settings.render;
+    if (half) {
+        rs.width = std::max(1, rs.width / 2);
+        rs.height = std::max(1, rs.height / 2);
+    }
+    std::ostringstream k;
+    k.precision(9);
+    k << m_irrVersion << '|' << m_modelKey << '|' << model.materialKey << '|' << renderKey(rs);
+    for (const auto& [n, v] : e.values)
+        k << '|' << n << '=' << v[0] << ',' << v[1] << ',' << v[2];
+    const auto& b = model.builtins;
+    k << '|' << b.sigmaA.x << ',' << b.sigmaA.y << ',' << b.sigmaA.z << ',' << b.sigmaS.x << ','
+      << b.sigmaS.y << ',' << b.sigmaS.z << ',' << b.g << ',' << b.ior << ',' << b.scale;
+    try {
+        if (k.str() != m_renderKey) {
+            m_renderKey = k.str();
+            m_renderer->setMaterial(e.values, model.builtins);
+            // Interactive frames are sliced into short dispatches so the UI keeps running.
+            if (!finishNow) rs.iterationsPerDispatch = kInteractiveIterations;
+            m_renderer->begin(rs);
+            m_renderClock.reset();
+            m_lastWasHalf = half;
+            clearProblem("render settings");
+        }
+        if (!m_renderer->inProgress()) return false;
+        if (!m_renderer->advance(finishNow ? 1e30 : kFrameBudgetMs)) return false;
+        m_frame = m_renderer->currentFrame();
+        StageStat& st = m_stats["scene.render"];
+        st.ms = m_renderClock.ms();
+        ++st.runs;
+    } catch (const std::exception& ex) {
+        setProblem("render settings", ex.what());
+        return false;
+    }
+    return true;
+}
+
+bool SceneStage::update(const SceneModelInput& model, bool interacting,
+                        long long shaderGeneration) {
+    if (!m_settings.enabled) return false;
+    if (model.entry) m_settings.light.ior = model.builtins.ior; // E_t carries Ft(η)
+    bool changed = updateMesh();
+    changed |= updatePointCloud(false);
+    changed |= updateIrradiance(shaderGeneration, false);
+    changed |= updateRender(model, interacting, shaderGeneration, false);
+    return changed;
+}
+
+void SceneStage::finish(const SceneModelInput& model, long long shaderGeneration) {
+    if (model.entry) m_settings.light.ior = model.builtins.ior;
+    updateMesh();
+    updatePointCloud(true);
+    updateIrradiance(shaderGeneration, true);
+    updateRender(model, false, shaderGeneration, true);
+}
+
+render::Readback SceneStage::readback() const {
+    if (!m_renderer || !hasFrame()) return {};
+    return m_renderer->readback();
+}
+
+PixelDebug SceneStage::debugPixel(int x, int y) {
+    if (!hasFrame() || !m_tree || !m_renderer)
+        throw core::Error("debugger", 0, "no rendered frame to debug yet");
+    if (m_renderer->inProgress())
+        throw core::Error("debugger", 0, "a frame is still rendering; click again when it is done");
+    render::Readback rb = m_renderer->readback();
+    if (x < 0 || y < 0 || x >= rb.width || y >= rb.height)
+        throw core::Error("debugger", 0,
+                          "pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                              ") is outside the " + std::to_string(rb.width) + "x" +
+                              std::to_string(rb.height) + " frame");
+    PixelDebug d;
+    d.x = x;
+    d.y = y;
+    const size_t p = rb.index(x, y);
+    d.hit = rb.position[p].w > 0.5f;
+    if (!d.hit) return d;
+    const glm::vec3 xo(rb.position[p]), no(rb.normal[p]);
+    d.gpuExitance = glm::vec3(rb.exitance[p]);
+    d.gpuStats = rb.stats[p];
+    const float scale = m_renderer->builtins().scale;
+    render::Settings rs = m_settings.render;
+    d.trace = octree::traverse(*m_tree, xo, no, rs.criterion());
+    std::vector<glm::vec3> values = m_renderer->evaluatePairs(render::tracePairs(d.trace, scale));
+    octree::accumulate(d.trace, values, scale);
+    // Brute force at this pixel: every point in slot order, the shader's formula.
+    std::vector<render::BssrdfPair> pairs;
+    pairs.reserve(m_tree->points.size());
+    for (const octree::PointRecord& r : m_tree->points)
+        pairs.push_back({scale * glm::vec3(r.positionArea[0], r.positionArea[1], r.positionArea[2]),
+                         glm::vec3(r.normal[0], r.normal[1], r.normal[2]), scale * xo, no});
+    std::vector<glm::vec3> all = m_renderer->evaluatePairs(pairs);
+    glm::vec3 sum(0.0f);
+    for (size_t i = 0; i < all.size(); ++i) {
+        const octree::PointRecord& r = m_tree->points[i];
+        const glm::vec3 w =
+            glm::vec3(r.irradiance[0], r.irradiance[1], r.irradiance[2]) * r.positionArea[3];
+        sum += w * (scale * scale) * all[i];
+    }
+    d.bruteExitance = sum;
+    return d;
+}
+
+std::vector<glm::vec4> SceneStage::bruteForceExitance() {
+    if (!hasFrame() || !m_renderer) throw core::Error("render", 0, "no rendered frame yet");
+    if (m_renderer->inProgress()) m_renderer->advance(1e30);
+    render::Settings rs = m_settings.render;
+    rs.width = m_frame.width;
+    rs.height = m_frame.height;
+    rs.bruteForce = true;
+    m_renderer->render(rs);
+    render::Readback brute = m_renderer->readback();
+    // Restore the displayed frame (same settings as the last one; the heatmap compares them).
+    rs.bruteForce = m_settings.render.bruteForce;
+    m_frame = m_renderer->render(rs);
+    return brute.exitance;
+}
+
+} // namespace app

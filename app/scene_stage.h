@@ -1,0 +1,157 @@
+// The mesh rendering pipeline of thesis 3.3 as a stage graph (docs/ARCHITECTURE.md):
+//   mesh (.obj) ─► point cloud ─► octree ─┐
+//   light ─► irradiance per point ─► octree sums ─► traversal (render) ─► HDR image
+// Each stage keeps a key of its inputs and re-runs only when it changes:
+//   mesh file / point count / method / seed → everything; light → irradiance + render;
+//   model, material, parameters, render settings, camera → render only.
+// A stage that fails keeps its last good result on screen and reports the problem (Errors
+// panel); the point cloud is generated in a background thread (the previous scene stays until
+// the new one is ready; a new request supersedes a running one); occluded IBL advances a few
+// environment samples per update. Renders use half resolution while the user interacts and
+// full resolution at rest. The traversal debugger (debugPixel) replays one pixel with the CPU
+// replica (octree::traverse) on the G-buffer of the last frame.
+#pragma once
+
+#include "bssrdf/program_library.h"
+#include "core/core.h"
+#include "irradiance/irradiance.h"
+#include "mesh/mesh.h"
+#include "octree/octree.h"
+#include "pointcloud/generate.h"
+#include "render/render.h"
+
+#include <atomic>
+#include <filesystem>
+#include <future>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace app {
+
+struct SceneSettings {
+    bool enabled = true;
+    std::string meshFile = "third_party/bunny/bunny.obj"; // relative to the root, or absolute
+    std::string pointCloudFile; // non-empty: read this PLY instead of generating
+    pointcloud::GenerateOptions points;
+    irradiance::Settings light;
+    std::string environmentFile = "materials/env/default_sky.exr";
+    std::string projectedTextureFile; // empty: the checkerboard
+    render::Settings render;
+    bool halfResolutionWhileChanging = true;
+    bool useCache = true; // point-cloud PLY cache (pointcloud::defaultCacheDir)
+    SceneSettings();
+};
+
+struct StageStat {
+    double ms = 0;      // last run, CPU wall clock (GPU work included: stages end in glFinish)
+    long long runs = 0; // how often it ran
+};
+
+// What the render uses besides the scene: the model and its material (Workbench::sourceModel).
+struct SceneModelInput {
+    const bssrdf::ModelEntry* entry = nullptr;
+    bssrdf::Builtins builtins;
+    std::string materialKey;
+};
+
+struct PixelDebug {
+    int x = -1, y = -1;
+    bool hit = false;
+    octree::Trace trace;
+    glm::vec3 gpuExitance{0.0f};   // M read back from the frame
+    glm::uvec4 gpuStats{0u};       // steps, max stack depth, flags, evaluations
+    glm::vec3 bruteExitance{0.0f}; // Σ over every point (GPU-evaluated BSSRDF, float sum)
+};
+
+class SceneStage {
+  public:
+    explicit SceneStage(std::filesystem::path root);
+    ~SceneStage();
+
+    SceneSettings& settings() { return m_settings; }
+    // Runs whatever is stale. interacting: the user is dragging / editing (half resolution).
+    // Returns true when a result changed.
+    bool update(const SceneModelInput& model, bool interacting, long long shaderGeneration);
+    // Waits for a running point-cloud generation and runs every stage to completion at full
+    // resolution (CLI, captures, tests, bench). Occluded IBL runs all its samples.
+    void finish(const SceneModelInput& model, long long shaderGeneration);
+    void cancelPointCloud(); // the running generation's result will be dropped
+    // Keep settings().render.camera as it is when the mesh loads (captures set it).
+    void keepCamera() { m_cameraFitted = true; }
+
+    // Results (last good).
+    bool hasMesh() const { return m_mesh.has_value(); }
+    const mesh::Mesh& mesh() const { return *m_mesh; }
+    std::string meshHash() const;
+    const pointcloud::PointCloud& cloud() const { return m_cloud; }
+    const pointcloud::Uniformity& uniformity() const { return m_uniformity; }
+    bool cloudFromCache() const { return m_cloudFromCache; }
+    bool generating() const { return m_pending.valid(); }
+    double generatingSeconds() const;
+    const octree::Octree* tree() const { return m_tree ? &*m_tree : nullptr; }
+    const std::vector<glm::vec3>& irradiance() const { return m_irradiance; }
+    float occludedProgress() const;
+    bool occludedRunning() const;
+    void cancelOccluded();
+    const render::Frame& frame() const { return m_frame; }
+    bool hasFrame() const { return m_frame.width > 0; }
+    bool rendering() const { return m_renderer && m_renderer->inProgress(); }
+    render::Readback readback() const;
+    irradiance::Stage* irradianceStage() { return m_irradiance_stage.get(); }
+    render::Renderer* renderer() { return m_renderer.get(); }
+    const std::map<std::string, StageStat>& stats() const { return m_stats; }
+    // Current problems, "stage: file:line: message".
+    std::vector<std::string> problems() const;
+
+    // Traversal debugger (thesis Algorithm 2 replayed on the CPU for one pixel of the last
+    // frame). Throws core::Error when there is no frame or the pixel is outside it.
+    PixelDebug debugPixel(int x, int y);
+    // Full-frame brute force of the current view (same size as the last frame) for the
+    // relative-error heatmap; returns M per pixel (rgb) and hit (a).
+    std::vector<glm::vec4> bruteForceExitance();
+
+  private:
+    void setProblem(const std::string& stage, const std::string& text);
+    void clearProblem(const std::string& stage);
+    bool updateMesh();
+    bool updatePointCloud(bool wait);
+    bool updateIrradiance(long long shaderGeneration, bool finishOccluded);
+    bool updateRender(const SceneModelInput& model, bool interacting, long long shaderGeneration,
+                      bool finishNow);
+    // Interactive renders: traversal dispatches of this many loop iterations per pixel, and
+    // about this much traversal time per update (the rest of the frame continues next update).
+    static constexpr uint32_t kInteractiveIterations = 32;
+    static constexpr double kFrameBudgetMs = 30.0;
+    core::Stopwatch m_renderClock;
+    void applyCloud(pointcloud::PointCloud cloud, bool fromCache, double ms);
+    std::filesystem::path resolve(const std::string& file) const;
+    void ensureGl();
+
+    std::filesystem::path m_root;
+    SceneSettings m_settings;
+    std::map<std::string, StageStat> m_stats;
+    std::map<std::string, std::string> m_problems;
+
+    std::string m_meshKey, m_cloudKey, m_irrKey, m_renderKey, m_envKey, m_texKey, m_modelKey;
+    long long m_meshVersion = 0, m_cloudVersion = 0, m_irrVersion = 0;
+    long long m_shaderGenSeen = -1;
+    std::optional<mesh::Mesh> m_mesh;
+    pointcloud::PointCloud m_cloud;
+    pointcloud::Uniformity m_uniformity;
+    bool m_cloudFromCache = false;
+    std::future<pointcloud::Generated> m_pending;
+    double m_pendingStart = 0;
+    std::optional<octree::Octree> m_tree;
+    std::vector<glm::vec3> m_irradiance;
+    bool m_occludedActive = false;
+    std::unique_ptr<irradiance::Stage> m_irradiance_stage;
+    std::unique_ptr<render::Renderer> m_renderer;
+    render::Frame m_frame;
+    bool m_lastWasHalf = false;
+    bool m_cameraFitted = false;
+};
+
+} // namespace app
