@@ -141,6 +141,11 @@ void main() {
         stats = renderStats[p];
         M = renderExitance[p].xyz;
     }
+    // The traversal stack lives in registers / local memory during a dispatch; it is loaded
+    // from and saved to the pixel's state only when a frame spans several dispatches.
+    uint stack[OCTREE_STACK_SIZE];
+    if (!RenderFirst)
+        for (uint i = 0u; i < sp; ++i) stack[i] = renderState[p].stack[i];
     init();
     const vec3 xo = pos.xyz;
     const vec3 no = imageLoad(GNormal, pix).xyz;
@@ -160,7 +165,10 @@ void main() {
         }
         if (k >= end) mode = MODE_DONE;
     } else {
-        // Algorithm 2 as a state machine: one visit, point or move per iteration
+        // Algorithm 2 as a state machine. Each iteration does at most one visit (one step) or
+        // one point, the evaluation it asks for, then one move towards the next node (a
+        // sibling, or one pop). The evaluations are added in exactly the order of the CPU
+        // replica (octree::traverse).
         for (; it < RenderIterations; ++it) {
             if (mode == MODE_DONE) break;
             bool evaluate = false;
@@ -181,7 +189,7 @@ void main() {
                             mode = MODE_DONE;
                             break;
                         }
-                        renderState[p].stack[sp] = octreePackEntry(node, childnum);
+                        stack[sp] = octreePackEntry(node, childnum);
                         sp += 1u;
                         stats.y = max(stats.y, sp);
                     }
@@ -198,7 +206,8 @@ void main() {
                     ew = octreeNodes[node].irradianceArea.xyz;
                     mode = MODE_NEXT;
                 }
-            } else if (mode == MODE_POINTS) {
+            }
+            if (mode == MODE_POINTS && !evaluate) {
                 evaluate = true;
                 vec4 pa = octreePoints[k].positionArea;
                 exi = pa.xyz;
@@ -206,13 +215,18 @@ void main() {
                 ew = octreePoints[k].irradiance.xyz * pa.w;
                 k += 1u;
                 if (k >= end) mode = MODE_NEXT;
-            } else { // MODE_NEXT
+            }
+            if (evaluate) {
+                M += ew * s2 * renderModel(exi, ewi, sxo, no);
+                stats.w += 1u;
+            }
+            if (mode == MODE_NEXT) {
                 if (childnum == 0u) {
                     if (sp == 0u) {
                         mode = MODE_DONE;
                     } else {
                         sp -= 1u;
-                        uint e = renderState[p].stack[sp];
+                        uint e = stack[sp];
                         node = e >> 8u;
                         childnum = e & 0xffu;
                     }
@@ -221,10 +235,6 @@ void main() {
                     childnum -= 1u;
                     mode = MODE_VISIT;
                 }
-            }
-            if (evaluate) {
-                M += ew * s2 * renderModel(exi, ewi, sxo, no);
-                stats.w += 1u;
             }
         }
     }
@@ -240,6 +250,7 @@ void main() {
     renderStats[p] = stats;
     renderExitance[p] = vec4(M, 1.0);
     if (mode != MODE_DONE) {
+        for (uint i = 0u; i < sp; ++i) renderState[p].stack[i] = stack[i];
         renderState[p].cursor = uvec4(node, childnum, mode, sp);
         renderState[p].range = uvec4(k, end, 0u, 0u);
         atomicAdd(unfinished, 1u);
