@@ -12,7 +12,7 @@
 namespace app {
 
 struct GuiOptions {
-    int width = 1280, height = 860;
+    int width = 1600, height = 1000;
     int frames = 3;             // headless: frames to run before the screenshot
     std::string screenshotPath; // headless: PNG of what a user would see
     bool persistLayout = true;  // load/save window layout and panel visibility

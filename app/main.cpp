@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     gui->add_flag("--headless", headless, "same as the top-level --headless");
 
     auto* shot = cli.add_subcommand("screenshot", "run the full GUI headless and save a PNG");
-    std::string shotOut, shotSize = "1280x860";
+    std::string shotOut, shotSize = "1600x1000";
     int shotFrames = 3;
     shot->add_option("--out", shotOut, "PNG file")->required();
     shot->add_option("--frames", shotFrames, "frames to run before saving")
@@ -343,7 +343,7 @@ int main(int argc, char** argv) {
             headless = true;
         }
         if (headless) return runHeadlessDefault(root, headlessOut);
-        auto ctx = gl::createWindowContext(1400, 900, "BSSRDF Workbench");
+        auto ctx = gl::createWindowContext(1600, 1000, "BSSRDF Workbench");
         app::Workbench wb(root, true);
         app::GuiOptions opt;
         return app::runGui(wb, *ctx, opt);

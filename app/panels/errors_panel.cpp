@@ -8,8 +8,8 @@
 namespace app {
 
 void drawErrorsPanel(Workbench& wb, UiState& ui) {
-    ImGui::SetNextWindowPos(ImVec2(346, 596), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(560, 260), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(8, 734), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(330, 258), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Errors / Log", &ui.showErrors)) {
         ImGui::End();
         return;

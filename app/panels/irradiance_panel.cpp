@@ -44,8 +44,8 @@ void showCubemap(GLuint cube, UiState& ui) {
 } // namespace
 
 void drawIrradiancePanel(Workbench& wb, UiState& ui) {
-    ImGui::SetNextWindowPos(ImVec2(1100, 420), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(460, 600), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(618, 700), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Irradiance", &ui.showIrradiance)) {
         ImGui::End();
         return;

@@ -69,8 +69,8 @@ void updateBoxes(Workbench& wb, UiState& ui, const octree::Octree& t) {
 } // namespace
 
 void drawOctreePanel(Workbench& wb, UiState& ui) {
-    ImGui::SetNextWindowPos(ImVec2(560, 420), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(520, 620), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(618, 700), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Octree", &ui.showOctree)) {
         ImGui::End();
         return;

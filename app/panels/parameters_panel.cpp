@@ -41,7 +41,7 @@ void swatchButton(const char* label, const glm::dvec3& rgb) {
 
 void drawParametersPanel(Workbench& wb, UiState& ui) {
     ImGui::SetNextWindowPos(ImVec2(8, 296), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330, 560), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(330, 430), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Parameters", &ui.showParameters)) {
         ImGui::End();
         return;

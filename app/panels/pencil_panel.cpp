@@ -65,8 +65,8 @@ void drawReferenceControls(Workbench& wb) {
 } // namespace
 
 void drawPencilPanel(Workbench& wb, UiState& ui) {
-    ImGui::SetNextWindowPos(ImVec2(346, 28), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(900, 560), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(346, 506), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(620, 486), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Pencil plot", &ui.showPencil)) {
         ImGui::End();
         return;

@@ -87,8 +87,8 @@ void uploadColors(Workbench& wb, UiState& ui) {
 } // namespace
 
 void drawPointCloudPanel(Workbench& wb, UiState& ui) {
-    ImGui::SetNextWindowPos(ImVec2(20, 420), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(520, 560), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(618, 470), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Point cloud", &ui.showPointCloud)) {
         ImGui::End();
         return;
@@ -158,7 +158,7 @@ void drawPointCloudPanel(Workbench& wb, UiState& ui) {
                 : ui.colorBy == 2 ? "(E_t luminance)"
                                   : "(L_o luminance; grey: hidden)");
     ImVec2 avail = ImGui::GetContentRegionAvail();
-    const float side = std::max(120.0f, std::min(avail.x, avail.y - 90));
+    const float side = std::max(120.0f, std::min(avail.x, avail.y - 40));
     float px = 0, py = 0;
     std::vector<glm::vec3> pos;
     if (inspectorImage(wb, ui, *ui.pointView, ImVec2(side, side), 3.0f, px, py)) {

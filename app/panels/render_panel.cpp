@@ -47,8 +47,8 @@ std::vector<unsigned char> heatmapOf(const render::Readback& rb, int mode,
 } // namespace
 
 void drawRenderPanel(Workbench& wb, UiState& ui) {
-    ImGui::SetNextWindowPos(ImVec2(420, 40), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(700, 560), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(346, 28), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(620, 470), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Render", &ui.showRender)) {
         ImGui::End();
         return;
@@ -119,7 +119,9 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
                     ui.heatmap == 3 ? "(magenta: flagged pixel)" : "(magenta: flagged)");
         }
     }
-    const float width = std::max(160.0f, ImGui::GetContentRegionAvail().x);
+    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    const float width = std::max(160.0f, std::min(avail.x, (avail.y - 24.0f) * float(f.width) /
+                                                               float(std::max(f.height, 1))));
     int px = -1, py = -1;
     ImVec2 drag;
     float wheel = 0;

@@ -9,8 +9,8 @@
 namespace app {
 
 void drawTimingsPanel(Workbench&, UiState& ui) {
-    ImGui::SetNextWindowPos(ImVec2(914, 596), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(332, 260), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(974, 506), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(618, 486), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Timings", &ui.showTimings)) {
         ImGui::End();
         return;

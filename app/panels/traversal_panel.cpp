@@ -41,8 +41,8 @@ float relDiff(const glm::vec3& a, const glm::vec3& b) {
 } // namespace
 
 void drawTraversalPanel(Workbench& wb, UiState& ui) {
-    ImGui::SetNextWindowPos(ImVec2(1130, 40), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(640, 520), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(974, 506), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(618, 486), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Traversal debugger", &ui.showTraversal)) {
         ImGui::End();
         return;
