@@ -143,6 +143,9 @@ void drawIrradiancePanel(Workbench& wb, UiState& ui) {
             sm && (l.mode == irradiance::LightMode::Directional ||
                    l.mode == irradiance::LightMode::Filtered ||
                    l.mode == irradiance::LightMode::OccludedIbl)) {
+            // a depth view: show it grey (depth in every channel) rather than red
+            glTextureParameteri(sm, GL_TEXTURE_SWIZZLE_G, GL_RED);
+            glTextureParameteri(sm, GL_TEXTURE_SWIZZLE_B, GL_RED);
             ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(sm)), ImVec2(200, 200),
                          ImVec2(0, 1), ImVec2(1, 0));
             ImGui::SameLine();

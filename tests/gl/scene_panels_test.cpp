@@ -1,0 +1,94 @@
+// The scene panels headless: Point cloud (every colour mode), Octree (levels, decoder, the
+// traced nodes), Irradiance (every light mode), Render (every heatmap) and the traversal
+// debugger draw with a real scene and leave no problem behind; the rendered bunny is on
+// screen.
+#include "../support/gl_fixture.h"
+#include "gui.h"
+
+#include <cstdlib>
+
+namespace {
+
+// A pixel of the last frame that shows the surface (the first one found from the centre out).
+std::pair<int, int> hitPixel(app::SceneStage& scene) {
+    render::Readback rb = scene.readback();
+    for (int r = 0; r < rb.width; ++r)
+        for (int dy = -r; dy <= r; ++dy)
+            for (int dx = -r; dx <= r; ++dx) {
+                const int x = rb.width / 2 + dx, y = rb.height / 2 + dy;
+                if (x < 0 || y < 0 || x >= rb.width || y >= rb.height) continue;
+                if (rb.position[rb.index(x, y)].w > 0.5f) return {x, y};
+            }
+    return {-1, -1};
+}
+
+} // namespace
+
+TEST(ScenePanels, EveryPanelAndModeDraws) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("scenepanels", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1600, 1000);
+    app::UiState& ui = gui.ui();
+    ui.showOctree = ui.showIrradiance = ui.showTraversal = true;
+    app::SceneSettings& s = wb.scene().settings();
+    s.points.points = 3000;
+    s.useCache = false;
+    s.render.width = 96;
+    s.render.height = 54;
+    s.light.shadowMapSize = 256;
+    s.light.occludedTotalSamples = 8;
+    gui.frame(); // enables the scene (its panels are open)
+    ASSERT_TRUE(s.enabled);
+    wb.finishScene();
+    gui.frame();
+    ASSERT_TRUE(wb.scene().hasFrame());
+    EXPECT_EQ(wb.scene().cloud().points.size(), 3000u);
+
+    const auto [x, y] = hitPixel(wb.scene());
+    ASSERT_GE(x, 0);
+    ui.debug = wb.scene().debugPixel(x, y);
+    ASSERT_TRUE(ui.debug->hit);
+    EXPECT_FALSE(ui.debug->trace.steps.empty());
+    for (int c = 0; c < 4; ++c) {
+        ui.colorBy = c;
+        gui.frame();
+    }
+    ui.bruteExitance = wb.scene().bruteForceExitance();
+    ui.bruteKey = std::to_string(wb.scene().stats().at("scene.render").runs);
+    for (int h = 0; h < 4; ++h) {
+        ui.heatmap = h;
+        gui.frame();
+    }
+    for (int level = 0; level <= wb.scene().tree()->stats.maxDepth; ++level) {
+        ui.octreeLevel = level;
+        ui.selectedNode = level * 7;
+        gui.frame();
+    }
+    ui.highlightTrace = false;
+    gui.frame();
+    ui.showPencil = false; // uncover the traversal debugger for the saved image
+    for (auto mode : {irradiance::LightMode::Filtered, irradiance::LightMode::Ibl,
+                      irradiance::LightMode::OccludedIbl, irradiance::LightMode::Directional}) {
+        s.light.mode = mode;
+        gui.frame();
+        wb.finishScene();
+        gui.frame();
+        EXPECT_TRUE(wb.errors().empty()) << int(mode) << ": " << wb.errors().front().text;
+    }
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+
+    // The Render panel (top middle, default layout) shows the lit bunny: bright pixels.
+    auto px = gui.pixels();
+    size_t bright = 0;
+    for (int yy = 100; yy < 480; ++yy)
+        for (int xx = 350; xx < 960; ++xx) {
+            const size_t i = (size_t(yy) * 1600 + size_t(xx)) * 4;
+            bright += px[i] > 150 && px[i + 1] > 150 && px[i + 2] > 150 ? 1 : 0;
+        }
+    EXPECT_GT(bright, 2000u);
+    // For looking at the panels: BW_SCENE_PANELS_PNG=/tmp/x.png saves what was drawn.
+    if (const char* out = std::getenv("BW_SCENE_PANELS_PNG")) gl::writePng(out, 1600, 1000, px);
+    std::filesystem::remove_all(root);
+}
