@@ -219,7 +219,9 @@ int main(int argc, char** argv) {
     app::RenderArgs ra2;
     renderCmd->add_option("--mesh", ra2.mesh, "triangle mesh (OBJ)")->required();
     renderCmd->add_option("--model", ra2.model, ".bssrdf file")->required();
-    renderCmd->add_option("--preset", ra2.preset, "material preset (sigma_s', sigma_a)");
+    renderCmd->add_option("--preset", ra2.preset,
+                          "material preset (sigma_s', sigma_a); a material is required: "
+                          "--preset, or both --sigma-a and --sigma-s");
     renderCmd->add_option("--sigma-a", ra2.sigmaA, "absorption R,G,B in 1/mm");
     renderCmd->add_option("--sigma-s", ra2.sigmaS, "scattering R,G,B in 1/mm");
     renderCmd->add_option("--g", ra2.g, "mean cosine (default 0)");

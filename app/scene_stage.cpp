@@ -108,6 +108,12 @@ bool SceneStage::updateMesh() {
             core::logWarn(key + ": dropped " + std::to_string(prep.droppedDegenerate) +
                           " degenerate (zero-area) triangles");
         ensureGl();
+        const bool same = m_mesh && m_mesh->vertices == m.vertices &&
+                          m_mesh->triangles == m.triangles && m_mesh->normals == m.normals;
+        if (same) { // reloaded with the same content: nothing downstream changes
+            clearProblem("mesh");
+            return false;
+        }
         m_renderer->setMesh(m);
         m_mesh = std::move(m);
         ++m_meshVersion;
@@ -129,6 +135,13 @@ bool SceneStage::updateMesh() {
 
 double SceneStage::generatingSeconds() const {
     return m_pending.valid() ? nowSeconds() - m_pendingStart : 0.0;
+}
+
+void SceneStage::reloadFiles() {
+    m_meshKey.clear();
+    m_envTried = "\n(reload)";
+    m_texTried = "\n(reload)";
+    if (!m_settings.pointCloudFile.empty()) m_cloudKey.clear();
 }
 
 void SceneStage::cancelPointCloud() {
@@ -231,30 +244,37 @@ bool SceneStage::updateIrradiance(long long shaderGeneration, bool finishOcclude
     const bool ibl =
         s.mode == irradiance::LightMode::Ibl || s.mode == irradiance::LightMode::OccludedIbl;
     // Environment / projected texture files (loaded when named and changed).
-    if (ibl && m_settings.environmentFile != m_envKey) {
-        m_envKey = m_settings.environmentFile;
+    // m_envTried / m_texTried: the file last attempted (not retried every frame);
+    // m_envKey / m_texKey: the file actually loaded (what the irradiance depends on).
+    if (ibl && m_settings.environmentFile != m_envTried) {
+        m_envTried = m_settings.environmentFile;
         try {
-            st.loadEnvironment(resolve(m_envKey));
+            st.loadEnvironment(resolve(m_envTried));
+            m_envKey = m_envTried;
+            ++m_envLoads;
             clearProblem("environment");
         } catch (const std::exception& e) {
             setProblem("environment", e.what());
         }
     }
-    if (s.mode == irradiance::LightMode::Filtered && m_settings.projectedTextureFile != m_texKey) {
-        m_texKey = m_settings.projectedTextureFile;
+    if (s.mode == irradiance::LightMode::Filtered &&
+        m_settings.projectedTextureFile != m_texTried) {
+        m_texTried = m_settings.projectedTextureFile;
         try {
-            if (m_texKey.empty())
+            if (m_texTried.empty())
                 st.useCheckerTexture();
             else
-                st.loadProjectedTexture(resolve(m_texKey));
+                st.loadProjectedTexture(resolve(m_texTried));
+            m_texKey = m_texTried;
+            ++m_texLoads;
             clearProblem("projected texture");
         } catch (const std::exception& e) {
             setProblem("projected texture", e.what());
         }
     }
     std::ostringstream k;
-    k << m_cloudVersion << '|' << lightKey(s) << '|' << (ibl ? m_envKey : "") << '|'
-      << (s.mode == irradiance::LightMode::Filtered ? m_texKey : "") << '|' << shaderGeneration;
+    k << m_cloudVersion << '|' << lightKey(s) << '|' << (ibl ? m_envLoads : 0) << '|'
+      << (s.mode == irradiance::LightMode::Filtered ? m_texLoads : 0) << '|' << shaderGeneration;
     bool changed = false;
     auto adopt = [&](std::vector<glm::vec3> e, double ms) {
         octree::setIrradiance(*m_tree, e);

@@ -79,6 +79,9 @@ class SceneStage {
     // resolution (CLI, captures, tests, bench). Occluded IBL runs all its samples.
     void finish(const SceneModelInput& model, long long shaderGeneration);
     void cancelPointCloud(); // the running generation's result will be dropped
+    // Reads the mesh, point-cloud, environment and texture files again (after the user fixed
+    // one on disk); stages re-run only where the content changed.
+    void reloadFiles();
     // Keep settings().render.camera as it is when the mesh loads (captures set it).
     void keepCamera() { m_cameraFitted = true; }
 
@@ -136,6 +139,8 @@ class SceneStage {
     std::map<std::string, std::string> m_problems;
 
     std::string m_meshKey, m_cloudKey, m_irrKey, m_renderKey, m_envKey, m_texKey, m_modelKey;
+    std::string m_envTried, m_texTried;
+    long long m_envLoads = 0, m_texLoads = 0;
     long long m_meshVersion = 0, m_cloudVersion = 0, m_irrVersion = 0;
     long long m_shaderGenSeen = -1;
     std::optional<mesh::Mesh> m_mesh;

@@ -88,14 +88,18 @@ void drawIrradiancePanel(Workbench& wb, UiState& ui) {
         if (l.mode == irradiance::LightMode::Filtered) {
             ImGui::SetNextItemWidth(260);
             if (ImGui::InputText("texture (empty: checker)", ui.textureBuffer,
-                                 sizeof ui.textureBuffer, ImGuiInputTextFlags_EnterReturnsTrue))
+                                 sizeof ui.textureBuffer, ImGuiInputTextFlags_EnterReturnsTrue)) {
                 scene.settings().projectedTextureFile = ui.textureBuffer;
+                scene.reloadFiles();
+            }
         }
     } else {
         ImGui::SetNextItemWidth(260);
         if (ImGui::InputText("environment (EXR)", ui.envBuffer, sizeof ui.envBuffer,
-                             ImGuiInputTextFlags_EnterReturnsTrue))
+                             ImGuiInputTextFlags_EnterReturnsTrue)) {
             scene.settings().environmentFile = ui.envBuffer;
+            scene.reloadFiles();
+        }
         ImGui::SetNextItemWidth(120);
         ImGui::DragFloat("intensity", &l.envIntensity, 0.01f, 0.0f, 100.0f, "%.3g");
         ImGui::SameLine();

@@ -97,8 +97,10 @@ void drawPointCloudPanel(Workbench& wb, UiState& ui) {
     SceneSettings& s = scene.settings();
     ImGui::SetNextItemWidth(300);
     if (ImGui::InputText("mesh (OBJ)", ui.sceneMeshBuffer, sizeof ui.sceneMeshBuffer,
-                         ImGuiInputTextFlags_EnterReturnsTrue))
+                         ImGuiInputTextFlags_EnterReturnsTrue)) {
         s.meshFile = ui.sceneMeshBuffer;
+        scene.reloadFiles(); // Enter on the same name reads the file again
+    }
     int n = int(s.points.points);
     ImGui::SetNextItemWidth(120);
     if (ImGui::InputInt("points", &n, 1000, 10000, ImGuiInputTextFlags_EnterReturnsTrue))

@@ -462,6 +462,7 @@ TEST(SceneStage, BadInputsKeepThePreviousSceneAndNameTheFile) {
     ASSERT_EQ(sceneErrors(wb), "");
     const std::vector<glm::vec3> irr = b.scene().irradiance();
     ASSERT_EQ(irr.size(), kPoints);
+    const Runs beforeBadEnv = runsOf(b.scene());
     {
         std::mt19937 rng(11);
         std::string bytes;
@@ -481,10 +482,39 @@ TEST(SceneStage, BadInputsKeepThePreviousSceneAndNameTheFile) {
             << "the previous environment's irradiance should stay";
     }
     EXPECT_TRUE(contains(sceneErrors(wb), "no channel 'R'")) << sceneErrors(wb);
+    // a file that failed to load changes nothing, so nothing re-runs
+    expectDelta(beforeBadEnv, runsOf(b.scene()), 0, 0, 0, 0, 0, "bad environments");
     b.settings().environmentFile = "materials/env/default_sky.exr";
     wb.finishScene();
     EXPECT_EQ(sceneErrors(wb), "");
     EXPECT_TRUE(sameIrradiance(irr, b.scene().irradiance()));
+}
+
+// A file fixed on disk under the same name is read again on reloadFiles() (Enter in the
+// panel's file field); reading unchanged content again re-runs nothing.
+TEST(SceneStage, AFixedFileIsReadAgainOnReload) {
+    SceneBench b("fixed");
+    app::Workbench& wb = *b.wb;
+    wb.finishScene();
+    ASSERT_EQ(sceneErrors(wb), "");
+    const std::string bunnyHash = b.scene().meshHash();
+    const fs::path file = b.root / "fixme.obj";
+    writeText(file, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    b.settings().meshFile = file.string();
+    wb.finishScene();
+    EXPECT_TRUE(contains(sceneErrors(wb), "fixme.obj")) << allErrors(wb);
+    EXPECT_EQ(b.scene().meshHash(), bunnyHash);
+    mesh::writeObj(file, mesh::makeTorus(0.35, 0.12, 24, 12));
+    wb.finishScene(); // same name: not read again by itself
+    EXPECT_TRUE(contains(sceneErrors(wb), "fixme.obj"));
+    b.scene().reloadFiles();
+    wb.finishScene();
+    EXPECT_EQ(sceneErrors(wb), "") << allErrors(wb);
+    EXPECT_NE(b.scene().meshHash(), bunnyHash);
+    const Runs r = runsOf(b.scene());
+    b.scene().reloadFiles(); // unchanged content
+    wb.finishScene();
+    expectDelta(r, runsOf(b.scene()), 0, 0, 0, 0, 0, "reload of unchanged files");
 }
 
 // An IBL request with no environment ever loaded: a problem naming the file; the directional
