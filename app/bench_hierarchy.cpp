@@ -69,6 +69,7 @@ int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOption
     std::printf("pointcloud method=%s points=%zu seconds=%.2f cv=%.4f min_over_mean=%.3f\n",
                 pointcloud::methodTag(g).c_str(), o.points, fastS, fastU.cvNN,
                 fastU.minNN / fastU.meanNN);
+    std::fflush(stdout);
     if (o.turkIterations > 0) {
         pointcloud::GenerateOptions t = g;
         t.method = "repulsion";
@@ -114,6 +115,7 @@ int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOption
                         "criterion=%s\n",
                         double(eps), hierMs, bruteMs, speedup, err,
                         box ? "bounding-box" : "solid-angle");
+            std::fflush(stdout); // one line per case as it finishes (long runs on llvmpipe)
         }
     std::printf("target: >= 60x faster than brute force at <= 1%% relative RMSE -> %s\n",
                 met ? "met" : "NOT met");
