@@ -8,18 +8,24 @@
 // used as read), and the radiant exitance
 //   M(xo) = Σ contributions,  point i: E_i·A_i·Scale²·Bssrdf(Scale·p_i, n_i, Scale·xo, no)
 //                             node v:  (Σ E·A)_v·Scale²·Bssrdf(Scale·P_v, no, Scale·xo, no)
+//   or, with RenderSecondOrder, the node's three terms of the second-order cluster rule
+//   (Σ E·A)_v·k_j·Scale²·Bssrdf(Scale·x_j, no, Scale·xo, no), j = 0, 1, 2 (octreeClusterPoint)
 // summed in float in traversal order (each term ((weight·Scale²)·value), `precise`).
 //   Hierarchical: Algorithm 2 — node = 0, childnum = 0; a visit (one "step") of an interior node
 //     whose criterion (common/octree_layout.glsl) fails pushes node<<8|childnum (not for the
 //     root; a push beyond RenderStackSize flags OCTREE_FLAG_STACK_OVERFLOW and stops) and goes
-//     to the last child; otherwise the node (or the leaf's points, in slot order) is added and
+//     to the last child; otherwise the node (its one term, or its three second-order terms,
+//     one per iteration; or the leaf's points, in slot order, one per iteration) is added and
 //     the traversal moves to the previous sibling, popping while childnum = 0, done when the
 //     stack is empty. A visit with RenderMaxSteps steps already done flags
 //     OCTREE_FLAG_ITERATION_CAP and stops.
 //   Brute force (RenderBruteForce): every point, slots 0 … N−1, same contribution formula,
 //     no steps.
 //   Radial models (BSSRDF_RADIAL) use the profile table (common/octree_profile.glsl) at
-//     r = |Scale·xo − Scale·xi| unless RenderDirect is set; other models call Bssrdf().
+//     r = |Scale·xo − Scale·xi| unless RenderDirect is set; other models call Bssrdf(). With
+//     the table, a second-order node's three terms are looked up at Scale·ρ_j directly, all in
+//     the iteration that accepts the node (lookups are cheap; an iteration is not); otherwise
+//     they take one iteration each at the points x_j (MODE_CLUSTER), as the replica forms them.
 // Radiance towards the camera: L_o = Ft(IOR, cos θo)/π · M, cos θo = min(1, |no·ωo|),
 // ωo = normalize(RenderCameraPosition − xo), Ft the exact unpolarised Fresnel transmittance
 // (leaving the medium towards the camera equals entering at that angle, by reciprocity).
@@ -68,6 +74,7 @@ uniform bool RenderFirst;           // first dispatch of the frame: start every 
 uniform bool RenderBruteForce;      // sum every point instead of traversing
 uniform bool RenderBoundingBox;     // bounding-box criterion instead of the mean position
 uniform bool RenderDirect;          // radial models: call Bssrdf() instead of the table
+uniform bool RenderSecondOrder;     // nodes by the three-point second-order cluster rule
 uniform float RenderEps;            // ε of the solid-angle criterion
 uniform uint RenderMaxSteps;        // steps before OCTREE_FLAG_ITERATION_CAP
 uniform uint RenderStackSize;       // usable stack entries (<= OCTREE_STACK_SIZE)
@@ -80,6 +87,7 @@ const uint MODE_VISIT = 0u;  // visit `node` (one step)
 const uint MODE_POINTS = 1u; // add point `range.x`, up to `range.y` (brute force: all)
 const uint MODE_NEXT = 2u;   // move to the next node (pop while childnum = 0)
 const uint MODE_DONE = 3u;
+const uint MODE_CLUSTER = 4u; // add second-order term `range.x` (0, 1, 2) of node `node`
 
 vec3 renderModel(vec3 xi, vec3 wi, vec3 sxo, vec3 no) {
     precise vec3 sxi = Scale * xi;
@@ -166,8 +174,8 @@ void main() {
         if (k >= end) mode = MODE_DONE;
     } else {
         // Algorithm 2 as a state machine. Each iteration does at most one visit (one step) or
-        // one point, the evaluation it asks for, then one move towards the next node (a
-        // sibling, or one pop). The evaluations are added in exactly the order of the CPU
+        // one point (or one second-order term), the evaluation it asks for, then one move
+        // towards the next node (a sibling, or one pop). The evaluations are added in exactly the order of the CPU
         // replica (octree::traverse).
         for (; it < RenderIterations; ++it) {
             if (mode == MODE_DONE) break;
@@ -199,6 +207,23 @@ void main() {
                     k = octreeIndex(d);
                     end = k + octreePointCount(d);
                     mode = k < end ? MODE_POINTS : MODE_NEXT;
+                } else if (RenderSecondOrder) {
+#ifdef BSSRDF_RADIAL
+                    if (!RenderDirect) {
+                        // table lookups at the three distances, all in this iteration
+                        OctreeCluster c = octreeCluster(node, xo);
+                        vec3 ea = octreeNodes[node].irradianceArea.xyz;
+                        M += (ea * OCTREE_CLUSTER_WEIGHTS[0]) * s2 * profileLookup(Scale * c.rho.x);
+                        M += (ea * OCTREE_CLUSTER_WEIGHTS[1]) * s2 * profileLookup(Scale * c.rho.y);
+                        M += (ea * OCTREE_CLUSTER_WEIGHTS[2]) * s2 * profileLookup(Scale * c.rho.z);
+                        stats.w += 3u;
+                        mode = MODE_NEXT;
+                    } else
+#endif
+                    {
+                        k = 0u;
+                        mode = MODE_CLUSTER;
+                    }
                 } else {
                     evaluate = true;
                     exi = octreeNodes[node].meanPosition.xyz;
@@ -215,6 +240,14 @@ void main() {
                 ew = octreePoints[k].irradiance.xyz * pa.w;
                 k += 1u;
                 if (k >= end) mode = MODE_NEXT;
+            }
+            if (mode == MODE_CLUSTER && !evaluate) {
+                evaluate = true;
+                exi = octreeClusterPoint(octreeCluster(node, xo), xo, k);
+                ewi = no;
+                ew = octreeNodes[node].irradianceArea.xyz * OCTREE_CLUSTER_WEIGHTS[k];
+                k += 1u;
+                if (k >= 3u) mode = MODE_NEXT;
             }
             if (evaluate) {
                 M += ew * s2 * renderModel(exi, ewi, sxo, no);

@@ -1,6 +1,7 @@
 // Node attributes of thesis 3.3.3: per node Σ E·A (RGB), Σ A, the irradiance-weighted mean
-// position Σ w·p / Σ w with w = (E_r + E_g + E_b)·A (area-weighted when Σ w = 0) and the bounding
-// box, accumulated bottom-up in double and stored as float. Also the content hash.
+// position Σ w·p / Σ w with w = (E_r + E_g + E_b)·A (area-weighted when Σ w = 0), the bounding
+// box, and the covariance about the mean with the same weights (the second-order cluster rule,
+// octree.h), accumulated bottom-up in double and stored as float. Also the content hash.
 #include "octree/internal.h"
 #include "octree/octree.h"
 
@@ -18,12 +19,52 @@ namespace detail {
 
 namespace {
 
+constexpr int kPairA[6] = {0, 1, 2, 0, 0, 1}; // (a, b) = xx, yy, zz, xy, xz, yz
+constexpr int kPairB[6] = {0, 1, 2, 1, 2, 2};
+
+// Weighted mean and central second moments M2_ab = Σ w (p_a − μ_a)(p_b − μ_b), updated one
+// point at a time (West's weighted Welford) and merged pairwise (Chan et al.): stable where
+// the raw moments Σ w p pᵀ − W μ μᵀ would cancel (a small cluster far from the origin).
+struct Moments {
+    double weight = 0;
+    double mean[3] = {0, 0, 0};
+    double m2[6] = {0, 0, 0, 0, 0, 0};
+
+    void add(const double p[3], double w) {
+        if (!(w > 0)) return;
+        const double total = weight + w;
+        double before[3], after[3];
+        for (int c = 0; c < 3; ++c) {
+            before[c] = p[c] - mean[c];
+            mean[c] += before[c] * (w / total);
+            after[c] = p[c] - mean[c];
+        }
+        for (int k = 0; k < 6; ++k)
+            m2[k] += w * before[kPairA[k]] * after[kPairB[k]];
+        weight = total;
+    }
+    void merge(const Moments& o) {
+        if (!(o.weight > 0)) return;
+        const double total = weight + o.weight;
+        double delta[3];
+        for (int c = 0; c < 3; ++c)
+            delta[c] = o.mean[c] - mean[c];
+        const double f = weight * o.weight / total;
+        for (int k = 0; k < 6; ++k)
+            m2[k] += o.m2[k] + delta[kPairA[k]] * delta[kPairB[k]] * f;
+        for (int c = 0; c < 3; ++c)
+            mean[c] += delta[c] * (o.weight / total);
+        weight = total;
+    }
+};
+
 struct Sums {
     double ea[3] = {0, 0, 0}; // Σ E·A
     double a = 0;             // Σ A
     double wp[3] = {0, 0, 0}; // Σ w·p
     double w = 0;             // Σ w
     double ap[3] = {0, 0, 0}; // Σ A·p
+    Moments wm, am;           // irradiance- and area-weighted central moments
     float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
 };
 
@@ -39,6 +80,9 @@ void addPoint(Sums& s, const PointRecord& r, bool first) {
         s.lo[c] = first ? r.positionArea[c] : std::min(s.lo[c], r.positionArea[c]);
         s.hi[c] = first ? r.positionArea[c] : std::max(s.hi[c], r.positionArea[c]);
     }
+    const double p[3] = {r.positionArea[0], r.positionArea[1], r.positionArea[2]};
+    s.wm.add(p, w);
+    s.am.add(p, area);
     s.a += area;
     s.w += w;
 }
@@ -51,26 +95,37 @@ void addChild(Sums& s, const Sums& c, bool first) {
         s.lo[k] = first ? c.lo[k] : std::min(s.lo[k], c.lo[k]);
         s.hi[k] = first ? c.hi[k] : std::max(s.hi[k], c.hi[k]);
     }
+    s.wm.merge(c.wm);
+    s.am.merge(c.am);
     s.a += c.a;
     s.w += c.w;
 }
 
 void store(NodeRecord& r, const Sums& s) {
     r = NodeRecord{};
+    double mean[3];
     for (int c = 0; c < 3; ++c) {
         r.irradianceArea[c] = float(s.ea[c]);
-        double mean;
         if (s.w > 0)
-            mean = s.wp[c] / s.w;
+            mean[c] = s.wp[c] / s.w;
         else if (s.a > 0)
-            mean = s.ap[c] / s.a;
+            mean[c] = s.ap[c] / s.a;
         else
-            mean = 0.5 * (double(s.lo[c]) + double(s.hi[c])); // zero-area node: box centre
-        r.meanPosition[c] = float(mean);
+            mean[c] = 0.5 * (double(s.lo[c]) + double(s.hi[c])); // zero-area node: box centre
+        r.meanPosition[c] = float(mean[c]);
         r.boxMin[c] = s.lo[c];
         r.boxMax[c] = s.hi[c];
     }
     r.irradianceArea[3] = float(s.a);
+    // Covariance with the mean's weights (zero for a zero-area node). The moments' own mean
+    // equals `mean` up to rounding; the shift (≈ 1e-16 of the extent) is far below float.
+    const Moments& m = s.w > 0 ? s.wm : s.am;
+    if (m.weight > 0) {
+        for (int k = 0; k < 3; ++k) {
+            r.covarianceDiagonal[k] = float(std::max(m.m2[k] / m.weight, 0.0));
+            r.covarianceOffDiagonal[k] = float(m.m2[k + 3] / m.weight);
+        }
+    }
 }
 
 } // namespace

@@ -1,5 +1,6 @@
 // CPU replica of the GPU octree traversal, thesis Algorithm 2 (3.3.3) with the solid-angle
-// criterion of eq. 2.40 (Jensen–Buhler, thesis 2.6.4), recording every step. The float
+// criterion of eq. 2.40 (Jensen–Buhler, thesis 2.6.4) and the second-order cluster rule
+// (octree.h), recording every step. The float
 // arithmetic is written exactly as shaders/octree_render.comp does it (no reassociation; the
 // library is compiled with -ffp-contract=off so no multiply-add is fused).
 #include "octree/octree.h"
@@ -49,6 +50,36 @@ float criterionDistance2(const NodeRecord& r, const glm::vec3& xo, bool bounding
 }
 
 } // namespace
+
+void clusterPoints(const NodeRecord& rec, const glm::vec3& xo, glm::vec3 out[3]) {
+    const glm::vec3 mean = vec(rec.meanPosition);
+    const glm::vec3 d = xo - mean;
+    const float xx = d.x * d.x;
+    const float yy = d.y * d.y;
+    const float zz = d.z * d.z;
+    const float r2 = (xx + yy) + zz;
+    if (!(r2 > 0.0f)) {
+        out[0] = out[1] = out[2] = mean;
+        return;
+    }
+    const float* cd = rec.covarianceDiagonal;
+    const float* co = rec.covarianceOffDiagonal;
+    const float a = xx * cd[0] + yy * cd[1] + zz * cd[2];
+    const float xy = d.x * d.y;
+    const float xz = d.x * d.z;
+    const float yz = d.y * d.z;
+    const float b = xy * co[0] + xz * co[1] + yz * co[2];
+    const float q = std::max((a + 2.0f * b) / r2, 0.0f);
+    const float trace = (cd[0] + cd[1]) + cd[2];
+    const float t2 = std::max(trace - q, 0.0f);
+    const float r = std::sqrt(r2);
+    const float s = std::sqrt(2.0f * q);
+    const float m = r - s;
+    const float p = r + s;
+    const float rho[3] = {std::sqrt(r2 + t2), std::sqrt(m * m + t2), std::sqrt(p * p + t2)};
+    for (int k = 0; k < 3; ++k)
+        out[k] = xo - d * (rho[k] / r);
+}
 
 Trace traverse(const Octree& t, const glm::vec3& xo, const glm::vec3& no, const Criterion& c) {
     Trace tr;
@@ -115,7 +146,15 @@ Trace traverse(const Octree& t, const glm::vec3& xo, const glm::vec3& no, const 
             }
         } else {
             s.decision = Decision::EvaluateNode;
-            tr.evaluations.push_back({vec(rec.meanPosition), no, vec(rec.irradianceArea)});
+            if (c.secondOrder) {
+                glm::vec3 xi[3];
+                clusterPoints(rec, xo, xi);
+                for (int k = 0; k < 3; ++k)
+                    tr.evaluations.push_back(
+                        {xi[k], no, vec(rec.irradianceArea) * kClusterWeights[k]});
+            } else {
+                tr.evaluations.push_back({vec(rec.meanPosition), no, vec(rec.irradianceArea)});
+            }
         }
         s.evaluationCount = uint32_t(tr.evaluations.size()) - s.firstEvaluation;
         // next node

@@ -7,7 +7,8 @@
 //      traversal of thesis Algorithm 2 exactly as modules/octree/octree.h specifies (the CPU
 //      replica octree::traverse does the same), or a brute-force sum over every point; the
 //      radiant exitance M and the radiance L_o = Ft(η, cos θo)/π · M. Radial models use the
-//      profile table (profile_table.h) unless Settings::directBssrdf.
+//      profile table (profile_table.h) unless Settings::directBssrdf. Accepted nodes use the
+//      second-order cluster rule (octree.h) unless !Settings::secondOrder.
 //   3. Tone map (shaders/render_tonemap.comp): exposure (stops) and gamma into RGBA8.
 // Images: pixel (x, y), y = 0 the top row; index p = y·width + x.
 // Mesa llvmpipe stops every loop of an invocation after 65535 iterations in total (nested
@@ -46,6 +47,9 @@ struct Settings {
     Camera camera;                 // camera.aspect is replaced by width/height
     float eps = 0.05f;             // ε of the solid-angle criterion (>= 0)
     bool boundingBoxCriterion = false;
+    // Accepted nodes by the three-point second-order cluster rule of octree.h (three BSSRDF
+    // evaluations each) instead of one evaluation at the mean position.
+    bool secondOrder = true;
     bool bruteForce = false;
     bool directBssrdf = false; // radial models: call Bssrdf() instead of the profile table
     uint32_t maxSteps = octree::kDefaultMaxSteps; // >= 1

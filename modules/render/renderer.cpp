@@ -76,6 +76,7 @@ octree::Criterion Settings::criterion() const {
     octree::Criterion c;
     c.eps = eps;
     c.boundingBox = boundingBoxCriterion;
+    c.secondOrder = secondOrder;
     c.maxSteps = maxSteps;
     c.stackSize = stackSize;
     return c;
@@ -363,6 +364,7 @@ void Renderer::State::bindTraverse(const Settings& s, uint32_t perDispatch) {
     glUniform1i(loc("RenderBruteForce"), s.bruteForce ? 1 : 0);
     glUniform1i(loc("RenderBoundingBox"), s.boundingBoxCriterion ? 1 : 0);
     glUniform1i(loc("RenderDirect"), s.directBssrdf ? 1 : 0);
+    glUniform1i(loc("RenderSecondOrder"), s.secondOrder ? 1 : 0);
     glUniform1f(loc("RenderEps"), s.eps);
     glUniform1ui(loc("RenderMaxSteps"), s.maxSteps);
     glUniform1ui(loc("RenderStackSize"), static_cast<GLuint>(s.stackSize));
@@ -389,7 +391,8 @@ void Renderer::State::bindTraverse(const Settings& s, uint32_t perDispatch) {
 bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int dispatch,
                                    bool& loopLimit) {
     // Loop iterations a pixel can need: each step is one visit plus at most one move to the
-    // next node and one pop; every point or node evaluation is one more (<= N + steps).
+    // next node and one pop; every point evaluation is one more (<= N), a second-order node's
+    // terms two more (<= 2·steps).
     const double need = 4.0 * double(s.maxSteps) + double(pointCount) + 2.0;
     const int maxDispatches = static_cast<int>(std::ceil(need / double(perDispatch))) + 2;
     if (dispatch >= maxDispatches)
