@@ -23,8 +23,9 @@ struct HierarchyBenchOptions {
     std::string method = "stratified-repulsion";
     int width = 640, height = 360;
     int frames = 5, bruteFrames = 3;
-    int turkIterations = 500; // 0: skip the Turk reference
-    std::vector<float> eps{0.4f, 0.2f, 0.1f, 0.05f, 0.02f};
+    int turkIterations = 500;                           // 0: skip the Turk reference
+    std::vector<float> eps{0.8f, 0.4f, 0.2f, 0.1f};     // solid-angle criterion
+    std::vector<float> boxEps{12.8f, 6.4f, 3.2f, 1.6f}; // bounding-box criterion
 };
 // bench hierarchy: hierarchical vs brute-force render pass of the default scene (bunny,
 // 100 000 points, 640x360) for several eps — one line each: eps, hier_ms, brute_ms, speedup,

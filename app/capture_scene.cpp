@@ -78,6 +78,7 @@ json sceneJson(const SceneSettings& s, int traceX, int traceY) {
               {"bbox_criterion", r.boundingBoxCriterion},
               {"brute_force", r.bruteForce},
               {"direct_bssrdf", r.directBssrdf},
+              {"second_order", r.secondOrder},
               {"max_steps", r.maxSteps},
               {"exposure", r.exposure},
               {"gamma", r.gamma}}},
@@ -129,6 +130,7 @@ void applySceneJson(Workbench& wb, const json& j, const std::string& where, int&
         s.render.boundingBoxCriterion = r.at("bbox_criterion").get<bool>();
         s.render.bruteForce = r.at("brute_force").get<bool>();
         s.render.directBssrdf = r.at("direct_bssrdf").get<bool>();
+        s.render.secondOrder = r.at("second_order").get<bool>();
         s.render.maxSteps = r.at("max_steps").get<uint32_t>();
         s.render.exposure = r.at("exposure").get<float>();
         s.render.gamma = r.at("gamma").get<float>();

@@ -80,6 +80,7 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     s.render.eps = a.eps;
     s.render.boundingBoxCriterion = a.bboxCriterion;
     s.render.bruteForce = a.bruteForce;
+    s.render.secondOrder = !a.firstOrder;
     s.render.exposure = a.exposure;
     core::Stopwatch clock;
     wb.update();

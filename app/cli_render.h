@@ -20,8 +20,8 @@ struct RenderArgs {
     bool occluded = false;
     int occludedSamples = 256;
     float irradiance = 3.0f; // E0 of the directional light / env intensity
-    float eps = 0.05f;
-    bool bboxCriterion = false, bruteForce = false;
+    float eps = 0.2f;
+    bool bboxCriterion = false, bruteForce = false, firstOrder = false;
     int width = 640, height = 360;
     float yaw = 0.5f, pitch = 0.2f, exposure = 0.0f;
     bool useCache = true;

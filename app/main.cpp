@@ -243,7 +243,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1 << 20));
     renderCmd->add_option("--irradiance", ra2.irradiance,
                           "directional E0, or the environment intensity (default 3)");
-    renderCmd->add_option("--eps", ra2.eps, "solid-angle criterion epsilon (default 0.05)");
+    renderCmd->add_option("--eps", ra2.eps, "solid-angle criterion epsilon (default 0.2)");
+    renderCmd->add_flag("--first-order", ra2.firstOrder,
+                        "evaluate accepted nodes at their mean position only (thesis), not with "
+                        "the second-order three-point rule");
     renderCmd->add_flag("--bbox-criterion", ra2.bboxCriterion,
                         "conservative bounding-box distance in the criterion");
     renderCmd->add_flag("--bruteforce", ra2.bruteForce, "sum every point (no hierarchy)");
@@ -285,7 +288,10 @@ int main(int argc, char** argv) {
         ->add_option("--turk-iterations", hbo.turkIterations,
                      "Turk repulsion iterations of the reference cloud (default 500, 0: skip)")
         ->check(CLI::Range(0, 100000));
-    benchHier->add_option("--eps", hbo.eps, "eps values (default 0.4 0.2 0.1 0.05 0.02)");
+    benchHier->add_option("--eps", hbo.eps,
+                          "solid-angle criterion eps values (default 0.8 0.4 0.2 0.1)");
+    benchHier->add_option("--box-eps", hbo.boxEps,
+                          "bounding-box criterion eps values (default 12.8 6.4 3.2 1.6)");
 
     CLI11_PARSE(cli, argc, argv);
     if (verbose) core::setLogEchoLevel(core::LogLevel::Info);

@@ -17,7 +17,11 @@ SceneSettings::SceneSettings() {
     light.shadowMapSize = 1024;
     render.width = 480;
     render.height = 270;
-    render.eps = 0.2f; // ~1 % relative RMSE against brute force on the default scene
+    // Bounding-box criterion with second-order clusters: ~0.5 % relative RMSE against brute
+    // force on the default scene at ~70x less GPU time (README, bench hierarchy).
+    render.boundingBoxCriterion = true;
+    render.secondOrder = true;
+    render.eps = 4.0f;
     render.camera.yaw = 0.5f;
     render.camera.pitch = 0.2f;
 }
@@ -42,8 +46,8 @@ std::string renderKey(const render::Settings& s) {
     const render::Camera& c = s.camera;
     k << s.width << 'x' << s.height << '|' << c.target.x << ',' << c.target.y << ',' << c.target.z
       << '|' << c.yaw << ',' << c.pitch << ',' << c.distance << ',' << c.fovY << '|' << s.eps << '|'
-      << s.boundingBoxCriterion << s.bruteForce << s.directBssrdf << '|' << s.maxSteps << '|'
-      << s.stackSize << '|' << s.exposure << ',' << s.gamma;
+      << s.boundingBoxCriterion << s.bruteForce << s.directBssrdf << s.secondOrder << '|'
+      << s.maxSteps << '|' << s.stackSize << '|' << s.exposure << ',' << s.gamma;
     return k.str();
 }
 

@@ -145,6 +145,9 @@ void drawOctreePanel(Workbench& wb, UiState& ui) {
                 r.meanPosition[2]);
     ImGui::Text("box (%.4f, %.4f, %.4f) .. (%.4f, %.4f, %.4f)", r.boxMin[0], r.boxMin[1],
                 r.boxMin[2], r.boxMax[0], r.boxMax[1], r.boxMax[2]);
+    ImGui::Text("covariance xx yy zz (%.3g, %.3g, %.3g), xy xz yz (%.3g, %.3g, %.3g)",
+                r.covarianceDiagonal[0], r.covarianceDiagonal[1], r.covarianceDiagonal[2],
+                r.covarianceOffDiagonal[0], r.covarianceOffDiagonal[1], r.covarianceOffDiagonal[2]);
     ImGui::End();
 }
 

@@ -56,7 +56,7 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
     SceneStage& scene = wb.scene();
     render::Settings& r = scene.settings().render;
     ImGui::SetNextItemWidth(160);
-    ImGui::SliderFloat("eps (solid angle)", &r.eps, 0.001f, 2.0f, "%.4f",
+    ImGui::SliderFloat("eps (solid angle)", &r.eps, 0.001f, 20.0f, "%.4f",
                        ImGuiSliderFlags_Logarithmic);
     ImGui::SameLine();
     ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
@@ -69,6 +69,12 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
     ImGui::SliderFloat("gamma", &r.gamma, 0.5f, 4.0f, "%.2f");
     ImGui::SameLine();
     ImGui::Checkbox("direct Bssrdf()", &r.directBssrdf);
+    ImGui::SameLine();
+    ImGui::Checkbox("2nd-order clusters", &r.secondOrder);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("an accepted node is evaluated at three points that match its "
+                          "irradiance-weighted covariance (exact to second order) instead of "
+                          "at its mean position");
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip(
             "radial models: call Bssrdf() per evaluation instead of the profile table");
