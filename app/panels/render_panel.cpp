@@ -56,7 +56,7 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
     SceneStage& scene = wb.scene();
     render::Settings& r = scene.settings().render;
     ImGui::SetNextItemWidth(160);
-    ImGui::SliderFloat("eps (solid angle)", &r.eps, 0.001f, 20.0f, "%.4f",
+    ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f",
                        ImGuiSliderFlags_Logarithmic);
     ImGui::SameLine();
     ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
