@@ -8,10 +8,13 @@
 #include "pathtrace/image_io.h"
 #include "pointcloud/pointcloud.h"
 
+#include "../support/cli_runner.h"
+#include "../support/raw_exr.h"
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -30,92 +33,8 @@
 
 namespace {
 namespace fs = std::filesystem;
-
-class TempDir {
-  public:
-    TempDir() {
-        static std::atomic<int> counter{0};
-        std::random_device rd;
-        m_path =
-            fs::temp_directory_path() / ("bw_cli_scene_test_" + std::to_string(::getpid()) + "_" +
-                                         std::to_string(counter++) + "_" + std::to_string(rd()));
-        fs::create_directories(m_path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(m_path, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    const fs::path& path() const { return m_path; }
-
-  private:
-    fs::path m_path;
-};
-
-struct RunResult {
-    int code = -1;      // exit status, or 128 + signal number
-    std::string output; // stdout and stderr interleaved
-};
-
-std::string describe(const std::vector<std::string>& args, const RunResult& r) {
-    std::string s = "command: bssrdf-workbench";
-    for (const auto& a : args)
-        s += " " + a;
-    s += "\nexit code: " + std::to_string(r.code) + "\noutput:\n" + r.output;
-    return s;
-}
-
-// Runs BW_EXE --root BW_SOURCE_ROOT ARGS... in `cwd` (fork/exec, no shell).
-RunResult runExe(const std::vector<std::string>& args, const fs::path& cwd) {
-    std::vector<std::string> full = {BW_EXE, "--root", BW_SOURCE_ROOT};
-    full.insert(full.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& a : full)
-        argv.push_back(a.data());
-    argv.push_back(nullptr);
-
-    int fds[2];
-    if (::pipe(fds) != 0) return {-1, "pipe() failed"};
-    pid_t pid = ::fork();
-    if (pid < 0) {
-        ::close(fds[0]);
-        ::close(fds[1]);
-        return {-1, "fork() failed"};
-    }
-    if (pid == 0) {
-        ::close(fds[0]);
-        ::dup2(fds[1], STDOUT_FILENO);
-        ::dup2(fds[1], STDERR_FILENO);
-        ::close(fds[1]);
-        int devnull = ::open("/dev/null", O_RDONLY);
-        if (devnull >= 0) ::dup2(devnull, STDIN_FILENO);
-        if (::chdir(cwd.c_str()) != 0) ::_exit(126);
-        ::execv(argv[0], argv.data());
-        ::_exit(127);
-    }
-    ::close(fds[1]);
-    RunResult r;
-    char buf[4096];
-    for (;;) {
-        ssize_t n = ::read(fds[0], buf, sizeof buf);
-        if (n > 0)
-            r.output.append(buf, static_cast<size_t>(n));
-        else if (n < 0 && errno == EINTR)
-            continue;
-        else
-            break;
-    }
-    ::close(fds[0]);
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (WIFEXITED(status))
-        r.code = WEXITSTATUS(status);
-    else if (WIFSIGNALED(status))
-        r.code = 128 + WTERMSIG(status);
-    return r;
-}
+using namespace clitest;
+using testsupport::writeRawExr;
 
 std::string readText(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
@@ -139,23 +58,6 @@ std::string randomBytes(size_t n, unsigned seed) {
     for (size_t i = 0; i < n; ++i)
         s.push_back(char(rng() & 0xff));
     return s;
-}
-
-// An OpenEXR file with the given FLOAT channels, interleaved data (w·h·channels values).
-void writeRawExr(const fs::path& path, int w, int h, const std::vector<std::string>& channels,
-                 const std::vector<float>& data) {
-    Imf::Header header(w, h);
-    for (const auto& c : channels)
-        header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-    Imf::FrameBuffer fb;
-    const size_t nc = channels.size();
-    const size_t xs = nc * sizeof(float), ys = xs * static_cast<size_t>(w);
-    char* base = reinterpret_cast<char*>(const_cast<float*>(data.data()));
-    for (size_t c = 0; c < nc; ++c)
-        fb.insert(channels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
-    Imf::OutputFile file(path.string().c_str(), header);
-    file.setFrameBuffer(fb);
-    file.writePixels(h);
 }
 
 const std::string kBunny = std::string(BW_SOURCE_ROOT) + "/third_party/bunny/bunny.obj";

@@ -9,6 +9,7 @@
 // previous scene and names the file, the traversal debugger against the GPU frame, and the
 // half-resolution frames while interacting.
 #include "../support/gl_fixture.h"
+#include "../support/raw_exr.h"
 #include "core/core.h"
 #include "mesh/mesh.h"
 #include "workbench.h"
@@ -151,21 +152,6 @@ void writeText(const fs::path& p, const std::string& text) {
 }
 
 // An OpenEXR file with the given FLOAT channels, interleaved data (w·h·channels values).
-void writeRawExr(const fs::path& path, int w, int h, const std::vector<std::string>& channels,
-                 const std::vector<float>& data) {
-    Imf::Header header(w, h);
-    for (const auto& c : channels)
-        header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-    Imf::FrameBuffer fb;
-    const size_t nc = channels.size();
-    const size_t xs = nc * sizeof(float), ys = xs * static_cast<size_t>(w);
-    char* base = reinterpret_cast<char*>(const_cast<float*>(data.data()));
-    for (size_t c = 0; c < nc; ++c)
-        fb.insert(channels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
-    Imf::OutputFile file(path.string().c_str(), header);
-    file.setFrameBuffer(fb);
-    file.writePixels(h);
-}
 
 // ---- (a)–(e): which stages re-run ---------------------------------------------------------
 
@@ -470,7 +456,7 @@ TEST(SceneStage, BadInputsKeepThePreviousSceneAndNameTheFile) {
             bytes.push_back(char(rng() & 0xff));
         writeText(b.root / "corrupt.exr", bytes);
     }
-    writeRawExr(b.root / "luminance.exr", 8, 4, {"Y"}, std::vector<float>(32, 1.0f));
+    testsupport::writeRawExr(b.root / "luminance.exr", 8, 4, {"Y"}, std::vector<float>(32, 1.0f));
     for (const std::string name : {"missing.exr", "corrupt.exr", "luminance.exr"}) {
         SCOPED_TRACE(name);
         b.settings().environmentFile = name; // relative to the root

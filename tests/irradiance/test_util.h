@@ -3,6 +3,8 @@
 // module's validation, for bad-input tests) and the one Stage per GL test binary.
 #pragma once
 
+#include "../support/raw_exr.h"
+
 #include "irradiance/irradiance.h"
 #include "pathtrace/fresnel.h"
 
@@ -45,22 +47,7 @@ inline std::filesystem::path tempDir(const std::string& tag) {
     return d;
 }
 
-// Writes the named FLOAT channels (values interleaved per pixel) without any checks.
-inline void writeRawExr(const std::filesystem::path& path, int w, int h,
-                        const std::vector<std::string>& channels, const std::vector<float>& data) {
-    Imf::Header header(w, h);
-    for (const auto& c : channels)
-        header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-    Imf::FrameBuffer fb;
-    const size_t nc = channels.size();
-    const size_t xs = nc * sizeof(float), ys = xs * static_cast<size_t>(w);
-    char* base = reinterpret_cast<char*>(const_cast<float*>(data.data()));
-    for (size_t c = 0; c < nc; ++c)
-        fb.insert(channels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
-    Imf::OutputFile file(path.string().c_str(), header);
-    file.setFrameBuffer(fb);
-    file.writePixels(h);
-}
+using testsupport::writeRawExr;
 
 inline irradiance::EnvironmentMap constantEnv(int w, int h, glm::vec3 c) {
     irradiance::EnvironmentMap e;
