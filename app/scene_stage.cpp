@@ -382,9 +382,13 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting,
         if (k.str() != m_renderKey) {
             m_renderKey = k.str();
             m_renderer->setMaterial(e.values, model.builtins);
+            m_frameModel = *e.model;
+            m_frameValues = e.values;
+            m_frameBuiltins = model.builtins;
             // Interactive frames are sliced into short dispatches so the UI keeps running.
             if (!finishNow) rs.iterationsPerDispatch = kInteractiveIterations;
             m_renderer->begin(rs);
+            m_frameSettings = rs;
             m_renderClock.reset();
             m_lastWasHalf = half;
             clearProblem("render settings");
@@ -410,6 +414,7 @@ bool SceneStage::update(const SceneModelInput& model, bool interacting,
     changed |= updatePointCloud(false);
     changed |= updateIrradiance(shaderGeneration, false);
     changed |= updateRender(model, interacting, shaderGeneration, false);
+    changed |= advanceBruteForce(kFrameBudgetMs);
     return changed;
 }
 
@@ -469,19 +474,57 @@ PixelDebug SceneStage::debugPixel(int x, int y) {
     return d;
 }
 
+void SceneStage::requestBruteForce() {
+    if (!hasFrame() || !m_tree || !m_mesh || !m_frameModel)
+        throw core::Error("render", 0, "no rendered frame to compare with yet");
+    // A second renderer with its own buffers, so the displayed frame stays as it is.
+    if (!m_bruteRenderer)
+        m_bruteRenderer = std::make_unique<render::Renderer>(bssrdf::ShaderSources{m_root});
+    m_bruteRenderer->setMesh(*m_mesh);
+    m_bruteRenderer->setOctree(*m_tree);
+    m_bruteRenderer->setModel(*m_frameModel);
+    m_bruteRenderer->setMaterial(m_frameValues, m_frameBuiltins);
+    render::Settings bs = m_frameSettings;
+    bs.width = m_frame.width;
+    bs.height = m_frame.height;
+    bs.bruteForce = true;
+    bs.iterationsPerDispatch = kInteractiveIterations;
+    m_bruteRenderer->begin(bs);
+    m_bruteFor = m_stats["scene.render"].runs;
+    m_bruteRunning = true;
+}
+
+bool SceneStage::advanceBruteForce(double budgetMs) {
+    if (!m_bruteRunning) return false;
+    try {
+        if (!m_bruteRenderer->advance(budgetMs)) return false;
+        m_bruteResult = m_bruteRenderer->readback().exitance;
+        m_bruteFrame = m_bruteFor;
+    } catch (const std::exception& ex) {
+        setProblem("brute force", ex.what());
+    }
+    m_bruteRunning = false;
+    return true;
+}
+
+const std::vector<glm::vec4>* SceneStage::bruteForceResult() const {
+    auto it = m_stats.find("scene.render");
+    const long long runs = it == m_stats.end() ? 0 : it->second.runs;
+    return m_bruteFrame == runs && !m_bruteResult.empty() ? &m_bruteResult : nullptr;
+}
+
 std::vector<glm::vec4> SceneStage::bruteForceExitance() {
-    if (!hasFrame() || !m_renderer) throw core::Error("render", 0, "no rendered frame yet");
-    if (m_renderer->inProgress()) m_renderer->advance(1e30);
-    render::Settings rs = m_settings.render;
-    rs.width = m_frame.width;
-    rs.height = m_frame.height;
-    rs.bruteForce = true;
-    m_renderer->render(rs);
-    render::Readback brute = m_renderer->readback();
-    // Restore the displayed frame (same settings as the last one; the heatmap compares them).
-    rs.bruteForce = m_settings.render.bruteForce;
-    m_frame = m_renderer->render(rs);
-    return brute.exitance;
+    if (m_renderer && m_renderer->inProgress()) {
+        m_renderer->advance(1e30);
+        m_frame = m_renderer->currentFrame();
+        StageStat& st = m_stats["scene.render"];
+        st.ms = m_renderClock.ms();
+        ++st.runs;
+    }
+    requestBruteForce();
+    advanceBruteForce(1e30);
+    if (const auto* r = bruteForceResult()) return *r;
+    throw core::Error("render", 0, "the brute-force pass failed (see Errors)");
 }
 
 } // namespace app

@@ -112,8 +112,15 @@ class SceneStage {
     // Traversal debugger (thesis Algorithm 2 replayed on the CPU for one pixel of the last
     // frame). Throws core::Error when there is no frame or the pixel is outside it.
     PixelDebug debugPixel(int x, int y);
-    // Full-frame brute force of the current view (same size as the last frame) for the
-    // relative-error heatmap; returns M per pixel (rgb) and hit (a).
+    // Full-frame brute force of the last frame's view (same size and settings) for the
+    // relative-error heatmap, on a second renderer so the displayed frame stays. Progressive:
+    // requestBruteForce starts it, update() advances it within the frame budget; the result
+    // (M per pixel, rgb, and hit in a) belongs to the frame it was started for and is
+    // returned by bruteForceResult() only while that frame is the current one.
+    void requestBruteForce();
+    bool bruteForceRunning() const { return m_bruteRunning; }
+    const std::vector<glm::vec4>* bruteForceResult() const;
+    // Finishes the current frame, then runs the brute-force pass to the end (tests, CLI).
     std::vector<glm::vec4> bruteForceExitance();
 
   private:
@@ -155,6 +162,16 @@ class SceneStage {
     std::unique_ptr<irradiance::Stage> m_irradiance_stage;
     std::unique_ptr<render::Renderer> m_renderer;
     render::Frame m_frame;
+    // What the last frame was rendered with (for the brute-force comparison pass).
+    render::Settings m_frameSettings;
+    std::optional<bssrdf::Model> m_frameModel;
+    bssrdf::ParamValues m_frameValues;
+    bssrdf::Builtins m_frameBuiltins;
+    std::unique_ptr<render::Renderer> m_bruteRenderer;
+    std::vector<glm::vec4> m_bruteResult;
+    long long m_bruteFor = -1, m_bruteFrame = -1;
+    bool m_bruteRunning = false;
+    bool advanceBruteForce(double budgetMs);
     bool m_lastWasHalf = false;
     bool m_cameraFitted = false;
 };

@@ -58,8 +58,6 @@ struct UiState {
     char envBuffer[512] = "materials/env/default_sky.exr";
     char textureBuffer[512] = "";
     int heatmap = 0; // 0 image, 1 steps, 2 max stack depth, 3 relative error vs brute force
-    std::vector<glm::vec4> bruteExitance; // for heatmap 3, of the frame it was computed for
-    std::string bruteKey;
     gl::Texture heatTex, shadowTex, cubeTex;
     float heatMax = 0;
     std::optional<PixelDebug> debug;

@@ -56,8 +56,7 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
     SceneStage& scene = wb.scene();
     render::Settings& r = scene.settings().render;
     ImGui::SetNextItemWidth(160);
-    ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f",
-                       ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
     ImGui::SameLine();
     ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
     ImGui::SameLine();
@@ -106,19 +105,24 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
     GLuint tex = f.ldr;
     if (ui.heatmap > 0) {
         render::Readback rb = scene.readback();
-        if (ui.heatmap == 3) {
-            const std::string key = std::to_string(st->second.runs);
-            if (ui.bruteKey != key || ui.bruteExitance.size() != rb.exitance.size()) {
-                if (ImGui::Button("compute brute force for this view")) {
-                    ui.bruteExitance = scene.bruteForceExitance();
-                    ui.bruteKey = std::to_string(scene.stats().at("scene.render").runs);
-                    rb = scene.readback();
+        const std::vector<glm::vec4>* brute = scene.bruteForceResult();
+        if (ui.heatmap == 3 && !brute) {
+            if (scene.bruteForceRunning()) {
+                ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "brute force running ...");
+            } else if (scene.rendering()) {
+                ImGui::TextDisabled("waiting for the frame to finish");
+            } else if (ImGui::Button("compute brute force for this view")) {
+                try {
+                    scene.requestBruteForce();
+                } catch (const std::exception& e) {
+                    wb.reportActionError(e.what());
                 }
             }
         }
-        if (ui.heatmap != 3 || ui.bruteExitance.size() == rb.exitance.size()) {
+        if (ui.heatmap != 3 || (brute && brute->size() == rb.exitance.size())) {
+            static const std::vector<glm::vec4> kNone;
             std::vector<unsigned char> rgba =
-                heatmapOf(rb, ui.heatmap, ui.bruteExitance, ui.heatMax);
+                heatmapOf(rb, ui.heatmap, brute ? *brute : kNone, ui.heatMax);
             gl::uploadRGBA8(ui.heatTex, rb.width, rb.height, rgba.data());
             tex = ui.heatTex.id();
             rampBar(0, ui.heatMax,

@@ -657,3 +657,39 @@ TEST(SceneStage, HalfResolutionWhileInteractingFullAtRest) {
 }
 
 } // namespace
+
+// The brute-force comparison pass runs progressively on its own renderer: the displayed frame
+// stays untouched, the result matches the hierarchical frame to the hierarchy's accuracy, and
+// it stops belonging to the view once a new frame is rendered.
+TEST(SceneStage, BruteForcePassRunsBesideTheDisplayedFrame) {
+    SceneBench b("brute");
+    app::Workbench& wb = *b.wb;
+    wb.finishScene();
+    ASSERT_TRUE(b.scene().hasFrame()) << allErrors(wb);
+    const render::Readback frame = b.scene().readback();
+    b.scene().requestBruteForce();
+    int updates = 0;
+    while (b.scene().bruteForceRunning() && updates < 100000) {
+        wb.update();
+        ++updates;
+    }
+    EXPECT_GT(updates, 1) << "the pass should be spread over several updates";
+    const std::vector<glm::vec4>* brute = b.scene().bruteForceResult();
+    ASSERT_NE(brute, nullptr) << allErrors(wb);
+    ASSERT_EQ(brute->size(), frame.exitance.size());
+    EXPECT_TRUE(sameFrame(frame, b.scene().readback())) << "the displayed frame changed";
+    double num = 0, den = 0;
+    for (size_t p : hitPixels(frame))
+        for (int c = 0; c < 3; ++c) {
+            const double d = double(frame.exitance[p][c]) - double((*brute)[p][c]);
+            num += d * d;
+            den += double((*brute)[p][c]) * double((*brute)[p][c]);
+        }
+    ASSERT_GT(den, 0);
+    // default settings: bounding-box criterion, eps 4, second-order clusters (~0.5 % on the
+    // bench scene); a coarse cloud of kPoints points is allowed 2 %
+    EXPECT_LT(std::sqrt(num / den), 0.02);
+    b.settings().render.camera.yaw += 0.2f;
+    wb.finishScene();
+    EXPECT_EQ(b.scene().bruteForceResult(), nullptr);
+}

@@ -54,8 +54,9 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
         ui.colorBy = c;
         gui.frame();
     }
-    ui.bruteExitance = wb.scene().bruteForceExitance();
-    ui.bruteKey = std::to_string(wb.scene().stats().at("scene.render").runs);
+    const std::vector<glm::vec4> brute = wb.scene().bruteForceExitance();
+    ASSERT_NE(wb.scene().bruteForceResult(), nullptr); // belongs to the displayed frame
+    EXPECT_EQ(brute.size(), size_t(96 * 54));
     for (int h = 0; h < 4; ++h) {
         ui.heatmap = h;
         gui.frame();
