@@ -5,7 +5,9 @@
 #include <atomic>
 #include <cerrno>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -100,6 +102,18 @@ inline RunResult runExe(const std::vector<std::string>& args, const fs::path& cw
     else if (WIFSIGNALED(status))
         r.code = 128 + WTERMSIG(status);
     return r;
+}
+
+inline std::string readText(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+inline void writeText(const fs::path& p, const std::string& text) {
+    std::ofstream f(p, std::ios::binary);
+    f << text;
 }
 
 } // namespace clitest
