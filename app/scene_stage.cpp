@@ -118,7 +118,8 @@ bool SceneStage::updateMesh() {
             clearProblem("mesh");
             return false;
         }
-        m_renderer->setMesh(m);
+        // The renderer gets the mesh together with its point cloud (applyCloud), so the frame
+        // never mixes the new surface with the old cloud while the new one is generated.
         m_mesh = std::move(m);
         ++m_meshVersion;
         if (!m_cameraFitted) {
@@ -174,6 +175,7 @@ void SceneStage::applyCloud(pointcloud::PointCloud cloud, bool fromCache, double
     }
     ensureGl();
     m_irradiance_stage->setScene(*m_mesh, pos, nor);
+    m_renderer->setMesh(*m_mesh);
     m_renderer->setOctree(tree);
     StageStat& ot = m_stats["scene.octree"];
     ot.ms = tree.stats.buildMs;
