@@ -59,8 +59,8 @@ void checkOptions(const GenerateOptions& o) {
     if (need > o.memoryCapBytes) {
         char b[160];
         std::snprintf(
-            b, sizeof b, "%zu points need about %.2f GiB to generate, over the cap of %.2f GiB",
-            o.points, double(need) / double(1u << 30), double(o.memoryCapBytes) / double(1u << 30));
+            b, sizeof b, "%zu points need about %.1f MiB to generate, over the cap of %.1f MiB",
+            o.points, double(need) / double(1u << 20), double(o.memoryCapBytes) / double(1u << 20));
         throw core::Error("--points", 0, b);
     }
 }

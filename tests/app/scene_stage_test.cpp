@@ -12,6 +12,7 @@
 #include "../support/raw_exr.h"
 #include "core/core.h"
 #include "mesh/mesh.h"
+#include "pointcloud/pointcloud.h"
 #include "workbench.h"
 
 #include <ImfChannelList.h>
@@ -692,4 +693,32 @@ TEST(SceneStage, BruteForcePassRunsBesideTheDisplayedFrame) {
     b.settings().render.camera.yaw += 0.2f;
     wb.finishScene();
     EXPECT_EQ(b.scene().bruteForceResult(), nullptr);
+}
+
+// A point cloud loaded directly from a PLY file replaces the generated one (same points in, same
+// octree out); a malformed PLY names the file and keeps the previous cloud.
+TEST(SceneStage, PointCloudLoadsDirectlyFromPly) {
+    SceneBench b("ply");
+    app::Workbench& wb = *b.wb;
+    wb.finishScene();
+    ASSERT_EQ(sceneErrors(wb), "");
+    pointcloud::PointCloud mine = pointcloud::sampleUniform(b.scene().mesh(), 1234, 77);
+    const fs::path ply = b.root / "mine.ply";
+    pointcloud::writePly(ply, mine);
+    const Runs r0 = runsOf(b.scene());
+    b.settings().pointCloudFile = ply.string();
+    wb.finishScene();
+    ASSERT_EQ(sceneErrors(wb), "") << allErrors(wb);
+    expectDelta(r0, runsOf(b.scene()), 0, 1, 1, 1, 1, "PLY loaded");
+    ASSERT_EQ(b.scene().cloud().points.size(), 1234u);
+    EXPECT_EQ(b.scene().cloud().points[17].p[0], mine.points[17].p[0]);
+    EXPECT_EQ(b.scene().tree()->stats.points, 1234u);
+
+    writeText(b.root / "bad.ply", "ply\nformat ascii 1.0\nend_header\n");
+    const Runs r1 = runsOf(b.scene());
+    b.settings().pointCloudFile = (b.root / "bad.ply").string();
+    wb.finishScene();
+    EXPECT_TRUE(contains(sceneErrors(wb), "bad.ply")) << allErrors(wb);
+    EXPECT_EQ(b.scene().cloud().points.size(), 1234u);
+    expectDelta(r1, runsOf(b.scene()), 0, 0, 0, 0, 0, "bad PLY");
 }
