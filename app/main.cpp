@@ -52,7 +52,14 @@ int runHeadlessDefault(const fs::path& root, const std::string& outDir) {
     auto ctx = gl::createHeadlessContext();
     std::printf("GL: %s | %s\n", ctx->renderer().c_str(), ctx->version().c_str());
     app::Workbench wb(root, false, {root / "materials" / "dipole.bssrdf"});
-    app::recordCaptureTo(wb, out / "capture", "default");
+    // the mesh pipeline too (a small cloud and image keep the capture quick to replay)
+    app::SceneSettings& scene = wb.scene().settings();
+    scene.enabled = true;
+    scene.useCache = false;
+    scene.points.points = 3000;
+    scene.render.width = 160;
+    scene.render.height = 90;
+    app::recordCaptureTo(wb, out / "capture", "default", 80, 45);
     std::string text;
     int rc = app::replayCapture(out / "capture", root, false, text);
     std::printf("%s", text.c_str());
