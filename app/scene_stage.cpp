@@ -476,6 +476,15 @@ PixelDebug SceneStage::debugPixel(int x, int y) {
     return d;
 }
 
+glm::vec3 SceneStage::exitanceAt(const glm::vec3& xo, const glm::vec3& no) {
+    if (!m_tree || !m_renderer || !m_renderer->ready() || m_irradiance.empty())
+        throw core::Error("point cloud", 0, "no rendered scene yet");
+    const float scale = m_renderer->builtins().scale;
+    octree::Trace t = octree::traverse(*m_tree, xo, no, m_settings.render.criterion());
+    octree::accumulate(t, m_renderer->evaluatePairs(render::tracePairs(t, scale)), scale);
+    return t.radiantExitance;
+}
+
 void SceneStage::requestBruteForce() {
     if (!hasFrame() || !m_tree || !m_mesh || !m_frameModel)
         throw core::Error("render", 0, "no rendered frame to compare with yet");

@@ -112,6 +112,11 @@ class SceneStage {
     // Traversal debugger (thesis Algorithm 2 replayed on the CPU for one pixel of the last
     // frame). Throws core::Error when there is no frame or the pixel is outside it.
     PixelDebug debugPixel(int x, int y);
+    // Radiant exitance M at a surface point (mesh units, unit normal) by the CPU replica of the
+    // traversal with the current render settings and GPU-evaluated BSSRDF values (the point
+    // cloud panel's readout for a clicked point). Throws core::Error before the first frame.
+    glm::vec3 exitanceAt(const glm::vec3& xo, const glm::vec3& no);
+
     // Full-frame brute force of the last frame's view (same size and settings) for the
     // relative-error heatmap, on a second renderer so the displayed frame stays. Progressive:
     // requestBruteForce starts it, update() advances it within the frame budget; the result

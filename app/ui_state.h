@@ -45,9 +45,10 @@ struct UiState {
     std::unique_ptr<SceneView> pointView, octreeView;
     render::Camera inspectCamera; // the 3D inspector views' camera (not the render camera)
     bool inspectCameraSet = false;
-    int colorBy = 0;            // 0 normal, 1 area, 2 irradiance, 3 radiance (from the frame)
-    int pickedPoint = -1;       // input index into the cloud
-    std::string pointColorsKey; // what the uploaded colours show
+    int colorBy = 0;                 // 0 normal, 1 area, 2 irradiance, 3 radiance (from the frame)
+    int pickedPoint = -1;            // input index into the cloud
+    glm::vec3 pickedExitance{-1.0f}; // M at the picked point (x < 0: not available)
+    std::string pointColorsKey;      // what the uploaded colours show
     float colorMin = 0, colorMax = 1;
     int octreeLevel = 2;
     int selectedNode = 0;

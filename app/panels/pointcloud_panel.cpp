@@ -170,6 +170,15 @@ void drawPointCloudPanel(Workbench& wb, UiState& ui) {
         render::Camera cam = ui.inspectCamera;
         ui.pickedPoint =
             pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py);
+        ui.pickedExitance = glm::vec3(-1.0f);
+        if (ui.pickedPoint >= 0) {
+            const auto& p = cloud.points[size_t(ui.pickedPoint)];
+            try {
+                ui.pickedExitance =
+                    scene.exitanceAt({p.p[0], p.p[1], p.p[2]}, {p.n[0], p.n[1], p.n[2]});
+            } catch (const std::exception&) { // no frame yet: the readout says so
+            }
+        }
     }
     if (ui.pickedPoint >= 0 && size_t(ui.pickedPoint) < cloud.points.size()) {
         const auto& p = cloud.points[size_t(ui.pickedPoint)];
@@ -180,6 +189,12 @@ void drawPointCloudPanel(Workbench& wb, UiState& ui) {
             const glm::vec3 v = e[size_t(ui.pickedPoint)];
             ImGui::Text("  E_t (%.4g, %.4g, %.4g)  triangle %u", v.x, v.y, v.z, p.triangle);
         }
+        const glm::vec3 M = ui.pickedExitance;
+        if (M.x >= 0)
+            ImGui::Text("  radiant exitance M (%.4g, %.4g, %.4g); radiance L_o = Ft/pi * M", M.x,
+                        M.y, M.z);
+        else
+            ImGui::TextDisabled("  radiant exitance: available once the scene has rendered");
     } else {
         ImGui::TextDisabled("drag to orbit, wheel to zoom, click a point for its values");
     }

@@ -84,6 +84,10 @@ void drawTraversalPanel(Workbench& wb, UiState& ui) {
                            "a criterion test was within %.1e of its threshold: CPU and GPU "
                            "rounding may decide it differently",
                            t.closestMargin);
+    if (ImGui::SmallButton("show the visited nodes in 3D (Octree panel)")) {
+        ui.showOctree = true;
+        ui.highlightTrace = true;
+    }
     ImGui::Checkbox("recurse", &ui.showRecurse);
     ImGui::SameLine();
     ImGui::Checkbox("node", &ui.showNodeEval);

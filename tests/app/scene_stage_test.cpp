@@ -722,3 +722,33 @@ TEST(SceneStage, PointCloudLoadsDirectlyFromPly) {
     EXPECT_EQ(b.scene().cloud().points.size(), 1234u);
     expectDelta(r1, runsOf(b.scene()), 0, 0, 0, 0, 0, "bad PLY");
 }
+
+// The point-cloud panel's readout: M at an arbitrary surface point by the replica. At a frame
+// pixel's surface point it equals the GPU's value there; at a cloud point it is positive.
+TEST(SceneStage, ExitanceAtASurfacePointMatchesTheFrame) {
+    SceneBench b("exitance");
+    app::Workbench& wb = *b.wb;
+    EXPECT_THROW(b.scene().exitanceAt({0, 0, 0}, {0, 0, 1}), core::Error); // nothing yet
+    // the replica's values come from Bssrdf() itself: make the frame use it too (not the
+    // profile table), so both sides evaluate the same function
+    b.settings().render.directBssrdf = true;
+    wb.finishScene();
+    const render::Readback rb = b.scene().readback();
+    const std::vector<size_t> hits = hitPixels(rb);
+    ASSERT_FALSE(hits.empty());
+    for (size_t k = 0; k < hits.size(); k += std::max<size_t>(1, hits.size() / 5)) {
+        const size_t p = hits[k];
+        const glm::vec3 m =
+            b.scene().exitanceAt(glm::vec3(rb.position[p]), glm::vec3(rb.normal[p]));
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(m[c], rb.exitance[p][c], 1e-5 * std::fabs(rb.exitance[p][c]) + 1e-12)
+                << "pixel " << p << " channel " << c;
+    }
+    const auto& pt = b.scene().cloud().points[42];
+    const glm::vec3 m =
+        b.scene().exitanceAt({pt.p[0], pt.p[1], pt.p[2]}, {pt.n[0], pt.n[1], pt.n[2]});
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_TRUE(std::isfinite(m[c]));
+        EXPECT_GT(m[c], 0.0f);
+    }
+}
