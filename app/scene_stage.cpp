@@ -251,12 +251,11 @@ bool SceneStage::updateIrradiance(long long shaderGeneration, bool finishOcclude
         s.mode == irradiance::LightMode::Ibl || s.mode == irradiance::LightMode::OccludedIbl;
     // Environment / projected texture files (loaded when named and changed).
     // m_envTried / m_texTried: the file last attempted (not retried every frame);
-    // m_envKey / m_texKey: the file actually loaded (what the irradiance depends on).
+    // m_envLoads / m_texLoads: successful loads (what the irradiance depends on).
     if (ibl && m_settings.environmentFile != m_envTried) {
         m_envTried = m_settings.environmentFile;
         try {
             st.loadEnvironment(resolve(m_envTried));
-            m_envKey = m_envTried;
             ++m_envLoads;
             clearProblem("environment");
         } catch (const std::exception& e) {
@@ -271,7 +270,6 @@ bool SceneStage::updateIrradiance(long long shaderGeneration, bool finishOcclude
                 st.useCheckerTexture();
             else
                 st.loadProjectedTexture(resolve(m_texTried));
-            m_texKey = m_texTried;
             ++m_texLoads;
             clearProblem("projected texture");
         } catch (const std::exception& e) {
@@ -392,15 +390,11 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting,
             m_renderer->begin(rs);
             m_frameSettings = rs;
             m_renderClock.reset();
-            m_lastWasHalf = half;
             clearProblem("render settings");
         }
         if (!m_renderer->inProgress()) return false;
         if (!m_renderer->advance(finishNow ? 1e30 : kFrameBudgetMs)) return false;
-        m_frame = m_renderer->currentFrame();
-        StageStat& st = m_stats["scene.render"];
-        st.ms = m_renderClock.ms();
-        ++st.runs;
+        adoptFrame();
     } catch (const std::exception& ex) {
         setProblem("render settings", ex.what());
         return false;
@@ -476,6 +470,13 @@ PixelDebug SceneStage::debugPixel(int x, int y) {
     return d;
 }
 
+void SceneStage::adoptFrame() {
+    m_frame = m_renderer->currentFrame();
+    StageStat& st = m_stats["scene.render"];
+    st.ms = m_renderClock.ms();
+    ++st.runs;
+}
+
 glm::vec3 SceneStage::exitanceAt(const glm::vec3& xo, const glm::vec3& no) {
     if (!m_tree || !m_renderer || !m_renderer->ready() || m_irradiance.empty())
         throw core::Error("point cloud", 0, "no rendered scene yet");
@@ -527,10 +528,7 @@ const std::vector<glm::vec4>* SceneStage::bruteForceResult() const {
 std::vector<glm::vec4> SceneStage::bruteForceExitance() {
     if (m_renderer && m_renderer->inProgress()) {
         m_renderer->advance(1e30);
-        m_frame = m_renderer->currentFrame();
-        StageStat& st = m_stats["scene.render"];
-        st.ms = m_renderClock.ms();
-        ++st.runs;
+        adoptFrame();
     }
     requestBruteForce();
     advanceBruteForce(1e30);

@@ -150,7 +150,7 @@ class SceneStage {
     std::map<std::string, StageStat> m_stats;
     std::map<std::string, std::string> m_problems;
 
-    std::string m_meshKey, m_cloudKey, m_irrKey, m_renderKey, m_envKey, m_texKey, m_modelKey;
+    std::string m_meshKey, m_cloudKey, m_irrKey, m_renderKey, m_modelKey;
     std::string m_envTried, m_texTried;
     long long m_envLoads = 0, m_texLoads = 0;
     long long m_meshVersion = 0, m_cloudVersion = 0, m_irrVersion = 0;
@@ -177,7 +177,7 @@ class SceneStage {
     long long m_bruteFor = -1, m_bruteFrame = -1;
     bool m_bruteRunning = false;
     bool advanceBruteForce(double budgetMs);
-    bool m_lastWasHalf = false;
+    void adoptFrame(); // the renderer's finished frame becomes the displayed one (one run)
     bool m_cameraFitted = false;
 };
 

@@ -59,7 +59,7 @@ struct UiState {
     char envBuffer[512] = "materials/env/default_sky.exr";
     char textureBuffer[512] = "";
     int heatmap = 0; // 0 image, 1 steps, 2 max stack depth, 3 relative error vs brute force
-    gl::Texture heatTex, shadowTex, cubeTex;
+    gl::Texture heatTex, cubeTex;
     float heatMax = 0;
     std::optional<PixelDebug> debug;
     std::string debugProblem;

@@ -16,10 +16,6 @@ long long runsOf(const SceneStage& s, const char* stage) {
     return it == s.stats().end() ? 0 : it->second.runs;
 }
 
-float luminance(const glm::vec3& c) {
-    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
-
 // Radiance of each point as the last frame shows it: the HDR pixel the point projects to, when
 // the G-buffer there is the point's own surface (within `tol`); −1 when hidden or outside.
 std::vector<float> radianceFromFrame(SceneStage& scene, const std::vector<glm::vec3>& pos,

@@ -12,10 +12,6 @@
 namespace app {
 namespace {
 
-float luminance(const glm::vec3& c) {
-    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
-
 // RGBA8 heatmap of the last frame: 1 steps, 2 max stack depth, 3 relative error vs brute.
 std::vector<unsigned char> heatmapOf(const render::Readback& rb, int mode,
                                      const std::vector<glm::vec4>& brute, float& maxValue) {

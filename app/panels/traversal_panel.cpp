@@ -135,9 +135,9 @@ void drawTraversalPanel(Workbench& wb, UiState& ui) {
                 ImGui::TextUnformatted(stackText(s.stack).c_str());
                 ImGui::TableNextColumn();
                 const glm::vec3 c = s.contribution, sum = s.runningSum;
-                ImGui::Text("%.4g", 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
+                ImGui::Text("%.4g", luminance(c));
                 ImGui::TableNextColumn();
-                ImGui::Text("%.6g", 0.2126f * sum.x + 0.7152f * sum.y + 0.0722f * sum.z);
+                ImGui::Text("%.6g", luminance(sum));
             }
         ImGui::EndTable();
     }
