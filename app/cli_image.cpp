@@ -1,5 +1,6 @@
 // `bssrdf-workbench sphere` / `mesh`: lit sphere / lit mesh images as EXR (see cli_image.h).
 #include "cli_image.h"
+#include "cli_slab.h"
 
 #include "core/core.h"
 #include "pathtrace/camera.h"
@@ -89,9 +90,10 @@ std::function<void(uint64_t)> progressLine(const char* what, uint64_t total,
 }
 
 // Writes the EXR and prints: paths, seconds, paths/s, specular fraction, mean exitance over
-// the lit pixels (centre ray hits and n·lightDir > 0 there).
-void finish(const ImageArgs& a, const char* what, const pathtrace::Image& img,
-            const pathtrace::ImageStats& st, const std::string& extra) {
+// the lit pixels (centre ray hits and n·lightDir > 0 there). Returns 0, or kEnergyCheckFailed
+// (each failing channel's problem on stderr) when a channel fails its energy check.
+int finish(const ImageArgs& a, const char* what, const pathtrace::Image& img,
+           const pathtrace::ImageStats& st, const std::string& extra) {
     pathtrace::writeExr(a.out, img);
     double lit[3] = {0, 0, 0};
     size_t nLit = 0;
@@ -119,6 +121,14 @@ void finish(const ImageArgs& a, const char* what, const pathtrace::Image& img,
                 static_cast<unsigned long long>(st.paths), perPath, st.seconds, rate, spec[0],
                 spec[1], spec[2], nLit, lit[0], lit[1], lit[2]);
     std::fflush(stdout);
+    int status = 0;
+    for (int c = 0; c < 3; ++c) {
+        const std::string problem = pathtrace::energyProblem(st.channel[static_cast<size_t>(c)]);
+        if (problem.empty()) continue;
+        std::fprintf(stderr, "error: %s: channel %c: %s\n", what, "RGB"[c], problem.c_str());
+        status = kEnergyCheckFailed;
+    }
+    return status;
 }
 
 } // namespace
@@ -131,8 +141,7 @@ int runSphereCli(const ImageArgs& a) {
     const pathtrace::Image img = pathtrace::traceLitSphere(
         k.media, k.setup, progressLine("sphere", total, clock), nullptr, {}, &st);
     std::fprintf(stderr, "\n");
-    finish(a, "sphere", img, st, ", radius " + fmt(a.radiusMm) + " mm");
-    return 0;
+    return finish(a, "sphere", img, st, ", radius " + fmt(a.radiusMm) + " mm");
 }
 
 int runMeshCli(const ImageArgs& a) {
@@ -151,8 +160,7 @@ int runMeshCli(const ImageArgs& a) {
     std::string extra = ", " + a.mesh + ", " + std::to_string(mesh.mesh().triangles.size()) +
                         " triangles, scale " + fmt(2 * a.radiusMm) + " mm of the longest axis";
     if (leaks) extra += ", " + std::to_string(leaks) + " leaked paths";
-    finish(a, "mesh", img, st, extra);
-    return 0;
+    return finish(a, "mesh", img, st, extra);
 }
 
 } // namespace app

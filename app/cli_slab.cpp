@@ -48,6 +48,7 @@ SlabSetup prepare(const SlabArgs& a) {
     k.s.paths = a.paths;
     k.s.seed = a.seed;
     k.s.threads = a.threads;
+    k.s.termination.maxEvents = a.maxEvents;
     k.s.estimator = a.analog ? pathtrace::Estimator::Analog : pathtrace::Estimator::Implicit;
     pathtrace::validate(k.s);
     return k;
@@ -64,8 +65,11 @@ std::function<void(uint64_t)> progressLine(const pathtrace::SlabSettings& s,
     };
 }
 
-void writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabResult& r,
-                  const std::string& device) {
+// Writes the CSV; returns 0, or kEnergyCheckFailed (problem on stderr) when the result fails
+// its own energy check.
+int writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabResult& r,
+                 const std::string& device) {
+    const std::string problem = pathtrace::energyProblem(r);
     const auto& m = k.m;
     const auto& s = k.s;
     const double perSecond = r.seconds > 0 ? double(r.paths) / r.seconds : 0;
@@ -86,15 +90,18 @@ void writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabRe
         << "# seed " << s.seed << "\n"
         << "# threads " << s.threads << "\n"
         << "# estimator " << (a.analog ? "analog" : "implicit") << "\n"
-        << "# roulette_weight " << fmt(s.rouletteWeight) << "\n"
-        << "# roulette_survival " << fmt(s.rouletteSurvival) << "\n"
-        << "# roulette_after " << s.rouletteAfter << "\n"
+        << "# roulette_weight " << fmt(s.termination.rouletteWeight) << "\n"
+        << "# roulette_survival " << fmt(s.termination.rouletteSurvival) << "\n"
+        << "# max_events " << s.termination.maxEvents << "\n"
         << "# paths " << r.paths << "\n"
         << "# total_Rd " << fmt(r.totalRd) << " +- " << fmt(r.totalRdStderr) << "\n"
         << "# specular " << fmt(r.specular) << "\n"
         << "# absorbed " << fmt(r.absorbed) << " +- " << fmt(r.absorbedStderr) << "\n"
         << "# roulette_net " << fmt(r.rouletteNet) << " +- " << fmt(r.rouletteNetStderr)
         << " (expected 0)\n"
+        << "# truncated " << fmt(r.truncated) << " +- " << fmt(r.truncatedStderr) << " ("
+        << r.truncatedPaths << " paths; R_d may be low by up to this much)\n"
+        << "# energy_check " << (problem.empty() ? "ok" : "FAILED: " + problem) << "\n"
         << "# events_per_path " << fmt(r.paths ? double(r.events) / double(r.paths) : 0) << "\n"
         << "# wall_s " << fmt(r.seconds) << "\n"
         << "# paths_per_s " << fmt(perSecond) << "\n"
@@ -105,6 +112,9 @@ void writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabRe
     std::fprintf(stderr, "wrote %s (%llu paths, R_d %s +- %s, %.1f s, %.0f paths/s)\n",
                  a.out.c_str(), static_cast<unsigned long long>(r.paths), fmt(r.totalRd).c_str(),
                  fmt(r.totalRdStderr).c_str(), r.seconds, perSecond);
+    if (problem.empty()) return 0;
+    std::fprintf(stderr, "error: slab: %s\n", problem.c_str());
+    return kEnergyCheckFailed;
 }
 } // namespace
 
@@ -113,8 +123,7 @@ int runSlabCli(const SlabArgs& a) {
     core::Stopwatch clock;
     const pathtrace::SlabResult r = pathtrace::runSlab(k.m, k.s, progressLine(k.s, clock));
     std::fprintf(stderr, "\n");
-    writeSlabCsv(a, k, r, "CPU");
-    return 0;
+    return writeSlabCsv(a, k, r, "CPU");
 }
 
 int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a) {
@@ -129,8 +138,7 @@ int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a) {
     std::fprintf(stderr, "\n");
     pathtrace::SlabResult r = pathtrace::finalize(tracer.tally(), k.s);
     r.seconds = tracer.seconds();
-    writeSlabCsv(a, k, r, std::string("GPU (") + ctx->renderer() + ")");
-    return 0;
+    return writeSlabCsv(a, k, r, std::string("GPU (") + ctx->renderer() + ")");
 }
 
 } // namespace app

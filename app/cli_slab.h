@@ -1,7 +1,9 @@
 // `bssrdf-workbench slab`: the CPU path-traced pencil-beam reference (pathtrace::runSlab, thesis
 // Section 3.2 / Algorithm 1) written as CSV — R_d(r) with per-bin standard errors in the MCML
 // convention (1/mm² per incident photon, specular reflection excluded), every parameter and the
-// totals in '#' header lines. No display or GL needed.
+// totals in '#' header lines. No display or GL needed. The result's energy check
+// (pathtrace::energyProblem) is written into the header; when it fails the CSV is still
+// written and the command exits with kEnergyCheckFailed, the problem on stderr.
 #pragma once
 
 #include <cmath>
@@ -9,9 +11,7 @@
 #include <filesystem>
 #include <string>
 
-namespace pathtrace {
-struct Medium;
-}
+#include "pathtrace/pathtrace.h"
 
 namespace app {
 
@@ -23,15 +23,19 @@ struct SlabArgs {
     uint64_t paths = 1000000, seed = 1;
     int threads = 0;     // 0: all hardware threads
     bool analog = false; // Estimator::Analog (Algorithm 1 as printed) instead of Implicit
-    std::string out;     // CSV path (required)
+    uint32_t maxEvents = pathtrace::Termination{}.maxEvents; // truncate paths after this many
+    std::string out;                                         // CSV path (required)
 };
 
 // 10 diffuse mean free paths l_d = 1/σtr, σtr = √(3σa(σa + σs(1 − g))); with σa = 0 (no
 // l_d), 100 transport mean free paths 1/(σs(1 − g)).
 double defaultSlabRMax(const pathtrace::Medium& m);
 
+// Exit status of a command whose result failed its own energy check (output still written).
+constexpr int kEnergyCheckFailed = 3;
+
 // Validates (core::Error naming the argument), runs with a progress line on stderr, writes
-// the CSV. Returns 0.
+// the CSV. Returns 0, or kEnergyCheckFailed.
 int runSlabCli(const SlabArgs& a);
 // The same on the GL compute tracer (shaders/pathtrace_slab.comp under `root`), headless.
 int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a);

@@ -27,6 +27,7 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
         std::lock_guard lock(m_mutex);
         m_image = pathtrace::Image{};
         m_problem.clear();
+        m_energy.clear();
     }
     m_sppDone = 0;
     m_rate = 0;
@@ -70,9 +71,11 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
             p.threads =
                 std::max(1u, std::thread::hardware_concurrency() - 1); // keep a core for the UI
             pathtrace::Image img;
+            pathtrace::ImageStats st;
             try {
-                img = meshToTrace ? pathtrace::traceLitMesh(*meshToTrace, media, p, {}, &m_cancel)
-                                  : pathtrace::traceLitSphere(media, p, {}, &m_cancel);
+                img = meshToTrace
+                          ? pathtrace::traceLitMesh(*meshToTrace, media, p, {}, &m_cancel, {}, &st)
+                          : pathtrace::traceLitSphere(media, p, {}, &m_cancel, {}, &st);
             } catch (const core::Error& e) {
                 std::lock_guard lock(m_mutex);
                 m_problem = e.what();
@@ -84,6 +87,11 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
             {
                 std::lock_guard lock(m_mutex);
                 m_image = combine(m_image, img);
+                // every pass is checked on its own (a pass is an independent estimate)
+                for (int c = 0; c < 3 && m_energy.empty(); ++c) {
+                    const std::string e = pathtrace::energyProblem(st.channel[size_t(c)]);
+                    if (!e.empty()) m_energy = std::string("channel ") + "RGB"[c] + ": " + e;
+                }
             }
             m_sppDone = done;
             m_rate = double(paths) / std::max(1e-9, clock.ms() * 1e-3);
@@ -130,7 +138,20 @@ pathtrace::Image PathTracedSphere::image() const {
 
 std::string PathTracedSphere::problem() const {
     std::lock_guard lock(m_mutex);
-    return m_problem.empty() ? m_shaderProblem : m_problem;
+    if (!m_problem.empty()) return m_problem;
+    if (!m_shaderProblem.empty()) return m_shaderProblem;
+    if (m_useGpu && m_gpu && m_gpu->pathsDone() > 1) {
+        // the GL tracer tallies exits and truncations only: truncation against the error bar
+        std::array<double, 3> exitedErr{};
+        m_gpu->exitedPower(&exitedErr);
+        const std::array<double, 3> truncated = m_gpu->truncatedPower();
+        for (int c = 0; c < 3; ++c)
+            if (truncated[size_t(c)] > exitedErr[size_t(c)])
+                return std::string("channel ") + "RGB"[c] + ": paths truncated at the event " +
+                       "limit: the image may miss up to " + std::to_string(truncated[size_t(c)]) +
+                       " W, more than the standard error of the exited power";
+    }
+    return m_energy;
 }
 
 } // namespace app

@@ -65,6 +65,7 @@ class PathTracedSphere {
     mutable std::mutex m_mutex;
     pathtrace::Image m_image;
     std::string m_problem;
+    std::string m_energy; // the first failed energy check of a CPU pass (pathtrace::energyProblem)
     std::filesystem::path m_gpuShader;
     std::unique_ptr<pathtrace::GpuSphereTracer> m_gpu;
     bool m_useGpu = false;

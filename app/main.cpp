@@ -174,6 +174,10 @@ int main(int argc, char** argv) {
     slab->add_option("--seed", sa.seed, "random seed (default 1)");
     slab->add_option("--threads", sa.threads, "worker threads (default: all cores)");
     slab->add_flag("--analog", sa.analog, "analog absorption (thesis Algorithm 1 as printed)");
+    slab->add_option("--max-events", sa.maxEvents,
+                     "truncate a path after this many interactions; its weight is reported as "
+                     "a bound (default " +
+                         std::to_string(sa.maxEvents) + ")");
     bool slabGpu = false;
     slab->add_flag("--gpu", slabGpu, "trace on the GL compute tracer instead of the CPU");
     slab->add_option("--out", sa.out, "CSV file: # header, then r_mm,Rd_per_mm2,stderr")

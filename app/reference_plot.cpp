@@ -14,6 +14,9 @@ plot::Series referenceSeries(const ReferenceSnapshot& snap, int channel, bool rT
     s.dashed = true;
     const auto& r0 = snap.channel[0];
     if (r0.rMid.empty()) return s;
+    // a reference that fails its own energy check gets no confident band
+    const bool band = !snap.energyFails(channel);
+    if (!band) s.label += "  energy check FAILED: no error band (see Errors)";
     const double w[3] = {0.2126, 0.7152, 0.0722};
     for (size_t i = 0; i < r0.rMid.size(); ++i) {
         double mean = 0, var = 0;
@@ -28,6 +31,7 @@ plot::Series referenceSeries(const ReferenceSnapshot& snap, int channel, bool rT
         const double se = std::sqrt(var);
         s.x.push_back(r0.rMid[i]);
         s.y.push_back(mean * f);
+        if (!band) continue;
         s.bandLo.push_back((mean - 2 * se) * f);
         s.bandHi.push_back((mean + 2 * se) * f);
     }

@@ -84,9 +84,28 @@ void ReferenceRunner::wait() {
     if (m_thread.joinable()) m_thread.join();
 }
 
+bool ReferenceSnapshot::energyFails(int channel) const {
+    for (int c = 0; c < 3; ++c)
+        if ((channel == 3 || channel == c) && !pathtrace::energyProblem(this->channel[c]).empty())
+            return true;
+    return false;
+}
+
+void checkEnergy(ReferenceSnapshot& snap) {
+    snap.energy.clear();
+    for (int c = 0; c < 3; ++c) {
+        const std::string p = pathtrace::energyProblem(snap.channel[c]);
+        if (p.empty()) continue;
+        if (!snap.energy.empty()) snap.energy += "; ";
+        snap.energy += std::string("channel ") + "RGB"[c] + ": " + p;
+    }
+}
+
 ReferenceSnapshot ReferenceRunner::snapshot() const {
     std::lock_guard lock(m_mutex);
-    return m_snapshot;
+    ReferenceSnapshot snap = m_snapshot;
+    checkEnergy(snap);
+    return snap;
 }
 
 void GpuReference::start(const std::array<pathtrace::Medium, 3>& media,
@@ -158,6 +177,7 @@ ReferenceSnapshot GpuReference::snapshot() const {
         s.paths = m_done;
         snap.channel[c] = pathtrace::finalize(m_tracers[c]->tally(), s);
     }
+    checkEnergy(snap);
     return snap;
 }
 

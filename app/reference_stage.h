@@ -30,8 +30,15 @@ struct ReferenceSnapshot {
     double pathsPerSecond = 0;               // all channels together
     std::array<pathtrace::SlabResult, 3> channel;
     std::string problem;
+    // The run's own energy check (pathtrace::energyProblem) per channel, "" when every channel
+    // passes: "channel R: <problem>; ...". The plot then draws no error band, the Errors panel
+    // lists it.
+    std::string energy;
+    bool energyFails(int channel) const; // channel 0..2, or 3 (luminance: any channel)
     std::string device = "CPU";
 };
+// Fills snap.energy from snap.channel.
+void checkEnergy(ReferenceSnapshot& snap);
 
 class ReferenceRunner {
   public:

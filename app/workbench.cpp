@@ -427,8 +427,9 @@ std::vector<ErrorItem> Workbench::errors() const {
     for (const auto& p : m_library->problems())
         out.push_back({"shader", p.text()});
     if (m_refSettings.enabled) {
-        std::string problem = referenceSnapshot().problem;
-        if (!problem.empty()) out.push_back({"reference", problem});
+        const ReferenceSnapshot snap = referenceSnapshot();
+        if (!snap.problem.empty()) out.push_back({"reference", snap.problem});
+        if (!snap.energy.empty()) out.push_back({"reference", snap.energy});
     }
     if (m_sphere.enabled) {
         if (!m_sphereProblem.empty()) out.push_back({"lit sphere", m_sphereProblem});
@@ -514,6 +515,10 @@ std::vector<plot::Series> Workbench::plotSeries() const {
                 continue;
             }
             glm::dvec3 ld = material::diffuseMeanFreePath(*it->second.effective);
+            if (snap.energyFails(m_plot.channel)) {
+                s.label += "  (reference failed its energy check: no error figures)";
+                continue;
+            }
             ModelError err = modelError(s, ref, ld[m_plot.channel < 3 ? m_plot.channel : 1]);
             if (!err.valid) continue;
             char buf[160];

@@ -23,11 +23,13 @@
 // z = 0 stops there and plays Fresnel roulette (exit with probability 1 − F, else mirror and
 // fly the rest of s); at the interaction point either (Implicit) the weight loses the fraction
 // σa/σt to the absorbed tally and weights below RouletteWeight play Russian roulette, or
-// (Analog, Algorithm 1 as printed) the path is absorbed with probability 1 − α; then, after
-// RouletteAfter events, the thesis's long-path roulette (end 90 %, survive ×10); then a
-// Henyey-Greenstein deflection. All unbiased. Weight a roulette removes (or adds, negative)
-// is tallied as the path's roulette loss, so per path specular + reflected + absorbed + loss
-// = 1 up to float rounding, with E[loss] = 0.
+// (Analog, Algorithm 1 as printed) the path is absorbed with probability 1 − α; then a path
+// that has reached MaxEvents interactions is truncated (its weight tallied as truncated: a
+// bound on the bias, see Termination in pathtrace.h; the thesis's long-path roulette is not
+// used, its survivors' weights grow without bound); then a Henyey-Greenstein deflection.
+// Weight a roulette removes (or adds, negative) is tallied as the path's roulette loss, so per
+// path specular + reflected + absorbed + truncated + loss = 1 up to float rounding, with
+// E[loss] = 0.
 //
 // Precision: float state (positions, directions, weights: rounding 6e-8 relative per
 // operation, unbiased to first order); flight lengths from 24-bit uniforms, so at most 17.3
@@ -55,7 +57,7 @@ uniform float Eta;             // relative index of refraction (medium / outside
 uniform float EntryWeight;     // 1 − R_sp
 uniform float BinsPerMm;       // bins / rMax
 uniform uint Bins;             // slots: 0..Bins-1 radial bins, then the four below
-uniform uint RouletteAfter;    // long-path roulette after this many events
+uniform uint MaxEvents;        // truncate a path after this many interactions
 uniform float RouletteWeight;  // Implicit: weight roulette below this weight
 uniform uint SurviveWeight;    // ... survives if a word < this (p·2^32; p = 1: never played)
 uniform float WeightGain;      // ... and then w *= 2^32 / SurviveWeight
@@ -65,11 +67,10 @@ uint slotBeyond() { return Bins; }       // exits at r >= rMax
 uint slotAbsorbed() { return Bins + 1u; }
 uint slotLossPos() { return Bins + 2u; } // roulette loss of paths that lost weight
 uint slotLossNeg() { return Bins + 3u; } // |roulette loss| of paths that gained weight
+uint slotTruncated() { return Bins + 4u; } // weight of paths truncated at MaxEvents
+uint slotTruncatedPaths() { return Bins + 5u; } // 1 per truncated path
 
 const uint SLAB_STREAM = 0x534C4142u; // 'SLAB': the counter's 4th word for this tracer
-// The long-path roulette survives with probability TENTH / 2^32 = 0.1 + 9e-11 and multiplies
-// the weight by 10 (relative bias 1e-9 per roulette), exactly as slab_tracer.cpp.
-const uint TENTH = 429496730u;
 
 layout(std430, binding = 5) buffer Dbg { uint dbg[8]; };
 layout(std430, binding = 2) coherent buffer PtQueue {
@@ -140,18 +141,11 @@ void finishPath(inout Path p) {
     if (p.loss < 0.0) ptTally(slotLossNeg(), -p.loss, p.rng);
 }
 
-// Ends the path with a roulette: true (ended, tallied) with probability 1 − TENTH/2^32, else
-// the weight is multiplied by 10.
-bool longPathRoulette(inout Path p) {
-    if (rngNext(p.rng) < TENTH) {
-        float ws = p.w * 10.0;
-        p.loss -= ws - p.w;
-        p.w = ws;
-        return false;
-    }
-    p.loss += p.w;
+// Ends the path at the event limit: its weight is tallied as truncated.
+void truncatePath(inout Path p) {
+    ptTally(slotTruncated(), p.w, p.rng);
+    ptTally(slotTruncatedPaths(), 1.0, p.rng);
     finishPath(p);
-    return true;
 }
 
 // One event: a free flight and what happens at its end. Returns true when the path has ended
@@ -197,7 +191,10 @@ bool advance(inout Path p) {
             }
         }
     }
-    if (p.events > RouletteAfter && longPathRoulette(p)) return true;
+    if (p.events >= MaxEvents) {
+        truncatePath(p);
+        return true;
+    }
     p.d = deflect(p.d, sampleHgCos(G, rngUniform(p.rng)), 2.0 * PT_PI * rngUniform(p.rng));
     return false;
 }

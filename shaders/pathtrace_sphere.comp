@@ -16,8 +16,8 @@
 // s = −ln ξ/σt (or the rest of a flight after an internal reflection); a flight reaching the
 // sphere plays Fresnel roulette (exit with probability 1 − F, else mirror, and the rest of
 // the flight continues next iteration); a collision applies implicit absorption, weight
-// roulette below RouletteWeight, the long-path roulette after RouletteAfter events, then an HG
-// deflection. An exit tallies its weight into the channel's "exited" slot and, when visible
+// roulette below RouletteWeight, truncation at MaxEvents interactions (the weight tallied in
+// the channel's "truncated" slot: a bound on what the image misses), then an HG deflection. An exit tallies its weight into the channel's "exited" slot and, when visible
 // (z > 0), into the pixel the exit point projects into (the host ignores pixels whose centre
 // ray misses the sphere). A path that meets the boundary 2^20 times ends untallied (the CPU's
 // stuck-path safeguard).
@@ -43,13 +43,12 @@ uniform vec3 E2;
 uniform float Extent;         // image half side, mm
 uniform vec2 PixelSize;       // dx, dy (mm)
 uniform uvec2 ImageSize;      // width, height
-uniform uint RouletteAfter;   // long-path roulette after this many events
+uniform uint MaxEvents;       // truncate a path after this many interactions
 uniform float RouletteWeight; // weight roulette below this weight (< 0: never)
 uniform uint SurviveWeight;   // ... survives if a word < this
 uniform float WeightGain;     // ... and then w *= 2^32 / SurviveWeight
 
 const uint SPHERE_STREAM = 0x53504830u; // 'SPH0' + channel: the counter's 4th word
-const uint TENTH = 429496730u;          // long-path roulette survival, as sphere_walk.h
 const uint MAX_BOUNDARY_HITS = 1048576u;
 
 layout(std430, binding = 2) coherent buffer PtQueue {
@@ -72,9 +71,10 @@ struct Path {
     Rng rng;
 };
 
-// Slots: channel c has pixels c·(P + 1) + p and its exited total at c·(P + 1) + P.
+// Slots: channel c has pixels c·(P + 2) + p, its exited total at c·(P + 2) + P and its
+// truncated weight at c·(P + 2) + P + 1.
 uint pixelCount() { return ImageSize.x * ImageSize.y; }
-uint slotBase(uint c) { return c * (pixelCount() + 1u); }
+uint slotBase(uint c) { return c * (pixelCount() + 2u); }
 
 // Starts channel c of path `index`: entry through the lit hemisphere. Returns false when the
 // path carries nothing into the sphere (total reflection at entry).
@@ -183,12 +183,9 @@ bool advance(inout Path p) {
             return true;
         }
     }
-    if (p.events > RouletteAfter) {
-        if (rngNext(p.rng) < TENTH) {
-            p.w *= 10.0;
-        } else {
-            return true;
-        }
+    if (p.events >= MaxEvents) {
+        ptTally(slotBase(c) + pixelCount() + 1u, p.w, p.rng);
+        return true;
     }
     p.d = deflect(p.d, sampleHgCos(G[c], rngUniform(p.rng)), 2.0 * PT_PI * rngUniform(p.rng));
     return false;

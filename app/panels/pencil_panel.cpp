@@ -50,6 +50,8 @@ void drawReferenceControls(Workbench& wb) {
     char overlay[96];
     std::snprintf(overlay, sizeof overlay, "%llu / %llu paths per channel",
                   (unsigned long long)snap.pathsDone, (unsigned long long)snap.pathsTarget);
+    if (!snap.energy.empty())
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "reference %s", snap.energy.c_str());
     ImGui::SetNextItemWidth(320);
     ImGui::ProgressBar(frac, ImVec2(320, 0), overlay);
     ImGui::SameLine();

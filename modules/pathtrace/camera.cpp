@@ -5,6 +5,7 @@
 #include "core/core.h"
 #include "pathtrace/detail/mean_stderr.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -23,15 +24,7 @@ std::string num(double v) {
 
 void validate(const TraceOptions& o) {
     const std::string what = "trace options";
-    if (o.rouletteAfter < 1)
-        throw core::Error(what, 0,
-                          "rouletteAfter must be >= 1, got " + std::to_string(o.rouletteAfter));
-    if (!(o.rouletteWeight > 0 && o.rouletteWeight < 1))
-        throw core::Error(what, 0,
-                          "rouletteWeight must lie in (0, 1), got " + num(o.rouletteWeight));
-    if (!(o.rouletteSurvival > 0 && o.rouletteSurvival <= 1))
-        throw core::Error(what, 0,
-                          "rouletteSurvival must lie in (0, 1], got " + num(o.rouletteSurvival));
+    validate(o.termination, what);
     if (o.footprintSubsamples < 1 || o.footprintSubsamples > 64)
         throw core::Error(what, 0,
                           "footprintSubsamples must lie in [1, 64], got " +
@@ -103,6 +96,11 @@ void ImageTally::add(const ExitRecord* rec, uint64_t count, uint64_t i) {
         t.rouletteSum += r.rouletteLoss;
         t.rouletteSumSq += r.rouletteLoss * r.rouletteLoss;
         t.leakSum += r.leaked;
+        if (r.truncated != 0) {
+            t.truncSum += r.truncated;
+            t.truncSumSq += r.truncated * r.truncated;
+            ++t.truncatedPaths;
+        }
         t.leaks += r.leaked != 0 ? 1 : 0;
         t.events += r.events;
         if (r.pixel >= 0 && static_cast<size_t>(r.pixel) < t.pixSum.size()) {
@@ -147,6 +145,8 @@ Image finalizeImage(const ImageTally& t, const PixelGeometry& px, int width, int
             meanStderr(ct.absSum, ct.absSumSq, t.paths, srcMm2, s.absorbed, s.absorbedStderr);
             meanStderr(ct.rouletteSum, ct.rouletteSumSq, t.paths, srcMm2, s.rouletteNet,
                        s.rouletteNetStderr);
+            meanStderr(ct.truncSum, ct.truncSumSq, t.paths, srcMm2, s.truncated, s.truncatedStderr);
+            s.truncatedPaths = ct.truncatedPaths;
             s.leaked = t.paths ? srcMm2 * ct.leakSum / static_cast<double>(t.paths) : 0;
             s.leaks = ct.leaks;
             s.events = ct.events;
@@ -159,6 +159,34 @@ Image finalizeImage(const ImageTally& t, const PixelGeometry& px, int width, int
         stats->pixels.cosLight = px.cosLight;
     }
     return img;
+}
+
+std::string energyProblem(const ChannelStats& s) {
+    char b[320];
+    const double sum = s.specular + s.exited + s.absorbed + s.truncated + s.rouletteNet + s.leaked;
+    if (!(std::fabs(sum - s.incident) <= 1e-6 * std::max(1.0, s.incident))) {
+        std::snprintf(b, sizeof b,
+                      "energy check failed: specular + exited + absorbed + truncated + roulette "
+                      "+ leaked = %.9g W, incident %.9g W",
+                      sum, s.incident);
+        return b;
+    }
+    if (s.rouletteNetStderr > 0 && std::fabs(s.rouletteNet) > kEnergyZ * s.rouletteNetStderr) {
+        std::snprintf(b, sizeof b,
+                      "energy check failed: mean roulette change %.3g +- %.2g W is not 0 (z = "
+                      "%.1f): a roulette is biased",
+                      s.rouletteNet, s.rouletteNetStderr, s.rouletteNet / s.rouletteNetStderr);
+        return b;
+    }
+    if (s.truncated > s.exitedStderr) {
+        std::snprintf(b, sizeof b,
+                      "%llu paths truncated at the event limit: %.3g W may be missing from the "
+                      "image, more than the standard error %.2g W of the exited power",
+                      static_cast<unsigned long long>(s.truncatedPaths), s.truncated,
+                      s.exitedStderr);
+        return b;
+    }
+    return {};
 }
 
 } // namespace pathtrace

@@ -24,16 +24,15 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace pathtrace {
 
 // Estimator settings of the image tracers (the slab tracer's defaults, see pathtrace.h).
 struct TraceOptions {
-    int rouletteAfter = 1000;      // long-path roulette after this many events (thesis 3.2)
-    double rouletteWeight = 0.1;   // weight roulette below this weight
-    double rouletteSurvival = 0.5; // its survival probability
-    int footprintSubsamples = 8;   // mesh: k×k camera rays per pixel for the footprint areas
+    Termination termination;     // weight roulette and event limit, as the slab tracer
+    int footprintSubsamples = 8; // mesh: k×k camera rays per pixel for the footprint areas
 };
 // Throws core::Error("trace options", 0, ...) naming the field.
 void validate(const TraceOptions& o);
@@ -71,7 +70,8 @@ constexpr uint64_t streamIndex(int c, uint64_t path) {
 }
 
 // What one channel of one path did. Weights are per unit of source power per path (A_src/N).
-// Per path: hit = specular + exited + absorbed + rouletteLoss + leaked (up to rounding).
+// Per path: hit = specular + exited + absorbed + truncated + rouletteLoss + leaked (up to
+// rounding).
 struct ExitRecord {
     int32_t pixel = -1;      // pixel of a camera-visible exit in a covered pixel, else −1
     uint32_t events = 0;     // interactions
@@ -81,13 +81,15 @@ struct ExitRecord {
     double absorbed = 0;     // expected absorbed weight (implicit absorption)
     double rouletteLoss = 0; // weight removed minus weight added by roulettes (expectation 0)
     double leaked = 0;       // weight lost to a numerical leak through the surface (meshes)
+    double truncated = 0;    // weight of a path truncated at the event limit
 };
 
 struct ChannelTally {
     std::vector<double> pixSum, pixSumSq; // Σw, Σw² per pixel
     double hitSum = 0, specSum = 0, specSumSq = 0, exitSum = 0, exitSumSq = 0;
     double absSum = 0, absSumSq = 0, rouletteSum = 0, rouletteSumSq = 0, leakSum = 0;
-    uint64_t events = 0, leaks = 0;
+    double truncSum = 0, truncSumSq = 0;
+    uint64_t events = 0, leaks = 0, truncatedPaths = 0;
 };
 struct ImageTally {
     uint64_t paths = 0;
@@ -105,8 +107,9 @@ struct ChannelStats {
     double exited = 0, exitedStderr = 0;     // left the object anywhere, visible or not
     double absorbed = 0, absorbedStderr = 0;
     double rouletteNet = 0, rouletteNetStderr = 0; // expected 0
+    double truncated = 0, truncatedStderr = 0;     // truncated at the event limit: bias bound
     double leaked = 0;                             // numerical leaks (meshes), W
-    uint64_t leaks = 0, events = 0;
+    uint64_t leaks = 0, events = 0, truncatedPaths = 0;
 };
 struct ImageStats {
     uint64_t paths = 0;        // paths per channel
@@ -116,6 +119,12 @@ struct ImageStats {
     std::array<ChannelStats, kChannels> channel;
     PixelGeometry pixels; // in mm² / unitless
 };
+
+// The energy check of one channel (as energyProblem(SlabResult) in pathtrace.h): empty when it
+// holds, else a sentence: incident = specular + exited + absorbed + truncated + roulette +
+// leaked off by more than 1e-6 relative, mean roulette change inconsistent with 0 (|z| >
+// kEnergyZ), or truncated power above the standard error of the exited power.
+std::string energyProblem(const ChannelStats& s);
 
 // Traces paths [first, first + count) of every channel into out[c·count + i]; returns the
 // number of paths traced (fewer than count only when `cancel` was set).

@@ -19,7 +19,7 @@ using detail::u128;
 using detail::wordThreshold;
 
 // Must match shaders/pathtrace_slab.comp and common/pathtrace_tally.glsl.
-constexpr uint64_t kExtraSlots = 4;   // beyond rMax, absorbed, loss+, loss−
+constexpr uint64_t kExtraSlots = 6;   // beyond rMax, absorbed, loss+, loss−, truncated (w, count)
 constexpr uint64_t kHeavyPerPath = 3; // exit, absorbed, loss
 
 enum Uniform {
@@ -38,7 +38,7 @@ enum Uniform {
     uEntryWeight,
     uBinsPerMm,
     uBins,
-    uRouletteAfter,
+    uMaxEvents,
     uRouletteWeight,
     uSurviveWeight,
     uWeightGain,
@@ -59,7 +59,7 @@ constexpr const char* kUniformNames[uCount] = {"Seed",
                                                "EntryWeight",
                                                "BinsPerMm",
                                                "Bins",
-                                               "RouletteAfter",
+                                               "MaxEvents",
                                                "RouletteWeight",
                                                "SurviveWeight",
                                                "WeightGain"};
@@ -128,8 +128,9 @@ void GpuSlabTracer::setMediumUniforms() {
     const auto at = [&](Uniform u) { return m_loc[static_cast<size_t>(u)]; };
     const double sigmaT = m.sigmaA + m.sigmaS;
     const double r = (m.eta - 1.0) / (m.eta + 1.0);
-    const uint32_t surviveWeight = wordThreshold(s.rouletteSurvival);
-    const bool weightRoulette = s.rouletteSurvival < 1.0 && surviveWeight > 0;
+    const Termination& term = s.termination;
+    const uint32_t surviveWeight = wordThreshold(term.rouletteSurvival);
+    const bool weightRoulette = term.rouletteSurvival < 1.0 && surviveWeight > 0;
     glProgramUniform2ui(p, at(uSeed), static_cast<GLuint>(s.seed),
                         static_cast<GLuint>(s.seed >> 32));
     glProgramUniform1f(p, at(uSigmaT), static_cast<float>(sigmaT));
@@ -142,10 +143,10 @@ void GpuSlabTracer::setMediumUniforms() {
     glProgramUniform1f(p, at(uEntryWeight), static_cast<float>(1.0 - r * r));
     glProgramUniform1f(p, at(uBinsPerMm), static_cast<float>(s.bins / s.rMaxMm));
     glProgramUniform1ui(p, at(uBins), static_cast<GLuint>(s.bins));
-    glProgramUniform1ui(p, at(uRouletteAfter), static_cast<GLuint>(s.rouletteAfter));
+    glProgramUniform1ui(p, at(uMaxEvents), static_cast<GLuint>(term.maxEvents));
     // p = 1 (or below 2^-32) plays no weight roulette: a threshold no weight goes below
     glProgramUniform1f(p, at(uRouletteWeight),
-                       weightRoulette ? static_cast<float>(s.rouletteWeight) : -1.0f);
+                       weightRoulette ? static_cast<float>(term.rouletteWeight) : -1.0f);
     glProgramUniform1ui(p, at(uSurviveWeight), surviveWeight);
     glProgramUniform1f(p, at(uWeightGain),
                        weightRoulette ? static_cast<float>(kFixedOne / surviveWeight) : 1.0f);
@@ -182,6 +183,9 @@ void GpuSlabTracer::publish() {
     // a path's loss is either positive (slot +2) or negative (slot +3): Σ loss² adds up
     t.rouletteSum = toDouble(static_cast<i128>(sum[bins + 2]) - static_cast<i128>(sum[bins + 3]));
     t.rouletteSumSq = toDouble(sumSq[bins + 2] + sumSq[bins + 3]);
+    t.truncSum = toDouble(sum[bins + 4]);
+    t.truncSumSq = toDouble(sumSq[bins + 4]);
+    t.truncatedPaths = static_cast<uint64_t>(toDouble(sum[bins + 5]) + 0.5);
     const double r = (m_medium.eta - 1.0) / (m_medium.eta + 1.0);
     t.specular = t.paths > 0 ? r * r : 0.0;
     t.events = m_work.events();

@@ -1,5 +1,5 @@
 // pathtrace GPU half: the slab tracer of pathtrace.h (thesis 3.2, Algorithm 1 with the
-// long-path roulette) as an OpenGL 4.5 compute shader, shaders/pathtrace_slab.comp.
+// termination of pathtrace.h) as an OpenGL 4.5 compute shader, shaders/pathtrace_slab.comp.
 //   Same physics, conventions, estimators (Implicit / Analog) and tally as the CPU tracer,
 //   traced in float with a Philox4x32-10 stream per path index
 //   (shaders/common/pathtrace_rng.glsl): statistically, not bitwise, equal to the CPU result.
@@ -10,11 +10,11 @@
 //   Mesa llvmpipe's limit of 65535 loop iterations per invocation cannot drop long paths.
 //   Tallies (shaders/common/pathtrace_tally.glsl): per slot Σw and Σw² as exact 64-bit
 //   fixed-point sums (unit 2^-32) made of 32-bit integer atomics with carries; values
-//   rounded to 2^-32 stochastically (unbiased); values above 16 (only after long-path
-//   roulette survivals) go through a side list of floats. The host reads the integers back
-//   after every dispatch (at most 2^17 paths end in one; 2^23 could wrap a 64-bit sum), adds
-//   them exactly into 128-bit integers and converts to the double SlabTally. On one device
-//   and driver the tally is a function of (medium, settings, seed, paths done), bitwise: not
+//   rounded to 2^-32 stochastically (unbiased); values above 16 (possible only when
+//   rouletteWeight / rouletteSurvival > 16) go through a side list of floats. The host reads the
+//   integers back after every dispatch (at most 2^17 paths end in one; 2^23 could wrap a 64-bit
+//   sum), adds them exactly into 128-bit integers and converts to the double SlabTally. On one
+//   device and driver the tally is a function of (medium, settings, seed, paths done), bitwise: not
 //   of step sizes, budgets, dispatches or scheduling.
 //   Needs the same current OpenGL 4.5 context on the calling thread for every call.
 #pragma once

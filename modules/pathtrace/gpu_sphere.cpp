@@ -42,32 +42,18 @@ enum Uniform {
     uExtent,
     uPixelSize,
     uImageSize,
-    uRouletteAfter,
+    uMaxEvents,
     uRouletteWeight,
     uSurviveWeight,
     uWeightGain,
     uCount
 };
-constexpr const char* kUniformNames[uCount] = {"Seed",
-                                               "FirstPath",
-                                               "ItemCount",
-                                               "InCount",
-                                               "EventBudget",
-                                               "SigmaT",
-                                               "AbsorbFraction",
-                                               "G",
-                                               "Eta",
-                                               "Radius",
-                                               "Light",
-                                               "E1",
-                                               "E2",
-                                               "Extent",
-                                               "PixelSize",
-                                               "ImageSize",
-                                               "RouletteAfter",
-                                               "RouletteWeight",
-                                               "SurviveWeight",
-                                               "WeightGain"};
+constexpr const char* kUniformNames[uCount] = {
+    "Seed",        "FirstPath",      "ItemCount",      "InCount",
+    "EventBudget", "SigmaT",         "AbsorbFraction", "G",
+    "Eta",         "Radius",         "Light",          "E1",
+    "E2",          "Extent",         "PixelSize",      "ImageSize",
+    "MaxEvents",   "RouletteWeight", "SurviveWeight",  "WeightGain"};
 
 } // namespace
 
@@ -98,12 +84,12 @@ void GpuSphereTracer::reset(const std::array<Medium, 3>& media, const LitSphereS
     m_options = options;
     m_target = target;
     m_pixels = std::move(pixels);
-    m_work.allocate(3 * (m_pixels.footprint.size() + 1));
+    m_work.allocate(3 * (m_pixels.footprint.size() + 2));
     clearSums();
 }
 
 void GpuSphereTracer::clearSums() {
-    m_work.clear(3 * (m_pixels.footprint.size() + 1));
+    m_work.clear(3 * (m_pixels.footprint.size() + 2));
     m_paths = 0;
     m_seconds = 0;
 }
@@ -158,8 +144,9 @@ void GpuSphereTracer::setUniforms() {
     const double e2[3] = {l[1] * e1[2] - l[2] * e1[1], l[2] * e1[0] - l[0] * e1[2],
                           l[0] * e1[1] - l[1] * e1[0]};
     const OrthoCamera cam(s, s.radiusMm);
-    const uint32_t surviveWeight = wordThreshold(m_options.rouletteSurvival);
-    const bool weightRoulette = m_options.rouletteSurvival < 1.0 && surviveWeight > 0;
+    const Termination& term = m_options.termination;
+    const uint32_t surviveWeight = wordThreshold(term.rouletteSurvival);
+    const bool weightRoulette = term.rouletteSurvival < 1.0 && surviveWeight > 0;
     const auto f = [](double v) { return static_cast<float>(v); };
     glProgramUniform2ui(p, at(uSeed), static_cast<GLuint>(s.seed),
                         static_cast<GLuint>(s.seed >> 32));
@@ -175,9 +162,8 @@ void GpuSphereTracer::setUniforms() {
     glProgramUniform2f(p, at(uPixelSize), f(cam.dx), f(cam.dy));
     glProgramUniform2ui(p, at(uImageSize), static_cast<GLuint>(s.width),
                         static_cast<GLuint>(s.height));
-    glProgramUniform1ui(p, at(uRouletteAfter), static_cast<GLuint>(m_options.rouletteAfter));
-    glProgramUniform1f(p, at(uRouletteWeight),
-                       weightRoulette ? f(m_options.rouletteWeight) : -1.0f);
+    glProgramUniform1ui(p, at(uMaxEvents), static_cast<GLuint>(term.maxEvents));
+    glProgramUniform1f(p, at(uRouletteWeight), weightRoulette ? f(term.rouletteWeight) : -1.0f);
     glProgramUniform1ui(p, at(uSurviveWeight), surviveWeight);
     glProgramUniform1f(p, at(uWeightGain), weightRoulette ? f(kFixedOne / surviveWeight) : 1.0f);
 }
@@ -204,7 +190,7 @@ Image GpuSphereTracer::image() const {
     const double R = m_setup.radiusMm;
     const double source = std::numbers::pi * R * R;
     for (size_t c = 0; c < 3; ++c) {
-        const size_t base = c * (n + 1);
+        const size_t base = c * (n + 2);
         for (size_t p = 0; p < n; ++p) {
             const double area = m_pixels.footprint[p];
             if (!(area > 0)) continue; // centre ray misses: 0, variance 0
@@ -218,12 +204,13 @@ Image GpuSphereTracer::image() const {
     return img;
 }
 
-std::array<double, 3> GpuSphereTracer::exitedPower(std::array<double, 3>* stderrOut) const {
+std::array<double, 3> GpuSphereTracer::slotPower(size_t offset,
+                                                 std::array<double, 3>* stderrOut) const {
     const size_t n = m_pixels.footprint.size();
     const double R = m_setup.radiusMm;
     std::array<double, 3> power{};
     for (size_t c = 0; c < 3; ++c) {
-        const size_t slot = c * (n + 1) + n;
+        const size_t slot = c * (n + 2) + n + offset;
         double mean, err;
         meanStderr(toDouble(m_work.sum()[slot]), toDouble(m_work.sumSq()[slot]), m_paths,
                    std::numbers::pi * R * R, mean, err);
@@ -231,6 +218,14 @@ std::array<double, 3> GpuSphereTracer::exitedPower(std::array<double, 3>* stderr
         if (stderrOut) (*stderrOut)[c] = err;
     }
     return power;
+}
+
+std::array<double, 3> GpuSphereTracer::exitedPower(std::array<double, 3>* stderrOut) const {
+    return slotPower(0, stderrOut);
+}
+
+std::array<double, 3> GpuSphereTracer::truncatedPower(std::array<double, 3>* stderrOut) const {
+    return slotPower(1, stderrOut);
 }
 
 } // namespace pathtrace

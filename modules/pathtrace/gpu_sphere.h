@@ -6,8 +6,8 @@
 // dispatch into 128-bit host sums.
 //   Estimator: that of traceLitSphere (entry uniform on the light's projected disk, each path
 //   power πR²/N, Fresnel at entry dropped as specular, refraction with weight 1 − F, implicit
-//   absorption with weight roulette, long-path roulette, Fresnel roulette at boundary hits,
-//   exit tallied into the pixel its point projects to when n·z > 0); pixel value = power /
+//   absorption with weight roulette, truncation at the event limit, Fresnel roulette at boundary
+//   hits, exit tallied into the pixel its point projects to when n·z > 0); pixel value = power /
 //   footprint (sphereFootprints), N = pathsDone(), variance of the mean from per-path second
 //   moments. Float state: statistically, not bitwise, equal to the CPU image.
 //   RGB: channel c of path i uses media[c] and the Philox stream (key seed, counter (i, block,
@@ -56,6 +56,9 @@ class GpuSphereTracer {
     Image image() const;
     // Exited power per channel (W at 1 W/mm², visible or not) and its standard error.
     std::array<double, 3> exitedPower(std::array<double, 3>* stderrOut = nullptr) const;
+    // Power (W) of paths truncated at the event limit per channel: a bound on what the image
+    // misses (0 unless the albedo is within ~1e-5 of 1).
+    std::array<double, 3> truncatedPower(std::array<double, 3>* stderrOut = nullptr) const;
     uint64_t pathsDone() const { return m_paths; }
     uint64_t targetPaths() const { return m_target; }
     bool finished() const { return m_paths >= m_target; }
@@ -75,14 +78,15 @@ class GpuSphereTracer {
 
   private:
     void clearSums();
+    std::array<double, 3> slotPower(size_t offset, std::array<double, 3>* stderrOut) const;
     void setUniforms();
     void runRound(uint64_t first, uint64_t count);
 
     std::filesystem::path m_shaderFile;
     gl::Program m_program;
     std::vector<int> m_loc;
-    // Buffers, dispatch loop and exact sums in units of 2^-32: slot c·(P + 1) + p (pixel p),
-    // c·(P + 1) + P (exited).
+    // Buffers, dispatch loop and exact sums in units of 2^-32: slot c·(P + 2) + p (pixel p),
+    // c·(P + 2) + P (exited), c·(P + 2) + P + 1 (truncated).
     detail::GpuWorkQueue m_work;
     uint32_t m_eventBudget = kDefaultEventBudget;
     std::array<Medium, 3> m_media{};

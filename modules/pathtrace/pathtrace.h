@@ -1,7 +1,8 @@
 // pathtrace: the unbiased volumetric reference (thesis 3.2, Algorithm 1), CPU half.
 //   Homogeneous medium under a dielectric boundary. Distance sampling s = −ln(1−ξ)/σt,
 //   Henyey–Greenstein phase sampling by exact inversion, exact unpolarised Fresnel with
-//   reflection/transmission roulette at every boundary hit, the thesis's long-path roulette.
+//   reflection/transmission roulette at every boundary hit, weight roulette with bounded
+//   survivors and a tallied truncation (no long-path roulette, see Termination).
 //   RGB is traced one channel at a time, each channel its own medium (Medium below).
 //   Randomness: one counter-based stream per path index (PCG32 seeded by (seed, path)), paths
 //   tallied in fixed-size chunks merged in chunk order, so results are bitwise identical for
@@ -16,15 +17,21 @@
 //   absorbed; Russian roulette below `rouletteWeight` (survive with `rouletteSurvival`,
 //   w /= p). Estimator::Analog is Algorithm 1 as printed (absorb with probability 1 − α).
 //   Boundary hits: Fresnel roulette (reflect with probability R(θ), else exit; the thesis's
-//   f_t = 1 − R). Long-path roulette (thesis 3.2): after `rouletteAfter` interactions, each
-//   further interaction ends the path with probability 0.9, else w *= 10. Roulette weight
-//   changes are tallied as `roulette` loss, so per path, exactly up to rounding,
-//       specular + reflected + absorbed + rouletteLoss = 1,
-//   with E[rouletteLoss] = 0 (every estimator is unbiased). Note: the long-path roulette
-//   (p = 0.1, ×10 at every interaction past the limit) multiplies a surviving path's second
-//   moment by 10 per interaction, so its variance is unbounded in principle; keep
-//   rouletteAfter well above the typical path length (the default 1000 is, for α <= 0.99
-//   under the weight roulette), where its share of the estimate is negligible.
+//   f_t = 1 − R).
+//   Termination (Termination below, shared by every tracer, CPU and GPU): only the weight
+//   roulette ends a path early, and its survivors carry w/p < rouletteWeight/p, so every
+//   path's weight stays bounded (≤ max(1, rouletteWeight/p)) and both the estimate and its
+//   variance are sound. The thesis's long-path roulette (3.2: past 1000 events end with 90 %,
+//   else ×10) is not used: its survivors' weight grows as 10^k, its variance is unbounded, and
+//   in any finite run its rare survivors are never sampled, so its mean came out low (1 % for
+//   albedo 0.999, 7 % for σa = 0) with too small an error bar. A path still alive after
+//   `maxEvents` interactions is truncated: its weight is tallied as `truncated`, a bound on
+//   the bias of R_d (that weight would have left or been absorbed). With the default 2^20
+//   events this happens only for albedo within ~1e-5 of 1 (σa = 0: Spectralon), where it is
+//   printed as a bound; for albedo ≤ 0.9999 the weight roulette has ended every path long
+//   before (w ≤ α^(2^20) < e^−100). Per path, exactly up to rounding,
+//       specular + reflected + absorbed + truncated + rouletteLoss = 1,
+//   with E[rouletteLoss] = 0 (energyProblem() checks both and says so when they fail).
 //   Defaults of the weight roulette (0.1, 0.5) were tuned on the reference case η 1.3,
 //   σa 0.01, σs 1, g 0 (1/mm) for time to 1 % error at r = l_d and 4 l_d.
 //   Files: rng.h (PCG32 streams), sampling.h (distance, HG, direction frame), fresnel.h,
@@ -49,6 +56,16 @@ struct Medium {
 // Throws core::Error("<what>", 0, msg) naming the field.
 void validate(const Medium& m, const std::string& what = "medium");
 
+// How paths end, for every tracer (slab, sphere, mesh; CPU and GPU). See the header comment.
+struct Termination {
+    double rouletteWeight = 0.1;   // weight roulette below this weight (Implicit)
+    double rouletteSurvival = 0.5; // its survival probability p (survivors' weight /= p)
+    uint32_t maxEvents = 1u << 20; // a path alive after this many interactions is truncated
+};
+// Throws core::Error("<what>", 0, msg) naming the field: rouletteWeight not in (0, 1),
+// rouletteSurvival not in (0, 1], maxEvents < 1.
+void validate(const Termination& t, const std::string& what);
+
 enum class Estimator {
     Implicit, // absorption by weight + weight roulette (efficient; the default)
     Analog,   // thesis Algorithm 1 as printed: absorption by roulette
@@ -59,15 +76,12 @@ struct SlabSettings {
     int bins = 200;       // radial bins of equal width
     uint64_t paths = 1000000;
     uint64_t seed = 1;
-    int threads = 0;               // 0: all hardware threads
-    int rouletteAfter = 1000;      // long-path roulette after this many events (thesis 3.2)
-    double rouletteWeight = 0.1;   // Implicit: roulette when the weight falls below this
-    double rouletteSurvival = 0.5; // Implicit: its survival probability p (weight /= p)
+    int threads = 0; // 0: all hardware threads
+    Termination termination;
     Estimator estimator = Estimator::Implicit;
 };
 // Throws core::Error naming the field: rMax <= 0 or non-finite, bins < 1 or too many
-// (> 1e7), paths == 0 or absurd (> 1e13), threads < 0, rouletteAfter < 1, rouletteWeight
-// not in (0, 1), rouletteSurvival not in (0, 1].
+// (> 1e7), paths == 0 or absurd (> 1e13), threads < 0, a bad termination (see above).
 void validate(const SlabSettings& s);
 
 // Mergeable sums over paths (per-path first and second moments of every figure).
@@ -79,18 +93,21 @@ struct SlabTally {
     double absSum = 0, absSumSq = 0;           // absorbed
     double specular = 0;                       // R_sp per path (deterministic, the same for all)
     double rouletteSum = 0, rouletteSumSq = 0; // weight removed by roulettes (E = 0)
-    uint64_t events = 0;                       // interactions (scattering or absorption) traced
+    double truncSum = 0, truncSumSq = 0;       // weight of paths truncated at maxEvents
+    uint64_t truncatedPaths = 0;
+    uint64_t events = 0; // interactions (scattering or absorption) traced
     // Adds the other's sums (bins must agree; an empty tally adopts the other's size).
     void merge(const SlabTally& other);
 };
 
 // What one path did (tracePath): the per-path accounting identity
-//   specular + reflected + absorbed + rouletteLoss == 1 holds up to rounding.
+//   specular + reflected + absorbed + truncated + rouletteLoss == 1 holds up to rounding.
 struct PathRecord {
     double specular = 0;     // R_sp
     double reflected = 0;    // weight that left through the surface (0 when it did not)
     double absorbed = 0;     // absorbed weight (expected, under Estimator::Implicit)
     double rouletteLoss = 0; // weight removed minus weight added by roulettes
+    double truncated = 0;    // weight of the path when it was truncated at maxEvents
     double exitR = -1;       // radius of the exit point, mm (-1: did not exit)
     uint32_t events = 0;     // interactions
     bool exited = false;
@@ -117,8 +134,21 @@ struct SlabResult {
     uint64_t paths = 0;
     double seconds = 0;
     double rouletteNet = 0, rouletteNetStderr = 0; // mean roulette loss (expected 0)
+    double truncated = 0, truncatedStderr = 0;     // mean truncated weight: a bound on the bias
+    uint64_t truncatedPaths = 0;
     uint64_t events = 0;
 };
+
+// The reference's own energy check. Empty when it holds, else one sentence saying what failed:
+//   - the accounting specular + R_d + absorbed + truncated + roulette = 1 is off by more than
+//     rounding (1e-6; the GPU tally rounds floats);
+//   - the mean roulette loss is inconsistent with 0: |z| > kEnergyZ (a roulette is biased);
+//   - truncated weight exceeds the standard error of the total R_d: the error bars no longer
+//     cover the truncation bias, so R_d may be low by up to `truncated` (raise maxEvents).
+// kEnergyZ = 5 (two-sided p 6e-7): the GUI checks every progressive snapshot of three
+// channels, so a threshold for one test would raise false alarms over a long session.
+constexpr double kEnergyZ = 5.0;
+std::string energyProblem(const SlabResult& r);
 
 // Traces paths [first, first + count) (deterministic per path index), summed path by path.
 // `cancel` may be null; when it is set the tally covers the paths done so far (t.paths).

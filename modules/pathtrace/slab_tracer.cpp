@@ -1,14 +1,14 @@
 // pathtrace/slab_tracer: one path through the semi-infinite slab z < 0 (surface z = 0, outward
 // normal +z) under a normally incident pencil beam at the origin — thesis Algorithm 1 (Section
-// 3.2) with the MCML entry convention (Wang, Jacques & Zheng 1995) and the thesis's long-path
-// roulette; estimators as documented in pathtrace.h:
+// 3.2) with the MCML entry convention (Wang, Jacques & Zheng 1995); estimators and termination
+// as documented in pathtrace.h:
 //   entry     R_sp = ((η − 1)/(η + 1))² is tallied, the photon enters along −z with 1 − R_sp;
 //   flight    s = −ln(1 − ξ)/σt (line 3); crossing z = 0 is a boundary hit (lines 4–5);
 //   boundary  reflect with probability R(θ) (exact Fresnel, fresnel.h; no draw when R is 0 or
 //             1), mirror u_z and travel the rest of s (lines 7–8), else exit (line 10);
 //   collision Analog: absorb with probability 1 − α (line 15); Implicit: w ← αw, absorbed
-//             += w(1 − α), roulette below rouletteWeight; then the long-path roulette, then an
-//             HG scattering (line 16).
+//             += w(1 − α), roulette below rouletteWeight; then truncation at maxEvents (the
+//             weight tallied as truncated), then an HG scattering (line 16).
 #include "core/core.h"
 #include "pathtrace/detail/collision.h"
 #include "pathtrace/detail/slab_chunk.h"
@@ -31,7 +31,7 @@ struct Consts {
     double etaOut; // n_t / n_i when leaving the medium: 1/η
     double rsp;    // specular reflectance at normal incidence
     double w0;     // 1 − R_sp
-    uint32_t rouletteAfter;
+    uint32_t maxEvents;
     double rouletteWeight, rouletteSurvival;
 };
 
@@ -45,19 +45,17 @@ Consts makeConsts(const Medium& m, const SlabSettings& s) {
     const double r = (m.eta - 1.0) / (m.eta + 1.0);
     c.rsp = r * r;
     c.w0 = 1.0 - c.rsp;
-    c.rouletteAfter = static_cast<uint32_t>(std::max(1, s.rouletteAfter));
-    c.rouletteWeight = s.rouletteWeight;
-    c.rouletteSurvival = s.rouletteSurvival;
+    c.maxEvents = std::max<uint32_t>(1, s.termination.maxEvents);
+    c.rouletteWeight = s.termination.rouletteWeight;
+    c.rouletteSurvival = s.termination.rouletteSurvival;
     return c;
 }
-
-// Survival test of probability 1/10 for the long-path roulette: 429496730 / 2^32.
 
 template <bool Analog, bool Isotropic> PathRecord traceOne(const Consts& c, Pcg32 rng) {
     PathRecord p;
     p.specular = c.rsp;
     double w = c.w0;
-    double absorbed = 0.0, loss = 0.0;
+    double absorbed = 0.0, loss = 0.0, truncated = 0.0;
     double x = 0.0, y = 0.0, z = 0.0;
     Dir u{0.0, 0.0, -1.0};
     uint32_t events = 0;
@@ -93,7 +91,7 @@ template <bool Analog, bool Isotropic> PathRecord traceOne(const Consts& c, Pcg3
         } else if (!detail::absorbAndRoulette(w, absorbed, loss, c, rng)) {
             break;
         }
-        if (!detail::longPathRoulette(w, loss, events, c, rng)) break; // thesis 3.2
+        if (!detail::belowEventLimit(w, truncated, events, c)) break;
         if constexpr (Isotropic)
             u = sampleSphere(rng);
         else
@@ -101,6 +99,7 @@ template <bool Analog, bool Isotropic> PathRecord traceOne(const Consts& c, Pcg3
     }
     p.absorbed = absorbed;
     p.rouletteLoss = loss;
+    p.truncated = truncated;
     p.events = events;
     return p;
 }

@@ -7,10 +7,11 @@
 //              the way out; no draw when R is 0 or 1): mirror the direction and travel the rest
 //              of s (checking the boundary again); else exit there with the current weight;
 //   collision  implicit absorption w ← αw, absorbed += w(1 − α); weight roulette below
-//              rouletteWeight (survive with rouletteSurvival, w /= p); the long-path roulette
-//              after rouletteAfter events (end with probability 0.9, else w ×= 10); then an HG
-//              scattering (uniform on the sphere for g = 0).
-//   Per path: exited + absorbed + rouletteLoss + leaked = entered weight (up to rounding).
+//              rouletteWeight (survive with rouletteSurvival, w /= p); truncation after
+//              maxEvents interactions (the weight tallied as truncated, Termination in
+//              pathtrace.h); then an HG scattering (uniform on the sphere for g = 0).
+//   Per path: exited + absorbed + truncated + rouletteLoss + leaked = entered weight (up to
+//   rounding).
 // Safeguard: a path that meets the boundary kMaxBoundaryHits times (numerically stuck at a
 // grazing point) ends as `leaked`, like a path that finds itself outside (meshes).
 #pragma once
@@ -49,7 +50,7 @@ struct Consts {
     double g;
     double eta;    // η = n_medium / n_outside
     double etaOut; // 1/η: relative index when leaving
-    uint32_t rouletteAfter;
+    uint32_t maxEvents;
     double rouletteWeight, rouletteSurvival;
 };
 // `lengthUnit`: length of the walk's unit in mm (1 for mm; the mesh's scale for normalised
@@ -62,9 +63,9 @@ inline Consts makeConsts(const Medium& m, const TraceOptions& o, double lengthUn
     c.g = m.g;
     c.eta = m.eta;
     c.etaOut = 1.0 / m.eta;
-    c.rouletteAfter = static_cast<uint32_t>(std::max(1, o.rouletteAfter));
-    c.rouletteWeight = o.rouletteWeight;
-    c.rouletteSurvival = o.rouletteSurvival;
+    c.maxEvents = std::max<uint32_t>(1, o.termination.maxEvents);
+    c.rouletteWeight = o.termination.rouletteWeight;
+    c.rouletteSurvival = o.termination.rouletteSurvival;
     return c;
 }
 
@@ -96,11 +97,11 @@ constexpr uint32_t kMaxBoundaryHits = 1u << 20;
 //       collision point stays clear of the surface, see mesh_tracer.cpp);
 //   Dir reflectStart(const Hit& h) const: where to continue inside after reflecting at h.
 // Walks from x (inside) along u with weight w; fills r.events/exited/absorbed/rouletteLoss/
-// leaked; returns true and the exit in `out` when the path left the object.
+// truncated/leaked; returns true and the exit in `out` when the path left the object.
 template <bool Isotropic, class Geo>
 bool walk(const Consts& c, const Geo& geo, Pcg32& rng, Dir x, Dir u, double w, ExitRecord& r,
           Hit& out) {
-    double absorbed = 0.0, loss = 0.0, pending = -1.0;
+    double absorbed = 0.0, loss = 0.0, truncated = 0.0, pending = -1.0;
     uint32_t events = 0, boundaryHits = 0;
     bool exited = false;
     for (;;) {
@@ -127,7 +128,7 @@ bool walk(const Consts& c, const Geo& geo, Pcg32& rng, Dir x, Dir u, double w, E
         x = madd(x, u, s);
         ++events;
         if (!detail::absorbAndRoulette(w, absorbed, loss, c, rng)) break;
-        if (!detail::longPathRoulette(w, loss, events, c, rng)) break; // thesis 3.2
+        if (!detail::belowEventLimit(w, truncated, events, c)) break;
         if constexpr (Isotropic)
             u = sampleSphere(rng);
         else
@@ -136,6 +137,7 @@ bool walk(const Consts& c, const Geo& geo, Pcg32& rng, Dir x, Dir u, double w, E
     r.events = events;
     r.absorbed = absorbed;
     r.rouletteLoss = loss;
+    r.truncated = truncated;
     return exited;
 }
 

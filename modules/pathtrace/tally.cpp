@@ -1,16 +1,17 @@
 // pathtrace/tally: per-path sums and their finalisation into R_d(r) with standard errors.
 //   Every figure X (weight left in a radial bin, total diffuse reflectance, absorbed weight,
-//   roulette loss) is summed per path as ΣX and ΣX²; each path leaves through the surface at
-//   most once, so it contributes to at most one bin. Estimates: mean X̄ = ΣX/N and standard
-//   error sqrt((ΣX²/N − X̄²)/(N − 1)) (the unbiased sample variance of the mean). R_d(r) in the
-//   MCML convention (Wang, Jacques & Zheng 1995, eq. 4.7): weight per annulus area
-//   π(r_{i+1}² − r_i²) per incident photon, 1/mm².
+//   roulette loss, truncated weight) is summed per path as ΣX and ΣX²; each path leaves through the
+//   surface at most once, so it contributes to at most one bin. Estimates: mean X̄ = ΣX/N and
+//   standard error sqrt((ΣX²/N − X̄²)/(N − 1)) (the unbiased sample variance of the mean). R_d(r) in
+//   the MCML convention (Wang, Jacques & Zheng 1995, eq. 4.7): weight per annulus area π(r_{i+1}² −
+//   r_i²) per incident photon, 1/mm².
 #include "core/core.h"
 #include "pathtrace/detail/mean_stderr.h"
 #include "pathtrace/pathtrace.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -48,6 +49,11 @@ void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s) {
     t.absSumSq += p.absorbed * p.absorbed;
     t.rouletteSum += p.rouletteLoss;
     t.rouletteSumSq += p.rouletteLoss * p.rouletteLoss;
+    if (p.truncated != 0) {
+        t.truncSum += p.truncated;
+        t.truncSumSq += p.truncated * p.truncated;
+        ++t.truncatedPaths;
+    }
 }
 
 void SlabTally::merge(const SlabTally& o) {
@@ -72,6 +78,9 @@ void SlabTally::merge(const SlabTally& o) {
     absSumSq += o.absSumSq;
     rouletteSum += o.rouletteSum;
     rouletteSumSq += o.rouletteSumSq;
+    truncSum += o.truncSum;
+    truncSumSq += o.truncSumSq;
+    truncatedPaths += o.truncatedPaths;
     events += o.events;
 }
 
@@ -108,7 +117,38 @@ SlabResult finalize(const SlabTally& t, const SlabSettings& s) {
     meanStderr(t.rdSum, t.rdSumSq, t.paths, r.totalRd, r.totalRdStderr);
     meanStderr(t.absSum, t.absSumSq, t.paths, r.absorbed, r.absorbedStderr);
     meanStderr(t.rouletteSum, t.rouletteSumSq, t.paths, r.rouletteNet, r.rouletteNetStderr);
+    meanStderr(t.truncSum, t.truncSumSq, t.paths, r.truncated, r.truncatedStderr);
+    r.truncatedPaths = t.truncatedPaths;
     return r;
+}
+
+std::string energyProblem(const SlabResult& r) {
+    if (r.paths < 2) return {};
+    char b[320];
+    const double sum = r.specular + r.totalRd + r.absorbed + r.truncated + r.rouletteNet;
+    if (!(std::fabs(sum - 1.0) <= 1e-6)) {
+        std::snprintf(b, sizeof b,
+                      "energy check failed: specular + R_d + absorbed + truncated + roulette = "
+                      "%.9g, not 1",
+                      sum);
+        return b;
+    }
+    if (r.rouletteNetStderr > 0 && std::fabs(r.rouletteNet) > kEnergyZ * r.rouletteNetStderr) {
+        std::snprintf(b, sizeof b,
+                      "energy check failed: mean roulette change %.3g +- %.2g is not 0 (z = %.1f): "
+                      "a roulette is biased, R_d cannot be trusted",
+                      r.rouletteNet, r.rouletteNetStderr, r.rouletteNet / r.rouletteNetStderr);
+        return b;
+    }
+    if (r.truncated > r.totalRdStderr) {
+        std::snprintf(
+            b, sizeof b,
+            "%llu paths truncated at the event limit: R_d may be low by up to %.3g "
+            "(truncated weight), more than its standard error %.2g; raise the event limit",
+            static_cast<unsigned long long>(r.truncatedPaths), r.truncated, r.totalRdStderr);
+        return b;
+    }
+    return {};
 }
 
 } // namespace pathtrace

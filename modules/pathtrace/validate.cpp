@@ -30,6 +30,17 @@ void validate(const Medium& m, const std::string& what) {
         throw core::Error(what, 0, "eta must be finite and > 0, got " + num(m.eta));
 }
 
+void validate(const Termination& t, const std::string& what) {
+    if (!(t.rouletteWeight > 0 && t.rouletteWeight < 1))
+        throw core::Error(what, 0,
+                          "rouletteWeight must lie in (0, 1), got " + num(t.rouletteWeight));
+    if (!(t.rouletteSurvival > 0 && t.rouletteSurvival <= 1))
+        throw core::Error(what, 0,
+                          "rouletteSurvival must lie in (0, 1], got " + num(t.rouletteSurvival));
+    if (t.maxEvents < 1)
+        throw core::Error(what, 0, "maxEvents must be >= 1, got " + std::to_string(t.maxEvents));
+}
+
 void validate(const SlabSettings& s) {
     const std::string what = "slab settings";
     if (!std::isfinite(s.rMaxMm) || s.rMaxMm <= 0)
@@ -46,15 +57,7 @@ void validate(const SlabSettings& s) {
         throw core::Error(what, 0,
                           "threads must be >= 0 (0: all hardware threads), got " +
                               std::to_string(s.threads));
-    if (s.rouletteAfter < 1)
-        throw core::Error(what, 0,
-                          "rouletteAfter must be >= 1, got " + std::to_string(s.rouletteAfter));
-    if (!(s.rouletteWeight > 0 && s.rouletteWeight < 1))
-        throw core::Error(what, 0,
-                          "rouletteWeight must lie in (0, 1), got " + num(s.rouletteWeight));
-    if (!(s.rouletteSurvival > 0 && s.rouletteSurvival <= 1))
-        throw core::Error(what, 0,
-                          "rouletteSurvival must lie in (0, 1], got " + num(s.rouletteSurvival));
+    validate(s.termination, what);
     if (s.estimator != Estimator::Implicit && s.estimator != Estimator::Analog)
         throw core::Error(what, 0, "estimator: unknown value");
 }

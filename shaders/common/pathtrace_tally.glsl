@@ -17,10 +17,11 @@
 // so v² ≤ 256 and a slot grows by < (256 + 1)·2^32 per path: 2^23 paths between host
 // readbacks cannot wrap 64 bits (the host reads back after every dispatch, in which at most
 // 2^16 new + 2^16 resumed paths end).
-// Heavier values (possible only after long-path roulette survivals, ×10 each), and anything
-// non-finite or negative, go to the heavy list as float bits (slot, bits) for the host to
-// add exactly; the host sizes it for every slot a path can reach (exit, absorbed, roulette
-// loss: 3 per path of a dispatch), so it cannot fill, and the count shows any excess.
+// Heavier values (possible only for a weight-roulette survival probability below 1/160, whose
+// survivors carry rouletteWeight/p), and anything non-finite or negative, go to the heavy list
+// as float bits (slot, bits) for the host to add exactly; the host sizes it for every slot a
+// path can reach with a weight (exit or truncation, absorbed, roulette loss: 3 per path of a
+// dispatch), so it cannot fill, and the count shows any excess.
 
 const float PT_HEAVY_WEIGHT = 16.0;
 

@@ -486,9 +486,21 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     expectFailure(with({"--rmax", "-1"}), {"rmax"});
     expectFailure({"slab", "--paths", "0", "--out", "x.csv"}, {"path"});
     expectFailure({"slab", "--paths", "1000", "--out", "/proc/nope/x.csv"}, {"/proc/nope/x.csv"});
-    // sigma_a = 0 (no absorption) is valid
+    expectFailure(with({"--max-events", "0"}), {"maxEvents"});
+    // sigma_a = 0 (no absorption) is valid and terminates; the few paths of the heavy tail of
+    // return times that reach the event limit are truncated, and since their weight exceeds the
+    // standard error the CSV is written but the energy check fails: exit status 3, saying so
     RunResult r = run({"slab", "--sigma-a", "0", "--paths", "2000", "--out", "ok.csv"});
+    EXPECT_EQ(r.code, 3) << r.output;
+    EXPECT_NE(r.output.find("error: slab: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("truncated at the event limit"), std::string::npos) << r.output;
+    const std::string csv = readText(dir() / "ok.csv");
+    EXPECT_NE(csv.find("# energy_check FAILED: "), std::string::npos);
+    EXPECT_NE(csv.find("# truncated "), std::string::npos);
+    // with absorption nothing is truncated and the check passes
+    r = run({"slab", "--sigma-a", "0.05", "--paths", "2000", "--out", "ok2.csv"});
     EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(readText(dir() / "ok2.csv").find("# energy_check ok"), std::string::npos);
 }
 
 TEST_F(Cli, SphereAndMeshWriteExrAndRejectBadMeshes) {

@@ -176,14 +176,15 @@ TEST(MeshTracer, EnergyConservedAndNoLeaks) {
         EXPECT_NEAR(k.exited, k.incident, 1e-12 * k.incident);
     }
     TraceOptions o;
-    o.rouletteAfter = 20;
+    o.termination.maxEvents = 3;
     ImageStats st2;
     ball.trace(kMedia, s, {}, nullptr, o, &st2);
     for (int c = 0; c < 3; ++c) {
         const ChannelStats& k = st2.channel[c];
         EXPECT_EQ(k.leaks, 0u);
-        EXPECT_NEAR(k.specular + k.exited + k.absorbed + k.rouletteNet + k.leaked, k.incident,
-                    1e-9 * k.incident);
+        EXPECT_NEAR(k.specular + k.exited + k.absorbed + k.truncated + k.rouletteNet + k.leaked,
+                    k.incident, 1e-9 * k.incident);
+        EXPECT_GT(k.truncatedPaths, 0u);
     }
 }
 

@@ -79,14 +79,15 @@ double normalQuantileUpper(double p) {
 // zero up to float rounding per path when no weight went missing.
 double accountingError(const SlabTally& t) {
     const double n = static_cast<double>(t.paths);
-    return (t.rdSum + t.absSum + t.rouletteSum + n * t.specular - n) / n;
+    return (t.rdSum + t.absSum + t.truncSum + t.rouletteSum + n * t.specular - n) / n;
 }
 
 bool bitwiseEqual(const SlabTally& a, const SlabTally& b) {
     return a.paths == b.paths && a.binSum == b.binSum && a.binSumSq == b.binSumSq &&
            a.rdSum == b.rdSum && a.rdSumSq == b.rdSumSq && a.absSum == b.absSum &&
-           a.absSumSq == b.absSumSq && a.rouletteSum == b.rouletteSum &&
-           a.rouletteSumSq == b.rouletteSumSq && a.specular == b.specular && a.events == b.events;
+           a.absSumSq == b.absSumSq && a.rouletteSum == b.rouletteSum && a.truncSum == b.truncSum &&
+           a.truncatedPaths == b.truncatedPaths && a.rouletteSumSq == b.rouletteSumSq &&
+           a.specular == b.specular && a.events == b.events;
 }
 
 SlabTally traceGpu(const Medium& m, const SlabSettings& s, uint64_t stepSize = 0,
@@ -307,32 +308,36 @@ TEST(PathtraceGpu, AgreesWithCpuBinByBin) {
     EXPECT_LT(std::fabs(accountingError(gpuTally)), 1e-6);
 }
 
-// Past llvmpipe's loop limit: without absorption and with the long-path roulette pushed to
-// 10^5 events, some paths run for more events than one invocation may loop (65535); they are
-// suspended and resumed across dispatches, so no weight goes missing.
+// Past llvmpipe's loop limit: without absorption, some paths run for more events than one
+// invocation may loop (65535) and a few reach the event limit (10^5 here); they are suspended
+// and resumed across dispatches, so no weight goes missing: what did not leave is truncated,
+// exactly as many paths as the CPU tracer truncates in expectation.
 TEST(PathtraceGpu, LongPathsAreNotLost) {
     testsupport::context();
     const Medium m{0.0, 1.0, 0.0, 1.0};
     SlabSettings s;
     s.bins = 10;
     s.paths = 4000;
-    s.rouletteAfter = 100000;
+    s.termination.maxEvents = 100000;
     const SlabTally t = traceGpu(m, s);
     EXPECT_EQ(t.paths, s.paths);
     EXPECT_GT(t.events, 4000u * 200u); // the heavy tail of return times is there
     EXPECT_EQ(t.absSum, 0.0);
     EXPECT_LT(std::fabs(accountingError(t)), 1e-9); // w stays 1: sums are exact
+    EXPECT_GT(t.truncatedPaths, 0u);
+    EXPECT_EQ(t.truncSum, static_cast<double>(t.truncatedPaths)); // each with weight 1
 }
 
-// Long-path roulette after every event: surviving weights grow ×10 per event, beyond the
-// atomic tallies' range, and travel through the heavy-weight list.
+// A weight roulette with survivors of weight up to 0.9/0.01 = 90, beyond the atomic tallies'
+// range (16): they travel through the heavy-weight list.
 TEST(PathtraceGpu, HeavyWeightsAreTalliedExactly) {
     testsupport::context();
-    const Medium m{0.0, 1.0, 0.0, 1.3};
+    const Medium m{0.1, 1.0, 0.0, 1.3};
     SlabSettings s;
     s.bins = 20;
     s.paths = 100000;
-    s.rouletteAfter = 1;
+    s.termination.rouletteWeight = 0.9;
+    s.termination.rouletteSurvival = 0.01;
     GpuSlabTracer tracer(slabShader());
     tracer.reset(m, s);
     tracer.step(s.paths);

@@ -83,11 +83,11 @@ TEST(Validate, SettingsFields) {
     badSettings([](SlabSettings& s) { s.paths = 0; }, "paths");
     badSettings([](SlabSettings& s) { s.paths = 10000000000001ull; }, "absurd path count");
     badSettings([](SlabSettings& s) { s.threads = -1; }, "threads");
-    badSettings([](SlabSettings& s) { s.rouletteAfter = 0; }, "rouletteAfter");
-    badSettings([](SlabSettings& s) { s.rouletteWeight = 0; }, "rouletteWeight");
-    badSettings([](SlabSettings& s) { s.rouletteWeight = 1; }, "rouletteWeight");
-    badSettings([](SlabSettings& s) { s.rouletteSurvival = 0; }, "rouletteSurvival");
-    badSettings([](SlabSettings& s) { s.rouletteSurvival = kNan; }, "rouletteSurvival");
+    badSettings([](SlabSettings& s) { s.termination.maxEvents = 0; }, "maxEvents");
+    badSettings([](SlabSettings& s) { s.termination.rouletteWeight = 0; }, "rouletteWeight");
+    badSettings([](SlabSettings& s) { s.termination.rouletteWeight = 1; }, "rouletteWeight");
+    badSettings([](SlabSettings& s) { s.termination.rouletteSurvival = 0; }, "rouletteSurvival");
+    badSettings([](SlabSettings& s) { s.termination.rouletteSurvival = kNan; }, "rouletteSurvival");
 }
 
 TEST(Validate, ValidEdgesPass) {
@@ -109,5 +109,5 @@ TEST(Validate, ValidEdgesPass) {
     small.threads = 1;
     const SlabResult r = runSlab(m, small);
     EXPECT_EQ(r.paths, 2000u);
-    EXPECT_NEAR(r.specular + r.totalRd + r.absorbed + r.rouletteNet, 1.0, 1e-9);
+    EXPECT_NEAR(r.specular + r.totalRd + r.absorbed + r.truncated + r.rouletteNet, 1.0, 1e-9);
 }

@@ -1,16 +1,14 @@
 // pathtrace: the per-collision weight bookkeeping shared by every CPU walk (slab, sphere,
 // mesh): absorption by weight w ← ϖw with w(1 − ϖ) deposited, Russian roulette below a
-// weight threshold (survivors divided by the survival probability), and the thesis's
-// long-path roulette (3.2): past `rouletteAfter` events terminate with 90 %, survive ×10.
+// weight threshold (survivors divided by the survival probability, so a survivor's weight
+// stays below rouletteWeight/p: bounded), and truncation after maxEvents interactions.
 // `loss` accumulates what roulette removes minus what it adds, so per path
-// reflected + absorbed + loss (+ specular) = 1 exactly; E[loss] = 0 (both roulettes unbiased).
+// reflected + absorbed + truncated + loss (+ specular) = 1 exactly; E[loss] = 0.
 #pragma once
 
 #include <cstdint>
 
 namespace pathtrace::detail {
-
-constexpr uint32_t kTenth = 429496730u; // 1/10 of 2^32: long-path roulette survival
 
 // Implicit absorption and weight roulette at a collision. Returns false when the path ends.
 template <class Consts, class Rng>
@@ -30,17 +28,13 @@ inline bool absorbAndRoulette(double& w, double& absorbed, double& loss, const C
     return false;
 }
 
-// Long-path roulette after `events` collisions. Returns false when the path ends.
-template <class Consts, class Rng>
-inline bool longPathRoulette(double& w, double& loss, uint32_t events, const Consts& c, Rng& rng) {
-    if (events <= c.rouletteAfter) return true;
-    if (rng.nextU32() < kTenth) {
-        const double ws = w * 10.0;
-        loss -= ws - w;
-        w = ws;
-        return true;
-    }
-    loss += w;
+// Truncation after `events` interactions: the path ends and its weight is the truncated
+// weight (a bound on the bias: that weight would have left or been absorbed later). Returns
+// false when the path ends.
+template <class Consts>
+inline bool belowEventLimit(double w, double& truncated, uint32_t events, const Consts& c) {
+    if (events < c.maxEvents) return true;
+    truncated = w;
     return false;
 }
 
