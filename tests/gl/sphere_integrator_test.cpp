@@ -11,6 +11,7 @@
 // compensated; the sampler (hash + uniform area mapping) passes a chi-square test; the
 // throughput on a 128x128 image is printed (never asserted).
 #include "../support/gl_fixture.h"
+#include "../support/normal_quantile.h"
 #include "bssrdf/program.h"
 #include "bssrdf/sphere_integrator.h"
 #include "pathtrace/fresnel.h"
@@ -86,13 +87,7 @@ Image render(const pathtrace::LitSphereSetup& s, const bssrdf::Builtins& b, int 
 // Two-sided z threshold for `tests` comparisons at family-wise error `alpha` (Bonferroni),
 // never below 3.5.
 double zThreshold(size_t tests, double alpha = 0.005) {
-    const double p = alpha / static_cast<double>(tests); // P(|Z| > z) = erfc(z/√2)
-    double lo = 0, hi = 40;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-    }
-    return std::max(3.5, hi);
+    return std::max(3.5, testsupport::bonferroniZ(alpha, static_cast<double>(tests)));
 }
 
 // ---- independent CPU reference ------------------------------------------------------------------

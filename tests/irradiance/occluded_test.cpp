@@ -8,6 +8,7 @@
 //     than 5 standard errors, points on the plate's top agree with it;
 //   - determinism (same seed: bitwise equal; another seed: different), the step size only
 //     changes the summation order, progress and cancel.
+#include "../support/normal_quantile.h"
 #include "gl_stage.h"
 #include "test_util.h"
 
@@ -19,15 +20,7 @@
 namespace {
 using namespace irradiance;
 
-// Upper standard normal quantile by bisection: z with erfc(z/√2)/2 = p.
-double upperQuantile(double p) {
-    double lo = 0, hi = 40;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-    }
-    return lo;
-}
+using testsupport::normalQuantileUpper;
 
 Settings occludedSettings() {
     Settings s;
@@ -51,7 +44,7 @@ TEST(IrradianceOccluded, ConvexSphereConvergesToTheUnoccludedValue) {
     ASSERT_EQ(E.size(), P.size());
     ASSERT_EQ(se.size(), P.size());
     const double ref = irrtest::hemisphericalFt(s.ior);
-    const double zMax = upperQuantile(1e-3 / (2.0 * P.size()));
+    const double zMax = normalQuantileUpper(1e-3 / (2.0 * P.size()));
     double sumZ = 0, worst = 0;
     for (size_t i = 0; i < P.size(); ++i) {
         ASSERT_GT(se[i].g, 0.0f);
@@ -87,7 +80,7 @@ TEST(IrradianceOccluded, PlateDarkensThePointsUnderIt) {
     const auto E = st.compute(s);
     const auto se = st.occludedStdError();
     const double ref = irrtest::hemisphericalFt(s.ior);
-    const double zMax = upperQuantile(1e-3 / (2.0 * P.size()));
+    const double zMax = normalQuantileUpper(1e-3 / (2.0 * P.size()));
     double under = 0;
     for (size_t i = 0; i < P.size(); i += 2) {
         EXPECT_LT(E[i].g + 5 * se[i].g, ref) << "under the plate, point " << i;

@@ -3,6 +3,7 @@
 // the tessellation error), energy accounting and conservation (η = 1, albedo 1) with no leaks,
 // camera visibility (exits hidden behind another part of the mesh do not reach the image),
 // determinism across thread counts.
+#include "../support/normal_quantile.h"
 #include "core/core.h"
 #include "pathtrace/camera.h"
 #include "pathtrace/mesh_alias.h"
@@ -19,17 +20,7 @@ using namespace pathtrace;
 
 namespace {
 
-double bonferroniZ(double alpha, int m) {
-    double lo = 0, hi = 40;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        if (std::erfc(mid / std::numbers::sqrt2) > alpha / m)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return hi;
-}
+using testsupport::bonferroniZ;
 
 Medium med(double sa, double ss, double g, double eta) {
     Medium m;

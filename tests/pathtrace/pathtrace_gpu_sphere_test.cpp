@@ -4,6 +4,7 @@
 //   - bitwise determinism for any step sizes and event budgets;
 //   - hot reload: a broken shader names its file and line and the old program keeps working.
 #include "../support/gl_fixture.h"
+#include "../support/normal_quantile.h"
 #include "pathtrace/gpu_sphere.h"
 #include "pathtrace/sphere_tracer.h"
 
@@ -42,15 +43,7 @@ void writeText(const fs::path& p, const std::string& text) {
     out << text;
 }
 
-// Standard normal upper quantile: z with erfc(z/√2)/2 = p, by bisection.
-double normalQuantileUpper(double p) {
-    double lo = 0, hi = 40;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-    }
-    return 0.5 * (lo + hi);
-}
+using testsupport::normalQuantileUpper;
 
 // Red: the reference medium; green: forward scattering; blue: more absorbing, other index.
 std::array<Medium, 3> testMedia() {

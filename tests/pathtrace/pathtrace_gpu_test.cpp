@@ -9,6 +9,7 @@
 //     determinism for any step sizes and event budgets;
 //   - hot reload: a broken shader names its file and line and the old program keeps working.
 #include "../support/gl_fixture.h"
+#include "../support/normal_quantile.h"
 #include "pathtrace/fresnel.h"
 #include "pathtrace/gpu_shader.h"
 #include "pathtrace/gpu_slab.h"
@@ -65,15 +66,7 @@ std::vector<uint32_t> runTestShader(const fs::path& file, std::vector<uint32_t> 
     return data;
 }
 
-// Standard normal upper quantile: z with erfc(z/√2)/2 = p, by bisection.
-double normalQuantileUpper(double p) {
-    double lo = 0, hi = 40;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-    }
-    return 0.5 * (lo + hi);
-}
+using testsupport::normalQuantileUpper;
 
 // Σ over all paths of (reflected + absorbed + roulette loss + specular) minus the path count:
 // zero up to float rounding per path when no weight went missing.

@@ -5,6 +5,7 @@
 // orientation (the lit side is the bright side, pixel (0, 0) top left), bitwise determinism
 // across thread counts, cancellation, input validation, and the centre of a large sphere
 // against the slab tracer's total diffuse reflectance.
+#include "../support/normal_quantile.h"
 #include "core/core.h"
 #include "pathtrace/camera.h"
 #include "pathtrace/pathtrace.h"
@@ -25,18 +26,7 @@ using namespace pathtrace;
 
 namespace {
 
-// z* with P(|Z| > z*) = alpha / m (two-sided, Bonferroni over m tests), by bisection.
-double bonferroniZ(double alpha, int m) {
-    double lo = 0, hi = 40;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        if (std::erfc(mid / std::numbers::sqrt2) > alpha / m)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return hi;
-}
+using testsupport::bonferroniZ;
 
 Medium med(double sa, double ss, double g, double eta) {
     Medium m;
