@@ -76,6 +76,47 @@ TEST(Reference, BadMaterialIsAnErrorNotACrash) {
     std::filesystem::remove_all(root);
 }
 
+// A reference that fails its own energy check says so loudly: σa = 0 (Spectralon) truncates a
+// few paths of the heavy tail of return times at the event limit, more weight than the
+// error bar; the snapshot names the channel, the Errors panel lists it, the plot draws the
+// curve without a band and the model's legend carries no error figures. Absorbing media
+// clear it again.
+TEST(Reference, FailedEnergyCheckIsAnErrorAndDrawsNoBand) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("refenergy", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Spectralon");
+    wb.plotSettings().fixedRange = true;
+    wb.plotSettings().rMaxMm = 8.0;
+    auto& rs = wb.referenceSettings();
+    rs.enabled = true;
+    rs.paths = 5000;
+    rs.bins = 40;
+    wb.update();
+    app::ReferenceSnapshot snap = wb.finishReference();
+    ASSERT_TRUE(snap.problem.empty()) << snap.problem;
+    EXPECT_NE(snap.energy.find("truncated at the event limit"), std::string::npos) << snap.energy;
+    EXPECT_TRUE(snap.energyFails(3));
+    std::string listed;
+    for (const auto& e : wb.errors())
+        if (e.source == "reference") listed += e.text;
+    EXPECT_NE(listed.find("truncated"), std::string::npos) << listed;
+    wb.update();
+    auto series = wb.plotSeries();
+    ASSERT_EQ(series.size(), 2u);
+    EXPECT_TRUE(series[1].bandLo.empty());
+    EXPECT_NE(series[1].label.find("energy check FAILED"), std::string::npos);
+    EXPECT_EQ(series[0].label.find("rel.L2"), std::string::npos) << series[0].label;
+
+    wb.applyPreset(wb.shared(), "Marble");
+    wb.update();
+    snap = wb.finishReference();
+    EXPECT_EQ(snap.energy, "");
+    for (const auto& e : wb.errors())
+        EXPECT_NE(e.source, "reference") << e.text;
+    std::filesystem::remove_all(root);
+}
+
 TEST(Reference, CaptureRecordsAndReplaysItStatistically) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("refcap", {"dipole.bssrdf"});
