@@ -4,6 +4,7 @@
 
 #include "core/core.h"
 #include "panels/panels.h"
+#include "panels/registry.h"
 
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
@@ -20,34 +21,22 @@ namespace fs = std::filesystem;
 namespace {
 UiState* g_ui = nullptr; // the settings handler needs to reach the panel toggles
 
-struct PanelFlag {
-    const char* key;
-    bool UiState::*flag;
-};
-const PanelFlag kPanels[] = {
-    {"Models", &UiState::showModels},         {"Parameters", &UiState::showParameters},
-    {"PencilPlot", &UiState::showPencil},     {"ErrorsLog", &UiState::showErrors},
-    {"Timings", &UiState::showTimings},       {"LitSpheres", &UiState::showLitSpheres},
-    {"PointCloud", &UiState::showPointCloud}, {"Octree", &UiState::showOctree},
-    {"Irradiance", &UiState::showIrradiance}, {"Render", &UiState::showRender},
-    {"Traversal", &UiState::showTraversal}};
-
 void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
     return std::strcmp(name, "Panels") == 0 ? static_cast<void*>(g_ui) : nullptr;
 }
 void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
     auto* ui = static_cast<UiState*>(entry);
-    for (const auto& p : kPanels) {
-        std::string prefix = std::string(p.key) + "=";
+    for (const PanelEntry& p : panelRegistry()) {
+        std::string prefix = std::string(p.iniKey) + "=";
         if (std::strncmp(line, prefix.c_str(), prefix.size()) == 0)
-            ui->*(p.flag) = line[prefix.size()] == '1';
+            ui->shared.isOpen(p.id) = line[prefix.size()] == '1';
     }
 }
 void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffer* buf) {
     if (!g_ui) return;
     buf->appendf("[%s][Panels]\n", handler->TypeName);
-    for (const auto& p : kPanels)
-        buf->appendf("%s=%d\n", p.key, g_ui->*(p.flag) ? 1 : 0);
+    for (const PanelEntry& p : panelRegistry())
+        buf->appendf("%s=%d\n", p.iniKey, g_ui->shared.isOpen(p.id) ? 1 : 0);
     buf->append("\n");
 }
 
@@ -63,35 +52,28 @@ std::string iniPath() {
 
 void drawPanels(Workbench& wb, UiState& ui) {
     drawMenuBar(wb, ui);
-    if (ui.showModels) drawModelsPanel(wb, ui);
-    if (ui.showParameters) drawParametersPanel(wb, ui);
-    if (ui.showPencil) drawPencilPanel(wb, ui);
-    if (ui.showErrors) drawErrorsPanel(wb, ui);
-    if (ui.showTimings) drawTimingsPanel(wb, ui);
-    if (ui.showLitSpheres) drawLitSpherePanel(wb, ui);
     // The scene pipeline runs while one of its panels is open.
-    wb.scene().settings().enabled = ui.showPointCloud || ui.showOctree || ui.showIrradiance ||
-                                    ui.showRender || ui.showTraversal;
+    bool scene = false;
+    for (const PanelEntry& p : panelRegistry())
+        scene |= p.needsScene && ui.shared.isOpen(p.id);
+    wb.scene().settings().enabled = scene;
     wb.setInteracting(false); // the Render panel sets it while the user drags
-    if (ui.showPointCloud) drawPointCloudPanel(wb, ui);
-    if (ui.showOctree) drawOctreePanel(wb, ui);
-    if (ui.showIrradiance) drawIrradiancePanel(wb, ui);
-    if (ui.showRender) drawRenderPanel(wb, ui);
-    if (ui.showTraversal) drawTraversalPanel(wb, ui);
+    for (const PanelEntry& p : panelRegistry())
+        if (ui.shared.isOpen(p.id)) p.draw(wb, ui);
 }
 
 // Reads back the region a panel asked for (PNG export) from `fbo` after rendering.
 void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight) {
-    if (ui.pngExportPath.empty()) return;
-    int x0 = int(ui.pngRect[0]), y0 = int(ui.pngRect[1]);
-    int w = int(ui.pngRect[2]) - x0, h = int(ui.pngRect[3]) - y0;
-    std::string path = ui.pngExportPath;
-    ui.pngExportPath.clear();
+    if (ui.shared.pngExportPath.empty()) return;
+    int x0 = int(ui.shared.pngRect[0]), y0 = int(ui.shared.pngRect[1]);
+    int w = int(ui.shared.pngRect[2]) - x0, h = int(ui.shared.pngRect[3]) - y0;
+    std::string path = ui.shared.pngExportPath;
+    ui.shared.pngExportPath.clear();
     if (w <= 0 || h <= 0) return;
     try {
         auto px = gl::readPixelsRGBA8(fbo, x0, fbHeight - (y0 + h), w, h);
         gl::writePng(path, w, h, px);
-        ui.status = "wrote " + path;
+        ui.shared.status = "wrote " + path;
     } catch (const core::Error& e) {
         wb.reportActionError(std::string("export PNG: ") + e.what());
     }
@@ -181,7 +163,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         GLFWwindow* win = ctx.window();
         ImGui_ImplGlfw_InitForOpenGL(win, true);
         ImGui_ImplOpenGL3_Init("#version 450");
-        while (!glfwWindowShouldClose(win) && !ui.quit) {
+        while (!glfwWindowShouldClose(win) && !ui.shared.quit) {
             glfwWaitEventsTimeout(0.03); // idle without spinning; the watcher is polled below
             bool changed = wb.update();
             ImGui_ImplOpenGL3_NewFrame();
@@ -206,7 +188,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     } else {
         {
             HeadlessGui gui(wb, opt.width, opt.height);
-            for (int f = 0; f < std::max(1, opt.frames) && !ui.quit; ++f) {
+            for (int f = 0; f < std::max(1, opt.frames) && !ui.shared.quit; ++f) {
                 gui.frame();
                 // The first frame enables the scene when its panels are open; headless runs
                 // wait for it (point cloud, occluded IBL) so the image shows the result.

@@ -3,6 +3,7 @@
 
 #include "core/core.h"
 #include "gl/gl.h"
+#include "render/frame_analysis.h"
 
 #include <chrono>
 #include <sstream>
@@ -453,20 +454,8 @@ PixelDebug SceneStage::debugPixel(int x, int y) {
     std::vector<glm::vec3> values = m_renderer->evaluatePairs(render::tracePairs(d.trace, scale));
     octree::accumulate(d.trace, values, scale);
     // Brute force at this pixel: every point in slot order, the shader's formula.
-    std::vector<render::BssrdfPair> pairs;
-    pairs.reserve(m_tree->points.size());
-    for (const octree::PointRecord& r : m_tree->points)
-        pairs.push_back({scale * glm::vec3(r.positionArea[0], r.positionArea[1], r.positionArea[2]),
-                         glm::vec3(r.normal[0], r.normal[1], r.normal[2]), scale * xo, no});
-    std::vector<glm::vec3> all = m_renderer->evaluatePairs(pairs);
-    glm::vec3 sum(0.0f);
-    for (size_t i = 0; i < all.size(); ++i) {
-        const octree::PointRecord& r = m_tree->points[i];
-        const glm::vec3 w =
-            glm::vec3(r.irradiance[0], r.irradiance[1], r.irradiance[2]) * r.positionArea[3];
-        sum += w * (scale * scale) * all[i];
-    }
-    d.bruteExitance = sum;
+    d.bruteExitance = render::bruteForceExitance(
+        *m_tree, m_renderer->evaluatePairs(render::allPointPairs(*m_tree, xo, no, scale)), scale);
     return d;
 }
 

@@ -1,70 +1,142 @@
-// UI-only state: which panels are open, pending popups and export requests.
+// UI-only state, one struct per panel (each panel's draw function takes its own), plus the
+// few things panels share: which panels are open, the status line, the scene inspector (its
+// camera, the traced pixel and what the point splats show), pending export requests.
+// Modes are enums. The panels themselves are listed once, in panels/registry.h.
 #pragma once
 
 #include "gl/gl.h"
 #include "scene_stage.h"
 #include "scene_view.h"
 
+#include <array>
 #include <memory>
 #include <optional>
-#include <vector>
-
 #include <string>
 
 namespace app {
 
-struct UiState {
-    bool showModels = true;
-    bool showParameters = true;
-    bool showPencil = true;
-    bool showErrors = true;
-    bool showTimings = true;
-    bool showLitSpheres = false; // View → Lit spheres
+// Every panel, in View-menu order (panels/registry.cpp holds their titles and draw functions).
+enum class PanelId {
+    Models,
+    Parameters,
+    Pencil,
+    Errors,
+    Timings,
+    LitSpheres,
+    PointCloud,
+    Octree,
+    Irradiance,
+    Render,
+    Traversal,
+    Count
+};
+constexpr size_t kPanelCount = static_cast<size_t>(PanelId::Count);
+
+// What the point splats of the scene inspector are coloured by.
+enum class PointColor { Normal, Area, Irradiance, Radiance };
+// What the Render panel shows: the image or a heatmap of the traversal.
+enum class Heatmap { Image, Steps, StackDepth, RelativeError };
+// Which lit sphere(s) the Lit spheres panel shows.
+enum class SphereView { PathTraced, Integrated, SideBySide, Difference };
+
+// Shared by the scene panels (point cloud, octree, render, traversal debugger).
+struct SceneInspect {
+    render::Camera camera; // the 3D inspector views' camera (not the render camera)
+    bool cameraSet = false;
+    PointColor colorBy = PointColor::Normal;
+    std::optional<PixelDebug> debug; // the traced pixel
+    std::string debugProblem;
+    bool highlightTrace = true; // draw the traced pixel's visited nodes in 3D
+};
+
+// What every panel may read and write besides its own state.
+struct UiShared {
+    std::array<bool, kPanelCount> open{}; // filled from the registry's defaults
+    bool& isOpen(PanelId id) { return open[static_cast<size_t>(id)]; }
     bool quit = false;
+    std::string status; // one-line status shown in the menu bar
+    SceneInspect inspect;
+    // PNG export of a region of the frame: set by a panel, served after the frame is drawn
+    std::string pngExportPath;
+    float pngRect[4] = {0, 0, 0, 0}; // x0, y0, x1, y1 in framebuffer pixels (top-left origin)
+};
+
+struct MenuState {
     bool openModelPopup = false;
     bool recordPopup = false;
     char pathBuffer[512] = "";
     char nameBuffer[128] = "my_capture";
-    std::string plotPngRequest; // Export PNG: the pencil panel turns it into the two below
-    std::string pngExportPath;  // set by the pencil panel; the runner reads pixels after render
-    float pngRect[4] = {0, 0, 0, 0};      // x0, y0, x1, y1 in framebuffer pixels (top-left origin)
-    std::string status;                   // one-line status shown in the menu bar
-    std::string paramsTarget;             // Parameters panel: display path edited, "" = shared
-    char exportName[256] = "pencil_plot"; // Pencil plot: export file name without extension
-    int logMinLevel = 1;                  // Errors / Log panel: 0 debug .. 3 error
-    // Lit spheres panel: display settings, textures, the clicked pixel
-    float sphereExposure = 0.0f, sphereGamma = 2.2f, diffRange = 0.0f; // 0: automatic
-    int sphereView = 0; // 0 path traced, 1 integrated, 2 side by side, 3 difference
-    int sphereViewShown = -1;
+};
+
+struct ErrorsPanelState {
+    int logMinLevel = 1; // 0 debug .. 3 error (core log levels)
+};
+
+struct ParametersPanelState {
+    std::string target; // display path edited, "" = shared
+};
+
+struct PencilPanelState {
+    std::string plotPngRequest;           // Export PNG: turned into UiShared's export request
+    char exportName[256] = "pencil_plot"; // export file name without extension
+};
+
+struct LitSpherePanelState {
+    float exposure = 0.0f, gamma = 2.2f, diffRange = 0.0f; // diffRange 0: automatic
+    SphereView view = SphereView::PathTraced;
+    int viewShown = -1; // the tab last shown (to select a tab programmatically once)
     int pickX = -1, pickY = -1;
     char meshBuffer[512] = "";
-    gl::Texture sphereTex[3];
-    // Scene panels (point cloud, octree, irradiance, render, traversal debugger)
-    bool showPointCloud = true, showOctree = false, showIrradiance = false, showRender = true,
-         showTraversal = false;
-    std::unique_ptr<SceneView> pointView, octreeView;
-    render::Camera inspectCamera; // the 3D inspector views' camera (not the render camera)
-    bool inspectCameraSet = false;
-    int colorBy = 0;                 // 0 normal, 1 area, 2 irradiance, 3 radiance (from the frame)
-    int pickedPoint = -1;            // input index into the cloud
+    gl::Texture tex[3];
+};
+
+struct PointCloudPanelState {
+    std::unique_ptr<SceneView> view;
+    int picked = -1;                 // input index into the cloud
     glm::vec3 pickedExitance{-1.0f}; // M at the picked point (x < 0: not available)
-    std::string pointColorsKey;      // what the uploaded colours show
+    std::string colorsKey;           // what the uploaded colours show
     float colorMin = 0, colorMax = 1;
-    int octreeLevel = 2;
-    int selectedNode = 0;
-    bool highlightTrace = true;
-    std::string octreeBoxesKey;
-    char sceneMeshBuffer[512] = "third_party/bunny/bunny.obj";
+    char meshBuffer[512] = "third_party/bunny/bunny.obj";
     char plyBuffer[512] = "";
+};
+
+struct OctreePanelState {
+    std::unique_ptr<SceneView> view;
+    int level = 2;
+    int selectedNode = 0;
+    std::string boxesKey;
+};
+
+struct IrradiancePanelState {
     char envBuffer[512] = "materials/env/default_sky.exr";
     char textureBuffer[512] = "";
-    int heatmap = 0; // 0 image, 1 steps, 2 max stack depth, 3 relative error vs brute force
-    gl::Texture heatTex, cubeTex;
+    gl::Texture cubeTex;
+};
+
+struct RenderPanelState {
+    Heatmap heatmap = Heatmap::Image;
+    gl::Texture heatTex;
     float heatMax = 0;
-    std::optional<PixelDebug> debug;
-    std::string debugProblem;
-    char traceFilter[64] = "";
+};
+
+struct TraversalPanelState {
+    char filter[64] = "";
     bool showRecurse = true, showNodeEval = true, showPointEval = true;
+};
+
+struct UiState {
+    UiState(); // panels open as the registry's defaults say
+    UiShared shared;
+    MenuState menu;
+    ErrorsPanelState errors;
+    ParametersPanelState parameters;
+    PencilPanelState pencil;
+    LitSpherePanelState litSpheres;
+    PointCloudPanelState pointCloud;
+    OctreePanelState octree;
+    IrradiancePanelState irradiance;
+    RenderPanelState render;
+    TraversalPanelState traversal;
 };
 
 } // namespace app

@@ -7,10 +7,10 @@
 
 namespace app {
 
-void drawErrorsPanel(Workbench& wb, UiState& ui) {
+void drawErrorsPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(8, 734), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(330, 258), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Errors / Log", &ui.showErrors)) {
+    if (!ImGui::Begin("Errors / Log", &ui.isOpen(PanelId::Errors))) {
         ImGui::End();
         return;
     }
@@ -28,7 +28,7 @@ void drawErrorsPanel(Workbench& wb, UiState& ui) {
             ImGui::EndTabItem();
         }
         if (ImGui::BeginTabItem("Log")) {
-            int& minLevel = ui.logMinLevel;
+            int& minLevel = ps.logMinLevel;
             ImGui::SetNextItemWidth(100);
             ImGui::Combo("level", &minLevel, "debug\0info\0warning\0error\0");
             ImGui::SameLine();

@@ -14,7 +14,7 @@ namespace app {
 namespace {
 
 // The six 32×32 faces of the irradiance cubemap side by side (+x −x +y −y +z −z), tone mapped.
-void showCubemap(GLuint cube, UiState& ui) {
+void showCubemap(GLuint cube, IrradiancePanelState& ps) {
     if (!cube) return;
     const int f = irradiance::kCubeFaceSize;
     std::vector<float> px(size_t(6 * f * f * 4));
@@ -35,18 +35,18 @@ void showCubemap(GLuint cube, UiState& ui) {
                                                  1.0f / 2.2f));
                 rgba[dst + 3] = 255;
             }
-    gl::uploadRGBA8(ui.cubeTex, 6 * f, f, rgba.data());
-    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ui.cubeTex.id())),
+    gl::uploadRGBA8(ps.cubeTex, 6 * f, f, rgba.data());
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ps.cubeTex.id())),
                  ImVec2(6.0f * 48, 48));
     ImGui::TextDisabled("irradiance cubemap (+x -x +y -y +z -z), max %.4g", hi);
 }
 
 } // namespace
 
-void drawIrradiancePanel(Workbench& wb, UiState& ui) {
+void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(618, 700), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Irradiance", &ui.showIrradiance)) {
+    if (!ImGui::Begin("Irradiance", &ui.isOpen(PanelId::Irradiance))) {
         ImGui::End();
         return;
     }
@@ -87,17 +87,17 @@ void drawIrradiancePanel(Workbench& wb, UiState& ui) {
         }
         if (l.mode == irradiance::LightMode::Filtered) {
             ImGui::SetNextItemWidth(260);
-            if (ImGui::InputText("texture (empty: checker)", ui.textureBuffer,
-                                 sizeof ui.textureBuffer, ImGuiInputTextFlags_EnterReturnsTrue)) {
-                scene.settings().projectedTextureFile = ui.textureBuffer;
+            if (ImGui::InputText("texture (empty: checker)", ps.textureBuffer,
+                                 sizeof ps.textureBuffer, ImGuiInputTextFlags_EnterReturnsTrue)) {
+                scene.settings().projectedTextureFile = ps.textureBuffer;
                 scene.reloadFiles();
             }
         }
     } else {
         ImGui::SetNextItemWidth(260);
-        if (ImGui::InputText("environment (EXR)", ui.envBuffer, sizeof ui.envBuffer,
+        if (ImGui::InputText("environment (EXR)", ps.envBuffer, sizeof ps.envBuffer,
                              ImGuiInputTextFlags_EnterReturnsTrue)) {
-            scene.settings().environmentFile = ui.envBuffer;
+            scene.settings().environmentFile = ps.envBuffer;
             scene.reloadFiles();
         }
         ImGui::SetNextItemWidth(120);
@@ -137,8 +137,8 @@ void drawIrradiancePanel(Workbench& wb, UiState& ui) {
             "E_t per point: min (%.3g %.3g %.3g) mean (%.3g %.3g %.3g) max (%.3g %.3g %.3g)", lo.x,
             lo.y, lo.z, sum.x, sum.y, sum.z, hi.x, hi.y, hi.z);
         if (ImGui::SmallButton("colour the point cloud by irradiance")) {
-            ui.colorBy = 2;
-            ui.showPointCloud = true;
+            ui.inspect.colorBy = PointColor::Irradiance;
+            ui.isOpen(PanelId::PointCloud) = true;
         }
     }
     irradiance::Stage* stage = scene.irradianceStage();
@@ -168,7 +168,7 @@ void drawIrradiancePanel(Workbench& wb, UiState& ui) {
                 reinterpret_cast<ImTextureID>(static_cast<intptr_t>(stage->environmentTexture())),
                 ImVec2(288, 144));
             ImGui::TextDisabled("environment (lat-long, zenith at the top)");
-            showCubemap(stage->irradianceCubemap(), ui);
+            showCubemap(stage->irradianceCubemap(), ps);
         }
     }
     ImGui::End();

@@ -17,7 +17,7 @@ namespace {
 
 // Draws `rgba` (top row first) as an image of `side` pixels; a click selects a pixel.
 void imageWithPick(gl::Texture& tex, const std::vector<uint8_t>& rgba, int w, int h, float side,
-                   UiState& ui) {
+                   LitSpherePanelState& ps) {
     if (rgba.empty() || w <= 0) {
         ImGui::Dummy(ImVec2(side, side));
         return;
@@ -28,20 +28,20 @@ void imageWithPick(gl::Texture& tex, const std::vector<uint8_t>& rgba, int w, in
                  ImVec2(side, side));
     if (ImGui::IsItemClicked()) {
         ImVec2 m = ImGui::GetMousePos();
-        ui.pickX = std::clamp(int((m.x - pos.x) / side * float(w)), 0, w - 1);
-        ui.pickY = std::clamp(int((m.y - pos.y) / side * float(h)), 0, h - 1);
+        ps.pickX = std::clamp(int((m.x - pos.x) / side * float(w)), 0, w - 1);
+        ps.pickY = std::clamp(int((m.y - pos.y) / side * float(h)), 0, h - 1);
     }
-    if (ui.pickX >= 0 && ui.pickY >= 0) { // mark the picked pixel
+    if (ps.pickX >= 0 && ps.pickY >= 0) { // mark the picked pixel
         const float s = side / float(w);
-        ImVec2 a(pos.x + float(ui.pickX) * s, pos.y + float(ui.pickY) * s);
+        ImVec2 a(pos.x + float(ps.pickX) * s, pos.y + float(ps.pickY) * s);
         ImGui::GetWindowDrawList()->AddRect(
             a, ImVec2(a.x + std::max(s, 3.0f), a.y + std::max(s, 3.0f)),
             IM_COL32(255, 255, 0, 255));
     }
 }
 
-void readout(const char* name, const pathtrace::Image& img, const UiState& ui) {
-    auto v = pixelAt(img, ui.pickX, ui.pickY);
+void readout(const char* name, const pathtrace::Image& img, const LitSpherePanelState& ps) {
+    auto v = pixelAt(img, ps.pickX, ps.pickY);
     if (!v.valid) return;
     ImGui::Text("%-18s R %.4g +- %.2g  G %.4g +- %.2g  B %.4g +- %.2g", name, v.mean[0],
                 v.stderr_[0], v.mean[1], v.stderr_[1], v.mean[2], v.stderr_[2]);
@@ -63,10 +63,10 @@ void colourBar(float range) {
 
 } // namespace
 
-void drawLitSpherePanel(Workbench& wb, UiState& ui) {
+void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(420, 60), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(760, 560), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Lit spheres", &ui.showLitSpheres)) {
+    if (!ImGui::Begin("Lit spheres", &ui.isOpen(PanelId::LitSpheres))) {
         ImGui::End();
         return;
     }
@@ -95,9 +95,9 @@ void drawLitSpherePanel(Workbench& wb, UiState& ui) {
     ImGui::SameLine();
     ImGui::Checkbox("GPU path tracer", &s.gpu);
     ImGui::SetNextItemWidth(260);
-    if (ImGui::InputText("mesh (OBJ, empty: sphere)", ui.meshBuffer, sizeof ui.meshBuffer,
+    if (ImGui::InputText("mesh (OBJ, empty: sphere)", ps.meshBuffer, sizeof ps.meshBuffer,
                          ImGuiInputTextFlags_EnterReturnsTrue))
-        s.mesh = ui.meshBuffer;
+        s.mesh = ps.meshBuffer;
     if (!s.mesh.empty())
         ImGui::TextDisabled("path tracing %s on the CPU (longest axis = 2 x radius); the BSSRDF "
                             "integration shows the sphere",
@@ -106,10 +106,10 @@ void drawLitSpherePanel(Workbench& wb, UiState& ui) {
         ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
                           "slice per frame;\noff: CPU tracer in a background thread");
     ImGui::SetNextItemWidth(120);
-    ImGui::SliderFloat("exposure", &ui.sphereExposure, -10.0f, 10.0f, "%.1f EV");
+    ImGui::SliderFloat("exposure", &ps.exposure, -10.0f, 10.0f, "%.1f EV");
     ImGui::SameLine();
     ImGui::SetNextItemWidth(120);
-    ImGui::SliderFloat("gamma", &ui.sphereGamma, 0.5f, 4.0f, "%.2f");
+    ImGui::SliderFloat("gamma", &ps.gamma, 0.5f, 4.0f, "%.2f");
     if (!s.enabled) {
         ImGui::TextDisabled("Renders the first visible (or soloed) model's material both ways.");
         ImGui::End();
@@ -131,35 +131,35 @@ void drawLitSpherePanel(Workbench& wb, UiState& ui) {
     if (ImGui::BeginTabBar("views")) {
         const char* names[4] = {"Path traced", "BSSRDF integrated", "Side by side", "Difference"};
         // a view chosen from outside (state restore, tests) selects its tab once
-        const int wanted = ui.sphereView != ui.sphereViewShown ? ui.sphereView : -1;
+        const int shown = static_cast<int>(ps.view);
+        const int wanted = shown != ps.viewShown ? shown : -1;
         for (int i = 0; i < 4; ++i)
             if (ImGui::BeginTabItem(names[i], nullptr,
                                     i == wanted ? ImGuiTabItemFlags_SetSelected : 0)) {
-                ui.sphereView = i;
+                ps.view = static_cast<SphereView>(i);
                 ImGui::EndTabItem();
             }
-        ui.sphereViewShown = ui.sphereView;
+        ps.viewShown = static_cast<int>(ps.view);
         ImGui::EndTabBar();
     }
-    const float side = std::min(ui.sphereView == 2 ? avail * 0.5f - 8 : avail, 420.0f);
-    if (ui.sphereView == 0 || ui.sphereView == 2)
-        imageWithPick(ui.sphereTex[0], tonemap(a, ui.sphereExposure, ui.sphereGamma), a.width,
-                      a.height, side, ui);
-    if (ui.sphereView == 2) ImGui::SameLine();
-    if (ui.sphereView == 1 || ui.sphereView == 2)
-        imageWithPick(ui.sphereTex[1], tonemap(b, ui.sphereExposure, ui.sphereGamma), b.width,
-                      b.height, side, ui);
-    if (ui.sphereView == 3) {
-        float range = ui.diffRange > 0 ? ui.diffRange : maxAbsDifference(a, b);
-        imageWithPick(ui.sphereTex[2], differenceMap(a, b, range), a.width, a.height, side, ui);
+    const bool both = ps.view == SphereView::SideBySide;
+    const float side = std::min(both ? avail * 0.5f - 8 : avail, 420.0f);
+    if (ps.view == SphereView::PathTraced || both)
+        imageWithPick(ps.tex[0], tonemap(a, ps.exposure, ps.gamma), a.width, a.height, side, ps);
+    if (both) ImGui::SameLine();
+    if (ps.view == SphereView::Integrated || both)
+        imageWithPick(ps.tex[1], tonemap(b, ps.exposure, ps.gamma), b.width, b.height, side, ps);
+    if (ps.view == SphereView::Difference) {
+        float range = ps.diffRange > 0 ? ps.diffRange : maxAbsDifference(a, b);
+        imageWithPick(ps.tex[2], differenceMap(a, b, range), a.width, a.height, side, ps);
         colourBar(range);
         ImGui::SetNextItemWidth(160);
-        ImGui::DragFloat("range (0: auto)", &ui.diffRange, 0.001f, 0.0f, 10.0f, "%.4g");
+        ImGui::DragFloat("range (0: auto)", &ps.diffRange, 0.001f, 0.0f, 10.0f, "%.4g");
     }
-    if (ui.pickX >= 0) {
-        ImGui::Text("pixel (%d, %d): radiant exitance per unit irradiance", ui.pickX, ui.pickY);
-        readout("path traced", a, ui);
-        readout("BSSRDF integrated", b, ui);
+    if (ps.pickX >= 0) {
+        ImGui::Text("pixel (%d, %d): radiant exitance per unit irradiance", ps.pickX, ps.pickY);
+        readout("path traced", a, ps);
+        readout("BSSRDF integrated", b, ps);
     } else {
         ImGui::TextDisabled("click a pixel for its value and standard error in both images");
     }

@@ -1,5 +1,6 @@
 // Menu bar: File (open model, reload all, record capture, quit) and View (toggle panels).
 #include "panels.h"
+#include "registry.h"
 
 #include "core/core.h"
 
@@ -11,26 +12,20 @@ namespace app {
 void drawMenuBar(Workbench& wb, UiState& ui) {
     if (ImGui::BeginMainMenuBar()) {
         if (ImGui::BeginMenu("File")) {
-            if (ImGui::MenuItem("Open model...", "Ctrl+O")) ui.openModelPopup = true;
+            if (ImGui::MenuItem("Open model...", "Ctrl+O")) ui.menu.openModelPopup = true;
             if (ImGui::MenuItem("Reload all", "F5")) wb.reloadAll();
-            if (ImGui::MenuItem("Record capture...", "Ctrl+R")) ui.recordPopup = true;
+            if (ImGui::MenuItem("Record capture...", "Ctrl+R")) ui.menu.recordPopup = true;
             ImGui::Separator();
-            if (ImGui::MenuItem("Quit", "Ctrl+Q")) ui.quit = true;
+            if (ImGui::MenuItem("Quit", "Ctrl+Q")) ui.shared.quit = true;
             ImGui::EndMenu();
         }
         if (ImGui::BeginMenu("View")) {
-            ImGui::MenuItem("Models", nullptr, &ui.showModels);
-            ImGui::MenuItem("Parameters", nullptr, &ui.showParameters);
-            ImGui::MenuItem("Pencil plot", nullptr, &ui.showPencil);
-            ImGui::MenuItem("Errors / Log", nullptr, &ui.showErrors);
-            ImGui::MenuItem("Timings", nullptr, &ui.showTimings);
-            ImGui::MenuItem("Lit spheres", nullptr, &ui.showLitSpheres);
-            ImGui::Separator();
-            ImGui::MenuItem("Point cloud", nullptr, &ui.showPointCloud);
-            ImGui::MenuItem("Octree", nullptr, &ui.showOctree);
-            ImGui::MenuItem("Irradiance", nullptr, &ui.showIrradiance);
-            ImGui::MenuItem("Render", nullptr, &ui.showRender);
-            ImGui::MenuItem("Traversal debugger", nullptr, &ui.showTraversal);
+            int group = 0;
+            for (const PanelEntry& p : panelRegistry()) {
+                if (p.menuGroup != group) ImGui::Separator();
+                group = p.menuGroup;
+                ImGui::MenuItem(p.title, nullptr, &ui.shared.isOpen(p.id));
+            }
             ImGui::EndMenu();
         }
         const size_t n = wb.errors().size();
@@ -41,32 +36,32 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
             ImGui::TextDisabled("no problems");
         ImGui::SameLine();
         ImGui::TextDisabled("| %s", wb.watching() ? "hot reload on" : "hot reload off");
-        if (!ui.status.empty()) {
+        if (!ui.shared.status.empty()) {
             ImGui::SameLine();
-            ImGui::TextDisabled("| %s", ui.status.c_str());
+            ImGui::TextDisabled("| %s", ui.shared.status.c_str());
         }
         ImGui::EndMainMenuBar();
     }
     // ImGui 1.86 indexes io.KeysDown by the platform key code (GLFW_KEY_* here).
     ImGuiIO& io = ImGui::GetIO();
-    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_O)) ui.openModelPopup = true;
-    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_R)) ui.recordPopup = true;
-    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q)) ui.quit = true;
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_O)) ui.menu.openModelPopup = true;
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_R)) ui.menu.recordPopup = true;
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q)) ui.shared.quit = true;
     if (ImGui::IsKeyPressed(GLFW_KEY_F5)) wb.reloadAll();
 
-    if (ui.openModelPopup) {
+    if (ui.menu.openModelPopup) {
         ImGui::OpenPopup("Open model");
-        ui.openModelPopup = false;
+        ui.menu.openModelPopup = false;
     }
     if (ImGui::BeginPopupModal("Open model", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("Path of a .bssrdf file (absolute or relative to the project):");
-        ImGui::InputText("##path", ui.pathBuffer, sizeof ui.pathBuffer);
+        ImGui::InputText("##path", ui.menu.pathBuffer, sizeof ui.menu.pathBuffer);
         if (ImGui::Button("Open")) {
-            std::filesystem::path p = ui.pathBuffer;
+            std::filesystem::path p = ui.menu.pathBuffer;
             if (p.is_relative()) p = wb.root() / p;
             try {
                 wb.openModel(p);
-                ui.status = "opened " + p.filename().string();
+                ui.shared.status = "opened " + p.filename().string();
             } catch (const core::Error& e) {
                 wb.reportActionError(std::string("open model: ") + e.what());
             }
@@ -76,16 +71,16 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
         if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
     }
-    if (ui.recordPopup) {
+    if (ui.menu.recordPopup) {
         ImGui::OpenPopup("Record capture");
-        ui.recordPopup = false;
+        ui.menu.recordPopup = false;
     }
     if (ImGui::BeginPopupModal("Record capture", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("Capture name (folder under captures/):");
-        ImGui::InputText("##name", ui.nameBuffer, sizeof ui.nameBuffer);
+        ImGui::InputText("##name", ui.menu.nameBuffer, sizeof ui.menu.nameBuffer);
         if (ImGui::Button("Record")) {
             try {
-                ui.status = "recorded " + recordCapture(wb, ui.nameBuffer);
+                ui.shared.status = "recorded " + recordCapture(wb, ui.menu.nameBuffer);
             } catch (const core::Error& e) {
                 wb.reportActionError(std::string("record capture: ") + e.what());
             }

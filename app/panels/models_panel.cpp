@@ -27,10 +27,10 @@ void drawModelParams(bssrdf::ModelEntry& e) {
 }
 } // namespace
 
-void drawModelsPanel(Workbench& wb, UiState& ui) {
+void drawModelsPanel(Workbench& wb, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(8, 28), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(330, 260), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Models", &ui.showModels)) {
+    if (!ImGui::Begin("Models", &ui.isOpen(PanelId::Models))) {
         ImGui::End();
         return;
     }

@@ -23,19 +23,19 @@ glm::vec3 decisionColor(octree::Decision d) {
     return glm::vec3(1.0f);
 }
 
-void updateBoxes(Workbench& wb, UiState& ui, const octree::Octree& t) {
-    const bool trace = ui.highlightTrace && ui.debug && ui.debug->hit;
-    std::string key = std::to_string(ui.octreeLevel) + '|' + std::to_string(t.nodes.size()) + '|' +
-                      std::to_string(t.stats.nodesPerDepth.size()) + '|' +
-                      std::to_string(ui.selectedNode) + '|' +
-                      (trace ? std::to_string(ui.debug->x) + ',' + std::to_string(ui.debug->y) +
-                                   ',' + std::to_string(ui.debug->trace.steps.size())
-                             : "-");
-    if (!ui.octreeView) ui.octreeView = std::make_unique<SceneView>();
+void updateBoxes(Workbench& wb, OctreePanelState& ps, const UiShared& ui, const octree::Octree& t) {
+    const bool trace = ui.inspect.highlightTrace && ui.inspect.debug && ui.inspect.debug->hit;
+    std::string key =
+        std::to_string(ps.level) + '|' + std::to_string(t.nodes.size()) + '|' +
+        std::to_string(t.stats.nodesPerDepth.size()) + '|' + std::to_string(ps.selectedNode) + '|' +
+        (trace ? std::to_string(ui.inspect.debug->x) + ',' + std::to_string(ui.inspect.debug->y) +
+                     ',' + std::to_string(ui.inspect.debug->trace.steps.size())
+               : "-");
+    if (!ps.view) ps.view = std::make_unique<SceneView>();
     auto it = wb.scene().stats().find("scene.octree");
     key += '|' + std::to_string(it == wb.scene().stats().end() ? 0 : it->second.runs);
-    if (key == ui.octreeBoxesKey) return;
-    ui.octreeBoxesKey = key;
+    if (key == ps.boxesKey) return;
+    ps.boxesKey = key;
     std::vector<ViewBox> boxes;
     auto boxOf = [&](uint32_t n, glm::vec3 c) {
         const auto& r = t.nodes[n];
@@ -43,35 +43,35 @@ void updateBoxes(Workbench& wb, UiState& ui, const octree::Octree& t) {
             {r.boxMin[0], r.boxMin[1], r.boxMin[2]}, {r.boxMax[0], r.boxMax[1], r.boxMax[2]}, c};
     };
     if (trace) {
-        for (const auto& s : ui.debug->trace.steps)
+        for (const auto& s : ui.inspect.debug->trace.steps)
             boxes.push_back(boxOf(s.node, decisionColor(s.decision)));
     } else {
         for (uint32_t n = 0; n < t.descriptors.size() && boxes.size() < 60000; ++n)
-            if (int(t.depth[n]) == ui.octreeLevel)
-                boxes.push_back(boxOf(
-                    n, colorRamp(float(ui.octreeLevel) / float(std::max(1, t.stats.maxDepth)))));
+            if (int(t.depth[n]) == ps.level)
+                boxes.push_back(
+                    boxOf(n, colorRamp(float(ps.level) / float(std::max(1, t.stats.maxDepth)))));
     }
-    if (ui.selectedNode >= 0 && size_t(ui.selectedNode) < t.nodes.size())
-        boxes.push_back(boxOf(uint32_t(ui.selectedNode), {1.0f, 1.0f, 1.0f}));
-    ui.octreeView->setBoxes(boxes);
+    if (ps.selectedNode >= 0 && size_t(ps.selectedNode) < t.nodes.size())
+        boxes.push_back(boxOf(uint32_t(ps.selectedNode), {1.0f, 1.0f, 1.0f}));
+    ps.view->setBoxes(boxes);
     std::vector<glm::vec3> pos, col;
     for (const auto& p : t.points) {
         pos.push_back({p.positionArea[0], p.positionArea[1], p.positionArea[2]});
         col.push_back(glm::vec3(0.35f));
     }
     if (trace) { // the receiver
-        pos.push_back(ui.debug->trace.xo);
+        pos.push_back(ui.inspect.debug->trace.xo);
         col.push_back({1.0f, 0.2f, 1.0f});
     }
-    ui.octreeView->setPoints(pos, col);
+    ps.view->setPoints(pos, col);
 }
 
 } // namespace
 
-void drawOctreePanel(Workbench& wb, UiState& ui) {
+void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(618, 700), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Octree", &ui.showOctree)) {
+    if (!ImGui::Begin("Octree", &ui.isOpen(PanelId::Octree))) {
         ImGui::End();
         return;
     }
@@ -92,34 +92,34 @@ void drawOctreePanel(Workbench& wb, UiState& ui) {
     ImGui::PlotHistogram("points per leaf (0..15)", occ.data(), int(occ.size()), 0, nullptr, 0.0f,
                          FLT_MAX, ImVec2(160, 50));
     ImGui::SetNextItemWidth(200);
-    ImGui::SliderInt("level", &ui.octreeLevel, 0, s.maxDepth);
+    ImGui::SliderInt("level", &ps.level, 0, s.maxDepth);
     ImGui::SameLine();
-    ImGui::Checkbox("show traced pixel", &ui.highlightTrace);
-    if (ui.highlightTrace && ui.debug && ui.debug->hit)
+    ImGui::Checkbox("show traced pixel", &ui.inspect.highlightTrace);
+    if (ui.inspect.highlightTrace && ui.inspect.debug && ui.inspect.debug->hit)
         ImGui::TextDisabled("visited nodes: grey recurse, orange node evaluated, green leaf "
                             "points; magenta: the receiver");
-    updateBoxes(wb, ui, *t);
+    updateBoxes(wb, ps, ui, *t);
     ImVec2 avail = ImGui::GetContentRegionAvail();
     const float side = std::max(120.0f, std::min(avail.x, avail.y - 170));
     float px = 0, py = 0;
-    if (inspectorImage(wb, ui, *ui.octreeView, ImVec2(side, side), 2.0f, px, py)) {
+    if (inspectorImage(wb, ui, *ps.view, ImVec2(side, side), 2.0f, px, py)) {
         std::vector<glm::vec3> pos;
         for (const auto& p : t->points)
             pos.push_back({p.positionArea[0], p.positionArea[1], p.positionArea[2]});
-        const render::Camera& cam = ui.inspectCamera;
+        const render::Camera& cam = ui.inspect.camera;
         int slot = pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py);
         if (slot >= 0) // select the leaf holding the picked point
             for (uint32_t n = 0; n < t->descriptors.size(); ++n) {
                 const uint32_t d = t->descriptors[n];
                 if (octree::isLeaf(d) && uint32_t(slot) >= octree::descriptorIndex(d) &&
                     uint32_t(slot) < octree::descriptorIndex(d) + octree::pointCount(d))
-                    ui.selectedNode = int(n);
+                    ps.selectedNode = int(n);
             }
     }
     ImGui::SetNextItemWidth(120);
-    ImGui::InputInt("node", &ui.selectedNode);
-    ui.selectedNode = std::clamp(ui.selectedNode, 0, int(t->descriptors.size()) - 1);
-    const uint32_t n = uint32_t(ui.selectedNode);
+    ImGui::InputInt("node", &ps.selectedNode);
+    ps.selectedNode = std::clamp(ps.selectedNode, 0, int(t->descriptors.size()) - 1);
+    const uint32_t n = uint32_t(ps.selectedNode);
     const uint32_t d = t->descriptors[n];
     char bits[40];
     for (int b = 31, k = 0; b >= 0; --b) {

@@ -1,4 +1,5 @@
-// One function per panel: each only shows and edits Workbench / UiState; no algorithms.
+// One function per panel: each only shows and edits its stage's settings and its own state
+// (ui_state.h); no algorithms. The registry (registry.h) lists them for the menu and the frame.
 #pragma once
 
 #include "../ui_state.h"
@@ -7,17 +8,17 @@
 namespace app {
 
 void drawMenuBar(Workbench& wb, UiState& ui);
-void drawModelsPanel(Workbench& wb, UiState& ui);
-void drawParametersPanel(Workbench& wb, UiState& ui);
-void drawPencilPanel(Workbench& wb, UiState& ui);
-void drawErrorsPanel(Workbench& wb, UiState& ui);
-void drawTimingsPanel(Workbench& wb, UiState& ui);
-void drawLitSpherePanel(Workbench& wb, UiState& ui);
-void drawPointCloudPanel(Workbench& wb, UiState& ui);
-void drawOctreePanel(Workbench& wb, UiState& ui);
-void drawIrradiancePanel(Workbench& wb, UiState& ui);
-void drawRenderPanel(Workbench& wb, UiState& ui);
-void drawTraversalPanel(Workbench& wb, UiState& ui);
+void drawModelsPanel(Workbench& wb, UiShared& ui);
+void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui);
+void drawPencilPanel(Workbench& wb, PencilPanelState& ps, UiShared& ui);
+void drawErrorsPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui);
+void drawTimingsPanel(Workbench& wb, UiShared& ui);
+void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui);
+void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui);
+void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui);
+void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui);
+void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui);
+void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui);
 
 // Records the current state as captures/<name> (File → Record capture). Defined in capture_io.
 std::string recordCapture(Workbench& wb, const std::string& name);

@@ -39,15 +39,15 @@ void swatchButton(const char* label, const glm::dvec3& rgb) {
 }
 } // namespace
 
-void drawParametersPanel(Workbench& wb, UiState& ui) {
+void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(8, 296), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(330, 430), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Parameters", &ui.showParameters)) {
+    if (!ImGui::Begin("Parameters", &ui.isOpen(PanelId::Parameters))) {
         ImGui::End();
         return;
     }
     // Which settings are edited: the shared ones or a model's own.
-    std::string& target = ui.paramsTarget; // display path; empty = shared
+    std::string& target = ps.target; // display path; empty = shared
     std::string targetLabel = target.empty() ? "all models (shared)" : target;
     if (ImGui::BeginCombo("applies to", targetLabel.c_str())) {
         if (ImGui::Selectable("all models (shared)", target.empty())) target.clear();

@@ -66,10 +66,10 @@ void drawReferenceControls(Workbench& wb) {
 }
 } // namespace
 
-void drawPencilPanel(Workbench& wb, UiState& ui) {
+void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(346, 506), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(620, 486), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Pencil plot", &ui.showPencil)) {
+    if (!ImGui::Begin("Pencil plot", &ui.isOpen(PanelId::Pencil))) {
         ImGui::End();
         return;
     }
@@ -109,9 +109,9 @@ void drawPencilPanel(Workbench& wb, UiState& ui) {
     ImGui::SameLine();
     ImGui::TextDisabled("r in [0, %.3g] mm", wb.rMaxMm());
 
-    char* exportPath = ui.exportName;
+    char* exportPath = own.exportName;
     ImGui::SetNextItemWidth(160);
-    ImGui::InputText("##export", exportPath, sizeof ui.exportName);
+    ImGui::InputText("##export", exportPath, sizeof own.exportName);
     ImGui::SameLine();
     auto series = wb.plotSeries();
     if (ImGui::Button("Export CSV")) {
@@ -124,7 +124,7 @@ void drawPencilPanel(Workbench& wb, UiState& ui) {
         }
     }
     ImGui::SameLine();
-    if (ImGui::Button("Export PNG")) ui.plotPngRequest = std::string(exportPath) + ".png";
+    if (ImGui::Button("Export PNG")) own.plotPngRequest = std::string(exportPath) + ".png";
 
     drawReferenceControls(wb);
 
@@ -136,9 +136,9 @@ void drawPencilPanel(Workbench& wb, UiState& ui) {
                         std::string(ps.solo.empty() ? chName[ps.channel] : "R, G, B of " + ps.solo);
     plot::PlotState st = plot::drawPlot("pencil", ImVec2(-1, -1), series, x, y, title,
                                         Workbench::normalisationNote());
-    if (!ui.plotPngRequest.empty()) {
-        ui.pngExportPath = ui.plotPngRequest;
-        ui.plotPngRequest.clear();
+    if (!own.plotPngRequest.empty()) {
+        ui.pngExportPath = own.plotPngRequest;
+        own.plotPngRequest.clear();
         ui.pngRect[0] = st.min.x;
         ui.pngRect[1] = st.min.y;
         ui.pngRect[2] = st.max.x;

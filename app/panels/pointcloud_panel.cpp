@@ -5,6 +5,8 @@
 #include "panels.h"
 #include "scene_panel_util.h"
 
+#include "render/frame_analysis.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -18,83 +20,66 @@ long long runsOf(const SceneStage& s, const char* stage) {
 
 // Radiance of each point as the last frame shows it: the HDR pixel the point projects to, when
 // the G-buffer there is the point's own surface (within `tol`); −1 when hidden or outside.
-std::vector<float> radianceFromFrame(SceneStage& scene, const std::vector<glm::vec3>& pos,
-                                     float tol) {
-    std::vector<float> out(pos.size(), -1.0f);
-    if (!scene.hasFrame()) return out;
-    render::Readback rb = scene.readback();
-    render::Camera cam = scene.settings().render.camera;
-    cam.aspect = float(rb.width) / float(rb.height);
-    const glm::mat4 vp = cam.projection() * cam.view();
-    for (size_t i = 0; i < pos.size(); ++i) {
-        glm::vec4 c = vp * glm::vec4(pos[i], 1.0f);
-        if (!(c.w > 0)) continue;
-        const int x = int((c.x / c.w * 0.5f + 0.5f) * float(rb.width));
-        const int y = int((0.5f - c.y / c.w * 0.5f) * float(rb.height));
-        if (x < 0 || y < 0 || x >= rb.width || y >= rb.height) continue;
-        const size_t p = rb.index(x, y);
-        if (rb.position[p].w < 0.5f) continue;
-        if (glm::length(glm::vec3(rb.position[p]) - pos[i]) > tol) continue;
-        out[i] = luminance(glm::vec3(rb.hdr[p]));
-    }
-    return out;
-}
-
-void uploadColors(Workbench& wb, UiState& ui) {
+void uploadColors(Workbench& wb, PointCloudPanelState& ps, const UiShared& ui) {
     SceneStage& scene = wb.scene();
     const auto& pts = scene.cloud().points;
-    std::string key = std::to_string(ui.colorBy) + '|' +
+    std::string key = std::to_string(int(ui.inspect.colorBy)) + '|' +
                       std::to_string(runsOf(scene, "scene.pointcloud")) + '|' +
                       std::to_string(runsOf(scene, "scene.irradiance")) +
-                      (ui.colorBy == 3 ? '|' + std::to_string(runsOf(scene, "scene.render")) : "");
-    if (key == ui.pointColorsKey && ui.pointView) return;
-    ui.pointColorsKey = key;
-    if (!ui.pointView) ui.pointView = std::make_unique<SceneView>();
+                      (ui.inspect.colorBy == PointColor::Radiance
+                           ? '|' + std::to_string(runsOf(scene, "scene.render"))
+                           : "");
+    if (key == ps.colorsKey && ps.view) return;
+    ps.colorsKey = key;
+    if (!ps.view) ps.view = std::make_unique<SceneView>();
     std::vector<glm::vec3> pos(pts.size()), col(pts.size());
     std::vector<float> value(pts.size(), 0.0f);
     for (size_t i = 0; i < pts.size(); ++i)
         pos[i] = {pts[i].p[0], pts[i].p[1], pts[i].p[2]};
     const auto& e = scene.irradiance();
-    if (ui.colorBy == 1)
+    if (ui.inspect.colorBy == PointColor::Area)
         for (size_t i = 0; i < pts.size(); ++i)
             value[i] = pts[i].area;
-    if (ui.colorBy == 2)
+    if (ui.inspect.colorBy == PointColor::Irradiance)
         for (size_t i = 0; i < pts.size() && i < e.size(); ++i)
             value[i] = luminance(e[i]);
-    if (ui.colorBy == 3)
-        value = radianceFromFrame(scene, pos, 2.0f * float(scene.uniformity().meanNN) + 1e-4f);
+    if (ui.inspect.colorBy == PointColor::Radiance)
+        value = scene.hasFrame()
+                    ? render::radianceAtPoints(scene.readback(), scene.settings().render.camera,
+                                               pos, 2.0f * float(scene.uniformity().meanNN) + 1e-4f)
+                    : std::vector<float>(pos.size(), -1.0f);
     float lo = 1e30f, hi = -1e30f;
     for (float v : value)
         if (v >= 0) lo = std::min(lo, v), hi = std::max(hi, v);
     if (lo > hi) lo = hi = 0;
-    ui.colorMin = lo;
-    ui.colorMax = hi;
+    ps.colorMin = lo;
+    ps.colorMax = hi;
     for (size_t i = 0; i < pts.size(); ++i) {
-        if (ui.colorBy == 0)
+        if (ui.inspect.colorBy == PointColor::Normal)
             col[i] = glm::vec3(pts[i].n[0], pts[i].n[1], pts[i].n[2]) * 0.5f + 0.5f;
         else if (value[i] < 0)
             col[i] = glm::vec3(0.3f);
         else
             col[i] = colorRamp(hi > lo ? (value[i] - lo) / (hi - lo) : 0.5f);
     }
-    ui.pointView->setPoints(pos, col);
+    ps.view->setPoints(pos, col);
 }
 
 } // namespace
 
-void drawPointCloudPanel(Workbench& wb, UiState& ui) {
+void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(618, 470), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Point cloud", &ui.showPointCloud)) {
+    if (!ImGui::Begin("Point cloud", &ui.isOpen(PanelId::PointCloud))) {
         ImGui::End();
         return;
     }
     SceneStage& scene = wb.scene();
     SceneSettings& s = scene.settings();
     ImGui::SetNextItemWidth(300);
-    if (ImGui::InputText("mesh (OBJ)", ui.sceneMeshBuffer, sizeof ui.sceneMeshBuffer,
+    if (ImGui::InputText("mesh (OBJ)", ps.meshBuffer, sizeof ps.meshBuffer,
                          ImGuiInputTextFlags_EnterReturnsTrue)) {
-        s.meshFile = ui.sceneMeshBuffer;
+        s.meshFile = ps.meshBuffer;
         scene.reloadFiles(); // Enter on the same name reads the file again
     }
     int n = int(s.points.points);
@@ -122,9 +107,9 @@ void drawPointCloudPanel(Workbench& wb, UiState& ui) {
     ImGui::SameLine();
     ImGui::Checkbox("disk cache", &s.useCache);
     ImGui::SetNextItemWidth(300);
-    if (ImGui::InputText("load PLY (empty: generate)", ui.plyBuffer, sizeof ui.plyBuffer,
+    if (ImGui::InputText("load PLY (empty: generate)", ps.plyBuffer, sizeof ps.plyBuffer,
                          ImGuiInputTextFlags_EnterReturnsTrue))
-        s.pointCloudFile = ui.plyBuffer;
+        s.pointCloudFile = ps.plyBuffer;
 
     if (scene.generating()) {
         ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "generating %zu points ... %.1f s",
@@ -148,44 +133,43 @@ void drawPointCloudPanel(Workbench& wb, UiState& ui) {
                 u.meanNN > 0 ? u.minNN / u.meanNN : 0.0);
     const char* modes[] = {"normal", "area", "irradiance", "radiance (from the render)"};
     ImGui::SetNextItemWidth(200);
-    ImGui::Combo("colour by", &ui.colorBy, modes, 4);
-    uploadColors(wb, ui);
-    if (ui.colorBy > 0)
-        rampBar(ui.colorMin, ui.colorMax,
-                ui.colorBy == 1   ? "units^2"
-                : ui.colorBy == 2 ? "(E_t luminance)"
-                                  : "(L_o luminance; grey: hidden)");
+    comboEnum("colour by", ui.inspect.colorBy, modes);
+    uploadColors(wb, ps, ui);
+    if (ui.inspect.colorBy != PointColor::Normal)
+        rampBar(ps.colorMin, ps.colorMax,
+                ui.inspect.colorBy == PointColor::Area         ? "units^2"
+                : ui.inspect.colorBy == PointColor::Irradiance ? "(E_t luminance)"
+                                                               : "(L_o luminance; grey: hidden)");
     ImVec2 avail = ImGui::GetContentRegionAvail();
     const float side = std::max(120.0f, std::min(avail.x, avail.y - 40));
     float px = 0, py = 0;
     std::vector<glm::vec3> pos;
-    if (inspectorImage(wb, ui, *ui.pointView, ImVec2(side, side), 3.0f, px, py)) {
+    if (inspectorImage(wb, ui, *ps.view, ImVec2(side, side), 3.0f, px, py)) {
         pos.resize(cloud.points.size());
         for (size_t i = 0; i < pos.size(); ++i)
             pos[i] = {cloud.points[i].p[0], cloud.points[i].p[1], cloud.points[i].p[2]};
-        render::Camera cam = ui.inspectCamera;
-        ui.pickedPoint =
-            pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py);
-        ui.pickedExitance = glm::vec3(-1.0f);
-        if (ui.pickedPoint >= 0) {
-            const auto& p = cloud.points[size_t(ui.pickedPoint)];
+        render::Camera cam = ui.inspect.camera;
+        ps.picked = pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py);
+        ps.pickedExitance = glm::vec3(-1.0f);
+        if (ps.picked >= 0) {
+            const auto& p = cloud.points[size_t(ps.picked)];
             try {
-                ui.pickedExitance =
+                ps.pickedExitance =
                     scene.exitanceAt({p.p[0], p.p[1], p.p[2]}, {p.n[0], p.n[1], p.n[2]});
             } catch (const std::exception&) { // no frame yet: the readout says so
             }
         }
     }
-    if (ui.pickedPoint >= 0 && size_t(ui.pickedPoint) < cloud.points.size()) {
-        const auto& p = cloud.points[size_t(ui.pickedPoint)];
-        ImGui::Text("point %d: p (%.4f, %.4f, %.4f)  n (%.3f, %.3f, %.3f)  area %.4g",
-                    ui.pickedPoint, p.p[0], p.p[1], p.p[2], p.n[0], p.n[1], p.n[2], p.area);
+    if (ps.picked >= 0 && size_t(ps.picked) < cloud.points.size()) {
+        const auto& p = cloud.points[size_t(ps.picked)];
+        ImGui::Text("point %d: p (%.4f, %.4f, %.4f)  n (%.3f, %.3f, %.3f)  area %.4g", ps.picked,
+                    p.p[0], p.p[1], p.p[2], p.n[0], p.n[1], p.n[2], p.area);
         const auto& e = scene.irradiance();
-        if (size_t(ui.pickedPoint) < e.size()) {
-            const glm::vec3 v = e[size_t(ui.pickedPoint)];
+        if (size_t(ps.picked) < e.size()) {
+            const glm::vec3 v = e[size_t(ps.picked)];
             ImGui::Text("  E_t (%.4g, %.4g, %.4g)  triangle %u", v.x, v.y, v.z, p.triangle);
         }
-        const glm::vec3 M = ui.pickedExitance;
+        const glm::vec3 M = ps.pickedExitance;
         if (M.x >= 0)
             ImGui::Text("  radiant exitance M (%.4g, %.4g, %.4g); radiance L_o = Ft/pi * M", M.x,
                         M.y, M.z);

@@ -6,32 +6,23 @@
 #include "panels.h"
 #include "scene_panel_util.h"
 
+#include "render/frame_analysis.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace app {
 namespace {
 
-// RGBA8 heatmap of the last frame: 1 steps, 2 max stack depth, 3 relative error vs brute.
-std::vector<unsigned char> heatmapOf(const render::Readback& rb, int mode,
-                                     const std::vector<glm::vec4>& brute, float& maxValue) {
-    std::vector<float> v(rb.stats.size(), -1.0f);
-    maxValue = 0;
-    for (size_t p = 0; p < v.size(); ++p) {
-        if (rb.position[p].w < 0.5f) continue;
-        if (mode == 1) v[p] = float(rb.stats[p].x);
-        if (mode == 2) v[p] = float(rb.stats[p].y);
-        if (mode == 3 && p < brute.size()) {
-            const float b = luminance(glm::vec3(brute[p]));
-            const float h = luminance(glm::vec3(rb.exitance[p]));
-            v[p] = b > 0 ? std::abs(h - b) / b : 0.0f;
-        }
-        maxValue = std::max(maxValue, v[p]);
-    }
+// RGBA8 image of a heatmap quantity (render::heatValues): the colour ramp over [0, max], grey
+// where there is no value, magenta where the traversal flagged the pixel (stack overflow,
+// iteration cap, loop limit).
+std::vector<unsigned char> heatImage(const render::Readback& rb, const std::vector<float>& v,
+                                     float maxValue) {
     std::vector<unsigned char> rgba(v.size() * 4, 0);
     for (size_t p = 0; p < v.size(); ++p) {
         glm::vec3 c = v[p] < 0 ? glm::vec3(0.12f) : colorRamp(maxValue > 0 ? v[p] / maxValue : 0);
-        if (rb.stats[p].z != 0) c = {1.0f, 0.0f, 1.0f}; // flagged: overflow / cap / loop limit
+        if (rb.stats[p].z != 0) c = {1.0f, 0.0f, 1.0f};
         rgba[4 * p] = (unsigned char)(c.x * 255);
         rgba[4 * p + 1] = (unsigned char)(c.y * 255);
         rgba[4 * p + 2] = (unsigned char)(c.z * 255);
@@ -42,10 +33,10 @@ std::vector<unsigned char> heatmapOf(const render::Readback& rb, int mode,
 
 } // namespace
 
-void drawRenderPanel(Workbench& wb, UiState& ui) {
+void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(346, 28), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(620, 470), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Render", &ui.showRender)) {
+    if (!ImGui::Begin("Render", &ui.isOpen(PanelId::Render))) {
         ImGui::End();
         return;
     }
@@ -83,7 +74,7 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
     ImGui::Checkbox("half resolution while moving", &scene.settings().halfResolutionWhileChanging);
     const char* heat[] = {"image", "nodes visited", "max stack depth", "rel. error vs brute force"};
     ImGui::SetNextItemWidth(200);
-    ImGui::Combo("show", &ui.heatmap, heat, 4);
+    comboEnum("show", ps.heatmap, heat);
 
     const render::Frame& f = scene.frame();
     if (!scene.hasFrame()) {
@@ -99,10 +90,10 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
                 f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
                 f.tonemapMs, st != scene.stats().end() ? st->second.runs : 0);
     GLuint tex = f.ldr;
-    if (ui.heatmap > 0) {
+    if (ps.heatmap != Heatmap::Image) {
         render::Readback rb = scene.readback();
         const std::vector<glm::vec4>* brute = scene.bruteForceResult();
-        if (ui.heatmap == 3 && !brute) {
+        if (ps.heatmap == Heatmap::RelativeError && !brute) {
             if (scene.bruteForceRunning()) {
                 ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "brute force running ...");
             } else if (scene.rendering()) {
@@ -115,14 +106,17 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
                 }
             }
         }
-        if (ui.heatmap != 3 || (brute && brute->size() == rb.exitance.size())) {
+        if (ps.heatmap != Heatmap::RelativeError ||
+            (brute && brute->size() == rb.exitance.size())) {
             static const std::vector<glm::vec4> kNone;
-            std::vector<unsigned char> rgba =
-                heatmapOf(rb, ui.heatmap, brute ? *brute : kNone, ui.heatMax);
-            gl::uploadRGBA8(ui.heatTex, rb.width, rb.height, rgba.data());
-            tex = ui.heatTex.id();
-            rampBar(0, ui.heatMax,
-                    ui.heatmap == 3 ? "(magenta: flagged pixel)" : "(magenta: flagged)");
+            const auto q = static_cast<render::HeatQuantity>(static_cast<int>(ps.heatmap) - 1);
+            std::vector<unsigned char> rgba = heatImage(
+                rb, render::heatValues(rb, q, brute ? *brute : kNone, ps.heatMax), ps.heatMax);
+            gl::uploadRGBA8(ps.heatTex, rb.width, rb.height, rgba.data());
+            tex = ps.heatTex.id();
+            rampBar(0, ps.heatMax,
+                    ps.heatmap == Heatmap::RelativeError ? "(magenta: flagged pixel)"
+                                                         : "(magenta: flagged)");
         }
     }
     const ImVec2 avail = ImGui::GetContentRegionAvail();
@@ -133,11 +127,11 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
     float wheel = 0;
     if (pickImage(tex, f.width, f.height, width, px, py, false, &drag, &wheel)) {
         try {
-            ui.debug = scene.debugPixel(px, py);
-            ui.debugProblem.clear();
-            ui.showTraversal = true;
+            ui.inspect.debug = scene.debugPixel(px, py);
+            ui.inspect.debugProblem.clear();
+            ui.isOpen(PanelId::Traversal) = true;
         } catch (const std::exception& e) {
-            ui.debugProblem = e.what();
+            ui.inspect.debugProblem = e.what();
         }
     }
     const bool moving = drag.x != 0 || drag.y != 0 || wheel != 0;
@@ -148,16 +142,17 @@ void drawRenderPanel(Workbench& wb, UiState& ui) {
             r.camera.distance = std::max(0.05f, r.camera.distance * std::pow(0.9f, wheel));
     }
     wb.setInteracting(moving || ImGui::IsAnyItemActive());
-    if (ui.debug && ui.debug->hit) {
+    if (ui.inspect.debug && ui.inspect.debug->hit) {
         const float s = width / float(f.width);
         const ImVec2 o = ImGui::GetItemRectMin();
         ImGui::GetWindowDrawList()->AddRect(
-            ImVec2(o.x + float(ui.debug->x) * s, o.y + float(ui.debug->y) * s),
-            ImVec2(o.x + float(ui.debug->x + 1) * s + 2, o.y + float(ui.debug->y + 1) * s + 2),
+            ImVec2(o.x + float(ui.inspect.debug->x) * s, o.y + float(ui.inspect.debug->y) * s),
+            ImVec2(o.x + float(ui.inspect.debug->x + 1) * s + 2,
+                   o.y + float(ui.inspect.debug->y + 1) * s + 2),
             IM_COL32(255, 0, 255, 255));
     }
-    if (!ui.debugProblem.empty())
-        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", ui.debugProblem.c_str());
+    if (!ui.inspect.debugProblem.empty())
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", ui.inspect.debugProblem.c_str());
     ImGui::TextDisabled("drag: orbit, wheel: zoom, click: trace the pixel (Traversal panel)");
     ImGui::End();
 }

@@ -6,13 +6,13 @@
 
 namespace app {
 
-void ensureInspectCamera(Workbench& wb, UiState& ui) {
-    if (ui.inspectCameraSet || !wb.scene().hasMesh()) return;
-    ui.inspectCamera = wb.scene().settings().render.camera;
-    ui.inspectCamera.fit(wb.scene().mesh());
-    ui.inspectCamera.yaw = wb.scene().settings().render.camera.yaw;
-    ui.inspectCamera.pitch = wb.scene().settings().render.camera.pitch;
-    ui.inspectCameraSet = true;
+void ensureInspectCamera(Workbench& wb, UiShared& ui) {
+    if (ui.inspect.cameraSet || !wb.scene().hasMesh()) return;
+    ui.inspect.camera = wb.scene().settings().render.camera;
+    ui.inspect.camera.fit(wb.scene().mesh());
+    ui.inspect.camera.yaw = wb.scene().settings().render.camera.yaw;
+    ui.inspect.camera.pitch = wb.scene().settings().render.camera.pitch;
+    ui.inspect.cameraSet = true;
 }
 
 bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool flipY, ImVec2* drag,
@@ -48,10 +48,10 @@ bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool fli
     return false;
 }
 
-bool inspectorImage(Workbench& wb, UiState& ui, SceneView& view, ImVec2 size, float pointSize,
+bool inspectorImage(Workbench& wb, UiShared& ui, SceneView& view, ImVec2 size, float pointSize,
                     float& px, float& py) {
     ensureInspectCamera(wb, ui);
-    render::Camera& cam = ui.inspectCamera;
+    render::Camera& cam = ui.inspect.camera;
     const int w = std::max(16, int(size.x)), h = std::max(16, int(size.y));
     cam.aspect = float(w) / float(h);
     view.draw(w, h, cam.projection() * cam.view(), pointSize);

@@ -5,6 +5,7 @@
 #include "../scene_view.h"
 #include "../ui_state.h"
 #include "../workbench.h"
+#include "render/frame_analysis.h"
 
 #include <imgui.h>
 
@@ -14,21 +15,26 @@
 
 namespace app {
 
-// Shows a SceneView texture (drawn with ui.inspectCamera) filling `size`; dragging orbits,
+// Shows a SceneView texture (drawn with ui.inspect.camera) filling `size`; dragging orbits,
 // the wheel zooms. Returns true and sets (px, py) (pixels from the top left) on a click.
-bool inspectorImage(Workbench& wb, UiState& ui, SceneView& view, ImVec2 size, float pointSize,
+bool inspectorImage(Workbench& wb, UiShared& ui, SceneView& view, ImVec2 size, float pointSize,
                     float& px, float& py);
-// Rec. 709 luminance of linear RGB (the scalar the scalar views and heatmaps show).
-inline float luminance(const glm::vec3& c) {
-    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
+using render::luminance; // the scalar the scalar views and heatmaps show
 // A horizontal colour bar of colorRamp with its end labels.
 void rampBar(float lo, float hi, const char* unit);
 // Shows an RGBA texture (row 0 at the top) of w × h scaled to `width`; returns true and the
 // pixel on a click. dragging reports the mouse delta through dx, dy (pixels) when non-null.
 bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool flipY = false,
                ImVec2* drag = nullptr, float* wheel = nullptr);
-// Makes ui.inspectCamera frame the scene mesh (once).
-void ensureInspectCamera(Workbench& wb, UiState& ui);
+// An ImGui combo over the values 0 .. N-1 of enum E, labelled by `names`.
+template <class E, size_t N>
+bool comboEnum(const char* label, E& value, const char* const (&names)[N]) {
+    int i = static_cast<int>(value);
+    if (!ImGui::Combo(label, &i, names, static_cast<int>(N))) return false;
+    value = static_cast<E>(i);
+    return true;
+}
+// Makes ui.inspect.camera frame the scene mesh (once).
+void ensureInspectCamera(Workbench& wb, UiShared& ui);
 
 } // namespace app

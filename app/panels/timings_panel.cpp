@@ -8,10 +8,10 @@
 
 namespace app {
 
-void drawTimingsPanel(Workbench&, UiState& ui) {
+void drawTimingsPanel(Workbench&, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(974, 506), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(618, 486), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Timings", &ui.showTimings)) {
+    if (!ImGui::Begin("Timings", &ui.isOpen(PanelId::Timings))) {
         ImGui::End();
         return;
     }

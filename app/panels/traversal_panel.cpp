@@ -40,20 +40,20 @@ float relDiff(const glm::vec3& a, const glm::vec3& b) {
 
 } // namespace
 
-void drawTraversalPanel(Workbench& wb, UiState& ui) {
+void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
     ImGui::SetNextWindowPos(ImVec2(974, 506), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(618, 486), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Traversal debugger", &ui.showTraversal)) {
+    if (!ImGui::Begin("Traversal debugger", &ui.isOpen(PanelId::Traversal))) {
         ImGui::End();
         return;
     }
     (void)wb;
-    if (!ui.debug) {
+    if (!ui.inspect.debug) {
         ImGui::TextDisabled("click a pixel in the Render panel to trace its octree traversal");
         ImGui::End();
         return;
     }
-    const PixelDebug& d = *ui.debug;
+    const PixelDebug& d = *ui.inspect.debug;
     if (!d.hit) {
         ImGui::Text("pixel (%d, %d) shows the background (no surface)", d.x, d.y);
         ImGui::End();
@@ -85,25 +85,24 @@ void drawTraversalPanel(Workbench& wb, UiState& ui) {
                            "rounding may decide it differently",
                            t.closestMargin);
     if (ImGui::SmallButton("show the visited nodes in 3D (Octree panel)")) {
-        ui.showOctree = true;
-        ui.highlightTrace = true;
+        ui.isOpen(PanelId::Octree) = true;
+        ui.inspect.highlightTrace = true;
     }
-    ImGui::Checkbox("recurse", &ui.showRecurse);
+    ImGui::Checkbox("recurse", &ps.showRecurse);
     ImGui::SameLine();
-    ImGui::Checkbox("node", &ui.showNodeEval);
+    ImGui::Checkbox("node", &ps.showNodeEval);
     ImGui::SameLine();
-    ImGui::Checkbox("points", &ui.showPointEval);
+    ImGui::Checkbox("points", &ps.showPointEval);
     ImGui::SameLine();
     ImGui::SetNextItemWidth(140);
-    ImGui::InputText("node # filter", ui.traceFilter, sizeof ui.traceFilter);
+    ImGui::InputText("node # filter", ps.filter, sizeof ps.filter);
     std::vector<int> rows;
     for (size_t i = 0; i < t.steps.size(); ++i) {
         const octree::Step& s = t.steps[i];
-        if (s.decision == octree::Decision::Recurse && !ui.showRecurse) continue;
-        if (s.decision == octree::Decision::EvaluateNode && !ui.showNodeEval) continue;
-        if (s.decision == octree::Decision::EvaluatePoints && !ui.showPointEval) continue;
-        if (ui.traceFilter[0] && std::to_string(s.node).find(ui.traceFilter) == std::string::npos)
-            continue;
+        if (s.decision == octree::Decision::Recurse && !ps.showRecurse) continue;
+        if (s.decision == octree::Decision::EvaluateNode && !ps.showNodeEval) continue;
+        if (s.decision == octree::Decision::EvaluatePoints && !ps.showPointEval) continue;
+        if (ps.filter[0] && std::to_string(s.node).find(ps.filter) == std::string::npos) continue;
         rows.push_back(int(i));
     }
     ImGui::Text("%zu of %zu steps", rows.size(), t.steps.size());

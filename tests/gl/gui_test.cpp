@@ -2,6 +2,12 @@
 // window layout and panel visibility persist between runs.
 #include "../support/gl_fixture.h"
 #include "gui.h"
+#include "panels/registry.h"
+
+#include <imgui.h>
+#include <imgui_internal.h>
+
+#include <set>
 
 #include <cstdlib>
 
@@ -39,7 +45,7 @@ TEST(HeadlessGui, DrawsAllPanelsAndExportsThePlotAsPng) {
     EXPECT_GT(coloured, 1000u);
 
     const fs::path png = root / "plot.png";
-    gui.ui().plotPngRequest = png.string();
+    gui.ui().pencil.plotPngRequest = png.string();
     gui.frame();
     ASSERT_TRUE(fs::exists(png));
     auto [w, h] = pngSize(png);
@@ -49,7 +55,7 @@ TEST(HeadlessGui, DrawsAllPanelsAndExportsThePlotAsPng) {
     EXPECT_TRUE(wb.errors().empty());
 
     // an unwritable PNG path becomes an entry in the Errors panel, not a crash
-    gui.ui().plotPngRequest = "/proc/no/such/dir/plot.png";
+    gui.ui().pencil.plotPngRequest = "/proc/no/such/dir/plot.png";
     gui.frame();
     auto errors = wb.errors();
     ASSERT_EQ(errors.size(), 1u);
@@ -91,4 +97,45 @@ TEST(HeadlessGui, LayoutAndPanelVisibilityPersist) {
     EXPECT_NE(after.find("[Window][Pencil plot]\nPos=400,300"), std::string::npos) << after;
     ::unsetenv("XDG_CONFIG_HOME");
     fs::remove_all(root);
+}
+
+// The panel registry lists every panel once, in PanelId order, with distinct titles and saved
+// keys; a fresh UiState opens the defaults; the scene pipeline runs exactly while a panel that
+// needs it is open; closing a panel stops drawing it (its window disappears).
+TEST(PanelRegistry, EveryPanelOnceAndTheSceneFollowsItsPanels) {
+    const auto& reg = app::panelRegistry();
+    std::set<std::string> titles, keys;
+    for (size_t i = 0; i < reg.size(); ++i) {
+        EXPECT_EQ(static_cast<size_t>(reg[i].id), i);
+        EXPECT_TRUE(titles.insert(reg[i].title).second) << reg[i].title;
+        EXPECT_TRUE(keys.insert(reg[i].iniKey).second) << reg[i].iniKey;
+        EXPECT_NE(reg[i].draw, nullptr);
+    }
+    app::UiState fresh;
+    for (const auto& p : reg)
+        EXPECT_EQ(fresh.shared.isOpen(p.id), p.defaultOpen) << p.title;
+
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("registry", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 860);
+    app::UiState& ui = gui.ui();
+    for (const auto& p : reg)
+        ui.shared.isOpen(p.id) = false;
+    gui.frame();
+    EXPECT_FALSE(wb.scene().settings().enabled);
+    EXPECT_EQ(ImGui::FindWindowByName("Octree"), nullptr);
+    ui.shared.isOpen(app::PanelId::Octree) = true;
+    gui.frame();
+    EXPECT_TRUE(wb.scene().settings().enabled);
+    ImGuiWindow* w = ImGui::FindWindowByName("Octree");
+    ASSERT_NE(w, nullptr);
+    EXPECT_TRUE(w->Active || w->WasActive);
+    ui.shared.isOpen(app::PanelId::Octree) = false;
+    ui.shared.isOpen(app::PanelId::Pencil) = true;
+    gui.frame();
+    EXPECT_FALSE(wb.scene().settings().enabled);
+    w = ImGui::FindWindowByName("Octree");
+    EXPECT_TRUE(w == nullptr || !w->Active);
+    std::filesystem::remove_all(root);
 }

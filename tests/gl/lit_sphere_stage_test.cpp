@@ -44,11 +44,11 @@ TEST(LitSphereStage, PathTracedAndIntegratedImagesOfTheSameSetup) {
 
     // the panel draws every view without errors
     app::HeadlessGui gui(wb, 1280, 860);
-    gui.ui().showLitSpheres = true;
-    gui.ui().pickX = 12;
-    gui.ui().pickY = 12;
+    gui.ui().shared.isOpen(app::PanelId::LitSpheres) = true;
+    gui.ui().litSpheres.pickX = 12;
+    gui.ui().litSpheres.pickY = 12;
     for (int v = 0; v < 4; ++v) {
-        gui.ui().sphereView = v;
+        gui.ui().litSpheres.view = static_cast<app::SphereView>(v);
         gui.frame();
     }
     EXPECT_TRUE(wb.errors().empty());

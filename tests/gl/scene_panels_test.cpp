@@ -30,7 +30,8 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
     app::Workbench wb(root, false);
     app::HeadlessGui gui(wb, 1600, 1000);
     app::UiState& ui = gui.ui();
-    ui.showOctree = ui.showIrradiance = ui.showTraversal = true;
+    ui.shared.isOpen(app::PanelId::Octree) = ui.shared.isOpen(app::PanelId::Irradiance) =
+        ui.shared.isOpen(app::PanelId::Traversal) = true;
     app::SceneSettings& s = wb.scene().settings();
     s.points.points = 3000;
     s.useCache = false;
@@ -47,28 +48,29 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
 
     const auto [x, y] = hitPixel(wb.scene());
     ASSERT_GE(x, 0);
-    ui.debug = wb.scene().debugPixel(x, y);
-    ASSERT_TRUE(ui.debug->hit);
-    EXPECT_FALSE(ui.debug->trace.steps.empty());
+    ui.shared.inspect.debug = wb.scene().debugPixel(x, y);
+    ASSERT_TRUE(ui.shared.inspect.debug->hit);
+    EXPECT_FALSE(ui.shared.inspect.debug->trace.steps.empty());
     for (int c = 0; c < 4; ++c) {
-        ui.colorBy = c;
+        ui.shared.inspect.colorBy = static_cast<app::PointColor>(c);
         gui.frame();
     }
     const std::vector<glm::vec4> brute = wb.scene().bruteForceExitance();
     ASSERT_NE(wb.scene().bruteForceResult(), nullptr); // belongs to the displayed frame
     EXPECT_EQ(brute.size(), size_t(96 * 54));
     for (int h = 0; h < 4; ++h) {
-        ui.heatmap = h;
+        ui.render.heatmap = static_cast<app::Heatmap>(h);
         gui.frame();
     }
     for (int level = 0; level <= wb.scene().tree()->stats.maxDepth; ++level) {
-        ui.octreeLevel = level;
-        ui.selectedNode = level * 7;
+        ui.octree.level = level;
+        ui.octree.selectedNode = level * 7;
         gui.frame();
     }
-    ui.highlightTrace = false;
+    ui.shared.inspect.highlightTrace = false;
     gui.frame();
-    ui.showPencil = false; // uncover the traversal debugger for the saved image
+    ui.shared.isOpen(app::PanelId::Pencil) =
+        false; // uncover the traversal debugger for the saved image
     for (auto mode : {irradiance::LightMode::Filtered, irradiance::LightMode::Ibl,
                       irradiance::LightMode::OccludedIbl, irradiance::LightMode::Directional}) {
         s.light.mode = mode;

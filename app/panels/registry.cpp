@@ -1,0 +1,45 @@
+// The panel registry (registry.h): one entry per panel, in PanelId order.
+#include "registry.h"
+
+#include "panels.h"
+
+namespace app {
+
+const std::array<PanelEntry, kPanelCount>& panelRegistry() {
+    static const std::array<PanelEntry, kPanelCount> kPanels = {{
+        {PanelId::Models, "Models", "Models", 0, true, false,
+         [](Workbench& wb, UiState& ui) { drawModelsPanel(wb, ui.shared); }},
+        {PanelId::Parameters, "Parameters", "Parameters", 0, true, false,
+         [](Workbench& wb, UiState& ui) { drawParametersPanel(wb, ui.parameters, ui.shared); }},
+        {PanelId::Pencil, "Pencil plot", "PencilPlot", 0, true, false,
+         [](Workbench& wb, UiState& ui) { drawPencilPanel(wb, ui.pencil, ui.shared); }},
+        {PanelId::Errors, "Errors / Log", "ErrorsLog", 0, true, false,
+         [](Workbench& wb, UiState& ui) { drawErrorsPanel(wb, ui.errors, ui.shared); }},
+        {PanelId::Timings, "Timings", "Timings", 0, true, false,
+         [](Workbench& wb, UiState& ui) { drawTimingsPanel(wb, ui.shared); }},
+        {PanelId::LitSpheres, "Lit spheres", "LitSpheres", 0, false, false,
+         [](Workbench& wb, UiState& ui) { drawLitSpherePanel(wb, ui.litSpheres, ui.shared); }},
+        {PanelId::PointCloud, "Point cloud", "PointCloud", 1, true, true,
+         [](Workbench& wb, UiState& ui) { drawPointCloudPanel(wb, ui.pointCloud, ui.shared); }},
+        {PanelId::Octree, "Octree", "Octree", 1, false, true,
+         [](Workbench& wb, UiState& ui) { drawOctreePanel(wb, ui.octree, ui.shared); }},
+        {PanelId::Irradiance, "Irradiance", "Irradiance", 1, false, true,
+         [](Workbench& wb, UiState& ui) { drawIrradiancePanel(wb, ui.irradiance, ui.shared); }},
+        {PanelId::Render, "Render", "Render", 1, true, true,
+         [](Workbench& wb, UiState& ui) { drawRenderPanel(wb, ui.render, ui.shared); }},
+        {PanelId::Traversal, "Traversal debugger", "Traversal", 1, false, true,
+         [](Workbench& wb, UiState& ui) { drawTraversalPanel(wb, ui.traversal, ui.shared); }},
+    }};
+    return kPanels;
+}
+
+const PanelEntry& panelEntry(PanelId id) {
+    return panelRegistry()[static_cast<size_t>(id)];
+}
+
+UiState::UiState() {
+    for (const PanelEntry& p : panelRegistry())
+        shared.isOpen(p.id) = p.defaultOpen;
+}
+
+} // namespace app
