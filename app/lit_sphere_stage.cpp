@@ -4,8 +4,10 @@
 #include "core/core.h"
 #include "image_view.h"
 #include "pathtrace/sphere_tracer.h"
+#include "reference_stage.h"
 
 #include <algorithm>
+#include <sstream>
 
 namespace app {
 
@@ -152,6 +154,105 @@ std::string PathTracedSphere::problem() const {
                        " W, more than the standard error of the exited power";
     }
     return m_energy;
+}
+
+} // namespace app
+
+namespace app {
+
+bool LitSphereStage::update(const LitSphereInputs& in) {
+    const LitSphereSettings& ls = in.settings;
+    if (!ls.enabled) {
+        if (!m_key.empty()) m_pathTraced.cancel();
+        m_key.clear();
+        return false;
+    }
+    const bssrdf::ModelEntry* e = in.entry;
+    if (!e || !in.params) return false;
+    pathtrace::LitSphereSetup setup;
+    setup.radiusMm = ls.radiusMm;
+    for (int i = 0; i < 3; ++i)
+        setup.lightDir[i] = ls.lightDir[i];
+    setup.width = setup.height = ls.size;
+    setup.seed = ls.seed;
+    std::ostringstream k;
+    k.precision(17);
+    k << e->displayPath << '|' << e->generation << '|' << in.materialKey << '|' << setup.radiusMm
+      << '|' << setup.lightDir[0] << ',' << setup.lightDir[1] << ',' << setup.lightDir[2] << '|'
+      << setup.width << '|' << setup.seed << '|' << ls.pathSpp << '|' << ls.gpu << '|' << ls.mesh;
+    for (auto& [n, val] : e->values)
+        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
+    bool changed = false;
+    if (k.str() != m_key) {
+        m_key = k.str();
+        m_model = e->displayPath;
+        m_problem.clear();
+        m_ptSppSeen = 0;
+        try {
+            m_integrator.reset(setup);
+            std::filesystem::path mesh;
+            if (!ls.mesh.empty()) {
+                mesh = ls.mesh;
+                if (mesh.is_relative()) mesh = in.root / mesh;
+            }
+            m_pathTraced.start(mediaOf(*in.params), setup, ls.pathSpp, ls.gpu, mesh);
+        } catch (const core::Error& err) {
+            m_problem = err.what();
+            m_pathTraced.cancel();
+        }
+        changed = true;
+    }
+    if (!m_problem.empty()) return changed;
+    // the GPU integration takes a slice per frame, sized to stay near the budget
+    const uint64_t done = m_integrator.samplesPerPixelDone();
+    if (done < uint64_t(ls.integratedSpp) && e->programs.count("sphere_bssrdf.comp")) {
+        const int n =
+            int(std::min<uint64_t>(uint64_t(m_integratedSlice), uint64_t(ls.integratedSpp) - done));
+        core::Stopwatch sw;
+        m_integrator.step(e->programs.at("sphere_bssrdf.comp").id(), *e->model, e->values,
+                          in.builtins, n); // timed inside as "sphere BSSRDF integration"
+        const double ms = sw.ms();
+        if (in.budgetMs < 0)
+            m_integratedSlice = kFixedSlice; // fixed slices (finish)
+        else if (ms < 0.5 * in.budgetMs)
+            m_integratedSlice = std::min(m_integratedSlice * 2, 4096);
+        else if (ms > in.budgetMs)
+            m_integratedSlice = std::max(m_integratedSlice / 2, 1);
+        changed = true;
+    }
+    if (ls.gpu) m_pathTraced.stepGpu(in.budgetMs < 0 ? 1e9 : 0.5 * in.budgetMs);
+    if (m_pathTraced.sppDone() != m_ptSppSeen) {
+        m_ptSppSeen = m_pathTraced.sppDone();
+        changed = true;
+    }
+    return changed;
+}
+
+void LitSphereStage::finish(LitSphereInputs in) {
+    // restart and take fixed slices: the GPU sums then do not depend on frame timings, so the
+    // same build and seed give bitwise the same images (captures rely on it)
+    in.budgetMs = -1;
+    m_key.clear();
+    m_integratedSlice = kFixedSlice;
+    update(in);
+    while (in.settings.enabled && m_problem.empty() &&
+           m_integrator.samplesPerPixelDone() < uint64_t(in.settings.integratedSpp))
+        if (!update(in)) break;
+    m_pathTraced.wait();
+}
+
+StageStatus LitSphereStage::status() const {
+    StageStatus st;
+    if (m_key.empty()) return st;
+    if (!m_problem.empty()) st.problems.push_back(m_problem);
+    if (std::string pt = m_pathTraced.problem(); !pt.empty()) st.problems.push_back(pt);
+    st.running = m_pathTraced.sppDone() < m_pathTraced.sppTarget();
+    st.progress = m_pathTraced.sppTarget() > 0
+                      ? double(m_pathTraced.sppDone()) / double(m_pathTraced.sppTarget())
+                      : 1.0;
+    st.stats.push_back({"path traced spp", std::to_string(m_pathTraced.sppDone())});
+    st.stats.push_back({"integrated spp", std::to_string(m_integrator.samplesPerPixelDone())});
+    return st;
 }
 
 } // namespace app

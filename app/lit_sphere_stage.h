@@ -7,7 +7,11 @@
 //     thread.
 #pragma once
 
+#include "stage.h"
+
+#include "bssrdf/program_library.h"
 #include "bssrdf/sphere_integrator.h"
+#include "material/material.h"
 #include "pathtrace/gpu_sphere.h"
 #include "pathtrace/lit_sphere.h"
 #include "pathtrace/mesh_tracer.h"
@@ -18,6 +22,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -73,6 +78,48 @@ class PathTracedSphere {
     std::string m_shaderProblem;
     std::shared_ptr<const pathtrace::LitMesh> m_mesh; // loaded mesh (kept while the path stays)
     std::filesystem::path m_meshPath;
+};
+
+// Both lit spheres as one stage of the workbench. Inputs: the source model (the same one the
+// reference and the scene use) with its material, the settings, the project root (relative
+// mesh paths) and the time budget of this update's GPU slices (< 0: fixed slices, so the GPU
+// sums do not depend on frame timings — captures rely on it).
+struct LitSphereInputs {
+    const bssrdf::ModelEntry* entry = nullptr; // none: no usable model, nothing runs
+    std::optional<material::MaterialParams> params;
+    bssrdf::Builtins builtins;
+    std::string materialKey;
+    LitSphereSettings settings;
+    std::filesystem::path root;
+    double budgetMs = 8.0;
+};
+
+class LitSphereStage : public StageOf<LitSphereInputs> {
+  public:
+    explicit LitSphereStage(std::filesystem::path gpuShaderFile)
+        : m_pathTraced(std::move(gpuShaderFile)) {}
+    const char* name() const override { return "lit sphere"; }
+    bool update(const LitSphereInputs& in) override;
+    StageStatus status() const override;
+    void cancel() override { m_pathTraced.cancel(); }
+    // Restarts and runs both renderings to their targets (tests, captures).
+    void finish(LitSphereInputs in);
+    void restart() { m_key.clear(); }
+
+    const PathTracedSphere& pathTracer() const { return m_pathTraced; }
+    PathTracedSphere& pathTracer() { return m_pathTraced; }
+    pathtrace::Image integratedImage() const { return m_integrator.image(); }
+    uint64_t integratedSppDone() const { return m_integrator.samplesPerPixelDone(); }
+    const std::string& model() const { return m_model; }
+    const std::string& problem() const { return m_problem; } // bad setup (the tracer's: its own)
+
+  private:
+    PathTracedSphere m_pathTraced;
+    bssrdf::SphereIntegrator m_integrator;
+    std::string m_key, m_model, m_problem;
+    int m_ptSppSeen = 0;
+    int m_integratedSlice = 16;
+    static constexpr int kFixedSlice = 256;
 };
 
 } // namespace app

@@ -3,6 +3,8 @@
 
 #include "core/core.h"
 
+#include <sstream>
+
 #include <algorithm>
 #include <string>
 
@@ -179,6 +181,78 @@ ReferenceSnapshot GpuReference::snapshot() const {
     }
     checkEnergy(snap);
     return snap;
+}
+
+std::array<pathtrace::Medium, 3> mediaOf(const material::MaterialParams& p) {
+    std::array<pathtrace::Medium, 3> media;
+    for (int c = 0; c < 3; ++c)
+        media[c] = {p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
+    return media;
+}
+
+bool ReferenceStage::update(const ReferenceInputs& in) {
+    if (!in.settings.enabled) {
+        if (!m_key.empty()) cancel();
+        m_key.clear();
+        return false;
+    }
+    // GPU work is sliced per frame on this (the GL) thread
+    if (m_gpuMode && m_gpu.step(8.0)) ++m_gpuSteps;
+    if (in.params) {
+        const material::MaterialParams& p = *in.params;
+        pathtrace::SlabSettings s;
+        s.rMaxMm = in.rMaxMm;
+        s.bins = in.settings.bins;
+        s.seed = in.settings.seed;
+        std::ostringstream k;
+        k.precision(17);
+        k << p.sigmaA.x << ',' << p.sigmaA.y << ',' << p.sigmaA.z << '|' << p.sigmaS.x << ','
+          << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g << '|' << p.eta << '|' << in.rMaxMm
+          << '|' << s.bins << '|' << s.seed << '|' << in.settings.paths << '|' << in.settings.gpu;
+        if (k.str() != m_key) {
+            m_key = k.str();
+            m_model = in.model;
+            cancel();
+            m_gpuMode = in.settings.gpu;
+            if (m_gpuMode)
+                m_gpu.start(mediaOf(p), s, in.settings.paths);
+            else
+                m_cpu.start(mediaOf(p), s, in.settings.paths);
+        }
+    }
+    const uint64_t seen = m_cpu.version() + m_gpuSteps;
+    if (seen == m_seen) return false;
+    m_seen = seen;
+    return true;
+}
+
+void ReferenceStage::cancel() {
+    m_cpu.cancel();
+    m_gpu.cancel();
+}
+
+ReferenceSnapshot ReferenceStage::finish(const ReferenceInputs& in) {
+    update(in);
+    if (m_gpuMode) {
+        while (m_gpu.step(1000.0)) {
+        }
+    } else {
+        m_cpu.wait();
+    }
+    return snapshot();
+}
+
+StageStatus ReferenceStage::status() const {
+    StageStatus st;
+    if (m_key.empty()) return st;
+    const ReferenceSnapshot snap = snapshot();
+    st.running = snap.running;
+    st.progress = snap.pathsTarget ? double(snap.pathsDone) / double(snap.pathsTarget) : 1.0;
+    if (!snap.problem.empty()) st.problems.push_back(snap.problem);
+    if (!snap.energy.empty()) st.problems.push_back(snap.energy);
+    st.stats.push_back({"paths per channel", std::to_string(snap.pathsDone)});
+    st.stats.push_back({"device", snap.device});
+    return st;
 }
 
 } // namespace app

@@ -3,6 +3,9 @@
 // the UI never waits. The plot reads snapshots; any change of inputs restarts the run.
 #pragma once
 
+#include "stage.h"
+
+#include "material/material.h"
 #include "pathtrace/gpu_slab.h"
 #include "pathtrace/pathtrace.h"
 
@@ -11,6 +14,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -93,5 +97,43 @@ class GpuReference {
     std::string m_problem;       // the run cannot go on (bad input, tally error)
     std::string m_shaderProblem; // the last edit failed to compile: old program still runs
 };
+
+// The reference as a stage of the workbench: inputs are the σ of the source model (the one
+// the lit spheres and the scene use), the user's settings and the plot's radius; a change of
+// any restarts the run (CPU in the background, or GPU slices per frame in update()).
+struct ReferenceInputs {
+    std::optional<material::MaterialParams> params; // none: no usable model, nothing runs
+    std::string model;                              // its display path
+    ReferenceSettings settings;
+    double rMaxMm = 20.0;
+};
+
+class ReferenceStage : public StageOf<ReferenceInputs> {
+  public:
+    explicit ReferenceStage(std::filesystem::path gpuShaderFile)
+        : m_gpu(std::move(gpuShaderFile)) {}
+    const char* name() const override { return "reference"; }
+    // Starts or restarts the run when the inputs changed, gives the GPU tracer a slice;
+    // true when new paths arrived (or the run restarted).
+    bool update(const ReferenceInputs& in) override;
+    StageStatus status() const override; // problems: bad inputs, a failed energy check
+    void cancel() override;
+    // Runs to the target (captures, CLI, tests).
+    ReferenceSnapshot finish(const ReferenceInputs& in);
+    ReferenceSnapshot snapshot() const { return m_gpuMode ? m_gpu.snapshot() : m_cpu.snapshot(); }
+    void restart() { m_key.clear(); }
+    void reloadGpu() { m_gpu.reload(); }
+    const std::string& model() const { return m_model; }
+
+  private:
+    ReferenceRunner m_cpu;
+    GpuReference m_gpu;
+    bool m_gpuMode = false;
+    std::string m_key, m_model;
+    uint64_t m_seen = 0, m_gpuSteps = 0;
+};
+
+// The three channels' media of a material (each channel its own medium).
+std::array<pathtrace::Medium, 3> mediaOf(const material::MaterialParams& p);
 
 } // namespace app

@@ -244,10 +244,13 @@ bool SceneStage::updatePointCloud(bool wait) {
     return changed;
 }
 
-bool SceneStage::updateIrradiance(long long shaderGeneration, bool finishOccluded) {
+bool SceneStage::updateIrradiance(float ior, long long shaderGeneration, bool finishOccluded) {
     if (!m_tree || !m_irradiance_stage) return false;
     irradiance::Stage& st = *m_irradiance_stage;
-    const irradiance::Settings& s = m_settings.light;
+    // the user's light with the rendered material's η: E_t carries Ft(η) (an input, never
+    // written back into the user's settings)
+    irradiance::Settings s = m_settings.light;
+    s.ior = ior;
     const bool ibl =
         s.mode == irradiance::LightMode::Ibl || s.mode == irradiance::LightMode::OccludedIbl;
     // Environment / projected texture files (loaded when named and changed).
@@ -406,20 +409,18 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting,
 bool SceneStage::update(const SceneModelInput& model, bool interacting,
                         long long shaderGeneration) {
     if (!m_settings.enabled) return false;
-    if (model.entry) m_settings.light.ior = model.builtins.ior; // E_t carries Ft(η)
     bool changed = updateMesh();
     changed |= updatePointCloud(false);
-    changed |= updateIrradiance(shaderGeneration, false);
+    changed |= updateIrradiance(lightIor(model), shaderGeneration, false);
     changed |= updateRender(model, interacting, shaderGeneration, false);
     changed |= advanceBruteForce(kFrameBudgetMs);
     return changed;
 }
 
 void SceneStage::finish(const SceneModelInput& model, long long shaderGeneration) {
-    if (model.entry) m_settings.light.ior = model.builtins.ior;
     updateMesh();
     updatePointCloud(true);
-    updateIrradiance(shaderGeneration, true);
+    updateIrradiance(lightIor(model), shaderGeneration, true);
     updateRender(model, false, shaderGeneration, true);
 }
 
@@ -523,6 +524,16 @@ std::vector<glm::vec4> SceneStage::bruteForceExitance() {
     advanceBruteForce(1e30);
     if (const auto* r = bruteForceResult()) return *r;
     throw core::Error("render", 0, "the brute-force pass failed (see Errors)");
+}
+
+StageStatus SceneStage::status() const {
+    StageStatus st;
+    st.problems = problems();
+    st.running = generating() || rendering();
+    for (const auto& [name, stat] : m_stats)
+        st.stats.push_back(
+            {name, std::to_string(stat.runs) + " runs, last " + std::to_string(stat.ms) + " ms"});
+    return st;
 }
 
 } // namespace app

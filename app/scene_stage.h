@@ -12,6 +12,8 @@
 // replica (octree::traverse) on the G-buffer of the last frame.
 #pragma once
 
+#include "stage.h"
+
 #include "bssrdf/program_library.h"
 #include "core/core.h"
 #include "irradiance/irradiance.h"
@@ -66,12 +68,16 @@ struct PixelDebug {
     glm::vec3 bruteExitance{0.0f}; // Σ over every point (GPU-evaluated BSSRDF, float sum)
 };
 
-class SceneStage {
+class SceneStage : public Stage {
   public:
     explicit SceneStage(std::filesystem::path root);
     ~SceneStage();
 
     SceneSettings& settings() { return m_settings; }
+    const char* name() const override { return "scene"; }
+    // Problems of every sub-stage; stats: the runs and last time of each.
+    StageStatus status() const override;
+    void cancel() override { cancelPointCloud(); }
     // Runs whatever is stale. interacting: the user is dragging / editing (half resolution).
     // Returns true when a result changed.
     bool update(const SceneModelInput& model, bool interacting, long long shaderGeneration);
@@ -133,7 +139,11 @@ class SceneStage {
     void clearProblem(const std::string& stage);
     bool updateMesh();
     bool updatePointCloud(bool wait);
-    bool updateIrradiance(long long shaderGeneration, bool finishOccluded);
+    bool updateIrradiance(float ior, long long shaderGeneration, bool finishOccluded);
+    // η of the light's Fresnel transmittance: the model's, else the light settings' own.
+    float lightIor(const SceneModelInput& model) const {
+        return model.entry ? model.builtins.ior : m_settings.light.ior;
+    }
     bool updateRender(const SceneModelInput& model, bool interacting, long long shaderGeneration,
                       bool finishNow);
     // Interactive renders: traversal dispatches of this many loop iterations per pixel, and

@@ -21,56 +21,7 @@ double epochSeconds() {
     return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
         .count();
 }
-std::string keyOf(const MaterialSettings& s, long long generation) {
-    std::ostringstream k;
-    k.precision(17);
-    const auto& p = s.params;
-    k << generation << '|' << int(s.mode) << '|' << p.sigmaA.x << ',' << p.sigmaA.y << ','
-      << p.sigmaA.z << '|' << p.sigmaS.x << ',' << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g
-      << '|' << p.eta << '|' << p.scale << '|' << s.rdr.x << ',' << s.rdr.y << ',' << s.rdr.z << '|'
-      << s.ld.x << ',' << s.ld.y << ',' << s.ld.z;
-    return k.str();
-}
 } // namespace
-
-bssrdf::Builtins builtinsOf(const material::MaterialParams& p) {
-    bssrdf::Builtins b;
-    b.sigmaA = glm::vec3(p.sigmaA);
-    b.sigmaS = glm::vec3(p.sigmaS);
-    b.g = static_cast<float>(p.g);
-    b.ior = static_cast<float>(p.eta);
-    b.scale = static_cast<float>(p.scale);
-    return b;
-}
-
-material::MaterialParams effectiveParams(const bssrdf::ModelEntry& e, const MaterialSettings& s) {
-    material::MaterialParams p = s.params;
-    if (s.mode == ParamMode::Sigma) {
-        material::validate(p, "parameters");
-        return p;
-    }
-    if (!e.hasInversion())
-        throw core::Error(e.displayPath, 0,
-                          "R_dr / l_d parametrisation unavailable: the model has no "
-                          "diffuseReflectance section");
-    // g, η and scale are validated on their own; σ comes from the inversion.
-    material::MaterialParams probe = p;
-    probe.sigmaA = glm::dvec3(0.01);
-    probe.sigmaS = glm::dvec3(1.0);
-    material::validate(probe, "parameters");
-    gl::ScopedStageTimer timer("inversion");
-    const GLuint program = e.programs.at("invert_rdr.comp").id();
-    auto batch = [&](const std::vector<glm::dvec3>& alpha) {
-        return bssrdf::evaluateDiffuseReflectance(program, *e.model, e.values, builtinsOf(p),
-                                                  alpha);
-    };
-    glm::dvec3 alphaPrime = material::solveAlphaPrime(s.rdr, batch);
-    auto sig = material::sigmaFromAlphaPrime(alphaPrime, s.ld, p.g);
-    p.sigmaA = sig.sigmaA;
-    p.sigmaS = sig.sigmaS;
-    material::validate(p, "inverted parameters");
-    return p;
-}
 
 Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& models)
     : m_root(fs::absolute(root).lexically_normal()) {
@@ -81,8 +32,8 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     }
     if (const auto* p = material::findPreset(m_presets, m_shared.preset))
         m_shared.params = material::applyPreset(*p, m_shared.params);
-    m_gpuRef = std::make_unique<GpuReference>(m_root / "shaders" / "pathtrace_slab.comp");
-    m_ptSphere = std::make_unique<PathTracedSphere>(m_root / "shaders" / "pathtrace_sphere.comp");
+    m_reference = std::make_unique<ReferenceStage>(m_root / "shaders" / "pathtrace_slab.comp");
+    m_litSpheres = std::make_unique<LitSphereStage>(m_root / "shaders" / "pathtrace_sphere.comp");
     m_scene = std::make_unique<SceneStage>(m_root);
     m_scene->settings().enabled = false;
     m_library = std::make_unique<bssrdf::ModelLibrary>(
@@ -96,6 +47,25 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     if (watch)
         m_watcher = std::make_unique<core::FileWatcher>(
             std::vector<fs::path>{m_root / "materials", m_root / "shaders"});
+    // The stages in data-flow order; each gathers its inputs from the ones before it.
+    m_pipeline = {
+        {&m_material,
+         [this] {
+             return m_material.update({m_library.get(), &m_views, &m_shared});
+         }},
+        {&m_pencil,
+         [this] {
+             double rMax = m_plot.fixedRange ? m_plot.rMaxMm : autoRMax();
+             if (!(rMax > 0) || !std::isfinite(rMax)) rMax = 20.0;
+             const bool changed = rMax != m_rMax;
+             m_rMax = rMax;
+             return m_pencil.update({m_library.get(), &m_views, m_rMax, m_plot.samples}) || changed;
+         }},
+        {m_reference.get(), [this] { return m_reference->update(referenceInputs()); }},
+        {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
+        {m_scene.get(),
+         [this] { return m_scene->update(sceneModelInput(), m_interacting, m_shaderGeneration); }},
+    };
     update();
 }
 
@@ -137,20 +107,6 @@ MaterialSettings& Workbench::settingsFor(const std::string& displayPath) {
     return v.override ? v.own : m_shared;
 }
 
-void Workbench::computeMaterial(bssrdf::ModelEntry& e, ModelView& v) {
-    const MaterialSettings& s = v.override ? v.own : m_shared;
-    std::string key = keyOf(s, e.generation);
-    if (key == v.materialKey) return;
-    v.materialKey = key;
-    try {
-        v.effective = effectiveParams(e, s);
-        v.materialProblem.clear();
-    } catch (const core::Error& err) {
-        v.effective.reset();
-        v.materialProblem = err.what();
-    }
-}
-
 double Workbench::autoRMax() const {
     double ld = 0;
     for (const auto& e : m_library->entries()) {
@@ -161,21 +117,6 @@ double Workbench::autoRMax() const {
             if (std::isfinite(l[c])) ld = std::max(ld, l[c]);
     }
     return ld > 0 ? m_plot.rangeLd * ld : 20.0;
-}
-
-void Workbench::computeProfile(bssrdf::ModelEntry& e, ModelView& v) {
-    if (!v.effective || !e.usable()) return;
-    std::ostringstream k;
-    k.precision(17);
-    k << v.materialKey << '|' << m_rMax << '|' << m_plot.samples;
-    for (auto& [n, val] : e.values)
-        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
-    if (k.str() == v.profileKey) return;
-    v.profileKey = k.str();
-    gl::ScopedStageTimer timer("pencil plot");
-    v.profile = bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model,
-                                        e.values, builtinsOf(*v.effective),
-                                        bssrdf::radiusGrid(m_rMax, m_plot.samples));
 }
 
 bool Workbench::update() {
@@ -202,8 +143,8 @@ bool Workbench::update() {
             }
             for (const auto& p : paths)
                 if (p.filename().string().rfind("pathtrace", 0) == 0) {
-                    m_gpuRef->reload(); // the GPU tracers' shaders or their includes
-                    m_ptSphere->reloadGpu();
+                    m_reference->reloadGpu(); // the GPU tracers' shaders or their includes
+                    m_litSpheres->pathTracer().reloadGpu();
                     changed = true;
                     break;
                 }
@@ -216,26 +157,8 @@ bool Workbench::update() {
             alive |= e.displayPath == it->first;
         it = alive ? std::next(it) : m_views.erase(it);
     }
-    for (auto& e : m_library->entries())
-        if (e.usable()) computeMaterial(e, m_views[e.displayPath]);
-    double rMax = m_plot.fixedRange ? m_plot.rMaxMm : autoRMax();
-    if (!(rMax > 0) || !std::isfinite(rMax)) rMax = 20.0;
-    if (rMax != m_rMax) changed = true;
-    m_rMax = rMax;
-    for (auto& e : m_library->entries()) {
-        if (!e.usable()) continue;
-        auto& v = m_views[e.displayPath];
-        std::string before = v.profileKey;
-        computeProfile(e, v);
-        changed |= before != v.profileKey;
-    }
-    updateReference();
-    changed |= updateLitSpheres(8.0);
-    changed |= m_scene->update(sceneModelInput(), m_interacting, m_shaderGeneration);
-    if (m_ref->version() + m_gpuSteps != m_refVersion) {
-        m_refVersion = m_ref->version() + m_gpuSteps;
-        changed = true;
-    }
+    for (const PipelineStep& step : m_pipeline)
+        changed |= step.run();
     return changed;
 }
 
@@ -262,144 +185,38 @@ const bssrdf::ModelEntry* Workbench::sourceModel(const ModelView** view) const {
     return nullptr;
 }
 
-bool Workbench::updateLitSpheres(double budgetMs) {
-    if (!m_sphere.enabled) {
-        if (!m_sphereKey.empty()) m_ptSphere->cancel();
-        m_sphereKey.clear();
-        return false;
-    }
+ReferenceInputs Workbench::referenceInputs() const {
+    ReferenceInputs in;
+    in.settings = m_refSettings;
+    in.rMaxMm = m_rMax;
     const ModelView* view = nullptr;
-    const bssrdf::ModelEntry* e = sourceModel(&view);
-    if (!e) return false;
-    const auto& p = *view->effective;
-    pathtrace::LitSphereSetup setup;
-    setup.radiusMm = m_sphere.radiusMm;
-    for (int i = 0; i < 3; ++i)
-        setup.lightDir[i] = m_sphere.lightDir[i];
-    setup.width = setup.height = m_sphere.size;
-    setup.seed = m_sphere.seed;
-    std::ostringstream k;
-    k.precision(17);
-    k << e->displayPath << '|' << e->generation << '|' << view->materialKey << '|' << setup.radiusMm
-      << '|' << setup.lightDir[0] << ',' << setup.lightDir[1] << ',' << setup.lightDir[2] << '|'
-      << setup.width << '|' << setup.seed << '|' << m_sphere.pathSpp << '|' << m_sphere.gpu << '|'
-      << m_sphere.mesh;
-    for (auto& [n, val] : e->values)
-        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
-    bool changed = false;
-    if (k.str() != m_sphereKey) {
-        m_sphereKey = k.str();
-        m_sphereModel = e->displayPath;
-        m_sphereProblem.clear();
-        m_ptSppSeen = 0;
-        std::array<pathtrace::Medium, 3> media;
-        for (int c = 0; c < 3; ++c)
-            media[c] = {p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
-        try {
-            m_integrator.reset(setup);
-            std::filesystem::path mesh;
-            if (!m_sphere.mesh.empty()) {
-                mesh = m_sphere.mesh;
-                if (mesh.is_relative()) mesh = m_root / mesh;
-            }
-            m_ptSphere->start(media, setup, m_sphere.pathSpp, m_sphere.gpu, mesh);
-        } catch (const core::Error& err) {
-            m_sphereProblem = err.what();
-            m_ptSphere->cancel();
-        }
-        changed = true;
+    if (const bssrdf::ModelEntry* e = sourceModel(&view)) {
+        in.params = view->effective;
+        in.model = e->displayPath;
     }
-    if (!m_sphereProblem.empty()) return changed;
-    // the GPU integration takes a slice per frame, sized to stay near the budget
-    const uint64_t done = m_integrator.samplesPerPixelDone();
-    if (done < uint64_t(m_sphere.integratedSpp) && e->programs.count("sphere_bssrdf.comp")) {
-        const int n = int(std::min<uint64_t>(uint64_t(m_integratedSlice),
-                                             uint64_t(m_sphere.integratedSpp) - done));
-        core::Stopwatch sw;
-        m_integrator.step(e->programs.at("sphere_bssrdf.comp").id(), *e->model, e->values,
-                          builtinsOf(p), n); // timed inside as "sphere BSSRDF integration"
-        const double ms = sw.ms();
-        if (budgetMs < 0)
-            m_integratedSlice = kFixedSlice; // fixed slices (finishLitSpheres)
-        else if (ms < 0.5 * budgetMs)
-            m_integratedSlice = std::min(m_integratedSlice * 2, 4096);
-        else if (ms > budgetMs)
-            m_integratedSlice = std::max(m_integratedSlice / 2, 1);
-        changed = true;
+    return in;
+}
+
+LitSphereInputs Workbench::litSphereInputs(double budgetMs) const {
+    LitSphereInputs in;
+    in.settings = m_sphere;
+    in.root = m_root;
+    in.budgetMs = budgetMs;
+    const ModelView* view = nullptr;
+    if ((in.entry = sourceModel(&view))) {
+        in.params = view->effective;
+        in.builtins = builtinsOf(*view->effective);
+        in.materialKey = view->materialKey;
     }
-    if (m_sphere.gpu) m_ptSphere->stepGpu(budgetMs < 0 ? 1e9 : 0.5 * budgetMs);
-    if (m_ptSphere->sppDone() != m_ptSppSeen) {
-        m_ptSppSeen = m_ptSphere->sppDone();
-        changed = true;
-    }
-    return changed;
+    return in;
 }
 
 void Workbench::finishLitSpheres() {
-    // restart and take fixed slices: the GPU sums then do not depend on frame timings, so the
-    // same build and seed give bitwise the same images (captures rely on it)
-    m_sphereKey.clear();
-    m_integratedSlice = kFixedSlice;
-    updateLitSpheres(-1);
-    while (m_sphere.enabled && m_sphereProblem.empty() &&
-           m_integrator.samplesPerPixelDone() < uint64_t(m_sphere.integratedSpp))
-        if (!updateLitSpheres(-1)) break;
-    m_ptSphere->wait();
+    m_litSpheres->finish(litSphereInputs(-1));
 }
 
 ReferenceSnapshot Workbench::finishReference() {
-    updateReference();
-    if (m_refSettings.gpu) {
-        while (m_gpuRef->step(1000.0)) {
-        }
-    } else {
-        m_ref->wait();
-    }
-    return referenceSnapshot();
-}
-
-void Workbench::updateReference() {
-    if (!m_refSettings.enabled) {
-        if (!m_refKey.empty()) cancelReference();
-        m_refKey.clear();
-        return;
-    }
-    // GPU work is sliced per frame on this (the GL) thread
-    if (m_refSettings.gpu && m_gpuRef->step(8.0)) ++m_gpuSteps;
-    // σ of the soloed model, else of the first visible model with a usable material
-    const ModelView* source = nullptr;
-    std::string name;
-    for (const auto& e : m_library->entries()) {
-        auto it = m_views.find(e.displayPath);
-        if (it == m_views.end() || !it->second.effective) continue;
-        if (!m_plot.solo.empty() ? m_plot.solo == e.displayPath : it->second.visible) {
-            source = &it->second;
-            name = e.displayPath;
-            break;
-        }
-    }
-    if (!source) return;
-    const auto& p = *source->effective;
-    std::array<pathtrace::Medium, 3> media;
-    for (int c = 0; c < 3; ++c)
-        media[c] = {p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
-    pathtrace::SlabSettings s;
-    s.rMaxMm = m_rMax;
-    s.bins = m_refSettings.bins;
-    s.seed = m_refSettings.seed;
-    std::ostringstream k;
-    k.precision(17);
-    k << p.sigmaA.x << ',' << p.sigmaA.y << ',' << p.sigmaA.z << '|' << p.sigmaS.x << ','
-      << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g << '|' << p.eta << '|' << m_rMax << '|'
-      << s.bins << '|' << s.seed << '|' << m_refSettings.paths << '|' << m_refSettings.gpu;
-    if (k.str() == m_refKey) return;
-    m_refKey = k.str();
-    m_refModel = name;
-    cancelReference();
-    if (m_refSettings.gpu)
-        m_gpuRef->start(media, s, m_refSettings.paths);
-    else
-        m_ref->start(media, s, m_refSettings.paths);
+    return m_reference->finish(referenceInputs());
 }
 
 void Workbench::framePresented() {
@@ -420,24 +237,12 @@ std::vector<ErrorItem> Workbench::errors() const {
             bool shader = e.problem->file.rfind("shaders/", 0) == 0;
             out.push_back({shader ? "shader" : "model", e.problem->text()});
         }
-        auto it = m_views.find(e.displayPath);
-        if (it != m_views.end() && !it->second.materialProblem.empty())
-            out.push_back({"material", e.displayPath + ": " + it->second.materialProblem});
     }
     for (const auto& p : m_library->problems())
         out.push_back({"shader", p.text()});
-    if (m_refSettings.enabled) {
-        const ReferenceSnapshot snap = referenceSnapshot();
-        if (!snap.problem.empty()) out.push_back({"reference", snap.problem});
-        if (!snap.energy.empty()) out.push_back({"reference", snap.energy});
-    }
-    if (m_sphere.enabled) {
-        if (!m_sphereProblem.empty()) out.push_back({"lit sphere", m_sphereProblem});
-        std::string pt = m_ptSphere->problem();
-        if (!pt.empty()) out.push_back({"lit sphere", pt});
-    }
-    for (const auto& p : m_scene->problems())
-        out.push_back({"scene", p});
+    for (const PipelineStep& step : m_pipeline)
+        for (const std::string& p : step.stage->status().problems)
+            out.push_back({step.stage->name(), p});
     for (const auto& a : m_actionErrors)
         out.push_back({"action", a});
     return out;
@@ -500,7 +305,7 @@ std::vector<plot::Series> Workbench::plotSeries() const {
     plot::Series ref = referenceSeries(snap, m_plot.channel, m_plot.rTimesR);
     // error figures of each model that uses the reference's σ, at the plotted channel's l_d
     const ModelView* src = nullptr;
-    if (auto it = m_views.find(m_refModel); it != m_views.end()) src = &it->second;
+    if (auto it = m_views.find(m_reference->model()); it != m_views.end()) src = &it->second;
     for (auto& s : out) {
         for (const auto& e : m_library->entries()) {
             auto it = m_views.find(e.displayPath);

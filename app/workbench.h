@@ -1,20 +1,27 @@
 // The workbench state and its stage graph (no ImGui here; panels only show and edit it).
-// Stages of the foundation:
-//   models    — .bssrdf files (hot-reloaded, last good kept)          bssrdf::ModelLibrary
-//   material  — σ per model: as given, or inverted from R_dr / l_d    material + invert_rdr.comp
-//   pencil    — pencil-beam profile per model on the GPU               pencil_profile.comp
-// Each stage remembers a key of its inputs and re-runs only when that key changes.
+// The models (.bssrdf files, hot-reloaded, last good kept: bssrdf::ModelLibrary) feed an
+// ordered list of stages (stage.h), each with explicit inputs gathered from the ones before:
+//   material    — σ per model: as given, or inverted from R_dr / l_d   (model_stages.h)
+//   pencil      — pencil-beam profile per model on the GPU             (model_stages.h)
+//   reference   — path-traced R_d(r) for the source model's σ          (reference_stage.h)
+//   lit sphere  — path-traced and BSSRDF-integrated lit spheres        (lit_sphere_stage.h)
+//   scene       — mesh → point cloud → octree → irradiance → render    (scene_stage.h)
+// The source model of the last three is one choice: the soloed model, else the first
+// visible one whose material is usable (sourceModel). Each stage re-runs only when its
+// inputs' key changes.
 #pragma once
 
 #include "bssrdf/program_library.h"
 #include "core/file_watcher.h"
 #include "lit_sphere_stage.h"
 #include "material/material.h"
+#include "model_stages.h"
 #include "plot/plot.h"
 #include "reference_stage.h"
 #include "scene_stage.h"
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -22,17 +29,6 @@
 #include <vector>
 
 namespace app {
-
-enum class ParamMode { Sigma, RdrLd };
-
-// Material inputs as the user edits them (thesis 3.6.1).
-struct MaterialSettings {
-    ParamMode mode = ParamMode::Sigma;
-    material::MaterialParams params; // σ mode (g, η, scale apply in both modes)
-    glm::dvec3 rdr{0.6, 0.45, 0.3};  // R_dr / l_d mode
-    glm::dvec3 ld{8.0, 4.0, 2.0};    // mm
-    std::string preset = "Marble";
-};
 
 // Pencil plot settings (thesis 3.6.3).
 struct PlotSettings {
@@ -44,18 +40,6 @@ struct PlotSettings {
     bool fixedRange = false;
     double rMaxMm = 20.0; // used when fixedRange
     double rangeLd = 5.0; // otherwise: this many diffuse mean free paths (largest l_d)
-};
-
-// Per-model view state and stage results.
-struct ModelView {
-    bool visible = true;
-    bool override = false; // own material settings instead of the shared ones
-    MaterialSettings own;
-    std::optional<material::MaterialParams> effective; // σ actually used
-    std::string materialProblem;                       // why `effective` is missing
-    std::string materialKey;
-    bssrdf::Profile profile;
-    std::string profileKey;
 };
 
 struct ErrorItem {
@@ -101,29 +85,24 @@ class Workbench {
 
     // Path-traced reference (pencil plot): settings, the model whose σ it uses, its state.
     ReferenceSettings& referenceSettings() { return m_refSettings; }
-    const std::string& referenceModel() const { return m_refModel; }
-    ReferenceSnapshot referenceSnapshot() const {
-        return m_refSettings.gpu ? m_gpuRef->snapshot() : m_ref->snapshot();
-    }
-    void restartReference() { m_refKey.clear(); }
-    void cancelReference() {
-        m_ref->cancel();
-        m_gpuRef->cancel();
-    }
+    const std::string& referenceModel() const { return m_reference->model(); }
+    ReferenceSnapshot referenceSnapshot() const { return m_reference->snapshot(); }
+    void restartReference() { m_reference->restart(); }
+    void cancelReference() { m_reference->cancel(); }
     // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
     ReferenceSnapshot finishReference();
 
     // Lit spheres (thesis 3.5, 3.6.2): path traced and BSSRDF integrated, same setup.
     LitSphereSettings& litSphereSettings() { return m_sphere; }
-    const std::string& litSphereModel() const { return m_sphereModel; }
-    pathtrace::Image pathTracedSphere() const { return m_ptSphere->image(); }
-    pathtrace::Image integratedSphere() const { return m_integrator.image(); }
-    const PathTracedSphere& pathTracer() const { return *m_ptSphere; }
-    uint64_t integratedSppDone() const { return m_integrator.samplesPerPixelDone(); }
-    const std::string& litSphereProblem() const { return m_sphereProblem; }
-    void restartLitSpheres() { m_sphereKey.clear(); }
+    const std::string& litSphereModel() const { return m_litSpheres->model(); }
+    pathtrace::Image pathTracedSphere() const { return m_litSpheres->pathTracer().image(); }
+    pathtrace::Image integratedSphere() const { return m_litSpheres->integratedImage(); }
+    const PathTracedSphere& pathTracer() const { return m_litSpheres->pathTracer(); }
+    uint64_t integratedSppDone() const { return m_litSpheres->integratedSppDone(); }
+    const std::string& litSphereProblem() const { return m_litSpheres->problem(); }
+    void restartLitSpheres() { m_litSpheres->restart(); }
     // Stops the path tracer where it is (the image keeps the passes completed so far).
-    void cancelLitSpheres() { m_ptSphere->cancel(); }
+    void cancelLitSpheres() { m_litSpheres->cancel(); }
     // Runs both renderings to their targets (tests, captures).
     void finishLitSpheres();
     static std::string normalisationNote();
@@ -140,14 +119,13 @@ class Workbench {
     long long shaderGeneration() const { return m_shaderGeneration; }
 
   private:
-    void computeMaterial(bssrdf::ModelEntry& e, ModelView& v);
-    void computeProfile(bssrdf::ModelEntry& e, ModelView& v);
     double autoRMax() const;
-    void updateReference();
-    // Returns the model whose σ the reference / lit spheres use (solo, else first visible).
+    // The model whose σ the reference, the lit spheres and the scene use (solo, else first
+    // visible), with a usable material.
     const bssrdf::ModelEntry* sourceModel(const ModelView** view) const;
-    // budgetMs < 0: fixed slices of kFixedSlice samples (deterministic), else adaptive.
-    bool updateLitSpheres(double budgetMs);
+    ReferenceInputs referenceInputs() const;
+    // budgetMs < 0: fixed slices (deterministic), else adaptive.
+    LitSphereInputs litSphereInputs(double budgetMs) const;
 
     std::filesystem::path m_root;
     std::unique_ptr<bssrdf::ModelLibrary> m_library;
@@ -160,25 +138,20 @@ class Workbench {
     double m_rMax = 20.0;
     std::optional<double> m_pendingSaveTime; // seconds since epoch of the save being timed
     ReferenceSettings m_refSettings;
-    std::unique_ptr<ReferenceRunner> m_ref = std::make_unique<ReferenceRunner>();
-    std::unique_ptr<GpuReference> m_gpuRef;
-    std::string m_refKey, m_refModel;
-    uint64_t m_refVersion = 0, m_gpuSteps = 0;
     LitSphereSettings m_sphere;
-    std::unique_ptr<PathTracedSphere> m_ptSphere;
-    bssrdf::SphereIntegrator m_integrator;
-    std::string m_sphereKey, m_sphereModel, m_sphereProblem;
-    int m_ptSppSeen = 0;
-    int m_integratedSlice = 16;
-    static constexpr int kFixedSlice = 256;
+    MaterialStage m_material;
+    PencilStage m_pencil;
+    std::unique_ptr<ReferenceStage> m_reference;
+    std::unique_ptr<LitSphereStage> m_litSpheres;
     std::unique_ptr<SceneStage> m_scene;
+    // The stages in data-flow order: run() gathers the stage's inputs and updates it.
+    struct PipelineStep {
+        Stage* stage;
+        std::function<bool()> run;
+    };
+    std::vector<PipelineStep> m_pipeline;
     long long m_shaderGeneration = 0;
     bool m_interacting = false;
 };
-
-// Effective σ for one model: validates, and inverts R_dr / l_d with the model's own
-// DiffuseReflectance on the GPU. Throws core::Error with a clear message.
-material::MaterialParams effectiveParams(const bssrdf::ModelEntry& e, const MaterialSettings& s);
-bssrdf::Builtins builtinsOf(const material::MaterialParams& p);
 
 } // namespace app
