@@ -6,6 +6,8 @@
 #include "../ui_state.h"
 #include "../workbench.h"
 
+#include "core/color.h"
+
 #include <imgui.h>
 
 #include <glm/vec3.hpp>
@@ -19,9 +21,7 @@ namespace app {
 bool inspectorImage(Workbench& wb, UiState& ui, SceneView& view, ImVec2 size, float pointSize,
                     float& px, float& py);
 // Rec. 709 luminance of linear RGB (the scalar the scalar views and heatmaps show).
-inline float luminance(const glm::vec3& c) {
-    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
+using core::luminance;
 // A horizontal colour bar of colorRamp with its end labels.
 void rampBar(float lo, float hi, const char* unit);
 // Shows an RGBA texture (row 0 at the top) of w × h scaled to `width`; returns true and the
