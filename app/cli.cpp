@@ -1,6 +1,7 @@
 // CLI subcommands on a headless GL context: profile (pencil-beam CSV), invert (R_dr/l_d → σ),
 // record and replay (captures).
 #include "cli.h"
+#include "core/text.h"
 
 #include "capture_io.h"
 #include "core/core.h"
@@ -35,13 +36,8 @@ glm::dvec3 parseRgb(const std::string& text, const std::string& argName) {
 }
 
 namespace {
-std::string fmt(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    return b;
-}
 std::string rgb(const glm::dvec3& v) {
-    return fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z);
+    return core::formatNumber(v.x) + " " + core::formatNumber(v.y) + " " + core::formatNumber(v.z);
 }
 
 } // namespace
@@ -100,19 +96,20 @@ int runProfile(const fs::path& root, const ProfileArgs& a) {
         << "# preset " << (wb.shared().preset.empty() ? "(none)" : wb.shared().preset) << "\n"
         << "# sigma_a " << rgb(p.sigmaA) << " 1/mm\n"
         << "# sigma_s " << rgb(p.sigmaS) << " 1/mm\n"
-        << "# g " << fmt(p.g) << "\n# eta " << fmt(p.eta) << "\n"
-        << "# r_max_mm " << fmt(wb.rMaxMm()) << "\n# samples " << a.samples << "\n";
+        << "# g " << core::formatNumber(p.g) << "\n# eta " << core::formatNumber(p.eta) << "\n"
+        << "# r_max_mm " << core::formatNumber(wb.rMaxMm()) << "\n# samples " << a.samples << "\n";
     for (const auto& [k, val] : e.values)
-        out << "# param " << k << " " << fmt(val[0]) << " " << fmt(val[1]) << " " << fmt(val[2])
-            << "\n";
+        out << "# param " << k << " " << core::formatNumber(val[0]) << " "
+            << core::formatNumber(val[1]) << " " << core::formatNumber(val[2]) << "\n";
     out << "# " << Workbench::normalisationNote() << "\n";
     out << "r_mm,R,G,B\n";
     for (size_t i = 0; i < v.profile.r.size(); ++i)
-        out << fmt(v.profile.r[i]) << ',' << fmt(v.profile.value[i].x) << ','
-            << fmt(v.profile.value[i].y) << ',' << fmt(v.profile.value[i].z) << '\n';
+        out << core::formatNumber(v.profile.r[i]) << ',' << core::formatNumber(v.profile.value[i].x)
+            << ',' << core::formatNumber(v.profile.value[i].y) << ','
+            << core::formatNumber(v.profile.value[i].z) << '\n';
     core::writeFile(a.out, out.str());
     std::cerr << "wrote " << a.out << " (" << v.profile.r.size() << " radii up to "
-              << fmt(wb.rMaxMm()) << " mm)\n";
+              << core::formatNumber(wb.rMaxMm()) << " mm)\n";
     return 0;
 }
 
@@ -126,10 +123,12 @@ int runInvert(const fs::path& root, const InvertArgs& a) {
     s.params.eta = a.eta.value_or(1.3);
     for (int c = 0; c < 3; ++c) {
         if (!(s.rdr[c] >= 0 && s.rdr[c] <= 1))
-            throw core::Error("--rdr", 0, "R_dr must lie in [0, 1], got " + fmt(s.rdr[c]));
+            throw core::Error("--rdr", 0,
+                              "R_dr must lie in [0, 1], got " + core::formatNumber(s.rdr[c]));
         if (!(s.ld[c] > 0) || !std::isfinite(s.ld[c]))
             throw core::Error("--ld", 0,
-                              "l_d must be a positive length in mm, got " + fmt(s.ld[c]));
+                              "l_d must be a positive length in mm, got " +
+                                  core::formatNumber(s.ld[c]));
     }
     auto ctx = gl::createHeadlessContext(false);
     Workbench wb(root, false, {model});

@@ -1,6 +1,7 @@
 // `bssrdf-workbench sphere` / `mesh`: lit sphere / lit mesh images as EXR (see cli_image.h).
 #include "cli_image.h"
 #include "cli_slab.h"
+#include "core/text.h"
 
 #include "core/core.h"
 #include "pathtrace/camera.h"
@@ -18,12 +19,6 @@
 
 namespace app {
 namespace {
-
-std::string fmt(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.6g", v);
-    return b;
-}
 
 struct ImageSetup {
     std::array<pathtrace::Medium, 3> media;
@@ -44,12 +39,15 @@ ImageSetup prepare(const ImageArgs& a) {
     if (a.out.empty()) throw core::Error("--out", 0, "give the EXR file to write");
     if (!std::isfinite(a.radiusMm) || !(a.radiusMm > 0))
         throw core::Error("--radius", 0,
-                          "radius must be a finite length > 0 mm, got " + fmt(a.radiusMm));
+                          "radius must be a finite length > 0 mm, got " +
+                              core::formatNumber(a.radiusMm, 6));
     const double l2 = a.light[0] * a.light[0] + a.light[1] * a.light[1] + a.light[2] * a.light[2];
     if (!std::isfinite(l2) || !(l2 > 0))
         throw core::Error("--light", 0,
-                          "light direction must be finite and non-zero, got (" + fmt(a.light[0]) +
-                              ", " + fmt(a.light[1]) + ", " + fmt(a.light[2]) + ")");
+                          "light direction must be finite and non-zero, got (" +
+                              core::formatNumber(a.light[0], 6) + ", " +
+                              core::formatNumber(a.light[1], 6) + ", " +
+                              core::formatNumber(a.light[2], 6) + ")");
     if (a.width < 1 || a.width > 16384)
         throw core::Error("--width", 0, "must lie in [1, 16384], got " + std::to_string(a.width));
     if (a.height < 1 || a.height > 16384)
@@ -59,7 +57,8 @@ ImageSetup prepare(const ImageArgs& a) {
     if (double(a.spp) * a.width * a.height > 1e12)
         throw core::Error("--spp", 0,
                           "absurd path count: spp x pixels = " +
-                              fmt(double(a.spp) * a.width * a.height) + " (> 10^12)");
+                              core::formatNumber(double(a.spp) * a.width * a.height, 6) +
+                              " (> 10^12)");
     if (a.threads < 0)
         throw core::Error("--threads", 0,
                           "must be >= 0 (0: all hardware threads), got " +
@@ -141,7 +140,7 @@ int runSphereCli(const ImageArgs& a) {
     const pathtrace::Image img = pathtrace::traceLitSphere(
         k.media, k.setup, progressLine("sphere", total, clock), nullptr, {}, &st);
     std::fprintf(stderr, "\n");
-    return finish(a, "sphere", img, st, ", radius " + fmt(a.radiusMm) + " mm");
+    return finish(a, "sphere", img, st, ", radius " + core::formatNumber(a.radiusMm, 6) + " mm");
 }
 
 int runMeshCli(const ImageArgs& a) {
@@ -158,7 +157,8 @@ int runMeshCli(const ImageArgs& a) {
     for (const auto& ch : st.channel)
         leaks += ch.leaks;
     std::string extra = ", " + a.mesh + ", " + std::to_string(mesh.mesh().triangles.size()) +
-                        " triangles, scale " + fmt(2 * a.radiusMm) + " mm of the longest axis";
+                        " triangles, scale " + core::formatNumber(2 * a.radiusMm, 6) +
+                        " mm of the longest axis";
     if (leaks) extra += ", " + std::to_string(leaks) + " leaked paths";
     return finish(a, "mesh", img, st, extra);
 }

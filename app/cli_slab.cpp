@@ -1,5 +1,6 @@
 // `bssrdf-workbench slab`: runs pathtrace::runSlab and writes R_d(r) as CSV (see cli_slab.h).
 #include "cli_slab.h"
+#include "core/text.h"
 
 #include "core/core.h"
 #include "gl/gl.h"
@@ -12,14 +13,6 @@
 #include <sstream>
 
 namespace app {
-namespace {
-std::string fmt(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    return b;
-}
-} // namespace
-
 double defaultSlabRMax(const pathtrace::Medium& m) {
     const double sigmaSReduced = m.sigmaS * (1 - m.g);
     const double sigmaTr = std::sqrt(3 * m.sigmaA * (m.sigmaA + sigmaSReduced));
@@ -42,7 +35,8 @@ SlabSetup prepare(const SlabArgs& a) {
     pathtrace::validate(k.m, "slab");
     if (a.out.empty()) throw core::Error("--out", 0, "give the CSV file to write");
     if (!std::isnan(a.rMax) && !(a.rMax > 0 && std::isfinite(a.rMax)))
-        throw core::Error("--rmax", 0, "rMax must be a positive length in mm, got " + fmt(a.rMax));
+        throw core::Error(
+            "--rmax", 0, "rMax must be a positive length in mm, got " + core::formatNumber(a.rMax));
     k.s.rMaxMm = std::isnan(a.rMax) ? defaultSlabRMax(k.m) : a.rMax;
     k.s.bins = a.bins;
     k.s.paths = a.paths;
@@ -80,38 +74,44 @@ int writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabRes
            "slab z < 0 (thesis 3.2, Algorithm 1)\n"
         << "# R_d(r): diffuse reflectance per unit area per incident photon, 1/mm^2, MCML "
            "convention (specular reflection excluded)\n"
-        << "# sigma_a " << fmt(m.sigmaA) << " 1/mm\n"
-        << "# sigma_s " << fmt(m.sigmaS) << " 1/mm\n"
-        << "# g " << fmt(m.g) << "\n"
-        << "# eta " << fmt(m.eta) << "\n"
-        << "# r_max_mm " << fmt(s.rMaxMm) << "\n"
+        << "# sigma_a " << core::formatNumber(m.sigmaA) << " 1/mm\n"
+        << "# sigma_s " << core::formatNumber(m.sigmaS) << " 1/mm\n"
+        << "# g " << core::formatNumber(m.g) << "\n"
+        << "# eta " << core::formatNumber(m.eta) << "\n"
+        << "# r_max_mm " << core::formatNumber(s.rMaxMm) << "\n"
         << "# bins " << s.bins << "\n"
-        << "# bin_width_mm " << fmt(s.rMaxMm / s.bins) << "\n"
+        << "# bin_width_mm " << core::formatNumber(s.rMaxMm / s.bins) << "\n"
         << "# seed " << s.seed << "\n"
         << "# threads " << s.threads << "\n"
         << "# estimator " << (a.analog ? "analog" : "implicit") << "\n"
-        << "# roulette_weight " << fmt(s.termination.rouletteWeight) << "\n"
-        << "# roulette_survival " << fmt(s.termination.rouletteSurvival) << "\n"
+        << "# roulette_weight " << core::formatNumber(s.termination.rouletteWeight) << "\n"
+        << "# roulette_survival " << core::formatNumber(s.termination.rouletteSurvival) << "\n"
         << "# max_events " << s.termination.maxEvents << "\n"
         << "# paths " << r.paths << "\n"
-        << "# total_Rd " << fmt(r.totalRd) << " +- " << fmt(r.totalRdStderr) << "\n"
-        << "# specular " << fmt(r.specular) << "\n"
-        << "# absorbed " << fmt(r.absorbed) << " +- " << fmt(r.absorbedStderr) << "\n"
-        << "# roulette_net " << fmt(r.rouletteNet) << " +- " << fmt(r.rouletteNetStderr)
-        << " (expected 0)\n"
-        << "# truncated " << fmt(r.truncated) << " +- " << fmt(r.truncatedStderr) << " ("
-        << r.truncatedPaths << " paths; R_d may be low by up to this much)\n"
+        << "# total_Rd " << core::formatNumber(r.totalRd) << " +- "
+        << core::formatNumber(r.totalRdStderr) << "\n"
+        << "# specular " << core::formatNumber(r.specular) << "\n"
+        << "# absorbed " << core::formatNumber(r.absorbed) << " +- "
+        << core::formatNumber(r.absorbedStderr) << "\n"
+        << "# roulette_net " << core::formatNumber(r.rouletteNet) << " +- "
+        << core::formatNumber(r.rouletteNetStderr) << " (expected 0)\n"
+        << "# truncated " << core::formatNumber(r.truncated) << " +- "
+        << core::formatNumber(r.truncatedStderr) << " (" << r.truncatedPaths
+        << " paths; R_d may be low by up to this much)\n"
         << "# energy_check " << (problem.empty() ? "ok" : "FAILED: " + problem) << "\n"
-        << "# events_per_path " << fmt(r.paths ? double(r.events) / double(r.paths) : 0) << "\n"
-        << "# wall_s " << fmt(r.seconds) << "\n"
-        << "# paths_per_s " << fmt(perSecond) << "\n"
+        << "# events_per_path "
+        << core::formatNumber(r.paths ? double(r.events) / double(r.paths) : 0) << "\n"
+        << "# wall_s " << core::formatNumber(r.seconds) << "\n"
+        << "# paths_per_s " << core::formatNumber(perSecond) << "\n"
         << "r_mm,Rd_per_mm2,stderr\n";
     for (size_t i = 0; i < r.rd.size(); ++i)
-        out << fmt(r.rMid[i]) << ',' << fmt(r.rd[i]) << ',' << fmt(r.rdStderr[i]) << '\n';
+        out << core::formatNumber(r.rMid[i]) << ',' << core::formatNumber(r.rd[i]) << ','
+            << core::formatNumber(r.rdStderr[i]) << '\n';
     core::writeFile(a.out, out.str());
     std::fprintf(stderr, "wrote %s (%llu paths, R_d %s +- %s, %.1f s, %.0f paths/s)\n",
-                 a.out.c_str(), static_cast<unsigned long long>(r.paths), fmt(r.totalRd).c_str(),
-                 fmt(r.totalRdStderr).c_str(), r.seconds, perSecond);
+                 a.out.c_str(), static_cast<unsigned long long>(r.paths),
+                 core::formatNumber(r.totalRd).c_str(), core::formatNumber(r.totalRdStderr).c_str(),
+                 r.seconds, perSecond);
     if (problem.empty()) return 0;
     std::fprintf(stderr, "error: slab: %s\n", problem.c_str());
     return kEnergyCheckFailed;

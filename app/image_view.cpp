@@ -1,13 +1,15 @@
 // Lit-sphere image helpers (see image_view.h).
 #include "image_view.h"
 
+#include "core/color.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace app {
 namespace {
 float lum(const std::vector<float>& v, size_t p) {
-    return 0.2126f * v[3 * p] + 0.7152f * v[3 * p + 1] + 0.0722f * v[3 * p + 2];
+    return core::luminance(glm::vec3(v[3 * p], v[3 * p + 1], v[3 * p + 2]));
 }
 bool sameShape(const pathtrace::Image& a, const pathtrace::Image& b) {
     return a.width == b.width && a.height == b.height && a.mean.size() == b.mean.size() &&

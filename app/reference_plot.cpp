@@ -1,6 +1,8 @@
 // Reference series (mean ± 2 standard errors) and model-vs-reference error figures.
 #include "reference_plot.h"
 
+#include "core/color.h"
+
 #include <cmath>
 
 namespace app {
@@ -17,13 +19,12 @@ plot::Series referenceSeries(const ReferenceSnapshot& snap, int channel, bool rT
     // a reference that fails its own energy check gets no confident band
     const bool band = !snap.energyFails(channel);
     if (!band) s.label += "  energy check FAILED: no error band (see Errors)";
-    const double w[3] = {0.2126, 0.7152, 0.0722};
     for (size_t i = 0; i < r0.rMid.size(); ++i) {
         double mean = 0, var = 0;
         for (int c = 0; c < 3; ++c) {
             const auto& rc = snap.channel[c];
             const double norm = 1.0 / (1.0 - rc.specular);
-            const double k = channel == 3 ? w[c] : (channel == c ? 1.0 : 0.0);
+            const double k = channel == 3 ? core::kRec709Luminance[c] : (channel == c ? 1.0 : 0.0);
             mean += k * rc.rd[i] * norm;
             var += k * k * rc.rdStderr[i] * rc.rdStderr[i] * norm * norm;
         }

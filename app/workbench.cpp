@@ -3,6 +3,7 @@
 
 #include "reference_plot.h"
 
+#include "core/color.h"
 #include "core/core.h"
 #include "gl/gl.h"
 
@@ -261,7 +262,7 @@ std::vector<plot::Series> Workbench::plotSeries() const {
     std::vector<plot::Series> out;
     size_t index = 0;
     auto valueOf = [&](const glm::dvec3& v, int channel) {
-        return channel < 3 ? v[channel] : material::luminance(v);
+        return channel < 3 ? v[channel] : core::luminance(v);
     };
     for (const auto& e : m_library->entries()) {
         auto it = m_views.find(e.displayPath);

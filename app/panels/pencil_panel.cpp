@@ -5,6 +5,7 @@
 
 #include "core/core.h"
 #include "gl/gl.h"
+#include "plot/plot_draw.h"
 
 #include <imgui.h>
 

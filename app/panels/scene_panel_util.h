@@ -7,6 +7,8 @@
 #include "../workbench.h"
 #include "render/frame_analysis.h"
 
+#include "core/color.h"
+
 #include <imgui.h>
 
 #include <glm/vec3.hpp>
@@ -19,7 +21,7 @@ namespace app {
 // the wheel zooms. Returns true and sets (px, py) (pixels from the top left) on a click.
 bool inspectorImage(Workbench& wb, UiShared& ui, SceneView& view, ImVec2 size, float pointSize,
                     float& px, float& py);
-using render::luminance; // the scalar the scalar views and heatmaps show
+using core::luminance; // the scalar the scalar views and heatmaps show
 // A horizontal colour bar of colorRamp with its end labels.
 void rampBar(float lo, float hi, const char* unit);
 // Shows an RGBA texture (row 0 at the top) of w × h scaled to `width`; returns true and the

@@ -1,13 +1,13 @@
 // bssrdf sphere integrator host side (see sphere_integrator.h): validation, uniforms,
 // dispatches and the double accumulation of the per-dispatch float sums.
 #include "bssrdf/sphere_integrator.h"
+#include "core/text.h"
 
 #include "core/core.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 namespace bssrdf {
 
@@ -17,19 +17,14 @@ constexpr GLuint kSumsBinding = 0; // shaders/sphere_bssrdf.comp
 constexpr int kLocalSize = 8;      // local_size_x = local_size_y = 8
 constexpr int kMaxSide = 8192;
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 } // namespace
 
 void SphereIntegrator::reset(const pathtrace::LitSphereSetup& setup) {
     const std::string what = "lit sphere";
     if (!std::isfinite(setup.radiusMm) || setup.radiusMm <= 0)
         throw core::Error(what, 0,
-                          "radius must be a finite length > 0 mm, got " + num(setup.radiusMm));
+                          "radius must be a finite length > 0 mm, got " +
+                              core::formatNumber(setup.radiusMm, 6));
     if (setup.width < 1 || setup.height < 1 || setup.width > kMaxSide || setup.height > kMaxSide)
         throw core::Error(what, 0,
                           "image size must lie in [1, " + std::to_string(kMaxSide) + "]², got " +

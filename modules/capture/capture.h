@@ -140,8 +140,6 @@ std::string formatComparison(const Comparison& comparison);
 // standard errors are both 0 must match exactly.
 Comparison compareStatTables(const std::string& stage, const Table& expected, const Table& actual,
                              double alpha, const std::string& keyColumn = "");
-// Φ⁻¹(1 − p) for 0 < p < 1 (upper standard-normal quantile).
-double normalUpperQuantile(double p);
 
 // ---- recording and replay -------------------------------------------------------------------
 // core::hashHex of the file's bytes; throws core::Error naming the path when unreadable.

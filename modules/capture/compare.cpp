@@ -1,20 +1,15 @@
 // capture comparison: per-value tolerance test |a-b| <= absTol + relTol*|b| (b = expected),
 // reporting the worst value (by excess over its limit) with its location.
 #include "capture.h"
+#include "core/statistics.h"
+#include "core/text.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace capture {
 
 namespace {
-
-std::string fmt(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
-}
 
 std::string columnList(const std::vector<std::string>& columns) {
     std::string out;
@@ -37,7 +32,8 @@ std::string raggedProblem(const char* which, const Table& t) {
 std::string structuralProblem(const Table& expected, const Table& actual, double absTol,
                               double relTol, const std::string& keyColumn) {
     if (!(absTol >= 0) || !(relTol >= 0) || !std::isfinite(absTol) || !std::isfinite(relTol))
-        return "invalid tolerance: absTol " + fmt("%g", absTol) + ", relTol " + fmt("%g", relTol);
+        return "invalid tolerance: absTol " + core::formatNumber(absTol, 6) + ", relTol " +
+               core::formatNumber(relTol, 6);
     if (expected.columns.size() != actual.columns.size())
         return "column count differs: expected " + std::to_string(expected.columns.size()) + " (" +
                columnList(expected.columns) + "), got " + std::to_string(actual.columns.size()) +
@@ -101,25 +97,13 @@ Comparison compareTables(const std::string& stage, const Table& expected, const 
             c.limit = limit;
             c.where = "row " + std::to_string(r + 1);
             if (key >= 0)
-                c.where += " (" + keyColumn + "=" + fmt("%.6g", expected.rows[r][key]) + ")";
+                c.where +=
+                    " (" + keyColumn + "=" + core::formatNumber(expected.rows[r][key], 6) + ")";
             c.where += ", column " + expected.columns[col];
         }
     }
     c.pass = c.failing == 0;
     return c;
-}
-
-double normalUpperQuantile(double p) {
-    // bisection on the upper tail Q(z) = erfc(z/√2)/2, monotone decreasing in z
-    double lo = -40, hi = 40;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        if (0.5 * std::erfc(mid / std::sqrt(2.0)) > p)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return 0.5 * (lo + hi);
 }
 
 Comparison compareStatTables(const std::string& stage, const Table& expected, const Table& actual,
@@ -129,7 +113,7 @@ Comparison compareStatTables(const std::string& stage, const Table& expected, co
     c.statistical = true;
     c.alpha = alpha;
     if (!(alpha > 0 && alpha < 1)) {
-        c.message = "invalid alpha " + fmt("%g", alpha) + " (must lie in (0, 1))";
+        c.message = "invalid alpha " + core::formatNumber(alpha, 6) + " (must lie in (0, 1))";
         return c;
     }
     c.message = structuralProblem(expected, actual, 0, 0, keyColumn);
@@ -146,7 +130,7 @@ Comparison compareStatTables(const std::string& stage, const Table& expected, co
             m += expected.rows.size();
         }
     }
-    const double zLimit = normalUpperQuantile(alpha / (2.0 * double(std::max<size_t>(m, 1))));
+    const double zLimit = core::normalUpperQuantile(alpha / (2.0 * double(std::max<size_t>(m, 1))));
     c.limit = zLimit;
     const int key = keyColumn.empty() ? -1 : expected.columnIndex(keyColumn);
     bool worstFails = false;
@@ -178,7 +162,8 @@ Comparison compareStatTables(const std::string& stage, const Table& expected, co
             c.diff = z;
             c.where = "row " + std::to_string(r + 1);
             if (key >= 0)
-                c.where += " (" + keyColumn + "=" + fmt("%.6g", expected.rows[r][key]) + ")";
+                c.where +=
+                    " (" + keyColumn + "=" + core::formatNumber(expected.rows[r][key], 6) + ")";
             c.where += ", column " + expected.columns[col];
         }
     }
@@ -191,29 +176,33 @@ std::string formatComparison(const Comparison& c) {
     if (!c.message.empty()) return out + c.message;
     if (c.statistical) {
         const std::string values = std::to_string(c.values) + " values";
-        const std::string rule = "z-test, Bonferroni |z| <= " + fmt("%.3g", c.limit) +
-                                 " for family alpha " + fmt("%g", c.alpha);
+        const std::string rule = "z-test, Bonferroni |z| <= " + core::formatNumber(c.limit, 3) +
+                                 " for family alpha " + core::formatNumber(c.alpha, 6);
         if (c.where.empty()) return out + values + ", identical [" + rule + "]";
         if (c.pass)
-            return out + values + ", worst |z| " + fmt("%.3g", c.diff) + " at " + c.where + " [" +
-                   rule + "]";
+            return out + values + ", worst |z| " + core::formatNumber(c.diff, 3) + " at " +
+                   c.where + " [" + rule + "]";
         return out + std::to_string(c.failing) + " of " + values + " fail; worst |z| " +
-               fmt("%.3g", c.diff) + " at " + c.where + ": expected " + fmt("%.9g", c.expected) +
-               ", got " + fmt("%.9g", c.actual) + " [" + rule + "]";
+               core::formatNumber(c.diff, 3) + " at " + c.where + ": expected " +
+               core::formatNumber(c.expected, 9) + ", got " + core::formatNumber(c.actual, 9) +
+               " [" + rule + "]";
     }
     const std::string values = std::to_string(c.values) + (c.values == 1 ? " value" : " values");
     if (c.values == 0) return out + "no values to compare (empty tables)";
     if (c.where.empty()) return out + values + ", exact match";
-    const std::string tol = "absTol " + fmt("%g", c.absTol) + ", relTol " + fmt("%g", c.relTol);
+    const std::string tol =
+        "absTol " + core::formatNumber(c.absTol, 6) + ", relTol " + core::formatNumber(c.relTol, 6);
     if (c.pass)
-        return out + values + ", worst diff " + fmt("%.3g", c.diff) + " (limit " +
-               fmt("%.3g", c.limit) + ", " + fmt("%.3g", 100 * c.worstExcess) +
+        return out + values + ", worst diff " + core::formatNumber(c.diff, 3) + " (limit " +
+               core::formatNumber(c.limit, 3) + ", " + core::formatNumber(100 * c.worstExcess, 3) +
                "% of tolerance) at " + c.where;
     out += std::to_string(c.failing) + " of " + values + " out of tolerance; worst at " + c.where +
-           ": expected " + fmt("%.17g", c.expected) + ", got " + fmt("%.17g", c.actual);
+           ": expected " + core::formatNumber(c.expected, 17) + ", got " +
+           core::formatNumber(c.actual, 17);
     if (std::isfinite(c.expected) && std::isfinite(c.actual))
-        out += ", diff " + fmt("%.3g", c.diff) + " > limit " + fmt("%.3g", c.limit) + " (" +
-               fmt("%.3g", c.worstExcess) + "x tolerance)";
+        out += ", diff " + core::formatNumber(c.diff, 3) + " > limit " +
+               core::formatNumber(c.limit, 3) + " (" + core::formatNumber(c.worstExcess, 3) +
+               "x tolerance)";
     return out + " [" + tol + "]";
 }
 

@@ -3,6 +3,7 @@
 #include "capture.h"
 
 #include "core/core.h"
+#include "core/text.h"
 
 #include <charconv>
 #include <cmath>
@@ -40,17 +41,6 @@ bool parseNumber(std::string_view field, double& value) {
     const char* end = field.data() + field.size();
     auto [ptr, ec] = std::from_chars(field.data(), end, value);
     return ec == std::errc() && ptr == end;
-}
-
-void formatNumber(std::string& out, double v) {
-    if (std::isnan(v)) {
-        out += "nan";
-        return;
-    }
-    char buf[64];
-    auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, v);
-    (void)ec; // 64 bytes always suffice for the shortest form of a double
-    out.append(buf, ptr);
 }
 
 // "" when the name can be written and read back unchanged.
@@ -160,7 +150,7 @@ std::string formatCsv(const Table& t) {
                                   std::to_string(t.columns.size()) + " columns");
         for (size_t c = 0; c < row.size(); ++c) {
             if (c) out += ',';
-            formatNumber(out, row[c]);
+            core::appendShortest(out, row[c]);
         }
         out += '\n';
     }

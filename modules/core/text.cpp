@@ -1,8 +1,11 @@
 // core text/file helpers: whole-file IO with clear errors, UTF-8 validation (RFC 3629),
-// FNV-1a 64-bit content hashes.
+// FNV-1a 64-bit content hashes, numbers as text (text.h).
+#include "text.h"
 #include "core.h"
 
 #include <cerrno>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -98,6 +101,23 @@ std::string hashHex(std::string_view bytes) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(fnv1a64(bytes)));
     return std::string("fnv1a64:") + buf;
+}
+
+std::string formatNumber(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+}
+
+void appendShortest(std::string& out, double v) {
+    if (std::isnan(v)) { // to_chars would write "-nan" for a negative NaN
+        out += "nan";
+        return;
+    }
+    char buf[64];
+    const auto res = std::to_chars(buf, buf + sizeof buf, v);
+    (void)res.ec; // 64 bytes always suffice for the shortest form of a double
+    out.append(buf, res.ptr);
 }
 
 std::string relativeTo(const std::filesystem::path& p, const std::filesystem::path& base) {

@@ -2,6 +2,7 @@
 // env_sampling.h).
 #include "irradiance/env_sampling.h"
 
+#include "core/color.h"
 #include "core/core.h"
 
 #include <algorithm>
@@ -38,7 +39,7 @@ std::vector<EnvSample> sampleEnvironment(const EnvironmentMap& env, int count, u
         for (int x = 0; x < W; ++x) {
             const glm::vec3 L = env.texel(x, y);
             const size_t i = static_cast<size_t>(y) * W + x;
-            lum[i] = 0.2126 * L.r + 0.7152 * L.g + 0.0722 * L.b;
+            lum[i] = core::luminance(glm::dvec3(L));
             total += omega[y] * lum[i];
         }
     }

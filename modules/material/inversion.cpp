@@ -9,7 +9,6 @@
 #include <cmath>
 
 namespace material {
-using detail::num;
 
 namespace {
 // Grid of `n`+1 float32 values from lo to hi (both exact floats). When [lo, hi] holds no more
@@ -59,11 +58,12 @@ glm::dvec3 solveAlphaPrime(const glm::dvec3& target, const RdrBatch& evaluate, i
                     throw core::Error("R_dr", 0,
                                       "DiffuseReflectance is not finite at alpha' = 0 or 1");
                 if (!(target[c] >= std::min(rmin, rmax) && target[c] <= std::max(rmin, rmax)))
-                    throw core::Error("R_dr", 0,
-                                      "R_dr = " + num(target[c]) + " (channel " +
-                                          detail::channelName(c) +
-                                          ") is outside the invertible range [" + num(rmin) + ", " +
-                                          num(rmax) + "] of this model's DiffuseReflectance");
+                    throw core::Error(
+                        "R_dr", 0,
+                        "R_dr = " + core::formatNumber(target[c], 6) + " (channel " +
+                            detail::channelName(c) + ") is outside the invertible range [" +
+                            core::formatNumber(rmin, 6) + ", " + core::formatNumber(rmax, 6) +
+                            "] of this model's DiffuseReflectance");
             }
             const bool increasing = r[subdivisions][c] >= r[0][c];
             int found = -1;
@@ -100,13 +100,14 @@ glm::dvec3 solveAlphaPrime(const glm::dvec3& target, const RdrBatch& evaluate, i
 
 SigmaPair sigmaFromAlphaPrime(const glm::dvec3& alphaPrime, const glm::dvec3& ld, double g) {
     if (!std::isfinite(g) || std::abs(g) >= 1)
-        throw core::Error("g", 0, "g must satisfy |g| < 1, got " + num(g));
+        throw core::Error("g", 0, "g must satisfy |g| < 1, got " + core::formatNumber(g, 6));
     SigmaPair out;
     for (int c = 0; c < 3; ++c) {
         if (!(ld[c] > 0) || !std::isfinite(ld[c]))
             throw core::Error("l_d", 0,
                               std::string("l_d must be a positive finite length in mm (channel ") +
-                                  detail::channelName(c) + " is " + num(ld[c]) + ")");
+                                  detail::channelName(c) + " is " + core::formatNumber(ld[c], 6) +
+                                  ")");
         double a = alphaPrime[c];
         if (!(a < 1.0))
             throw core::Error("R_dr", 0,

@@ -64,8 +64,8 @@ using RdrBatch = std::function<std::vector<glm::dvec3>(const std::vector<glm::dv
 glm::dvec3 solveAlphaPrime(const glm::dvec3& targetRdr, const RdrBatch& evaluate,
                            int subdivisions = 512, int rounds = 3);
 
-// Thesis 3.6.1: interpret an RGB triple as a colour rescaled to Rec.709 luminance 0.75.
+// Thesis 3.6.1: interpret an RGB triple as a colour rescaled to Rec.709 luminance 0.75
+// (core::luminance).
 glm::dvec3 swatch(const glm::dvec3& rgb);
-double luminance(const glm::dvec3& rgb); // Rec.709 weights
 
 } // namespace material

@@ -1,13 +1,13 @@
 // material parameters: validation, derived diffusion quantities, swatch colours.
 #include "material.h"
 
+#include "core/color.h"
 #include "core/core.h"
 #include "detail/messages.h"
 
 #include <cmath>
 
 namespace material {
-using detail::num;
 
 void validate(const MaterialParams& p, const std::string& what) {
     for (int c = 0; c < 3; ++c) {
@@ -18,19 +18,24 @@ void validate(const MaterialParams& p, const std::string& what) {
         if (p.sigmaA[c] < 0)
             throw core::Error(what, 0,
                               std::string("sigma_a must be >= 0 1/mm (channel ") +
-                                  detail::channelName(c) + " is " + num(p.sigmaA[c]) + ")");
+                                  detail::channelName(c) + " is " +
+                                  core::formatNumber(p.sigmaA[c], 6) + ")");
         if (p.sigmaS[c] <= 0)
             throw core::Error(what, 0,
                               std::string("sigma_s must be > 0 1/mm (channel ") +
-                                  detail::channelName(c) + " is " + num(p.sigmaS[c]) + ")");
+                                  detail::channelName(c) + " is " +
+                                  core::formatNumber(p.sigmaS[c], 6) + ")");
     }
     if (!std::isfinite(p.eta) || p.eta <= 0)
         throw core::Error(what, 0,
-                          "eta (relative index of refraction) must be > 0, got " + num(p.eta));
+                          "eta (relative index of refraction) must be > 0, got " +
+                              core::formatNumber(p.eta, 6));
     if (!std::isfinite(p.g) || std::abs(p.g) >= 1)
-        throw core::Error(what, 0, "g (mean cosine) must satisfy |g| < 1, got " + num(p.g));
+        throw core::Error(
+            what, 0, "g (mean cosine) must satisfy |g| < 1, got " + core::formatNumber(p.g, 6));
     if (!std::isfinite(p.scale) || p.scale <= 0)
-        throw core::Error(what, 0, "scale (mm per unit) must be > 0, got " + num(p.scale));
+        throw core::Error(what, 0,
+                          "scale (mm per unit) must be > 0, got " + core::formatNumber(p.scale, 6));
 }
 
 glm::dvec3 reducedAlbedo(const MaterialParams& p) {
@@ -48,12 +53,8 @@ glm::dvec3 diffuseMeanFreePath(const MaterialParams& p) {
     return ld;
 }
 
-double luminance(const glm::dvec3& rgb) {
-    return 0.2126 * rgb.r + 0.7152 * rgb.g + 0.0722 * rgb.b;
-}
-
 glm::dvec3 swatch(const glm::dvec3& rgb) {
-    double l = luminance(rgb);
+    double l = core::luminance(rgb);
     if (!(l > 0) || !std::isfinite(l)) return glm::dvec3(0.75);
     return rgb * (0.75 / l);
 }

@@ -1,6 +1,7 @@
 // pathtrace/camera: input checks, pixel mapping, per-path tallies and their finalisation into
 // an Image (estimator in camera.h).
 #include "pathtrace/camera.h"
+#include "core/text.h"
 
 #include "core/core.h"
 #include "pathtrace/detail/mean_stderr.h"
@@ -13,14 +14,6 @@
 
 namespace pathtrace {
 using detail::meanStderr;
-namespace {
-std::string num(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    return b;
-}
-
-} // namespace
 
 void validate(const TraceOptions& o) {
     const std::string what = "trace options";
@@ -34,14 +27,17 @@ void validate(const TraceOptions& o) {
 void validate(const LitSphereSetup& s) {
     const std::string what = "lit sphere setup";
     if (!std::isfinite(s.radiusMm) || !(s.radiusMm > 0))
-        throw core::Error(what, 0, "radius must be a finite length > 0 mm, got " + num(s.radiusMm));
+        throw core::Error(what, 0,
+                          "radius must be a finite length > 0 mm, got " +
+                              core::formatNumber(s.radiusMm));
     const double l2 = s.lightDir[0] * s.lightDir[0] + s.lightDir[1] * s.lightDir[1] +
                       s.lightDir[2] * s.lightDir[2];
     if (!std::isfinite(l2) || !(l2 > 0))
         throw core::Error(what, 0,
                           "light direction must be finite and non-zero, got (" +
-                              num(s.lightDir[0]) + ", " + num(s.lightDir[1]) + ", " +
-                              num(s.lightDir[2]) + ")");
+                              core::formatNumber(s.lightDir[0]) + ", " +
+                              core::formatNumber(s.lightDir[1]) + ", " +
+                              core::formatNumber(s.lightDir[2]) + ")");
     if (s.width < 1 || s.width > 16384 || s.height < 1 || s.height > 16384)
         throw core::Error(what, 0,
                           "image size must lie in [1, 16384]², got " + std::to_string(s.width) +

@@ -2,41 +2,37 @@
 // field). The hot loops assume what is checked here: σt > 0 and finite, 0 <= α <= 1, |g| < 1
 // (HG is a density only there), η > 0 finite (Fresnel), a histogram that fits in memory.
 #include "core/core.h"
+#include "core/text.h"
 #include "pathtrace/pathtrace.h"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 namespace pathtrace {
-namespace {
-std::string num(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    return b;
-}
-} // namespace
-
 void validate(const Medium& m, const std::string& what) {
     if (!std::isfinite(m.sigmaA) || m.sigmaA < 0)
-        throw core::Error(what, 0, "sigma_a must be finite and >= 0 (1/mm), got " + num(m.sigmaA));
+        throw core::Error(
+            what, 0, "sigma_a must be finite and >= 0 (1/mm), got " + core::formatNumber(m.sigmaA));
     if (!std::isfinite(m.sigmaS) || m.sigmaS <= 0)
-        throw core::Error(what, 0, "sigma_s must be finite and > 0 (1/mm), got " + num(m.sigmaS));
+        throw core::Error(
+            what, 0, "sigma_s must be finite and > 0 (1/mm), got " + core::formatNumber(m.sigmaS));
     if (!std::isfinite(m.sigmaA + m.sigmaS))
         throw core::Error(what, 0, "sigma_a + sigma_s overflows");
     if (!std::isfinite(m.g) || !(std::fabs(m.g) < 1))
-        throw core::Error(what, 0, "g must lie in (-1, 1), got " + num(m.g));
+        throw core::Error(what, 0, "g must lie in (-1, 1), got " + core::formatNumber(m.g));
     if (!std::isfinite(m.eta) || m.eta <= 0)
-        throw core::Error(what, 0, "eta must be finite and > 0, got " + num(m.eta));
+        throw core::Error(what, 0, "eta must be finite and > 0, got " + core::formatNumber(m.eta));
 }
 
 void validate(const Termination& t, const std::string& what) {
     if (!(t.rouletteWeight > 0 && t.rouletteWeight < 1))
         throw core::Error(what, 0,
-                          "rouletteWeight must lie in (0, 1), got " + num(t.rouletteWeight));
+                          "rouletteWeight must lie in (0, 1), got " +
+                              core::formatNumber(t.rouletteWeight));
     if (!(t.rouletteSurvival > 0 && t.rouletteSurvival <= 1))
         throw core::Error(what, 0,
-                          "rouletteSurvival must lie in (0, 1], got " + num(t.rouletteSurvival));
+                          "rouletteSurvival must lie in (0, 1], got " +
+                              core::formatNumber(t.rouletteSurvival));
     if (t.maxEvents < 1)
         throw core::Error(what, 0, "maxEvents must be >= 1, got " + std::to_string(t.maxEvents));
 }
@@ -44,7 +40,8 @@ void validate(const Termination& t, const std::string& what) {
 void validate(const SlabSettings& s) {
     const std::string what = "slab settings";
     if (!std::isfinite(s.rMaxMm) || s.rMaxMm <= 0)
-        throw core::Error(what, 0, "rMax must be a finite length > 0 mm, got " + num(s.rMaxMm));
+        throw core::Error(
+            what, 0, "rMax must be a finite length > 0 mm, got " + core::formatNumber(s.rMaxMm));
     if (s.bins < 1) throw core::Error(what, 0, "bins must be >= 1, got " + std::to_string(s.bins));
     if (s.bins > 10000000)
         throw core::Error(

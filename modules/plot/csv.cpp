@@ -2,9 +2,9 @@
 #include "plot/plot.h"
 
 #include "core/core.h"
+#include "core/text.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 
 namespace plot {
@@ -17,21 +17,6 @@ size_t sampleCount(const Series& s) {
 bool hasBand(const Series& s) {
     const size_t n = sampleCount(s);
     return n > 0 && s.bandLo.size() >= n && s.bandHi.size() >= n;
-}
-
-// Shortest text that parses back (strtod) to exactly v.
-void appendNumber(std::string& out, double v) {
-    if (std::isnan(v)) {
-        out += "nan";
-        return;
-    }
-    if (std::isinf(v)) {
-        out += v > 0 ? "inf" : "-inf";
-        return;
-    }
-    char buf[64];
-    const auto res = std::to_chars(buf, buf + sizeof buf, v);
-    out.append(buf, res.ptr);
 }
 
 // RFC 4180 quoting when needed.
@@ -75,15 +60,15 @@ std::string toCsv(const std::vector<Series>& series, const std::string& xName) {
         out += '\n';
         const size_t n = series.empty() ? 0 : sampleCount(series[0]);
         for (size_t i = 0; i < n; ++i) {
-            appendNumber(out, series[0].x[i]);
+            core::appendShortest(out, series[0].x[i]);
             for (const Series& s : series) {
                 out += ',';
-                appendNumber(out, s.y[i]);
+                core::appendShortest(out, s.y[i]);
                 if (!hasBand(s)) continue;
                 out += ',';
-                appendNumber(out, s.bandLo[i]);
+                core::appendShortest(out, s.bandLo[i]);
                 out += ',';
-                appendNumber(out, s.bandHi[i]);
+                core::appendShortest(out, s.bandHi[i]);
             }
             out += '\n';
         }
@@ -98,14 +83,14 @@ std::string toCsv(const std::vector<Series>& series, const std::string& xName) {
         const bool band = hasBand(s);
         for (size_t i = 0; i < sampleCount(s); ++i) {
             out += name + ',';
-            appendNumber(out, s.x[i]);
+            core::appendShortest(out, s.x[i]);
             out += ',';
-            appendNumber(out, s.y[i]);
+            core::appendShortest(out, s.y[i]);
             if (anyBand) {
                 out += ',';
-                if (band) appendNumber(out, s.bandLo[i]);
+                if (band) core::appendShortest(out, s.bandLo[i]);
                 out += ',';
-                if (band) appendNumber(out, s.bandHi[i]);
+                if (band) core::appendShortest(out, s.bandHi[i]);
             }
             out += '\n';
         }

@@ -1,4 +1,5 @@
-// plot: a small 2D line-plot widget for radial profiles R(r) (pencil plot, thesis §3.6.3).
+// plot: the pure half of a small 2D line plot for radial profiles R(r) (pencil plot,
+// thesis §3.6.3). No ImGui here: the widget that draws it is plot/plot_draw.h (app/ only).
 //   - Axes with linear, logarithmic and square-root scales (§3.6.3: log for the far field,
 //     sqrt "as a useful addition to logarithmic plots" for an accurate comparison near the
 //     source). The sqrt scale is signed, sign(v)·sqrt(|v|), so negative values stay legal.
@@ -8,13 +9,8 @@
 //   - Series: polylines with optional error bands (e.g. a Monte Carlo reference ±2σ);
 //     NaN/inf samples and non-positive samples on a log axis break the line.
 //   - Hover readout (value of every curve at the mouse x, linear interpolation), CSV export.
-//   - drawPlot(): the only part that calls ImGui. It draws into the current window's
-//     ImDrawList inside an InvisibleButton, so it works in any ImGui window and also headless
-//     (no GL needed to build the draw lists). Everything else is pure and unit-tested.
 // Geometry helpers (clipping, dashing, label thinning) live in plot/detail/geometry.h.
 #pragma once
-
-#include <imgui.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -101,27 +97,5 @@ std::string toCsv(const std::vector<Series>& series, const std::string& xName);
 // Writes toCsv() atomically; throws core::Error(path, 0, reason) when it cannot.
 void writeCsv(const std::filesystem::path& path, const std::vector<Series>& series,
               const std::string& xName);
-
-// ---- drawing (plot_draw.cpp; the only ImGui caller) -----------------------------------------
-struct PlotOptions {
-    bool legend = true;       // legend box in the top-right corner of the plot area
-    bool hoverTooltip = true; // crosshair + dots + tooltip table while hovered
-};
-
-struct PlotState {
-    bool hovered = false;       // mouse over the plot area (inside the axes)
-    double hoverX = 0;          // data x under the mouse (valid when hovered)
-    std::vector<HoverRow> rows; // sampleAt(series, hoverX) (filled when hovered)
-    ImVec2 min, max;            // screen rect of the whole widget incl. axes (PNG export)
-    ImVec2 plotMin, plotMax;    // screen rect of the data area
-};
-
-// Draws title, subtitle (e.g. the normalisation convention), axes, grid, bands, curves,
-// legend and hover readout into the current window and advances the layout by `size`.
-// size.x <= 0 or size.y <= 0: use the available content region on that axis.
-// The axes are used as given (after sanitized()); call autoRange() for automatic ranges.
-PlotState drawPlot(const char* id, ImVec2 size, const std::vector<Series>& series,
-                   const Axis& xAxis, const Axis& yAxis, const std::string& title,
-                   const std::string& subtitle, const PlotOptions& options = {});
 
 } // namespace plot

@@ -1,8 +1,8 @@
 // plot: drawPlot(), the ImGui half of the plot widget. Layout, grid, labels, bands, curves,
 // legend and hover readout drawn into the current window's ImDrawList; the geometry comes
 // from the pure functions in axis.cpp, ticks.cpp, sample.cpp and detail/geometry.h.
+#include "plot/plot_draw.h"
 #include "plot/detail/geometry.h"
-#include "plot/plot.h"
 
 #include <algorithm>
 #include <cmath>

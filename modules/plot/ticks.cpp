@@ -1,6 +1,8 @@
 // plot: tick placement and labels for linear, log and sqrt axes, and readout formatting.
 #include "plot/plot.h"
 
+#include "core/text.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -105,11 +107,8 @@ std::vector<Tick> linearTicks(const Axis& a, int target) {
     std::vector<Tick> ticks;
     const double i0 = std::ceil((a.lo - slack) / step), i1 = std::floor((a.hi + slack) / step);
     if (std::max(std::abs(i0), std::abs(i1)) > 1e14) { // range too narrow for its magnitude
-        char buf[40];
-        for (double v : {a.lo, a.hi}) {
-            std::snprintf(buf, sizeof buf, "%.12g", v);
-            ticks.push_back({v, buf, true});
-        }
+        for (double v : {a.lo, a.hi})
+            ticks.push_back({v, core::formatNumber(v, 12), true});
         return ticks;
     }
     const bool sci = useScientific(a, step);
@@ -254,9 +253,7 @@ std::string formatValue(double v) {
     if (std::isnan(v)) return "nan";
     if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
     if (v == 0) return "0";
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.4g", v);
-    return buf;
+    return core::formatNumber(v, 4);
 }
 
 } // namespace plot

@@ -4,6 +4,7 @@
 #include "pointcloud/pointcloud.h"
 
 #include "core/core.h"
+#include "core/text.h"
 
 #include <bit>
 #include <cstdio>
@@ -20,10 +21,8 @@ const char* const kProps[7] = {"x", "y", "z", "nx", "ny", "nz", "area"};
 }
 
 void writePly(const std::filesystem::path& path, const PointCloud& cloud) {
-    char total[64];
-    std::snprintf(total, sizeof total, "%.17g", cloud.totalArea);
     std::string out = "ply\nformat binary_little_endian 1.0\ncomment bw_pointcloud\n";
-    out += "comment total_area " + std::string(total) + "\n";
+    out += "comment total_area " + core::formatNumber(cloud.totalArea, 17) + "\n";
     out += "element vertex " + std::to_string(cloud.points.size()) + "\n";
     for (const char* p : kProps)
         out += std::string("property float ") + p + "\n";

@@ -18,8 +18,8 @@ std::vector<float> heatValues(const Readback& rb, HeatQuantity q,
         if (q == HeatQuantity::Steps) v[p] = float(rb.stats[p].x);
         if (q == HeatQuantity::StackDepth) v[p] = float(rb.stats[p].y);
         if (q == HeatQuantity::RelativeError && p < brute.size()) {
-            const float b = luminance(glm::vec3(brute[p]));
-            const float h = luminance(glm::vec3(rb.exitance[p]));
+            const float b = core::luminance(glm::vec3(brute[p]));
+            const float h = core::luminance(glm::vec3(rb.exitance[p]));
             v[p] = b > 0 ? std::abs(h - b) / b : 0.0f;
         }
         maxValue = std::max(maxValue, v[p]);
@@ -44,7 +44,7 @@ std::vector<float> radianceAtPoints(const Readback& rb, Camera cam,
         const size_t p = rb.index(x, y);
         if (rb.position[p].w < 0.5f) continue;
         if (glm::length(glm::vec3(rb.position[p]) - points[i]) > tol) continue;
-        out[i] = luminance(glm::vec3(rb.hdr[p]));
+        out[i] = core::luminance(glm::vec3(rb.hdr[p]));
     }
     return out;
 }

@@ -6,6 +6,7 @@
 // with positions scaled to mm as the shader does (A_i in mesh units², scale² to mm²).
 #pragma once
 
+#include "core/color.h"
 #include "octree/octree.h"
 #include "render/camera.h"
 #include "render/render.h"
@@ -16,11 +17,6 @@
 #include <vector>
 
 namespace render {
-
-// Rec. 709 luminance of linear RGB.
-inline float luminance(const glm::vec3& c) {
-    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
 
 // Per pixel quantities of a frame's traversal.
 enum class HeatQuantity {

@@ -1,5 +1,6 @@
 // render: the Renderer — GL resources, the G-buffer pass, the profile table, the resumable
 // traversal dispatches and the tone map (see render.h; the algorithms are in the shaders).
+#include "core/text.h"
 #include "render/render.h"
 
 #include "core/core.h"
@@ -10,7 +11,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 namespace render {
 
@@ -45,24 +45,19 @@ gl::Texture makeTexture(GLenum format, int w, int h, GLenum filter) {
     return gl::Texture(id);
 }
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 void validate(const Settings& s) {
     auto fail = [](const std::string& m) { throw core::Error("render", 0, m); };
     if (s.width < 1 || s.height < 1 || s.width > kMaxSide || s.height > kMaxSide)
         fail("image size must lie in [1, " + std::to_string(kMaxSide) + "]², got " +
              std::to_string(s.width) + "x" + std::to_string(s.height));
     if (!std::isfinite(s.eps) || s.eps < 0.0f)
-        fail("eps must be finite and >= 0, got " + num(s.eps));
+        fail("eps must be finite and >= 0, got " + core::formatNumber(s.eps, 6));
     if (s.maxSteps < 1) fail("maxSteps must be >= 1");
     if (s.stackSize < 1 || s.stackSize > octree::kStackSize)
         fail("stackSize must lie in [1, " + std::to_string(octree::kStackSize) + "], got " +
              std::to_string(s.stackSize));
-    if (!std::isfinite(s.gamma) || s.gamma <= 0.0f) fail("gamma must be > 0, got " + num(s.gamma));
+    if (!std::isfinite(s.gamma) || s.gamma <= 0.0f)
+        fail("gamma must be > 0, got " + core::formatNumber(s.gamma, 6));
     if (!std::isfinite(s.exposure)) fail("exposure must be finite");
     const Camera& c = s.camera;
     if (!std::isfinite(c.distance) || c.distance <= 0.0f || !std::isfinite(c.fovY) ||

@@ -1,6 +1,11 @@
+#include "core/color.h"
 #include "core/core.h"
+#include "core/text.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
 
 TEST(CoreText, Utf8Validation) {
     EXPECT_FALSE(core::firstInvalidUtf8("plain ascii\n").has_value());
@@ -34,4 +39,37 @@ TEST(CoreText, ErrorsNameFileAndLine) {
     } catch (const core::Error& err) {
         EXPECT_NE(std::string(err.what()).find("/proc/definitely/not/here.csv"), std::string::npos);
     }
+}
+
+TEST(CoreText, FormatNumberIsPrintfG) {
+    EXPECT_EQ(core::formatNumber(0.1f), "0.100000001"); // 9 digits show a float exactly
+    EXPECT_EQ(core::formatNumber(1.0 / 3.0, 6), "0.333333");
+    EXPECT_EQ(core::formatNumber(1e-5, 3), "1e-05");
+    EXPECT_EQ(core::formatNumber(123456789.0, 4), "1.235e+08");
+    EXPECT_EQ(core::formatNumber(0.1, 17), "0.10000000000000001");
+    EXPECT_EQ(core::formatNumber(-2.5), "-2.5");
+}
+
+TEST(CoreText, FormatShortestRoundTrips) {
+    EXPECT_EQ(core::formatShortest(0.1), "0.1");
+    EXPECT_EQ(core::formatShortest(1e-300), "1e-300");
+    EXPECT_EQ(core::formatShortest(-0.0), "-0");
+    EXPECT_EQ(core::formatShortest(std::nan("")), "nan");
+    EXPECT_EQ(core::formatShortest(-std::nan("")), "nan");
+    EXPECT_EQ(core::formatShortest(INFINITY), "inf");
+    EXPECT_EQ(core::formatShortest(-INFINITY), "-inf");
+    for (double v : {1.0 / 3.0, 2.0 / 7.0 * 1e17, 5e-324, 1.7976931348623157e308}) {
+        const std::string s = core::formatShortest(v);
+        EXPECT_EQ(std::strtod(s.c_str(), nullptr), v) << s;
+    }
+    std::string out = "x=";
+    core::appendShortest(out, 0.25);
+    EXPECT_EQ(out, "x=0.25");
+}
+
+TEST(CoreColor, Rec709Luminance) {
+    EXPECT_DOUBLE_EQ(core::luminance(glm::dvec3(1.0)), 1.0);
+    EXPECT_DOUBLE_EQ(core::luminance(glm::dvec3(0, 1, 0)), 0.7152);
+    EXPECT_EQ(core::luminance(glm::vec3(1, 0, 0)), 0.2126f);
+    EXPECT_EQ(core::luminance(glm::vec3(0, 0, 2)), 2 * 0.0722f);
 }

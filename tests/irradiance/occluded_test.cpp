@@ -8,7 +8,7 @@
 //     than 5 standard errors, points on the plate's top agree with it;
 //   - determinism (same seed: bitwise equal; another seed: different), the step size only
 //     changes the summation order, progress and cancel.
-#include "../support/normal_quantile.h"
+#include "core/statistics.h"
 #include "gl_stage.h"
 #include "test_util.h"
 
@@ -20,7 +20,7 @@
 namespace {
 using namespace irradiance;
 
-using testsupport::normalQuantileUpper;
+using core::normalUpperQuantile;
 
 Settings occludedSettings() {
     Settings s;
@@ -44,7 +44,7 @@ TEST(IrradianceOccluded, ConvexSphereConvergesToTheUnoccludedValue) {
     ASSERT_EQ(E.size(), P.size());
     ASSERT_EQ(se.size(), P.size());
     const double ref = irrtest::hemisphericalFt(s.ior);
-    const double zMax = normalQuantileUpper(1e-3 / (2.0 * P.size()));
+    const double zMax = normalUpperQuantile(1e-3 / (2.0 * P.size()));
     double sumZ = 0, worst = 0;
     for (size_t i = 0; i < P.size(); ++i) {
         ASSERT_GT(se[i].g, 0.0f);
@@ -80,7 +80,7 @@ TEST(IrradianceOccluded, PlateDarkensThePointsUnderIt) {
     const auto E = st.compute(s);
     const auto se = st.occludedStdError();
     const double ref = irrtest::hemisphericalFt(s.ior);
-    const double zMax = normalQuantileUpper(1e-3 / (2.0 * P.size()));
+    const double zMax = normalUpperQuantile(1e-3 / (2.0 * P.size()));
     double under = 0;
     for (size_t i = 0; i < P.size(); i += 2) {
         EXPECT_LT(E[i].g + 5 * se[i].g, ref) << "under the plate, point " << i;

@@ -1,4 +1,5 @@
 // Material parameters: validation messages, presets file, derived quantities, swatch.
+#include "core/color.h"
 #include "core/core.h"
 #include "material/material.h"
 
@@ -98,8 +99,8 @@ TEST(MaterialParams, DerivedQuantities) {
 
 TEST(MaterialParams, SwatchHasLuminance075) {
     glm::dvec3 s = material::swatch({2.19, 2.62, 3.0});
-    EXPECT_NEAR(material::luminance(s), 0.75, 1e-12);
+    EXPECT_NEAR(core::luminance(s), 0.75, 1e-12);
     EXPECT_NEAR(s.x / s.y, 2.19 / 2.62, 1e-12); // hue kept
     glm::dvec3 z = material::swatch({0, 0, 0});
-    EXPECT_NEAR(material::luminance(z), 0.75, 1e-12);
+    EXPECT_NEAR(core::luminance(z), 0.75, 1e-12);
 }

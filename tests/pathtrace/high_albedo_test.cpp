@@ -18,7 +18,7 @@
 //       tallied, bounds the bias and is reported.
 //   (5) The lit sphere (marble, η 1.5): per channel mean roulette change |z| < 3, nothing
 //       truncated, energy check passes.
-#include "../support/normal_quantile.h"
+#include "core/statistics.h"
 #include "half_space_reference.h"
 #include "material/material.h"
 #include "pathtrace/camera.h"
@@ -37,7 +37,7 @@ using namespace pathtrace;
 
 namespace {
 
-using testsupport::bonferroniZ;
+using core::bonferroniZ;
 
 // z of the MC total R_d against the deterministic half-space value (its error ≤ 1e-6 is
 // negligible next to the MC standard error, ≥ 5e-4 here).

@@ -3,8 +3,8 @@
 // the tessellation error), energy accounting and conservation (η = 1, albedo 1) with no leaks,
 // camera visibility (exits hidden behind another part of the mesh do not reach the image),
 // determinism across thread counts.
-#include "../support/normal_quantile.h"
 #include "core/core.h"
+#include "core/statistics.h"
 #include "pathtrace/camera.h"
 #include "pathtrace/mesh_alias.h"
 #include "pathtrace/mesh_tracer.h"
@@ -20,7 +20,7 @@ using namespace pathtrace;
 
 namespace {
 
-using testsupport::bonferroniZ;
+using core::bonferroniZ;
 
 Medium med(double sa, double ss, double g, double eta) {
     Medium m;

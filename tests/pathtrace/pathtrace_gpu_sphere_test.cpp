@@ -4,7 +4,7 @@
 //   - bitwise determinism for any step sizes and event budgets;
 //   - hot reload: a broken shader names its file and line and the old program keeps working.
 #include "../support/gl_fixture.h"
-#include "../support/normal_quantile.h"
+#include "core/statistics.h"
 #include "pathtrace/gpu_sphere.h"
 #include "pathtrace/sphere_tracer.h"
 
@@ -43,7 +43,7 @@ void writeText(const fs::path& p, const std::string& text) {
     out << text;
 }
 
-using testsupport::normalQuantileUpper;
+using core::normalUpperQuantile;
 
 // Red: the reference medium; green: forward scattering; blue: more absorbing, other index.
 std::array<Medium, 3> testMedia() {
@@ -103,7 +103,7 @@ TEST(PathtraceGpuSphere, AgreesWithCpuTracerPerPixel) {
     for (size_t p = 0; p < n; ++p)
         if (stats.pixels.footprint[p] > 0) tests += 3;
     ASSERT_GT(tests, 300u);
-    const double zMax = normalQuantileUpper(1e-3 / (2.0 * static_cast<double>(tests + 3)));
+    const double zMax = normalUpperQuantile(1e-3 / (2.0 * static_cast<double>(tests + 3)));
     double worst = 0;
     int lit = 0;
     for (size_t p = 0; p < n; ++p) {

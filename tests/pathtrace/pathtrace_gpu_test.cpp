@@ -9,7 +9,7 @@
 //     determinism for any step sizes and event budgets;
 //   - hot reload: a broken shader names its file and line and the old program keeps working.
 #include "../support/gl_fixture.h"
-#include "../support/normal_quantile.h"
+#include "core/statistics.h"
 #include "pathtrace/fresnel.h"
 #include "pathtrace/gpu_shader.h"
 #include "pathtrace/gpu_slab.h"
@@ -66,7 +66,7 @@ std::vector<uint32_t> runTestShader(const fs::path& file, std::vector<uint32_t> 
     return data;
 }
 
-using testsupport::normalQuantileUpper;
+using core::normalUpperQuantile;
 
 // Σ over all paths of (reflected + absorbed + roulette loss + specular) minus the path count:
 // zero up to float rounding per path when no weight went missing.
@@ -272,7 +272,7 @@ TEST(PathtraceGpu, AgreesWithCpuBinByBin) {
     std::printf("[ info ] %llu paths: GPU %.2f s, CPU %.2f s\n",
                 static_cast<unsigned long long>(s.paths), gpuSeconds, cpu.seconds);
 
-    const double zMax = normalQuantileUpper(0.01 / (2.0 * s.bins));
+    const double zMax = normalUpperQuantile(0.01 / (2.0 * s.bins));
     int compared = 0;
     double worst = 0;
     for (size_t i = 0; i < static_cast<size_t>(s.bins); ++i) {

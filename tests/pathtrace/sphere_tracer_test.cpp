@@ -5,8 +5,8 @@
 // orientation (the lit side is the bright side, pixel (0, 0) top left), bitwise determinism
 // across thread counts, cancellation, input validation, and the centre of a large sphere
 // against the slab tracer's total diffuse reflectance.
-#include "../support/normal_quantile.h"
 #include "core/core.h"
+#include "core/statistics.h"
 #include "pathtrace/camera.h"
 #include "pathtrace/pathtrace.h"
 #include "pathtrace/sphere_tracer.h"
@@ -26,7 +26,7 @@ using namespace pathtrace;
 
 namespace {
 
-using testsupport::bonferroniZ;
+using core::bonferroniZ;
 
 Medium med(double sa, double ss, double g, double eta) {
     Medium m;

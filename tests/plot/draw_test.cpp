@@ -1,6 +1,6 @@
 // plot: drawPlot builds sane ImGui draw lists headless (no GL: an ImGui context with a built
 // font atlas is enough to run frames and inspect the vertices).
-#include "plot/plot.h"
+#include "plot/plot_draw.h"
 
 #include <gtest/gtest.h>
 

@@ -33,12 +33,6 @@ render::Readback frame() {
 
 } // namespace
 
-TEST(FrameAnalysis, LuminanceIsRec709) {
-    EXPECT_FLOAT_EQ(render::luminance({1, 1, 1}), 1.0f);
-    EXPECT_FLOAT_EQ(render::luminance({1, 0, 0}), 0.2126f);
-    EXPECT_FLOAT_EQ(render::luminance({0, 0, 1}), 0.0722f);
-}
-
 TEST(FrameAnalysis, HeatValuesPerQuantity) {
     const render::Readback rb = frame();
     float mx = -1;

@@ -11,9 +11,9 @@
 // compensated; the sampler (hash + uniform area mapping) passes a chi-square test; the
 // throughput on a 128x128 image is printed (never asserted).
 #include "../support/gl_fixture.h"
-#include "../support/normal_quantile.h"
 #include "bssrdf/program.h"
 #include "bssrdf/sphere_integrator.h"
+#include "core/statistics.h"
 #include "pathtrace/fresnel.h"
 
 #include <algorithm>
@@ -87,7 +87,7 @@ Image render(const pathtrace::LitSphereSetup& s, const bssrdf::Builtins& b, int 
 // Two-sided z threshold for `tests` comparisons at family-wise error `alpha` (Bonferroni),
 // never below 3.5.
 double zThreshold(size_t tests, double alpha = 0.005) {
-    return std::max(3.5, testsupport::bonferroniZ(alpha, static_cast<double>(tests)));
+    return std::max(3.5, core::bonferroniZ(alpha, static_cast<double>(tests)));
 }
 
 // ---- independent CPU reference ------------------------------------------------------------------

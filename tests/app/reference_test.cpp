@@ -4,6 +4,8 @@
 #include "../support/gl_fixture.h"
 #include "capture/capture.h"
 #include "capture_io.h"
+#include "core/color.h"
+#include "core/statistics.h"
 #include "reference_plot.h"
 #include "workbench.h"
 
@@ -37,7 +39,7 @@ TEST(Reference, SeriesBandAndModelErrors) {
         EXPECT_GE(ref.bandHi[i], ref.y[i]);
     }
     // luminance of R_d/(1 − R_sp) per channel, band = 2 standard errors
-    const double w[3] = {0.2126, 0.7152, 0.0722};
+    const auto& w = core::kRec709Luminance;
     double mean = 0, var = 0;
     for (int c = 0; c < 3; ++c) {
         const auto& ch = snap.channel[c];
@@ -173,7 +175,7 @@ TEST(Reference, GpuTracerIsSlicedPerFrameAndHotReloads) {
                 worst =
                     std::max(worst, std::abs(snap.channel[c].rd[i] - cpu.channel[c].rd[i]) / se);
         }
-    EXPECT_LT(worst, capture::normalUpperQuantile(0.001 / (2 * 90)));
+    EXPECT_LT(worst, core::normalUpperQuantile(0.001 / (2 * 90)));
 
     // a broken shader edit keeps the old program running and names file:line; a fix recovers
     wb.referenceSettings().gpu = true;

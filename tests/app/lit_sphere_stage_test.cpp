@@ -2,6 +2,7 @@
 // material change, and the panel draws (tabs, difference view, pixel readout).
 #include "../support/gl_fixture.h"
 #include "capture/capture.h"
+#include "core/statistics.h"
 #include "gui.h"
 #include "image_view.h"
 
@@ -86,6 +87,6 @@ TEST(LitSphereStage, GpuPathTracerAgreesWithTheCpuOne) {
         worst = std::max(worst, std::abs(double(cpu.mean[i]) - double(gpu.mean[i])) / se);
     }
     EXPECT_GT(tested, 100);
-    EXPECT_LT(worst, capture::normalUpperQuantile(1e-3 / (2.0 * tested)));
+    EXPECT_LT(worst, core::normalUpperQuantile(1e-3 / (2.0 * tested)));
     std::filesystem::remove_all(root);
 }

@@ -1,0 +1,25 @@
+// core statistics: the normal quantile by bisection (see statistics.h).
+#include "core/statistics.h"
+
+#include <cmath>
+
+namespace core {
+
+double normalUpperQuantile(double p) {
+    // bisection on the upper tail Q(z) = erfc(z/√2)/2, monotone decreasing in z
+    double lo = -40, hi = 40;
+    for (int i = 0; i < 200; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        if (0.5 * std::erfc(mid / std::sqrt(2.0)) > p)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+double bonferroniZ(double alpha, double tests) {
+    return normalUpperQuantile(0.5 * alpha / tests);
+}
+
+} // namespace core
