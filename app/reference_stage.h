@@ -80,6 +80,10 @@ class GpuReference {
     // Traces for about `budgetMs`; returns true when new paths arrived.
     bool step(double budgetMs);
     void reload();
+    // Hot reload: reload() when one of `changed` is a file the tracers' program was built from.
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed);
+    // The tracers' programs by channel ("pathtrace_slab.comp[R]", …), once started.
+    shader::Records shaderRecords() const;
     void cancel() { m_target = m_done; }
     ReferenceSnapshot snapshot() const;
 

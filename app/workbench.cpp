@@ -190,23 +190,12 @@ bool Workbench::update() {
                     if (!m_pendingSaveTime || s < *m_pendingSaveTime) m_pendingSaveTime = s;
                 }
             }
+            // Each owner rebuilds exactly its programs whose recorded files include a changed
+            // path (templates, #include'd files, shaders/common/*); model files reload models.
             changed |= m_library->onFilesChanged(paths);
-            for (const auto& p : paths) {
-                const std::string name = p.filename().string();
-                if (name.rfind("octree_", 0) == 0 || name.rfind("render_", 0) == 0 ||
-                    name.rfind("irradiance_", 0) == 0 || name == "bssrdf_prelude.glsl") {
-                    ++m_shaderGeneration; // the scene's render and irradiance programs
-                    changed = true;
-                    break;
-                }
-            }
-            for (const auto& p : paths)
-                if (p.filename().string().rfind("pathtrace", 0) == 0) {
-                    m_gpuRef->reload(); // the GPU tracers' shaders or their includes
-                    m_ptSphere->reloadGpu();
-                    changed = true;
-                    break;
-                }
+            changed |= m_scene->reloadShaders(paths);
+            changed |= m_gpuRef->reloadShaders(paths);
+            changed |= m_ptSphere->reloadShaders(paths);
         }
     }
     // drop views of models that disappeared
@@ -231,12 +220,24 @@ bool Workbench::update() {
     }
     updateReference();
     changed |= updateLitSpheres(8.0);
-    changed |= m_scene->update(sceneModelInput(), m_interacting, m_shaderGeneration);
+    changed |= m_scene->update(sceneModelInput(), m_interacting);
     if (m_ref->version() + m_gpuSteps != m_refVersion) {
         m_refVersion = m_ref->version() + m_gpuSteps;
         changed = true;
     }
     return changed;
+}
+
+shader::Records Workbench::shaderPrograms() const {
+    shader::Records out = m_scene->shaderRecords();
+    for (const auto& e : m_library->entries())
+        for (const auto& [consumer, record] : e.shaders)
+            out["model:" + e.displayPath + ":" + consumer] = record;
+    for (const auto& [name, record] : m_gpuRef->shaderRecords())
+        out["reference:" + name] = record;
+    for (const auto& [name, record] : m_ptSphere->shaderRecords())
+        out["lit sphere:" + name] = record;
+    return out;
 }
 
 SceneModelInput Workbench::sceneModelInput() const {
