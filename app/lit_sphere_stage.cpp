@@ -132,6 +132,17 @@ void PathTracedSphere::reloadGpu() {
     }
 }
 
+bool PathTracedSphere::reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    if (!m_gpu || !m_gpu->shaderRecord().dependencies.containsAny(changed)) return false;
+    reloadGpu();
+    return true;
+}
+
+shader::Records PathTracedSphere::shaderRecords() const {
+    if (!m_gpu) return {};
+    return {{m_gpuShader.filename().string(), m_gpu->shaderRecord()}};
+}
+
 pathtrace::Image PathTracedSphere::image() const {
     if (m_useGpu) return m_gpu && m_gpu->pathsDone() > 0 ? m_gpu->image() : pathtrace::Image{};
     std::lock_guard lock(m_mutex);

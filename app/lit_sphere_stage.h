@@ -53,6 +53,9 @@ class PathTracedSphere {
     bool stepGpu(double budgetMs);
     // A path tracer shader changed: recompile; on error the old program keeps running.
     void reloadGpu();
+    // Hot reload: reloadGpu() when one of `changed` is a file the GPU program was built from.
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed);
+    shader::Records shaderRecords() const; // the GPU tracer's program, once created
     void cancel();
     void wait();
     pathtrace::Image image() const;

@@ -165,6 +165,24 @@ void GpuReference::reload() {
     }
 }
 
+bool GpuReference::reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    for (const auto& t : m_tracers)
+        if (t && t->shaderRecord().dependencies.containsAny(changed)) {
+            reload();
+            return true;
+        }
+    return false;
+}
+
+shader::Records GpuReference::shaderRecords() const {
+    shader::Records out;
+    for (int c = 0; c < 3; ++c)
+        if (m_tracers[c])
+            out[m_shaderFile.filename().string() + "[" + "RGB"[c] + "]"] =
+                m_tracers[c]->shaderRecord();
+    return out;
+}
+
 ReferenceSnapshot GpuReference::snapshot() const {
     ReferenceSnapshot snap;
     snap.problem = m_problem.empty() ? m_shaderProblem : m_problem;

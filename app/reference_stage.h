@@ -84,6 +84,10 @@ class GpuReference {
     // Traces for about `budgetMs`; returns true when new paths arrived.
     bool step(double budgetMs);
     void reload();
+    // Hot reload: reload() when one of `changed` is a file the tracers' program was built from.
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed);
+    // The tracers' programs by channel ("pathtrace_slab.comp[R]", …), once started.
+    shader::Records shaderRecords() const;
     void cancel() { m_target = m_done; }
     ReferenceSnapshot snapshot() const;
 
@@ -122,7 +126,11 @@ class ReferenceStage : public StageOf<ReferenceInputs> {
     ReferenceSnapshot finish(const ReferenceInputs& in);
     ReferenceSnapshot snapshot() const { return m_gpuMode ? m_gpu.snapshot() : m_cpu.snapshot(); }
     void restart() { m_key.clear(); }
-    void reloadGpu() { m_gpu.reload(); }
+    // Hot reload of the GL tracer when one of `changed` is a file its program was built from.
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed) {
+        return m_gpu.reloadShaders(changed);
+    }
+    shader::Records shaderRecords() const { return m_gpu.shaderRecords(); }
     const std::string& model() const { return m_model; }
 
   private:

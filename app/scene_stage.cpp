@@ -87,7 +87,7 @@ std::vector<std::string> SceneStage::problems() const {
 void SceneStage::ensureGl() {
     if (!m_irradiance_stage)
         m_irradiance_stage = std::make_unique<irradiance::Stage>(m_root / "shaders");
-    if (!m_renderer) m_renderer = std::make_unique<render::Renderer>(bssrdf::ShaderSources{m_root});
+    if (!m_renderer) m_renderer = std::make_unique<render::Renderer>(shader::Sources{m_root});
 }
 
 std::string SceneStage::meshHash() const {
@@ -244,7 +244,7 @@ bool SceneStage::updatePointCloud(bool wait) {
     return changed;
 }
 
-bool SceneStage::updateIrradiance(float ior, long long shaderGeneration, bool finishOccluded) {
+bool SceneStage::updateIrradiance(float ior, bool finishOccluded) {
     if (!m_tree || !m_irradiance_stage) return false;
     irradiance::Stage& st = *m_irradiance_stage;
     // the user's light with the rendered material's η: E_t carries Ft(η) (an input, never
@@ -282,7 +282,7 @@ bool SceneStage::updateIrradiance(float ior, long long shaderGeneration, bool fi
     }
     std::ostringstream k;
     k << m_cloudVersion << '|' << lightKey(s) << '|' << (ibl ? m_envLoads : 0) << '|'
-      << (s.mode == irradiance::LightMode::Filtered ? m_texLoads : 0) << '|' << shaderGeneration;
+      << (s.mode == irradiance::LightMode::Filtered ? m_texLoads : 0) << '|' << m_irradianceBuilds;
     bool changed = false;
     auto adopt = [&](std::vector<glm::vec3> e, double ms) {
         octree::setIrradiance(*m_tree, e);
@@ -350,14 +350,14 @@ void SceneStage::cancelOccluded() {
     m_occludedActive = false;
 }
 
-bool SceneStage::updateRender(const SceneModelInput& model, bool interacting,
-                              long long shaderGeneration, bool finishNow) {
+bool SceneStage::updateRender(const SceneModelInput& model, bool interacting, bool finishNow) {
     if (!m_tree || !m_renderer || !model.entry || !model.entry->model || m_irradiance.empty())
         return false;
     const bssrdf::ModelEntry& e = *model.entry;
-    // Model program: rebuilt when the model file or a shader changes; a failure keeps the old.
+    // Model programs: built again when the model changes (a changed shader file rebuilds them
+    // through reloadShaders); a failure keeps the old.
     std::ostringstream mk;
-    mk << e.displayPath << '|' << e.generation << '|' << shaderGeneration;
+    mk << e.displayPath << '|' << e.modelGeneration;
     if (mk.str() != m_modelKey) {
         m_modelKey = mk.str();
         try {
@@ -376,7 +376,8 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting,
     }
     std::ostringstream k;
     k.precision(9);
-    k << m_irrVersion << '|' << m_modelKey << '|' << model.materialKey << '|' << renderKey(rs);
+    k << m_irrVersion << '|' << m_modelKey << '|' << m_renderBuilds << '|' << model.materialKey
+      << '|' << renderKey(rs);
     for (const auto& [n, v] : e.values)
         k << '|' << n << '=' << v[0] << ',' << v[1] << ',' << v[2];
     const auto& b = model.builtins;
@@ -406,22 +407,59 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting,
     return true;
 }
 
-bool SceneStage::update(const SceneModelInput& model, bool interacting,
-                        long long shaderGeneration) {
+bool SceneStage::update(const SceneModelInput& model, bool interacting) {
     if (!m_settings.enabled) return false;
     bool changed = updateMesh();
     changed |= updatePointCloud(false);
-    changed |= updateIrradiance(lightIor(model), shaderGeneration, false);
-    changed |= updateRender(model, interacting, shaderGeneration, false);
+    changed |= updateIrradiance(lightIor(model), false);
+    changed |= updateRender(model, interacting, false);
     changed |= advanceBruteForce(kFrameBudgetMs);
     return changed;
 }
 
-void SceneStage::finish(const SceneModelInput& model, long long shaderGeneration) {
+void SceneStage::finish(const SceneModelInput& model) {
     updateMesh();
     updatePointCloud(true);
-    updateIrradiance(lightIor(model), shaderGeneration, true);
-    updateRender(model, false, shaderGeneration, true);
+    updateIrradiance(lightIor(model), true);
+    updateRender(model, false, true);
+}
+
+bool SceneStage::reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    std::string problem;
+    auto note = [&](const shader::Reloaded& r) {
+        if (problem.empty()) problem = r.problem;
+        return r.rebuilt > 0 || !r.problem.empty();
+    };
+    bool attempted = false;
+    if (m_irradiance_stage) {
+        const shader::Reloaded r = m_irradiance_stage->reloadShaders(changed);
+        attempted |= note(r);
+        m_irradianceBuilds += r.rebuilt;
+    }
+    if (m_renderer) {
+        const shader::Reloaded r = m_renderer->reloadShaders(changed);
+        attempted |= note(r);
+        m_renderBuilds += r.rebuilt;
+    }
+    if (m_bruteRenderer) attempted |= note(m_bruteRenderer->reloadShaders(changed));
+    if (!attempted) return false;
+    if (problem.empty())
+        clearProblem("shaders");
+    else
+        setProblem("shaders", problem);
+    return true;
+}
+
+shader::Records SceneStage::shaderRecords() const {
+    shader::Records out;
+    auto add = [&](const std::string& owner, const shader::Records& records) {
+        for (const auto& [name, record] : records)
+            out[owner + ":" + name] = record;
+    };
+    if (m_renderer) add("render", m_renderer->shaderRecords());
+    if (m_irradiance_stage) add("irradiance", m_irradiance_stage->shaderRecords());
+    if (m_bruteRenderer) add("brute force", m_bruteRenderer->shaderRecords());
+    return out;
 }
 
 render::Readback SceneStage::readback() const {
@@ -481,7 +519,7 @@ void SceneStage::requestBruteForce() {
         throw core::Error("render", 0, "no rendered frame to compare with yet");
     // A second renderer with its own buffers, so the displayed frame stays as it is.
     if (!m_bruteRenderer)
-        m_bruteRenderer = std::make_unique<render::Renderer>(bssrdf::ShaderSources{m_root});
+        m_bruteRenderer = std::make_unique<render::Renderer>(shader::Sources{m_root});
     m_bruteRenderer->setMesh(*m_mesh);
     m_bruteRenderer->setOctree(*m_tree);
     m_bruteRenderer->setModel(*m_frameModel);

@@ -80,10 +80,16 @@ class SceneStage : public Stage {
     void cancel() override { cancelPointCloud(); }
     // Runs whatever is stale. interacting: the user is dragging / editing (half resolution).
     // Returns true when a result changed.
-    bool update(const SceneModelInput& model, bool interacting, long long shaderGeneration);
+    bool update(const SceneModelInput& model, bool interacting);
     // Waits for a running point-cloud generation and runs every stage to completion at full
     // resolution (CLI, captures, tests, bench). Occluded IBL runs all its samples.
-    void finish(const SceneModelInput& model, long long shaderGeneration);
+    void finish(const SceneModelInput& model);
+    // Hot reload: rebuilds exactly the render and irradiance programs whose shader files
+    // include one of `changed` (a failure keeps the old program and is a "shaders" problem);
+    // what they computed is computed again. Returns true when a program was rebuilt.
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed);
+    // The scene's programs ("render:NAME", "irradiance:NAME", "brute force:NAME").
+    shader::Records shaderRecords() const;
     void cancelPointCloud(); // the running generation's result will be dropped
     // Reads the mesh, point-cloud, environment and texture files again (after the user fixed
     // one on disk); stages re-run only where the content changed.
@@ -139,13 +145,12 @@ class SceneStage : public Stage {
     void clearProblem(const std::string& stage);
     bool updateMesh();
     bool updatePointCloud(bool wait);
-    bool updateIrradiance(float ior, long long shaderGeneration, bool finishOccluded);
+    bool updateIrradiance(float ior, bool finishOccluded);
     // η of the light's Fresnel transmittance: the model's, else the light settings' own.
     float lightIor(const SceneModelInput& model) const {
         return model.entry ? model.builtins.ior : m_settings.light.ior;
     }
-    bool updateRender(const SceneModelInput& model, bool interacting, long long shaderGeneration,
-                      bool finishNow);
+    bool updateRender(const SceneModelInput& model, bool interacting, bool finishNow);
     // Interactive renders: traversal dispatches of this many loop iterations per pixel, and
     // about this much traversal time per update (the rest of the frame continues next update).
     static constexpr uint32_t kInteractiveIterations = 32;
@@ -164,7 +169,7 @@ class SceneStage : public Stage {
     std::string m_envTried, m_texTried;
     long long m_envLoads = 0, m_texLoads = 0;
     long long m_meshVersion = 0, m_cloudVersion = 0, m_irrVersion = 0;
-    long long m_shaderGenSeen = -1;
+    long long m_irradianceBuilds = 0, m_renderBuilds = 0; // hot-reloaded program rebuilds
     std::optional<mesh::Mesh> m_mesh;
     pointcloud::PointCloud m_cloud;
     pointcloud::Uniformity m_uniformity;

@@ -64,8 +64,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
          }},
         {m_reference.get(), [this] { return m_reference->update(referenceInputs()); }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
-        {m_scene.get(),
-         [this] { return m_scene->update(sceneModelInput(), m_interacting, m_shaderGeneration); }},
+        {m_scene.get(), [this] { return m_scene->update(sceneModelInput(), m_interacting); }},
     };
     update();
 }
@@ -132,23 +131,12 @@ bool Workbench::update() {
                     if (!m_pendingSaveTime || s < *m_pendingSaveTime) m_pendingSaveTime = s;
                 }
             }
+            // Each owner rebuilds exactly its programs whose recorded files include a changed
+            // path (templates, #include'd files, shaders/common/*); model files reload models.
             changed |= m_library->onFilesChanged(paths);
-            for (const auto& p : paths) {
-                const std::string name = p.filename().string();
-                if (name.rfind("octree_", 0) == 0 || name.rfind("render_", 0) == 0 ||
-                    name.rfind("irradiance_", 0) == 0 || name == "bssrdf_prelude.glsl") {
-                    ++m_shaderGeneration; // the scene's render and irradiance programs
-                    changed = true;
-                    break;
-                }
-            }
-            for (const auto& p : paths)
-                if (p.filename().string().rfind("pathtrace", 0) == 0) {
-                    m_reference->reloadGpu(); // the GPU tracers' shaders or their includes
-                    m_litSpheres->pathTracer().reloadGpu();
-                    changed = true;
-                    break;
-                }
+            changed |= m_scene->reloadShaders(paths);
+            changed |= m_reference->reloadShaders(paths);
+            changed |= m_litSpheres->pathTracer().reloadShaders(paths);
         }
     }
     // drop views of models that disappeared
@@ -161,6 +149,18 @@ bool Workbench::update() {
     for (const PipelineStep& step : m_pipeline)
         changed |= step.run();
     return changed;
+}
+
+shader::Records Workbench::shaderPrograms() const {
+    shader::Records out = m_scene->shaderRecords();
+    for (const auto& e : m_library->entries())
+        for (const auto& [consumer, record] : e.shaders)
+            out["model:" + e.displayPath + ":" + consumer] = record;
+    for (const auto& [name, record] : m_reference->shaderRecords())
+        out["reference:" + name] = record;
+    for (const auto& [name, record] : m_litSpheres->pathTracer().shaderRecords())
+        out["lit sphere:" + name] = record;
+    return out;
 }
 
 SceneModelInput Workbench::sceneModelInput() const {

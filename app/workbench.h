@@ -114,9 +114,12 @@ class Workbench {
     // The model and material the scene renders with (the same source model as the lit spheres).
     SceneModelInput sceneModelInput() const;
     // Runs every scene stage to completion (CLI, captures, tests).
-    void finishScene() { m_scene->finish(sceneModelInput(), m_shaderGeneration); }
+    void finishScene() { m_scene->finish(sceneModelInput()); }
     void setInteracting(bool v) { m_interacting = v; }
-    long long shaderGeneration() const { return m_shaderGeneration; }
+    // Every GL program with the shader files it was built from and its build count, by
+    // "owner:program" (model:<model file>:<template>, scene's render:/irradiance:,
+    // reference:<channel>, lit sphere:). A changed file rebuilds exactly the programs listing it.
+    shader::Records shaderPrograms() const;
 
   private:
     double autoRMax() const;
@@ -150,7 +153,6 @@ class Workbench {
         std::function<bool()> run;
     };
     std::vector<PipelineStep> m_pipeline;
-    long long m_shaderGeneration = 0;
     bool m_interacting = false;
 };
 

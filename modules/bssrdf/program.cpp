@@ -1,7 +1,6 @@
 // bssrdf GPU half: program building with #line source maps, uniforms, consumer dispatch.
 #include "bssrdf/program.h"
 
-#include "bssrdf/diagnostics.h"
 #include "core/core.h"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -28,42 +27,16 @@ ParamValues carryOver(const Model& newModel, const Model& oldModel, const ParamV
     return v;
 }
 
-std::string ShaderSources::readTemplate(const std::string& name, std::string& displayPath) const {
-    displayPath = "shaders/" + name;
-    try {
-        return core::readFile(root / "shaders" / name);
-    } catch (const core::Error& e) {
-        throw core::Error(displayPath, 0, e.message());
-    }
-}
-
-IncludeResolver ShaderSources::includeResolver() const {
-    auto r = root;
-    return [r](const std::string& include, std::string& display) {
-        display = "shaders/" + include;
-        try {
-            return core::readFile(r / "shaders" / include);
-        } catch (const core::Error& e) {
-            throw core::Error(display, 0, e.message());
-        }
-    };
+gl::Program buildModelProgram(const Model& m, const std::string& templateName,
+                              const shader::Sources& src, shader::Record& record) {
+    return shader::build(src, {{GL_COMPUTE_SHADER, templateName}}, record, modelExtension(&m),
+                         m.path);
 }
 
 gl::Program buildModelProgram(const Model& m, const std::string& templateName,
-                              const ShaderSources& src) {
-    std::string templatePath;
-    const std::string text = src.readTemplate(templateName, templatePath);
-    AssembledShader sh = assemble(text, templatePath, &m, src.includeResolver());
-    try {
-        return gl::buildProgram({{GL_COMPUTE_SHADER, sh.glsl}});
-    } catch (const gl::ProgramError& e) {
-        auto diags = parseDriverLog(e.log(), sh.map);
-        std::string all = formatDiagnostics(e.log(), sh.map);
-        for (const auto& d : diags)
-            if (d.severity == "error") throw core::Error(d.file, d.line, d.message + "\n" + all);
-        // link errors (e.g. a missing function) carry no line: blame the model file
-        throw core::Error(m.path, 0, (e.stage() == 0 ? "link failed: " : "compile failed: ") + all);
-    }
+                              const shader::Sources& src) {
+    shader::Record record;
+    return buildModelProgram(m, templateName, src, record);
 }
 
 void setUniforms(GLuint program, const Model& m, const ParamValues& values, const Builtins& b) {

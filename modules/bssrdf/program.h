@@ -11,6 +11,7 @@
 #include "bssrdf/assembly.h"
 #include "bssrdf/bssrdf.h"
 #include "gl/gl.h"
+#include "shader/program.h"
 
 #include <glm/vec3.hpp>
 
@@ -34,18 +35,14 @@ struct Builtins {
     float g = 0.0f, ior = 1.3f, scale = 1.0f;
 };
 
-// Where templates live: <root>/shaders/NAME; display paths are relative to root.
-struct ShaderSources {
-    std::filesystem::path root;
-    std::string readTemplate(const std::string& name, std::string& displayPath) const;
-    IncludeResolver includeResolver() const;
-};
-
-// Assemble + compile + link. Throws core::Error(file, line, message) for the first error
-// diagnostic; message carries every diagnostic ("could not parse driver log" + raw log when
-// the log format is unknown).
+// Assemble (shaders/<templateName> from `src` with the model) + compile + link; `record`
+// gets the files read (template, includes, the model file) and counts the build. Throws
+// core::Error(file, line, message) for the first error diagnostic; message carries every
+// diagnostic; a link error without a location blames the model file.
 gl::Program buildModelProgram(const Model& m, const std::string& templateName,
-                              const ShaderSources& src);
+                              const shader::Sources& src, shader::Record& record);
+gl::Program buildModelProgram(const Model& m, const std::string& templateName,
+                              const shader::Sources& src);
 
 void setUniforms(GLuint program, const Model& m, const ParamValues& values, const Builtins& b);
 

@@ -13,9 +13,7 @@ std::string Problem::text() const {
 }
 
 ModelLibrary::ModelLibrary(fs::path root, std::vector<std::string> consumers)
-    : m_root(std::move(root)), m_consumers(std::move(consumers)) {
-    m_sources.root = m_root;
-}
+    : m_root(std::move(root)), m_sources(m_root), m_consumers(std::move(consumers)) {}
 
 std::string ModelLibrary::displayPathOf(const fs::path& file) const {
     return core::relativeTo(file, m_root);
@@ -69,7 +67,8 @@ void ModelLibrary::load(ModelEntry& e) {
         if (consumer == "invert_rdr.comp" && !parsed.diffuseReflectance) continue;
         try {
             core::Stopwatch sw;
-            programs[consumer] = buildModelProgram(parsed, consumer, m_sources);
+            programs[consumer] =
+                buildModelProgram(parsed, consumer, m_sources, e.shaders[consumer]);
             core::logDebug("built " + consumer + " for " + e.displayPath + " in " +
                            std::to_string(sw.ms()) + " ms");
         } catch (const core::Error& err) {
@@ -80,6 +79,23 @@ void ModelLibrary::load(ModelEntry& e) {
     e.model = std::move(parsed);
     e.programs = std::move(programs);
     if (e.problem) core::logInfo(e.displayPath + ": recovered");
+    e.problem.reset();
+    ++e.generation;
+    ++e.modelGeneration;
+}
+
+void ModelLibrary::rebuild(ModelEntry& e, const std::vector<std::string>& consumers) {
+    std::map<std::string, gl::Program> programs;
+    for (const auto& consumer : consumers) {
+        try {
+            programs[consumer] =
+                buildModelProgram(*e.model, consumer, m_sources, e.shaders[consumer]);
+        } catch (const core::Error& err) {
+            return fail(e, err);
+        }
+    }
+    for (auto& [consumer, program] : programs)
+        e.programs[consumer] = std::move(program);
     e.problem.reset();
     ++e.generation;
 }
@@ -111,23 +127,25 @@ bool ModelLibrary::reload(const fs::path& fileIn) {
     return true;
 }
 
-void ModelLibrary::rebuildPrograms() {
-    m_problems.clear();
-    for (auto& e : m_entries)
-        load(e);
-}
-
 bool ModelLibrary::onFilesChanged(const std::vector<fs::path>& paths) {
-    bool changed = false, shaders = false;
+    bool changed = false;
+    std::vector<fs::path> others;
     for (const auto& p : paths) {
         if (p.extension() == ".bssrdf")
             changed |= reload(p);
-        else if (p.extension() == ".comp" || p.extension() == ".glsl" || p.extension() == ".vert" ||
-                 p.extension() == ".frag")
-            shaders = true;
+        else
+            others.push_back(p);
     }
-    if (shaders) {
-        rebuildPrograms();
+    if (others.empty()) return changed;
+    for (auto& e : m_entries) {
+        std::vector<std::string> hit;
+        for (const auto& [consumer, record] : e.shaders)
+            if (record.dependencies.containsAny(others)) hit.push_back(consumer);
+        if (hit.empty()) continue;
+        if (e.problem || !e.model)
+            load(e); // the last load failed: nothing newer than the last good is trusted
+        else
+            rebuild(e, hit);
         changed = true;
     }
     return changed;

@@ -1,7 +1,9 @@
 // bssrdf model library: every materials/*.bssrdf with its last good parse, its last good GL
 // program per consumer, its parameter values and its current problem. Reloading keeps the
 // last good state on any error (parse, compile, link, missing function) and recovers on the
-// next good save; parameter values survive when name and type persist.
+// next good save; parameter values survive when name and type persist. Each program records
+// the shader files it was built from (shader::Record): a changed shader file rebuilds exactly
+// the programs that read it.
 #pragma once
 
 #include "bssrdf/program.h"
@@ -26,9 +28,11 @@ struct ModelEntry {
     std::string displayPath;                     // relative to the project root
     std::optional<Model> model;                  // last good parse (absent until one succeeds)
     std::map<std::string, gl::Program> programs; // consumer template -> last good program
+    shader::Records shaders; // consumer template -> its shader files (not the model file)
     ParamValues values;
     std::optional<Problem> problem; // set while the file on disk is broken
-    long long generation = 0;       // bumps on every successful (re)load
+    long long generation = 0;       // bumps on every successful (re)load or program rebuild
+    long long modelGeneration = 0;  // bumps when the model itself (the parse) is replaced
     bool usable() const { return model.has_value() && programs.count("pencil_profile.comp"); }
     bool hasInversion() const { return model && model->diffuseReflectance.has_value(); }
 };
@@ -41,9 +45,9 @@ class ModelLibrary {
     void scanAll();
     // Re-reads one model file (added, changed or deleted). Returns true if anything changed.
     bool reload(const std::filesystem::path& file);
-    // A shader template or include changed: rebuild every model's programs.
-    void rebuildPrograms();
-    // Reacts to a list of changed paths from the file watcher; returns true if anything changed.
+    // Reacts to a list of changed paths from the file watcher: a .bssrdf file reloads its model;
+    // any other file rebuilds the programs whose shader::Record lists it (an entry whose last
+    // load failed loads again in full). Returns true if anything changed.
     bool onFilesChanged(const std::vector<std::filesystem::path>& paths);
     // Adds a model file outside materials/ (File → Open model / CLI --model).
     ModelEntry& open(const std::filesystem::path& file);
@@ -52,16 +56,17 @@ class ModelLibrary {
     const std::vector<ModelEntry>& entries() const { return m_entries; }
     ModelEntry* find(const std::string& nameOrPath);
     const std::filesystem::path& root() const { return m_root; }
-    const ShaderSources& sources() const { return m_sources; }
+    const shader::Sources& sources() const { return m_sources; }
     // Problems not tied to one model (e.g. a shader template that fails for every model).
     const std::vector<Problem>& problems() const { return m_problems; }
 
   private:
     void load(ModelEntry& e);
+    void rebuild(ModelEntry& e, const std::vector<std::string>& consumers);
     std::string displayPathOf(const std::filesystem::path& file) const;
 
     std::filesystem::path m_root;
-    ShaderSources m_sources;
+    shader::Sources m_sources;
     std::vector<std::string> m_consumers;
     std::vector<ModelEntry> m_entries;
     std::vector<Problem> m_problems;

@@ -19,7 +19,7 @@ constexpr int kMaxSide = 8192;
 
 } // namespace
 
-void SphereIntegrator::reset(const pathtrace::LitSphereSetup& setup) {
+void SphereIntegrator::reset(const litsphere::Setup& setup) {
     const std::string what = "lit sphere";
     if (!std::isfinite(setup.radiusMm) || setup.radiusMm <= 0)
         throw core::Error(what, 0,
@@ -52,7 +52,7 @@ void SphereIntegrator::step(GLuint program, const Model& m, const ParamValues& v
     gl::ScopedStageTimer timer("sphere BSSRDF integration");
     setUniforms(program, m, values, b); // also glUseProgram
     auto loc = [&](const char* n) { return glGetUniformLocation(program, n); };
-    const pathtrace::LitSphereSetup& s = m_setup;
+    const litsphere::Setup& s = m_setup;
     glUniform2i(loc("SphereSize"), s.width, s.height);
     glUniform1f(loc("SphereRadius"), static_cast<float>(s.radiusMm));
     glUniform1f(loc("SphereExtent"), static_cast<float>(s.extent()));
@@ -84,8 +84,8 @@ void SphereIntegrator::step(GLuint program, const Model& m, const ParamValues& v
     m_seconds += clock.ms() * 1e-3;
 }
 
-pathtrace::Image SphereIntegrator::image() const {
-    pathtrace::Image img;
+litsphere::Image SphereIntegrator::image() const {
+    litsphere::Image img;
     img.width = m_sum.empty() ? 0 : m_setup.width;
     img.height = m_sum.empty() ? 0 : m_setup.height;
     img.mean.assign(m_sum.size(), 0.0f);

@@ -1,6 +1,6 @@
 // bssrdf sphere integrator: the BSSRDF-integrated lit sphere of thesis 3.5 / 3.6.2 as a
 // progressive GPU pass (shaders/sphere_bssrdf.comp, a model consumer template).
-//   Setup and pixel value are those of pathtrace/lit_sphere.h: sphere of radius R (mm) at the
+//   Setup and pixel value are those of litsphere/litsphere.h: sphere of radius R (mm) at the
 //   origin, directional light, orthographic camera along −z, extent 1.1·R; pixel value is the
 //   radiant exitance
 //     M(xo) = ∫_A Bssrdf(xi, wi, xo, wo) · Ft(η, cos θi) · max(0, n(xi)·lightDir) dA(xi),
@@ -19,7 +19,7 @@
 
 #include "bssrdf/program.h"
 #include "gl/gl.h"
-#include "pathtrace/lit_sphere.h"
+#include "litsphere/litsphere.h"
 
 #include <cstdint>
 #include <vector>
@@ -35,7 +35,7 @@ class SphereIntegrator {
     // Validates the setup (core::Error naming the field: radius > 0, 1 <= width, height <=
     // 8192, a non-zero light direction) and starts over with empty sums. `samplesPerPixel`
     // and `threads` of the setup are not used here (step() says how many samples to take).
-    void reset(const pathtrace::LitSphereSetup& setup);
+    void reset(const litsphere::Setup& setup);
     // Takes `samplesPerPixel` more samples per pixel with `program` (from
     // buildModelProgram(model, "sphere_bssrdf.comp", sources)) and the model's current
     // uniforms; blocks until they are summed. Does nothing for samplesPerPixel <= 0 or before
@@ -45,13 +45,13 @@ class SphereIntegrator {
     // Per pixel mean Σf/n and variance of the mean (Σf²/n − mean²)/(n − 1), n = samples per
     // pixel (variance 0 when n < 2 and the sums are 0, +inf when n < 2 otherwise); `samples`
     // is n · width · height.
-    pathtrace::Image image() const;
+    litsphere::Image image() const;
     uint64_t samplesPerPixelDone() const { return m_samples; }
-    const pathtrace::LitSphereSetup& setup() const { return m_setup; }
+    const litsphere::Setup& setup() const { return m_setup; }
     double seconds() const { return m_seconds; } // wall time spent in step() since reset
 
   private:
-    pathtrace::LitSphereSetup m_setup;
+    litsphere::Setup m_setup;
     double m_lightDir[3] = {0.0, 0.0, 1.0}; // normalised
     gl::Buffer m_sums;                      // 2 vec4 per pixel: Σf, Σf² of the last dispatch
     std::vector<float> m_readback;

@@ -53,6 +53,7 @@
 #include "irradiance/light_frame.h"
 #include "mesh/mesh.h"
 #include "pointcloud/pointcloud.h"
+#include "shader/program.h"
 
 #include <glm/vec3.hpp>
 
@@ -104,6 +105,13 @@ class Stage {
     ~Stage();
     Stage(const Stage&) = delete;
     Stage& operator=(const Stage&) = delete;
+
+    // Hot reload: rebuilds exactly the programs whose shader files (shaderRecords()) include
+    // one of `changed`; a failed one keeps its last good program.
+    shader::Reloaded reloadShaders(const std::vector<std::filesystem::path>& changed);
+    // "irradiance_shadow", "irradiance_direct.comp", "irradiance_ibl.comp",
+    // "irradiance_cubemap.comp", "irradiance_occluded.comp".
+    const shader::Records& shaderRecords() const { return m_records; }
 
     // Uploads the mesh (for shadow maps) and the points (positions in mesh units, normals of
     // any non-zero length, normalised here; results come back in this order). Throws
@@ -178,7 +186,10 @@ class Stage {
     std::vector<glm::vec3> computeDirect(const Settings& s);
     std::vector<glm::vec3> computeIbl(const Settings& s);
 
-    std::filesystem::path m_shaderDir;
+    void install(const std::string& name, gl::Program program);
+
+    shader::Sources m_sources;
+    shader::Records m_records;
     std::unique_ptr<ShadowMaps> m_shadow;
     gl::Program m_direct, m_ibl, m_cubeProgram, m_occluded;
     gl::Buffer m_points, m_result;

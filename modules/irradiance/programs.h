@@ -1,20 +1,10 @@
-// irradiance/programs: loading the module's shaders (shaders/irradiance_*.{comp,vert,frag} and
-// their shaders/common/irradiance_*.glsl includes) through the project's one assembler
-// (bssrdf::assemble, `#line` source maps), with driver errors reported as core::Error naming
-// the file and line; and an RAII sampler object.
+// irradiance/programs: an RAII sampler object. (The module's shaders are built by the project's
+// one shader builder, shader/program.h; see Stage.)
 #pragma once
 
 #include "gl/gl.h"
 
-#include <filesystem>
-#include <string>
-
 namespace irradiance::detail {
-
-// shaderDir: the shaders/ folder; file: e.g. "irradiance_direct.comp".
-gl::Program loadComputeProgram(const std::filesystem::path& shaderDir, const std::string& file);
-gl::Program loadRenderProgram(const std::filesystem::path& shaderDir, const std::string& vertex,
-                              const std::string& fragment);
 
 void deleteSampler(GLuint id);
 using Sampler = gl::Handle<deleteSampler>;

@@ -27,11 +27,9 @@ detail::Sampler makeSampler(GLenum filter) {
 }
 } // namespace
 
-ShadowMaps::ShadowMaps(const std::filesystem::path& shaderDir)
-    : m_program(
-          detail::loadRenderProgram(shaderDir, "irradiance_shadow.vert", "irradiance_shadow.frag")),
-      m_nearest(makeSampler(GL_NEAREST)), m_linear(makeSampler(GL_LINEAR)) {
-    m_clipFromWorld = gl::uniformLocation(m_program, "ClipFromWorld");
+ShadowMaps::ShadowMaps(gl::Program program)
+    : m_nearest(makeSampler(GL_NEAREST)), m_linear(makeSampler(GL_LINEAR)) {
+    setProgram(std::move(program));
     GLuint vao = 0, fbo = 0;
     glCreateVertexArrays(1, &vao);
     m_vao = gl::VertexArray(vao);
@@ -39,6 +37,11 @@ ShadowMaps::ShadowMaps(const std::filesystem::path& shaderDir)
     m_fbo = gl::FramebufferId(fbo);
     glNamedFramebufferDrawBuffer(fbo, GL_NONE);
     glNamedFramebufferReadBuffer(fbo, GL_NONE);
+}
+
+void ShadowMaps::setProgram(gl::Program program) {
+    m_program = std::move(program);
+    m_clipFromWorld = gl::uniformLocation(m_program, "ClipFromWorld");
 }
 
 void ShadowMaps::setMesh(const mesh::Mesh& m) {

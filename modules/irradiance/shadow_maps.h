@@ -16,7 +16,9 @@ namespace irradiance {
 
 class ShadowMaps {
   public:
-    explicit ShadowMaps(const std::filesystem::path& shaderDir);
+    // program: shaders/irradiance_shadow.{vert,frag}, built by the caller.
+    explicit ShadowMaps(gl::Program program);
+    void setProgram(gl::Program program); // a rebuilt program (hot reload)
     void setMesh(const mesh::Mesh& m);
     // (Re)allocates when the size changes or fewer layers exist than asked for.
     void ensure(int size, int layers);

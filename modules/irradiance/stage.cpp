@@ -86,13 +86,60 @@ void validateSettings(const Settings& s, int maxTex) {
     }
 }
 
-Stage::Stage(std::filesystem::path shaderDir) : m_shaderDir(std::move(shaderDir)) {
-    m_shadow = std::make_unique<ShadowMaps>(m_shaderDir);
-    m_direct = detail::loadComputeProgram(m_shaderDir, "irradiance_direct.comp");
-    m_ibl = detail::loadComputeProgram(m_shaderDir, "irradiance_ibl.comp");
-    m_cubeProgram = detail::loadComputeProgram(m_shaderDir, "irradiance_cubemap.comp");
-    m_occluded = detail::loadComputeProgram(m_shaderDir, "irradiance_occluded.comp");
+namespace {
+using Stages = std::vector<std::pair<GLenum, std::string>>;
+// The module's programs, built in this order.
+const std::vector<std::pair<std::string, Stages>>& programs() {
+    static const std::vector<std::pair<std::string, Stages>> table = {
+        {"irradiance_shadow",
+         {{GL_VERTEX_SHADER, "irradiance_shadow.vert"},
+          {GL_FRAGMENT_SHADER, "irradiance_shadow.frag"}}},
+        {"irradiance_direct.comp", {{GL_COMPUTE_SHADER, "irradiance_direct.comp"}}},
+        {"irradiance_ibl.comp", {{GL_COMPUTE_SHADER, "irradiance_ibl.comp"}}},
+        {"irradiance_cubemap.comp", {{GL_COMPUTE_SHADER, "irradiance_cubemap.comp"}}},
+        {"irradiance_occluded.comp", {{GL_COMPUTE_SHADER, "irradiance_occluded.comp"}}},
+    };
+    return table;
+}
+} // namespace
+
+Stage::Stage(std::filesystem::path shaderDir) : m_sources(shader::Sources::forFolder(shaderDir)) {
+    for (const auto& [name, stages] : programs())
+        install(name, shader::build(m_sources, stages, m_records[name]));
     useCheckerTexture();
+}
+
+void Stage::install(const std::string& name, gl::Program program) {
+    if (name == "irradiance_shadow") {
+        if (m_shadow)
+            m_shadow->setProgram(std::move(program));
+        else
+            m_shadow = std::make_unique<ShadowMaps>(std::move(program));
+    } else if (name == "irradiance_direct.comp") {
+        m_direct = std::move(program);
+    } else if (name == "irradiance_ibl.comp") {
+        m_ibl = std::move(program);
+    } else if (name == "irradiance_cubemap.comp") {
+        m_cubeProgram = std::move(program);
+        m_cubeGeneration = ~0ull; // the cubemap is recomputed with the new program
+    } else if (name == "irradiance_occluded.comp") {
+        m_occluded = std::move(program);
+    }
+}
+
+shader::Reloaded Stage::reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    shader::Reloaded out;
+    for (const auto& [name, stages] : programs()) {
+        shader::Record& record = m_records[name];
+        if (!record.dependencies.containsAny(changed)) continue;
+        try {
+            install(name, shader::build(m_sources, stages, record));
+            ++out.rebuilt;
+        } catch (const core::Error& e) {
+            if (out.problem.empty()) out.problem = e.what();
+        }
+    }
+    return out;
 }
 
 Stage::~Stage() = default;

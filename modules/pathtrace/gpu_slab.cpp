@@ -75,7 +75,7 @@ GpuSlabTracer::GpuSlabTracer(std::filesystem::path shaderFile)
 GpuSlabTracer::~GpuSlabTracer() = default;
 
 void GpuSlabTracer::reload() {
-    detail::buildTracerProgram(m_shaderFile, kUniformNames, m_program, m_loc);
+    detail::buildTracerProgram(m_shaderFile, m_shader, kUniformNames, m_program, m_loc);
     clearSums();
 }
 

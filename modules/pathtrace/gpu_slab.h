@@ -72,6 +72,8 @@ class GpuSlabTracer {
     void reload();
 
     const std::filesystem::path& shaderFile() const { return m_shaderFile; }
+    // The files the program was built from (hot reload) and its successful builds.
+    const shader::Record& shaderRecord() const { return m_shader; }
     const Medium& medium() const { return m_medium; }
     const SlabSettings& settings() const { return m_settings; }
 
@@ -82,6 +84,7 @@ class GpuSlabTracer {
     void publish();
 
     std::filesystem::path m_shaderFile;
+    shader::Record m_shader;
     gl::Program m_program;
     std::vector<int> m_loc; // uniform locations, indexed by the Uniform enum in gpu_slab.cpp
     // Buffers, dispatch loop and exact sums in units of 2^-32 per slot (bins, beyond rMax,

@@ -66,7 +66,7 @@ GpuSphereTracer::GpuSphereTracer(std::filesystem::path shaderFile)
 GpuSphereTracer::~GpuSphereTracer() = default;
 
 void GpuSphereTracer::reload() {
-    detail::buildTracerProgram(m_shaderFile, kUniformNames, m_program, m_loc);
+    detail::buildTracerProgram(m_shaderFile, m_shader, kUniformNames, m_program, m_loc);
     clearSums();
 }
 

@@ -74,6 +74,8 @@ class GpuSphereTracer {
     void reload();
 
     const std::filesystem::path& shaderFile() const { return m_shaderFile; }
+    // The files the program was built from (hot reload) and its successful builds.
+    const shader::Record& shaderRecord() const { return m_shader; }
     const LitSphereSetup& setup() const { return m_setup; }
 
   private:
@@ -83,6 +85,7 @@ class GpuSphereTracer {
     void runRound(uint64_t first, uint64_t count);
 
     std::filesystem::path m_shaderFile;
+    shader::Record m_shader;
     gl::Program m_program;
     std::vector<int> m_loc;
     // Buffers, dispatch loop and exact sums in units of 2^-32: slot c·(P + 2) + p (pixel p),

@@ -26,11 +26,13 @@
 #include "octree/octree.h"
 #include "render/camera.h"
 #include "render/profile_table.h"
+#include "shader/program.h"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -99,7 +101,7 @@ std::vector<BssrdfPair> tracePairs(const octree::Trace& t, float scale);
 
 class Renderer {
   public:
-    explicit Renderer(bssrdf::ShaderSources src); // builds the G-buffer and tone-map programs
+    explicit Renderer(shader::Sources src); // builds the G-buffer and tone-map programs
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
@@ -112,6 +114,13 @@ class Renderer {
     // Parameter values carry over (bssrdf::carryOver) until setMaterial.
     void setModel(const bssrdf::Model& m);
     void setMaterial(const bssrdf::ParamValues& values, const bssrdf::Builtins& b);
+    // Hot reload: rebuilds exactly the programs whose shader files (shaderRecords()) include
+    // one of `changed`; a failed one keeps its last good program. A frame in progress must be
+    // begun again by the caller when something was rebuilt.
+    shader::Reloaded reloadShaders(const std::vector<std::filesystem::path>& changed);
+    // "render_gbuffer", "render_tonemap.comp", and once a model is set "octree_render.comp",
+    // "render_pairs.comp" (and "pencil_profile.comp" for radial models).
+    const shader::Records& shaderRecords() const;
 
     bool ready() const; // mesh, octree and model set
     // G-buffer + traversal + tone map. Throws core::Error("render", 0, …) for invalid settings

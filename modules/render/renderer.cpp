@@ -4,7 +4,6 @@
 #include "render/render.h"
 
 #include "core/core.h"
-#include "render/detail.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -78,7 +77,8 @@ octree::Criterion Settings::criterion() const {
 }
 
 struct Renderer::State {
-    bssrdf::ShaderSources src;
+    shader::Sources src;
+    shader::Records records; // by program name, see shaderRecords()
     gl::Program gbufferProgram, tonemapProgram;
     // mesh
     gl::VertexArray vao;
@@ -126,13 +126,17 @@ struct Renderer::State {
     } progress;
 };
 
-Renderer::Renderer(bssrdf::ShaderSources src) : m(std::make_unique<State>()) {
+namespace {
+const std::vector<std::pair<GLenum, std::string>> kGbufferStages = {
+    {GL_VERTEX_SHADER, "render_gbuffer.vert"}, {GL_FRAGMENT_SHADER, "render_gbuffer.frag"}};
+const std::vector<std::pair<GLenum, std::string>> kTonemapStages = {
+    {GL_COMPUTE_SHADER, "render_tonemap.comp"}};
+} // namespace
+
+Renderer::Renderer(shader::Sources src) : m(std::make_unique<State>()) {
     m->src = std::move(src);
-    m->gbufferProgram =
-        detail::buildPlainProgram(m->src, {{GL_VERTEX_SHADER, "render_gbuffer.vert"},
-                                           {GL_FRAGMENT_SHADER, "render_gbuffer.frag"}});
-    m->tonemapProgram =
-        detail::buildPlainProgram(m->src, {{GL_COMPUTE_SHADER, "render_tonemap.comp"}});
+    m->gbufferProgram = shader::build(m->src, kGbufferStages, m->records["render_gbuffer"]);
+    m->tonemapProgram = shader::build(m->src, kTonemapStages, m->records["render_tonemap.comp"]);
     const float dummy[8] = {};
     m->tableBuffer = gl::createBuffer(sizeof(dummy), dummy);
     const uint32_t zero[4] = {};
@@ -220,11 +224,17 @@ void Renderer::updateAttributes(const octree::Octree& t) {
 }
 
 void Renderer::setModel(const bssrdf::Model& model) {
-    gl::Program render = bssrdf::buildModelProgram(model, "octree_render.comp", m->src);
-    gl::Program pairs = bssrdf::buildModelProgram(model, "render_pairs.comp", m->src);
+    shader::Records records = m->records; // replaced only when every program builds
+    gl::Program render = bssrdf::buildModelProgram(model, "octree_render.comp", m->src,
+                                                   records["octree_render.comp"]);
+    gl::Program pairs =
+        bssrdf::buildModelProgram(model, "render_pairs.comp", m->src, records["render_pairs.comp"]);
     gl::Program profile;
+    records.erase("pencil_profile.comp");
     if (model.attrs.radial)
-        profile = bssrdf::buildModelProgram(model, "pencil_profile.comp", m->src);
+        profile = bssrdf::buildModelProgram(model, "pencil_profile.comp", m->src,
+                                            records["pencil_profile.comp"]);
+    m->records = std::move(records);
     m->values =
         m->model ? bssrdf::carryOver(model, *m->model, m->values) : bssrdf::defaultValues(model);
     m->model = model;
@@ -234,6 +244,37 @@ void Renderer::setModel(const bssrdf::Model& model) {
     m->tableValid = false;
     m->table = {};
     m->iterations = kIterationsPerDispatch;
+}
+
+shader::Reloaded Renderer::reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    shader::Reloaded out;
+    for (auto& [name, record] : m->records) {
+        if (!record.dependencies.containsAny(changed)) continue;
+        try {
+            if (name == "render_gbuffer") {
+                m->gbufferProgram = shader::build(m->src, kGbufferStages, record);
+            } else if (name == "render_tonemap.comp") {
+                m->tonemapProgram = shader::build(m->src, kTonemapStages, record);
+            } else if (m->model) {
+                gl::Program p = bssrdf::buildModelProgram(*m->model, name, m->src, record);
+                if (name == "octree_render.comp") m->renderProgram = std::move(p);
+                if (name == "render_pairs.comp") m->pairsProgram = std::move(p);
+                if (name == "pencil_profile.comp") {
+                    m->profileProgram = std::move(p);
+                    m->tableValid = false;
+                    m->table = {};
+                }
+            }
+            ++out.rebuilt;
+        } catch (const core::Error& e) {
+            if (out.problem.empty()) out.problem = e.what();
+        }
+    }
+    return out;
+}
+
+const shader::Records& Renderer::shaderRecords() const {
+    return m->records;
 }
 
 void Renderer::setMaterial(const bssrdf::ParamValues& values, const bssrdf::Builtins& b) {

@@ -17,7 +17,7 @@ struct Location {
 
 // Simulates GLSL line numbering (GLSL 4.50 section 3.3): "#line L S" makes the NEXT line line L
 // of source string S; every other line advances the line number by one. Returns where the
-// first line containing `token` is reported, decoded with bssrdf::decodeLine (which must agree
+// first line containing `token` is reported, decoded with shader::decodeLine (which must agree
 // with the source number of the directive).
 Location locate(const std::string& glsl, const std::string& token) {
     std::istringstream in(glsl);
@@ -30,10 +30,10 @@ Location locate(const std::string& glsl, const std::string& token) {
             continue;
         }
         if (line.find(token) != std::string::npos) {
-            const bssrdf::SourceLine d = bssrdf::decodeLine(cur.source, cur.line);
+            const shader::SourceLine d = shader::decodeLine(cur.source, cur.line);
             EXPECT_EQ(d.source, cur.source) << "line encoding disagrees with #line source";
             // Mesa reports source 0 for semantic errors: the line alone must still decode
-            const bssrdf::SourceLine mesa = bssrdf::decodeLine(0, cur.line);
+            const shader::SourceLine mesa = shader::decodeLine(0, cur.line);
             EXPECT_EQ(mesa.source, cur.source);
             EXPECT_EQ(mesa.line, d.line);
             return {d.source, d.line};
@@ -55,7 +55,7 @@ std::string lineBefore(const std::string& glsl, const std::string& token) {
     return "";
 }
 
-int sourceOf(const bssrdf::SourceMap& map, const std::string& file) {
+int sourceOf(const shader::SourceMap& map, const std::string& file) {
     for (size_t i = 0; i < map.files.size(); ++i)
         if (map.files[i] == file) return static_cast<int>(i);
     ADD_FAILURE() << file << " not in the source map";
@@ -69,7 +69,7 @@ std::string repoResolver(const std::string& name, std::string& display) {
 }
 
 // Resolves from an in-memory table.
-bssrdf::IncludeResolver tableResolver(std::map<std::string, std::string> files) {
+shader::IncludeResolver tableResolver(std::map<std::string, std::string> files) {
     return [files](const std::string& name, std::string& display) -> std::string {
         auto it = files.find(name);
         if (it == files.end()) throw core::Error("shaders/" + name, 0, "no such file");
@@ -109,7 +109,7 @@ TEST(BssrdfAssembly, VersionStaysFirstAndModelLinesMapBack) {
 
     // the first shader line is directly preceded by "#line <8 in model source> <model source>"
     EXPECT_EQ(lineBefore(out.glsl, "FIRST_TOKEN"),
-              "#line " + std::to_string(ms * bssrdf::kLineStride + 8) + " " + std::to_string(ms));
+              "#line " + std::to_string(ms * shader::kLineStride + 8) + " " + std::to_string(ms));
     const Location first = locate(out.glsl, "FIRST_TOKEN");
     EXPECT_EQ(first.source, ms);
     EXPECT_EQ(first.line, 8);

@@ -15,6 +15,7 @@
 #include "bssrdf/sphere_integrator.h"
 #include "core/statistics.h"
 #include "pathtrace/fresnel.h"
+#include "pathtrace/lit_sphere.h"
 
 #include <algorithm>
 #include <array>
@@ -41,7 +42,7 @@ const Dipole& dipole() {
         Dipole r;
         r.model = bssrdf::loadModel(testsupport::sourceRoot() / "materials/dipole.bssrdf",
                                     "materials/dipole.bssrdf");
-        bssrdf::ShaderSources src{testsupport::sourceRoot()};
+        shader::Sources src{testsupport::sourceRoot()};
         r.program = bssrdf::buildModelProgram(r.model, "sphere_bssrdf.comp", src);
         return r;
     }();
@@ -450,7 +451,7 @@ vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {
 )";
     testsupport::context();
     const bssrdf::Model m = bssrdf::parseModel(text, "tests/bins.bssrdf");
-    bssrdf::ShaderSources src{testsupport::sourceRoot()};
+    shader::Sources src{testsupport::sourceRoot()};
     const gl::Program program = bssrdf::buildModelProgram(m, "sphere_bssrdf.comp", src);
     auto b = testMaterial();
     b.ior = 1.0f;

@@ -11,10 +11,10 @@
 #include "../support/gl_fixture.h"
 #include "core/statistics.h"
 #include "pathtrace/fresnel.h"
-#include "pathtrace/gpu_shader.h"
 #include "pathtrace/gpu_slab.h"
 #include "pathtrace/pathtrace.h"
 #include "pathtrace/sampling.h"
+#include "shader/program.h"
 #include "stats.h"
 
 #include <algorithm>
@@ -55,7 +55,9 @@ void writeText(const fs::path& p, const std::string& text) {
 // Runs a one-workgroup test shader over a uint buffer (in and out) and returns the buffer.
 std::vector<uint32_t> runTestShader(const fs::path& file, std::vector<uint32_t> data,
                                     GLuint groups = 1) {
-    gl::Program prog = pathtrace::buildGpuShader(pathtrace::loadGpuShader(file));
+    shader::Record record;
+    gl::Program prog = shader::build(shader::Sources::forFile(file),
+                                     {{GL_COMPUTE_SHADER, file.filename().string()}}, record);
     gl::Buffer buf = gl::createBuffer(data.size() * 4, data.data());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.id());
     glUseProgram(prog.id());

@@ -88,7 +88,7 @@ Fixture& fixture() {
         x.dipole = bssrdf::loadModel(x.root / "materials/dipole.bssrdf", "materials/dipole.bssrdf");
         x.better = bssrdf::loadModel(x.root / "materials/better_dipole.bssrdf",
                                      "materials/better_dipole.bssrdf");
-        x.renderer = std::make_unique<render::Renderer>(bssrdf::ShaderSources{x.root});
+        x.renderer = std::make_unique<render::Renderer>(shader::Sources{x.root});
         return x;
     }();
     testsupport::context();

@@ -1,27 +1,16 @@
 // bssrdf/detail: small text helpers shared by the parser and the GLSL assembler.
 #pragma once
 
+#include "shader/assembly.h"
+
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace bssrdf::detail {
 
-// Splits text into lines (index 0 = file line 1). A trailing '\r' is stripped from each line
-// (CRLF files); a final '\n' does not start an extra line.
-inline std::vector<std::string_view> splitLines(std::string_view text) {
-    std::vector<std::string_view> lines;
-    size_t start = 0;
-    while (start < text.size()) {
-        size_t end = text.find('\n', start);
-        if (end == std::string_view::npos) end = text.size();
-        std::string_view line = text.substr(start, end - start);
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        lines.push_back(line);
-        start = end + 1;
-    }
-    return lines;
-}
+// Lines numbered as the shader assembler numbers them (the #line directives point into them).
+using shader::splitLines;
 
 inline bool isBlank(char c) {
     return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';

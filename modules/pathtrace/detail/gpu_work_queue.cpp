@@ -3,7 +3,6 @@
 #include "pathtrace/detail/gpu_work_queue.h"
 
 #include "core/core.h"
-#include "pathtrace/gpu_shader.h"
 
 #include <algorithm>
 #include <bit>
@@ -39,10 +38,13 @@ double toDouble(i128 units) {
     return units < 0 ? -toDouble(static_cast<u128>(-units)) : toDouble(static_cast<u128>(units));
 }
 
-void buildTracerProgram(const std::filesystem::path& shaderFile, std::span<const char* const> names,
-                        gl::Program& program, std::vector<int>& loc) {
-    GpuShaderSource source = loadGpuShader(shaderFile);
-    gl::Program built = buildGpuShader(source); // throws core::Error; nothing changed yet
+void buildTracerProgram(const std::filesystem::path& shaderFile, shader::Record& record,
+                        std::span<const char* const> names, gl::Program& program,
+                        std::vector<int>& loc) {
+    // throws core::Error; nothing changed yet
+    gl::Program built =
+        shader::build(shader::Sources::forFile(shaderFile),
+                      {{GL_COMPUTE_SHADER, shaderFile.filename().string()}}, record);
     std::vector<int> found(names.size());
     for (size_t i = 0; i < names.size(); ++i)
         found[i] = gl::uniformLocation(built, names[i]);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "gl/gl.h"
+#include "shader/program.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -25,10 +26,12 @@ uint32_t wordThreshold(double p);
 double toDouble(u128 units);
 double toDouble(i128 units);
 
-// Loads and compiles `shaderFile` and looks up `names`. Throws core::Error; on failure
-// `program` and `loc` are left unchanged.
-void buildTracerProgram(const std::filesystem::path& shaderFile, std::span<const char* const> names,
-                        gl::Program& program, std::vector<int>& loc);
+// Loads and compiles `shaderFile` (shader::build: includes relative to its folder, errors as
+// file:line, the files read go into `record`) and looks up `names`. Throws core::Error; on
+// failure `program` and `loc` are left unchanged.
+void buildTracerProgram(const std::filesystem::path& shaderFile, shader::Record& record,
+                        std::span<const char* const> names, gl::Program& program,
+                        std::vector<int>& loc);
 
 class GpuWorkQueue {
   public:

@@ -1,7 +1,7 @@
-// bssrdf diagnostics: maps a GLSL compiler/linker info log back to the user's files.
+// shader diagnostics: maps a GLSL compiler/linker info log back to the user's files.
 // Each driver prints "source-string:line" in its own format; with the SourceMap built by
 // assemble() (#line L S directives) the source-string number names the file, so an error in a
-// model reads "materials/foo.bssrdf:LINE: error: ...". Formats understood:
+// bssrdf model reads "materials/foo.bssrdf:LINE: error: ...". Formats understood:
 //   Mesa            0:12(5): error: message
 //   NVIDIA          0(12) : error C1008: message
 //   glslang / AMD   ERROR: 0:12: 'x' : message      WARNING: 0:3: message
@@ -10,13 +10,13 @@
 // Mesa reports source string 0 for a line of another source.
 #pragma once
 
-#include "bssrdf/assembly.h"
+#include "shader/assembly.h"
 
 #include <string>
 #include <string_view>
 #include <vector>
 
-namespace bssrdf {
+namespace shader {
 
 struct Diagnostic {
     std::string file; // map.files[source], or "<source n>" for an unknown number
@@ -33,4 +33,4 @@ std::vector<Diagnostic> parseDriverLog(std::string_view log, const SourceMap& ma
 // "could not parse driver log; raw log:\n" followed by the raw log.
 std::string formatDiagnostics(std::string_view rawLog, const SourceMap& map);
 
-} // namespace bssrdf
+} // namespace shader

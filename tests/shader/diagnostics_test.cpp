@@ -1,19 +1,22 @@
 // Driver info logs (Mesa, NVIDIA, glslang/AMD, Intel) mapped back through a SourceMap.
-#include "bssrdf/diagnostics.h"
-#include "test_util.h"
+#include "shader/diagnostics.h"
 
-using namespace bssrdf_test;
+#include <gtest/gtest.h>
+
+#include <string>
 
 namespace {
 
-bssrdf::SourceMap sampleMap() {
-    return bssrdf::SourceMap{{"shaders/pencil.frag", "shaders/common/bssrdf_prelude.glsl", kPath}};
+const std::string kPath = "materials/t.bssrdf";
+
+shader::SourceMap sampleMap() {
+    return shader::SourceMap{{"shaders/pencil.frag", "shaders/common/bssrdf_prelude.glsl", kPath}};
 }
 
 } // namespace
 
 TEST(BssrdfDiagnostics, Mesa) {
-    const auto d = bssrdf::parseDriverLog(
+    const auto d = shader::parseDriverLog(
         "0:12(5): error: `Foo' undeclared\n0:3(1): warning: unused variable\n", sampleMap());
     ASSERT_EQ(d.size(), 2u);
     EXPECT_EQ(d[0].file, "shaders/pencil.frag");
@@ -26,7 +29,7 @@ TEST(BssrdfDiagnostics, Mesa) {
 }
 
 TEST(BssrdfDiagnostics, MesaModelSourceAndPreprocessorError) {
-    const auto d = bssrdf::parseDriverLog("2:17(22): preprocessor error: syntax error, unexpected "
+    const auto d = shader::parseDriverLog("2:17(22): preprocessor error: syntax error, unexpected "
                                           "IDENTIFIER\n",
                                           sampleMap());
     ASSERT_EQ(d.size(), 1u);
@@ -37,7 +40,7 @@ TEST(BssrdfDiagnostics, MesaModelSourceAndPreprocessorError) {
 }
 
 TEST(BssrdfDiagnostics, Nvidia) {
-    const auto d = bssrdf::parseDriverLog(
+    const auto d = shader::parseDriverLog(
         "2(7) : error C1008: undefined variable \"Foo\"\n"
         "1(3) : warning C7050: \"x\" might be used before being initialized\n",
         sampleMap());
@@ -51,7 +54,7 @@ TEST(BssrdfDiagnostics, Nvidia) {
 }
 
 TEST(BssrdfDiagnostics, GlslangAndAmd) {
-    const auto d = bssrdf::parseDriverLog("ERROR: 2:9: 'Foo' : undeclared identifier\n"
+    const auto d = shader::parseDriverLog("ERROR: 2:9: 'Foo' : undeclared identifier\n"
                                           "WARNING: 0:3: '' : extension not supported\n"
                                           "ERROR: 1 compilation errors.  No code generated.\n",
                                           sampleMap());
@@ -66,14 +69,14 @@ TEST(BssrdfDiagnostics, GlslangAndAmd) {
 }
 
 TEST(BssrdfDiagnostics, IntelWindows) {
-    const auto d = bssrdf::parseDriverLog("ERROR: 0:12: syntax error\r\n", sampleMap());
+    const auto d = shader::parseDriverLog("ERROR: 0:12: syntax error\r\n", sampleMap());
     ASSERT_EQ(d.size(), 1u);
     EXPECT_EQ(d[0].line, 12);
     EXPECT_EQ(d[0].message, "syntax error");
 }
 
 TEST(BssrdfDiagnostics, UnknownSourceNumber) {
-    const auto d = bssrdf::parseDriverLog("7:1(1): error: x\n", sampleMap());
+    const auto d = shader::parseDriverLog("7:1(1): error: x\n", sampleMap());
     ASSERT_EQ(d.size(), 1u);
     EXPECT_EQ(d[0].file, "<source 7>");
 }
@@ -81,10 +84,10 @@ TEST(BssrdfDiagnostics, UnknownSourceNumber) {
 TEST(BssrdfDiagnostics, EncodedLinesNameTheFileEvenWhenMesaSaysSourceZero) {
     // assemble() emits line L of source 2 as 2*kLineStride + L; Mesa reports source 0 for
     // semantic errors but keeps the line, NVIDIA/glslang keep both.
-    const int encoded = bssrdf::encodeLine(2, 107);
-    EXPECT_EQ(encoded, 2 * bssrdf::kLineStride + 107);
+    const int encoded = shader::encodeLine(2, 107);
+    EXPECT_EQ(encoded, 2 * shader::kLineStride + 107);
     const std::string l = std::to_string(encoded);
-    const auto d = bssrdf::parseDriverLog("0:" + l + "(33): error: `Foo' undeclared\n" + "2(" + l +
+    const auto d = shader::parseDriverLog("0:" + l + "(33): error: `Foo' undeclared\n" + "2(" + l +
                                               ") : error C1008: undefined\n" + "ERROR: 2:" + l +
                                               ": 'Foo' : undeclared\n",
                                           sampleMap());
@@ -93,18 +96,18 @@ TEST(BssrdfDiagnostics, EncodedLinesNameTheFileEvenWhenMesaSaysSourceZero) {
         EXPECT_EQ(x.file, kPath);
         EXPECT_EQ(x.line, 107);
     }
-    EXPECT_EQ(bssrdf::encodeLine(0, 12), 12);
+    EXPECT_EQ(shader::encodeLine(0, 12), 12);
 }
 
 TEST(BssrdfDiagnostics, FormatMapsToUserFile) {
     EXPECT_EQ(
-        bssrdf::formatDiagnostics("garbage first\n2:12(5): error: `Foo' undeclared\n", sampleMap()),
+        shader::formatDiagnostics("garbage first\n2:12(5): error: `Foo' undeclared\n", sampleMap()),
         "materials/t.bssrdf:12: error: `Foo' undeclared\n");
 }
 
 TEST(BssrdfDiagnostics, UnparsableLogIsReturnedRaw) {
     const std::string raw = "Internal compiler error\nsomething went wrong";
-    EXPECT_TRUE(bssrdf::parseDriverLog(raw, sampleMap()).empty());
-    EXPECT_EQ(bssrdf::formatDiagnostics(raw, sampleMap()),
+    EXPECT_TRUE(shader::parseDriverLog(raw, sampleMap()).empty());
+    EXPECT_EQ(shader::formatDiagnostics(raw, sampleMap()),
               "could not parse driver log; raw log:\n" + raw);
 }

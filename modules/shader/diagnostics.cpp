@@ -1,13 +1,11 @@
 // Driver info-log parsing (Mesa, NVIDIA, glslang/AMD, Intel) mapped through a SourceMap.
-#include "bssrdf/diagnostics.h"
-
-#include "bssrdf/detail/text_lines.h"
+#include "shader/diagnostics.h"
 
 #include <algorithm>
 #include <cctype>
 #include <regex>
 
-namespace bssrdf {
+namespace shader {
 
 namespace {
 
@@ -59,7 +57,7 @@ void locate(Diagnostic& d, const std::string& sourceDigits, const std::string& l
 
 std::vector<Diagnostic> parseDriverLog(std::string_view log, const SourceMap& map) {
     std::vector<Diagnostic> out;
-    for (std::string_view view : detail::splitLines(log)) {
+    for (std::string_view view : splitLines(log)) {
         const std::string line(view);
         std::smatch m;
         Diagnostic d;
@@ -79,7 +77,9 @@ std::vector<Diagnostic> parseDriverLog(std::string_view log, const SourceMap& ma
         } else {
             continue;
         }
-        d.message = std::string(detail::trim(d.message));
+        const size_t first = d.message.find_first_not_of(" \t\r\f\v");
+        const size_t last = d.message.find_last_not_of(" \t\r\f\v");
+        d.message = first == std::string::npos ? "" : d.message.substr(first, last - first + 1);
         out.push_back(std::move(d));
     }
     return out;
@@ -94,4 +94,4 @@ std::string formatDiagnostics(std::string_view rawLog, const SourceMap& map) {
     return out;
 }
 
-} // namespace bssrdf
+} // namespace shader

@@ -1,0 +1,100 @@
+// shader programs: sources, dependency records, build with mapped driver errors.
+#include "shader/program.h"
+
+#include "core/core.h"
+#include "shader/diagnostics.h"
+
+#include <algorithm>
+
+namespace shader {
+namespace fs = std::filesystem;
+
+namespace {
+fs::path normal(const fs::path& p) {
+    return fs::absolute(p).lexically_normal();
+}
+} // namespace
+
+void Dependencies::add(const fs::path& file) {
+    const fs::path f = normal(file);
+    if (!contains(f)) m_files.push_back(f);
+}
+
+bool Dependencies::contains(const fs::path& file) const {
+    return std::find(m_files.begin(), m_files.end(), normal(file)) != m_files.end();
+}
+
+bool Dependencies::containsAny(const std::vector<fs::path>& files) const {
+    return std::any_of(files.begin(), files.end(), [&](const fs::path& f) { return contains(f); });
+}
+
+Sources::Sources(fs::path root, std::string dir) : m_root(std::move(root)), m_dir(std::move(dir)) {}
+
+Sources Sources::forFolder(const fs::path& folder) {
+    fs::path dir = folder.lexically_normal();
+    if (dir.filename().empty()) dir = dir.parent_path(); // "shaders/"
+    return Sources(dir.parent_path(), dir.filename().string());
+}
+
+std::string Sources::displayPath(const std::string& name) const {
+    return m_dir.empty() ? name : m_dir + "/" + name;
+}
+
+fs::path Sources::fileOf(const std::string& displayPath) const {
+    return normal(m_root / displayPath);
+}
+
+std::string Sources::read(const std::string& displayPath) const {
+    try {
+        return core::readFile(fileOf(displayPath));
+    } catch (const core::Error& e) {
+        throw core::Error(displayPath, 0, e.message());
+    }
+}
+
+AssembledShader Sources::assemble(const std::string& name, Dependencies& deps,
+                                  const Extension& extension) const {
+    const std::string display = displayPath(name);
+    deps.add(fileOf(display));
+    const std::string text = read(display);
+    auto resolve = [&](const std::string& include, std::string& includeDisplay) {
+        includeDisplay = displayPath(include);
+        deps.add(fileOf(includeDisplay));
+        return read(includeDisplay);
+    };
+    return shader::assemble(text, display, resolve, extension);
+}
+
+gl::Program link(const std::vector<StageSource>& stages, const std::string& blame) {
+    std::vector<gl::ShaderStage> glStages;
+    for (const auto& s : stages)
+        glStages.push_back({s.type, s.source.glsl});
+    try {
+        return gl::buildProgram(glStages);
+    } catch (const gl::ProgramError& e) {
+        size_t which = 0;
+        for (size_t i = 0; i < stages.size(); ++i)
+            if (stages[i].type == e.stage()) which = i;
+        const SourceMap& map = stages.at(which).source.map;
+        const std::string all = formatDiagnostics(e.log(), map);
+        for (const auto& d : parseDriverLog(e.log(), map))
+            if (d.severity == "error") throw core::Error(d.file, d.line, d.message + "\n" + all);
+        const std::string file = !blame.empty()      ? blame
+                                 : map.files.empty() ? std::string("<shader>")
+                                                     : map.files.front();
+        throw core::Error(file, 0, (e.stage() == 0 ? "link failed: " : "compile failed: ") + all);
+    }
+}
+
+gl::Program build(const Sources& src, const std::vector<std::pair<GLenum, std::string>>& stages,
+                  Record& record, const Extension& extension, const std::string& blame) {
+    record.dependencies = {};
+    std::vector<StageSource> assembled;
+    for (const auto& [type, name] : stages)
+        assembled.push_back({type, src.assemble(name, record.dependencies, extension)});
+    gl::Program program = link(assembled, blame);
+    ++record.builds;
+    return program;
+}
+
+} // namespace shader
