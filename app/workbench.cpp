@@ -4,12 +4,12 @@
 #include "reference_plot.h"
 
 #include "core/core.h"
+#include "core/fields.h"
 #include "gl/gl.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 #include <sys/stat.h>
 
@@ -21,15 +21,10 @@ double epochSeconds() {
     return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
         .count();
 }
-std::string keyOf(const MaterialSettings& s, long long generation) {
-    std::ostringstream k;
-    k.precision(17);
-    const auto& p = s.params;
-    k << generation << '|' << int(s.mode) << '|' << p.sigmaA.x << ',' << p.sigmaA.y << ','
-      << p.sigmaA.z << '|' << p.sigmaS.x << ',' << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g
-      << '|' << p.eta << '|' << p.scale << '|' << s.rdr.x << ',' << s.rdr.y << ',' << s.rdr.z << '|'
-      << s.ld.x << ',' << s.ld.y << ',' << s.ld.z;
-    return k.str();
+// The preset's name is no input of the material (the values it set are).
+std::string keyOf(MaterialSettings s, long long generation) {
+    s.preset.clear();
+    return core::keyOf(generation, s);
 }
 } // namespace
 
@@ -165,13 +160,9 @@ double Workbench::autoRMax() const {
 
 void Workbench::computeProfile(bssrdf::ModelEntry& e, ModelView& v) {
     if (!v.effective || !e.usable()) return;
-    std::ostringstream k;
-    k.precision(17);
-    k << v.materialKey << '|' << m_rMax << '|' << m_plot.samples;
-    for (auto& [n, val] : e.values)
-        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
-    if (k.str() == v.profileKey) return;
-    v.profileKey = k.str();
+    const std::string key = core::keyOf(v.materialKey, m_rMax, m_plot.samples, e.values);
+    if (key == v.profileKey) return;
+    v.profileKey = key;
     gl::ScopedStageTimer timer("pencil plot");
     v.profile = bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model,
                                         e.values, builtinsOf(*v.effective),
@@ -278,17 +269,14 @@ bool Workbench::updateLitSpheres(double budgetMs) {
         setup.lightDir[i] = m_sphere.lightDir[i];
     setup.width = setup.height = m_sphere.size;
     setup.seed = m_sphere.seed;
-    std::ostringstream k;
-    k.precision(17);
-    k << e->displayPath << '|' << e->generation << '|' << view->materialKey << '|' << setup.radiusMm
-      << '|' << setup.lightDir[0] << ',' << setup.lightDir[1] << ',' << setup.lightDir[2] << '|'
-      << setup.width << '|' << setup.seed << '|' << m_sphere.pathSpp << '|' << m_sphere.gpu << '|'
-      << m_sphere.mesh;
-    for (auto& [n, val] : e->values)
-        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
+    // integratedSpp is a target the integration runs to, not an input of its image
+    LitSphereSettings keyed = m_sphere;
+    keyed.integratedSpp = 0;
+    const std::string key =
+        core::keyOf(e->displayPath, e->generation, view->materialKey, keyed, e->values);
     bool changed = false;
-    if (k.str() != m_sphereKey) {
-        m_sphereKey = k.str();
+    if (key != m_sphereKey) {
+        m_sphereKey = key;
         m_sphereModel = e->displayPath;
         m_sphereProblem.clear();
         m_ptSppSeen = 0;
@@ -387,13 +375,11 @@ void Workbench::updateReference() {
     s.rMaxMm = m_rMax;
     s.bins = m_refSettings.bins;
     s.seed = m_refSettings.seed;
-    std::ostringstream k;
-    k.precision(17);
-    k << p.sigmaA.x << ',' << p.sigmaA.y << ',' << p.sigmaA.z << '|' << p.sigmaS.x << ','
-      << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g << '|' << p.eta << '|' << m_rMax << '|'
-      << s.bins << '|' << s.seed << '|' << m_refSettings.paths << '|' << m_refSettings.gpu;
-    if (k.str() == m_refKey) return;
-    m_refKey = k.str();
+    material::MaterialParams keyed = p;
+    keyed.scale = 0; // lengths of the slab are in mm: the mesh scale is no input
+    const std::string key = core::keyOf(keyed, m_rMax, m_refSettings);
+    if (key == m_refKey) return;
+    m_refKey = key;
     m_refModel = name;
     cancelReference();
     if (m_refSettings.gpu)

@@ -14,16 +14,21 @@
 #include "reference_stage.h"
 #include "scene_stage.h"
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace app {
 
 enum class ParamMode { Sigma, RdrLd };
+constexpr auto enumNames(ParamMode) {
+    return std::array{std::pair{ParamMode::Sigma, "sigma"}, std::pair{ParamMode::RdrLd, "rdr_ld"}};
+}
 
 // Material inputs as the user edits them (thesis 3.6.1).
 struct MaterialSettings {
@@ -33,6 +38,14 @@ struct MaterialSettings {
     glm::dvec3 ld{8.0, 4.0, 2.0};    // mm
     std::string preset = "Marble";
 };
+// The description of MaterialSettings' members (core/fields.h).
+template <class V> void fields(V& v, MaterialSettings& s) {
+    v("mode", s.mode, "parametrisation: sigma or rdr_ld");
+    v.inlined(s.params);
+    v("rdr", s.rdr, "diffuse reflectance R_dr (rdr_ld mode)");
+    v("ld_mm", s.ld, "diffuse mean free path l_d, mm (rdr_ld mode)");
+    v("preset", s.preset, "last applied preset");
+}
 
 // Pencil plot settings (thesis 3.6.3).
 struct PlotSettings {
@@ -45,6 +58,17 @@ struct PlotSettings {
     double rMaxMm = 20.0; // used when fixedRange
     double rangeLd = 5.0; // otherwise: this many diffuse mean free paths (largest l_d)
 };
+// The description of PlotSettings' members (core/fields.h).
+template <class V> void fields(V& v, PlotSettings& s) {
+    v("y_scale", s.yScale, "y axis scale");
+    v("r_times_r", s.rTimesR, "plot r·R(r)");
+    v("channel", s.channel, "0 R, 1 G, 2 B, 3 luminance");
+    v("solo", s.solo, "display path of the soloed model (empty: all)");
+    v("samples", s.samples, "radii evaluated");
+    v("fixed_range", s.fixedRange, "use r_max_mm instead of range_ld");
+    v("r_max_mm", s.rMaxMm, "plot radius with fixed_range, mm");
+    v("range_ld", s.rangeLd, "plot radius in largest l_d otherwise");
+}
 
 // Per-model view state and stage results.
 struct ModelView {
