@@ -2,6 +2,8 @@
 // Tests never assert times; these are for people and CI logs.
 #pragma once
 
+#include "pointcloud/generate.h"
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -20,7 +22,7 @@ int benchPathtrace(const std::filesystem::path& root, double secondsPerRun);
 
 struct HierarchyBenchOptions {
     size_t points = 100000;
-    std::string method = "stratified-repulsion";
+    pointcloud::Method method = pointcloud::GenerateOptions{}.method;
     int width = 640, height = 360;
     int frames = 5, bruteFrames = 3;
     int turkIterations = 500;                           // 0: skip the Turk reference

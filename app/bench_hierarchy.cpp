@@ -72,7 +72,7 @@ int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOption
     std::fflush(stdout);
     if (o.turkIterations > 0) {
         pointcloud::GenerateOptions t = g;
-        t.method = "repulsion";
+        t.method = pointcloud::Method::Repulsion;
         t.repulsionIterations = o.turkIterations;
         clock.reset();
         const pointcloud::Generated turk = pointcloud::generate(m, t);

@@ -5,6 +5,7 @@
 
 #include "capture/capture.h"
 #include "core/core.h"
+#include "core/fields.h"
 #include "gl/gl.h"
 #include "panels/panels.h"
 #include "pathtrace/image_io.h"
@@ -160,60 +161,33 @@ capture::Table imageTable(const pathtrace::Image& img) {
         }
     return t;
 }
-json sphereJson(const LitSphereSettings& s) {
-    return {{"enabled", s.enabled},
-            {"radius_mm", s.radiusMm},
-            {"light", {s.lightDir[0], s.lightDir[1], s.lightDir[2]}},
-            {"size", s.size},
-            {"path_spp", s.pathSpp},
-            {"integrated_spp", s.integratedSpp},
-            {"seed", s.seed},
-            {"gpu", s.gpu},
-            {"mesh", s.mesh}};
-}
-LitSphereSettings sphereFromJson(const json& j, const std::string& where) {
-    LitSphereSettings s;
-    try {
-        s.enabled = j.at("enabled").get<bool>();
-        s.radiusMm = j.at("radius_mm").get<double>();
-        for (int i = 0; i < 3; ++i)
-            s.lightDir[i] = j.at("light").at(i).get<float>();
-        s.size = j.at("size").get<int>();
-        s.pathSpp = j.at("path_spp").get<int>();
-        s.integratedSpp = j.at("integrated_spp").get<int>();
-        s.seed = j.at("seed").get<uint64_t>();
-        s.gpu = j.value("gpu", false);
-        s.mesh = j.value("mesh", std::string());
-    } catch (const json::exception& e) {
-        throw core::Error(where, 0, std::string("settings.lit_spheres: ") + e.what());
-    }
-    return s;
-}
-
 json paramsJson(Workbench& wb) {
     json models = json::object();
     for (auto& e : wb.library().entries()) {
         auto& v = wb.view(e.displayPath);
         models[e.displayPath] = {{"visible", v.visible},
                                  {"override", v.override},
-                                 {"own", toJson(v.own)},
+                                 {"own", core::toJson(v.own)},
                                  {"values", toJson(e.values)}};
     }
-    return {{"shared", toJson(wb.shared())}, {"models", models}};
+    return {{"shared", core::toJson(wb.shared())}, {"models", models}};
 }
 
 void applyParams(Workbench& wb, const json& params, const std::string& where) {
     if (!params.contains("shared") || !params.contains("models"))
         throw core::Error(where, 0, "params needs 'shared' and 'models'");
-    wb.shared() = materialFromJson(params["shared"], where + " (params.shared)");
+    wb.shared() = core::fromJson(params["shared"], where, "params.shared", MaterialSettings{});
     for (auto it = params["models"].begin(); it != params["models"].end(); ++it) {
         auto* e = wb.library().find(it.key());
         if (!e) continue; // reported as an input problem / missing stage
-        const std::string w = where + " (params.models." + it.key() + ")";
+        const std::string path = "params.models." + it.key();
+        const std::string w = where + " (" + path + ")";
+        if (!it->contains("own") || !it->contains("values"))
+            throw core::Error(where, 0, path + ": needs 'own' and 'values'");
         auto& v = wb.view(it.key());
         v.visible = it->value("visible", true);
         v.override = it->value("override", false);
-        v.own = materialFromJson(it->at("own"), w);
+        v.own = core::fromJson(it->at("own"), where, path + ".own", MaterialSettings{});
         auto values = valuesFromJson(it->at("values"), w);
         for (auto& [k, val] : values)
             if (e->values.count(k)) e->values[k] = val;
@@ -260,18 +234,7 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
                                 : "(mesh, " + std::to_string(text.size()) + " bytes)"});
     }
     m.params = paramsJson(wb);
-    const ReferenceSettings& rs = wb.referenceSettings();
-    m.settings = {{"plot", toJson(wb.plotSettings())},
-                  {"r_max_mm", wb.rMaxMm()},
-                  {"seed", rs.seed},
-                  {"reference",
-                   {{"enabled", rs.enabled},
-                    {"paths", rs.paths},
-                    {"bins", rs.bins},
-                    {"seed", rs.seed},
-                    {"gpu", rs.gpu}}},
-                  {"lit_spheres", sphereJson(wb.litSphereSettings())},
-                  {"scene", sceneJson(scene, traceX, traceY)}};
+    m.settings = settingsJson(wb, traceX, traceY);
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
@@ -325,22 +288,8 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         Workbench wb(root, false, models);
         applyParams(wb, m.params, where);
         if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
-        wb.plotSettings() = plotFromJson(m.settings["plot"], where + " (settings.plot)");
-        if (m.settings.contains("reference")) {
-            const json& r = m.settings["reference"];
-            try {
-                wb.referenceSettings() = {r.at("enabled").get<bool>(),
-                                          r.at("paths").get<uint64_t>(), r.at("bins").get<int>(),
-                                          r.at("seed").get<uint64_t>(), r.value("gpu", false)};
-            } catch (const json::exception& e) {
-                throw core::Error(where, 0, std::string("settings.reference: ") + e.what());
-            }
-        }
-        if (m.settings.contains("lit_spheres"))
-            wb.litSphereSettings() = sphereFromJson(m.settings["lit_spheres"], where);
         int traceX = -1, traceY = -1;
-        if (m.settings.contains("scene"))
-            applySceneJson(wb, m.settings["scene"], where, traceX, traceY);
+        applySettingsJson(wb, m.settings, where, traceX, traceY);
         wb.update();
         std::vector<std::string> missing;
         auto tables = stageTables(wb, missing);

@@ -1,5 +1,5 @@
-// Captures of the mesh pipeline (thesis 3.3; capture format v1, captures/README.md): the scene
-// settings as JSON, and its stage outputs —
+// Captures of the mesh pipeline (thesis 3.3; capture format v1, captures/README.md): its stage
+// outputs (its settings: settings_json.h) —
 //   scene.mesh         csv, exact   vertices, triangles, area, hash of the prepared mesh
 //   scene.pointcloud   csv, exact   count, nearest-neighbour metrics, content hash
 //   scene.octree       csv, exact   node/leaf counts, depth, bytes, hash, nodes per depth
@@ -39,11 +39,6 @@ struct SceneCapture {
     std::optional<SceneCaptureImage> image;
 };
 
-nlohmann::json sceneJson(const SceneSettings& s, int traceX, int traceY);
-// Applies settings.scene; returns the traced pixel. Throws core::Error(where, 0, ...) for bad
-// JSON.
-void applySceneJson(Workbench& wb, const nlohmann::json& j, const std::string& where, int& traceX,
-                    int& traceY);
 // Runs the scene to completion and collects its outputs (empty when the scene is off).
 SceneCapture sceneOutputs(Workbench& wb, int traceX, int traceY);
 // x, y, R, G, B per pixel (for comparing "exr" stages).

@@ -1,6 +1,7 @@
 // `bssrdf-workbench pointcloud` (cli_pointcloud.h).
 #include "cli_pointcloud.h"
 
+#include "cli_options.h"
 #include "core/core.h"
 #include "mesh/mesh.h"
 #include "pointcloud/generate.h"
@@ -9,15 +10,25 @@
 
 namespace app {
 
+void addPointCloudOptions(CLI::App* cmd, PointCloudArgs& a) {
+    cmd->add_option("--mesh", a.mesh, "triangle mesh (OBJ)")->required();
+    addSettingOptions(cmd, a.options,
+                      {{"count", "--points"}, {"method", "--method"}, {"seed", "--seed"}});
+    const pointcloud::GenerateOptions d;
+    cmd->add_option("--iterations", a.iterations,
+                    "relaxation iterations (default " + std::to_string(d.stratifiedIterations) +
+                        " stratified-repulsion, " + std::to_string(d.repulsionIterations) +
+                        " repulsion)");
+    cmd->add_option("--threads", a.options.threads, "worker threads (default: all cores)");
+    cmd->add_flag("--no-cache{false}", a.useCache, "neither read nor write the point-cloud cache");
+    cmd->add_option("--out", a.out, "PLY file (x y z nx ny nz area, float32)")->required();
+}
+
 int runPointCloudCli(const PointCloudArgs& a) {
     if (a.mesh.empty()) throw core::Error("--mesh", 0, "give the OBJ file to sample");
     if (a.out.empty()) throw core::Error("--out", 0, "give the PLY file to write");
-    pointcloud::GenerateOptions o;
-    o.points = a.points;
-    o.method = a.method;
-    o.seed = a.seed;
+    pointcloud::GenerateOptions o = a.options;
     if (a.iterations >= 0) o.repulsionIterations = o.stratifiedIterations = a.iterations;
-    o.threads = a.threads;
     pointcloud::checkOptions(o); // before the (possibly slow) mesh load
     mesh::Mesh m = mesh::loadObj(a.mesh);
     const mesh::RenderablePrep prep = mesh::prepareRenderable(m, a.mesh);
@@ -27,10 +38,10 @@ int runPointCloudCli(const PointCloudArgs& a) {
     const pointcloud::Generated g =
         pointcloud::generate(m, o, a.useCache ? pointcloud::defaultCacheDir() : "");
     pointcloud::writePly(a.out, g.cloud);
-    const pointcloud::Uniformity u = pointcloud::measureUniformity(g.cloud, a.threads);
+    const pointcloud::Uniformity u = pointcloud::measureUniformity(g.cloud, o.threads);
     std::printf("%zu points (%s, seed %llu) on %s: area %.6g units^2, %s %.1f ms\n",
                 g.cloud.points.size(), pointcloud::methodTag(o).c_str(),
-                static_cast<unsigned long long>(a.seed), a.mesh.c_str(), g.cloud.totalArea,
+                static_cast<unsigned long long>(o.seed), a.mesh.c_str(), g.cloud.totalArea,
                 g.fromCache ? "read from cache in" : "generated in", g.milliseconds);
     std::printf("nearest neighbour: mean %.6g, CV %.4f, min/mean %.4f\n", u.meanNN, u.cvNN,
                 u.meanNN > 0 ? u.minNN / u.meanNN : 0.0);

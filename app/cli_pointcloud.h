@@ -3,21 +3,26 @@
 // stdout. No display or GL needed.
 #pragma once
 
-#include <cstdint>
+#include "pointcloud/generate.h"
+
 #include <string>
+
+namespace CLI {
+class App;
+}
 
 namespace app {
 
 struct PointCloudArgs {
-    std::string mesh;                            // OBJ (required)
-    size_t points = 20000;                       // N
-    std::string method = "stratified-repulsion"; // | elimination | repulsion | uniform
-    uint64_t seed = 1;
-    int iterations = -1; // relaxation iterations (-1: the method's default)
-    int threads = 0;
+    std::string mesh;                    // OBJ (required)
+    pointcloud::GenerateOptions options; // the GUI's defaults, changed by the options
+    int iterations = -1;  // relaxation iterations of the chosen method (-1: its default)
     bool useCache = true; // read/write the PLY cache (pointcloud::defaultCacheDir)
     std::string out;      // PLY file (required)
 };
+
+// The `pointcloud` options (flags, help texts with the defaults) writing into `a`.
+void addPointCloudOptions(CLI::App* cmd, PointCloudArgs& a);
 
 // Loads and prepares the mesh (mesh::prepareRenderable), generates, writes, prints. Throws
 // core::Error naming the argument or file for every bad input.

@@ -2,6 +2,7 @@
 #include "cli_render.h"
 
 #include "cli.h"
+#include "cli_options.h"
 #include "core/core.h"
 #include "gl/gl.h"
 #include "pathtrace/image_io.h"
@@ -36,13 +37,56 @@ void parseLight(const std::string& text, SceneSettings& s) {
 
 } // namespace
 
+void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
+    cmd->add_option("--mesh", a.mesh, "triangle mesh (OBJ)")->required();
+    cmd->add_option("--model", a.model, ".bssrdf file")->required();
+    cmd->add_option("--preset", a.preset,
+                    "material preset (sigma_s', sigma_a); a material is required: "
+                    "--preset, or both --sigma-a and --sigma-s");
+    cmd->add_option("--sigma-a", a.sigmaA, "absorption R,G,B in 1/mm");
+    cmd->add_option("--sigma-s", a.sigmaS, "scattering R,G,B in 1/mm");
+    cmd->add_option("--g", a.g, "mean cosine (default 0)");
+    cmd->add_option("--eta", a.eta, "relative index of refraction (default 1.3)");
+    cmd->add_option("--scale", a.scale, "mm per mesh unit (longest axis = 1 unit; default 50)");
+    addSettingOptions(cmd, a.scene,
+                      {{"points.count", "--points"},
+                       {"points.method", "--method"},
+                       {"points.seed", "--seed"},
+                       {"light.occluded_samples", "--samples"},
+                       {"render.eps", "--eps"},
+                       {"render.second_order", "--second-order,!--first-order"},
+                       {"render.bbox_criterion", "--bbox-criterion"},
+                       {"render.brute_force", "--bruteforce,!--no-bruteforce"},
+                       {"render.width", "--width"},
+                       {"render.height", "--height"},
+                       {"render.camera.yaw", "--yaw"},
+                       {"render.camera.pitch", "--pitch"},
+                       {"render.exposure", "--exposure"}});
+    const glm::vec3 d = a.scene.light.direction;
+    cmd->add_option("--light", a.light,
+                    "dir:x,y,z (towards the light) or ibl:FILE.exr (default dir:" + defaultText(d) +
+                        ")");
+    cmd->add_flag("--occluded", a.occluded, "with ibl: occluded IBL (shadow-mapped samples)");
+    cmd->add_option("--irradiance", a.irradiance,
+                    "directional E0 (default " + defaultText(a.scene.light.irradiance.x) +
+                        "), or the environment intensity (default " +
+                        defaultText(a.scene.light.envIntensity) + ")");
+    cmd->add_option("--png", a.png, "also write the tone-mapped image as PNG");
+    cmd->add_flag("--no-cache{false}", a.useCache, "neither read nor write the point-cloud cache");
+    cmd->add_option("--out", a.out, "EXR file: R, G, B radiance")->required();
+}
+
 int runRenderCli(const fs::path& root, const RenderArgs& a) {
     if (a.out.empty()) throw core::Error("--out", 0, "give the EXR file to write");
     if (a.mesh.empty()) throw core::Error("--mesh", 0, "give the OBJ file to render");
-    if (a.width < 1 || a.width > 8192 || a.height < 1 || a.height > 8192)
+    const render::Settings& r = a.scene.render;
+    if (r.width < 1 || r.width > 8192 || r.height < 1 || r.height > 8192)
         throw core::Error("--width", 0, "width and height must lie in [1, 8192]");
-    if (!(a.eps >= 0) || !std::isfinite(a.eps))
+    if (!(r.eps >= 0) || !std::isfinite(r.eps))
         throw core::Error("--eps", 0, "must be a finite number >= 0");
+    const int occludedSamples = a.scene.light.occludedTotalSamples;
+    if (occludedSamples < 1 || occludedSamples > (1 << 20))
+        throw core::Error("--samples", 0, "must lie in [1, 1048576]");
     if (!std::ifstream(a.mesh)) throw core::Error(a.mesh, 0, "--mesh: cannot open the file");
     const fs::path model = resolveModel(root, a.model);
     auto ctx = gl::createHeadlessContext(false);
@@ -55,33 +99,25 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
         material::validate(wb.shared().params, "--scale");
     }
     SceneSettings& s = wb.scene().settings();
+    s = a.scene;
     s.enabled = true;
     s.useCache = a.useCache;
     s.meshFile = fs::absolute(a.mesh).string();
-    s.points.points = a.points;
-    s.points.method = a.method;
-    s.points.seed = a.seed;
     pointcloud::checkOptions(s.points);
-    parseLight(a.light, s);
+    if (!a.light.empty()) parseLight(a.light, s);
     if (a.occluded) {
         if (s.light.mode != irradiance::LightMode::Ibl)
             throw core::Error("--occluded", 0, "needs --light ibl:FILE.exr");
         s.light.mode = irradiance::LightMode::OccludedIbl;
-        s.light.occludedTotalSamples = a.occludedSamples;
     }
-    if (s.light.mode == irradiance::LightMode::Directional)
-        s.light.irradiance = glm::vec3(a.irradiance);
-    else
-        s.light.envIntensity = a.irradiance;
+    if (a.irradiance) {
+        if (s.light.mode == irradiance::LightMode::Directional)
+            s.light.irradiance = glm::vec3(*a.irradiance);
+        else
+            s.light.envIntensity = *a.irradiance;
+    }
     if (!s.environmentFile.empty() && s.light.mode != irradiance::LightMode::Directional)
         s.environmentFile = fs::absolute(s.environmentFile).string();
-    s.render.width = a.width;
-    s.render.height = a.height;
-    s.render.eps = a.eps;
-    s.render.boundingBoxCriterion = a.bboxCriterion;
-    s.render.bruteForce = a.bruteForce;
-    s.render.secondOrder = !a.firstOrder;
-    s.render.exposure = a.exposure;
     core::Stopwatch clock;
     wb.update();
     wb.finishScene();
@@ -92,8 +128,8 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     if (!v.effective) throw core::Error(e.displayPath, 0, v.materialProblem);
     if (!wb.scene().hasFrame()) throw core::Error("render", 0, "nothing was rendered");
     // The camera is fitted to the mesh on load; apply the requested orbit and render again.
-    s.render.camera.yaw = a.yaw;
-    s.render.camera.pitch = a.pitch;
+    s.render.camera.yaw = r.camera.yaw;
+    s.render.camera.pitch = r.camera.pitch;
     wb.finishScene();
     const render::Readback rb = wb.scene().readback();
     pathtrace::Image img;
@@ -120,9 +156,10 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     const auto* t = wb.scene().tree();
     std::printf("%s with %s: %zu points (%s), octree %zu nodes depth %d, %dx%d, eps %g%s%s\n",
                 a.mesh.c_str(), e.displayPath.c_str(), wb.scene().cloud().points.size(),
-                a.method.c_str(), t->stats.nodes, t->stats.maxDepth, rb.width, rb.height, a.eps,
-                a.bboxCriterion ? " (bounding-box criterion)" : "",
-                a.bruteForce ? " BRUTE FORCE" : "");
+                pointcloud::methodName(s.points.method), t->stats.nodes, t->stats.maxDepth,
+                rb.width, rb.height, double(r.eps),
+                r.boundingBoxCriterion ? " (bounding-box criterion)" : "",
+                r.bruteForce ? " BRUTE FORCE" : "");
     std::printf("traversal %.1f ms (G-buffer %.1f ms, profile %.1f ms); mean steps/pixel %.1f, "
                 "max %llu; flagged pixels %llu; total %.1f s\n",
                 f.traverseMs, f.gbufferMs, f.profileMs, hits ? double(steps) / double(hits) : 0.0,

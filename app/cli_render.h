@@ -1,32 +1,34 @@
 // `bssrdf-workbench render`: the mesh rendered with a model by the hierarchical point-cloud
 // method (thesis 3.3) headless, written as an OpenEXR HDR image (R, G, B = radiance L_o, A =
-// coverage), with the stage times and traversal statistics on stdout.
+// coverage), with the stage times and traversal statistics on stdout. Its scene settings start
+// from the GUI's defaults (SceneSettings); the options that set them are generated from their
+// descriptions (cli_options.h).
 #pragma once
 
-#include <cstdint>
+#include "scene_stage.h"
+
 #include <filesystem>
 #include <optional>
 #include <string>
+
+namespace CLI {
+class App;
+}
 
 namespace app {
 
 struct RenderArgs {
     std::string mesh, model, preset, sigmaA, sigmaS, out, png;
     std::optional<double> g, eta, scale;
-    size_t points = 20000;
-    std::string method = "stratified-repulsion";
-    uint64_t seed = 1;
-    std::string light = "dir:0.45,0.75,0.5"; // dir:x,y,z | ibl:FILE.exr
+    SceneSettings scene; // the GUI's defaults, changed by the options
+    std::string light;   // dir:x,y,z | ibl:FILE.exr (empty: the scene's directional light)
     bool occluded = false;
-    int occludedSamples = 256;
-    float irradiance = 3.0f; // E0 of the directional light / env intensity
-    float eps = 0.2f;
-    bool bboxCriterion = false, bruteForce = false, firstOrder = false;
-    int width = 640, height = 360;
-    float yaw = 0.5f, pitch = 0.2f, exposure = 0.0f;
+    std::optional<float> irradiance; // E0 of the directional light / env intensity
     bool useCache = true;
 };
 
+// The `render` options (flags, help texts with the defaults) writing into `a`.
+void addRenderOptions(CLI::App* cmd, RenderArgs& a);
 int runRenderCli(const std::filesystem::path& root, const RenderArgs& a);
 
 } // namespace app

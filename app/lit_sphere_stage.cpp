@@ -6,8 +6,8 @@
 #include "pathtrace/sphere_tracer.h"
 #include "reference_stage.h"
 
+#include "core/fields.h"
 #include <algorithm>
-#include <sstream>
 
 namespace app {
 
@@ -186,16 +186,14 @@ bool LitSphereStage::update(const LitSphereInputs& in) {
         setup.lightDir[i] = ls.lightDir[i];
     setup.width = setup.height = ls.size;
     setup.seed = ls.seed;
-    std::ostringstream k;
-    k.precision(17);
-    k << e->displayPath << '|' << e->generation << '|' << in.materialKey << '|' << setup.radiusMm
-      << '|' << setup.lightDir[0] << ',' << setup.lightDir[1] << ',' << setup.lightDir[2] << '|'
-      << setup.width << '|' << setup.seed << '|' << ls.pathSpp << '|' << ls.gpu << '|' << ls.mesh;
-    for (auto& [n, val] : e->values)
-        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
+    // integratedSpp is a target the integration runs to, not an input of its image
+    LitSphereSettings keyed = ls;
+    keyed.integratedSpp = 0;
+    const std::string key =
+        core::keyOf(e->displayPath, e->generation, in.materialKey, keyed, e->values);
     bool changed = false;
-    if (k.str() != m_key) {
-        m_key = k.str();
+    if (key != m_key) {
+        m_key = key;
         m_model = e->displayPath;
         m_problem.clear();
         m_ptSppSeen = 0;

@@ -17,6 +17,8 @@
 #include "pathtrace/mesh_tracer.h"
 #include "pathtrace/pathtrace.h"
 
+#include <glm/vec3.hpp>
+
 #include <array>
 #include <atomic>
 #include <filesystem>
@@ -31,14 +33,26 @@ namespace app {
 struct LitSphereSettings {
     bool enabled = false;
     double radiusMm = 10.0;
-    float lightDir[3] = {0.5f, 0.5f, 0.7071f}; // towards the light
-    int size = 128;                            // square image
-    int pathSpp = 64;                          // path tracer target, samples per pixel
-    int integratedSpp = 4096;                  // BSSRDF integration target, samples per pixel
+    glm::vec3 lightDir{0.5f, 0.5f, 0.7071f}; // towards the light
+    int size = 128;                          // square image
+    int pathSpp = 64;                        // path tracer target, samples per pixel
+    int integratedSpp = 4096;                // BSSRDF integration target, samples per pixel
     uint64_t seed = 1;
     bool gpu = false; // path trace on the GL compute tracer (sliced per frame) instead of the CPU
     std::string mesh; // OBJ path: path trace this mesh (CPU, Embree) instead of the sphere
 };
+// The description of LitSphereSettings' members (core/fields.h).
+template <class V> void fields(V& v, LitSphereSettings& s) {
+    v("enabled", s.enabled, "render the lit spheres");
+    v("radius_mm", s.radiusMm, "sphere radius, mm");
+    v("light", s.lightDir, "direction towards the light");
+    v("size", s.size, "image side in pixels");
+    v("path_spp", s.pathSpp, "path tracer samples per pixel");
+    v("integrated_spp", s.integratedSpp, "BSSRDF integration samples per pixel");
+    v("seed", s.seed, "random seed");
+    v("gpu", s.gpu, "GL compute path tracer instead of the CPU");
+    v("mesh", s.mesh, "OBJ to path trace instead of the sphere (empty: sphere)");
+}
 
 // The path-traced sphere: CPU passes in a background thread, or the GL compute tracer
 // (shaders/pathtrace_sphere.comp) stepped from the GL thread with stepGpu().

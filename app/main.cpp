@@ -4,12 +4,14 @@
 #include "capture_io.h"
 #include "cli.h"
 #include "cli_image.h"
+#include "cli_options.h"
 #include "cli_pointcloud.h"
 #include "cli_render.h"
 #include "cli_slab.h"
 #include "core/core.h"
 #include "gl/gl.h"
 #include "gui.h"
+#include "settings_json.h"
 #include "workbench.h"
 
 #include <CLI/CLI.hpp>
@@ -155,6 +157,9 @@ int main(int argc, char** argv) {
     rec->add_option("--trace-x", ra.traceX, "traced pixel x (default: centre)");
     rec->add_option("--trace-y", ra.traceY, "traced pixel y (default: centre)");
 
+    auto* defaultsCmd = cli.add_subcommand(
+        "defaults", "print every setting's default (GUI, CLI and captures) as a Markdown table");
+
     auto* rep = cli.add_subcommand("replay", "recompute a capture headless and compare");
     std::string repDir;
     bool repUpdate = false;
@@ -212,65 +217,12 @@ int main(int argc, char** argv) {
     auto* pcCmd = cli.add_subcommand(
         "pointcloud", "even point cloud on a mesh (thesis 2.6.4) as binary PLY, with metrics");
     app::PointCloudArgs pca;
-    pcCmd->add_option("--mesh", pca.mesh, "triangle mesh (OBJ)")->required();
-    pcCmd->add_option("--points", pca.points, "number of points N (default 20000)");
-    pcCmd->add_option("--method", pca.method,
-                      "stratified-repulsion (default) | elimination (weighted sample "
-                      "elimination) | repulsion (Turk) | uniform");
-    pcCmd->add_option("--seed", pca.seed, "random seed (default 1)");
-    pcCmd->add_option("--iterations", pca.iterations,
-                      "relaxation iterations (default 40 stratified-repulsion, 30 repulsion)");
-    pcCmd->add_option("--threads", pca.threads, "worker threads (default: all cores)");
-    bool pcNoCache = false;
-    pcCmd->add_flag("--no-cache", pcNoCache, "neither read nor write the point-cloud cache");
-    pcCmd->add_option("--out", pca.out, "PLY file (x y z nx ny nz area, float32)")->required();
+    app::addPointCloudOptions(pcCmd, pca);
 
     auto* renderCmd = cli.add_subcommand(
         "render", "mesh rendered by the hierarchical point-cloud method (thesis 3.3) as EXR");
     app::RenderArgs ra2;
-    renderCmd->add_option("--mesh", ra2.mesh, "triangle mesh (OBJ)")->required();
-    renderCmd->add_option("--model", ra2.model, ".bssrdf file")->required();
-    renderCmd->add_option("--preset", ra2.preset,
-                          "material preset (sigma_s', sigma_a); a material is required: "
-                          "--preset, or both --sigma-a and --sigma-s");
-    renderCmd->add_option("--sigma-a", ra2.sigmaA, "absorption R,G,B in 1/mm");
-    renderCmd->add_option("--sigma-s", ra2.sigmaS, "scattering R,G,B in 1/mm");
-    renderCmd->add_option("--g", ra2.g, "mean cosine (default 0)");
-    renderCmd->add_option("--eta", ra2.eta, "relative index of refraction (default 1.3)");
-    renderCmd->add_option("--scale", ra2.scale,
-                          "mm per mesh unit (longest axis = 1 unit; default 50)");
-    renderCmd->add_option("--points", ra2.points, "point-cloud size N (default 20000)");
-    renderCmd->add_option("--method", ra2.method,
-                          "stratified-repulsion (default) | elimination | repulsion | uniform");
-    renderCmd->add_option("--seed", ra2.seed, "point-cloud seed (default 1)");
-    renderCmd->add_option(
-        "--light", ra2.light,
-        "dir:x,y,z (towards the light) or ibl:FILE.exr (default dir:0.45,0.75,0.5)");
-    renderCmd->add_flag("--occluded", ra2.occluded,
-                        "with ibl: occluded IBL (shadow-mapped samples)");
-    renderCmd
-        ->add_option("--samples", ra2.occludedSamples,
-                     "occluded IBL environment samples (default 256)")
-        ->check(CLI::Range(1, 1 << 20));
-    renderCmd->add_option("--irradiance", ra2.irradiance,
-                          "directional E0, or the environment intensity (default 3)");
-    renderCmd->add_option("--eps", ra2.eps, "solid-angle criterion epsilon (default 0.2)");
-    renderCmd->add_flag("--first-order", ra2.firstOrder,
-                        "evaluate accepted nodes at their mean position only (thesis), not with "
-                        "the second-order three-point rule");
-    renderCmd->add_flag("--bbox-criterion", ra2.bboxCriterion,
-                        "conservative bounding-box distance in the criterion");
-    renderCmd->add_flag("--bruteforce", ra2.bruteForce, "sum every point (no hierarchy)");
-    renderCmd->add_option("--width", ra2.width, "image width (default 640)");
-    renderCmd->add_option("--height", ra2.height, "image height (default 360)");
-    renderCmd->add_option("--yaw", ra2.yaw, "camera orbit yaw in radians (default 0.5)");
-    renderCmd->add_option("--pitch", ra2.pitch, "camera orbit pitch in radians (default 0.2)");
-    renderCmd->add_option("--exposure", ra2.exposure, "PNG exposure in stops (default 0)");
-    renderCmd->add_option("--png", ra2.png, "also write the tone-mapped image as PNG");
-    bool renderNoCache = false;
-    renderCmd->add_flag("--no-cache", renderNoCache,
-                        "neither read nor write the point-cloud cache");
-    renderCmd->add_option("--out", ra2.out, "EXR file: R, G, B radiance")->required();
+    app::addRenderOptions(renderCmd, ra2);
 
     auto* bench = cli.add_subcommand("bench", "benchmarks (print measured ratios; not tests)");
     bench->require_subcommand(1);
@@ -287,8 +239,9 @@ int main(int argc, char** argv) {
         "hierarchy", "hierarchical vs brute-force render, point-cloud generation vs Turk");
     app::HierarchyBenchOptions hbo;
     benchHier->add_option("--points", hbo.points, "points (default 100000)");
-    benchHier->add_option("--method", hbo.method,
-                          "point-cloud method (default stratified-repulsion)");
+    app::addEnumOption(benchHier, "--method", hbo.method,
+                       std::string("point-cloud method (default ") +
+                           pointcloud::methodName(hbo.method) + ")");
     benchHier->add_option("--width", hbo.width, "image width (default 640)");
     benchHier->add_option("--height", hbo.height, "image height (default 360)");
     benchHier->add_option("--frames", hbo.frames, "hierarchical frames per eps (default 5)")
@@ -307,6 +260,10 @@ int main(int argc, char** argv) {
     CLI11_PARSE(cli, argc, argv);
     if (verbose) core::setLogEchoLevel(core::LogLevel::Info);
 
+    if (*defaultsCmd) {
+        std::fputs(app::defaultsTable().c_str(), stdout);
+        return 0;
+    }
     try {
         const fs::path root = findRoot(rootArg);
         if (*prof) return app::runProfile(root, pa);
@@ -330,14 +287,8 @@ int main(int argc, char** argv) {
                                   "expected WxH between 1 and 8192, got '" + imSize + "'");
             return *sphere ? app::runSphereCli(ima) : app::runMeshCli(ima);
         }
-        if (*renderCmd) {
-            ra2.useCache = !renderNoCache;
-            return app::runRenderCli(root, ra2);
-        }
-        if (*pcCmd) {
-            pca.useCache = !pcNoCache;
-            return app::runPointCloudCli(pca);
-        }
+        if (*renderCmd) return app::runRenderCli(root, ra2);
+        if (*pcCmd) return app::runPointCloudCli(pca);
         if (*slab) {
             if (slabGpu) return app::runSlabGpuCli(root, sa);
             return app::runSlabCli(sa);

@@ -4,19 +4,14 @@
 #include "core/core.h"
 #include "gl/gl.h"
 
-#include <sstream>
+#include "core/fields.h"
 
 namespace app {
 namespace {
-std::string keyOf(const MaterialSettings& s, long long generation) {
-    std::ostringstream k;
-    k.precision(17);
-    const auto& p = s.params;
-    k << generation << '|' << int(s.mode) << '|' << p.sigmaA.x << ',' << p.sigmaA.y << ','
-      << p.sigmaA.z << '|' << p.sigmaS.x << ',' << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g
-      << '|' << p.eta << '|' << p.scale << '|' << s.rdr.x << ',' << s.rdr.y << ',' << s.rdr.z << '|'
-      << s.ld.x << ',' << s.ld.y << ',' << s.ld.z;
-    return k.str();
+// The preset's name is no input of the material (the values it set are).
+std::string keyOf(MaterialSettings s, long long generation) {
+    s.preset.clear();
+    return core::keyOf(generation, s);
 }
 
 void computeMaterial(bssrdf::ModelEntry& e, ModelView& v, const MaterialSettings& shared) {
@@ -35,13 +30,9 @@ void computeMaterial(bssrdf::ModelEntry& e, ModelView& v, const MaterialSettings
 
 void computeProfile(bssrdf::ModelEntry& e, ModelView& v, double rMax, int samples) {
     if (!v.effective || !e.usable()) return;
-    std::ostringstream k;
-    k.precision(17);
-    k << v.materialKey << '|' << rMax << '|' << samples;
-    for (auto& [n, val] : e.values)
-        k << '|' << n << '=' << val[0] << ',' << val[1] << ',' << val[2];
-    if (k.str() == v.profileKey) return;
-    v.profileKey = k.str();
+    const std::string key = core::keyOf(v.materialKey, rMax, samples, e.values);
+    if (key == v.profileKey) return;
+    v.profileKey = key;
     gl::ScopedStageTimer timer("pencil plot");
     v.profile =
         bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model, e.values,

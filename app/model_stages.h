@@ -10,6 +10,7 @@
 #include "bssrdf/program_library.h"
 #include "material/material.h"
 
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -17,6 +18,9 @@
 namespace app {
 
 enum class ParamMode { Sigma, RdrLd };
+constexpr auto enumNames(ParamMode) {
+    return std::array{std::pair{ParamMode::Sigma, "sigma"}, std::pair{ParamMode::RdrLd, "rdr_ld"}};
+}
 
 // Material inputs as the user edits them (thesis 3.6.1).
 struct MaterialSettings {
@@ -26,6 +30,14 @@ struct MaterialSettings {
     glm::dvec3 ld{8.0, 4.0, 2.0};    // mm
     std::string preset = "Marble";
 };
+// The description of MaterialSettings' members (core/fields.h).
+template <class V> void fields(V& v, MaterialSettings& s) {
+    v("mode", s.mode, "parametrisation: sigma or rdr_ld");
+    v.inlined(s.params);
+    v("rdr", s.rdr, "diffuse reflectance R_dr (rdr_ld mode)");
+    v("ld_mm", s.ld, "diffuse mean free path l_d, mm (rdr_ld mode)");
+    v("preset", s.preset, "last applied preset");
+}
 
 // Per-model view state and stage results.
 struct ModelView {

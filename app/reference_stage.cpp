@@ -3,7 +3,7 @@
 
 #include "core/core.h"
 
-#include <sstream>
+#include "core/fields.h"
 
 #include <algorithm>
 #include <string>
@@ -222,13 +222,11 @@ bool ReferenceStage::update(const ReferenceInputs& in) {
         s.rMaxMm = in.rMaxMm;
         s.bins = in.settings.bins;
         s.seed = in.settings.seed;
-        std::ostringstream k;
-        k.precision(17);
-        k << p.sigmaA.x << ',' << p.sigmaA.y << ',' << p.sigmaA.z << '|' << p.sigmaS.x << ','
-          << p.sigmaS.y << ',' << p.sigmaS.z << '|' << p.g << '|' << p.eta << '|' << in.rMaxMm
-          << '|' << s.bins << '|' << s.seed << '|' << in.settings.paths << '|' << in.settings.gpu;
-        if (k.str() != m_key) {
-            m_key = k.str();
+        material::MaterialParams keyed = p;
+        keyed.scale = 0; // lengths of the slab are in mm: the mesh scale is no input
+        const std::string key = core::keyOf(keyed, in.rMaxMm, in.settings);
+        if (key != m_key) {
+            m_key = key;
             m_model = in.model;
             cancel();
             m_gpuMode = in.settings.gpu;

@@ -27,6 +27,14 @@ struct ReferenceSettings {
     uint64_t seed = 1;
     bool gpu = false; // GL compute tracer, sliced per frame on the GL thread, instead of the CPU
 };
+// The description of ReferenceSettings' members (core/fields.h).
+template <class V> void fields(V& v, ReferenceSettings& s) {
+    v("enabled", s.enabled, "path-trace the reference");
+    v("paths", s.paths, "photon paths per channel");
+    v("bins", s.bins, "radial bins");
+    v("seed", s.seed, "random seed");
+    v("gpu", s.gpu, "GL compute tracer instead of the CPU");
+}
 
 struct ReferenceSnapshot {
     bool running = false;

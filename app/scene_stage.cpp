@@ -2,55 +2,16 @@
 #include "scene_stage.h"
 
 #include "core/core.h"
+#include "core/fields.h"
 #include "gl/gl.h"
 #include "render/frame_analysis.h"
 
 #include <chrono>
-#include <sstream>
 
 namespace app {
 namespace fs = std::filesystem;
 
-SceneSettings::SceneSettings() {
-    points.points = 20000;
-    light.direction = {0.45f, 0.75f, 0.5f};
-    light.irradiance = glm::vec3(2.5f);
-    light.shadowMapSize = 1024;
-    render.width = 480;
-    render.height = 270;
-    // Bounding-box criterion with second-order clusters: ~0.5 % relative RMSE against brute
-    // force on the default scene at ~70x less GPU time (README, bench hierarchy).
-    render.boundingBoxCriterion = true;
-    render.secondOrder = true;
-    render.eps = 4.0f;
-    render.camera.yaw = 0.5f;
-    render.camera.pitch = 0.2f;
-}
-
 namespace {
-
-std::string lightKey(const irradiance::Settings& s) {
-    std::ostringstream k;
-    k.precision(9);
-    k << int(s.mode) << '|' << s.direction.x << ',' << s.direction.y << ',' << s.direction.z << '|'
-      << s.irradiance.x << ',' << s.irradiance.y << ',' << s.irradiance.z << '|' << int(s.filter)
-      << '|' << s.shadowMapSize << '|' << s.depthOffset << '|' << s.slopeOffset << '|'
-      << s.jitterSamples << '|' << s.jitterRadius << '|' << s.ior << '|' << s.envIntensity << '|'
-      << s.envRotation << '|' << s.occludedSamplesPerStep << '|' << s.occludedTotalSamples << '|'
-      << s.seed;
-    return k.str();
-}
-
-std::string renderKey(const render::Settings& s) {
-    std::ostringstream k;
-    k.precision(9);
-    const render::Camera& c = s.camera;
-    k << s.width << 'x' << s.height << '|' << c.target.x << ',' << c.target.y << ',' << c.target.z
-      << '|' << c.yaw << ',' << c.pitch << ',' << c.distance << ',' << c.fovY << '|' << s.eps << '|'
-      << s.boundingBoxCriterion << s.bruteForce << s.directBssrdf << s.secondOrder << '|'
-      << s.maxSteps << '|' << s.stackSize << '|' << s.exposure << ',' << s.gamma;
-    return k.str();
-}
 
 double nowSeconds() {
     return core::secondsSinceStart();
@@ -196,15 +157,13 @@ void SceneStage::applyCloud(pointcloud::PointCloud cloud, bool fromCache, double
 bool SceneStage::updatePointCloud(bool wait) {
     if (!m_mesh) return false;
     const pointcloud::GenerateOptions& o = m_settings.points;
-    std::ostringstream k;
-    k << m_meshVersion << '|' << m_settings.pointCloudFile << '|' << pointcloud::methodTag(o) << '|'
-      << o.points << '|' << o.seed;
+    const std::string key = core::keyOf(m_meshVersion, m_settings.pointCloudFile, o);
     bool changed = false;
-    if (k.str() != m_cloudKey) {
-        m_cloudKey = k.str();
+    if (key != m_cloudKey) {
+        m_cloudKey = key;
         if (m_pending.valid()) {
             cancelPointCloud();
-            m_cloudKey = k.str();
+            m_cloudKey = key;
         }
         try {
             if (!m_settings.pointCloudFile.empty()) {
@@ -280,9 +239,9 @@ bool SceneStage::updateIrradiance(float ior, bool finishOccluded) {
             setProblem("projected texture", e.what());
         }
     }
-    std::ostringstream k;
-    k << m_cloudVersion << '|' << lightKey(s) << '|' << (ibl ? m_envLoads : 0) << '|'
-      << (s.mode == irradiance::LightMode::Filtered ? m_texLoads : 0) << '|' << m_irradianceBuilds;
+    const std::string key =
+        core::keyOf(m_cloudVersion, s, ibl ? m_envLoads : 0,
+                    s.mode == irradiance::LightMode::Filtered ? m_texLoads : 0, m_irradianceBuilds);
     bool changed = false;
     auto adopt = [&](std::vector<glm::vec3> e, double ms) {
         octree::setIrradiance(*m_tree, e);
@@ -294,8 +253,8 @@ bool SceneStage::updateIrradiance(float ior, bool finishOccluded) {
         ++stat.runs;
         changed = true;
     };
-    if (k.str() != m_irrKey) {
-        m_irrKey = k.str();
+    if (key != m_irrKey) {
+        m_irrKey = key;
         if (st.occludedRunning()) st.cancelOccluded();
         m_occludedActive = false;
         try {
@@ -356,10 +315,9 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting, bo
     const bssrdf::ModelEntry& e = *model.entry;
     // Model programs: built again when the model changes (a changed shader file rebuilds them
     // through reloadShaders); a failure keeps the old.
-    std::ostringstream mk;
-    mk << e.displayPath << '|' << e.modelGeneration;
-    if (mk.str() != m_modelKey) {
-        m_modelKey = mk.str();
+    const std::string modelKey = core::keyOf(e.displayPath, e.modelGeneration);
+    if (modelKey != m_modelKey) {
+        m_modelKey = modelKey;
         try {
             m_renderer->setModel(*e.model);
             clearProblem("render");
@@ -374,18 +332,11 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting, bo
         rs.width = std::max(1, rs.width / 2);
         rs.height = std::max(1, rs.height / 2);
     }
-    std::ostringstream k;
-    k.precision(9);
-    k << m_irrVersion << '|' << m_modelKey << '|' << m_renderBuilds << '|' << model.materialKey
-      << '|' << renderKey(rs);
-    for (const auto& [n, v] : e.values)
-        k << '|' << n << '=' << v[0] << ',' << v[1] << ',' << v[2];
-    const auto& b = model.builtins;
-    k << '|' << b.sigmaA.x << ',' << b.sigmaA.y << ',' << b.sigmaA.z << ',' << b.sigmaS.x << ','
-      << b.sigmaS.y << ',' << b.sigmaS.z << ',' << b.g << ',' << b.ior << ',' << b.scale;
+    const std::string key = core::keyOf(m_irrVersion, m_modelKey, m_renderBuilds, model.materialKey,
+                                        rs, e.values, model.builtins);
     try {
-        if (k.str() != m_renderKey) {
-            m_renderKey = k.str();
+        if (key != m_renderKey) {
+            m_renderKey = key;
             m_renderer->setMaterial(e.values, model.builtins);
             m_frameModel = *e.model;
             m_frameValues = e.values;

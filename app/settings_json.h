@@ -1,4 +1,7 @@
-// Symmetric JSON forms of the workbench settings (captures and the CLI use them).
+// The workbench settings as JSON (capture manifests: "settings" and "params"), generated from
+// each settings struct's description (core/fields.h): symmetric by construction, enums by name,
+// a missing key keeps the default (older manifests read as they were recorded), an unknown key
+// or a wrong type throws core::Error(file, 0, "settings.scene.render.eps: expected a number").
 #pragma once
 
 #include "workbench.h"
@@ -7,10 +10,18 @@
 
 namespace app {
 
-nlohmann::json toJson(const MaterialSettings& s);
-MaterialSettings materialFromJson(const nlohmann::json& j, const std::string& where);
-nlohmann::json toJson(const PlotSettings& s);
-PlotSettings plotFromJson(const nlohmann::json& j, const std::string& where);
+// The manifest's "settings": plot, reference, lit_spheres and scene (with the traced pixel
+// (traceX, traceY) as scene.trace_pixel), and r_max_mm (informational: it is derived).
+nlohmann::json settingsJson(Workbench& wb, int traceX, int traceY);
+// Applies a manifest's "settings"; sections that are absent keep the workbench's settings.
+// Returns the traced pixel through traceX, traceY (-1 when none).
+void applySettingsJson(Workbench& wb, const nlohmann::json& settings, const std::string& file,
+                       int& traceX, int& traceY);
+
+// The defaults of every workbench setting as a Markdown table (`bssrdf-workbench defaults`; the
+// README's "Defaults" section is this text): setting, default, meaning.
+std::string defaultsTable();
+
 nlohmann::json toJson(const bssrdf::ParamValues& v);
 bssrdf::ParamValues valuesFromJson(const nlohmann::json& j, const std::string& where);
 

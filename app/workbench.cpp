@@ -5,12 +5,12 @@
 
 #include "core/color.h"
 #include "core/core.h"
+#include "core/fields.h"
 #include "gl/gl.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 #include <sys/stat.h>
 

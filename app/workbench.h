@@ -20,12 +20,14 @@
 #include "reference_stage.h"
 #include "scene_stage.h"
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace app {
@@ -41,6 +43,17 @@ struct PlotSettings {
     double rMaxMm = 20.0; // used when fixedRange
     double rangeLd = 5.0; // otherwise: this many diffuse mean free paths (largest l_d)
 };
+// The description of PlotSettings' members (core/fields.h).
+template <class V> void fields(V& v, PlotSettings& s) {
+    v("y_scale", s.yScale, "y axis scale");
+    v("r_times_r", s.rTimesR, "plot r·R(r)");
+    v("channel", s.channel, "0 R, 1 G, 2 B, 3 luminance");
+    v("solo", s.solo, "display path of the soloed model (empty: all)");
+    v("samples", s.samples, "radii evaluated");
+    v("fixed_range", s.fixedRange, "use r_max_mm instead of range_ld");
+    v("r_max_mm", s.rMaxMm, "plot radius with fixed_range, mm");
+    v("range_ld", s.rangeLd, "plot radius in largest l_d otherwise");
+}
 
 struct ErrorItem {
     std::string source; // "model", "shader", "material", "action"

@@ -79,7 +79,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui) {
         s.radiusMm = std::max(radius, 0.01f);
     ImGui::SameLine();
     ImGui::SetNextItemWidth(200);
-    if (ImGui::SliderFloat3("light dir", s.lightDir, -1.0f, 1.0f, "%.2f")) {
+    if (ImGui::SliderFloat3("light dir", &s.lightDir.x, -1.0f, 1.0f, "%.2f")) {
         if (std::abs(s.lightDir[0]) + std::abs(s.lightDir[1]) + std::abs(s.lightDir[2]) < 1e-3f)
             s.lightDir[2] = 1.0f;
     }

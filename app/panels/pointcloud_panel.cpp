@@ -87,20 +87,25 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     if (ImGui::InputInt("points", &n, 1000, 10000, ImGuiInputTextFlags_EnterReturnsTrue))
         s.points.points = size_t(std::max(n, 0));
     ImGui::SameLine();
-    const char* methods[] = {"stratified-repulsion", "elimination", "repulsion", "uniform"};
+    constexpr auto methods = enumNames(pointcloud::Method{});
+    const char* names[methods.size()];
     int m = 0;
-    for (int k = 0; k < 4; ++k)
-        if (s.points.method == methods[k]) m = k;
+    for (size_t k = 0; k < methods.size(); ++k) {
+        names[k] = methods[k].second;
+        if (s.points.method == methods[k].first) m = int(k);
+    }
     ImGui::SetNextItemWidth(170);
-    if (ImGui::Combo("method", &m, methods, 4)) s.points.method = methods[m];
+    if (ImGui::Combo("method", &m, names, int(methods.size())))
+        s.points.method = methods[size_t(m)].first;
     int seed = int(s.points.seed);
     ImGui::SetNextItemWidth(90);
     if (ImGui::InputInt("seed", &seed)) s.points.seed = uint64_t(std::max(seed, 0));
-    if (s.points.method == "repulsion" || s.points.method == "stratified-repulsion") {
+    using pointcloud::Method;
+    if (s.points.method == Method::Repulsion || s.points.method == Method::StratifiedRepulsion) {
         ImGui::SameLine();
         ImGui::SetNextItemWidth(90);
-        int& it = s.points.method == "repulsion" ? s.points.repulsionIterations
-                                                 : s.points.stratifiedIterations;
+        int& it = s.points.method == Method::Repulsion ? s.points.repulsionIterations
+                                                       : s.points.stratifiedIterations;
         if (ImGui::InputInt("iterations", &it, 10, 100, ImGuiInputTextFlags_EnterReturnsTrue))
             it = std::clamp(it, 0, 100000);
     }

@@ -34,6 +34,14 @@ struct Builtins {
     glm::vec3 sigmaA{0.0f}, sigmaS{1.0f};
     float g = 0.0f, ior = 1.3f, scale = 1.0f;
 };
+// The description of Builtins' members (core/fields.h; cache keys).
+template <class V> void fields(V& v, Builtins& b) {
+    v("sigma_a", b.sigmaA, "σa, 1/mm");
+    v("sigma_s", b.sigmaS, "σs, 1/mm");
+    v("g", b.g, "mean cosine");
+    v("ior", b.ior, "η");
+    v("scale", b.scale, "mm per mesh unit");
+}
 
 // Assemble (shaders/<templateName> from `src` with the model) + compile + link; `record`
 // gets the files read (template, includes, the model file) and counts the build. Throws

@@ -57,16 +57,29 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace irradiance {
 
 enum class LightMode { Directional, Filtered, Ibl, OccludedIbl };
 enum class ShadowFilter { Naive, Offset, OffsetPcf, OffsetPcfJitter }; // thesis Fig. 3.3 a–d
+constexpr auto enumNames(LightMode) {
+    return std::array{std::pair{LightMode::Directional, "directional"},
+                      std::pair{LightMode::Filtered, "filtered"}, std::pair{LightMode::Ibl, "ibl"},
+                      std::pair{LightMode::OccludedIbl, "occluded-ibl"}};
+}
+constexpr auto enumNames(ShadowFilter) {
+    return std::array{std::pair{ShadowFilter::Naive, "naive"},
+                      std::pair{ShadowFilter::Offset, "offset"},
+                      std::pair{ShadowFilter::OffsetPcf, "offset-pcf"},
+                      std::pair{ShadowFilter::OffsetPcfJitter, "offset-pcf-jitter"}};
+}
 
 inline constexpr int kCubeFaceSize = 32;
 
@@ -87,6 +100,24 @@ struct Settings {
     int occludedTotalSamples = 256; // K, [1, 2^20]
     uint64_t seed = 1;              // environment samples of OccludedIbl
 };
+// The description of Settings' members (core/fields.h).
+template <class V> void fields(V& v, Settings& s) {
+    v("mode", s.mode, "lighting mode");
+    v("direction", s.direction, "towards the light");
+    v("irradiance", s.irradiance, "E0, RGB, on a surface facing the light");
+    v("filter", s.filter, "shadow-map filter (thesis Fig. 3.3)");
+    v("shadow_map_size", s.shadowMapSize, "shadow-map texels per side");
+    v("depth_offset", s.depthOffset, "constant shadow offset, mesh units");
+    v("slope_offset", s.slopeOffset, "slope-scaled shadow offset multiplier");
+    v("jitter_samples", s.jitterSamples, "PCF lookups of offset-pcf-jitter");
+    v("jitter_radius", s.jitterRadius, "their disk radius in texels");
+    v("ior", s.ior, "relative index of refraction η (set from the material)");
+    v("env_intensity", s.envIntensity, "environment radiance multiplier");
+    v("env_rotation", s.envRotation, "environment rotation about +y, radians");
+    v("occluded_per_step", s.occludedSamplesPerStep, "occluded IBL shadow maps per step");
+    v("occluded_samples", s.occludedTotalSamples, "occluded IBL environment samples K");
+    v("seed", s.seed, "seed of the environment samples");
+}
 
 // Throws core::Error naming the first bad setting (see the header comment). maxTextureSize: the
 // GL limit (0 = do not check against it).

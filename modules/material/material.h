@@ -26,6 +26,14 @@ struct MaterialParams {
     double eta = 1.3;
     double scale = 50.0; // mm per model unit
 };
+// The description of MaterialParams' members (core/fields.h).
+template <class V> void fields(V& v, MaterialParams& p) {
+    v("sigma_a", p.sigmaA, "absorption coefficient σa, 1/mm");
+    v("sigma_s", p.sigmaS, "scattering coefficient σs, 1/mm");
+    v("g", p.g, "Henyey-Greenstein mean cosine");
+    v("eta", p.eta, "relative index of refraction η");
+    v("scale", p.scale, "mm per mesh unit");
+}
 
 // Throws core::Error("<what>", 0, msg) naming the field and channel: σa < 0, σs ≤ 0,
 // non-finite σ, η ≤ 0 or non-finite, |g| ≥ 1, scale ≤ 0. σa = 0 is valid (Spectralon).

@@ -201,8 +201,13 @@ void setIrradiance(Octree& t, const std::vector<glm::vec3>& irradiance);
 std::string hash(const Octree& t);
 
 // ---- CPU replica of the traversal -------------------------------------------------------------
+// The default ε of each criterion: 0.05 for the solid angle A/d², 4.0 for the bounding-box
+// distance (whose values are of another scale; README "Defaults").
+constexpr float defaultEps(bool boundingBox) {
+    return boundingBox ? 4.0f : 0.05f;
+}
 struct Criterion {
-    float eps = 0.05f;
+    float eps = defaultEps(false);
     bool boundingBox = false;
     bool secondOrder = true; // nodes by the three-point second-order rule (see above)
     uint32_t maxSteps = kDefaultMaxSteps;

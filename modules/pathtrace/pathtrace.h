@@ -39,10 +39,12 @@
 //   chunk-ordered merge), validate.cpp.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pathtrace {
@@ -62,6 +64,12 @@ struct Termination {
     double rouletteSurvival = 0.5; // its survival probability p (survivors' weight /= p)
     uint32_t maxEvents = 1u << 20; // a path alive after this many interactions is truncated
 };
+// The description of Termination's members (core/fields.h).
+template <class V> void fields(V& v, Termination& t) {
+    v("roulette_weight", t.rouletteWeight, "weight roulette below this weight");
+    v("roulette_survival", t.rouletteSurvival, "roulette survival probability");
+    v("max_events", t.maxEvents, "interactions after which a path is truncated");
+}
 // Throws core::Error("<what>", 0, msg) naming the field: rouletteWeight not in (0, 1),
 // rouletteSurvival not in (0, 1], maxEvents < 1.
 void validate(const Termination& t, const std::string& what);
@@ -70,6 +78,10 @@ enum class Estimator {
     Implicit, // absorption by weight + weight roulette (efficient; the default)
     Analog,   // thesis Algorithm 1 as printed: absorption by roulette
 };
+constexpr auto enumNames(Estimator) {
+    return std::array{std::pair{Estimator::Implicit, "implicit"},
+                      std::pair{Estimator::Analog, "analog"}};
+}
 
 struct SlabSettings {
     double rMaxMm = 10.0; // histogram covers [0, rMax)
@@ -80,6 +92,16 @@ struct SlabSettings {
     Termination termination;
     Estimator estimator = Estimator::Implicit;
 };
+// The description of SlabSettings' members (core/fields.h).
+template <class V> void fields(V& v, SlabSettings& s) {
+    v("r_max_mm", s.rMaxMm, "histogram radius, mm");
+    v("bins", s.bins, "radial bins");
+    v("paths", s.paths, "photon paths");
+    v("seed", s.seed, "random seed");
+    v.skip(s.threads, "worker threads; results do not depend on it");
+    v("termination", s.termination, "roulette and event limit");
+    v("estimator", s.estimator, "absorption estimator");
+}
 // Throws core::Error naming the field: rMax <= 0 or non-finite, bins < 1 or too many
 // (> 1e7), paths == 0 or absurd (> 1e13), threads < 0, a bad termination (see above).
 void validate(const SlabSettings& s);

@@ -44,14 +44,8 @@ bool usable(double v, Scale s) {
 } // namespace
 
 const char* scaleName(Scale s) {
-    switch (s) {
-    case Scale::Linear:
-        return "linear";
-    case Scale::Log:
-        return "log";
-    case Scale::Sqrt:
-        return "sqrt";
-    }
+    for (const auto& [v, n] : enumNames(s))
+        if (v == s) return n;
     return "?";
 }
 

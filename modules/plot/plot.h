@@ -12,14 +12,20 @@
 // Geometry helpers (clipping, dashing, label thinning) live in plot/detail/geometry.h.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plot {
 
 enum class Scale { Linear, Log, Sqrt };
+constexpr auto enumNames(Scale) {
+    return std::array{std::pair{Scale::Linear, "linear"}, std::pair{Scale::Log, "log"},
+                      std::pair{Scale::Sqrt, "sqrt"}};
+}
 const char* scaleName(Scale s); // "linear", "log", "sqrt"
 
 struct Series {

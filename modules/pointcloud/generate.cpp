@@ -8,21 +8,27 @@
 
 namespace pointcloud {
 
+const char* methodName(Method m) {
+    for (const auto& [v, n] : enumNames(m))
+        if (v == m) return n;
+    return "?";
+}
+
 std::string methodTag(const GenerateOptions& o) {
     char b[64];
-    if (o.method == "elimination") {
+    if (o.method == Method::Elimination) {
         std::snprintf(b, sizeof b, "elimination(c=%g)", o.candidateFactor);
         return b;
     }
-    if (o.method == "repulsion") {
+    if (o.method == Method::Repulsion) {
         std::snprintf(b, sizeof b, "repulsion(it=%d)", o.repulsionIterations);
         return b;
     }
-    if (o.method == "stratified-repulsion") {
+    if (o.method == Method::StratifiedRepulsion) {
         std::snprintf(b, sizeof b, "stratified-repulsion(it=%d)", o.stratifiedIterations);
         return b;
     }
-    return o.method;
+    return methodName(o.method);
 }
 
 size_t estimateBytes(const GenerateOptions& o) {
@@ -30,10 +36,11 @@ size_t estimateBytes(const GenerateOptions& o) {
     // heap and neighbour lists (about 24 neighbours of 8 bytes each per candidate).
     const double n = double(o.points);
     double bytes = 3.0 * n * sizeof(Point);
-    if (o.method == "elimination") bytes += o.candidateFactor * n * (sizeof(Point) + 24 * 8 + 16);
-    if (o.method == "repulsion") bytes += n * (sizeof(Point) + 64);
+    if (o.method == Method::Elimination)
+        bytes += o.candidateFactor * n * (sizeof(Point) + 24 * 8 + 16);
+    if (o.method == Method::Repulsion) bytes += n * (sizeof(Point) + 64);
     // working buffers, neighbour lists (~26 entries), grid scratch
-    if (o.method == "stratified-repulsion") bytes += n * 400;
+    if (o.method == Method::StratifiedRepulsion) bytes += n * 400;
     return bytes > 1e18 ? size_t(-1) : size_t(bytes);
 }
 
@@ -43,12 +50,6 @@ void checkOptions(const GenerateOptions& o) {
         throw core::Error("--points", 0,
                           "at most 16777216 points (the octree's 24-bit index), got " +
                               std::to_string(o.points));
-    if (o.method != "uniform" && o.method != "elimination" && o.method != "repulsion" &&
-        o.method != "stratified-repulsion")
-        throw core::Error("--method", 0,
-                          "unknown method '" + o.method +
-                              "' (expected stratified-repulsion, elimination, repulsion or "
-                              "uniform)");
     for (int it : {o.repulsionIterations, o.stratifiedIterations})
         if (it < 0 || it > 100000)
             throw core::Error("--iterations", 0,
@@ -68,20 +69,20 @@ void checkOptions(const GenerateOptions& o) {
 namespace {
 
 PointCloud run(const mesh::Mesh& m, const GenerateOptions& o) {
-    if (o.method == "stratified-repulsion") {
+    if (o.method == Method::StratifiedRepulsion) {
         StratifiedRepulsionOptions s;
         s.iterations = o.stratifiedIterations;
         s.threads = o.threads;
         return sampleStratifiedRepulsion(m, o.points, o.seed, s);
     }
-    if (o.method == "elimination") {
+    if (o.method == Method::Elimination) {
         EliminationOptions e;
         e.candidateFactor = o.candidateFactor;
         e.threads = o.threads;
         return sampleElimination(m, o.points, o.seed, e);
     }
     PointCloud c = sampleUniform(m, o.points, o.seed, o.threads);
-    if (o.method == "repulsion" && o.repulsionIterations > 0) {
+    if (o.method == Method::Repulsion && o.repulsionIterations > 0) {
         RepulsionOptions r;
         r.iterations = o.repulsionIterations;
         r.threads = o.threads;

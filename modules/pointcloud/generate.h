@@ -2,7 +2,8 @@
 // speed up future loading times"): one entry point that picks a method by name, checks the
 // request (point count, memory estimate), and reads/writes the binary PLY cache keyed by
 // cacheKey(mesh, N, method tag, seed), where the method tag includes the method's parameters.
-//   methods: "stratified-repulsion" — stratified start + short-range repulsion with momentum
+//   methods (enum Method, names in enumNames): "stratified-repulsion" — stratified start +
+//   short-range repulsion with momentum
 //                                     (sampleStratifiedRepulsion), the default: the most even
 //                                     clouds in the least time
 //            "elimination" — weighted sample elimination (Yuksel 2015)
@@ -12,16 +13,28 @@
 
 #include "pointcloud/pointcloud.h"
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 
 namespace pointcloud {
 
+enum class Method { StratifiedRepulsion, Elimination, Repulsion, Uniform };
+// The methods' names (also their JSON and command-line spelling).
+constexpr auto enumNames(Method) {
+    return std::array{std::pair{Method::StratifiedRepulsion, "stratified-repulsion"},
+                      std::pair{Method::Elimination, "elimination"},
+                      std::pair{Method::Repulsion, "repulsion"},
+                      std::pair{Method::Uniform, "uniform"}};
+}
+const char* methodName(Method m);
+
 struct GenerateOptions {
     size_t points = 20000;
-    std::string method = "stratified-repulsion";
+    Method method = Method::StratifiedRepulsion;
     uint64_t seed = 1;
     int repulsionIterations = 30;  // "repulsion" only
     int stratifiedIterations = 40; // "stratified-repulsion" only
@@ -30,6 +43,17 @@ struct GenerateOptions {
     // Requests whose estimated peak memory exceeds this are refused (bytes).
     size_t memoryCapBytes = size_t(4) << 30;
 };
+// The description of GenerateOptions' members (core/fields.h).
+template <class V> void fields(V& v, GenerateOptions& o) {
+    v("count", o.points, "number of points N");
+    v("method", o.method, "generation method");
+    v("seed", o.seed, "random seed");
+    v("iterations", o.repulsionIterations, "repulsion: Turk relaxation iterations");
+    v("stratified_iterations", o.stratifiedIterations, "stratified-repulsion: iterations");
+    v("candidate_factor", o.candidateFactor, "elimination: candidates per point");
+    v.skip(o.threads, "worker threads; results do not depend on it");
+    v.skip(o.memoryCapBytes, "a limit of the machine, not of the result");
+}
 
 // "stratified-repulsion(it=40)", "elimination(c=5)", "repulsion(it=30)", "uniform": the method
 // with its parameters.
@@ -39,7 +63,7 @@ std::string methodTag(const GenerateOptions& o);
 size_t estimateBytes(const GenerateOptions& o);
 
 // Throws core::Error(argument, 0, message) for 0 points, more than 2^24 points (the octree's
-// 24-bit index), an unknown method, iterations outside [0, 100000], a candidate factor outside
+// 24-bit index), iterations outside [0, 100000], a candidate factor outside
 // [1.5, 50], or a memory estimate over the cap (the message gives both numbers).
 void checkOptions(const GenerateOptions& o);
 

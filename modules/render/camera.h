@@ -31,5 +31,15 @@ struct Camera {
     glm::mat4 projection() const;
     void fit(const mesh::Mesh& m);
 };
+// The description of Camera's members (core/fields.h).
+template <class V> void fields(V& v, Camera& c) {
+    v("target", c.target, "point looked at, mesh units");
+    v("yaw", c.yaw, "orbit angle about +y, radians");
+    v("pitch", c.pitch, "orbit elevation, radians");
+    v("distance", c.distance, "distance from the target, mesh units");
+    v("fov_y", c.fovY, "vertical field of view, radians");
+    v.skip(c.aspect, "replaced by the image's width/height");
+    v("radius", c.radius, "bounding-sphere radius of the framed object (clip planes)");
+}
 
 } // namespace render

@@ -45,9 +45,9 @@ inline constexpr uint32_t kIterationsPerDispatch = 32768;
 inline constexpr uint32_t kFlagLoopLimit = 4u;
 
 struct Settings {
-    int width = 640, height = 360; // 1 … 8192 each
-    Camera camera;                 // camera.aspect is replaced by width/height
-    float eps = 0.05f;             // ε of the solid-angle criterion (>= 0)
+    int width = 640, height = 360;         // 1 … 8192 each
+    Camera camera;                         // camera.aspect is replaced by width/height
+    float eps = octree::defaultEps(false); // ε of the criterion (>= 0)
     bool boundingBoxCriterion = false;
     // Accepted nodes by the three-point second-order cluster rule of octree.h (three BSSRDF
     // evaluations each) instead of one evaluation at the mean position.
@@ -64,6 +64,23 @@ struct Settings {
     // The criterion of the CPU replica that matches these settings.
     octree::Criterion criterion() const;
 };
+// The description of Settings' members (core/fields.h).
+template <class V> void fields(V& v, Settings& s) {
+    v("width", s.width, "image width in pixels");
+    v("height", s.height, "image height in pixels");
+    v("camera", s.camera, "orbit camera");
+    v("eps", s.eps, "criterion threshold ε (octree::defaultEps)");
+    v("bbox_criterion", s.boundingBoxCriterion, "bounding-box distance in the criterion");
+    v("second_order", s.secondOrder, "accepted nodes by the second-order three-point rule");
+    v("brute_force", s.bruteForce, "sum every point (no hierarchy)");
+    v("direct_bssrdf", s.directBssrdf, "radial models: Bssrdf() instead of the profile table");
+    v("max_steps", s.maxSteps, "traversal steps per pixel before it is cut");
+    v("stack_size", s.stackSize, "usable traversal stack entries");
+    v("exposure", s.exposure, "tone mapping exposure, stops");
+    v("gamma", s.gamma, "tone mapping gamma");
+    v("background", s.background, "display colour of misses");
+    v.skip(s.iterationsPerDispatch, "dispatch slicing; results do not depend on it");
+}
 
 struct Frame {
     int width = 0, height = 0;

@@ -1,0 +1,93 @@
+// Command-line options generated from settings descriptions (core/fields.h): a setting on the
+// command line gets its flag from a table, its help text from the description and its default
+// from the struct it writes into (which holds the GUI's defaults), so the CLI cannot drift.
+//   bool           "--flag" sets it, "--no-flag" clears it (or the table's own "!--x")
+//   enum           its names (core::enumNames)
+//   number/string  the value
+#pragma once
+
+#include "core/fields.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace app {
+
+// A setting's value as the help text and the README's defaults table show it.
+template <class M> std::string defaultText(const M& m) {
+    if constexpr (std::is_same_v<M, bool>) {
+        return m ? "on" : "off";
+    } else if constexpr (core::NamedEnum<M>) {
+        return core::nameOf(m);
+    } else if constexpr (std::is_floating_point_v<M>) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%g", double(m));
+        return b;
+    } else if constexpr (std::is_arithmetic_v<M>) {
+        return std::to_string(m);
+    } else if constexpr (std::is_same_v<M, std::string>) {
+        return m.empty() ? "(none)" : m;
+    } else {
+        return defaultText(m.x) + "," + defaultText(m.y) + "," + defaultText(m.z);
+    }
+}
+
+// An option taking one of the names of enum E.
+template <core::NamedEnum E>
+void addEnumOption(CLI::App* cmd, const std::string& flag, E& m, const std::string& help) {
+    cmd->add_option_function<std::string>(
+        flag,
+        [&m, flag](const std::string& v) {
+            for (const auto& [e, n] : enumNames(E{}))
+                if (v == n) {
+                    m = e;
+                    return;
+                }
+            throw CLI::ValidationError(flag, "unknown name '" + v + "' (expected " +
+                                                 core::enumNameList<E>() + ")");
+        },
+        help + ": " + core::enumNameList<E>());
+}
+
+struct SettingFlag {
+    const char* path; // in the description: "render.eps", "points.count"
+    std::string flag; // "--eps"; for a bool also "!--off-flag" after a comma
+};
+
+// Adds one option per entry of `flags` to `cmd`, writing into `s`. Throws std::logic_error for
+// an entry whose path the description of T does not have.
+template <class T>
+void addSettingOptions(CLI::App* cmd, T& s, const std::vector<SettingFlag>& flags) {
+    std::vector<bool> used(flags.size(), false);
+    core::forEachField(s, [&](const std::string& path, auto& m, const char* doc) {
+        using M = std::remove_reference_t<decltype(m)>;
+        for (size_t i = 0; i < flags.size(); ++i) {
+            if (path != flags[i].path) continue;
+            used[i] = true;
+            const std::string help = std::string(doc) + " (default " + defaultText(m) + ")";
+            std::string flag = flags[i].flag;
+            if constexpr (std::is_same_v<M, bool>) {
+                if (flag.find('!') == std::string::npos) flag += ",!--no-" + flag.substr(2);
+                cmd->add_flag(flag, m, help);
+            } else if constexpr (core::NamedEnum<M>) {
+                addEnumOption(cmd, flag, m, help);
+            } else if constexpr (std::is_arithmetic_v<M> || std::is_same_v<M, std::string>) {
+                cmd->add_option(flag, m, help);
+            } else {
+                throw std::logic_error("no command-line form for " + path);
+            }
+        }
+    });
+    for (size_t i = 0; i < flags.size(); ++i)
+        if (!used[i])
+            throw std::logic_error(std::string("no setting '") + flags[i].path + "' for " +
+                                   flags[i].flag);
+}
+
+} // namespace app
