@@ -4,6 +4,7 @@
 #include "core/text.h"
 
 #include "core/core.h"
+#include "pathtrace/detail/energy_check.h"
 #include "pathtrace/detail/mean_stderr.h"
 
 #include <algorithm>
@@ -158,31 +159,11 @@ Image finalizeImage(const ImageTally& t, const PixelGeometry& px, int width, int
 }
 
 std::string energyProblem(const ChannelStats& s) {
-    char b[320];
-    const double sum = s.specular + s.exited + s.absorbed + s.truncated + s.rouletteNet + s.leaked;
-    if (!(std::fabs(sum - s.incident) <= 1e-6 * std::max(1.0, s.incident))) {
-        std::snprintf(b, sizeof b,
-                      "energy check failed: specular + exited + absorbed + truncated + roulette "
-                      "+ leaked = %.9g W, incident %.9g W",
-                      sum, s.incident);
-        return b;
-    }
-    if (s.rouletteNetStderr > 0 && std::fabs(s.rouletteNet) > kEnergyZ * s.rouletteNetStderr) {
-        std::snprintf(b, sizeof b,
-                      "energy check failed: mean roulette change %.3g +- %.2g W is not 0 (z = "
-                      "%.1f): a roulette is biased",
-                      s.rouletteNet, s.rouletteNetStderr, s.rouletteNet / s.rouletteNetStderr);
-        return b;
-    }
-    if (s.truncated > s.exitedStderr) {
-        std::snprintf(b, sizeof b,
-                      "%llu paths truncated at the event limit: %.3g W may be missing from the "
-                      "image, more than the standard error %.2g W of the exited power",
-                      static_cast<unsigned long long>(s.truncatedPaths), s.truncated,
-                      s.exitedStderr);
-        return b;
-    }
-    return {};
+    return detail::energyProblem(
+        {"specular + exited + absorbed + truncated + roulette + leaked",
+         s.specular + s.exited + s.absorbed + s.truncated + s.rouletteNet + s.leaked, s.incident,
+         s.rouletteNet, s.rouletteNetStderr, s.truncated, s.exitedStderr, s.truncatedPaths,
+         "the exited power", " W"});
 }
 
 } // namespace pathtrace

@@ -6,6 +6,7 @@
 //   the MCML convention (Wang, Jacques & Zheng 1995, eq. 4.7): weight per annulus area π(r_{i+1}² −
 //   r_i²) per incident photon, 1/mm².
 #include "core/core.h"
+#include "pathtrace/detail/energy_check.h"
 #include "pathtrace/detail/mean_stderr.h"
 #include "pathtrace/pathtrace.h"
 
@@ -124,31 +125,10 @@ SlabResult finalize(const SlabTally& t, const SlabSettings& s) {
 
 std::string energyProblem(const SlabResult& r) {
     if (r.paths < 2) return {};
-    char b[320];
-    const double sum = r.specular + r.totalRd + r.absorbed + r.truncated + r.rouletteNet;
-    if (!(std::fabs(sum - 1.0) <= 1e-6)) {
-        std::snprintf(b, sizeof b,
-                      "energy check failed: specular + R_d + absorbed + truncated + roulette = "
-                      "%.9g, not 1",
-                      sum);
-        return b;
-    }
-    if (r.rouletteNetStderr > 0 && std::fabs(r.rouletteNet) > kEnergyZ * r.rouletteNetStderr) {
-        std::snprintf(b, sizeof b,
-                      "energy check failed: mean roulette change %.3g +- %.2g is not 0 (z = %.1f): "
-                      "a roulette is biased, R_d cannot be trusted",
-                      r.rouletteNet, r.rouletteNetStderr, r.rouletteNet / r.rouletteNetStderr);
-        return b;
-    }
-    if (r.truncated > r.totalRdStderr) {
-        std::snprintf(
-            b, sizeof b,
-            "%llu paths truncated at the event limit: R_d may be low by up to %.3g "
-            "(truncated weight), more than its standard error %.2g; raise the event limit",
-            static_cast<unsigned long long>(r.truncatedPaths), r.truncated, r.totalRdStderr);
-        return b;
-    }
-    return {};
+    return detail::energyProblem({"specular + R_d + absorbed + truncated + roulette",
+                                  r.specular + r.totalRd + r.absorbed + r.truncated + r.rouletteNet,
+                                  1.0, r.rouletteNet, r.rouletteNetStderr, r.truncated,
+                                  r.totalRdStderr, r.truncatedPaths, "R_d", ""});
 }
 
 } // namespace pathtrace

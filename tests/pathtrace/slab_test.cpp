@@ -298,3 +298,29 @@ TEST(Slab, NoAbsorptionRuns) {
     EXPECT_GT(low.truncated, r.truncated);
     EXPECT_NEAR(low.specular + low.totalRd + low.truncated, 1.0, 1e-9);
 }
+
+// The energy check's three failures, on a run's result altered by hand: broken accounting, a
+// biased roulette (the long-path roulette's signature: mean change many σ from 0), truncated
+// weight above the error bar. The untouched result passes.
+TEST(Slab, EnergyCheckNamesEachFailure) {
+    SlabSettings s;
+    s.paths = 20000;
+    s.threads = 2;
+    const SlabResult r = runSlab(medium(0.9, 0.0, 1.3), s);
+    ASSERT_EQ(energyProblem(r), "");
+    SlabResult bad = r;
+    bad.absorbed += 1e-3;
+    EXPECT_NE(energyProblem(bad).find("energy check failed: specular + R_d"), std::string::npos)
+        << energyProblem(bad);
+    bad = r;
+    bad.rouletteNet = 6 * r.rouletteNetStderr;
+    bad.totalRd -= bad.rouletteNet - r.rouletteNet; // keep the identity
+    EXPECT_NE(energyProblem(bad).find("roulette is biased"), std::string::npos)
+        << energyProblem(bad);
+    bad = r;
+    bad.truncated = 2 * r.totalRdStderr;
+    bad.truncatedPaths = 3;
+    bad.totalRd -= bad.truncated;
+    EXPECT_NE(energyProblem(bad).find("3 paths truncated"), std::string::npos)
+        << energyProblem(bad);
+}
