@@ -2,6 +2,8 @@
 #include "cli_slab.h"
 #include "core/text.h"
 
+#include "cli_options.h"
+
 #include "core/core.h"
 #include "gl/gl.h"
 #include "pathtrace/gpu_slab.h"
@@ -28,22 +30,15 @@ struct SlabSetup {
 
 SlabSetup prepare(const SlabArgs& a) {
     SlabSetup k;
-    k.m.sigmaA = a.sigmaA;
-    k.m.sigmaS = a.sigmaS;
-    k.m.g = a.g;
-    k.m.eta = a.eta;
+    k.m = a.medium;
+    k.s = a.settings;
     pathtrace::validate(k.m, "slab");
     if (a.out.empty()) throw core::Error("--out", 0, "give the CSV file to write");
     if (!std::isnan(a.rMax) && !(a.rMax > 0 && std::isfinite(a.rMax)))
         throw core::Error(
             "--rmax", 0, "rMax must be a positive length in mm, got " + core::formatNumber(a.rMax));
     k.s.rMaxMm = std::isnan(a.rMax) ? defaultSlabRMax(k.m) : a.rMax;
-    k.s.bins = a.bins;
-    k.s.paths = a.paths;
-    k.s.seed = a.seed;
-    k.s.threads = a.threads;
-    k.s.termination.maxEvents = a.maxEvents;
-    k.s.estimator = a.analog ? pathtrace::Estimator::Analog : pathtrace::Estimator::Implicit;
+    if (a.analog) k.s.estimator = pathtrace::Estimator::Analog;
     pathtrace::validate(k.s);
     return k;
 }
@@ -83,7 +78,7 @@ int writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabRes
         << "# bin_width_mm " << core::formatNumber(s.rMaxMm / s.bins) << "\n"
         << "# seed " << s.seed << "\n"
         << "# threads " << s.threads << "\n"
-        << "# estimator " << (a.analog ? "analog" : "implicit") << "\n"
+        << "# estimator " << core::nameOf(s.estimator) << "\n"
         << "# roulette_weight " << core::formatNumber(s.termination.rouletteWeight) << "\n"
         << "# roulette_survival " << core::formatNumber(s.termination.rouletteSurvival) << "\n"
         << "# max_events " << s.termination.maxEvents << "\n"
@@ -117,6 +112,25 @@ int writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabRes
     return kEnergyCheckFailed;
 }
 } // namespace
+
+void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
+    addSettingOptions(
+        cmd, a.medium,
+        {{"sigma_a", "--sigma-a"}, {"sigma_s", "--sigma-s"}, {"g", "--g"}, {"eta", "--eta"}});
+    cmd->add_option("--rmax", a.rMax, "histogram radius in mm (default 10 l_d)");
+    addSettingOptions(cmd, a.settings,
+                      {{"bins", "--bins"},
+                       {"paths", "--paths"},
+                       {"seed", "--seed"},
+                       {"estimator", "--estimator"},
+                       {"termination.max_events", "--max-events"},
+                       {"termination.roulette_weight", "--roulette-weight"},
+                       {"termination.roulette_survival", "--roulette-survival"}});
+    cmd->add_option("--threads", a.settings.threads, "worker threads (default: all cores)");
+    cmd->add_flag("--analog", a.analog, "same as --estimator analog (thesis Algorithm 1)");
+    cmd->add_flag("--gpu", a.gpu, "trace on the GL compute tracer instead of the CPU");
+    cmd->add_option("--out", a.out, "CSV file: # header, then r_mm,Rd_per_mm2,stderr")->required();
+}
 
 int runSlabCli(const SlabArgs& a) {
     const SlabSetup k = prepare(a);

@@ -13,19 +13,23 @@
 
 #include "pathtrace/pathtrace.h"
 
+namespace CLI {
+class App;
+}
+
 namespace app {
 
 struct SlabArgs {
-    double sigmaA = 0.01, sigmaS = 1.0; // 1/mm
-    double g = 0, eta = 1.3;
-    double rMax = NAN; // mm; NaN: defaultSlabRMax
-    int bins = 200;
-    uint64_t paths = 1000000, seed = 1;
-    int threads = 0;     // 0: all hardware threads
-    bool analog = false; // Estimator::Analog (Algorithm 1 as printed) instead of Implicit
-    uint32_t maxEvents = pathtrace::Termination{}.maxEvents; // truncate paths after this many
-    std::string out;                                         // CSV path (required)
+    pathtrace::Medium medium;         // its defaults are the CLI's
+    pathtrace::SlabSettings settings; // bins, paths, seed, threads, termination, estimator
+    double rMax = NAN;                // mm; NaN: defaultSlabRMax (replaces settings.rMaxMm)
+    bool analog = false;              // --analog: settings.estimator = Analog
+    bool gpu = false;                 // the GL compute tracer instead of the CPU
+    std::string out;                  // CSV path (required)
 };
+// The options of `slab`: medium and settings options generated from their descriptions
+// (cli_options.h), so their flags' defaults are the structs' own.
+void addSlabOptions(CLI::App* cmd, SlabArgs& a);
 
 // 10 diffuse mean free paths l_d = 1/σtr, σtr = √(3σa(σa + σs(1 − g))); with σa = 0 (no
 // l_d), 100 transport mean free paths 1/(σs(1 − g)).

@@ -169,24 +169,7 @@ int main(int argc, char** argv) {
     auto* slab = cli.add_subcommand(
         "slab", "path-traced pencil beam on a semi-infinite slab: R_d(r) with standard errors");
     app::SlabArgs sa;
-    slab->add_option("--sigma-a", sa.sigmaA, "absorption coefficient in 1/mm (default 0.01)");
-    slab->add_option("--sigma-s", sa.sigmaS, "scattering coefficient in 1/mm (default 1)");
-    slab->add_option("--g", sa.g, "Henyey-Greenstein mean cosine (default 0)");
-    slab->add_option("--eta", sa.eta, "relative index of refraction (default 1.3)");
-    slab->add_option("--rmax", sa.rMax, "histogram radius in mm (default 10 l_d)");
-    slab->add_option("--bins", sa.bins, "radial bins (default 200)");
-    slab->add_option("--paths", sa.paths, "photon paths (default 1e6)");
-    slab->add_option("--seed", sa.seed, "random seed (default 1)");
-    slab->add_option("--threads", sa.threads, "worker threads (default: all cores)");
-    slab->add_flag("--analog", sa.analog, "analog absorption (thesis Algorithm 1 as printed)");
-    slab->add_option("--max-events", sa.maxEvents,
-                     "truncate a path after this many interactions; its weight is reported as "
-                     "a bound (default " +
-                         std::to_string(sa.maxEvents) + ")");
-    bool slabGpu = false;
-    slab->add_flag("--gpu", slabGpu, "trace on the GL compute tracer instead of the CPU");
-    slab->add_option("--out", sa.out, "CSV file: # header, then r_mm,Rd_per_mm2,stderr")
-        ->required();
+    app::addSlabOptions(slab, sa);
 
     // sphere / mesh: the path-traced lit object (radiant exitance per pixel, EXR with variance)
     app::ImageArgs ima;
@@ -290,7 +273,7 @@ int main(int argc, char** argv) {
         if (*renderCmd) return app::runRenderCli(root, ra2);
         if (*pcCmd) return app::runPointCloudCli(pca);
         if (*slab) {
-            if (slabGpu) return app::runSlabGpuCli(root, sa);
+            if (sa.gpu) return app::runSlabGpuCli(root, sa);
             return app::runSlabCli(sa);
         }
         if (*shot) {

@@ -55,6 +55,13 @@ struct Medium {
     double g = 0.0;       // HG mean cosine, |g| < 1
     double eta = 1.3;     // relative index of refraction (medium / outside), > 0
 };
+// The description of Medium's members (core/fields.h).
+template <class V> void fields(V& v, Medium& m) {
+    v("sigma_a", m.sigmaA, "absorption coefficient, 1/mm");
+    v("sigma_s", m.sigmaS, "scattering coefficient, 1/mm");
+    v("g", m.g, "Henyey-Greenstein mean cosine");
+    v("eta", m.eta, "relative index of refraction (medium / outside)");
+}
 // Throws core::Error("<what>", 0, msg) naming the field.
 void validate(const Medium& m, const std::string& what = "medium");
 

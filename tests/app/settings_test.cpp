@@ -5,6 +5,7 @@
 #include "cli_options.h"
 #include "cli_pointcloud.h"
 #include "cli_render.h"
+#include "cli_slab.h"
 #include "settings_json.h"
 #include "workbench.h"
 
@@ -153,6 +154,26 @@ TEST(Settings, CliDefaultsAreTheGuiDefaults) {
         app::addPointCloudOptions(&cli, a);
         cli.parse("--mesh m.obj --out o.ply", false);
         EXPECT_EQ(core::toJson(a.options).dump(), core::toJson(app::SceneSettings{}.points).dump());
+    }
+    {
+        // slab: the medium's and the slab settings' own defaults, options reach them
+        CLI::App cli;
+        app::SlabArgs a;
+        app::addSlabOptions(&cli, a);
+        cli.parse("--out o.csv", false);
+        EXPECT_EQ(core::toJson(a.medium).dump(), core::toJson(pathtrace::Medium{}).dump());
+        EXPECT_EQ(core::toJson(a.settings).dump(), core::toJson(pathtrace::SlabSettings{}).dump());
+        CLI::App cli2;
+        app::SlabArgs b;
+        app::addSlabOptions(&cli2, b);
+        cli2.parse("--out o.csv --sigma-a 0.5 --eta 1.5 --max-events 77 --estimator analog "
+                   "--roulette-survival 0.25",
+                   false);
+        EXPECT_EQ(b.medium.sigmaA, 0.5);
+        EXPECT_EQ(b.medium.eta, 1.5);
+        EXPECT_EQ(b.settings.termination.maxEvents, 77u);
+        EXPECT_EQ(b.settings.termination.rouletteSurvival, 0.25);
+        EXPECT_EQ(b.settings.estimator, pathtrace::Estimator::Analog);
     }
     // and the options reach the settings
     CLI::App cli;
