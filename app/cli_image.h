@@ -10,17 +10,18 @@
 
 namespace app {
 
+// Defaults are set by main.cpp from the GUI's LitSphereSettings and pathtrace::Medium{}, so
+// `sphere` traces what the Lit spheres panel shows by default.
 struct ImageArgs {
-    double sigmaA[3] = {0.01, 0.01, 0.01}; // 1/mm, RGB (app::parseRgb replicates a scalar)
-    double sigmaS[3] = {1.0, 1.0, 1.0};    // 1/mm, RGB
-    double g = 0, eta = 1.3;
-    double radiusMm = 10;          // sphere radius; meshes: the longest axis is 2·radius mm
-    double light[3] = {0, 0, 1};   // towards the light (normalised on use)
-    int width = 128, height = 128; // pixels
-    uint64_t spp = 64, seed = 1;   // paths = spp × pixels covered by the object
-    int threads = 0;               // 0: all hardware threads
-    std::string mesh;              // OBJ file (runMeshCli)
-    std::string out;               // EXR file to write (required)
+    double sigmaA[3] = {}, sigmaS[3] = {}; // 1/mm, RGB (app::parseRgb replicates a scalar)
+    double g = 0, eta = 0;
+    double radiusMm = 0;        // sphere radius; meshes: the longest axis is 2·radius mm
+    double light[3] = {};       // towards the light (normalised on use)
+    int width = 0, height = 0;  // pixels
+    uint64_t spp = 0, seed = 0; // paths = spp × pixels covered by the object
+    int threads = 0;            // 0: all hardware threads
+    std::string mesh;           // OBJ file (runMeshCli)
+    std::string out;            // EXR file to write (required)
 };
 
 // Validate (core::Error naming the argument or file: σ, g, η via pathtrace::validate per

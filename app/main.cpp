@@ -173,20 +173,35 @@ int main(int argc, char** argv) {
 
     // sphere / mesh: the path-traced lit object (radiant exitance per pixel, EXR with variance)
     app::ImageArgs ima;
-    std::string imSigmaA = "0.01", imSigmaS = "1", imLight = "0,0,1", imSize = "128x128";
+    // defaults: the GUI's lit-sphere settings and the tracer's default medium
+    const app::LitSphereSettings litDefaults;
+    const pathtrace::Medium mediumDefaults;
+    std::string imSigmaA = app::defaultText(mediumDefaults.sigmaA),
+                imSigmaS = app::defaultText(mediumDefaults.sigmaS),
+                imLight = app::defaultText(litDefaults.lightDir),
+                imSize = std::to_string(litDefaults.size) + "x" + std::to_string(litDefaults.size);
+    ima.g = mediumDefaults.g;
+    ima.eta = mediumDefaults.eta;
+    ima.radiusMm = litDefaults.radiusMm;
+    ima.spp = uint64_t(litDefaults.pathSpp);
+    ima.seed = litDefaults.seed;
     auto addImageOptions = [&](CLI::App* c) {
+        const auto dflt = [](const std::string& v) { return " (default " + v + ")"; };
         c->add_option("--sigma-a", imSigmaA,
-                      "absorption R,G,B (or one value) in 1/mm (default 0.01)");
-        c->add_option("--sigma-s", imSigmaS, "scattering R,G,B (or one value) in 1/mm (default 1)");
-        c->add_option("--g", ima.g, "Henyey-Greenstein mean cosine (default 0)");
-        c->add_option("--eta", ima.eta, "relative index of refraction (default 1.3)");
+                      "absorption R,G,B (or one value) in 1/mm" + dflt(imSigmaA));
+        c->add_option("--sigma-s", imSigmaS,
+                      "scattering R,G,B (or one value) in 1/mm" + dflt(imSigmaS));
+        c->add_option("--g", ima.g,
+                      "Henyey-Greenstein mean cosine" + dflt(app::defaultText(ima.g)));
+        c->add_option("--eta", ima.eta,
+                      "relative index of refraction" + dflt(app::defaultText(ima.eta)));
         c->add_option("--radius", ima.radiusMm,
-                      "sphere radius in mm; mesh: half its longest axis (default 10)");
-        c->add_option("--light", imLight,
-                      "direction towards the light x,y,z (default 0,0,1: the view axis)");
-        c->add_option("--size", imSize, "image WxH (default 128x128)");
-        c->add_option("--spp", ima.spp, "paths per covered pixel (default 64)");
-        c->add_option("--seed", ima.seed, "random seed (default 1)");
+                      "sphere radius in mm; mesh: half its longest axis" +
+                          dflt(app::defaultText(ima.radiusMm)));
+        c->add_option("--light", imLight, "direction towards the light x,y,z" + dflt(imLight));
+        c->add_option("--size", imSize, "image WxH" + dflt(imSize));
+        c->add_option("--spp", ima.spp, "paths per covered pixel" + dflt(std::to_string(ima.spp)));
+        c->add_option("--seed", ima.seed, "random seed" + dflt(std::to_string(ima.seed)));
         c->add_option("--threads", ima.threads, "worker threads (default: all cores)");
         c->add_option("--out", ima.out, "EXR file: R,G,B exitance and varR,varG,varB")->required();
     };
