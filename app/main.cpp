@@ -110,10 +110,19 @@ int main(int argc, char** argv) {
     prof->add_option("--preset", pa.preset, "Jensen et al. 2001 preset (sigma_s', sigma_a)");
     prof->add_option("--sigma-a", pa.sigmaA, "absorption R,G,B in 1/mm");
     prof->add_option("--sigma-s", pa.sigmaS, "scattering R,G,B in 1/mm");
-    prof->add_option("--g", pa.g, "mean cosine (default 0)");
-    prof->add_option("--eta", pa.eta, "relative index of refraction (default 1.3)");
-    prof->add_option("--rmax", pa.rMax, "largest radius in mm (default 5 x largest l_d)");
-    prof->add_option("--samples", pa.samples, "number of radii (default 512)");
+    const material::MaterialParams materialDefaults;
+    const app::PlotSettings plotDefaults;
+    pa.samples = plotDefaults.samples;
+    prof->add_option("--g", pa.g,
+                     "mean cosine (default " + app::defaultText(materialDefaults.g) + ")");
+    prof->add_option("--eta", pa.eta,
+                     "relative index of refraction (default " +
+                         app::defaultText(materialDefaults.eta) + ")");
+    prof->add_option("--rmax", pa.rMax,
+                     "largest radius in mm (default " + app::defaultText(plotDefaults.rangeLd) +
+                         " x largest l_d)");
+    prof->add_option("--samples", pa.samples,
+                     "number of radii (default " + std::to_string(plotDefaults.samples) + ")");
     prof->add_option("--out", pa.out, "CSV file: # header, then r_mm,R,G,B")->required();
 
     auto* inv = cli.add_subcommand("invert", "R_dr / l_d -> sigma_a, sigma_s (1/mm)");
@@ -122,8 +131,11 @@ int main(int argc, char** argv) {
         ->required();
     inv->add_option("--rdr", ia.rdr, "total diffuse reflectance R,G,B in [0,1]")->required();
     inv->add_option("--ld", ia.ld, "diffuse mean free path R,G,B in mm")->required();
-    inv->add_option("--g", ia.g, "mean cosine (default 0)");
-    inv->add_option("--eta", ia.eta, "relative index of refraction (default 1.3)");
+    inv->add_option("--g", ia.g,
+                    "mean cosine (default " + app::defaultText(materialDefaults.g) + ")");
+    inv->add_option("--eta", ia.eta,
+                    "relative index of refraction (default " +
+                        app::defaultText(materialDefaults.eta) + ")");
 
     auto* rec = cli.add_subcommand("record", "record a capture of the default state headless");
     app::RecordArgs ra;
