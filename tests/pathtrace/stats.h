@@ -95,4 +95,22 @@ inline void gaussLegendre(int n, double a, double b, std::vector<double>& x,
     }
 }
 
+// Chandrasekhar's H-function for isotropic scattering (ϖ < 1) by its integral representation
+//     ln H(μ) = −(μ/π) ∫0^{π/2} ln(1 − ϖ θ cot θ) / (cos²θ + μ² sin²θ) dθ,
+// 64 panels of 16-point Gauss–Legendre (gaussLegendre above).
+inline double hByIntegral(double omega, double mu) {
+    const int panels = 64;
+    const double step = std::numbers::pi / 2 / panels;
+    double sum = 0;
+    std::vector<double> x, w;
+    for (int p = 0; p < panels; ++p) {
+        pttest::gaussLegendre(16, p * step, (p + 1) * step, x, w);
+        for (size_t i = 0; i < x.size(); ++i) {
+            const double t = x[i], c = std::cos(t), s = std::sin(t);
+            sum += w[i] * std::log(1 - omega * t * c / s) / (c * c + mu * mu * s * s);
+        }
+    }
+    return std::exp(-mu / std::numbers::pi * sum);
+}
+
 } // namespace pttest
