@@ -149,7 +149,7 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
     if (a.referencePaths > 0) {
         wb.referenceSettings().enabled = true;
         wb.referenceSettings().paths = a.referencePaths;
-        wb.referenceSettings().bins = a.referenceBins;
+        if (a.referenceBins) wb.referenceSettings().bins = *a.referenceBins;
     }
     if (a.litSphereSize > 0) {
         auto& ls = wb.litSphereSettings();

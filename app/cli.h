@@ -39,14 +39,14 @@ int runInvert(const std::filesystem::path& root, const InvertArgs& a);
 struct RecordArgs {
     std::string name, preset, outDir;
     std::vector<std::string> models;
-    uint64_t referencePaths = 0; // > 0: also record the path-traced reference (per channel)
-    int referenceBins = 200;
-    int litSphereSize = 0; // > 0: also record the lit-sphere images at this size
-    std::string litMesh;   // with litSphereSize: path trace this OBJ instead of the sphere
+    uint64_t referencePaths = 0;      // > 0: also record the path-traced reference (per channel)
+    std::optional<int> referenceBins; // default: ReferenceSettings{}.bins (the GUI's)
+    int litSphereSize = 0;            // > 0: also record the lit-sphere images at this size
+    std::string litMesh; // with litSphereSize: path trace this OBJ instead of the sphere
     // > 0: also record the mesh pipeline (thesis 3.3) with this many points
     size_t scenePoints = 0;
     std::string sceneMesh = "third_party/bunny/bunny.obj"; // relative to the root
-    int sceneWidth = 160, sceneHeight = 90;
+    int sceneWidth = 160, sceneHeight = 90;                // a small frame keeps captures small
     int traceX = -1, traceY = -1; // traced pixel (default: the image centre)
 };
 int runRecord(const std::filesystem::path& root, const RecordArgs& a);

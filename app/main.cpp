@@ -154,7 +154,8 @@ int main(int argc, char** argv) {
                     "with --lit-spheres: path trace this OBJ (a file under the project root) "
                     "instead of the sphere");
     rec->add_option("--reference-bins", ra.referenceBins,
-                    "radial bins of the reference (default 200)")
+                    "radial bins of the reference (default " +
+                        std::to_string(app::ReferenceSettings{}.bins) + ")")
         ->check(CLI::Range(1, 100000));
 
     rec->add_option("--scene-points", ra.scenePoints,

@@ -137,3 +137,51 @@ TEST(HotReloadDependencies, ExactlyTheProgramsThatReadAFileRebuild) {
     EXPECT_TRUE(wb.scene().problems().empty());
     fs::remove_all(root);
 }
+
+// The GL path tracers take part too: a common file both read rebuilds the reference's and the
+// GPU lit sphere's programs once each and nothing else; the sphere tracer's own template
+// rebuilds only its program.
+TEST(HotReloadDependencies, GpuTracersRebuildForTheirOwnFiles) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("depsgpu", {"dipole.bssrdf"});
+    app::Workbench wb(root, true);
+    ASSERT_TRUE(wb.watching());
+    auto& rs = wb.referenceSettings();
+    rs.enabled = true;
+    rs.gpu = true;
+    rs.paths = 2000;
+    rs.bins = 10;
+    auto& ls = wb.litSphereSettings();
+    ls.enabled = true;
+    ls.gpu = true;
+    ls.size = 8;
+    ls.pathSpp = 1;
+    ls.integratedSpp = 1;
+    wb.update();
+    wb.finishReference();
+    wb.finishLitSpheres();
+    wb.update();
+    auto startsWith = [](const std::string& s, const char* p) { return s.rfind(p, 0) == 0; };
+    const fs::path scatter = root / "shaders/common/pathtrace_scatter.glsl";
+    const auto users = dependents(wb, scatter);
+    int reference = 0, sphere = 0;
+    for (const auto& n : users) {
+        reference += startsWith(n, "reference:");
+        sphere += startsWith(n, "lit sphere:");
+        EXPECT_TRUE(startsWith(n, "reference:") || startsWith(n, "lit sphere:")) << n;
+    }
+    EXPECT_GE(reference, 1);
+    EXPECT_EQ(sphere, 1);
+    save(scatter, testsupport::readText(scatter) + "// edited\n");
+    EXPECT_EQ(settleBuilds(wb), once(users));
+
+    const fs::path sphereShader = root / "shaders/pathtrace_sphere.comp";
+    const auto own = dependents(wb, sphereShader);
+    ASSERT_EQ(own.size(), 1u);
+    EXPECT_TRUE(startsWith(*own.begin(), "lit sphere:"));
+    save(sphereShader, testsupport::readText(sphereShader) + "// edited\n");
+    EXPECT_EQ(settleBuilds(wb), once(own));
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+    fs::remove_all(root);
+}
