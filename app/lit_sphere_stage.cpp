@@ -167,10 +167,6 @@ std::string PathTracedSphere::problem() const {
     return m_energy;
 }
 
-} // namespace app
-
-namespace app {
-
 bool LitSphereStage::update(const LitSphereInputs& in) {
     const LitSphereSettings& ls = in.settings;
     if (!ls.enabled) {

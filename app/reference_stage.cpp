@@ -86,17 +86,11 @@ void ReferenceRunner::wait() {
     if (m_thread.joinable()) m_thread.join();
 }
 
-bool ReferenceSnapshot::energyFails(int channel) const {
-    for (int c = 0; c < 3; ++c)
-        if ((channel == 3 || channel == c) && !pathtrace::energyProblem(this->channel[c]).empty())
-            return true;
-    return false;
-}
-
 void checkEnergy(ReferenceSnapshot& snap) {
     snap.energy.clear();
     for (int c = 0; c < 3; ++c) {
         const std::string p = pathtrace::energyProblem(snap.channel[c]);
+        snap.energyFailed[size_t(c)] = !p.empty();
         if (p.empty()) continue;
         if (!snap.energy.empty()) snap.energy += "; ";
         snap.energy += std::string("channel ") + "RGB"[c] + ": " + p;

@@ -46,10 +46,14 @@ struct ReferenceSnapshot {
     // passes: "channel R: <problem>; ...". The plot then draws no error band, the Errors panel
     // lists it.
     std::string energy;
-    bool energyFails(int channel) const; // channel 0..2, or 3 (luminance: any channel)
+    std::array<bool, 3> energyFailed{};   // per channel, set with `energy`
+    bool energyFails(int channel) const { // channel 0..2, or 3 (luminance: any channel)
+        return channel == 3 ? energyFailed[0] || energyFailed[1] || energyFailed[2]
+                            : energyFailed[size_t(channel)];
+    }
     std::string device = "CPU";
 };
-// Fills snap.energy from snap.channel.
+// Fills snap.energy and snap.energyFailed from snap.channel.
 void checkEnergy(ReferenceSnapshot& snap);
 
 class ReferenceRunner {
