@@ -1,0 +1,307 @@
+// pathtrace/bssrdf_walk: one chunk of paths of the oblique-incidence slab walk with its three
+// estimators (bssrdf_estimate.h; Dal Corso & Frisvad 2018, seed 001).
+//
+// The walk. The beam (one photon) hits the origin travelling toward +x at θi; the Fresnel
+// reflectance R(θi) is tallied as specular, the photon enters with w₀ = 1 − R(θi) along the
+// refracted ω₁₂ = (sin θt, 0, −cos θt), sin θt = sin θi / η. Flights s = −ln(1 − ξ)/σt,
+// Fresnel roulette at the surface (exit, or internal reflection), collisions with implicit
+// absorption and weight roulette (analog: absorption by roulette), truncation at maxEvents,
+// HG scattering — the slab tracer's walk (pathtrace.h) at any θi.
+//
+// Histogram estimators (analog, implicit): a path that exits at x with internal direction u is
+// tallied with its weight in the (folded) spatial bin of x and the cell of the refracted
+// direction ω_t (cos θo = sqrt(1 − η²(1 − u_z²)), azimuth of u).
+//
+// Connections: derivation. Let w_p be the weight with which the walk arrives at its p-th
+// collision x_p, moving along ω_p; E[Σ_p w_p δ(x − x_p)] is the collision density of the
+// photon. After the collision the flux α·w_p leaves x_p with the HG intensity p(ω_p·ω) per
+// steradian (α = σs/σt; the expected value is used, before the absorption decision). The part
+// that reaches the surface element dA at x_o along ω₂₁ = (x_o − x_p)/d, d = |x_o − x_p|, is
+// attenuated by e^{−σt d} and subtends dω = cos θ₂₁ dA / d², cos θ₂₁ = ω₂₁·n = −z_p / d. The
+// surface transmits T₂₁ = 1 − R(cos θ₂₁, 1/η) of it (0 past the critical angle) along ω_t
+// (Snell). Since n² cos θ dω is conserved across the interface, the flux needs no radiance
+// compression factor (the seed's ω_t·n is the outside cosine, which belongs to radiance, not to
+// flux). So the flux through dA, leaving along ω_t(x_o), is
+//     dΦ = f_p(x_o) dA,   f_p(x) = α w_p p(ω_p·ω₂₁) e^{−σt d} T₂₁(cos θ₂₁) cos θ₂₁ / d²,
+// and the flux into a spatial bin A and direction cell Ω is Φ(A, Ω) = E[Σ_p ∫_A f_p [ω_t ∈ Ω] dA].
+// Every exiting photon leaves from a last collision and no light reaches the surface without
+// one, so this accounts for all the light the walk's exits carry (checked per path: D below).
+// The integral over A is estimated with two samples per collision (one-sample-per-technique
+// multiple importance sampling with the balance heuristic, Veach 1997, §9.2):
+//   (a) in every bin, a point uniform in polar coordinates (the seed's sampling): r ~ U[r_lo,
+//       r_hi], θs ~ U[θs_lo, θs_hi], side y ≷ 0 with probability ½, so the area density is
+//       q_a(x) = 1 / (2 r Δr Δθs) on the bin holding x;
+//   (b) one direction from the phase function p(ω_p·ω); if it points up it meets the surface
+//       at x with area density q_p(x) = p(ω_p·ω₂₁) cos θ₂₁ / d² (0 if it points down).
+// Each sample x adds f_p(x) / (q_a(x) + q_p(x)) to its bin and cell. Then
+//   E = Σ_bins ∫ f_p (q_a + q_p)/(q_a + q_p) dA = Σ_bins ∫_A f_p dA   (unbiased), and
+//   f/(q_a + q_p) ≤ f/q_p = α w_p e^{−σt d} T₂₁ ≤ α w_p: every term is bounded by the weight.
+// Technique (a) alone (the seed's estimator) has f/q_a ∝ cos θ₂₁/d² at a vertex just below the
+// surface: its tail P(X > t) ~ t^{−3/2} has a finite mean but an infinite variance, so its error
+// bars would not be trustworthy.
+// The result is the seed's final estimator with the Jacobians made explicit: with technique
+// (a) only, f/q_a = α w_p p T₂₁ (cos θ₂₁/d²) e^{−σt d} · 2 r Δr Δθs, and dividing the bin's flux
+// by A = (r_hi² − r_lo²) Δθs and by the cell's projected solid angle gives S.
+// Orders: MultipleOnly skips the connections (and histogram exits) of paths' first collision;
+// SingleOnly connects the first collision only and ends the walk there (the histogram counts
+// exits after exactly one collision).
+// Energy: per path, D = Σ_bins Φ (connections) − exit weight inside r_max (same orders), E[D] = 0.
+#include "core/core.h"
+#include "pathtrace/bssrdf_estimate.h"
+#include "pathtrace/detail/bssrdf_chunk.h"
+#include "pathtrace/detail/collision.h"
+#include "pathtrace/detail/mean_stderr.h"
+#include "pathtrace/fresnel.h"
+#include "pathtrace/rng.h"
+#include "pathtrace/sampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace pathtrace {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Per-path accumulators of a sparse set of indices (values added are > 0).
+struct PathAcc {
+    std::vector<double> v;
+    std::vector<int> touched;
+    void resize(size_t n) { v.assign(n, 0.0); }
+    void add(int i, double x) {
+        if (v[size_t(i)] == 0.0) touched.push_back(i);
+        v[size_t(i)] += x; // x > 0, so a touched entry never returns to 0
+    }
+    // Adds every touched value and its square into the sums and clears; returns the total.
+    double flush(std::vector<double>& sum, std::vector<double>& sumSq) {
+        double total = 0;
+        std::sort(touched.begin(), touched.end()); // a fixed order for the total
+        for (int i : touched) {
+            const double x = v[size_t(i)];
+            sum[size_t(i)] += x;
+            sumSq[size_t(i)] += x * x;
+            total += x;
+            v[size_t(i)] = 0.0;
+        }
+        touched.clear();
+        return total;
+    }
+};
+
+class Walker {
+  public:
+    Walker(const Medium& m, const EstimateSettings& s, double thetaIDeg)
+        : m_bins(s.bins), m_est(s.estimator), m_orders(s.orders) {
+        const double sigmaT = m.sigmaA + m.sigmaS;
+        m_sigmaT = sigmaT;
+        m_invSigmaT = 1.0 / sigmaT;
+        albedo = m.sigmaS / sigmaT;
+        m_g = m.g;
+        m_eta = m.eta;
+        m_etaOut = 1.0 / m.eta;
+        const double cosI = std::cos(thetaIDeg * kPi / 180.0);
+        const double sinI = std::sin(thetaIDeg * kPi / 180.0);
+        m_specular = fresnelDielectric(std::max(cosI, 1e-300), m.eta);
+        m_w0 = 1.0 - m_specular;
+        const double sinT = sinI / m.eta;
+        m_entry = {sinT, 0.0, -std::sqrt(std::max(0.0, 1.0 - sinT * sinT))};
+        maxEvents = std::max<uint32_t>(1, s.termination.maxEvents);
+        rouletteWeight = s.termination.rouletteWeight;
+        rouletteSurvival = s.termination.rouletteSurvival;
+        m_edges = m_bins.rEdges();
+        m_nT = m_bins.thetaSBins;
+        m_dTheta = kPi / m_nT;
+        m_nD = m_bins.dirBins();
+        m_binAcc.resize(size_t(m_bins.spatialBins()));
+        if (m_nD > 1) m_dirAcc.resize(size_t(m_bins.spatialBins()) * size_t(m_nD));
+    }
+
+    // The Consts interface of detail::absorbAndRoulette / belowEventLimit.
+    double albedo = 0;
+    uint32_t maxEvents = 0;
+    double rouletteWeight = 0, rouletteSurvival = 0;
+
+    void trace(Pcg32 rng, detail::ChunkTally& t) {
+        double w = m_w0, absorbed = 0, loss = 0, truncated = 0, exitInside = 0;
+        double x = 0, y = 0, z = 0;
+        Dir u = m_entry;
+        uint32_t events = 0;
+        const bool analog = m_est == BssrdfEstimator::Analog;
+        const bool connect = m_est == BssrdfEstimator::Connections;
+        for (;;) {
+            const double s = sampleDistance(1.0, rng.uniform()) * m_invSigmaT;
+            if (u.z > 0.0 && z + s * u.z >= 0.0) { // boundary hit
+                const double tHit = -z / u.z;
+                x += tHit * u.x;
+                y += tHit * u.y;
+                const double f = fresnelDielectric(u.z, m_etaOut);
+                if (f < 1.0 && (f <= 0.0 || rng.uniform32() >= f)) { // exit
+                    t.exitSum += w;
+                    t.exitSumSq += w * w;
+                    if (ordered(events)) exitInside += exitTally(x, y, u, w, !connect);
+                    break;
+                }
+                u.z = -u.z;
+                const double rest = std::max(0.0, s - tHit);
+                x += rest * u.x;
+                y += rest * u.y;
+                z = rest * u.z;
+            } else {
+                x += s * u.x;
+                y += s * u.y;
+                z += s * u.z;
+            }
+            ++events;
+            if (connect && ordered(events)) connectVertex(x, y, z, u, albedo * w, rng);
+            if (m_orders == ScatterOrders::SingleOnly && (connect || events >= 2)) break;
+            if (analog) {
+                if (rng.uniform32() >= albedo) {
+                    absorbed += w;
+                    break;
+                }
+            } else if (!detail::absorbAndRoulette(w, absorbed, loss, *this, rng)) {
+                break;
+            }
+            if (!detail::belowEventLimit(w, truncated, events, *this)) break;
+            u = m_g == 0.0 ? sampleSphere(rng) : scatterHg(u, m_g, rng);
+        }
+        const double binTotal = m_binAcc.flush(t.binSum, t.binSumSq);
+        if (m_nD > 1) m_dirAcc.flush(t.dirSum, t.dirSumSq);
+        const double d = connect ? binTotal - exitInside : 0.0;
+        t.energySum += d;
+        t.energySumSq += d * d;
+        t.absSum += absorbed;
+        t.absSumSq += absorbed * absorbed;
+        t.rouletteSum += loss;
+        t.rouletteSumSq += loss * loss;
+        t.truncSum += truncated;
+        t.truncSumSq += truncated * truncated;
+        if (truncated > 0) ++t.truncatedPaths;
+        t.events += events;
+        ++t.paths;
+    }
+
+  private:
+    // Whether a collision (or an exit after `events` collisions) belongs to the tallied orders.
+    bool ordered(uint32_t events) const {
+        switch (m_orders) {
+        case ScatterOrders::MultipleOnly:
+            return events >= 2;
+        case ScatterOrders::SingleOnly:
+            return events == 1;
+        default:
+            return events >= 1;
+        }
+    }
+    int radialBin(double r) const {
+        if (!(r < m_edges.back())) return -1;
+        const auto it = std::upper_bound(m_edges.begin(), m_edges.end(), r);
+        return std::clamp(int(it - m_edges.begin()) - 1, 0, m_bins.rBins - 1);
+    }
+    int thetaBin(double thetaS) const { return std::min(int(thetaS / m_dTheta), m_nT - 1); }
+
+    // Tallies flux `v` leaving at surface point (px, py) along the internal direction `dir`
+    // (dir.z > 0); returns v if it landed inside r_max, else 0.
+    double tally(double px, double py, const Dir& dir, double v, int ir) {
+        const double thetaS = std::atan2(std::fabs(py), px);
+        const int bin = ir * m_nT + thetaBin(thetaS);
+        m_binAcc.add(bin, v);
+        if (m_nD > 1) {
+            const double sin2 = m_eta * m_eta * (1.0 - dir.z * dir.z);
+            const double cosO = std::sqrt(std::max(0.0, 1.0 - sin2));
+            const double phi = std::atan2(py < 0 ? -dir.y : dir.y, dir.x);
+            m_dirAcc.add(bin * m_nD + cellOf(m_bins, cosO, phi), v);
+        }
+        return v;
+    }
+    double exitTally(double px, double py, const Dir& dir, double w, bool histogram) {
+        const int ir = radialBin(std::sqrt(px * px + py * py));
+        if (ir < 0) return 0.0;
+        return histogram ? tally(px, py, dir, w, ir) : w;
+    }
+
+    // f/(q_a + q_p) for a connection from (x, y, z) arriving along u with scattered weight aw
+    // to the surface point (px, py); 0 when nothing is transmitted. dir receives ω₂₁.
+    double connection(double x, double y, double z, const Dir& u, double aw, double px, double py,
+                      double qa, Dir& dir) const {
+        const double dx = px - x, dy = py - y, dz = -z;
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        const double d = std::sqrt(d2);
+        const double inv = 1.0 / d;
+        dir = {dx * inv, dy * inv, dz * inv};
+        const double t21 = 1.0 - fresnelDielectric(dir.z, m_etaOut);
+        if (t21 <= 0.0) return 0.0;
+        const double phase = hgPdfCos(m_g, u.x * dir.x + u.y * dir.y + u.z * dir.z) / (2 * kPi);
+        const double qp = phase * dir.z / d2;
+        const double f = aw * qp * std::exp(-m_sigmaT * d) * t21;
+        return f / (qa + qp);
+    }
+    double areaDensity(double r, int ir) const {
+        return 1.0 / (2.0 * r * (m_edges[size_t(ir) + 1] - m_edges[size_t(ir)]) * m_dTheta);
+    }
+
+    void connectVertex(double x, double y, double z, const Dir& u, double aw, Pcg32& rng) {
+        Dir dir{};
+        // (a) one point per spatial bin, uniform in polar coordinates.
+        for (int ir = 0; ir < m_bins.rBins; ++ir) {
+            const double r0 = m_edges[size_t(ir)], r1 = m_edges[size_t(ir) + 1];
+            for (int it = 0; it < m_nT; ++it) {
+                const double r = r0 + (r1 - r0) * rng.uniform32();
+                if (!(r > 0.0)) continue; // measure zero; q_a is infinite there
+                const double th = (it + rng.uniform32()) * m_dTheta;
+                const double side = (rng.nextU32() & 1u) ? -1.0 : 1.0;
+                const double px = r * std::cos(th), py = side * r * std::sin(th);
+                const double c = connection(x, y, z, u, aw, px, py, areaDensity(r, ir), dir);
+                if (c > 0.0) tally(px, py, dir, c, ir);
+            }
+        }
+        // (b) one phase-sampled direction, if it meets the surface inside r_max.
+        const Dir v = m_g == 0.0 ? sampleSphere(rng) : scatterHg(u, m_g, rng);
+        if (v.z <= 0.0) return;
+        const double tHit = -z / v.z;
+        const double px = x + tHit * v.x, py = y + tHit * v.y;
+        const double r = std::sqrt(px * px + py * py);
+        const int ir = radialBin(r);
+        if (ir < 0 || !(r > 0.0)) return;
+        const double c = connection(x, y, z, u, aw, px, py, areaDensity(r, ir), dir);
+        if (c > 0.0) tally(px, py, dir, c, ir);
+    }
+
+    BssrdfBins m_bins;
+    BssrdfEstimator m_est;
+    ScatterOrders m_orders;
+    double m_sigmaT = 0, m_invSigmaT = 0, m_g = 0, m_eta = 1, m_etaOut = 1;
+    double m_specular = 0, m_w0 = 1;
+    Dir m_entry{0, 0, -1};
+    std::vector<double> m_edges;
+    int m_nT = 1, m_nD = 1;
+    double m_dTheta = kPi;
+    PathAcc m_binAcc, m_dirAcc;
+};
+
+uint64_t streamSeed(uint64_t seed, size_t angleIndex) {
+    return angleIndex == 0 ? seed : splitmix64(seed ^ (0x9e3779b97f4a7c15ull * angleIndex));
+}
+
+} // namespace
+
+namespace detail {
+// Traces paths [first, first + count) into `t` (reset first). Returns the paths traced: fewer
+// only when `cancel` was set.
+uint64_t traceBssrdfChunk(const Medium& m, const EstimateSettings& s, size_t angleIndex,
+                          uint64_t first, uint64_t count, ChunkTally& t,
+                          const std::atomic<bool>* cancel) {
+    t.reset(s.bins);
+    Walker walker(m, s, s.thetaIDeg[angleIndex]);
+    const uint64_t seed = streamSeed(s.seed, angleIndex);
+    for (uint64_t i = 0; i < count; ++i) {
+        if ((i & 63u) == 0 && cancel && cancel->load(std::memory_order_relaxed)) return i;
+        walker.trace(Pcg32::forPath(seed, first + i), t);
+    }
+    return count;
+}
+} // namespace detail
+
+} // namespace pathtrace

@@ -1,0 +1,62 @@
+// pathtrace/detail/bssrdf_chunk: the per-chunk tally of the oblique-incidence walk (sums in
+// doubles formed path by path within one chunk, then added exactly into a BssrdfTally) and the
+// one compiled copy of the chunk loop (bssrdf_walk.cpp).
+#pragma once
+
+#include "pathtrace/bssrdf_estimate.h"
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+namespace pathtrace::detail {
+
+// Sums of one chunk in doubles, formed path by path.
+struct ChunkTally {
+    uint64_t paths = 0;
+    std::vector<double> binSum, binSumSq, dirSum, dirSumSq;
+    double exitSum = 0, exitSumSq = 0, absSum = 0, absSumSq = 0, rouletteSum = 0, rouletteSumSq = 0,
+           truncSum = 0, truncSumSq = 0, energySum = 0, energySumSq = 0, events = 0;
+    uint64_t truncatedPaths = 0;
+
+    void reset(const BssrdfBins& b) {
+        *this = ChunkTally{};
+        binSum.assign(size_t(b.spatialBins()), 0.0);
+        binSumSq.assign(size_t(b.spatialBins()), 0.0);
+        if (b.dirBins() > 1) {
+            dirSum.assign(size_t(b.spatialBins()) * size_t(b.dirBins()), 0.0);
+            dirSumSq.assign(dirSum.size(), 0.0);
+        }
+    }
+    void addTo(BssrdfTally& t) const {
+        t.paths += paths;
+        for (size_t i = 0; i < binSum.size(); ++i) {
+            t.binSum[i].add(binSum[i]);
+            t.binSumSq[i].add(binSumSq[i]);
+        }
+        for (size_t i = 0; i < dirSum.size(); ++i) {
+            t.dirSum[i].add(dirSum[i]);
+            t.dirSumSq[i].add(dirSumSq[i]);
+        }
+        t.exitSum.add(exitSum);
+        t.exitSumSq.add(exitSumSq);
+        t.absSum.add(absSum);
+        t.absSumSq.add(absSumSq);
+        t.rouletteSum.add(rouletteSum);
+        t.rouletteSumSq.add(rouletteSumSq);
+        t.truncSum.add(truncSum);
+        t.truncSumSq.add(truncSumSq);
+        t.energySum.add(energySum);
+        t.energySumSq.add(energySumSq);
+        t.events.add(events);
+        t.truncatedPaths += truncatedPaths;
+    }
+};
+
+// Traces paths [first, first + count) of angle `angleIndex` into `t` (reset first). Returns the
+// paths traced: fewer than `count` only when `cancel` (checked every 64 paths) was set.
+uint64_t traceBssrdfChunk(const Medium& m, const EstimateSettings& s, size_t angleIndex,
+                          uint64_t first, uint64_t count, ChunkTally& t,
+                          const std::atomic<bool>* cancel);
+
+} // namespace pathtrace::detail
