@@ -80,7 +80,9 @@ TEST(BssrdfBins, AreasAndSolidAnglesTile) {
         const auto e = b.rEdges();
         EXPECT_EQ(e.front(), 0.0);
         EXPECT_EQ(e.back(), 3.0);
-        if (spacing == RadialSpacing::Log) EXPECT_NEAR(e[1], 0.003, 1e-15);
+        if (spacing == RadialSpacing::Log) {
+            EXPECT_NEAR(e[1], 0.003, 1e-15);
+        }
     }
     BssrdfBins b;
     b.dirCosBins = 2;
@@ -194,9 +196,10 @@ void compareWithAnalog(const Case& c, bool directions) {
             << "g " << c.g << " theta_i " << c.thetaI << " bin " << i << ": connections " << b[i]
             << " +- " << be[i] << ", analog " << a[i] << " +- " << ae[i];
         // Connections must be the better estimator per path traced (variance × paths).
-        if (!directions)
+        if (!directions) {
             EXPECT_LT(be[i] * std::sqrt(double(nConn)), ae[i] * std::sqrt(double(nAnalog)))
                 << "bin " << i;
+        }
     }
     EXPECT_GE(tested, int(a.size()) * 2 / 3);
     // Energy: connections and exits estimate the same flux, path by path.
