@@ -20,10 +20,13 @@ constexpr double kPi = std::numbers::pi;
 } // namespace
 
 std::vector<double> BssrdfBins::rEdges() const {
-    std::vector<double> e(size_t(rBins) + 1, 0.0);
+    std::vector<double> e(size_t(rBins) + 1, rStartMm);
     if (spacing == RadialSpacing::Uniform || rBins == 1) {
         for (int i = 0; i <= rBins; ++i)
-            e[size_t(i)] = rMaxMm * i / rBins;
+            e[size_t(i)] = rStartMm + (rMaxMm - rStartMm) * i / rBins;
+    } else if (rStartMm > 0) { // geometric from rStart to rMax
+        for (int i = 0; i <= rBins; ++i)
+            e[size_t(i)] = rStartMm * std::pow(rMaxMm / rStartMm, double(i) / double(rBins));
     } else {
         const double r1 = rMinMm > 0 ? rMinMm : rMaxMm / 1000;
         // e_1 = r1, e_n = rMax, geometric in between.
@@ -77,7 +80,9 @@ void validate(const EstimateSettings& s) {
              " cells (r x theta_s x directions) is more than the 4e6 a table may hold");
     if (!(std::isfinite(b.rMaxMm) && b.rMaxMm > 0))
         fail("r_max must be a finite length > 0 mm, got " + core::formatNumber(b.rMaxMm));
-    if (b.spacing == RadialSpacing::Log && b.rMinMm != 0 &&
+    if (!(std::isfinite(b.rStartMm) && b.rStartMm >= 0 && b.rStartMm < b.rMaxMm))
+        fail("r_start must lie in [0, r_max), got " + core::formatNumber(b.rStartMm));
+    if (b.spacing == RadialSpacing::Log && b.rStartMm == 0 && b.rMinMm != 0 &&
         !(std::isfinite(b.rMinMm) && b.rMinMm > 0 && b.rMinMm < b.rMaxMm))
         fail("r_min must lie in (0, r_max) for log spacing, got " + core::formatNumber(b.rMinMm));
     if (s.paths == 0) fail("paths must be >= 1");

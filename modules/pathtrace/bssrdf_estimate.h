@@ -9,10 +9,10 @@
 //                        bssrdf_walk.cpp).
 //   Geometry: surface z = 0, medium z < 0, outward normal +z; the beam enters at the origin
 //   travelling toward +x at θi from the normal. Spatial bins are polar around the entry point:
-//   r in [0, r_max) uniform or logarithmic, θs = atan2(|y|, x) in [0°, 180°] folded by the
-//   mirror symmetry y → −y (θs = 0 is forward). Directional bins split the exitant hemisphere
-//   into cells of equal solid angle 2π/(dirCos·dirPhi): cos θo uniform in [0, 1], φo in
-//   [0°, 360°) from +x (a point folded from y < 0 has its direction mirrored, φo → −φo).
+//   r in [r_start, r_max) (r_start 0 by default) uniform or logarithmic, θs = atan2(|y|, x) in [0°,
+//   180°] folded by the mirror symmetry y → −y (θs = 0 is forward). Directional bins split the
+//   exitant hemisphere into cells of equal solid angle 2π/(dirCos·dirPhi): cos θo uniform in [0,
+//   1], φo in [0°, 360°) from +x (a point folded from y < 0 has its direction mirrored, φo → −φo).
 //   Units and conventions (MCML, per incident photon, specular reflection at entry excluded):
 //     R = Φ_bin / A_bin in 1/mm², A_bin = (r_hi² − r_lo²)·Δθs (both mirror halves);
 //     S = Φ_cell / (A_bin · ∫cell cos θo dω) in 1/(mm²·sr), so Σ_cells S·∫cos dω = R exactly.
@@ -58,20 +58,22 @@ struct BssrdfBins {
     int rBins = 50;
     double rMaxMm = 10.0;
     RadialSpacing spacing = RadialSpacing::Uniform;
-    double rMinMm = 0.0; // Log: the first bin is [0, rMin); 0 picks rMax/1000
-    int thetaSBins = 6;  // over [0°, 180°]
-    int dirCosBins = 1;  // rings of equal solid angle (cos θo uniform)
-    int dirPhiBins = 1;  // azimuth sectors over [0°, 360°)
+    double rStartMm = 0.0; // inner edge of the first bin (bins cover [rStart, rMax))
+    double rMinMm = 0.0;   // Log with rStart 0: the first bin is [0, rMin); 0 picks rMax/1000
+    int thetaSBins = 6;    // over [0°, 180°]
+    int dirCosBins = 1;    // rings of equal solid angle (cos θo uniform)
+    int dirPhiBins = 1;    // azimuth sectors over [0°, 360°)
 
     int spatialBins() const { return rBins * thetaSBins; }
     int dirBins() const { return dirCosBins * dirPhiBins; }
-    // Edges of the radial bins (rBins + 1 values, 0 first).
+    // Edges of the radial bins (rBins + 1 values, rStart first).
     std::vector<double> rEdges() const;
 };
 template <class V> void fields(V& v, BssrdfBins& b) {
     v("r_bins", b.rBins, "radial bins");
     v("r_max_mm", b.rMaxMm, "radius of the last bin edge, mm");
     v("r_spacing", b.spacing, "radial bin spacing");
+    v("r_start_mm", b.rStartMm, "inner edge of the first radial bin, mm");
     v("r_min_mm", b.rMinMm, "log spacing: outer edge of the first bin, mm (0: r_max/1000)");
     v("theta_s_bins", b.thetaSBins, "bins of theta_s over [0, 180] deg");
     v("dir_cos_bins", b.dirCosBins, "exit-direction rings (equal solid angle)");

@@ -28,9 +28,14 @@
 // one, so this accounts for all the light the walk's exits carry (checked per path: D below).
 // The integral over A is estimated with two samples per collision (one-sample-per-technique
 // multiple importance sampling with the balance heuristic, Veach 1997, §9.2):
-//   (a) in every bin, a point uniform in polar coordinates (the seed's sampling): r ~ U[r_lo,
-//       r_hi], θs ~ U[θs_lo, θs_hi], side y ≷ 0 with probability ½, so the area density is
-//       q_a(x) = 1 / (2 r Δr Δθs) on the bin holding x;
+//   (a) in every radial bin, a point in polar coordinates: r ~ U[r_lo, r_hi] (as the seed),
+//       and — where the seed takes θs uniform in every sector, one point per sector — θ over
+//       the whole ring from the wrapped Cauchy density w(θ) ∝ 1/d² (detail/ring_sampler.h),
+//       the point going to whichever θs sector it lands in. The area density is
+//       q_a(x) = w(θ) / (r Δr) on the radial bin holding x. It cancels the 1/d² of f exactly
+//       along the ring, and costs one connection per ring instead of one per sector; with the
+//       seed's uniform θs most points of a wide ring land far from the vertex and add nearly
+//       nothing (the time to 1 % at l_d was 4x longer);
 //   (b) one direction from the phase function p(ω_p·ω); if it points up it meets the surface
 //       at x with area density q_p(x) = p(ω_p·ω₂₁) cos θ₂₁ / d² (0 if it points down).
 // Each sample x adds f_p(x) / (q_a(x) + q_p(x)) to its bin and cell. Then
@@ -39,9 +44,9 @@
 // Technique (a) alone (the seed's estimator) has f/q_a ∝ cos θ₂₁/d² at a vertex just below the
 // surface: its tail P(X > t) ~ t^{−3/2} has a finite mean but an infinite variance, so its error
 // bars would not be trustworthy.
-// The result is the seed's final estimator with the Jacobians made explicit: with technique
-// (a) only, f/q_a = α w_p p T₂₁ (cos θ₂₁/d²) e^{−σt d} · 2 r Δr Δθs, and dividing the bin's flux
-// by A = (r_hi² − r_lo²) Δθs and by the cell's projected solid angle gives S.
+// With technique (a) only and uniform θs this is the seed's final estimator with the Jacobians
+// made explicit: f/q_a = α w_p p T₂₁ (cos θ₂₁/d²) e^{−σt d} · 2 r Δr Δθs; dividing the bin's
+// flux by A = (r_hi² − r_lo²) Δθs and by the cell's projected solid angle gives S.
 // Orders: MultipleOnly skips the connections (and histogram exits) of paths' first collision;
 // SingleOnly connects the first collision only and ends the walk there (the histogram counts
 // exits after exactly one collision).
@@ -51,6 +56,7 @@
 #include "pathtrace/detail/bssrdf_chunk.h"
 #include "pathtrace/detail/collision.h"
 #include "pathtrace/detail/mean_stderr.h"
+#include "pathtrace/detail/ring_sampler.h"
 #include "pathtrace/fresnel.h"
 #include "pathtrace/rng.h"
 #include "pathtrace/sampling.h"
@@ -196,7 +202,7 @@ class Walker {
         }
     }
     int radialBin(double r) const {
-        if (!(r < m_edges.back())) return -1;
+        if (!(r < m_edges.back()) || r < m_edges.front()) return -1;
         const auto it = std::upper_bound(m_edges.begin(), m_edges.end(), r);
         return std::clamp(int(it - m_edges.begin()) - 1, 0, m_bins.rBins - 1);
     }
@@ -204,9 +210,8 @@ class Walker {
 
     // Tallies flux `v` leaving at surface point (px, py) along the internal direction `dir`
     // (dir.z > 0); returns v if it landed inside r_max, else 0.
-    double tally(double px, double py, const Dir& dir, double v, int ir) {
-        const double thetaS = std::atan2(std::fabs(py), px);
-        const int bin = ir * m_nT + thetaBin(thetaS);
+    double tally(double px, double py, const Dir& dir, double v, int ir, int it) {
+        const int bin = ir * m_nT + it;
         m_binAcc.add(bin, v);
         if (m_nD > 1) {
             const double sin2 = m_eta * m_eta * (1.0 - dir.z * dir.z);
@@ -219,7 +224,8 @@ class Walker {
     double exitTally(double px, double py, const Dir& dir, double w, bool histogram) {
         const int ir = radialBin(std::sqrt(px * px + py * py));
         if (ir < 0) return 0.0;
-        return histogram ? tally(px, py, dir, w, ir) : w;
+        if (!histogram) return w;
+        return tally(px, py, dir, w, ir, thetaBin(std::atan2(std::fabs(py), px)));
     }
 
     // f/(q_a + q_p) for a connection from (x, y, z) arriving along u with scattered weight aw
@@ -238,26 +244,28 @@ class Walker {
         const double f = aw * qp * std::exp(-m_sigmaT * d) * t21;
         return f / (qa + qp);
     }
-    double areaDensity(double r, int ir) const {
-        return 1.0 / (2.0 * r * (m_edges[size_t(ir) + 1] - m_edges[size_t(ir)]) * m_dTheta);
+    // Technique (a)'s area density at the point (r, θ) of radial bin ir: r uniform in the bin,
+    // θ by the ring sampler (1/r: polar to area).
+    double areaDensity(const detail::RingSampler& ring, double r, double theta, int ir) const {
+        return ring.pdf(theta) / (r * (m_edges[size_t(ir) + 1] - m_edges[size_t(ir)]));
     }
 
     void connectVertex(double x, double y, double z, const Dir& u, double aw, Pcg32& rng) {
         Dir dir{};
-        // (a) one point per spatial bin, uniform in polar coordinates.
+        // (a) one point per radial bin: r uniform in the bin, θ ∝ 1/d² on its ring
+        // (detail/ring_sampler.h); it lands in the θs sector it lands in.
         for (int ir = 0; ir < m_bins.rBins; ++ir) {
             const double r0 = m_edges[size_t(ir)], r1 = m_edges[size_t(ir) + 1];
-            for (int it = 0; it < m_nT; ++it) {
-                const double r = r0 + (r1 - r0) * rng.uniform32();
-                if (!(r > 0.0)) continue; // measure zero; q_a is infinite there
-                const double th = (it + rng.uniform32()) * m_dTheta;
-                const double side = (rng.nextU32() & 1u) ? -1.0 : 1.0;
-                const double px = r * std::cos(th), py = side * r * std::sin(th);
-                const double c = connection(x, y, z, u, aw, px, py, areaDensity(r, ir), dir);
-                if (c > 0.0) tally(px, py, dir, c, ir);
-            }
+            const double r = r0 + (r1 - r0) * rng.uniform32();
+            if (!(r > 0.0)) continue; // measure zero
+            const detail::RingSampler ring(x, y, z, r);
+            double ct, st, density;
+            ring.sampleRing(rng.uniform32(), ct, st, density);
+            const double px = r * ct, py = r * st;
+            const double c = connection(x, y, z, u, aw, px, py, density / (r * (r1 - r0)), dir);
+            if (c > 0.0) tally(px, py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
         }
-        // (b) one phase-sampled direction, if it meets the surface inside r_max.
+        // (b) one phase-sampled direction, if it meets the surface inside the bins.
         const Dir v = m_g == 0.0 ? sampleSphere(rng) : scatterHg(u, m_g, rng);
         if (v.z <= 0.0) return;
         const double tHit = -z / v.z;
@@ -265,8 +273,10 @@ class Walker {
         const double r = std::sqrt(px * px + py * py);
         const int ir = radialBin(r);
         if (ir < 0 || !(r > 0.0)) return;
-        const double c = connection(x, y, z, u, aw, px, py, areaDensity(r, ir), dir);
-        if (c > 0.0) tally(px, py, dir, c, ir);
+        const detail::RingSampler ring(x, y, z, r);
+        const double qa = areaDensity(ring, r, std::atan2(py, px), ir);
+        const double c = connection(x, y, z, u, aw, px, py, qa, dir);
+        if (c > 0.0) tally(px, py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
     }
 
     BssrdfBins m_bins;

@@ -82,6 +82,10 @@ void GpuSlabTracer::reload() {
 void GpuSlabTracer::reset(const Medium& m, const SlabSettings& s) {
     validate(m);
     validate(s);
+    if (s.estimator == Estimator::Connections)
+        throw core::Error("--gpu", 0,
+                          "the GL compute tracer has the analog and implicit estimators only; "
+                          "run the connections estimator on the CPU");
     m_medium = m;
     m_settings = s;
     m_work.allocate(static_cast<size_t>(s.bins) + kExtraSlots);

@@ -82,12 +82,15 @@ template <class V> void fields(V& v, Termination& t) {
 void validate(const Termination& t, const std::string& what);
 
 enum class Estimator {
-    Implicit, // absorption by weight + weight roulette (efficient; the default)
-    Analog,   // thesis Algorithm 1 as printed: absorption by roulette
+    Implicit,    // absorption by weight + weight roulette (efficient; the default)
+    Analog,      // thesis Algorithm 1 as printed: absorption by roulette
+    Connections, // the implicit walk with every collision connected to every bin (seed 001;
+                 // bssrdf_estimate.h at θi = 0, slab_connections.cpp); CPU only
 };
 constexpr auto enumNames(Estimator) {
     return std::array{std::pair{Estimator::Implicit, "implicit"},
-                      std::pair{Estimator::Analog, "analog"}};
+                      std::pair{Estimator::Analog, "analog"},
+                      std::pair{Estimator::Connections, "connections"}};
 }
 
 struct SlabSettings {
@@ -124,7 +127,8 @@ struct SlabTally {
     double rouletteSum = 0, rouletteSumSq = 0; // weight removed by roulettes (E = 0)
     double truncSum = 0, truncSumSq = 0;       // weight of paths truncated at maxEvents
     uint64_t truncatedPaths = 0;
-    uint64_t events = 0; // interactions (scattering or absorption) traced
+    uint64_t events = 0;             // interactions (scattering or absorption) traced
+    double gapSum = 0, gapSumSq = 0; // Connections: Σ over paths of (Σ bins − exit in rMax)
     // Adds the other's sums (bins must agree; an empty tally adopts the other's size).
     void merge(const SlabTally& other);
 };
@@ -166,6 +170,8 @@ struct SlabResult {
     double truncated = 0, truncatedStderr = 0;     // mean truncated weight: a bound on the bias
     uint64_t truncatedPaths = 0;
     uint64_t events = 0;
+    // Connections only: mean per path of (Σ bins − exit weight inside rMax), expected 0.
+    double connectionGap = 0, connectionGapStderr = 0;
 };
 
 // The reference's own energy check. Empty when it holds, else one sentence saying what failed:
@@ -173,7 +179,8 @@ struct SlabResult {
 //     rounding (1e-6; the GPU tally rounds floats);
 //   - the mean roulette loss is inconsistent with 0: |z| > kEnergyZ (a roulette is biased);
 //   - truncated weight exceeds the standard error of the total R_d: the error bars no longer
-//     cover the truncation bias, so R_d may be low by up to `truncated` (raise maxEvents).
+//     cover the truncation bias, so R_d may be low by up to `truncated` (raise maxEvents);
+//   - connections only: the binned flux and the walk's exits inside rMax disagree, |z| > kEnergyZ.
 // kEnergyZ = 5 (two-sided p 6e-7): the GUI checks every progressive snapshot of three
 // channels, so a threshold for one test would raise false alarms over a long session.
 constexpr double kEnergyZ = 5.0;

@@ -9,8 +9,10 @@
 //   thread polls every 50 ms: it merges, reports progress and watches `cancel`; on cancel the
 //   workers stop (checked every 256 paths) and the result keeps the completed prefix of chunks.
 #include "core/core.h"
+#include "pathtrace/bssrdf_estimate.h"
 #include "pathtrace/detail/chunk_runner.h"
 #include "pathtrace/detail/slab_chunk.h"
+#include "pathtrace/detail/slab_connections.h"
 #include "pathtrace/pathtrace.h"
 
 #include <algorithm>
@@ -24,6 +26,13 @@ SlabResult runSlab(const Medium& m, const SlabSettings& s,
     validate(m);
     validate(s);
     core::Stopwatch clock;
+    if (s.estimator == Estimator::Connections) {
+        const EstimateSettings e = detail::connectionSettings(s);
+        SlabResult r = finalize(
+            detail::slabTallyOf(estimateChunks(m, e, 0, 0, chunkCount(e), progress, cancel), m), s);
+        r.seconds = clock.ms() / 1000.0;
+        return r;
+    }
     SlabTally t = makeTally(s);
     std::vector<std::vector<PathRecord>> ring; // per ring slot: the records of one chunk
     const detail::ChunkCallbacks callbacks{

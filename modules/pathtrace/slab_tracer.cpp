@@ -12,6 +12,7 @@
 #include "core/core.h"
 #include "pathtrace/detail/collision.h"
 #include "pathtrace/detail/slab_chunk.h"
+#include "pathtrace/detail/slab_connections.h"
 #include "pathtrace/fresnel.h"
 #include "pathtrace/pathtrace.h"
 #include "pathtrace/rng.h"
@@ -120,6 +121,7 @@ namespace detail {
 uint64_t traceChunk(const Medium& m, const SlabSettings& s, uint64_t first, uint64_t count,
                     PathRecord* out, const std::atomic<bool>* cancel) {
     const Consts c = makeConsts(m, s);
+    // Estimator::Connections walks as Implicit (its bins come from slab_connections.cpp).
     const bool analog = s.estimator == Estimator::Analog, iso = m.g == 0.0;
     if (analog && iso) return traceRange<true, true>(c, s.seed, first, count, out, cancel);
     if (analog) return traceRange<true, false>(c, s.seed, first, count, out, cancel);
@@ -140,6 +142,8 @@ SlabTally traceSlab(const Medium& m, const SlabSettings& s, uint64_t first, uint
                     const std::atomic<bool>* cancel) {
     validate(m);
     validate(s);
+    if (s.estimator == Estimator::Connections)
+        return detail::traceSlabConnections(m, s, first, count, cancel);
     SlabTally t = makeTally(s);
     std::vector<PathRecord> buf(static_cast<size_t>(std::min<uint64_t>(count, 4096)));
     for (uint64_t done = 0; done < count;) {

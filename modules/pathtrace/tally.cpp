@@ -83,6 +83,8 @@ void SlabTally::merge(const SlabTally& o) {
     truncSumSq += o.truncSumSq;
     truncatedPaths += o.truncatedPaths;
     events += o.events;
+    gapSum += o.gapSum;
+    gapSumSq += o.gapSumSq;
 }
 
 namespace {
@@ -120,11 +122,23 @@ SlabResult finalize(const SlabTally& t, const SlabSettings& s) {
     meanStderr(t.rouletteSum, t.rouletteSumSq, t.paths, r.rouletteNet, r.rouletteNetStderr);
     meanStderr(t.truncSum, t.truncSumSq, t.paths, r.truncated, r.truncatedStderr);
     r.truncatedPaths = t.truncatedPaths;
+    if (t.gapSumSq > 0)
+        meanStderr(t.gapSum, t.gapSumSq, t.paths, r.connectionGap, r.connectionGapStderr);
     return r;
 }
 
 std::string energyProblem(const SlabResult& r) {
     if (r.paths < 2) return {};
+    if (r.connectionGapStderr > 0 &&
+        std::fabs(r.connectionGap) > kEnergyZ * r.connectionGapStderr) {
+        char b[240];
+        std::snprintf(b, sizeof b,
+                      "energy check failed: the connections' flux differs from the walk's exits "
+                      "by %.3g +- %.2g per path (z = %.1f)",
+                      r.connectionGap, r.connectionGapStderr,
+                      r.connectionGap / r.connectionGapStderr);
+        return b;
+    }
     return detail::energyProblem({"specular + R_d + absorbed + truncated + roulette",
                                   r.specular + r.totalRd + r.absorbed + r.truncated + r.rouletteNet,
                                   1.0, r.rouletteNet, r.rouletteNetStderr, r.truncated,

@@ -55,7 +55,8 @@ void validate(const SlabSettings& s) {
                           "threads must be >= 0 (0: all hardware threads), got " +
                               std::to_string(s.threads));
     validate(s.termination, what);
-    if (s.estimator != Estimator::Implicit && s.estimator != Estimator::Analog)
+    if (s.estimator != Estimator::Implicit && s.estimator != Estimator::Analog &&
+        s.estimator != Estimator::Connections)
         throw core::Error(what, 0, "estimator: unknown value");
 }
 

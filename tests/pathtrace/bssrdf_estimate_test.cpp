@@ -124,6 +124,8 @@ TEST(BssrdfEstimate, RejectsBadSettings) {
             s.bins.rMinMm = 20;
         },
         "r_min");
+    expectError([](EstimateSettings& s) { s.bins.rStartMm = 10; },
+                "r_start must lie in [0, r_max)");
     expectError([](EstimateSettings& s) { s.paths = 0; }, "paths");
 }
 

@@ -1,0 +1,73 @@
+// pathtrace/slab_connections: the slab reference with Estimator::Connections — the
+// oblique-incidence estimate of bssrdf_estimate.h (seed 001, derivation in bssrdf_walk.cpp) at
+// θi = 0 with one θs bin and one direction cell, i.e. R_d(r) on the slab's uniform radial bins,
+// returned as a SlabTally so every consumer of the slab reference (CLI, GUI, tests) reads it
+// unchanged. Paths are grouped in the aligned chunks [k·kChunkPaths, (k+1)·kChunkPaths), summed
+// per chunk and added exactly (detail/exact_sum.h), so runSlab and traceSlab(0, paths) agree
+// bitwise for any thread count, as for the other estimators.
+#include "pathtrace/detail/slab_connections.h"
+
+#include "pathtrace/bssrdf_estimate.h"
+#include "pathtrace/detail/bssrdf_chunk.h"
+#include "pathtrace/fresnel.h"
+
+#include <algorithm>
+
+namespace pathtrace::detail {
+
+EstimateSettings connectionSettings(const SlabSettings& s) {
+    EstimateSettings e;
+    e.thetaIDeg = {0.0};
+    e.bins.rBins = s.bins;
+    e.bins.rMaxMm = s.rMaxMm;
+    e.bins.spacing = RadialSpacing::Uniform;
+    e.bins.thetaSBins = 1;
+    e.bins.dirCosBins = 1;
+    e.bins.dirPhiBins = 1;
+    e.paths = s.paths;
+    e.seed = s.seed;
+    e.threads = s.threads;
+    e.termination = s.termination;
+    e.estimator = BssrdfEstimator::Connections;
+    return e;
+}
+
+SlabTally slabTallyOf(const BssrdfTally& b, const Medium& m) {
+    SlabTally t;
+    t.paths = b.paths;
+    for (size_t i = 0; i < b.binSum.size(); ++i) {
+        t.binSum.push_back(b.binSum[i].value());
+        t.binSumSq.push_back(b.binSumSq[i].value());
+    }
+    t.rdSum = b.exitSum.value();
+    t.rdSumSq = b.exitSumSq.value();
+    t.absSum = b.absSum.value();
+    t.absSumSq = b.absSumSq.value();
+    t.specular = fresnelDielectric(1.0, m.eta);
+    t.rouletteSum = b.rouletteSum.value();
+    t.rouletteSumSq = b.rouletteSumSq.value();
+    t.truncSum = b.truncSum.value();
+    t.truncSumSq = b.truncSumSq.value();
+    t.truncatedPaths = b.truncatedPaths;
+    t.events = uint64_t(b.events.value());
+    t.gapSum = b.energySum.value();
+    t.gapSumSq = b.energySumSq.value();
+    return t;
+}
+
+SlabTally traceSlabConnections(const Medium& m, const SlabSettings& s, uint64_t first,
+                               uint64_t count, const std::atomic<bool>* cancel) {
+    const EstimateSettings e = connectionSettings(s);
+    BssrdfTally total = makeTally(e.bins);
+    ChunkTally chunk;
+    for (uint64_t p = first, end = first + count; p < end;) {
+        const uint64_t next = std::min(end, (p / kChunkPaths + 1) * kChunkPaths);
+        const uint64_t got = traceBssrdfChunk(m, e, 0, p, next - p, chunk, cancel);
+        if (got < next - p) break; // cancelled: keep the completed pieces
+        chunk.addTo(total);
+        p = next;
+    }
+    return slabTallyOf(total, m);
+}
+
+} // namespace pathtrace::detail
