@@ -33,6 +33,14 @@ template <class M> std::string defaultText(const M& m) {
         return std::to_string(m);
     } else if constexpr (std::is_same_v<M, std::string>) {
         return m.empty() ? "(none)" : m;
+    } else if constexpr (requires {
+                             m.size();
+                             m.begin();
+                         }) { // a list: "a,b,c"
+        std::string out;
+        for (const auto& v : m)
+            out += (out.empty() ? "" : ",") + defaultText(v);
+        return out;
     } else {
         return defaultText(m.x) + "," + defaultText(m.y) + "," + defaultText(m.z);
     }

@@ -7,6 +7,7 @@
 #include "cli_options.h"
 #include "cli_pointcloud.h"
 #include "cli_render.h"
+#include "cli_estimate.h"
 #include "cli_slab.h"
 #include "core/core.h"
 #include "gl/gl.h"
@@ -183,6 +184,14 @@ int main(int argc, char** argv) {
         "slab", "path-traced pencil beam on a semi-infinite slab: R_d(r) with standard errors");
     app::SlabArgs sa;
     app::addSlabOptions(slab, sa);
+    auto* estimateCmd = cli.add_subcommand(
+        "estimate", "the whole BSSRDF of the slab at oblique incidence (seed 001) as a table");
+    app::EstimateArgs ea;
+    app::addEstimateOptions(estimateCmd, ea);
+    auto* mergeCmd =
+        cli.add_subcommand("merge", "merge table shards (estimate --shard) into one table");
+    app::MergeArgs ma;
+    app::addMergeOptions(mergeCmd, ma);
 
     // sphere / mesh: the path-traced lit object (radiant exitance per pixel, EXR with variance)
     app::ImageArgs ima;
@@ -300,6 +309,8 @@ int main(int argc, char** argv) {
         }
         if (*renderCmd) return app::runRenderCli(root, ra2);
         if (*pcCmd) return app::runPointCloudCli(pca);
+        if (*estimateCmd) return app::runEstimateCli(ea);
+        if (*mergeCmd) return app::runMergeCli(ma);
         if (*slab) {
             if (sa.gpu) return app::runSlabGpuCli(root, sa);
             return app::runSlabCli(sa);

@@ -7,11 +7,13 @@
 #include "core/text.h"
 #include "pathtrace/detail/bssrdf_chunk.h"
 #include "pathtrace/detail/chunk_runner.h"
+#include "pathtrace/detail/energy_check.h"
 #include "pathtrace/detail/mean_stderr.h"
 #include "pathtrace/fresnel.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 namespace pathtrace {
@@ -166,6 +168,23 @@ BssrdfSlice finalize(const BssrdfTally& t, const BssrdfBins& b, double thetaIDeg
     r.truncatedPaths = t.truncatedPaths;
     r.eventsPerPath = t.paths ? t.events.value() / double(t.paths) : 0;
     return r;
+}
+
+std::string energyProblem(const BssrdfSlice& s, ScatterOrders orders) {
+    if (s.paths < 2) return {};
+    if (s.energyDiffStderr > 0 && std::fabs(s.energyDiff) > kEnergyZ * s.energyDiffStderr) {
+        char b[240];
+        std::snprintf(b, sizeof b,
+                      "energy check failed: the connections' flux differs from the walk's exits "
+                      "by %.3g +- %.2g per path (z = %.1f)",
+                      s.energyDiff, s.energyDiffStderr, s.energyDiff / s.energyDiffStderr);
+        return b;
+    }
+    if (orders != ScatterOrders::All) return {};
+    return detail::energyProblem({"specular + R + absorbed + truncated + roulette",
+                                  s.specular + s.totalRd + s.absorbed + s.truncated + s.rouletteNet,
+                                  1.0, s.rouletteNet, s.rouletteNetStderr, s.truncated,
+                                  s.totalRdStderr, s.truncatedPaths, "R", ""});
 }
 
 uint64_t chunkCount(const EstimateSettings& s) {

@@ -148,6 +148,11 @@ double cellProjectedSolidAngle(const BssrdfBins& b, int ic); // ∫ cos θo dω 
 int cellOf(const BssrdfBins& b, double cosThetaO, double phiO);
 
 BssrdfSlice finalize(const BssrdfTally& t, const BssrdfBins& b, double thetaIDeg, const Medium& m);
+// The slice's own energy check (as energyProblem of a SlabResult): the accounting identity,
+// the roulette and truncation tests, and for connections |z| of the mean gap between binned
+// flux and exits ≤ kEnergyZ. Empty when it holds. Orders other than All cut the walk, so only
+// the gap is checked then.
+std::string energyProblem(const BssrdfSlice& s, ScatterOrders orders);
 
 // Traces paths [chunk·kChunkPaths …) of the chunks [firstChunk, lastChunk) for one incidence
 // angle (path streams keyed by (seed + angle index, path), so each angle has its own streams).

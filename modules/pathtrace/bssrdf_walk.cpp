@@ -208,9 +208,9 @@ class Walker {
     }
     int thetaBin(double thetaS) const { return std::min(int(thetaS / m_dTheta), m_nT - 1); }
 
-    // Tallies flux `v` leaving at surface point (px, py) along the internal direction `dir`
-    // (dir.z > 0); returns v if it landed inside r_max, else 0.
-    double tally(double px, double py, const Dir& dir, double v, int ir, int it) {
+    // Tallies flux `v` leaving in bin (ir, it) at a surface point on the side `py` along the
+    // internal direction `dir` (dir.z > 0); returns v.
+    double tally(double py, const Dir& dir, double v, int ir, int it) {
         const int bin = ir * m_nT + it;
         m_binAcc.add(bin, v);
         if (m_nD > 1) {
@@ -225,7 +225,7 @@ class Walker {
         const int ir = radialBin(std::sqrt(px * px + py * py));
         if (ir < 0) return 0.0;
         if (!histogram) return w;
-        return tally(px, py, dir, w, ir, thetaBin(std::atan2(std::fabs(py), px)));
+        return tally(py, dir, w, ir, thetaBin(std::atan2(std::fabs(py), px)));
     }
 
     // f/(q_a + q_p) for a connection from (x, y, z) arriving along u with scattered weight aw
@@ -263,7 +263,7 @@ class Walker {
             ring.sampleRing(rng.uniform32(), ct, st, density);
             const double px = r * ct, py = r * st;
             const double c = connection(x, y, z, u, aw, px, py, density / (r * (r1 - r0)), dir);
-            if (c > 0.0) tally(px, py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
+            if (c > 0.0) tally(py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
         }
         // (b) one phase-sampled direction, if it meets the surface inside the bins.
         const Dir v = m_g == 0.0 ? sampleSphere(rng) : scatterHg(u, m_g, rng);
@@ -276,7 +276,7 @@ class Walker {
         const detail::RingSampler ring(x, y, z, r);
         const double qa = areaDensity(ring, r, std::atan2(py, px), ir);
         const double c = connection(x, y, z, u, aw, px, py, qa, dir);
-        if (c > 0.0) tally(px, py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
+        if (c > 0.0) tally(py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
     }
 
     BssrdfBins m_bins;
