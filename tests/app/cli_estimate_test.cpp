@@ -1,0 +1,170 @@
+// End-to-end tests of `estimate` and `merge` (app/cli_estimate.h) on the real executable: the
+// table and its CSVs, shards merged into bitwise the file of one run, and every bad input the
+// reference issue lists — incidence angles, bin counts, shard specs, unwritable outputs, and
+// table files that are truncated, of another version, not tables, with a NaN in the header or
+// a negative value, or of another medium — each failing with a message naming the argument or
+// file.
+#include "../support/cli_runner.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace {
+namespace fs = std::filesystem;
+using namespace clitest;
+
+class Estimate : public ::testing::Test {
+  protected:
+    RunResult run(const std::vector<std::string>& args) { return runExe(args, m_dir.path()); }
+    void expectFailure(const std::vector<std::string>& args,
+                       const std::vector<std::string>& fragments) {
+        RunResult r = run(args);
+        EXPECT_NE(r.code, 0) << describe(args, r);
+        EXPECT_EQ(r.output.find("Abort"), std::string::npos) << describe(args, r);
+        for (const auto& f : fragments)
+            EXPECT_NE(r.output.find(f), std::string::npos)
+                << "expected the message to contain '" << f << "'\n"
+                << describe(args, r);
+    }
+    // `estimate` with a small default setup; a flag in `extra` replaces the default's.
+    std::vector<std::string> estimate(std::vector<std::string> extra) {
+        const std::vector<std::pair<std::string, std::string>> base = {
+            {"--theta-i", "0,60"},   {"--r-bins", "5"},    {"--rmax", "3"},
+            {"--theta-s-bins", "2"}, {"--paths", "20000"}, {"--sigma-a", "0.2"}};
+        std::vector<std::string> a = {"estimate"};
+        for (const auto& [flag, value] : base)
+            if (std::find(extra.begin(), extra.end(), flag) == extra.end()) {
+                a.push_back(flag);
+                a.push_back(value);
+            }
+        a.insert(a.end(), extra.begin(), extra.end());
+        return a;
+    }
+    std::string bytes(const std::string& name) { return readText(m_dir.path() / name); }
+    void write(const std::string& name, const std::string& data) {
+        std::ofstream(m_dir.path() / name, std::ios::binary) << data;
+    }
+    TempDir m_dir;
+};
+
+TEST_F(Estimate, WritesTableAndCsvAndShardsMergeBitwise) {
+    // 40000 paths: three chunks of 16384, one per shard.
+    RunResult r = run(estimate({"--paths", "40000", "--dir-bins", "2x3", "--out", "full.bwtable",
+                                "--csv", "r.csv", "--csv-dir", "s.csv"}));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("theta_i 60: 40000 paths"), std::string::npos) << r.output;
+    const std::string csv = bytes("r.csv");
+    EXPECT_EQ(csv.rfind("theta_i_deg,r_lo_mm,r_hi_mm,theta_s_lo_deg,theta_s_hi_deg,R,stderr\n", 0),
+              0u);
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 5 * 2);
+    const std::string dirCsv = bytes("s.csv");
+    EXPECT_EQ(dirCsv.rfind("theta_i_deg,r_lo_mm,r_hi_mm,theta_s_lo_deg,theta_s_hi_deg,theta_o_deg,"
+                           "phi_o_deg,solid_angle_sr,S,stderr\n",
+                           0),
+              0u);
+    EXPECT_EQ(std::count(dirCsv.begin(), dirCsv.end(), '\n'), 1 + 2 * 5 * 2 * 6);
+    for (int k = 1; k <= 3; ++k) {
+        r = run(
+            estimate({"--paths", "40000", "--dir-bins", "2x3", "--shard", std::to_string(k) + "/3",
+                      "--out", "s" + std::to_string(k) + ".bwtable"}));
+        ASSERT_EQ(r.code, 0) << r.output;
+    }
+    r = run({"merge", "s2.bwtable", "s3.bwtable", "s1.bwtable", "--out", "m.bwtable"});
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(bytes("m.bwtable") == bytes("full.bwtable"));
+    // Two of three shards: a partial table, said so.
+    r = run({"merge", "s1.bwtable", "s3.bwtable", "--out", "p.bwtable"});
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("covers 2 of the run's 3 chunks"), std::string::npos) << r.output;
+    // The same shard twice overlaps.
+    expectFailure({"merge", "s1.bwtable", "s1.bwtable", "--out", "x.bwtable"},
+                  {"s1.bwtable", "overlap"});
+    // Another medium, or other bins, cannot be merged.
+    ASSERT_EQ(run(estimate({"--paths", "40000", "--dir-bins", "2x3", "--sigma-a", "0.3", "--shard",
+                            "2/3", "--out", "o.bwtable"}))
+                  .code,
+              0);
+    expectFailure({"merge", "s1.bwtable", "o.bwtable", "--out", "x.bwtable"},
+                  {"o.bwtable", "medium", "sigma_a"});
+    ASSERT_EQ(run(estimate({"--paths", "40000", "--shard", "2/3", "--out", "b.bwtable"})).code, 0);
+    expectFailure({"merge", "s1.bwtable", "b.bwtable", "--out", "x.bwtable"},
+                  {"b.bwtable", "settings.bins"});
+}
+
+TEST_F(Estimate, RejectsBadArguments) {
+    const std::vector<std::string> out = {"--out", "t.bwtable"};
+    auto with = [&](std::vector<std::string> extra) {
+        extra.insert(extra.end(), out.begin(), out.end());
+        return estimate(extra);
+    };
+    expectFailure(with({"--theta-i", "90"}), {"--theta-i", "[0, 90)"});
+    expectFailure(with({"--theta-i", "-5"}), {"--theta-i", "[0, 90)"});
+    expectFailure(with({"--theta-i", "10,abc"}), {"--theta-i"});
+    expectFailure(with({"--theta-i", "nan"}), {"--theta-i"});
+    expectFailure(with({"--r-bins", "0"}), {"r_bins"});
+    expectFailure(with({"--theta-s-bins", "100000"}), {"theta_s_bins", "absurd"});
+    expectFailure(with({"--dir-bins", "0"}), {"--dir-bins"});
+    expectFailure(with({"--dir-bins", "3x"}), {"--dir-bins"});
+    expectFailure(with({"--dir-bins", "2000"}), {"--dir-bins"});
+    expectFailure(with({"--rmax", "-1"}), {"r_max"});
+    expectFailure(with({"--shard", "0/3"}), {"--shard"});
+    expectFailure(with({"--shard", "4/3"}), {"--shard"});
+    expectFailure(with({"--shard", "two"}), {"--shard"});
+    expectFailure(with({"--single-only", "--multiple-only"}), {"--single-only"});
+    expectFailure(with({"--gpu"}), {"--gpu"});
+    // An unwritable output fails at once, before any path is traced.
+    RunResult r = run(estimate({"--paths", "100000000", "--out", "/proc/nope/t.bwtable"}));
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.output.find("/proc/nope"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("paths/s"), std::string::npos) << "it traced before failing";
+    expectFailure(estimate({"--out", "t.bwtable", "--csv", "/proc/nope/r.csv"}), {"--csv"});
+}
+
+TEST_F(Estimate, RejectsBadTableFiles) {
+    ASSERT_EQ(run(estimate({"--out", "good.bwtable"})).code, 0);
+    const std::string good = bytes("good.bwtable");
+    const size_t headerEnd = good.find('\n', good.find('\n') + 1);
+    ASSERT_NE(headerEnd, std::string::npos);
+    auto merge = [&](const std::string& name) {
+        return std::vector<std::string>{"merge", name, "--out", "x.bwtable"};
+    };
+    write("trunc.bwtable", good.substr(0, good.size() - 100));
+    expectFailure(merge("trunc.bwtable"), {"trunc.bwtable", "truncated"});
+    write("header.bwtable", good.substr(0, headerEnd - 5));
+    expectFailure(merge("header.bwtable"), {"header.bwtable"});
+    write("long.bwtable", good + "extra");
+    expectFailure(merge("long.bwtable"), {"long.bwtable", "after the payload"});
+    std::string v2 = good;
+    v2.replace(v2.find("\"version\":1"), 11, "\"version\":2");
+    write("v2.bwtable", v2);
+    expectFailure(merge("v2.bwtable"), {"v2.bwtable", "version 2", "reads version 1"});
+    std::string nan = good;
+    nan.replace(nan.find("\"sigma_a\":0.2"), 13, "\"sigma_a\":NaN");
+    write("nan.bwtable", nan);
+    expectFailure(merge("nan.bwtable"), {"nan.bwtable", "header"});
+    std::string badMedium = good;
+    badMedium.replace(badMedium.find("\"eta\":1.3"), 9, "\"eta\":-13");
+    write("eta.bwtable", badMedium);
+    expectFailure(merge("eta.bwtable"), {"eta.bwtable", "eta"});
+    // A negative bin sum of squares: the first squared sum of the first angle (after the two
+    // counts and the 10 bin sums), its top byte set.
+    std::string neg = good;
+    neg[headerEnd + 1 + 16 + 10 * 32 + 15] = char(0xff);
+    write("neg.bwtable", neg);
+    expectFailure(merge("neg.bwtable"), {"neg.bwtable", "negative"});
+    std::string paths = good;
+    paths[headerEnd + 1] = char(paths[headerEnd + 1] + 1);
+    write("paths.bwtable", paths);
+    expectFailure(merge("paths.bwtable"), {"paths.bwtable", "paths"});
+    write("text.bwtable", "r_mm,R,G,B\n1,2,3,4\n");
+    expectFailure(merge("text.bwtable"), {"text.bwtable", "not a BSSRDF table"});
+    expectFailure(merge("missing.bwtable"), {"missing.bwtable"});
+}
+
+} // namespace
