@@ -216,6 +216,7 @@ bool ReferenceStage::update(const ReferenceInputs& in) {
         s.rMaxMm = in.rMaxMm;
         s.bins = in.settings.bins;
         s.seed = in.settings.seed;
+        s.estimator = in.settings.estimator;
         material::MaterialParams keyed = p;
         keyed.scale = 0; // lengths of the slab are in mm: the mesh scale is no input
         const std::string key = core::keyOf(keyed, in.rMaxMm, in.settings);

@@ -26,6 +26,9 @@ struct ReferenceSettings {
     int bins = 200;
     uint64_t seed = 1;
     bool gpu = false; // GL compute tracer, sliced per frame on the GL thread, instead of the CPU
+    // Implicit stays the default: on whole profiles (every bin at once) connections cost one
+    // connection per bin per collision and reach 1 % far later (bench pathtrace, connect-all).
+    pathtrace::Estimator estimator = pathtrace::Estimator::Implicit;
 };
 // The description of ReferenceSettings' members (core/fields.h).
 template <class V> void fields(V& v, ReferenceSettings& s) {
@@ -34,6 +37,7 @@ template <class V> void fields(V& v, ReferenceSettings& s) {
     v("bins", s.bins, "radial bins");
     v("seed", s.seed, "random seed");
     v("gpu", s.gpu, "GL compute tracer instead of the CPU");
+    v("estimator", s.estimator, "slab estimator (connections: CPU only)");
 }
 
 struct ReferenceSnapshot {

@@ -4,6 +4,7 @@
 #include "panels.h"
 
 #include "core/core.h"
+#include "core/fields.h"
 #include "gl/gl.h"
 #include "plot/plot_draw.h"
 
@@ -36,6 +37,17 @@ void drawReferenceControls(Workbench& wb) {
     int seed = int(rs.seed);
     ImGui::SetNextItemWidth(80);
     if (ImGui::InputInt("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(110);
+    if (ImGui::BeginCombo("estimator", core::nameOf(rs.estimator))) {
+        for (const auto& [e, name] : enumNames(pathtrace::Estimator{}))
+            if (ImGui::Selectable(name, rs.estimator == e)) rs.estimator = e;
+        ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("implicit: absorption by weight (default)\nanalog: thesis Algorithm 1 "
+                          "as printed\nconnections: every collision connected to every bin "
+                          "(seed 001; CPU only)");
     ImGui::SameLine();
     ImGui::Checkbox("GPU", &rs.gpu);
     if (ImGui::IsItemHovered())

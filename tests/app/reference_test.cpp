@@ -78,6 +78,52 @@ TEST(Reference, BadMaterialIsAnErrorNotACrash) {
     std::filesystem::remove_all(root);
 }
 
+// The connections estimator (seed 001) as the pencil plot's reference on the CPU: a band
+// whose error per path is below the implicit one's near the source; on the GL tracer, which
+// has no connections, a message in Errors instead of a band.
+TEST(Reference, ConnectionsEstimatorOnCpuAndRefusedOnGpu) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("refconn", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    wb.plotSettings().fixedRange = true;
+    wb.plotSettings().rMaxMm = 4.0;
+    auto& rs = wb.referenceSettings();
+    rs.enabled = true;
+    rs.paths = 4000;
+    rs.bins = 8;
+    rs.estimator = pathtrace::Estimator::Connections;
+    wb.update();
+    const app::ReferenceSnapshot conn = wb.finishReference();
+    ASSERT_TRUE(conn.problem.empty()) << conn.problem;
+    EXPECT_TRUE(conn.energy.empty()) << conn.energy;
+    EXPECT_EQ(conn.pathsDone, 4000u);
+    rs.estimator = pathtrace::Estimator::Implicit;
+    wb.update();
+    const app::ReferenceSnapshot imp = wb.finishReference();
+    for (int c = 0; c < 3; ++c) {
+        const auto& a = conn.channel[c];
+        const auto& b = imp.channel[c];
+        ASSERT_EQ(a.rd.size(), 8u);
+        // the same profile within the errors (Bonferroni over 8 bins x 3 channels at 1e-3)
+        for (size_t i = 0; i < a.rd.size(); ++i)
+            EXPECT_LT(std::fabs(a.rd[i] - b.rd[i]) / std::hypot(a.rdStderr[i], b.rdStderr[i]),
+                      core::bonferroniZ(1e-3, 24))
+                << "channel " << c << " bin " << i;
+        EXPECT_LT(a.rdStderr[0], b.rdStderr[0]) << "channel " << c;
+    }
+    rs.estimator = pathtrace::Estimator::Connections;
+    rs.gpu = true;
+    wb.update();
+    const app::ReferenceSnapshot gpu = wb.finishReference();
+    EXPECT_NE(gpu.problem.find("connections"), std::string::npos) << gpu.problem;
+    bool listed = false;
+    for (const auto& e : wb.errors())
+        listed |= e.source == "reference" && e.text.find("connections") != std::string::npos;
+    EXPECT_TRUE(listed);
+    std::filesystem::remove_all(root);
+}
+
 // A reference that fails its own energy check says so loudly: σa = 0 (Spectralon) truncates a
 // few paths of the heavy tail of return times at the event limit, more weight than the
 // error bar; the snapshot names the channel, the Errors panel lists it, the plot draws the
