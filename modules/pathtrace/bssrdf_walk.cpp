@@ -70,6 +70,8 @@ namespace pathtrace {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+// Connection roulette distance d₀ in mean free paths (connectVertex).
+constexpr double kRouletteMfp = 3.0;
 
 // Per-path accumulators of a sparse set of indices (values added are > 0).
 struct PathAcc {
@@ -246,11 +248,25 @@ class Walker {
     }
     // Technique (a)'s area density at the point (r, θ) of radial bin ir: r uniform in the bin,
     // θ by the ring sampler (1/r: polar to area).
-    double areaDensity(const detail::RingSampler& ring, double r, double theta, int ir) const {
-        return ring.pdf(theta) / (r * (m_edges[size_t(ir) + 1] - m_edges[size_t(ir)]));
+    double areaDensity(const detail::RingSampler& ring, double r, double px, double py,
+                       int ir) const {
+        return ring.pdf(px / r, py / r) / (r * (m_edges[size_t(ir) + 1] - m_edges[size_t(ir)]));
     }
 
     void connectVertex(double x, double y, double z, const Dir& u, double aw, Pcg32& rng) {
+        // Connection roulette: a vertex farther than kRouletteMfp mean free paths from every
+        // bin (the annulus [r_start, r_max) on the surface) connects with probability
+        // p = e^{−σt (d_min − d₀)} and weight 1/p. Unbiased, and since every term carries
+        // e^{−σt d} with d ≥ d_min, each stays below aw·e^{−σt d₀}: bounded. It spares the
+        // deep and the far vertices, whose connections add almost nothing.
+        const double rho = std::sqrt(x * x + y * y);
+        const double h = std::max({0.0, m_edges.front() - rho, rho - m_edges.back()});
+        const double dMin = std::sqrt(h * h + z * z), d0 = kRouletteMfp * m_invSigmaT;
+        if (dMin > d0) {
+            const double p = std::exp(-m_sigmaT * (dMin - d0));
+            if (rng.uniform32() >= p) return;
+            aw /= p;
+        }
         Dir dir{};
         // (a) one point per radial bin: r uniform in the bin, θ ∝ 1/d² on its ring
         // (detail/ring_sampler.h); it lands in the θs sector it lands in.
@@ -274,7 +290,7 @@ class Walker {
         const int ir = radialBin(r);
         if (ir < 0 || !(r > 0.0)) return;
         const detail::RingSampler ring(x, y, z, r);
-        const double qa = areaDensity(ring, r, std::atan2(py, px), ir);
+        const double qa = areaDensity(ring, r, px, py, ir);
         const double c = connection(x, y, z, u, aw, px, py, qa, dir);
         if (c > 0.0) tally(py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
     }

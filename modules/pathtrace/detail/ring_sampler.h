@@ -21,7 +21,6 @@ class RingSampler {
         const double rho2 = vx * vx + vy * vy;
         const double a = r * r + rho2 + z * z, b = 2.0 * r * std::sqrt(rho2);
         const double rho = std::sqrt(rho2);
-        m_mu = rho2 > 0 ? std::atan2(vy, vx) : 0.0;
         m_cosMu = rho2 > 0 ? vx / rho : 1.0;
         m_sinMu = rho2 > 0 ? vy / rho : 0.0;
         m_c = b > 0 ? b / (a + std::sqrt(std::fmax(0.0, (a - b) * (a + b)))) : 0.0;
@@ -39,15 +38,15 @@ class RingSampler {
         const double c = m_c;
         density = (1.0 - c * c) / (2.0 * kPi * (1.0 + c * c - 2.0 * c * cd));
     }
-    // Density of θ on the circle (integrates to 1 over 2π).
-    double pdf(double theta) const {
-        const double c = m_c;
-        return (1.0 - c * c) / (2.0 * kPi * (1.0 + c * c - 2.0 * c * std::cos(theta - m_mu)));
+    // Density of θ on the circle (integrates to 1 over 2π) at the point (cos θ, sin θ).
+    double pdf(double cosT, double sinT) const {
+        const double c = m_c, cosDelta = cosT * m_cosMu + sinT * m_sinMu;
+        return (1.0 - c * c) / (2.0 * kPi * (1.0 + c * c - 2.0 * c * cosDelta));
     }
 
   private:
     static constexpr double kPi = std::numbers::pi;
-    double m_mu = 0, m_cosMu = 1, m_sinMu = 0, m_c = 0, m_k = 1;
+    double m_cosMu = 1, m_sinMu = 0, m_c = 0, m_k = 1;
 };
 
 } // namespace pathtrace::detail
