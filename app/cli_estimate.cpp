@@ -51,7 +51,8 @@ int parseCount(const std::string& s, const std::string& flag, const std::string&
     return int(v);
 }
 
-// Fails before any work when `path` cannot be created: its folder must exist and accept a file.
+} // namespace
+
 void checkWritable(const std::string& path, const std::string& flag) {
     if (path.empty()) return;
     const std::filesystem::path p(path);
@@ -67,6 +68,8 @@ void checkWritable(const std::string& path, const std::string& flag) {
     probe.close();
     if (!existed) std::filesystem::remove(p, ec);
 }
+
+namespace {
 
 void writeOutputs(const pathtrace::BssrdfTable& t, const std::string& out, const std::string& csv,
                   const std::string& csvDir) {
@@ -209,17 +212,26 @@ void addMergeOptions(CLI::App* cmd, MergeArgs& a) {
     cmd->add_option("--out", a.out, "merged table file")->required();
     cmd->add_option("--csv", a.csv, "CSV per spatial bin (as estimate --csv)");
     cmd->add_option("--csv-dir", a.csvDir, "CSV per direction cell (as estimate --csv-dir)");
+    cmd->add_option("--slab-csv", a.slabCsv,
+                    "for shards of `slab --shard`: the CSV `slab` writes for the whole run");
 }
 
 int runMergeCli(const MergeArgs& a) {
     checkWritable(a.out, "--out");
     checkWritable(a.csv, "--csv");
     checkWritable(a.csvDir, "--csv-dir");
+    checkWritable(a.slabCsv, "--slab-csv");
     std::vector<pathtrace::BssrdfTable> tables;
     for (const auto& f : a.inputs)
         tables.push_back(pathtrace::readTable(f));
     const auto merged = pathtrace::mergeTables(tables, a.inputs);
     writeOutputs(merged, a.out, a.csv, a.csvDir);
+    int slabRc = 0;
+    if (!a.slabCsv.empty()) {
+        pathtrace::SlabSettings s;
+        const pathtrace::SlabResult r = pathtrace::slabResultOf(merged, s, "--slab-csv");
+        slabRc = writeSlabCsv(a.slabCsv, merged.medium, s, r, "CPU (merged shards)");
+    }
     if (!merged.complete()) {
         uint64_t have = 0;
         for (const auto& [f, l] : merged.chunks)
@@ -230,7 +242,8 @@ int runMergeCli(const MergeArgs& a) {
                      static_cast<unsigned long long>(have),
                      static_cast<unsigned long long>(pathtrace::chunkCount(merged.settings)));
     }
-    return report(merged);
+    const int rc = report(merged);
+    return rc != 0 ? rc : slabRc;
 }
 
 } // namespace app

@@ -2,10 +2,12 @@
 #include "cli_slab.h"
 #include "core/text.h"
 
+#include "cli_estimate.h"
 #include "cli_options.h"
 
 #include "core/core.h"
 #include "gl/gl.h"
+#include "pathtrace/bssrdf_table.h"
 #include "pathtrace/gpu_slab.h"
 #include "pathtrace/pathtrace.h"
 
@@ -54,13 +56,12 @@ std::function<void(uint64_t)> progressLine(const pathtrace::SlabSettings& s,
     };
 }
 
-// Writes the CSV; returns 0, or kEnergyCheckFailed (problem on stderr) when the result fails
-// its own energy check.
-int writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabResult& r,
+} // namespace
+
+int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
+                 const pathtrace::SlabSettings& s, const pathtrace::SlabResult& r,
                  const std::string& device) {
     const std::string problem = pathtrace::energyProblem(r);
-    const auto& m = k.m;
-    const auto& s = k.s;
     const double perSecond = r.seconds > 0 ? double(r.paths) / r.seconds : 0;
     std::ostringstream out;
     out << "# bssrdf-workbench slab " << BW_VERSION << "\n"
@@ -102,16 +103,15 @@ int writeSlabCsv(const SlabArgs& a, const SlabSetup& k, const pathtrace::SlabRes
     for (size_t i = 0; i < r.rd.size(); ++i)
         out << core::formatNumber(r.rMid[i]) << ',' << core::formatNumber(r.rd[i]) << ','
             << core::formatNumber(r.rdStderr[i]) << '\n';
-    core::writeFile(a.out, out.str());
+    core::writeFile(path, out.str());
     std::fprintf(stderr, "wrote %s (%llu paths, R_d %s +- %s, %.1f s, %.0f paths/s)\n",
-                 a.out.c_str(), static_cast<unsigned long long>(r.paths),
+                 path.c_str(), static_cast<unsigned long long>(r.paths),
                  core::formatNumber(r.totalRd).c_str(), core::formatNumber(r.totalRdStderr).c_str(),
                  r.seconds, perSecond);
     if (problem.empty()) return 0;
     std::fprintf(stderr, "error: slab: %s\n", problem.c_str());
     return kEnergyCheckFailed;
 }
-} // namespace
 
 void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
     addSettingOptions(
@@ -129,19 +129,40 @@ void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
     cmd->add_option("--threads", a.settings.threads, "worker threads (default: all cores)");
     cmd->add_flag("--analog", a.analog, "same as --estimator analog (thesis Algorithm 1)");
     cmd->add_flag("--gpu", a.gpu, "trace on the GL compute tracer instead of the CPU");
-    cmd->add_option("--out", a.out, "CSV file: # header, then r_mm,Rd_per_mm2,stderr")->required();
+    cmd->add_option("--shard", a.shard,
+                    "run shard K of N (1 <= K <= N) and write its table (raw sums) to --out; "
+                    "`merge --slab-csv` combines the shards into this command's CSV");
+    cmd->add_option("--out", a.out,
+                    "CSV file: # header, then r_mm,Rd_per_mm2,stderr (with --shard: the table)")
+        ->required();
 }
 
 int runSlabCli(const SlabArgs& a) {
     const SlabSetup k = prepare(a);
+    checkWritable(a.out, "--out");
+    if (!a.shard.empty()) {
+        const auto [shard, n] = parseShard(a.shard, "--shard");
+        const pathtrace::EstimateSettings e = pathtrace::slabTableSettings(k.s);
+        const auto [first, last] = pathtrace::shardChunks(e, shard, n);
+        core::Stopwatch clock;
+        const auto table = pathtrace::estimateTable(k.m, e, first, last, progressLine(k.s, clock));
+        std::fprintf(stderr, "\n");
+        pathtrace::writeTable(a.out, table);
+        std::fprintf(stderr, "wrote %s (shard %s, %llu paths)\n", a.out.c_str(), a.shard.c_str(),
+                     static_cast<unsigned long long>(table.tallies[0].paths));
+        return 0;
+    }
     core::Stopwatch clock;
     const pathtrace::SlabResult r = pathtrace::runSlab(k.m, k.s, progressLine(k.s, clock));
     std::fprintf(stderr, "\n");
-    return writeSlabCsv(a, k, r, "CPU");
+    return writeSlabCsv(a.out, k.m, k.s, r, "CPU");
 }
 
 int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a) {
     const SlabSetup k = prepare(a);
+    checkWritable(a.out, "--out");
+    if (!a.shard.empty())
+        throw core::Error("--shard", 0, "shards run on the CPU tracer (leave out --gpu)");
     auto ctx = gl::createHeadlessContext(false);
     pathtrace::GpuSlabTracer tracer(root / "shaders" / "pathtrace_slab.comp");
     tracer.reset(k.m, k.s);
@@ -152,7 +173,7 @@ int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a) {
     std::fprintf(stderr, "\n");
     pathtrace::SlabResult r = pathtrace::finalize(tracer.tally(), k.s);
     r.seconds = tracer.seconds();
-    return writeSlabCsv(a, k, r, std::string("GPU (") + ctx->renderer() + ")");
+    return writeSlabCsv(a.out, k.m, k.s, r, std::string("GPU (") + ctx->renderer() + ")");
 }
 
 } // namespace app

@@ -25,7 +25,8 @@ struct SlabArgs {
     double rMax = NAN;                // mm; NaN: defaultSlabRMax (replaces settings.rMaxMm)
     bool analog = false;              // --analog: settings.estimator = Analog
     bool gpu = false;                 // the GL compute tracer instead of the CPU
-    std::string out;                  // CSV path (required)
+    std::string shard;                // --shard K/N: write shard K's table to `out`
+    std::string out;                  // CSV path (required); the table with --shard
 };
 // The options of `slab`: medium and settings options generated from their descriptions
 // (cli_options.h), so their flags' defaults are the structs' own.
@@ -38,8 +39,15 @@ double defaultSlabRMax(const pathtrace::Medium& m);
 // Exit status of a command whose result failed its own energy check (output still written).
 constexpr int kEnergyCheckFailed = 3;
 
-// Validates (core::Error naming the argument), runs with a progress line on stderr, writes
-// the CSV. Returns 0, or kEnergyCheckFailed.
+// Writes a slab result as the CSV `slab` writes (device: "CPU", "GPU (…)", "merged shards");
+// returns 0, or kEnergyCheckFailed (problem on stderr) when it fails its energy check.
+int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
+                 const pathtrace::SlabSettings& s, const pathtrace::SlabResult& r,
+                 const std::string& device);
+
+// Validates (core::Error naming the argument; the output must be writable), runs with a
+// progress line on stderr, writes the CSV — or with --shard the shard's table. Returns 0, or
+// kEnergyCheckFailed.
 int runSlabCli(const SlabArgs& a);
 // The same on the GL compute tracer (shaders/pathtrace_slab.comp under `root`), headless.
 int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a);

@@ -5,6 +5,7 @@
 #include "core/core.h"
 #include "core/fields.h"
 #include "core/text.h"
+#include "pathtrace/detail/slab_connections.h"
 
 #include <nlohmann/json.hpp>
 
@@ -253,6 +254,29 @@ BssrdfTable mergeTables(const std::vector<BssrdfTable>& tables,
             out.chunks.push_back(range);
     }
     return out;
+}
+
+EstimateSettings slabTableSettings(const SlabSettings& s) {
+    return detail::estimateSettingsOf(s);
+}
+
+SlabResult slabResultOf(const BssrdfTable& t, SlabSettings& s, const std::string& what) {
+    const EstimateSettings& e = t.settings;
+    if (e.thetaIDeg != std::vector<double>{0.0} || e.bins.thetaSBins != 1 ||
+        e.bins.dirBins() != 1 || e.bins.spacing != RadialSpacing::Uniform || e.bins.rStartMm != 0 ||
+        e.orders != ScatterOrders::All)
+        throw core::Error(what, 0,
+                          "not a slab table (it needs theta_i 0, one theta_s bin, one direction "
+                          "cell, uniform bins from 0, all orders): write it with `slab --shard`");
+    s.bins = e.bins.rBins;
+    s.rMaxMm = e.bins.rMaxMm;
+    s.paths = e.paths;
+    s.seed = e.seed;
+    s.termination = e.termination;
+    s.estimator = e.estimator == BssrdfEstimator::Analog     ? Estimator::Analog
+                  : e.estimator == BssrdfEstimator::Implicit ? Estimator::Implicit
+                                                             : Estimator::Connections;
+    return finalize(detail::slabTallyOf(t.tallies.at(0), t.medium), s);
 }
 
 namespace {

@@ -56,6 +56,13 @@ BssrdfTable readTable(const std::filesystem::path& path);
 BssrdfTable mergeTables(const std::vector<BssrdfTable>& tables,
                         const std::vector<std::string>& names);
 
+// The table settings of a slab run (θi 0, one θs bin, one cell, the slab's bins): `slab --shard`
+// writes such tables, and runSlab computes exactly their sums.
+EstimateSettings slabTableSettings(const SlabSettings& s);
+// A slab-shaped table as the slab reference's result, with `s` set to its settings (bins, rMax,
+// paths, seed, estimator, termination). core::Error naming `what` when the table is not one.
+SlabResult slabResultOf(const BssrdfTable& t, SlabSettings& s, const std::string& what);
+
 // CSV of the directionally integrated R per spatial bin, one row per (θi, bin):
 //   theta_i_deg,r_lo_mm,r_hi_mm,theta_s_lo_deg,theta_s_hi_deg,R,stderr
 std::string tableCsv(const BssrdfTable& t);

@@ -50,6 +50,8 @@
 // Orders: MultipleOnly skips the connections (and histogram exits) of paths' first collision;
 // SingleOnly connects the first collision only and ends the walk there (the histogram counts
 // exits after exactly one collision).
+// Connection roulette: a collision farther than d₀ = 2 mean free paths from every bin connects
+// with probability e^{−σt(d_min − d₀)} and weight 1/p (connectVertex); terms stay bounded.
 // Energy: per path, D = Σ_bins Φ (connections) − exit weight inside r_max (same orders), E[D] = 0.
 #include "core/core.h"
 #include "pathtrace/bssrdf_estimate.h"
@@ -71,7 +73,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 // Connection roulette distance d₀ in mean free paths (connectVertex).
-constexpr double kRouletteMfp = 3.0;
+constexpr double kRouletteMfp = 2.0;
 
 // Per-path accumulators of a sparse set of indices (values added are > 0).
 struct PathAcc {

@@ -34,9 +34,13 @@
 //   with E[rouletteLoss] = 0 (energyProblem() checks both and says so when they fail).
 //   Defaults of the weight roulette (0.1, 0.5) were tuned on the reference case η 1.3,
 //   σa 0.01, σs 1, g 0 (1/mm) for time to 1 % error at r = l_d and 4 l_d.
+//   Runs (runSlab, traceSlab) go through the oblique-incidence estimate of bssrdf_estimate.h at
+//   θi = 0, which walks exactly these paths (same random numbers) and also offers the
+//   connection estimator of seed 001 (Estimator::Connections); chunk sums are exact, so runs
+//   are bitwise independent of threads and shards.
 //   Files: rng.h (PCG32 streams), sampling.h (distance, HG, direction frame), fresnel.h,
-//   slab_tracer.cpp (the path loop), tally.cpp (sums, merge, finalize), run_slab.cpp (threads,
-//   chunk-ordered merge), validate.cpp.
+//   slab_tracer.cpp (the path loop of tracePath and the GL parity), slab_connections.cpp (runs
+//   through the estimate), tally.cpp (sums, merge, finalize), run_slab.cpp, validate.cpp.
 #pragma once
 
 #include <array>

@@ -1,10 +1,13 @@
-// pathtrace/slab_connections: the slab reference with Estimator::Connections — the
-// oblique-incidence estimate of bssrdf_estimate.h (seed 001, derivation in bssrdf_walk.cpp) at
-// θi = 0 with one θs bin and one direction cell, i.e. R_d(r) on the slab's uniform radial bins,
-// returned as a SlabTally so every consumer of the slab reference (CLI, GUI, tests) reads it
-// unchanged. Paths are grouped in the aligned chunks [k·kChunkPaths, (k+1)·kChunkPaths), summed
-// per chunk and added exactly (detail/exact_sum.h), so runSlab and traceSlab(0, paths) agree
-// bitwise for any thread count, as for the other estimators.
+// pathtrace/slab_connections: the CPU slab reference (runSlab, traceSlab) for every estimator,
+// run through the oblique-incidence estimate of bssrdf_estimate.h at θi = 0 with one θs bin and
+// one direction cell — R_d(r) on the slab's uniform radial bins. At θi = 0 that walk draws the
+// same random numbers as the slab tracer's (slab_tracer.cpp, kept for tracePath), so analog and
+// implicit trace the very same paths; connections add the seed-001 estimator (derivation in
+// bssrdf_walk.cpp). The result is returned as a SlabTally so every consumer of the slab
+// reference (CLI, GUI, tests) reads it unchanged, and a sharded `slab` run writes the same
+// table `estimate` does. Paths are grouped in the aligned chunks [k·kChunkPaths,
+// (k+1)·kChunkPaths), summed per chunk and added exactly (detail/exact_sum.h), so runSlab and
+// traceSlab(0, paths) agree bitwise for any thread count, as for the other estimators.
 #include "pathtrace/detail/slab_connections.h"
 
 #include "pathtrace/bssrdf_estimate.h"
@@ -15,7 +18,7 @@
 
 namespace pathtrace::detail {
 
-EstimateSettings connectionSettings(const SlabSettings& s) {
+EstimateSettings estimateSettingsOf(const SlabSettings& s) {
     EstimateSettings e;
     e.thetaIDeg = {0.0};
     e.bins.rBins = s.bins;
@@ -28,7 +31,9 @@ EstimateSettings connectionSettings(const SlabSettings& s) {
     e.seed = s.seed;
     e.threads = s.threads;
     e.termination = s.termination;
-    e.estimator = BssrdfEstimator::Connections;
+    e.estimator = s.estimator == Estimator::Analog     ? BssrdfEstimator::Analog
+                  : s.estimator == Estimator::Implicit ? BssrdfEstimator::Implicit
+                                                       : BssrdfEstimator::Connections;
     return e;
 }
 
@@ -55,9 +60,9 @@ SlabTally slabTallyOf(const BssrdfTally& b, const Medium& m) {
     return t;
 }
 
-SlabTally traceSlabConnections(const Medium& m, const SlabSettings& s, uint64_t first,
+SlabTally traceSlabViaEstimate(const Medium& m, const SlabSettings& s, uint64_t first,
                                uint64_t count, const std::atomic<bool>* cancel) {
-    const EstimateSettings e = connectionSettings(s);
+    const EstimateSettings e = estimateSettingsOf(s);
     BssrdfTally total = makeTally(e.bins);
     ChunkTally chunk;
     for (uint64_t p = first, end = first + count; p < end;) {

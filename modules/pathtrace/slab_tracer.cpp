@@ -142,19 +142,7 @@ SlabTally traceSlab(const Medium& m, const SlabSettings& s, uint64_t first, uint
                     const std::atomic<bool>* cancel) {
     validate(m);
     validate(s);
-    if (s.estimator == Estimator::Connections)
-        return detail::traceSlabConnections(m, s, first, count, cancel);
-    SlabTally t = makeTally(s);
-    std::vector<PathRecord> buf(static_cast<size_t>(std::min<uint64_t>(count, 4096)));
-    for (uint64_t done = 0; done < count;) {
-        const uint64_t n = std::min<uint64_t>(count - done, buf.size());
-        const uint64_t got = detail::traceChunk(m, s, first + done, n, buf.data(), cancel);
-        for (uint64_t i = 0; i < got; ++i)
-            accumulate(t, buf[i], s);
-        done += got;
-        if (got < n) break; // cancelled
-    }
-    return t;
+    return detail::traceSlabViaEstimate(m, s, first, count, cancel);
 }
 
 } // namespace pathtrace

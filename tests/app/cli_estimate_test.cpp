@@ -97,6 +97,49 @@ TEST_F(Estimate, WritesTableAndCsvAndShardsMergeBitwise) {
                   {"b.bwtable", "settings.bins"});
 }
 
+// `slab --shard K/N` writes tables; `merge --slab-csv` gives the very CSV rows of one `slab` run.
+TEST_F(Estimate, SlabShardsMergeIntoTheSlabCsv) {
+    const std::vector<std::string> base = {"slab", "--paths",   "40000", "--bins",
+                                           "30",   "--sigma-a", "0.1",   "--estimator"};
+    for (const char* est : {"implicit", "connections"}) {
+        auto args = base;
+        args.push_back(est);
+        auto with = [&](std::vector<std::string> extra) {
+            auto a = args;
+            a.insert(a.end(), extra.begin(), extra.end());
+            return a;
+        };
+        RunResult r = run(with({"--out", "one.csv"}));
+        ASSERT_EQ(r.code, 0) << r.output;
+        for (int k = 1; k <= 3; ++k) {
+            r = run(with({"--shard", std::to_string(k) + "/3", "--out",
+                          "p" + std::to_string(k) + ".bwtable"}));
+            ASSERT_EQ(r.code, 0) << r.output;
+        }
+        r = run({"merge", "p1.bwtable", "p2.bwtable", "p3.bwtable", "--out", "all.bwtable",
+                 "--slab-csv", "merged.csv"});
+        ASSERT_EQ(r.code, 0) << r.output;
+        auto body = [](const std::string& csv) { return csv.substr(csv.find("r_mm,")); };
+        auto line = [](const std::string& csv, const std::string& key) {
+            const size_t at = csv.find(key);
+            return at == std::string::npos ? std::string()
+                                           : csv.substr(at, csv.find('\n', at) - at);
+        };
+        const std::string one = bytes("one.csv"), merged = bytes("merged.csv");
+        EXPECT_EQ(body(merged), body(one)) << est;
+        for (const char* key : {"# total_Rd ", "# absorbed ", "# estimator ", "# energy_check "})
+            EXPECT_EQ(line(merged, key), line(one, key)) << est;
+        EXPECT_FALSE(line(one, "# total_Rd ").empty());
+    }
+    // A table that is not slab-shaped cannot become the slab CSV.
+    ASSERT_EQ(run(estimate({"--out", "wide.bwtable"})).code, 0);
+    expectFailure({"merge", "wide.bwtable", "--out", "x.bwtable", "--slab-csv", "x.csv"},
+                  {"--slab-csv", "not a slab table"});
+    expectFailure({"slab", "--paths", "1000", "--shard", "3/2", "--out", "x.bwtable"}, {"--shard"});
+    expectFailure({"slab", "--paths", "1000", "--gpu", "--shard", "1/2", "--out", "x.bwtable"},
+                  {"--shard", "CPU"});
+}
+
 TEST_F(Estimate, RejectsBadArguments) {
     const std::vector<std::string> out = {"--out", "t.bwtable"};
     auto with = [&](std::vector<std::string> extra) {
