@@ -59,7 +59,8 @@ void checkWritable(const std::string& path, const std::string& flag) {
     const auto dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec))
-        throw core::Error(flag, 0, "folder '" + dir.string() + "' does not exist");
+        throw core::Error(
+            flag, 0, "cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
     if (std::filesystem::is_directory(p, ec))
         throw core::Error(flag, 0, "'" + path + "' is a folder");
     const bool existed = std::filesystem::exists(p, ec);
