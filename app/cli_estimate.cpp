@@ -117,9 +117,7 @@ std::pair<uint64_t, uint64_t> parseShard(const std::string& text, const std::str
 }
 
 void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
-    addSettingOptions(
-        cmd, a.medium,
-        {{"sigma_a", "--sigma-a"}, {"sigma_s", "--sigma-s"}, {"g", "--g"}, {"eta", "--eta"}});
+    addMediumOptions(cmd, a.medium);
     cmd->add_option("--theta-i", a.thetaI, "incidence angles in degrees, [0, 90): DEG[,DEG...]")
         ->capture_default_str();
     addSettingOptions(cmd, a.settings,

@@ -113,10 +113,14 @@ int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
     return kEnergyCheckFailed;
 }
 
-void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
+void addMediumOptions(CLI::App* cmd, pathtrace::Medium& m) {
     addSettingOptions(
-        cmd, a.medium,
+        cmd, m,
         {{"sigma_a", "--sigma-a"}, {"sigma_s", "--sigma-s"}, {"g", "--g"}, {"eta", "--eta"}});
+}
+
+void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
+    addMediumOptions(cmd, a.medium);
     cmd->add_option("--rmax", a.rMax, "histogram radius in mm (default 10 l_d)");
     addSettingOptions(cmd, a.settings,
                       {{"bins", "--bins"},

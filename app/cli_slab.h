@@ -28,6 +28,8 @@ struct SlabArgs {
     std::string shard;                // --shard K/N: write shard K's table to `out`
     std::string out;                  // CSV path (required); the table with --shard
 };
+// --sigma-a --sigma-s --g --eta, generated from pathtrace::Medium's description (its defaults).
+void addMediumOptions(CLI::App* cmd, pathtrace::Medium& m);
 // The options of `slab`: medium and settings options generated from their descriptions
 // (cli_options.h), so their flags' defaults are the structs' own.
 void addSlabOptions(CLI::App* cmd, SlabArgs& a);

@@ -1,6 +1,8 @@
 // The material and pencil stages (model_stages.h).
 #include "model_stages.h"
 
+#include "core/text.h"
+
 #include "core/core.h"
 #include "gl/gl.h"
 
@@ -14,6 +16,26 @@ std::string keyOf(MaterialSettings s, long long generation) {
     return core::keyOf(generation, s);
 }
 
+// A table model path-traced for one medium per channel describes that medium only: a material
+// that differs is named (the curve is still drawn, so nothing the user sees disappears).
+std::string tableMediumProblem(const bssrdf::Model& m, const material::MaterialParams& p) {
+    if (m.tableMedia.size() != 3) return {};
+    static const char* kChannel[3] = {"red", "green", "blue"};
+    for (int c = 0; c < 3; ++c) {
+        const auto& t = m.tableMedia[size_t(c)];
+        auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-6 * std::fabs(b); };
+        if (!near(p.sigmaA[c], t.sigmaA) || !near(p.sigmaS[c], t.sigmaS) || !near(p.g, t.g) ||
+            !near(p.eta, t.eta))
+            return std::string("its table was computed for ") + kChannel[c] + " sigma_a " +
+                   core::formatNumber(t.sigmaA) + ", sigma_s " + core::formatNumber(t.sigmaS) +
+                   ", g " + core::formatNumber(t.g) + ", eta " + core::formatNumber(t.eta) +
+                   "; the material has sigma_a " + core::formatNumber(p.sigmaA[c]) + ", sigma_s " +
+                   core::formatNumber(p.sigmaS[c]) + ", g " + core::formatNumber(p.g) + ", eta " +
+                   core::formatNumber(p.eta) + " (its curve describes another medium)";
+    }
+    return {};
+}
+
 void computeMaterial(bssrdf::ModelEntry& e, ModelView& v, const MaterialSettings& shared) {
     const MaterialSettings& s = v.override ? v.own : shared;
     std::string key = keyOf(s, e.generation);
@@ -21,7 +43,7 @@ void computeMaterial(bssrdf::ModelEntry& e, ModelView& v, const MaterialSettings
     v.materialKey = key;
     try {
         v.effective = effectiveParams(e, s);
-        v.materialProblem.clear();
+        v.materialProblem = tableMediumProblem(*e.model, *v.effective);
     } catch (const core::Error& err) {
         v.effective.reset();
         v.materialProblem = err.what();

@@ -4,7 +4,8 @@
 //   in any order: 'parameters' (float/bool/color declarations exposed as uniforms),
 //   'initializer' (GLSL, defines void init()), 'diffuseReflectance' (GLSL, defines
 //   vec3 DiffuseReflectance(vec3 AlphaPrime), used for the R_dr/l_d inversion of thesis
-//   Section 3.4) and 'shader' (GLSL, defines vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo)).
+//   Section 3.4) and 'shader' (GLSL, defines vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo)),
+//   or instead of 'shader' a 'table' naming data files (table_model.h).
 //   Unknown sections are ignored with a note. Every format error throws core::Error carrying
 //   the display path and the 1-based line it is about.
 //   See materials/README.md for the full format, the built-ins and the unit conventions.
@@ -51,6 +52,14 @@ struct Model {
     Attributes attrs;
     std::vector<Param> params;
     std::optional<Section> initializer, diffuseReflectance, shader;
+    // A `table` section (table_model.h): the shader is generated from data files by loadModel.
+    std::optional<Section> table;
+    std::vector<std::filesystem::path> dataFiles; // the files a table model was made from
+    struct TableMedium {
+        double sigmaA = 0, sigmaS = 0, g = 0, eta = 1;
+    };
+    // For tables path-traced for one medium per channel: that medium (else empty).
+    std::vector<TableMedium> tableMedia;
     std::vector<std::string> notes; // non-fatal notes, e.g. "file:7: unknown section 'foo' ignored"
 
     const Param* findParam(std::string_view n) const;

@@ -1,6 +1,7 @@
 // The .bssrdf file format (thesis Appendix A.2): attribute line, named sections, checks that the
 // GLSL sections define the functions the consumers call.
 #include "bssrdf/bssrdf.h"
+#include "bssrdf/table_model.h"
 
 #include "bssrdf/detail/param_parser.h"
 #include "bssrdf/detail/text_lines.h"
@@ -16,7 +17,8 @@ namespace {
 using detail::tokenize;
 using detail::trim;
 
-constexpr const char* kKnownSections = "parameters, initializer, diffuseReflectance, shader";
+constexpr const char* kKnownSections =
+    "parameters, initializer, diffuseReflectance, shader, table";
 
 std::string inQuotes(std::string_view s) {
     std::string out;
@@ -158,6 +160,8 @@ void Parser::assign(Model& m) {
             requireDefinition(s, R"(\bvec3\s+Bssrdf\s*\()",
                               "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo)");
             m.shader = std::move(s);
+        } else if (s.name == "table") {
+            m.table = std::move(s);
         } else {
             std::string note =
                 core::formatLocation(m_path, s.beginLine,
@@ -223,7 +227,9 @@ Model Parser::run() {
                                     " is not terminated (missing '::end " + m_open->name + "')");
 
     assign(m);
-    if (!m.shader) fail(lastLine, "missing ::begin shader section");
+    if (m.table && m.shader)
+        fail(m.table->beginLine, "a model has either a 'table' or a 'shader' section, not both");
+    if (!m.shader && !m.table) fail(lastLine, "missing ::begin shader section");
     return m;
 }
 
@@ -246,7 +252,9 @@ Model loadModel(const std::filesystem::path& file, const std::string& displayPat
     } catch (const core::Error& e) {
         throw core::Error(displayPath, 0, e.message());
     }
-    return parseModel(text, displayPath);
+    Model m = parseModel(text, displayPath);
+    expandTable(m, file.parent_path());
+    return m;
 }
 
 } // namespace bssrdf

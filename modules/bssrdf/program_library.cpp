@@ -138,6 +138,18 @@ bool ModelLibrary::onFilesChanged(const std::vector<fs::path>& paths) {
     }
     if (others.empty()) return changed;
     for (auto& e : m_entries) {
+        // A table model's data file: the model is made again from it.
+        if (e.model && std::any_of(e.model->dataFiles.begin(), e.model->dataFiles.end(),
+                                   [&](const fs::path& f) {
+                                       return std::any_of(others.begin(), others.end(),
+                                                          [&](const fs::path& o) {
+                                                              std::error_code ec;
+                                                              return fs::equivalent(f, o, ec);
+                                                          });
+                                   })) {
+            changed |= reload(e.file);
+            continue;
+        }
         std::vector<std::string> hit;
         for (const auto& [consumer, record] : e.shaders)
             if (record.dependencies.containsAny(others)) hit.push_back(consumer);

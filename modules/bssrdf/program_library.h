@@ -45,8 +45,9 @@ class ModelLibrary {
     void scanAll();
     // Re-reads one model file (added, changed or deleted). Returns true if anything changed.
     bool reload(const std::filesystem::path& file);
-    // Reacts to a list of changed paths from the file watcher: a .bssrdf file reloads its model;
-    // any other file rebuilds the programs whose shader::Record lists it (an entry whose last
+    // Reacts to a list of changed paths from the file watcher: a .bssrdf file reloads its model,
+    // and so does a data file of a table model; any other file rebuilds the programs whose
+    // shader::Record lists it (an entry whose last
     // load failed loads again in full). Returns true if anything changed.
     bool onFilesChanged(const std::vector<std::filesystem::path>& paths);
     // Adds a model file outside materials/ (File → Open model / CLI --model).

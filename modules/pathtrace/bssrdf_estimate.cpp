@@ -39,10 +39,15 @@ std::vector<double> BssrdfBins::rEdges() const {
     return e;
 }
 
-double binArea(const BssrdfBins& b, int ir) {
-    const auto e = b.rEdges();
+namespace {
+double areaBetween(const std::vector<double>& e, int ir, int thetaSBins) {
     const double r0 = e[size_t(ir)], r1 = e[size_t(ir) + 1];
-    return (r1 * r1 - r0 * r0) * (kPi / b.thetaSBins);
+    return (r1 * r1 - r0 * r0) * (kPi / thetaSBins);
+}
+} // namespace
+
+double binArea(const BssrdfBins& b, int ir) {
+    return areaBetween(b.rEdges(), ir, b.thetaSBins);
 }
 
 double cellProjectedSolidAngle(const BssrdfBins& b, int ic) {
@@ -138,10 +143,11 @@ BssrdfSlice finalize(const BssrdfTally& t, const BssrdfBins& b, double thetaIDeg
     r.specular = fresnelDielectric(std::max(std::cos(thetaIDeg * kPi / 180), 1e-300), m.eta);
     r.paths = t.paths;
     const int nS = b.spatialBins(), nD = b.dirBins();
+    const std::vector<double> edges = b.rEdges();
     r.R.resize(size_t(nS));
     r.RStderr.resize(size_t(nS));
     for (int i = 0; i < nS; ++i) {
-        const double area = binArea(b, i / b.thetaSBins);
+        const double area = areaBetween(edges, i / b.thetaSBins, b.thetaSBins);
         detail::meanStderr(t.binSum[size_t(i)].value(), t.binSumSq[size_t(i)].value(), t.paths,
                            1.0 / area, r.R[size_t(i)], r.RStderr[size_t(i)], false);
     }
@@ -150,8 +156,8 @@ BssrdfSlice finalize(const BssrdfTally& t, const BssrdfBins& b, double thetaIDeg
         r.SStderr.resize(t.dirSum.size());
         for (size_t k = 0; k < t.dirSum.size(); ++k) {
             const int bin = int(k / size_t(nD)), cell = int(k % size_t(nD));
-            const double scale =
-                1.0 / (binArea(b, bin / b.thetaSBins) * cellProjectedSolidAngle(b, cell));
+            const double scale = 1.0 / (areaBetween(edges, bin / b.thetaSBins, b.thetaSBins) *
+                                        cellProjectedSolidAngle(b, cell));
             detail::meanStderr(t.dirSum[k].value(), t.dirSumSq[k].value(), t.paths, scale, r.S[k],
                                r.SStderr[k], false);
         }

@@ -179,7 +179,9 @@ class Walker {
         }
         const double binTotal = m_binAcc.flush(t.binSum, t.binSumSq);
         if (m_nD > 1) m_dirAcc.flush(t.dirSum, t.dirSumSq);
-        const double d = connect ? binTotal - exitInside : 0.0;
+        // Single-only connections end the walk at its first collision: no exits to compare.
+        const double d =
+            connect && m_orders != ScatterOrders::SingleOnly ? binTotal - exitInside : 0.0;
         t.energySum += d;
         t.energySumSq += d * d;
         t.absSum += absorbed;

@@ -6,10 +6,12 @@
 #include "capture_io.h"
 #include "core/color.h"
 #include "core/statistics.h"
+#include "pathtrace/bssrdf_table.h"
 #include "reference_plot.h"
 #include "workbench.h"
 
 #include <cmath>
+#include <fstream>
 
 TEST(Reference, SeriesBandAndModelErrors) {
     testsupport::context();
@@ -121,6 +123,41 @@ TEST(Reference, ConnectionsEstimatorOnCpuAndRefusedOnGpu) {
     for (const auto& e : wb.errors())
         listed |= e.source == "reference" && e.text.find("connections") != std::string::npos;
     EXPECT_TRUE(listed);
+    std::filesystem::remove_all(root);
+}
+
+// A path-traced table as a model (materials/README.md): drawn in the pencil plot; a material
+// other than the table's medium is an Errors entry naming both, and matching clears it.
+TEST(Reference, TableModelNamesAMediumMismatch) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("reftable", {});
+    const pathtrace::Medium medium{0.1, 1.0, 0.0, 1.3};
+    pathtrace::EstimateSettings s;
+    s.bins.rBins = 8;
+    s.bins.rMaxMm = 4;
+    s.bins.thetaSBins = 1;
+    s.paths = 5000;
+    pathtrace::writeTable(root / "materials/t.bwtable",
+                          pathtrace::estimateTable(medium, s, 0, pathtrace::chunkCount(s)));
+    std::ofstream(root / "materials/traced.bssrdf")
+        << "analytic radial no_wi no_wo\n::begin table\nestimate t.bwtable\n::end table\n";
+    app::Workbench wb(root, false);
+    wb.update();
+    auto mismatch = [&] {
+        for (const auto& e : wb.errors())
+            if (e.text.find("its table was computed for") != std::string::npos) return true;
+        return false;
+    };
+    EXPECT_TRUE(mismatch()); // the default material is Marble
+    EXPECT_EQ(wb.plotSeries().size(), 1u) << "the table model is still drawn";
+    auto& p = wb.shared().params;
+    p.sigmaA = glm::dvec3(0.1);
+    p.sigmaS = glm::dvec3(1.0);
+    p.g = 0.0;
+    p.eta = 1.3;
+    wb.shared().preset.clear();
+    wb.update();
+    EXPECT_FALSE(mismatch());
     std::filesystem::remove_all(root);
 }
 

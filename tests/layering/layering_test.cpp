@@ -36,7 +36,7 @@ const Graph kAllowed = {
     {"capture", {"core"}},
     {"octree", {"core"}},
     {"pointcloud", {"core", "mesh"}},
-    {"bssrdf", {"core", "gl", "shader", "litsphere"}},
+    {"bssrdf", {"core", "gl", "shader", "litsphere", "pathtrace"}},
     {"pathtrace", {"core", "gl", "shader", "litsphere", "mesh"}},
     {"irradiance", {"core", "gl", "shader", "mesh", "pointcloud"}},
     {"render", {"core", "gl", "shader", "bssrdf", "octree", "mesh"}},

@@ -158,6 +158,7 @@ namespace {
 
 struct Case {
     double g, thetaI;
+    ScatterOrders orders = ScatterOrders::All;
 };
 
 // Connections against the analog histogram, every spatial bin (and, with directions, every
@@ -174,6 +175,7 @@ void compareWithAnalog(const Case& c, bool directions) {
         s.bins.dirPhiBins = 3;
     }
     s.threads = 0;
+    s.orders = c.orders;
     s.estimator = BssrdfEstimator::Connections;
     const uint64_t nConn = 40000, nAnalog = 800000;
     s.paths = nConn;
@@ -204,6 +206,7 @@ void compareWithAnalog(const Case& c, bool directions) {
         }
     }
     EXPECT_GE(tested, int(a.size()) * 2 / 3);
+    if (c.orders == ScatterOrders::SingleOnly) return; // the walk stops at its first collision
     // Energy: connections and exits estimate the same flux, path by path.
     EXPECT_LT(std::fabs(conn.energyDiff / conn.energyDiffStderr), zMax)
         << conn.energyDiff << " +- " << conn.energyDiffStderr;
@@ -217,6 +220,14 @@ void compareWithAnalog(const Case& c, bool directions) {
 TEST(BssrdfEstimate, ConnectionsAgreeWithAnalogHistogram) {
     for (const Case c :
          {Case{0.0, 0}, Case{0.0, 45}, Case{0.0, 75}, Case{0.8, 0}, Case{0.8, 45}, Case{0.8, 75}})
+        compareWithAnalog(c, false);
+}
+
+// Single scattering only and multiple scattering only, each against the histogram of the exits
+// after exactly one / at least two collisions.
+TEST(BssrdfEstimate, ScatteringOrdersAgreeWithAnalogHistogram) {
+    for (const Case c :
+         {Case{0.8, 45, ScatterOrders::SingleOnly}, Case{0.0, 75, ScatterOrders::MultipleOnly}})
         compareWithAnalog(c, false);
 }
 

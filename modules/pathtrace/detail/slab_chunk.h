@@ -1,6 +1,7 @@
 // pathtrace/detail/slab_chunk: the one compiled copy of the slab path loop (thesis Algorithm 1
-// with the estimator options of pathtrace.h), shared by tracePath, traceSlab and runSlab so
-// that every caller runs the same machine code and gets bitwise the same paths.
+// with the estimator options of pathtrace.h) behind tracePath, the per-path record that the
+// accounting tests read. Runs (traceSlab, runSlab) go through the oblique walk at θi = 0
+// (bssrdf_walk.cpp), which draws the same random numbers and so traces the same paths.
 #pragma once
 
 #include "pathtrace/pathtrace.h"
