@@ -17,8 +17,7 @@ namespace {
 using detail::tokenize;
 using detail::trim;
 
-constexpr const char* kKnownSections =
-    "parameters, initializer, diffuseReflectance, shader, table";
+constexpr const char* kKnownSections = "parameters, initializer, diffuseReflectance, shader, table";
 
 std::string inQuotes(std::string_view s) {
     std::string out;
