@@ -10,7 +10,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -63,6 +66,28 @@ void addEnumOption(CLI::App* cmd, const std::string& flag, E& m, const std::stri
         help + ": " + core::enumNameList<E>());
 }
 
+// An integer option that also takes exact scientific notation ("1e6", "2.5e3"): anything that
+// is not an integer within M's range is refused naming the flag.
+template <class M>
+void addCountOption(CLI::App* cmd, const std::string& flag, M& m, const std::string& help) {
+    cmd->add_option_function<std::string>(
+           flag,
+           [&m, flag](const std::string& v) {
+               char* end = nullptr;
+               const long double x = std::strtold(v.c_str(), &end);
+               const bool parsed = !v.empty() && end == v.c_str() + v.size();
+               if (!parsed || !(x == std::floor(x)) ||
+                   x < static_cast<long double>(std::numeric_limits<M>::min()) ||
+                   x > static_cast<long double>(std::numeric_limits<M>::max()))
+                   throw CLI::ValidationError(flag, "expected a whole number (e.g. 1000000 or "
+                                                    "1e6) within range, got '" +
+                                                        v + "'");
+               m = static_cast<M>(x);
+           },
+           help)
+        ->type_name("INT");
+}
+
 struct SettingFlag {
     const char* path; // in the description: "render.eps", "points.count"
     std::string flag; // "--eps"; for a bool also "!--off-flag" after a comma
@@ -85,6 +110,8 @@ void addSettingOptions(CLI::App* cmd, T& s, const std::vector<SettingFlag>& flag
                 cmd->add_flag(flag, m, help);
             } else if constexpr (core::NamedEnum<M>) {
                 addEnumOption(cmd, flag, m, help);
+            } else if constexpr (std::is_integral_v<M>) {
+                addCountOption(cmd, flag, m, help);
             } else if constexpr (std::is_arithmetic_v<M> || std::is_same_v<M, std::string>) {
                 cmd->add_option(flag, m, help);
             } else {

@@ -38,7 +38,10 @@ void addSlabOptions(CLI::App* cmd, SlabArgs& a);
 // l_d), 100 transport mean free paths 1/(σs(1 − g)).
 double defaultSlabRMax(const pathtrace::Medium& m);
 
-// Exit status of a command whose result failed its own energy check (output still written).
+// Exit statuses of every command: 0 success; 1 a bad input, file or run (`error: …` names
+// it); kUsageError a command line the parser refused; kEnergyCheckFailed a result that failed
+// its own energy check (output still written).
+constexpr int kUsageError = 2;
 constexpr int kEnergyCheckFailed = 3;
 
 // Writes a slab result as the CSV `slab` writes (device: "CPU", "GPU (…)", "merged shards");

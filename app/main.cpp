@@ -277,7 +277,20 @@ int main(int argc, char** argv) {
     benchHier->add_option("--box-eps", hbo.boxEps,
                           "bounding-box criterion eps values (default 12.8 6.4 3.2 1.6)");
 
-    CLI11_PARSE(cli, argc, argv);
+    // Command-line errors in the one form every error takes, `error: <argument>: message`, with
+    // exit status 2 (usage); help and version exit 0 as the parser prints them.
+    try {
+        cli.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return cli.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "error: %s\n(run with --help for the options)\n", e.what());
+        return app::kUsageError;
+    }
     if (verbose) core::setLogEchoLevel(core::LogLevel::Info);
 
     if (*defaultsCmd) {

@@ -140,6 +140,32 @@ TEST_F(Estimate, SlabShardsMergeIntoTheSlabCsv) {
                   {"--shard", "CPU"});
 }
 
+// Counts take scientific notation; a command line the parser refuses exits 2 with
+// `error: <argument>: message` (not the parser's own exit codes).
+TEST_F(Estimate, CountsTakeScientificNotationAndUsageErrorsHaveOneForm) {
+    RunResult r = run({"slab", "--paths", "2e4", "--bins", "1e1", "--out", "s.csv"});
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(bytes("s.csv").find("# paths 20000"), std::string::npos);
+    r = run(estimate({"--paths", "1.5e4", "--out", "t.bwtable"}));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("theta_i 0: 15000 paths"), std::string::npos) << r.output;
+    for (const auto& args : std::vector<std::vector<std::string>>{
+             {"slab", "--paths", "1.5", "--out", "x.csv"},
+             {"slab", "--paths", "1e30", "--out", "x.csv"},
+             {"slab", "--paths", "many", "--out", "x.csv"},
+             {"estimate", "--r-bins", "2.5", "--out", "x.bwtable"}}) {
+        r = run(args);
+        EXPECT_EQ(r.code, 2) << describe(args, r);
+        EXPECT_EQ(r.output.rfind("error: " + args[1] + ": ", 0), 0u) << describe(args, r);
+    }
+    r = run({"estimate", "--out", "x.bwtable", "--no-such-flag"});
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("error: ", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find("--no-such-flag"), std::string::npos) << r.output;
+    r = run({"slab", "--help"});
+    EXPECT_EQ(r.code, 0) << r.output;
+}
+
 TEST_F(Estimate, RejectsBadArguments) {
     const std::vector<std::string> out = {"--out", "t.bwtable"};
     auto with = [&](std::vector<std::string> extra) {
