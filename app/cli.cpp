@@ -1,6 +1,7 @@
 // CLI subcommands on a headless GL context: profile (pencil-beam CSV), invert (R_dr/l_d → σ),
 // record and replay (captures).
 #include "cli.h"
+#include "cli_output.h"
 #include "core/text.h"
 
 #include "capture_io.h"
@@ -76,6 +77,7 @@ int runProfile(const fs::path& root, const ProfileArgs& a) {
     if (a.rMax && !(*a.rMax > 0 && std::isfinite(*a.rMax)))
         throw core::Error("--rmax", 0, "must be a positive length in mm");
     fs::path model = resolveModel(root, a.model);
+    checkWritable(a.out, "--out");
     auto ctx = gl::createHeadlessContext(false);
     Workbench wb(root, false, {model});
     auto& e = wb.library().entries().at(0);

@@ -2,6 +2,7 @@
 #include "cli_estimate.h"
 
 #include "cli_options.h"
+#include "cli_output.h"
 #include "cli_slab.h"
 
 #include "core/core.h"
@@ -52,23 +53,6 @@ int parseCount(const std::string& s, const std::string& flag, const std::string&
 }
 
 } // namespace
-
-void checkWritable(const std::string& path, const std::string& flag) {
-    if (path.empty()) return;
-    const std::filesystem::path p(path);
-    const auto dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec))
-        throw core::Error(
-            flag, 0, "cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
-    if (std::filesystem::is_directory(p, ec))
-        throw core::Error(flag, 0, "'" + path + "' is a folder");
-    const bool existed = std::filesystem::exists(p, ec);
-    std::ofstream probe(p, std::ios::app);
-    if (!probe) throw core::Error(flag, 0, "cannot write '" + path + "'");
-    probe.close();
-    if (!existed) std::filesystem::remove(p, ec);
-}
 
 namespace {
 

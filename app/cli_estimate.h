@@ -39,10 +39,6 @@ struct MergeArgs {
 void addMergeOptions(CLI::App* cmd, MergeArgs& a);
 int runMergeCli(const MergeArgs& a);
 
-// Fails (core::Error naming `flag`) before any work when `path` cannot be created: its folder
-// must exist and accept a file. An empty path passes.
-void checkWritable(const std::string& path, const std::string& flag);
-
 // "K/N" → (K − 1, N); core::Error naming `flag` when malformed or K not in [1, N].
 std::pair<uint64_t, uint64_t> parseShard(const std::string& text, const std::string& flag);
 

@@ -1,5 +1,6 @@
 // `bssrdf-workbench sphere` / `mesh`: lit sphere / lit mesh images as EXR (see cli_image.h).
 #include "cli_image.h"
+#include "cli_output.h"
 #include "cli_slab.h"
 #include "core/text.h"
 
@@ -37,6 +38,7 @@ ImageSetup prepare(const ImageArgs& a) {
         pathtrace::validate(m, std::string("medium (") + names[c] + ")");
     }
     if (a.out.empty()) throw core::Error("--out", 0, "give the EXR file to write");
+    checkOutput(a.out, "--out", ".exr");
     if (!std::isfinite(a.radiusMm) || !(a.radiusMm > 0))
         throw core::Error("--radius", 0,
                           "radius must be a finite length > 0 mm, got " +

@@ -1,5 +1,6 @@
 // `bssrdf-workbench pointcloud` (cli_pointcloud.h).
 #include "cli_pointcloud.h"
+#include "cli_output.h"
 
 #include "cli_options.h"
 #include "core/core.h"
@@ -27,6 +28,7 @@ void addPointCloudOptions(CLI::App* cmd, PointCloudArgs& a) {
 int runPointCloudCli(const PointCloudArgs& a) {
     if (a.mesh.empty()) throw core::Error("--mesh", 0, "give the OBJ file to sample");
     if (a.out.empty()) throw core::Error("--out", 0, "give the PLY file to write");
+    checkOutput(a.out, "--out", ".ply");
     pointcloud::GenerateOptions o = a.options;
     if (a.iterations >= 0) o.repulsionIterations = o.stratifiedIterations = a.iterations;
     pointcloud::checkOptions(o); // before the (possibly slow) mesh load

@@ -1,5 +1,6 @@
 // `bssrdf-workbench render` (cli_render.h): the SceneStage pipeline run to completion headless.
 #include "cli_render.h"
+#include "cli_output.h"
 
 #include "cli.h"
 #include "cli_options.h"
@@ -78,6 +79,8 @@ void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
 
 int runRenderCli(const fs::path& root, const RenderArgs& a) {
     if (a.out.empty()) throw core::Error("--out", 0, "give the EXR file to write");
+    checkOutput(a.out, "--out", ".exr");
+    checkOutput(a.png, "--png", ".png");
     if (a.mesh.empty()) throw core::Error("--mesh", 0, "give the OBJ file to render");
     const render::Settings& r = a.scene.render;
     if (r.width < 1 || r.width > 8192 || r.height < 1 || r.height > 8192)

@@ -4,6 +4,7 @@
 
 #include "cli_estimate.h"
 #include "cli_options.h"
+#include "cli_output.h"
 
 #include "core/core.h"
 #include "gl/gl.h"

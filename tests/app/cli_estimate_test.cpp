@@ -166,6 +166,30 @@ TEST_F(Estimate, CountsTakeScientificNotationAndUsageErrorsHaveOneForm) {
     EXPECT_EQ(r.code, 0) << r.output;
 }
 
+// Every command checks its outputs before any work: the folder must take a file, and binary
+// formats need their extension (an EXR named .png was written before).
+using CliOutputs = Estimate;
+TEST_F(CliOutputs, CheckedBeforeAnyWork) {
+    const std::string bunny = std::string(BW_SOURCE_ROOT) + "/third_party/bunny/bunny.obj";
+    const std::string dipole = std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf";
+    expectFailure({"sphere", "--size", "8x8", "--spp", "1", "--out", "s.png"}, {"--out", ".exr"});
+    expectFailure({"mesh", "--mesh", bunny, "--out", "m.EXRX"}, {"--out", ".exr"});
+    expectFailure({"sphere", "--out", "/proc/nope/s.exr"}, {"--out", "/proc/nope/s.exr"});
+    expectFailure({"pointcloud", "--mesh", bunny, "--points", "100", "--out", "p.txt"},
+                  {"--out", ".ply"});
+    expectFailure({"render", "--mesh", bunny, "--model", dipole, "--preset", "Marble", "--out",
+                   "r.exr", "--png", "r.jpg"},
+                  {"--png", ".png"});
+    expectFailure(
+        {"render", "--mesh", bunny, "--model", dipole, "--preset", "Marble", "--out", "r.png"},
+        {"--out", ".exr"});
+    expectFailure({"profile", "--model", dipole, "--preset", "Marble", "--out", "/proc/nope/p.csv"},
+                  {"--out", "/proc/nope/p.csv"});
+    EXPECT_FALSE(fs::exists(m_dir.path() / "s.png"));
+    RunResult r = run({"sphere", "--size", "8x8", "--spp", "1", "--out", "S.EXR"});
+    EXPECT_EQ(r.code, 0) << r.output; // the extension is case-insensitive
+}
+
 TEST_F(Estimate, RejectsBadArguments) {
     const std::vector<std::string> out = {"--out", "t.bwtable"};
     auto with = [&](std::vector<std::string> extra) {

@@ -69,8 +69,9 @@ TEST_F(TableModel, CsvProfileReadsAndRejectsBadFiles) {
             ADD_FAILURE() << "accepted: " << fragment;
         } catch (const core::Error& e) {
             const std::string where = "materials/bad.csv:" + std::to_string(line);
-            if (line > 0)
+            if (line > 0) {
                 EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+            }
             EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
         }
     };
