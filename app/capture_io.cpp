@@ -139,7 +139,9 @@ struct ImageStage {
 std::vector<ImageStage> imageStages(Workbench& wb) {
     if (!wb.litSphereSettings().enabled) return {};
     wb.finishLitSpheres();
-    if (!wb.litSphereProblem().empty()) throw core::Error("lit spheres", 0, wb.litSphereProblem());
+    // The real cause (a refused mesh, a bad setup), never a consequence such as an empty image.
+    if (const std::string problem = wb.litSphereProblem(); !problem.empty())
+        throw core::Error("lit spheres", 0, problem);
     if (!wb.litSphereSettings().mesh.empty()) // the BSSRDF integration covers the sphere only
         return {{"lit_mesh.path_traced", "lit_mesh_path_traced.exr", wb.pathTracedSphere()}};
     return {{"lit_sphere.path_traced", "lit_sphere_path_traced.exr", wb.pathTracedSphere()},

@@ -14,6 +14,8 @@
 #include <iostream>
 #include <sstream>
 
+#include <unistd.h>
+
 namespace app {
 namespace fs = std::filesystem;
 
@@ -142,6 +144,15 @@ int runInvert(const fs::path& root, const InvertArgs& a) {
 }
 
 int runRecord(const fs::path& root, const RecordArgs& a) {
+    const fs::path dir = a.outDir.empty() ? root / "captures" / a.name : fs::path(a.outDir);
+    const std::string flag = a.outDir.empty() ? "--name" : "--out";
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !a.force)
+        throw core::Error(
+            flag, 0, "capture folder '" + dir.string() + "' exists; give --force to replace it");
+    const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
+    fs::create_directories(parent, ec);
+    checkWritable((parent / ".bw-record-probe").string(), flag);
     std::vector<fs::path> models;
     for (const auto& m : a.models)
         models.push_back(resolveModel(root, m));
@@ -177,8 +188,19 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         traceY = a.traceY >= 0 ? a.traceY : a.sceneHeight / 2;
     }
     wb.update();
-    fs::path dir = a.outDir.empty() ? root / "captures" / a.name : fs::path(a.outDir);
-    recordCaptureTo(wb, dir, a.name, traceX, traceY);
+    // Recorded into a temporary folder beside the target and renamed when complete, so a
+    // failed record leaves nothing behind and a replaced capture is never half old, half new.
+    const fs::path tmp = dir.parent_path() / ("." + dir.filename().string() + ".recording-" +
+                                              std::to_string(::getpid()));
+    fs::remove_all(tmp, ec);
+    try {
+        recordCaptureTo(wb, tmp, a.name, traceX, traceY);
+        if (fs::exists(dir, ec)) fs::remove_all(dir);
+        fs::rename(tmp, dir);
+    } catch (...) {
+        fs::remove_all(tmp, ec);
+        throw;
+    }
     std::printf("recorded %s\n", dir.string().c_str());
     return 0;
 }

@@ -128,7 +128,8 @@ class LitSphereStage : public StageOf<LitSphereInputs> {
     pathtrace::Image integratedImage() const { return m_integrator.image(); }
     uint64_t integratedSppDone() const { return m_integrator.samplesPerPixelDone(); }
     const std::string& model() const { return m_model; }
-    const std::string& problem() const { return m_problem; } // bad setup (the tracer's: its own)
+    // The first problem: a bad setup, else the path tracer's own (e.g. a mesh it refused).
+    std::string problem() const { return !m_problem.empty() ? m_problem : m_pathTraced.problem(); }
 
   private:
     PathTracedSphere m_pathTraced;

@@ -170,6 +170,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 4096));
     rec->add_option("--trace-x", ra.traceX, "traced pixel x (default: centre)");
     rec->add_option("--trace-y", ra.traceY, "traced pixel y (default: centre)");
+    rec->add_flag("--force", ra.force, "replace an existing capture folder");
 
     auto* defaultsCmd = cli.add_subcommand(
         "defaults", "print every setting's default (GUI, CLI and captures) as a Markdown table");

@@ -112,7 +112,7 @@ class Workbench {
     pathtrace::Image integratedSphere() const { return m_litSpheres->integratedImage(); }
     const PathTracedSphere& pathTracer() const { return m_litSpheres->pathTracer(); }
     uint64_t integratedSppDone() const { return m_litSpheres->integratedSppDone(); }
-    const std::string& litSphereProblem() const { return m_litSpheres->problem(); }
+    std::string litSphereProblem() const { return m_litSpheres->problem(); }
     void restartLitSpheres() { m_litSpheres->restart(); }
     // Stops the path tracer where it is (the image keeps the passes completed so far).
     void cancelLitSpheres() { m_litSpheres->cancel(); }

@@ -123,8 +123,8 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui) {
         ImGui::SameLine();
         if (ImGui::SmallButton("cancel path tracing")) wb.cancelLitSpheres();
     }
-    if (!wb.litSphereProblem().empty())
-        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", wb.litSphereProblem().c_str());
+    if (const std::string problem = wb.litSphereProblem(); !problem.empty())
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", problem.c_str());
 
     const pathtrace::Image a = wb.pathTracedSphere(), b = wb.integratedSphere();
     const float avail = ImGui::GetContentRegionAvail().x;

@@ -190,6 +190,35 @@ TEST_F(CliOutputs, CheckedBeforeAnyWork) {
     EXPECT_EQ(r.code, 0) << r.output; // the extension is case-insensitive
 }
 
+// `record` refuses to replace a capture without --force, and a failed record leaves nothing.
+TEST_F(CliOutputs, RecordNeverOverwritesSilentlyNorLeavesHalfACapture) {
+    const std::string dipole = std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf";
+    const std::vector<std::string> rec = {"record", "--name", "c",     "--model",
+                                          dipole,   "--out",  "caps/c"};
+    RunResult r = run(rec);
+    ASSERT_EQ(r.code, 0) << r.output;
+    ASSERT_TRUE(fs::exists(m_dir.path() / "caps/c/manifest.json"));
+    const std::string manifest = bytes("caps/c/manifest.json");
+    expectFailure(rec, {"--out", "caps/c", "--force"});
+    EXPECT_EQ(bytes("caps/c/manifest.json"), manifest);
+    auto forced = rec;
+    forced.push_back("--force");
+    r = run(forced);
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(m_dir.path() / "caps/c/manifest.json"));
+    // A record that fails (an open mesh for the lit spheres) leaves no folder of any name.
+    std::ofstream(m_dir.path() / "open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    expectFailure({"record", "--name", "bad", "--model", dipole, "--out", "caps/bad",
+                   "--lit-spheres", "8", "--lit-mesh", (m_dir.path() / "open.obj").string()},
+                  {"open"});
+    size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(m_dir.path() / "caps")) {
+        ++entries;
+        EXPECT_EQ(e.path().filename(), "c") << "left behind: " << e.path();
+    }
+    EXPECT_EQ(entries, 1u);
+}
+
 TEST_F(Estimate, RejectsBadArguments) {
     const std::vector<std::string> out = {"--out", "t.bwtable"};
     auto with = [&](std::vector<std::string> extra) {
