@@ -10,8 +10,6 @@
 #include "pathtrace/bssrdf_table.h"
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace app {
@@ -51,10 +49,6 @@ int parseCount(const std::string& s, const std::string& flag, const std::string&
                           "expected K or RxS with counts in [1, 1000], got '" + text + "'");
     return int(v);
 }
-
-} // namespace
-
-namespace {
 
 void writeOutputs(const pathtrace::BssrdfTable& t, const std::string& out, const std::string& csv,
                   const std::string& csvDir) {
