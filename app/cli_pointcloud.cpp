@@ -37,8 +37,15 @@ int runPointCloudCli(const PointCloudArgs& a) {
     if (prep.droppedDegenerate)
         std::fprintf(stderr, "%s: dropped %zu degenerate (zero-area) triangles\n", a.mesh.c_str(),
                      prep.droppedDegenerate);
-    const pointcloud::Generated g =
-        pointcloud::generate(m, o, a.useCache ? pointcloud::defaultCacheDir() : "");
+    core::Stopwatch clock;
+    const pointcloud::Generated g = pointcloud::generate(
+        m, o, a.useCache ? pointcloud::defaultCacheDir() : "", [&](int done, int total) {
+            if (clock.ms() < 1000) return; // runs shorter than a second print no progress
+            std::fprintf(stderr, "\rpointcloud: relaxation %d / %d iterations  %.1f s   ", done,
+                         total, clock.ms() / 1000.0);
+            std::fflush(stderr);
+        });
+    if (clock.ms() >= 1000) std::fprintf(stderr, "\n");
     pointcloud::writePly(a.out, g.cloud);
     const pointcloud::Uniformity u = pointcloud::measureUniformity(g.cloud, o.threads);
     std::printf("%zu points (%s, seed %llu) on %s: area %.6g units^2, %s %.1f ms\n",

@@ -439,6 +439,7 @@ PointCloud sampleStratifiedRepulsion(const mesh::Mesh& m, size_t n, uint64_t see
     const float Rf = float(R), invR = float(1 / R);
     const double step = o.stepScale * dHex;
     for (int it = 0; it < o.iterations; ++it) {
+        if (it > 0 && o.progress) o.progress(it, o.iterations);
         if (it < kRebuildFirst || it % kRebuildEvery == 0)
             lists.build(posf, float(R + skin), o.threads);
         parallelFor(n, o.threads, [&](size_t begin, size_t end) {

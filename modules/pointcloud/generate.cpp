@@ -68,11 +68,12 @@ void checkOptions(const GenerateOptions& o) {
 
 namespace {
 
-PointCloud run(const mesh::Mesh& m, const GenerateOptions& o) {
+PointCloud run(const mesh::Mesh& m, const GenerateOptions& o, const IterationProgress& progress) {
     if (o.method == Method::StratifiedRepulsion) {
         StratifiedRepulsionOptions s;
         s.iterations = o.stratifiedIterations;
         s.threads = o.threads;
+        s.progress = progress;
         return sampleStratifiedRepulsion(m, o.points, o.seed, s);
     }
     if (o.method == Method::Elimination) {
@@ -86,6 +87,7 @@ PointCloud run(const mesh::Mesh& m, const GenerateOptions& o) {
         RepulsionOptions r;
         r.iterations = o.repulsionIterations;
         r.threads = o.threads;
+        r.progress = progress;
         c = relaxRepulsion(m, c, r);
     }
     return c;
@@ -94,7 +96,7 @@ PointCloud run(const mesh::Mesh& m, const GenerateOptions& o) {
 } // namespace
 
 Generated generate(const mesh::Mesh& m, const GenerateOptions& o,
-                   const std::filesystem::path& cacheDir) {
+                   const std::filesystem::path& cacheDir, const IterationProgress& progress) {
     checkOptions(o);
     Generated g;
     core::Stopwatch clock;
@@ -116,7 +118,11 @@ Generated generate(const mesh::Mesh& m, const GenerateOptions& o,
             }
         }
     }
-    g.cloud = run(m, o);
+    g.cloud = run(m, o, progress);
+    const int iterations = o.method == Method::StratifiedRepulsion ? o.stratifiedIterations
+                           : o.method == Method::Repulsion         ? o.repulsionIterations
+                                                                   : 0;
+    if (progress && iterations > 0) progress(iterations, iterations);
     g.milliseconds = clock.ms();
     if (!g.cacheFile.empty()) {
         try {

@@ -77,8 +77,10 @@ struct Generated {
 // Generates (or reads from `cacheDir`/<cacheKey>.ply when present and valid) the point cloud of
 // `m`. A cache file that fails to read is regenerated and rewritten (the failure is logged).
 // cacheDir empty: no cache.
+// `progress` (may be empty) is told the relaxation's iterations done and in all.
 Generated generate(const mesh::Mesh& m, const GenerateOptions& o,
-                   const std::filesystem::path& cacheDir = {});
+                   const std::filesystem::path& cacheDir = {},
+                   const IterationProgress& progress = {});
 
 // The default cache folder: $BSSRDF_WORKBENCH_CACHE, else $XDG_CACHE_HOME/bssrdf-workbench, else
 // $HOME/.cache/bssrdf-workbench, with "/pointclouds" appended; empty when none is set.

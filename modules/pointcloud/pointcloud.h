@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -54,11 +55,15 @@ double meshArea(const mesh::Mesh& m);
 // mesh has no area or n == 0.
 PointCloud sampleUniform(const mesh::Mesh& m, size_t n, uint64_t seed, int threads = 0);
 
+// Called after every relaxation iteration with (iterations done, iterations in all).
+using IterationProgress = std::function<void(int done, int total)>;
+
 struct RepulsionOptions {
     int iterations = 30;
-    double radiusScale = 1.0; // r = radiusScale · 2·√(A/(N·π))
-    double stepScale = 0.3;   // move = stepScale · r · Σ_j (1 − d_ij/r)·(p_i − p_j)/d_ij
-    int threads = 0;          // 0 = all cores; the result does not depend on it
+    double radiusScale = 1.0;   // r = radiusScale · 2·√(A/(N·π))
+    double stepScale = 0.3;     // move = stepScale · r · Σ_j (1 − d_ij/r)·(p_i − p_j)/d_ij
+    int threads = 0;            // 0 = all cores; the result does not depend on it
+    IterationProgress progress; // may be empty
 };
 // Turk's point repulsion applied to `initial` (points of `m`); areas stay A/N.
 PointCloud relaxRepulsion(const mesh::Mesh& m, const PointCloud& initial,
@@ -86,10 +91,11 @@ PointCloud sampleStratified(const mesh::Mesh& m, size_t n, uint64_t seed, int th
 
 struct StratifiedRepulsionOptions {
     int iterations = 40;
-    double radiusScale = 2.0; // kernel radius R = radiusScale · d_hex, d_hex = √(2A/(√3·N))
-    double stepScale = 0.5;   // gradient step = stepScale · d_hex
-    double momentum = 0.7;    // heavy-ball coefficient β, in [0, 1)
-    int threads = 0;          // 0 = all cores; the result does not depend on it
+    double radiusScale = 2.0;   // kernel radius R = radiusScale · d_hex, d_hex = √(2A/(√3·N))
+    double stepScale = 0.5;     // gradient step = stepScale · d_hex
+    double momentum = 0.7;      // heavy-ball coefficient β, in [0, 1)
+    int threads = 0;            // 0 = all cores; the result does not depend on it
+    IterationProgress progress; // may be empty
 };
 // Fast even point cloud: sampleStratified, then Turk-style repulsion (Turk 1992) with a compact
 // cubic kernel and heavy-ball momentum (Polyak 1964):

@@ -172,6 +172,7 @@ PointCloud relaxRepulsion(const mesh::Mesh& m, const PointCloud& initial,
     PointCloud cur = initial, next = initial;
     std::vector<V3> pos = positionsOf(cur);
     for (int it = 0; it < options.iterations; ++it) {
+        if (it > 0 && options.progress) options.progress(it, options.iterations);
         PointGrid grid(pos, r);
         parallelFor(n, options.threads, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {

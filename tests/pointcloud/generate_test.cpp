@@ -87,6 +87,33 @@ TEST(PointCloudGenerate, EveryMethodGivesNPointsOfAreaAOverN) {
     }
 }
 
+// Progress: the relaxing methods report every iteration, in order, ending at the total; the
+// others report nothing; the cloud is the same with or without a listener.
+TEST(PointCloudGenerate, RelaxationReportsEveryIteration) {
+    const mesh::Mesh m = mesh::makeTorus(0.35, 0.12, 32, 16);
+    for (const auto& [method, name] : enumNames(pointcloud::Method{})) {
+        pointcloud::GenerateOptions o;
+        o.points = 600;
+        o.method = method;
+        o.repulsionIterations = 6;
+        o.stratifiedIterations = 7;
+        std::vector<std::pair<int, int>> calls;
+        const auto g = pointcloud::generate(
+            m, o, {}, [&](int done, int total) { calls.emplace_back(done, total); });
+        const int expect = method == pointcloud::Method::StratifiedRepulsion ? 7
+                           : method == pointcloud::Method::Repulsion         ? 6
+                                                                             : 0;
+        ASSERT_EQ(calls.size(), size_t(expect)) << name;
+        for (size_t i = 0; i < calls.size(); ++i)
+            EXPECT_EQ(calls[i], std::make_pair(int(i) + 1, expect)) << name;
+        const auto quiet = pointcloud::generate(m, o);
+        ASSERT_EQ(quiet.cloud.points.size(), g.cloud.points.size());
+        for (size_t i = 0; i < g.cloud.points.size(); ++i)
+            for (int k = 0; k < 3; ++k)
+                ASSERT_EQ(quiet.cloud.points[i].p[k], g.cloud.points[i].p[k]) << name;
+    }
+}
+
 TEST(PointCloudGenerate, BadRequestsNameTheArgument) {
     pointcloud::GenerateOptions o;
     o.points = 0;
