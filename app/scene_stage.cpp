@@ -181,9 +181,13 @@ bool SceneStage::updatePointCloud(bool wait) {
             pointcloud::checkOptions(o);
             const fs::path cache = m_settings.useCache ? pointcloud::defaultCacheDir() : fs::path();
             m_pendingStart = nowSeconds();
-            m_pending = std::async(std::launch::async, [m = *m_mesh, o, cache] {
-                return pointcloud::generate(m, o, cache);
-            });
+            m_cloudProgress->store(0);
+            m_pending =
+                std::async(std::launch::async, [m = *m_mesh, o, cache, p = m_cloudProgress] {
+                    return pointcloud::generate(m, o, cache, [p](int done, int total) {
+                        p->store(double(done) / double(total));
+                    });
+                });
         } catch (const std::exception& e) {
             setProblem("point cloud", e.what());
             return false;
@@ -519,6 +523,7 @@ StageStatus SceneStage::status() const {
     StageStatus st;
     st.problems = problems();
     st.running = generating() || rendering();
+    if (generating()) st.progress = generatingProgress();
     for (const auto& [name, stat] : m_stats)
         st.stats.push_back(
             {name, std::to_string(stat.runs) + " runs, last " + std::to_string(stat.ms) + " ms"});

@@ -129,6 +129,8 @@ class SceneStage : public Stage {
     const pointcloud::Uniformity& uniformity() const { return m_uniformity; }
     bool cloudFromCache() const { return m_cloudFromCache; }
     bool generating() const { return m_pending.valid(); }
+    // Of the pending point-cloud generation, 0..1 (its relaxation iterations).
+    double generatingProgress() const { return m_cloudProgress->load(); }
     double generatingSeconds() const;
     const octree::Octree* tree() const { return m_tree ? &*m_tree : nullptr; }
     const std::vector<glm::vec3>& irradiance() const { return m_irradiance; }
@@ -199,6 +201,8 @@ class SceneStage : public Stage {
     pointcloud::Uniformity m_uniformity;
     bool m_cloudFromCache = false;
     std::future<pointcloud::Generated> m_pending;
+    // Fraction of the pending generation's relaxation done, written by its thread.
+    std::shared_ptr<std::atomic<double>> m_cloudProgress = std::make_shared<std::atomic<double>>(0);
     double m_pendingStart = 0;
     std::optional<octree::Octree> m_tree;
     std::vector<glm::vec3> m_irradiance;

@@ -120,6 +120,8 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
         ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "generating %zu points ... %.1f s",
                            s.points.points, scene.generatingSeconds());
         ImGui::SameLine();
+        ImGui::ProgressBar(float(scene.generatingProgress()), ImVec2(160, 0), "relaxation");
+        ImGui::SameLine();
         if (ImGui::SmallButton("cancel")) scene.cancelPointCloud();
     }
     const auto& cloud = scene.cloud();

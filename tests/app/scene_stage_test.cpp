@@ -261,8 +261,14 @@ TEST(SceneStage, EachEditReRunsOnlyTheStagesThatDependOnIt) {
         EXPECT_EQ(b.scene().cloud().points.size(), 2000u);
         EXPECT_EQ(runsOf(b.scene()).cloud, r.cloud);
     }
+    if (b.scene().generating()) {
+        const double p = b.scene().status().progress;
+        EXPECT_TRUE(p >= 0 && p <= 1) << p;
+    }
     b.settle();
     expectDelta(r, runsOf(b.scene()), 1, 1, 1, 1, 1, "mesh file");
+    // the generation reported its relaxation to the end (the Point cloud panel's bar)
+    EXPECT_EQ(b.scene().generatingProgress(), 1.0);
     EXPECT_NE(b.scene().meshHash(), bunnyHash);
     EXPECT_EQ(b.scene().mesh().triangles.size(), size_t(2 * 24 * 12));
     EXPECT_NE(b.scene().mesh().triangles.size(), bunnyTriangles);
