@@ -19,7 +19,7 @@
 // Path p's random numbers are Philox(seed, p) only and the tallies are integer sums, so the
 // result does not depend on budgets, dispatches or scheduling.
 //
-// Per event (the order of slab_tracer.cpp): free flight s = −ln ξ / σt; a flight that crosses
+// Per event (the order of the CPU walk, modules/pathtrace/bssrdf_walk.cpp): free flight s = −ln ξ / σt; a flight that crosses
 // z = 0 stops there and plays Fresnel roulette (exit with probability 1 − F, else mirror and
 // fly the rest of s); at the interaction point either (Implicit) the weight loses the fraction
 // σa/σt to the absorbed tally and weights below RouletteWeight play Russian roulette, or

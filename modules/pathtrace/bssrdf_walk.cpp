@@ -133,8 +133,10 @@ class Walker {
     uint32_t maxEvents = 0;
     double rouletteWeight = 0, rouletteSurvival = 0;
 
-    void trace(Pcg32 rng, detail::ChunkTally& t) {
+    // One path into `t`; `record` (may be null) receives its accounting.
+    void trace(Pcg32 rng, detail::ChunkTally& t, PathRecord* record = nullptr) {
         double w = m_w0, absorbed = 0, loss = 0, truncated = 0, exitInside = 0;
+        double exitWeight = 0, exitR = -1;
         double x = 0, y = 0, z = 0;
         Dir u = m_entry;
         uint32_t events = 0;
@@ -151,6 +153,8 @@ class Walker {
                     t.exitSum += w;
                     t.exitSumSq += w * w;
                     if (ordered(events)) exitInside += exitTally(x, y, u, w, !connect);
+                    exitWeight = w;
+                    exitR = std::sqrt(x * x + y * y);
                     break;
                 }
                 u.z = -u.z;
@@ -193,6 +197,9 @@ class Walker {
         if (truncated > 0) ++t.truncatedPaths;
         t.events += events;
         ++t.paths;
+        if (record)
+            *record = {m_specular, exitWeight, absorbed, loss,
+                       truncated,  exitR,      events,   exitR >= 0};
     }
 
   private:
@@ -320,6 +327,16 @@ uint64_t streamSeed(uint64_t seed, size_t angleIndex) {
 namespace detail {
 // Traces paths [first, first + count) into `t` (reset first). Returns the paths traced: fewer
 // only when `cancel` was set.
+PathRecord traceBssrdfPath(const Medium& m, const EstimateSettings& s, size_t angleIndex,
+                           uint64_t path) {
+    ChunkTally t;
+    t.reset(s.bins);
+    Walker walker(m, s, s.thetaIDeg[angleIndex]);
+    PathRecord record;
+    walker.trace(Pcg32::forPath(streamSeed(s.seed, angleIndex), path), t, &record);
+    return record;
+}
+
 uint64_t traceBssrdfChunk(const Medium& m, const EstimateSettings& s, size_t angleIndex,
                           uint64_t first, uint64_t count, ChunkTally& t,
                           const std::atomic<bool>* cancel) {

@@ -11,7 +11,7 @@
 //   origin; tallies in the MCML convention (Wang, Jacques & Zheng 1995): R_d(r) is diffuse
 //   reflectance per unit area per incident photon (1/mm²), excluding the specular reflection
 //   at entry but including the Fresnel loss on entering.
-//   Estimator (slab_tracer.cpp): the photon enters with weight 1 − R_sp (R_sp tallied as
+//   Estimator (bssrdf_walk.cpp at θi = 0): the photon enters with weight 1 − R_sp (R_sp tallied as
 //   `specular`, not sampled). Implicit absorption (default): at every interaction the weight is
 //   multiplied by the albedo α = σs/σt and the expected absorbed weight w(1 − α) is tallied as
 //   absorbed; Russian roulette below `rouletteWeight` (survive with `rouletteSurvival`,
@@ -34,13 +34,13 @@
 //   with E[rouletteLoss] = 0 (energyProblem() checks both and says so when they fail).
 //   Defaults of the weight roulette (0.1, 0.5) were tuned on the reference case η 1.3,
 //   σa 0.01, σs 1, g 0 (1/mm) for time to 1 % error at r = l_d and 4 l_d.
-//   Runs (runSlab, traceSlab) go through the oblique-incidence estimate of bssrdf_estimate.h at
-//   θi = 0, which walks exactly these paths (same random numbers) and also offers the
-//   connection estimator of seed 001 (Estimator::Connections); chunk sums are exact, so runs
-//   are bitwise independent of threads and shards.
+//   The CPU walk is the oblique-incidence walk of bssrdf_walk.cpp at θi = 0 (one walk for
+//   tracePath, traceSlab, runSlab and `estimate`), which also offers the connection estimator
+//   of seed 001 (Estimator::Connections); chunk sums are exact, so runs are bitwise
+//   independent of threads and shards.
 //   Files: rng.h (PCG32 streams), sampling.h (distance, HG, direction frame), fresnel.h,
-//   slab_tracer.cpp (the path loop of tracePath and the GL parity), slab_connections.cpp (runs
-//   through the estimate), tally.cpp (sums, merge, finalize), run_slab.cpp, validate.cpp.
+//   bssrdf_walk.cpp (the path loop), slab_connections.cpp (the slab entry points),
+//   tally.cpp (sums, merge, finalize), run_slab.cpp, validate.cpp.
 #pragma once
 
 #include <array>

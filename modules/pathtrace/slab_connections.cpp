@@ -1,13 +1,13 @@
-// pathtrace/slab_connections: the CPU slab reference (runSlab, traceSlab) for every estimator,
-// run through the oblique-incidence estimate of bssrdf_estimate.h at θi = 0 with one θs bin and
-// one direction cell — R_d(r) on the slab's uniform radial bins. At θi = 0 that walk draws the
-// same random numbers as the slab tracer's (slab_tracer.cpp, kept for tracePath), so analog and
-// implicit trace the very same paths; connections add the seed-001 estimator (derivation in
-// bssrdf_walk.cpp). The result is returned as a SlabTally so every consumer of the slab
-// reference (CLI, GUI, tests) reads it unchanged, and a sharded `slab` run writes the same
-// table `estimate` does. Paths are grouped in the aligned chunks [k·kChunkPaths,
-// (k+1)·kChunkPaths), summed per chunk and added exactly (detail/exact_sum.h), so runSlab and
-// traceSlab(0, paths) agree bitwise for any thread count, as for the other estimators.
+// pathtrace/slab_connections: the CPU slab reference (tracePath, traceSlab, runSlab) for every
+// estimator, run through the oblique-incidence walk of bssrdf_walk.cpp at θi = 0 with one θs bin
+// and one direction cell — thesis Algorithm 1 with the MCML entry convention, R_d(r) on the
+// slab's uniform radial bins; connections add the seed-001 estimator (derivation in
+// bssrdf_walk.cpp). One walk serves every CPU slab figure, so they cannot drift apart. The result
+// is returned as a SlabTally so every consumer of the slab reference (CLI, GUI, tests) reads it
+// unchanged, and a sharded `slab` run writes the same table `estimate` does. Paths are grouped in
+// the aligned chunks [k·kChunkPaths, (k+1)·kChunkPaths), summed per chunk and added exactly
+// (detail/exact_sum.h), so runSlab and traceSlab(0, paths) agree bitwise for any thread count, as
+// for the other estimators.
 #include "pathtrace/detail/slab_connections.h"
 
 #include "pathtrace/bssrdf_estimate.h"
@@ -60,6 +60,10 @@ SlabTally slabTallyOf(const BssrdfTally& b, const Medium& m) {
     return t;
 }
 
+PathRecord tracePathViaEstimate(const Medium& m, const SlabSettings& s, uint64_t pathIndex) {
+    return traceBssrdfPath(m, estimateSettingsOf(s), 0, pathIndex);
+}
+
 SlabTally traceSlabViaEstimate(const Medium& m, const SlabSettings& s, uint64_t first,
                                uint64_t count, const std::atomic<bool>* cancel) {
     const EstimateSettings e = estimateSettingsOf(s);
@@ -76,3 +80,20 @@ SlabTally traceSlabViaEstimate(const Medium& m, const SlabSettings& s, uint64_t 
 }
 
 } // namespace pathtrace::detail
+
+namespace pathtrace {
+
+PathRecord tracePath(const Medium& m, const SlabSettings& s, uint64_t pathIndex) {
+    validate(m);
+    validate(s);
+    return detail::tracePathViaEstimate(m, s, pathIndex);
+}
+
+SlabTally traceSlab(const Medium& m, const SlabSettings& s, uint64_t first, uint64_t count,
+                    const std::atomic<bool>* cancel) {
+    validate(m);
+    validate(s);
+    return detail::traceSlabViaEstimate(m, s, first, count, cancel);
+}
+
+} // namespace pathtrace

@@ -1,7 +1,7 @@
 // pathtrace/sphere_walk: the random walk inside a closed object under a dielectric boundary,
 // shared by the lit-sphere tracer (analytic sphere) and the lit-mesh tracer (Embree mesh),
 // templated on the geometry. The physics and estimator are those of the slab tracer
-// (slab_tracer.cpp, thesis 3.2 / Algorithm 1, implicit estimator):
+// (bssrdf_walk.cpp, thesis 3.2 / Algorithm 1, implicit estimator):
 //   flight     s = −ln(1 − ξ)/σt; if the boundary lies within s, move to it (boundary hit);
 //   boundary   reflect with probability R(θ) (exact Fresnel, fresnel.h, relative index 1/η on
 //              the way out; no draw when R is 0 or 1): mirror the direction and travel the rest

@@ -1,6 +1,6 @@
 // pathtrace/detail/bssrdf_chunk: the per-chunk tally of the oblique-incidence walk (sums in
 // doubles formed path by path within one chunk, then added exactly into a BssrdfTally) and the
-// one compiled copy of the chunk loop (bssrdf_walk.cpp).
+// one compiled copy of the walk (bssrdf_walk.cpp), by chunk or by single path.
 #pragma once
 
 #include "pathtrace/bssrdf_estimate.h"
@@ -52,6 +52,10 @@ struct ChunkTally {
         t.truncatedPaths += truncatedPaths;
     }
 };
+
+// Traces one path of angle `angleIndex` and returns its accounting (tracePath).
+PathRecord traceBssrdfPath(const Medium& m, const EstimateSettings& s, size_t angleIndex,
+                           uint64_t path);
 
 // Traces paths [first, first + count) of angle `angleIndex` into `t` (reset first). Returns the
 // paths traced: fewer than `count` only when `cancel` (checked every 64 paths) was set.

@@ -12,6 +12,8 @@ namespace pathtrace::detail {
 EstimateSettings estimateSettingsOf(const SlabSettings& s);
 // A BssrdfTally of those settings as a slab tally (values rounded to doubles).
 SlabTally slabTallyOf(const BssrdfTally& b, const Medium& m);
+// tracePath (no validation).
+PathRecord tracePathViaEstimate(const Medium& m, const SlabSettings& s, uint64_t pathIndex);
 // traceSlab (no validation).
 SlabTally traceSlabViaEstimate(const Medium& m, const SlabSettings& s, uint64_t first,
                                uint64_t count, const std::atomic<bool>* cancel);
