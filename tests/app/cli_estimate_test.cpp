@@ -4,7 +4,7 @@
 // table files that are truncated, of another version, not tables, with a NaN in the header or
 // a negative value, or of another medium — each failing with a message naming the argument or
 // file.
-#include "../support/cli_runner.h"
+#include "../support/cli_fixture.h"
 
 #include <gtest/gtest.h>
 
@@ -19,19 +19,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace clitest;
 
-class Estimate : public ::testing::Test {
+class Estimate : public CliFixture {
   protected:
-    RunResult run(const std::vector<std::string>& args) { return runExe(args, m_dir.path()); }
-    void expectFailure(const std::vector<std::string>& args,
-                       const std::vector<std::string>& fragments) {
-        RunResult r = run(args);
-        EXPECT_NE(r.code, 0) << describe(args, r);
-        EXPECT_EQ(r.output.find("Abort"), std::string::npos) << describe(args, r);
-        for (const auto& f : fragments)
-            EXPECT_NE(r.output.find(f), std::string::npos)
-                << "expected the message to contain '" << f << "'\n"
-                << describe(args, r);
-    }
     // `estimate` with a small default setup; a flag in `extra` replaces the default's.
     std::vector<std::string> estimate(std::vector<std::string> extra) {
         const std::vector<std::pair<std::string, std::string>> base = {
@@ -50,7 +39,6 @@ class Estimate : public ::testing::Test {
     void write(const std::string& name, const std::string& data) {
         std::ofstream(m_dir.path() / name, std::ios::binary) << data;
     }
-    TempDir m_dir;
 };
 
 TEST_F(Estimate, WritesTableAndCsvAndShardsMergeBitwise) {

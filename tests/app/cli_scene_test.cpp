@@ -8,7 +8,7 @@
 #include "pathtrace/image_io.h"
 #include "pointcloud/pointcloud.h"
 
-#include "../support/cli_runner.h"
+#include "../support/cli_fixture.h"
 #include "../support/raw_exr.h"
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -70,25 +70,12 @@ std::vector<BadMesh> badMeshes() {
     };
 }
 
-class CliScene : public ::testing::Test {
+class CliScene : public CliFixture {
   protected:
-    RunResult run(const std::vector<std::string>& args) { return runExe(args, m_dir.path()); }
-    void expectFailure(const std::vector<std::string>& args,
-                       const std::vector<std::string>& fragments) {
-        RunResult r = run(args);
-        EXPECT_NE(r.code, 0) << describe(args, r);
-        EXPECT_LT(r.code, 128) << "crashed\n" << describe(args, r);
-        for (const auto& f : fragments)
-            EXPECT_TRUE(contains(r.output, f)) << "expected the message to contain '" << f << "'\n"
-                                               << describe(args, r);
-    }
-    const fs::path& dir() const { return m_dir.path(); }
     void writeBadMeshes() {
         for (const auto& m : badMeshes())
             writeText(dir() / m.name, m.text);
     }
-
-    TempDir m_dir;
 };
 
 // Arguments of a small render of `mesh` into out.exr, plus `extra`.

@@ -2,7 +2,7 @@
 // (BW_EXE) with --root BW_SOURCE_ROOT in a fresh temporary working folder, captures stdout and
 // stderr together plus the exit status, and checks outputs (CSV, PNG, printed numbers) and
 // that every rejected input fails with a message naming the offending argument or file.
-#include "../support/cli_runner.h"
+#include "../support/cli_fixture.h"
 
 #include <gtest/gtest.h>
 
@@ -127,22 +127,7 @@ fs::path sourceRoot() {
     return fs::path(BW_SOURCE_ROOT);
 }
 
-class Cli : public ::testing::Test {
-  protected:
-    RunResult run(const std::vector<std::string>& args) { return runExe(args, m_dir.path()); }
-    // Expects a failure (non-zero exit) whose output mentions every fragment.
-    void expectFailure(const std::vector<std::string>& args,
-                       const std::vector<std::string>& fragments) {
-        RunResult r = run(args);
-        EXPECT_NE(r.code, 0) << describe(args, r);
-        for (const auto& f : fragments)
-            EXPECT_TRUE(contains(r.output, f)) << "expected the message to contain '" << f << "'\n"
-                                               << describe(args, r);
-    }
-    const fs::path& dir() const { return m_dir.path(); }
-
-    TempDir m_dir;
-};
+class Cli : public CliFixture {};
 
 // ---- profile ------------------------------------------------------------------------------
 
