@@ -12,6 +12,8 @@
 #include <imgui.h>
 #include <imgui_internal.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -24,19 +26,54 @@ UiState* g_ui = nullptr; // the settings handler needs to reach the panel toggle
 void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
     return std::strcmp(name, "Panels") == 0 ? static_cast<void*>(g_ui) : nullptr;
 }
+// The saved layout, one "key=value" line each: Models=1 (open), Splits=l,r,b,c (splitter
+// fractions), Float.Render=x0,y0,x1,y1 (a floating panel's window), Tab.centre=Render (the tab
+// an area shows). Unknown or malformed lines are ignored: the defaults stand.
 void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
     auto* ui = static_cast<UiState*>(entry);
+    WorkspaceState& ws = ui->shared.workspace;
+    auto fraction = [](float f, float fallback) {
+        return std::isfinite(f) && f >= 0.05f && f <= 0.95f ? f : fallback;
+    };
+    float v[4];
+    if (std::sscanf(line, "Splits=%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3]) == 4) {
+        const WorkspaceSplits d;
+        ws.splits = {fraction(v[0], d.left), fraction(v[1], d.right), fraction(v[2], d.bottom),
+                     fraction(v[3], d.leftColumn)};
+        return;
+    }
     for (const PanelEntry& p : panelRegistry()) {
-        std::string prefix = std::string(p.iniKey) + "=";
-        if (std::strncmp(line, prefix.c_str(), prefix.size()) == 0)
-            ui->shared.isOpen(p.id) = line[prefix.size()] == '1';
+        const size_t i = static_cast<size_t>(p.id);
+        const std::string key = p.iniKey;
+        if (std::strncmp(line, (key + "=").c_str(), key.size() + 1) == 0)
+            ui->shared.isOpen(p.id) = line[key.size() + 1] == '1';
+        const std::string fl = "Float." + key + "=";
+        if (std::strncmp(line, fl.c_str(), fl.size()) == 0 &&
+            std::sscanf(line + fl.size(), "%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3]) == 4 &&
+            std::isfinite(v[0] + v[1] + v[2] + v[3]) && v[2] > v[0] && v[3] > v[1]) {
+            ws.floating[i] = true;
+            ws.floatRect[i] = {v[0], v[1], v[2], v[3]};
+        }
+        const std::string tab = std::string("Tab.") + areaName(p.area) + "=" + key;
+        if (tab == line) ws.selected[static_cast<size_t>(p.area)] = static_cast<int>(p.id);
     }
 }
 void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffer* buf) {
     if (!g_ui) return;
+    const WorkspaceState& ws = g_ui->shared.workspace;
     buf->appendf("[%s][Panels]\n", handler->TypeName);
     for (const PanelEntry& p : panelRegistry())
         buf->appendf("%s=%d\n", p.iniKey, g_ui->shared.isOpen(p.id) ? 1 : 0);
+    buf->appendf("Splits=%.4f,%.4f,%.4f,%.4f\n", ws.splits.left, ws.splits.right, ws.splits.bottom,
+                 ws.splits.leftColumn);
+    for (const PanelEntry& p : panelRegistry()) {
+        const size_t i = static_cast<size_t>(p.id);
+        const Rect& r = ws.floatRect[i];
+        if (ws.floating[i])
+            buf->appendf("Float.%s=%.0f,%.0f,%.0f,%.0f\n", p.iniKey, r.x0, r.y0, r.x1, r.y1);
+        if (ws.selected[static_cast<size_t>(p.area)] == static_cast<int>(p.id))
+            buf->appendf("Tab.%s=%s\n", areaName(p.area), p.iniKey);
+    }
     buf->append("\n");
 }
 
@@ -52,14 +89,24 @@ std::string iniPath() {
 
 void drawPanels(Workbench& wb, UiState& ui) {
     drawMenuBar(wb, ui);
-    // The scene pipeline runs while one of its panels is open.
+    // The scene pipeline runs while one of its panels is shown (its tab or floating window).
     bool scene = false;
+    const auto shown = shownPanels(ui.shared);
     for (const PanelEntry& p : panelRegistry())
-        scene |= p.needsScene && ui.shared.isOpen(p.id);
+        scene |= p.needsScene && shown[static_cast<size_t>(p.id)];
     wb.scene().settings().enabled = scene;
     wb.setInteracting(false); // the Render panel sets it while the user drags
-    for (const PanelEntry& p : panelRegistry())
-        if (ui.shared.isOpen(p.id)) p.draw(wb, ui);
+    drawWorkspace(wb, ui);
+}
+
+// Opaque windows (text never shows through), the same look headless and windowed.
+void applyStyle() {
+    ImGui::StyleColorsDark();
+    ImGuiStyle& style = ImGui::GetStyle();
+    style.WindowRounding = 0.0f;
+    style.Colors[ImGuiCol_WindowBg].w = 1.0f;
+    style.Colors[ImGuiCol_ChildBg].w = 0.0f; // children show their window's opaque background
+    style.Colors[ImGuiCol_PopupBg].w = 1.0f;
 }
 
 // Reads back the region a panel asked for (PNG export) from `fbo` after rendering.
@@ -88,7 +135,7 @@ HeadlessGui::HeadlessGui(Workbench& wb, int width, int height)
         g_ui = &ownUi;
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;
-        ImGui::StyleColorsDark();
+        applyStyle();
         m_ownsContext = true;
     }
     m_target.resize(width, height);
@@ -108,7 +155,8 @@ HeadlessGui::~HeadlessGui() {
 bool HeadlessGui::frame() {
     ImGuiIO& io = ImGui::GetIO();
     io.DeltaTime = 1.0f / 60.0f;
-    io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
+    io.MousePos = m_hasMouse ? ImVec2(m_mouseX, m_mouseY) : ImVec2(-FLT_MAX, -FLT_MAX);
+    io.MouseDown[0] = m_hasMouse && m_mouseDown;
     const bool changed = m_wb.update();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui::NewFrame();
@@ -125,6 +173,13 @@ bool HeadlessGui::frame() {
     if (changed) m_wb.framePresented();
     gl::collectTimings(true);
     return changed;
+}
+
+void HeadlessGui::mouse(float x, float y, bool down) {
+    m_hasMouse = true;
+    m_mouseX = x;
+    m_mouseY = y;
+    m_mouseDown = down;
 }
 
 UiState& HeadlessGui::ui() {
@@ -144,8 +199,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
-    ImGui::StyleColorsDark();
-    ImGui::GetStyle().WindowRounding = 3.0f;
+    applyStyle();
     static std::string ini; // must outlive the context
     ini = iniPath();
     io.IniFilename = opt.persistLayout ? ini.c_str() : nullptr;

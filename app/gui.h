@@ -29,6 +29,10 @@ class HeadlessGui {
     bool frame();
     std::vector<unsigned char> pixels() const; // RGBA8, top row first, opaque
     UiState& ui();                             // panel toggles and pending requests
+    // Input for the next frames (tests): the mouse at (x, y) in pixels from the top left,
+    // the left button held or not; noMouse() takes it away again.
+    void mouse(float x, float y, bool down);
+    void noMouse() { m_hasMouse = false; }
     int width() const { return m_width; }
     int height() const { return m_height; }
 
@@ -37,6 +41,8 @@ class HeadlessGui {
     int m_width, m_height;
     gl::RenderTarget m_target;
     bool m_ownsContext = false; // created its own ImGui context (used outside runGui)
+    bool m_hasMouse = false, m_mouseDown = false;
+    float m_mouseX = 0, m_mouseY = 0;
 };
 
 // Runs until the window closes (windowed) or for `frames` frames (headless). Returns 0 on

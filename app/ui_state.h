@@ -7,6 +7,7 @@
 #include "gl/gl.h"
 #include "scene_stage.h"
 #include "scene_view.h"
+#include "workspace.h"
 
 #include <array>
 #include <memory>
@@ -19,15 +20,16 @@ namespace app {
 enum class PanelId {
     Models,
     Parameters,
+    Render,
     Pencil,
-    Errors,
-    Timings,
     LitSpheres,
     PointCloud,
     Octree,
     Irradiance,
-    Render,
     Traversal,
+    Errors,
+    Log,
+    Timings,
     Count
 };
 constexpr size_t kPanelCount = static_cast<size_t>(PanelId::Count);
@@ -49,10 +51,28 @@ struct SceneInspect {
     bool highlightTrace = true; // draw the traced pixel's visited nodes in 3D
 };
 
+// Where the panels are: the splitters, which panels float (and where), the tab shown in each
+// area (saved with the layout; View → Reset layout restores the defaults).
+struct WorkspaceState {
+    WorkspaceSplits splits;
+    std::array<bool, kPanelCount> floating{};
+    std::array<Rect, kPanelCount> floatRect{}; // zero width: not placed yet
+    std::array<int, kAreaCount> selected;      // PanelId shown in each area, -1: the first
+    std::array<bool, kPanelCount> placed{};    // its floating window has been positioned
+    WorkspaceState() { selected.fill(-1); }
+};
+
 // What every panel may read and write besides its own state.
 struct UiShared {
     std::array<bool, kPanelCount> open{}; // filled from the registry's defaults
     bool& isOpen(PanelId id) { return open[static_cast<size_t>(id)]; }
+    // Opens a panel and brings it to the front (its tab selected, or its window focused).
+    void show(PanelId id) {
+        isOpen(id) = true;
+        showRequest = static_cast<int>(id);
+    }
+    int showRequest = -1; // served by the workspace in the next frame
+    WorkspaceState workspace;
     bool quit = false;
     std::string status; // one-line status shown in the menu bar
     SceneInspect inspect;

@@ -38,18 +38,12 @@ void showCubemap(GLuint cube, IrradiancePanelState& ps) {
     gl::uploadRGBA8(ps.cubeTex, 6 * f, f, rgba.data());
     ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ps.cubeTex.id())),
                  ImVec2(6.0f * 48, 48));
-    ImGui::TextDisabled("irradiance cubemap (+x -x +y -y +z -z), max %.4g", hi);
+    hintText("irradiance cubemap (+x -x +y -y +z -z), max %.4g", hi);
 }
 
 } // namespace
 
 void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(618, 700), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Irradiance", &ui.isOpen(PanelId::Irradiance))) {
-        ImGui::End();
-        return;
-    }
     SceneStage& scene = wb.scene();
     irradiance::Settings& l = scene.settings().light;
     const char* modes[] = {"directional", "filtered directional", "image based (IBL)",
@@ -138,7 +132,7 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
             lo.y, lo.z, sum.x, sum.y, sum.z, hi.x, hi.y, hi.z);
         if (ImGui::SmallButton("colour the point cloud by irradiance")) {
             ui.inspect.colorBy = PointColor::Irradiance;
-            ui.isOpen(PanelId::PointCloud) = true;
+            ui.show(PanelId::PointCloud);
         }
     }
     irradiance::Stage* stage = scene.irradianceStage();
@@ -167,11 +161,10 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
             ImGui::Image(
                 reinterpret_cast<ImTextureID>(static_cast<intptr_t>(stage->environmentTexture())),
                 ImVec2(288, 144));
-            ImGui::TextDisabled("environment (lat-long, zenith at the top)");
+            hintText("environment (lat-long, zenith at the top)");
             showCubemap(stage->irradianceCubemap(), ps);
         }
     }
-    ImGui::End();
 }
 
 } // namespace app

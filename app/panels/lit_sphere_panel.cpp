@@ -3,6 +3,7 @@
 // with a colour bar; HDR exposure and gamma; samples per pixel; progress; click a pixel for
 // its value and standard error in both.
 #include "panels.h"
+#include "scene_panel_util.h"
 
 #include "../image_view.h"
 
@@ -63,13 +64,7 @@ void colourBar(float range) {
 
 } // namespace
 
-void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(420, 60), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(760, 560), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Lit spheres", &ui.isOpen(PanelId::LitSpheres))) {
-        ImGui::End();
-        return;
-    }
+void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     LitSphereSettings& s = wb.litSphereSettings();
     ImGui::Checkbox("render", &s.enabled);
     ImGui::SameLine();
@@ -99,9 +94,9 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui) {
                          ImGuiInputTextFlags_EnterReturnsTrue))
         s.mesh = ps.meshBuffer;
     if (!s.mesh.empty())
-        ImGui::TextDisabled("path tracing %s on the CPU (longest axis = 2 x radius); the BSSRDF "
-                            "integration shows the sphere",
-                            s.mesh.c_str());
+        hintText("path tracing %s on the CPU (longest axis = 2 x radius); the BSSRDF "
+                 "integration shows the sphere",
+                 s.mesh.c_str());
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
                           "slice per frame;\noff: CPU tracer in a background thread");
@@ -111,8 +106,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui) {
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("gamma", &ps.gamma, 0.5f, 4.0f, "%.2f");
     if (!s.enabled) {
-        ImGui::TextDisabled("Renders the first visible (or soloed) model's material both ways.");
-        ImGui::End();
+        hintText("Renders the first visible (or soloed) model's material both ways.");
         return;
     }
     const auto& pt = wb.pathTracer();
@@ -161,9 +155,8 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui) {
         readout("path traced", a, ps);
         readout("BSSRDF integrated", b, ps);
     } else {
-        ImGui::TextDisabled("click a pixel for its value and standard error in both images");
+        hintText("click a pixel for its value and standard error in both images");
     }
-    ImGui::End();
 }
 
 } // namespace app

@@ -26,6 +26,19 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
                 group = p.menuGroup;
                 ImGui::MenuItem(p.title, nullptr, &ui.shared.isOpen(p.id));
             }
+            ImGui::Separator();
+            if (ImGui::BeginMenu("Float")) {
+                for (const PanelEntry& p : panelRegistry()) {
+                    bool& floating = ui.shared.workspace.floating[static_cast<size_t>(p.id)];
+                    if (ImGui::MenuItem(p.title, nullptr, &floating)) ui.shared.show(p.id);
+                }
+                ImGui::EndMenu();
+            }
+            if (ImGui::MenuItem("Reset layout")) {
+                ui.shared.workspace = WorkspaceState{};
+                for (const PanelEntry& p : panelRegistry())
+                    ui.shared.isOpen(p.id) = p.defaultOpen;
+            }
             ImGui::EndMenu();
         }
         const size_t n = wb.errors().size();

@@ -27,13 +27,7 @@ void drawModelParams(bssrdf::ModelEntry& e) {
 }
 } // namespace
 
-void drawModelsPanel(Workbench& wb, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(8, 28), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330, 260), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Models", &ui.isOpen(PanelId::Models))) {
-        ImGui::End();
-        return;
-    }
+void drawModelsPanel(Workbench& wb, UiShared&) {
     auto& entries = wb.library().entries();
     if (entries.empty()) ImGui::TextDisabled("no .bssrdf files in materials/");
     for (auto& e : entries) {
@@ -50,26 +44,36 @@ void drawModelsPanel(Workbench& wb, UiShared& ui) {
         bool open = ImGui::TreeNodeEx(name.c_str(), ImGuiTreeNodeFlags_DefaultOpen);
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", e.displayPath.c_str());
         if (open) {
-            if (e.problem)
-                ImGui::TextColored(ImVec4(1, 0.5f, 0.5f, 1), "%s%s", e.problem->text().c_str(),
+            if (e.problem) {
+                ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.5f, 0.5f, 1));
+                ImGui::TextWrapped("%s%s", e.problem->text().c_str(),
                                    e.model ? "\n(showing the last good version)" : "");
+                ImGui::PopStyleColor();
+            }
             if (e.model) {
                 const auto& a = e.model->attrs;
-                ImGui::TextDisabled("%s%s%s%s | R_dr/l_d: %s", a.analytic ? "analytic" : "",
-                                    a.radial ? " radial" : "", a.noWi ? " no_wi" : "",
-                                    a.noWo ? " no_wo" : "",
-                                    e.hasInversion() ? "yes" : "no (no diffuseReflectance)");
+                ImGui::PushStyleColor(ImGuiCol_Text,
+                                      ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+                ImGui::TextWrapped("%s%s%s%s | R_dr/l_d: %s", a.analytic ? "analytic" : "",
+                                   a.radial ? " radial" : "", a.noWi ? " no_wi" : "",
+                                   a.noWo ? " no_wo" : "",
+                                   e.hasInversion() ? "yes" : "no (no diffuseReflectance)");
+                ImGui::PopStyleColor();
                 drawModelParams(e);
-                ImGui::Checkbox("own material parameters", &view.override);
-                if (!view.materialProblem.empty())
-                    ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "%s",
-                                       view.materialProblem.c_str());
+                ImGui::Checkbox("own parameters", &view.override);
+                if (ImGui::IsItemHovered())
+                    ImGui::SetTooltip("own material parameters: this model uses its own "
+                                      "sigma_a, sigma_s, g, eta (edit them in Parameters)");
+                if (!view.materialProblem.empty()) {
+                    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.6f, 0.3f, 1));
+                    ImGui::TextWrapped("%s", view.materialProblem.c_str());
+                    ImGui::PopStyleColor();
+                }
             }
             ImGui::TreePop();
         }
         ImGui::PopID();
     }
-    ImGui::End();
 }
 
 } // namespace app

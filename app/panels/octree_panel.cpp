@@ -69,16 +69,9 @@ void updateBoxes(Workbench& wb, OctreePanelState& ps, const UiShared& ui, const 
 } // namespace
 
 void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(618, 700), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Octree", &ui.isOpen(PanelId::Octree))) {
-        ImGui::End();
-        return;
-    }
     const octree::Octree* t = wb.scene().tree();
     if (!t) {
-        ImGui::TextDisabled("no octree yet (it is built from the point cloud)");
-        ImGui::End();
+        hintText("no octree yet (it is built from the point cloud)");
         return;
     }
     const auto& s = t->stats;
@@ -96,8 +89,8 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
     ImGui::SameLine();
     ImGui::Checkbox("show traced pixel", &ui.inspect.highlightTrace);
     if (ui.inspect.highlightTrace && ui.inspect.debug && ui.inspect.debug->hit)
-        ImGui::TextDisabled("visited nodes: grey recurse, orange node evaluated, green leaf "
-                            "points; magenta: the receiver");
+        hintText("visited nodes: grey recurse, orange node evaluated, green leaf "
+                 "points; magenta: the receiver");
     updateBoxes(wb, ps, ui, *t);
     ImVec2 avail = ImGui::GetContentRegionAvail();
     const float side = std::max(120.0f, std::min(avail.x, avail.y - 170));
@@ -148,7 +141,6 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
     ImGui::Text("covariance xx yy zz (%.3g, %.3g, %.3g), xy xz yz (%.3g, %.3g, %.3g)",
                 r.covarianceDiagonal[0], r.covarianceDiagonal[1], r.covarianceDiagonal[2],
                 r.covarianceOffDiagonal[0], r.covarianceOffDiagonal[1], r.covarianceOffDiagonal[2]);
-    ImGui::End();
 }
 
 } // namespace app

@@ -1,5 +1,7 @@
 // One function per panel: each only shows and edits its stage's settings and its own state
 // (ui_state.h); no algorithms. The registry (registry.h) lists them for the menu and the frame.
+// A panel draws its contents only: the workspace (workspace.cpp) gives it a tab in its area
+// or a floating window.
 #pragma once
 
 #include "../ui_state.h"
@@ -8,10 +10,16 @@
 namespace app {
 
 void drawMenuBar(Workbench& wb, UiState& ui);
+// Every open panel: docked as tabs in the workspace's areas, or floating (workspace.h).
+void drawWorkspace(Workbench& wb, UiState& ui);
+// The panels drawn this frame: the shown tab of each area (a pending UiShared::show request
+// first) and every floating panel.
+std::array<bool, kPanelCount> shownPanels(const UiShared& ui);
 void drawModelsPanel(Workbench& wb, UiShared& ui);
 void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui);
 void drawPencilPanel(Workbench& wb, PencilPanelState& ps, UiShared& ui);
 void drawErrorsPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui);
+void drawLogPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui);
 void drawTimingsPanel(Workbench& wb, UiShared& ui);
 void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui);
 void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui);

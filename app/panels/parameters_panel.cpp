@@ -1,6 +1,7 @@
 // Parameters panel (thesis 3.6.1): σa/σs with logarithmic sliders or the R_dr/l_d
 // parametrisation, g, η, scale, presets, colour swatches; shared by all models or per model.
 #include "panels.h"
+#include "scene_panel_util.h"
 
 #include <imgui.h>
 
@@ -39,13 +40,7 @@ void swatchButton(const char* label, const glm::dvec3& rgb) {
 }
 } // namespace
 
-void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(8, 296), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330, 430), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Parameters", &ui.isOpen(PanelId::Parameters))) {
-        ImGui::End();
-        return;
-    }
+void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared&) {
     // Which settings are edited: the shared ones or a model's own.
     std::string& target = ps.target; // display path; empty = shared
     std::string targetLabel = target.empty() ? "all models (shared)" : target;
@@ -62,7 +57,7 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui) 
     MaterialSettings& s = target.empty() ? wb.shared() : wb.view(target).own;
     if (!target.empty()) {
         ImGui::Checkbox("override shared parameters", &wb.view(target).override);
-        if (!wb.view(target).override) ImGui::TextDisabled("(editing values not in use)");
+        if (!wb.view(target).override) hintText("(editing values not in use)");
     }
 
     if (ImGui::BeginCombo("preset", s.preset.empty() ? "(custom)" : s.preset.c_str())) {
@@ -75,7 +70,7 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui) 
 
     int mode = static_cast<int>(s.mode);
     ImGui::RadioButton("sigma_a, sigma_s", &mode, 0);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("R_dr, l_d"));
     ImGui::RadioButton("R_dr, l_d", &mode, 1);
     s.mode = static_cast<ParamMode>(mode);
     // models that cannot use R_dr / l_d say why
@@ -117,12 +112,23 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui) 
         const auto& q = *v.effective;
         glm::dvec3 ap = material::reducedAlbedo(q), ld = material::diffuseMeanFreePath(q);
         ImGui::Text("%s%s", e.model->name.c_str(), v.override ? " (own)" : "");
-        ImGui::TextDisabled("  sigma_a %.4g %.4g %.4g", q.sigmaA.x, q.sigmaA.y, q.sigmaA.z);
-        ImGui::TextDisabled("  sigma_s %.4g %.4g %.4g", q.sigmaS.x, q.sigmaS.y, q.sigmaS.z);
-        ImGui::TextDisabled("  alpha'  %.5f %.5f %.5f", ap.x, ap.y, ap.z);
-        ImGui::TextDisabled("  l_d     %.4g %.4g %.4g mm", ld.x, ld.y, ld.z);
+        if (ImGui::BeginTable("inuse", 4, ImGuiTableFlags_SizingStretchSame)) {
+            auto row = [](const char* name, const glm::dvec3& x, const char* fmt) {
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::TextDisabled("%s", name);
+                for (int c = 0; c < 3; ++c) {
+                    ImGui::TableNextColumn();
+                    ImGui::TextDisabled(fmt, x[c]);
+                }
+            };
+            row("sigma_a", q.sigmaA, "%.4g");
+            row("sigma_s", q.sigmaS, "%.4g");
+            row("alpha'", ap, "%.5f");
+            row("l_d [mm]", ld, "%.4g");
+            ImGui::EndTable();
+        }
     }
-    ImGui::End();
 }
 
 } // namespace app

@@ -2,6 +2,7 @@
 // slab under a normally incident pencil beam; y axis linear/log/sqrt, optional r·R(r),
 // channel R/G/B/luminance, solo mode, hover readout, CSV and PNG export.
 #include "panels.h"
+#include "scene_panel_util.h"
 
 #include "core/core.h"
 #include "core/fields.h"
@@ -68,8 +69,8 @@ void drawReferenceControls(Workbench& wb) {
     ImGui::SetNextItemWidth(320);
     ImGui::ProgressBar(frac, ImVec2(320, 0), overlay);
     ImGui::SameLine();
-    ImGui::TextDisabled("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
-                        wb.referenceModel().c_str());
+    hintText("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
+             wb.referenceModel().c_str());
     ImGui::SameLine();
     if (snap.running) {
         if (ImGui::SmallButton("cancel")) wb.cancelReference();
@@ -80,12 +81,6 @@ void drawReferenceControls(Workbench& wb) {
 } // namespace
 
 void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(346, 506), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(620, 486), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Pencil plot", &ui.isOpen(PanelId::Pencil))) {
-        ImGui::End();
-        return;
-    }
     PlotSettings& ps = wb.plotSettings();
     int scale = static_cast<int>(ps.yScale);
     ImGui::SetNextItemWidth(90);
@@ -157,7 +152,6 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
         ui.pngRect[2] = st.max.x;
         ui.pngRect[3] = st.max.y;
     }
-    ImGui::End();
 }
 
 } // namespace app

@@ -68,12 +68,6 @@ void uploadColors(Workbench& wb, PointCloudPanelState& ps, const UiShared& ui) {
 } // namespace
 
 void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(974, 28), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(618, 470), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Point cloud", &ui.isOpen(PanelId::PointCloud))) {
-        ImGui::End();
-        return;
-    }
     SceneStage& scene = wb.scene();
     SceneSettings& s = scene.settings();
     ImGui::SetNextItemWidth(300);
@@ -127,7 +121,6 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     const auto& cloud = scene.cloud();
     if (cloud.points.empty()) {
         ImGui::TextDisabled("no point cloud yet");
-        ImGui::End();
         return;
     }
     const auto& u = scene.uniformity();
@@ -181,11 +174,10 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
             ImGui::Text("  radiant exitance M (%.4g, %.4g, %.4g); radiance L_o = Ft/pi * M", M.x,
                         M.y, M.z);
         else
-            ImGui::TextDisabled("  radiant exitance: available once the scene has rendered");
+            hintText("  radiant exitance: available once the scene has rendered");
     } else {
-        ImGui::TextDisabled("drag to orbit, wheel to zoom, click a point for its values");
+        hintText("drag to orbit, wheel to zoom, click a point for its values");
     }
-    ImGui::End();
 }
 
 } // namespace app

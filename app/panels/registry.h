@@ -17,6 +17,7 @@ struct PanelEntry {
     const char* title;  // window title and View-menu label
     const char* iniKey; // visibility key in the saved layout
     int menuGroup;      // View menu: a separator between groups
+    Area area;          // where it docks in the workspace
     bool defaultOpen;
     bool needsScene; // the scene pipeline runs while a panel with this flag is open
     void (*draw)(Workbench& wb, UiState& ui);

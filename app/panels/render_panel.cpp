@@ -34,43 +34,37 @@ std::vector<unsigned char> heatImage(const render::Readback& rb, const std::vect
 } // namespace
 
 void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(346, 28), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(620, 470), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Render", &ui.isOpen(PanelId::Render))) {
-        ImGui::End();
-        return;
-    }
     SceneStage& scene = wb.scene();
     render::Settings& r = scene.settings().render;
     ImGui::SetNextItemWidth(160);
     ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("bounding-box criterion"));
     ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("brute force"));
     ImGui::Checkbox("brute force", &r.bruteForce);
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("exposure", &r.exposure, -10.0f, 10.0f, "%.1f EV");
-    ImGui::SameLine();
+    sameLineIfFits(100 + ImGui::CalcTextSize("gamma").x + 8);
     ImGui::SetNextItemWidth(100);
     ImGui::SliderFloat("gamma", &r.gamma, 0.5f, 4.0f, "%.2f");
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("direct Bssrdf()"));
     ImGui::Checkbox("direct Bssrdf()", &r.directBssrdf);
-    ImGui::SameLine();
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "radial models: call Bssrdf() per evaluation instead of the profile table");
+    sameLineIfFits(checkboxWidth("2nd-order clusters"));
     ImGui::Checkbox("2nd-order clusters", &r.secondOrder);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("an accepted node is evaluated at three points that match its "
                           "irradiance-weighted covariance (exact to second order) instead of "
                           "at its mean position");
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip(
-            "radial models: call Bssrdf() per evaluation instead of the profile table");
     int size[2] = {r.width, r.height};
     ImGui::SetNextItemWidth(140);
     if (ImGui::InputInt2("size", size, ImGuiInputTextFlags_EnterReturnsTrue)) {
         r.width = std::clamp(size[0], 16, 4096);
         r.height = std::clamp(size[1], 16, 4096);
     }
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("half resolution while moving"));
     ImGui::Checkbox("half resolution while moving", &scene.settings().halfResolutionWhileChanging);
     const char* heat[] = {"image", "nodes visited", "max stack depth", "rel. error vs brute force"};
     ImGui::SetNextItemWidth(200);
@@ -78,17 +72,16 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
 
     const render::Frame& f = scene.frame();
     if (!scene.hasFrame()) {
-        ImGui::TextDisabled(scene.generating() ? "waiting for the point cloud ..."
-                                               : "nothing rendered yet (needs a usable model, a "
-                                                 "mesh and its point cloud)");
-        ImGui::End();
+        hintText(scene.generating() ? "waiting for the point cloud ..."
+                                    : "nothing rendered yet (needs a usable model, a "
+                                      "mesh and its point cloud)");
         return;
     }
     auto st = scene.stats().find("scene.render");
-    ImGui::Text("%dx%d | G-buffer %.1f ms, profile %.1f ms, traversal %.1f ms (%d dispatches), "
-                "tone map %.1f ms | %lld renders",
-                f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
-                f.tonemapMs, st != scene.stats().end() ? st->second.runs : 0);
+    ImGui::TextWrapped("%dx%d | G-buffer %.1f ms, profile %.1f ms, traversal %.1f ms (%d "
+                       "dispatches), tone map %.1f ms | %lld renders",
+                       f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
+                       f.tonemapMs, st != scene.stats().end() ? st->second.runs : 0);
     GLuint tex = f.ldr;
     if (ps.heatmap != Heatmap::Image) {
         render::Readback rb = scene.readback();
@@ -129,7 +122,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
         try {
             ui.inspect.debug = scene.debugPixel(px, py);
             ui.inspect.debugProblem.clear();
-            ui.isOpen(PanelId::Traversal) = true;
+            ui.show(PanelId::Traversal);
         } catch (const std::exception& e) {
             ui.inspect.debugProblem = e.what();
         }
@@ -153,8 +146,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     }
     if (!ui.inspect.debugProblem.empty())
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", ui.inspect.debugProblem.c_str());
-    ImGui::TextDisabled("drag: orbit, wheel: zoom, click: trace the pixel (Traversal panel)");
-    ImGui::End();
+    hintText("drag: orbit, wheel: zoom, click: trace a pixel");
 }
 
 } // namespace app

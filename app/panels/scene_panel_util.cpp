@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 
 namespace app {
 
@@ -13,6 +14,28 @@ void ensureInspectCamera(Workbench& wb, UiShared& ui) {
     ui.inspect.camera.yaw = wb.scene().settings().render.camera.yaw;
     ui.inspect.camera.pitch = wb.scene().settings().render.camera.pitch;
     ui.inspect.cameraSet = true;
+}
+
+void sameLineIfFits(float width) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    // the visible right edge (the content region grows with horizontal scrolling)
+    const float right =
+        ImGui::GetWindowPos().x + ImGui::GetWindowWidth() - st.WindowPadding.x - st.ScrollbarSize;
+    if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + width <= right) ImGui::SameLine();
+}
+
+void hintText(const char* fmt, ...) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    va_list args;
+    va_start(args, fmt);
+    ImGui::TextWrappedV(fmt, args);
+    va_end(args);
+    ImGui::PopStyleColor();
+}
+
+float checkboxWidth(const char* label) {
+    const ImGuiStyle& st = ImGui::GetStyle();
+    return ImGui::GetFrameHeight() + st.ItemInnerSpacing.x + ImGui::CalcTextSize(label).x;
 }
 
 bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool flipY, ImVec2* drag,

@@ -36,6 +36,13 @@ bool comboEnum(const char* label, E& value, const char* const (&names)[N]) {
     value = static_cast<E>(i);
     return true;
 }
+// ImGui::SameLine() when an item of `width` pixels still fits on the current line, so rows of
+// controls wrap in narrow areas instead of running off the edge.
+void sameLineIfFits(float width);
+// A hint or status line: the disabled text colour, wrapped at the panel's edge.
+void hintText(const char* fmt, ...) IM_FMTARGS(1);
+// The width of a checkbox with `label`.
+float checkboxWidth(const char* label);
 // Makes ui.inspect.camera frame the scene mesh (once).
 void ensureInspectCamera(Workbench& wb, UiShared& ui);
 

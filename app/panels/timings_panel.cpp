@@ -8,13 +8,7 @@
 
 namespace app {
 
-void drawTimingsPanel(Workbench&, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(974, 506), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(618, 486), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Timings", &ui.isOpen(PanelId::Timings))) {
-        ImGui::End();
-        return;
-    }
+void drawTimingsPanel(Workbench&, UiShared&) {
     ImGui::Text("frame %.2f ms (%.0f fps)", 1000.0f / ImGui::GetIO().Framerate,
                 ImGui::GetIO().Framerate);
     if (ImGui::BeginTable("timings", 4,
@@ -42,7 +36,6 @@ void drawTimingsPanel(Workbench&, UiShared& ui) {
         ImGui::EndTable();
     }
     ImGui::TextDisabled("hot reload target: <= 150 ms save -> pixels");
-    ImGui::End();
 }
 
 } // namespace app

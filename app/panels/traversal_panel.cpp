@@ -41,22 +41,16 @@ float relDiff(const glm::vec3& a, const glm::vec3& b) {
 } // namespace
 
 void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
-    ImGui::SetNextWindowPos(ImVec2(974, 506), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(618, 486), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Traversal debugger", &ui.isOpen(PanelId::Traversal))) {
-        ImGui::End();
-        return;
-    }
     (void)wb;
     if (!ui.inspect.debug) {
-        ImGui::TextDisabled("click a pixel in the Render panel to trace its octree traversal");
-        ImGui::End();
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+        ImGui::TextWrapped("click a pixel in the Render panel to trace its octree traversal");
+        ImGui::PopStyleColor();
         return;
     }
     const PixelDebug& d = *ui.inspect.debug;
     if (!d.hit) {
         ImGui::Text("pixel (%d, %d) shows the background (no surface)", d.x, d.y);
-        ImGui::End();
         return;
     }
     const octree::Trace& t = d.trace;
@@ -85,7 +79,7 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
                            "rounding may decide it differently",
                            t.closestMargin);
     if (ImGui::SmallButton("show the visited nodes in 3D (Octree panel)")) {
-        ui.isOpen(PanelId::Octree) = true;
+        ui.show(PanelId::Octree);
         ui.inspect.highlightTrace = true;
     }
     ImGui::Checkbox("recurse", &ps.showRecurse);
@@ -140,7 +134,6 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
             }
         ImGui::EndTable();
     }
-    ImGui::End();
 }
 
 } // namespace app

@@ -1,6 +1,7 @@
 // The full GUI headless: every panel draws, the pencil plot exports a PNG of itself, and the
 // window layout and panel visibility persist between runs.
 #include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
 #include "gui.h"
 #include "panels/registry.h"
 
@@ -32,6 +33,7 @@ TEST(HeadlessGui, DrawsAllPanelsAndExportsThePlotAsPng) {
     auto root = testsupport::makeProjectRoot("gui", {"dipole.bssrdf", "better_dipole.bssrdf"});
     app::Workbench wb(root, false);
     app::HeadlessGui gui(wb, 1280, 860);
+    gui.ui().shared.show(app::PanelId::Pencil);
     gui.frame();
     gui.frame();
     auto px = gui.pixels();
@@ -78,30 +80,34 @@ TEST(HeadlessGui, LayoutAndPanelVisibilityPersist) {
     const fs::path ini = config / "bssrdf-workbench/imgui.ini";
     ASSERT_TRUE(fs::exists(ini));
     std::string text = core::readFile(ini);
-    EXPECT_NE(text.find("[Window][Pencil plot]"), std::string::npos) << text;
     EXPECT_NE(text.find("[BssrdfWorkbench][Panels]"), std::string::npos) << text;
     EXPECT_NE(text.find("Timings=1"), std::string::npos) << text;
-    // hide Timings and move the pencil plot, as a user would have; the next run keeps both
+    EXPECT_NE(text.find("Splits=0.2500,0.2400,0.2200,0.3600"), std::string::npos) << text;
+    EXPECT_NE(text.find("Tab.centre=Render"), std::string::npos) << text;
+    // As a user would have: Timings hidden, splitters moved, the pencil plot floating and the
+    // octree the centre's tab; a malformed line is ignored. The next run keeps all of it.
     text = testsupport::replaced(text, "Timings=1", "Timings=0");
-    auto pos = text.find("[Window][Pencil plot]\nPos=");
-    ASSERT_NE(pos, std::string::npos);
-    auto end = text.find('\n', pos + 22);
-    text = text.substr(0, pos) + "[Window][Pencil plot]\nPos=400,300" + text.substr(end);
+    text = testsupport::replaced(text, "Splits=0.2500,0.2400,0.2200,0.3600",
+                                 "Splits=0.3000,0.2000,0.3000,0.5000\nSplits=nan,2,x");
+    text = testsupport::replaced(text, "Tab.centre=Render",
+                                 "Tab.centre=Octree\nFloat.PencilPlot=100,120,600,500");
     core::writeFile(ini, text);
     {
         app::Workbench wb(root, false);
         ASSERT_EQ(app::runGui(wb, ctx, opt), 0);
     }
     std::string after = core::readFile(ini);
-    EXPECT_NE(after.find("Timings=0"), std::string::npos) << after;
-    EXPECT_NE(after.find("[Window][Pencil plot]\nPos=400,300"), std::string::npos) << after;
+    for (const char* kept : {"Timings=0", "Splits=0.3000,0.2000,0.3000,0.5000", "Tab.centre=Octree",
+                             "Float.PencilPlot=100,120,600,500"})
+        EXPECT_NE(after.find(kept), std::string::npos) << kept << "\n" << after;
+    EXPECT_EQ(after.find("nan"), std::string::npos) << after;
     ::unsetenv("XDG_CONFIG_HOME");
     fs::remove_all(root);
 }
 
 // The panel registry lists every panel once, in PanelId order, with distinct titles and saved
 // keys; a fresh UiState opens the defaults; the scene pipeline runs exactly while a panel that
-// needs it is open; closing a panel stops drawing it (its window disappears).
+// needs it is shown (its tab selected); closing a panel stops drawing it.
 TEST(PanelRegistry, EveryPanelOnceAndTheSceneFollowsItsPanels) {
     const auto& reg = app::panelRegistry();
     std::set<std::string> titles, keys;
@@ -124,18 +130,25 @@ TEST(PanelRegistry, EveryPanelOnceAndTheSceneFollowsItsPanels) {
         ui.shared.isOpen(p.id) = false;
     gui.frame();
     EXPECT_FALSE(wb.scene().settings().enabled);
-    EXPECT_EQ(ImGui::FindWindowByName("Octree"), nullptr);
-    ui.shared.isOpen(app::PanelId::Octree) = true;
-    gui.frame();
+    EXPECT_EQ(testsupport::panelWindow(app::PanelId::Octree), nullptr);
+    ui.shared.show(app::PanelId::Octree);
+    gui.frame(); // a tab that did not exist shows from its second frame
     EXPECT_TRUE(wb.scene().settings().enabled);
-    ImGuiWindow* w = ImGui::FindWindowByName("Octree");
-    ASSERT_NE(w, nullptr);
-    EXPECT_TRUE(w->Active || w->WasActive);
-    ui.shared.isOpen(app::PanelId::Octree) = false;
-    ui.shared.isOpen(app::PanelId::Pencil) = true;
+    gui.frame();
+    EXPECT_NE(testsupport::panelWindow(app::PanelId::Octree), nullptr);
+    // the octree stays open behind the pencil plot's tab: not drawn, no scene
+    ui.shared.show(app::PanelId::Pencil);
     gui.frame();
     EXPECT_FALSE(wb.scene().settings().enabled);
-    w = ImGui::FindWindowByName("Octree");
-    EXPECT_TRUE(w == nullptr || !w->Active);
+    gui.frame();
+    EXPECT_EQ(testsupport::panelWindow(app::PanelId::Octree), nullptr);
+    EXPECT_NE(testsupport::panelWindow(app::PanelId::Pencil), nullptr);
+    EXPECT_TRUE(ui.shared.isOpen(app::PanelId::Octree));
+    // closed, it is gone from its area
+    ui.shared.isOpen(app::PanelId::Pencil) = false;
+    ui.shared.isOpen(app::PanelId::Octree) = false;
+    gui.frame();
+    EXPECT_EQ(testsupport::panelWindow(app::PanelId::Octree), nullptr);
+    EXPECT_FALSE(wb.scene().settings().enabled);
     std::filesystem::remove_all(root);
 }

@@ -1,6 +1,7 @@
 // The lit-sphere stage in the app: both renderings of the same setup progress, restart on a
 // material change, and the panel draws (tabs, difference view, pixel readout).
 #include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
 #include "capture/capture.h"
 #include "core/statistics.h"
 #include "gui.h"
@@ -45,12 +46,14 @@ TEST(LitSphereStage, PathTracedAndIntegratedImagesOfTheSameSetup) {
 
     // the panel draws every view without errors
     app::HeadlessGui gui(wb, 1280, 860);
-    gui.ui().shared.isOpen(app::PanelId::LitSpheres) = true;
+    gui.ui().shared.show(app::PanelId::LitSpheres);
     gui.ui().litSpheres.pickX = 12;
     gui.ui().litSpheres.pickY = 12;
+    gui.frame(); // the tab bar's first frame
     for (int v = 0; v < 4; ++v) {
         gui.ui().litSpheres.view = static_cast<app::SphereView>(v);
         gui.frame();
+        EXPECT_NE(testsupport::panelWindow(app::PanelId::LitSpheres), nullptr) << v;
     }
     EXPECT_TRUE(wb.errors().empty());
     std::filesystem::remove_all(root);

@@ -3,6 +3,7 @@
 // debugger draw with a real scene and leave no problem behind; the rendered bunny is on
 // screen.
 #include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
 #include "gui.h"
 
 #include <cstdlib>
@@ -51,26 +52,30 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
     ui.shared.inspect.debug = wb.scene().debugPixel(x, y);
     ASSERT_TRUE(ui.shared.inspect.debug->hit);
     EXPECT_FALSE(ui.shared.inspect.debug->trace.steps.empty());
+    ui.shared.show(app::PanelId::PointCloud);
     for (int c = 0; c < 4; ++c) {
         ui.shared.inspect.colorBy = static_cast<app::PointColor>(c);
         gui.frame();
+        EXPECT_NE(testsupport::panelWindow(app::PanelId::PointCloud), nullptr);
     }
     const std::vector<glm::vec4> brute = wb.scene().bruteForceExitance();
     ASSERT_NE(wb.scene().bruteForceResult(), nullptr); // belongs to the displayed frame
     EXPECT_EQ(brute.size(), size_t(96 * 54));
+    ui.shared.show(app::PanelId::Render);
     for (int h = 0; h < 4; ++h) {
         ui.render.heatmap = static_cast<app::Heatmap>(h);
         gui.frame();
     }
+    ui.shared.show(app::PanelId::Octree);
     for (int level = 0; level <= wb.scene().tree()->stats.maxDepth; ++level) {
         ui.octree.level = level;
         ui.octree.selectedNode = level * 7;
         gui.frame();
+        EXPECT_NE(testsupport::panelWindow(app::PanelId::Octree), nullptr);
     }
     ui.shared.inspect.highlightTrace = false;
     gui.frame();
-    ui.shared.isOpen(app::PanelId::Pencil) =
-        false; // uncover the traversal debugger for the saved image
+    ui.shared.show(app::PanelId::Irradiance);
     for (auto mode : {irradiance::LightMode::Filtered, irradiance::LightMode::Ibl,
                       irradiance::LightMode::OccludedIbl, irradiance::LightMode::Directional}) {
         s.light.mode = mode;
@@ -82,7 +87,11 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
     for (const auto& e : wb.errors())
         ADD_FAILURE() << e.source << ": " << e.text;
 
-    // The Render panel (top middle, default layout) shows the lit bunny: bright pixels.
+    // The Render panel (the centre area, default layout) shows the lit bunny: bright pixels.
+    ui.shared.show(app::PanelId::Render);
+    gui.frame();
+    for (auto id : {app::PanelId::Render, app::PanelId::Traversal})
+        EXPECT_NE(testsupport::panelWindow(id), nullptr) << app::panelEntry(id).title;
     auto px = gui.pixels();
     size_t bright = 0;
     for (int yy = 100; yy < 480; ++yy)

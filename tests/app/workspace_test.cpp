@@ -1,0 +1,212 @@
+// The workspace layout: the tiling alone (areas inside the window, no overlaps, the limits, the
+// splitters), then the real GUI headless at 800×600, 1280×720 and 1920×1080 — read from
+// ImGui's window rectangles, no panel leaves the viewport and no two docked areas overlap;
+// every panel is shown in its area on request; a splitter drags with injected mouse input; a
+// floating panel saved on a large screen comes back inside a small one.
+// BW_LAYOUT_PNG_DIR=docs/ saves the screenshots of the three sizes (docs/layout-WxH.png).
+#include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
+#include "gui.h"
+#include "panels/panels.h"
+#include "panels/registry.h"
+#include "workspace.h"
+
+#include <imgui.h>
+#include <imgui_internal.h>
+
+#include <cstdlib>
+#include <random>
+
+namespace {
+namespace fs = std::filesystem;
+using app::Area;
+using app::Rect;
+
+size_t idx(Area a) {
+    return static_cast<size_t>(a);
+}
+
+// Every present area lies in the view, no two present areas overlap, splitters sit between.
+void expectTiled(const app::WorkspaceRects& t, const Rect& view) {
+    for (size_t a = 0; a < app::kAreaCount; ++a) {
+        if (!t.present[a]) continue;
+        EXPECT_TRUE(view.contains(t.area[a])) << app::areaName(Area(a));
+        EXPECT_GT(t.area[a].width(), 0.0f) << app::areaName(Area(a));
+        EXPECT_GT(t.area[a].height(), 0.0f) << app::areaName(Area(a));
+        for (size_t b = a + 1; b < app::kAreaCount; ++b)
+            if (t.present[b]) {
+                EXPECT_FALSE(t.area[a].overlaps(t.area[b]))
+                    << app::areaName(Area(a)) << " / " << app::areaName(Area(b));
+            }
+        for (size_t s = 0; s < app::kSplitterCount; ++s)
+            if (t.splitterPresent[s]) {
+                EXPECT_FALSE(t.splitter[s].overlaps(t.area[a]));
+            }
+    }
+}
+
+} // namespace
+
+TEST(WorkspaceTiling, AreasStayInsideAndApartForAnySizeAndSplit) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> frac(0.0f, 1.0f), size(200.0f, 2600.0f);
+    for (int trial = 0; trial < 2000; ++trial) {
+        const Rect view{0, 19, size(rng), 19 + size(rng)};
+        app::WorkspaceSplits s{frac(rng), frac(rng), frac(rng), frac(rng)};
+        std::array<bool, app::kAreaCount> occ{};
+        for (auto& o : occ)
+            o = frac(rng) < 0.6f;
+        const app::WorkspaceRects t = app::tileWorkspace(view, s, occ);
+        expectTiled(t, view);
+        EXPECT_TRUE(t.present[idx(Area::Centre)]);
+        for (size_t a = 0; a < app::kAreaCount; ++a)
+            if (a != idx(Area::Centre)) {
+                EXPECT_EQ(t.present[a], occ[a]);
+            }
+    }
+}
+
+TEST(WorkspaceTiling, LimitsHoldFrom800x600AndSplittersMoveTheirBoundary) {
+    const app::WorkspaceLimits lim;
+    std::array<bool, app::kAreaCount> all;
+    all.fill(true);
+    for (auto [w, h] : {std::pair{800.0f, 600.0f}, {1280.0f, 720.0f}, {1920.0f, 1080.0f}}) {
+        const Rect view{0, 19, w, h};
+        for (float f : {0.0f, 0.5f, 1.0f}) {
+            const app::WorkspaceRects t =
+                app::tileWorkspace(view, app::WorkspaceSplits{f, f, f, f}, all);
+            expectTiled(t, view);
+            EXPECT_GE(t.area[idx(Area::Centre)].width(), lim.minCentre - 0.5f) << w << " " << f;
+            EXPECT_GE(t.area[idx(Area::LeftTop)].width(), lim.minSide - 0.5f);
+            EXPECT_GE(t.area[idx(Area::Right)].width(), lim.minSide - 0.5f);
+            EXPECT_GE(t.area[idx(Area::Bottom)].height(), lim.minBottom - 0.5f);
+            EXPECT_GE(t.area[idx(Area::Centre)].height(), lim.minMain - 0.5f);
+        }
+    }
+    // Dragging the left splitter 40 px right widens the left column by 40 px.
+    const Rect view{0, 19, 1280, 720};
+    app::WorkspaceSplits s;
+    const auto before = app::tileWorkspace(view, s, all);
+    app::dragSplitter(s, app::Splitter::Left, 40, view, before);
+    app::dragSplitter(s, app::Splitter::Bottom, -30, view, before);
+    const auto after = app::tileWorkspace(view, s, all);
+    EXPECT_NEAR(after.area[idx(Area::LeftTop)].width(),
+                before.area[idx(Area::LeftTop)].width() + 40, 0.01);
+    EXPECT_NEAR(after.area[idx(Area::Bottom)].height(),
+                before.area[idx(Area::Bottom)].height() + 30, 0.01);
+    // A floating window saved on a larger screen is moved (and shrunk) back inside.
+    const Rect in = app::clampInto({1500, 900, 2400, 1500}, view);
+    EXPECT_TRUE(view.contains(in));
+    EXPECT_NEAR(in.width(), 900, 0.01);
+}
+
+using testsupport::panelWindow;
+using testsupport::rectOf;
+using testsupport::topWindows;
+
+TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("layout3", {"dipole.bssrdf", "better_dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.scene().settings().render.width = 64;
+    wb.scene().settings().render.height = 36;
+    const char* pngDir = std::getenv("BW_LAYOUT_PNG_DIR");
+    if (pngDir) { // a picture worth looking at
+        wb.scene().settings().render.width = 320;
+        wb.scene().settings().render.height = 180;
+    }
+    for (auto [w, h] : {std::pair{800, 600}, {1280, 720}, {1920, 1080}}) {
+        SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
+        app::HeadlessGui gui(wb, w, h);
+        app::UiState& ui = gui.ui();
+        ui = app::UiState{};
+        for (const auto& p : app::panelRegistry())
+            ui.shared.isOpen(p.id) = true;
+        gui.frame();
+        gui.frame();
+        const Rect viewport{0, 0, float(w), float(h)};
+        std::vector<Rect> areas;
+        for (ImGuiWindow* win : topWindows()) {
+            EXPECT_TRUE(viewport.contains(rectOf(win))) << win->Name;
+            if (std::string(win->Name).rfind("##area.", 0) == 0) areas.push_back(rectOf(win));
+        }
+        EXPECT_EQ(areas.size(), app::kAreaCount);
+        for (size_t a = 0; a < areas.size(); ++a)
+            for (size_t b = a + 1; b < areas.size(); ++b)
+                EXPECT_FALSE(areas[a].overlaps(areas[b])) << a << " " << b;
+        if (pngDir) {
+            wb.finishScene(); // the rendered bunny in the picture, not "waiting"
+            gui.frame();
+            gl::writePng((fs::path(pngDir) /
+                          ("layout-" + std::to_string(w) + "x" + std::to_string(h) + ".png"))
+                             .string(),
+                         w, h, gui.pixels());
+        }
+        // Every panel comes to the front of its area on request, inside the viewport.
+        for (const auto& p : app::panelRegistry()) {
+            ui.shared.show(p.id);
+            gui.frame();
+            ImGuiWindow* pw = panelWindow(p.id);
+            ASSERT_NE(pw, nullptr) << p.title;
+            EXPECT_TRUE(viewport.contains(rectOf(pw))) << p.title;
+        }
+        // A floating panel stays inside the viewport too, and docks back.
+        ui.shared.workspace.floating[size_t(app::PanelId::Render)] = true;
+        ui.shared.workspace.floatRect[size_t(app::PanelId::Render)] = {1500, 900, 2600, 1700};
+        gui.frame();
+        gui.frame();
+        ImGuiWindow* fw = ImGui::FindWindowByName("Render###Render");
+        ASSERT_NE(fw, nullptr);
+        EXPECT_TRUE(fw->Active);
+        EXPECT_TRUE(viewport.contains(rectOf(fw)));
+        ui.shared.workspace.floating[size_t(app::PanelId::Render)] = false;
+        gui.frame();
+        EXPECT_FALSE(ImGui::FindWindowByName("Render###Render")->Active);
+    }
+    EXPECT_TRUE(wb.errors().empty());
+    fs::remove_all(root);
+}
+
+TEST(WorkspaceLayout, SplitterDragsWithTheMouseAndTabsFollowShowRequests) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("layoutdrag", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui = app::UiState{};
+    ui.shared.isOpen(app::PanelId::Render) = false; // no scene needed here
+    gui.frame();
+    gui.frame();
+    ImGuiWindow* left = ImGui::FindWindowByName("##area.left-top");
+    ASSERT_NE(left, nullptr);
+    const float before = left->Size.x;
+    // press on the splitter right of the left column, drag 60 px right, release
+    const float x = left->Pos.x + left->Size.x + 3, y = 300;
+    gui.mouse(x, y, false);
+    gui.frame();
+    gui.mouse(x, y, true);
+    gui.frame();
+    for (int i = 1; i <= 6; ++i) {
+        gui.mouse(x + 10.0f * float(i), y, true);
+        gui.frame();
+    }
+    gui.mouse(x + 60, y, false);
+    gui.frame();
+    gui.noMouse();
+    gui.frame();
+    EXPECT_NEAR(ImGui::FindWindowByName("##area.left-top")->Size.x, before + 60, 1.0);
+
+    // show() selects a tab in this very frame; the area keeps it afterwards
+    ui.shared.show(app::PanelId::Octree);
+    EXPECT_TRUE(app::shownPanels(ui.shared)[size_t(app::PanelId::Octree)]);
+    gui.frame();
+    EXPECT_NE(panelWindow(app::PanelId::Octree), nullptr);
+    gui.frame();
+    EXPECT_NE(panelWindow(app::PanelId::Octree), nullptr);
+    EXPECT_EQ(panelWindow(app::PanelId::Pencil), nullptr);
+    EXPECT_TRUE(wb.scene().settings().enabled); // the octree needs the scene
+    ui.shared.show(app::PanelId::Pencil);
+    gui.frame();
+    EXPECT_FALSE(wb.scene().settings().enabled);
+    fs::remove_all(root);
+}

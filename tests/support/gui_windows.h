@@ -1,0 +1,42 @@
+// Shared by GUI tests: what ImGui drew in the last frame, read from its window list.
+#pragma once
+
+#include "panels/registry.h"
+#include "workspace.h"
+
+#include <imgui.h>
+#include <imgui_internal.h>
+
+#include <string>
+#include <vector>
+
+namespace testsupport {
+
+// The top-level windows drawn in the last frame (no children, tooltips, popups, menus).
+inline std::vector<ImGuiWindow*> topWindows() {
+    std::vector<ImGuiWindow*> out;
+    for (ImGuiWindow* w : ImGui::GetCurrentContext()->Windows) {
+        if (!w->Active || w->Hidden) continue;
+        if (w->Flags & (ImGuiWindowFlags_ChildWindow | ImGuiWindowFlags_Tooltip |
+                        ImGuiWindowFlags_Popup | ImGuiWindowFlags_ChildMenu))
+            continue;
+        out.push_back(w);
+    }
+    return out;
+}
+
+inline app::Rect rectOf(const ImGuiWindow* w) {
+    return {w->Pos.x, w->Pos.y, w->Pos.x + w->Size.x, w->Pos.y + w->Size.y};
+}
+
+// The child window a panel draws into (workspace.cpp), when it was drawn in the last frame.
+inline ImGuiWindow* panelWindow(app::PanelId id) {
+    const std::string key = std::string("/") + app::panelEntry(id).iniKey + "_";
+    for (ImGuiWindow* w : ImGui::GetCurrentContext()->Windows) {
+        if (!(w->Flags & ImGuiWindowFlags_ChildWindow) || !w->Active) continue;
+        if (std::string(w->Name).find(key) != std::string::npos) return w;
+    }
+    return nullptr;
+}
+
+} // namespace testsupport
