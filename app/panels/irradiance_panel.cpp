@@ -69,13 +69,13 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         ImGui::SetNextItemWidth(120);
         if (ImGui::InputInt("shadow map", &l.shadowMapSize, 256))
             l.shadowMapSize = std::clamp(l.shadowMapSize, 16, 8192);
-        ImGui::SameLine();
+        sameLineIfFits(itemWidth(100, "offset"));
         ImGui::SetNextItemWidth(100);
         ImGui::DragFloat("offset", &l.depthOffset, 1e-4f, 0.0f, 0.1f, "%.4f");
         if (l.filter == irradiance::ShadowFilter::OffsetPcfJitter) {
             ImGui::SetNextItemWidth(120);
             ImGui::SliderInt("lookups", &l.jitterSamples, 1, 16);
-            ImGui::SameLine();
+            sameLineIfFits(itemWidth(100, "radius [texels]"));
             ImGui::SetNextItemWidth(100);
             ImGui::SliderFloat("radius [texels]", &l.jitterRadius, 0.0f, 8.0f);
         }
@@ -96,19 +96,19 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         }
         ImGui::SetNextItemWidth(120);
         ImGui::DragFloat("intensity", &l.envIntensity, 0.01f, 0.0f, 100.0f, "%.3g");
-        ImGui::SameLine();
+        sameLineIfFits(itemWidth(120, "rotation"));
         ImGui::SetNextItemWidth(120);
         ImGui::SliderAngle("rotation", &l.envRotation, -180.0f, 180.0f);
         if (l.mode == irradiance::LightMode::OccludedIbl) {
             ImGui::SetNextItemWidth(120);
             if (ImGui::InputInt("samples", &l.occludedTotalSamples, 64))
                 l.occludedTotalSamples = std::clamp(l.occludedTotalSamples, 1, 1 << 20);
-            ImGui::SameLine();
+            sameLineIfFits(itemWidth(100, "per frame"));
             ImGui::SetNextItemWidth(100);
             ImGui::SliderInt("per frame", &l.occludedSamplesPerStep, 1, 64);
             ImGui::ProgressBar(scene.occludedProgress(), ImVec2(240, 0));
             if (scene.occludedRunning()) {
-                ImGui::SameLine();
+                sameLineIfFits(buttonWidth("stop"));
                 if (ImGui::SmallButton("stop")) scene.cancelOccluded();
             }
         }

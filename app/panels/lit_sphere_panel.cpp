@@ -67,12 +67,12 @@ void colourBar(float range) {
 void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     LitSphereSettings& s = wb.litSphereSettings();
     ImGui::Checkbox("render", &s.enabled);
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(110, "radius [mm]"));
     float radius = float(s.radiusMm);
     ImGui::SetNextItemWidth(110);
     if (ImGui::DragFloat("radius [mm]", &radius, 0.1f, 0.1f, 1000.0f, "%.3g"))
         s.radiusMm = std::max(radius, 0.01f);
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(200, "light dir"));
     ImGui::SetNextItemWidth(200);
     if (ImGui::SliderFloat3("light dir", &s.lightDir.x, -1.0f, 1.0f, "%.2f")) {
         if (std::abs(s.lightDir[0]) + std::abs(s.lightDir[1]) + std::abs(s.lightDir[2]) < 1e-3f)
@@ -80,15 +80,18 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     }
     ImGui::SetNextItemWidth(90);
     if (ImGui::InputInt("size", &s.size, 32)) s.size = std::clamp(s.size, 16, 1024);
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(90, "path spp"));
     ImGui::SetNextItemWidth(90);
     if (ImGui::InputInt("path spp", &s.pathSpp, 16)) s.pathSpp = std::clamp(s.pathSpp, 1, 100000);
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(110, "BSSRDF spp"));
     ImGui::SetNextItemWidth(110);
     if (ImGui::InputInt("BSSRDF spp", &s.integratedSpp, 1024))
         s.integratedSpp = std::clamp(s.integratedSpp, 1, 10000000);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("GPU path tracer"));
     ImGui::Checkbox("GPU path tracer", &s.gpu);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
+                          "slice per frame;\noff: CPU tracer in a background thread");
     ImGui::SetNextItemWidth(260);
     if (ImGui::InputText("mesh (OBJ, empty: sphere)", ps.meshBuffer, sizeof ps.meshBuffer,
                          ImGuiInputTextFlags_EnterReturnsTrue))
@@ -97,12 +100,9 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
         hintText("path tracing %s on the CPU (longest axis = 2 x radius); the BSSRDF "
                  "integration shows the sphere",
                  s.mesh.c_str());
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
-                          "slice per frame;\noff: CPU tracer in a background thread");
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("exposure", &ps.exposure, -10.0f, 10.0f, "%.1f EV");
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(120, "gamma"));
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("gamma", &ps.gamma, 0.5f, 4.0f, "%.2f");
     if (!s.enabled) {
@@ -114,7 +114,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
                 wb.litSphereModel().c_str(), pt.sppDone(), pt.sppTarget(), pt.pathsPerSecond(),
                 (unsigned long long)wb.integratedSppDone(), s.integratedSpp);
     if (pt.sppDone() < pt.sppTarget()) {
-        ImGui::SameLine();
+        sameLineIfFits(buttonWidth("cancel path tracing"));
         if (ImGui::SmallButton("cancel path tracing")) wb.cancelLitSpheres();
     }
     if (const std::string problem = wb.litSphereProblem(); !problem.empty())

@@ -81,12 +81,12 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
     std::vector<float> occ(s.leafOccupancy.begin(), s.leafOccupancy.end());
     ImGui::PlotHistogram("nodes per depth", depthHist.data(), int(depthHist.size()), 0, nullptr,
                          0.0f, FLT_MAX, ImVec2(220, 50));
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(160, "points per leaf (0..15)"));
     ImGui::PlotHistogram("points per leaf (0..15)", occ.data(), int(occ.size()), 0, nullptr, 0.0f,
                          FLT_MAX, ImVec2(160, 50));
     ImGui::SetNextItemWidth(200);
     ImGui::SliderInt("level", &ps.level, 0, s.maxDepth);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("show traced pixel"));
     ImGui::Checkbox("show traced pixel", &ui.inspect.highlightTrace);
     if (ui.inspect.highlightTrace && ui.inspect.debug && ui.inspect.debug->hit)
         hintText("visited nodes: grey recurse, orange node evaluated, green leaf "

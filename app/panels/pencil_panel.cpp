@@ -26,19 +26,19 @@ void drawReferenceControls(Workbench& wb) {
             "Volumetric path tracer on the slab (MCML convention), renormalised\n"
             "to unit power entering: R_d(r) / (1 - R_sp). Band: +-2 standard errors.");
     if (!rs.enabled) return;
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(110, "x1e5 paths/ch"));
     int millions = int(rs.paths / 100000);
     ImGui::SetNextItemWidth(110);
     if (ImGui::InputInt("x1e5 paths/ch", &millions, 5))
         rs.paths = uint64_t(std::clamp(millions, 1, 100000)) * 100000;
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(90, "bins"));
     ImGui::SetNextItemWidth(90);
     if (ImGui::InputInt("bins", &rs.bins, 25)) rs.bins = std::clamp(rs.bins, 10, 5000);
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(80, "seed"));
     int seed = int(rs.seed);
     ImGui::SetNextItemWidth(80);
     if (ImGui::InputInt("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(110, "estimator"));
     ImGui::SetNextItemWidth(110);
     if (ImGui::BeginCombo("estimator", core::nameOf(rs.estimator))) {
         for (const auto& [e, name] : enumNames(pathtrace::Estimator{}))
@@ -49,7 +49,7 @@ void drawReferenceControls(Workbench& wb) {
         ImGui::SetTooltip("implicit: absorption by weight (default)\nanalog: thesis Algorithm 1 "
                           "as printed\nconnections: every collision connected to every bin "
                           "(seed 001; CPU only)");
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("GPU"));
     ImGui::Checkbox("GPU", &rs.gpu);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_slab.comp, hot-reloaded), a slice "
@@ -86,12 +86,12 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     ImGui::SetNextItemWidth(90);
     ImGui::Combo("y axis", &scale, "linear\0log\0sqrt\0");
     ps.yScale = static_cast<plot::Scale>(scale);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("r * R(r)"));
     ImGui::Checkbox("r * R(r)", &ps.rTimesR);
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(100, "channel"));
     ImGui::SetNextItemWidth(100);
     ImGui::Combo("channel", &ps.channel, "red\0green\0blue\0luminance\0");
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(160, "solo"));
     ImGui::SetNextItemWidth(160);
     if (ImGui::BeginCombo("solo", ps.solo.empty() ? "(all models)" : ps.solo.c_str())) {
         if (ImGui::Selectable("(all models)", ps.solo.empty())) ps.solo.clear();
@@ -103,9 +103,9 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     ImGui::SetNextItemWidth(90);
     if (ImGui::InputInt("samples", &ps.samples, 256))
         ps.samples = std::clamp(ps.samples, 512, 16384);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("fixed range"));
     ImGui::Checkbox("fixed range", &ps.fixedRange);
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(120, "r max [mm]"));
     ImGui::SetNextItemWidth(120);
     if (ps.fixedRange) {
         float r = float(ps.rMaxMm);
@@ -131,7 +131,7 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
             wb.reportActionError(std::string("export CSV: ") + e.what());
         }
     }
-    ImGui::SameLine();
+    sameLineIfFits(buttonWidth("Export PNG"));
     if (ImGui::Button("Export PNG")) own.plotPngRequest = std::string(exportPath) + ".png";
 
     drawReferenceControls(wb);

@@ -103,7 +103,7 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
         if (ImGui::InputInt("iterations", &it, 10, 100, ImGuiInputTextFlags_EnterReturnsTrue))
             it = std::clamp(it, 0, 100000);
     }
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("disk cache"));
     ImGui::Checkbox("disk cache", &s.useCache);
     ImGui::SetNextItemWidth(300);
     if (ImGui::InputText("load PLY (empty: generate)", ps.plyBuffer, sizeof ps.plyBuffer,
@@ -115,7 +115,7 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
                            s.points.points, scene.generatingSeconds());
         ImGui::SameLine();
         ImGui::ProgressBar(float(scene.generatingProgress()), ImVec2(160, 0), "relaxation");
-        ImGui::SameLine();
+        sameLineIfFits(buttonWidth("cancel"));
         if (ImGui::SmallButton("cancel")) scene.cancelPointCloud();
     }
     const auto& cloud = scene.cloud();

@@ -35,7 +35,17 @@ void hintText(const char* fmt, ...) {
 
 float checkboxWidth(const char* label) {
     const ImGuiStyle& st = ImGui::GetStyle();
-    return ImGui::GetFrameHeight() + st.ItemInnerSpacing.x + ImGui::CalcTextSize(label).x;
+    return ImGui::GetFrameHeight() + st.ItemInnerSpacing.x +
+           ImGui::CalcTextSize(label, nullptr, true).x;
+}
+
+float buttonWidth(const char* label) {
+    return ImGui::CalcTextSize(label, nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
+}
+
+float itemWidth(float frame, const char* label) {
+    const float text = ImGui::CalcTextSize(label, nullptr, true).x;
+    return frame + (text > 0 ? ImGui::GetStyle().ItemInnerSpacing.x + text : 0.0f);
 }
 
 bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool flipY, ImVec2* drag,

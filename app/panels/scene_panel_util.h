@@ -41,8 +41,11 @@ bool comboEnum(const char* label, E& value, const char* const (&names)[N]) {
 void sameLineIfFits(float width);
 // A hint or status line: the disabled text colour, wrapped at the panel's edge.
 void hintText(const char* fmt, ...) IM_FMTARGS(1);
-// The width of a checkbox with `label`.
+// Widths of widgets, for sameLineIfFits: a checkbox (or radio button) with `label`, a button,
+// and a framed item of `frame` pixels with its label.
 float checkboxWidth(const char* label);
+float buttonWidth(const char* label);
+float itemWidth(float frame, const char* label);
 // Makes ui.inspect.camera frame the scene mesh (once).
 void ensureInspectCamera(Workbench& wb, UiShared& ui);
 

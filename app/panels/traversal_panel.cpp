@@ -83,11 +83,11 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
         ui.inspect.highlightTrace = true;
     }
     ImGui::Checkbox("recurse", &ps.showRecurse);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("node"));
     ImGui::Checkbox("node", &ps.showNodeEval);
-    ImGui::SameLine();
+    sameLineIfFits(checkboxWidth("points"));
     ImGui::Checkbox("points", &ps.showPointEval);
-    ImGui::SameLine();
+    sameLineIfFits(itemWidth(140, "node # filter"));
     ImGui::SetNextItemWidth(140);
     ImGui::InputText("node # filter", ps.filter, sizeof ps.filter);
     std::vector<int> rows;

@@ -3,7 +3,8 @@
 // ImGui's window rectangles, no panel leaves the viewport and no two docked areas overlap;
 // every panel is shown in its area on request; a splitter drags with injected mouse input; a
 // floating panel saved on a large screen comes back inside a small one.
-// BW_LAYOUT_PNG_DIR=docs/ saves the screenshots of the three sizes (docs/layout-WxH.png).
+// BW_LAYOUT_PNG_DIR=docs/ saves the screenshots of the three sizes (docs/layout-WxH.png);
+// BW_PANEL_PNG_DIR=DIR one per panel and size, to look at.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "gui.h"
@@ -149,6 +150,11 @@ TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
             ImGuiWindow* pw = panelWindow(p.id);
             ASSERT_NE(pw, nullptr) << p.title;
             EXPECT_TRUE(viewport.contains(rectOf(pw))) << p.title;
+            if (const char* dir = std::getenv("BW_PANEL_PNG_DIR"))
+                gl::writePng((fs::path(dir) / (std::string(p.iniKey) + "-" + std::to_string(w) +
+                                               "x" + std::to_string(h) + ".png"))
+                                 .string(),
+                             w, h, gui.pixels());
         }
         // A floating panel stays inside the viewport too, and docks back.
         ui.shared.workspace.floating[size_t(app::PanelId::Render)] = true;
