@@ -455,6 +455,21 @@ PixelDebug SceneStage::debugPixel(int x, int y) {
 
 void SceneStage::adoptFrame() {
     m_frame = m_renderer->currentFrame();
+    if (m_displayW != m_frame.width || m_displayH != m_frame.height || !m_displayLdr.id()) {
+        GLuint id = 0;
+        glCreateTextures(GL_TEXTURE_2D, 1, &id);
+        glTextureStorage2D(id, 1, GL_RGBA8, m_frame.width, m_frame.height);
+        glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        m_displayLdr = gl::Texture(id);
+        m_displayW = m_frame.width;
+        m_displayH = m_frame.height;
+    }
+    glCopyImageSubData(m_frame.ldr, GL_TEXTURE_2D, 0, 0, 0, 0, m_displayLdr.id(), GL_TEXTURE_2D, 0,
+                       0, 0, 0, m_frame.width, m_frame.height, 1);
+    m_frame.ldr = m_displayLdr.id();
     StageStat& st = m_stats["scene.render"];
     st.ms = m_renderClock.ms();
     ++st.runs;

@@ -210,6 +210,11 @@ class SceneStage : public Stage {
     std::unique_ptr<irradiance::Stage> m_irradiance_stage;
     std::unique_ptr<render::Renderer> m_renderer;
     render::Frame m_frame;
+    // The displayed frame's image, owned here: the renderer reallocates its textures when a
+    // new frame changes size (half resolution while moving), and the shown frame must not
+    // point at a deleted texture meanwhile.
+    gl::Texture m_displayLdr;
+    int m_displayW = 0, m_displayH = 0;
     // What the last frame was rendered with (for the brute-force comparison pass).
     render::Settings m_frameSettings;
     std::optional<bssrdf::Model> m_frameModel;

@@ -48,6 +48,9 @@ struct SceneInspect {
     PointColor colorBy = PointColor::Normal;
     std::optional<PixelDebug> debug; // the traced pixel
     std::string debugProblem;
+    // A click on the Render image waiting for a finished full-resolution frame (the click
+    // itself may start a half-resolution one): where, as a fraction of the image.
+    std::optional<std::pair<float, float>> pendingPick;
     bool highlightTrace = true; // draw the traced pixel's visited nodes in 3D
 };
 
@@ -135,6 +138,7 @@ struct IrradiancePanelState {
 
 struct RenderPanelState {
     Heatmap heatmap = Heatmap::Image;
+    Rect imageRect; // where the image was drawn last frame (screen pixels)
     gl::Texture heatTex;
     float heatMax = 0;
 };

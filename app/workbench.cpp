@@ -233,12 +233,32 @@ void Workbench::framePresented() {
 
 std::vector<ErrorItem> Workbench::errors() const {
     std::vector<ErrorItem> out;
+    // One entry per problem: a shader file every model includes fails for each model with the
+    // same message; that is one entry naming the models it affects.
+    std::vector<std::vector<std::string>> affected;
     for (const auto& e : m_library->entries()) {
-        if (e.problem) {
-            bool shader = e.problem->file.rfind("shaders/", 0) == 0;
-            out.push_back({shader ? "shader" : "model", e.problem->text()});
+        if (!e.problem) continue;
+        const bool shader = e.problem->file.rfind("shaders/", 0) == 0;
+        const ErrorItem item{shader ? "shader" : "model", e.problem->text()};
+        auto same = std::find_if(out.begin(), out.end(), [&](const ErrorItem& o) {
+            return o.source == item.source && o.text == item.text;
+        });
+        if (same == out.end()) {
+            out.push_back(item);
+            affected.emplace_back();
+            same = out.end() - 1;
         }
+        if (shader)
+            affected[size_t(same - out.begin())].push_back(e.model ? e.model->name
+                                                                   : e.file.stem().string());
     }
+    for (size_t i = 0; i < out.size(); ++i)
+        if (!affected[i].empty()) {
+            std::string names;
+            for (const std::string& n : affected[i])
+                names += (names.empty() ? "" : ", ") + n;
+            out[i].text += " (affects " + names + ")";
+        }
     for (const auto& p : m_library->problems())
         out.push_back({"shader", p.text()});
     for (const PipelineStep& step : m_pipeline)
@@ -246,7 +266,15 @@ std::vector<ErrorItem> Workbench::errors() const {
             out.push_back({step.stage->name(), p});
     for (const auto& a : m_actionErrors)
         out.push_back({"action", a});
+    for (const gl::DebugProblem& p : gl::debugProblems())
+        out.push_back({"GL", p.first + (p.count > 1 ? " (" + std::to_string(p.count) + " times)"
+                                                    : std::string())});
     return out;
+}
+
+void Workbench::clearActionErrors() {
+    m_actionErrors.clear();
+    gl::clearDebugProblems();
 }
 
 void Workbench::reportActionError(const std::string& text) {

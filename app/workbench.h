@@ -90,7 +90,8 @@ class Workbench {
     // user actions (which stay until dismissed).
     std::vector<ErrorItem> errors() const;
     void reportActionError(const std::string& text);
-    void clearActionErrors() { m_actionErrors.clear(); }
+    // Forgets the action errors and the GL debug problems (Errors panel: Dismiss).
+    void clearActionErrors();
 
     // Plot series for the current settings (one per visible model, or R/G/B when soloed),
     // then the path-traced reference when enabled; model labels carry their error against it.

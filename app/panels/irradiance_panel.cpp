@@ -67,7 +67,7 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         if (ImGui::Combo("shadow filter (Fig. 3.3)", &f, filters, 4))
             l.filter = irradiance::ShadowFilter(f);
         ImGui::SetNextItemWidth(120);
-        if (ImGui::InputInt("shadow map", &l.shadowMapSize, 256))
+        if (inputIntCommitted("shadow map", &l.shadowMapSize, 256))
             l.shadowMapSize = std::clamp(l.shadowMapSize, 16, 8192);
         sameLineIfFits(itemWidth(100, "offset"));
         ImGui::SetNextItemWidth(100);
@@ -81,16 +81,15 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         }
         if (l.mode == irradiance::LightMode::Filtered) {
             ImGui::SetNextItemWidth(260);
-            if (ImGui::InputText("texture (empty: checker)", ps.textureBuffer,
-                                 sizeof ps.textureBuffer, ImGuiInputTextFlags_EnterReturnsTrue)) {
+            if (inputTextCommitted("texture (empty: checker)", ps.textureBuffer,
+                                   sizeof ps.textureBuffer)) {
                 scene.settings().projectedTextureFile = ps.textureBuffer;
                 scene.reloadFiles();
             }
         }
     } else {
         ImGui::SetNextItemWidth(260);
-        if (ImGui::InputText("environment (EXR)", ps.envBuffer, sizeof ps.envBuffer,
-                             ImGuiInputTextFlags_EnterReturnsTrue)) {
+        if (inputTextCommitted("environment (EXR)", ps.envBuffer, sizeof ps.envBuffer)) {
             scene.settings().environmentFile = ps.envBuffer;
             scene.reloadFiles();
         }
@@ -101,7 +100,7 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         ImGui::SliderAngle("rotation", &l.envRotation, -180.0f, 180.0f);
         if (l.mode == irradiance::LightMode::OccludedIbl) {
             ImGui::SetNextItemWidth(120);
-            if (ImGui::InputInt("samples", &l.occludedTotalSamples, 64))
+            if (inputIntCommitted("samples", &l.occludedTotalSamples, 64))
                 l.occludedTotalSamples = std::clamp(l.occludedTotalSamples, 1, 1 << 20);
             sameLineIfFits(itemWidth(100, "per frame"));
             ImGui::SetNextItemWidth(100);

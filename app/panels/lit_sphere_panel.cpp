@@ -79,13 +79,13 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
             s.lightDir[2] = 1.0f;
     }
     ImGui::SetNextItemWidth(90);
-    if (ImGui::InputInt("size", &s.size, 32)) s.size = std::clamp(s.size, 16, 1024);
+    if (inputIntCommitted("size", &s.size, 32)) s.size = std::clamp(s.size, 16, 1024);
     sameLineIfFits(itemWidth(90, "path spp"));
     ImGui::SetNextItemWidth(90);
-    if (ImGui::InputInt("path spp", &s.pathSpp, 16)) s.pathSpp = std::clamp(s.pathSpp, 1, 100000);
+    if (inputIntCommitted("path spp", &s.pathSpp, 16)) s.pathSpp = std::clamp(s.pathSpp, 1, 100000);
     sameLineIfFits(itemWidth(110, "BSSRDF spp"));
     ImGui::SetNextItemWidth(110);
-    if (ImGui::InputInt("BSSRDF spp", &s.integratedSpp, 1024))
+    if (inputIntCommitted("BSSRDF spp", &s.integratedSpp, 1024))
         s.integratedSpp = std::clamp(s.integratedSpp, 1, 10000000);
     sameLineIfFits(checkboxWidth("GPU path tracer"));
     ImGui::Checkbox("GPU path tracer", &s.gpu);
@@ -93,8 +93,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
         ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
                           "slice per frame;\noff: CPU tracer in a background thread");
     ImGui::SetNextItemWidth(260);
-    if (ImGui::InputText("mesh (OBJ, empty: sphere)", ps.meshBuffer, sizeof ps.meshBuffer,
-                         ImGuiInputTextFlags_EnterReturnsTrue))
+    if (inputTextCommitted("mesh (OBJ, empty: sphere)", ps.meshBuffer, sizeof ps.meshBuffer))
         s.mesh = ps.meshBuffer;
     if (!s.mesh.empty())
         hintText("path tracing %s on the CPU (longest axis = 2 x radius); the BSSRDF "

@@ -110,7 +110,7 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
             }
     }
     ImGui::SetNextItemWidth(120);
-    ImGui::InputInt("node", &ps.selectedNode);
+    inputIntCommitted("node", &ps.selectedNode);
     ps.selectedNode = std::clamp(ps.selectedNode, 0, int(t->descriptors.size()) - 1);
     const uint32_t n = uint32_t(ps.selectedNode);
     const uint32_t d = t->descriptors[n];

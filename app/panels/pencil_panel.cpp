@@ -29,15 +29,15 @@ void drawReferenceControls(Workbench& wb) {
     sameLineIfFits(itemWidth(110, "x1e5 paths/ch"));
     int millions = int(rs.paths / 100000);
     ImGui::SetNextItemWidth(110);
-    if (ImGui::InputInt("x1e5 paths/ch", &millions, 5))
+    if (inputIntCommitted("x1e5 paths/ch", &millions, 5))
         rs.paths = uint64_t(std::clamp(millions, 1, 100000)) * 100000;
     sameLineIfFits(itemWidth(90, "bins"));
     ImGui::SetNextItemWidth(90);
-    if (ImGui::InputInt("bins", &rs.bins, 25)) rs.bins = std::clamp(rs.bins, 10, 5000);
+    if (inputIntCommitted("bins", &rs.bins, 25)) rs.bins = std::clamp(rs.bins, 10, 5000);
     sameLineIfFits(itemWidth(80, "seed"));
     int seed = int(rs.seed);
     ImGui::SetNextItemWidth(80);
-    if (ImGui::InputInt("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
+    if (inputIntCommitted("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
     sameLineIfFits(itemWidth(110, "estimator"));
     ImGui::SetNextItemWidth(110);
     if (ImGui::BeginCombo("estimator", core::nameOf(rs.estimator))) {
@@ -101,7 +101,7 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
         ImGui::EndCombo();
     }
     ImGui::SetNextItemWidth(90);
-    if (ImGui::InputInt("samples", &ps.samples, 256))
+    if (inputIntCommitted("samples", &ps.samples, 256))
         ps.samples = std::clamp(ps.samples, 512, 16384);
     sameLineIfFits(checkboxWidth("fixed range"));
     ImGui::Checkbox("fixed range", &ps.fixedRange);

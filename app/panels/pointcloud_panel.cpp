@@ -71,15 +71,13 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     SceneStage& scene = wb.scene();
     SceneSettings& s = scene.settings();
     ImGui::SetNextItemWidth(300);
-    if (ImGui::InputText("mesh (OBJ)", ps.meshBuffer, sizeof ps.meshBuffer,
-                         ImGuiInputTextFlags_EnterReturnsTrue)) {
+    if (inputTextCommitted("mesh (OBJ)", ps.meshBuffer, sizeof ps.meshBuffer)) {
         s.meshFile = ps.meshBuffer;
         scene.reloadFiles(); // Enter on the same name reads the file again
     }
     int n = int(s.points.points);
     ImGui::SetNextItemWidth(120);
-    if (ImGui::InputInt("points", &n, 1000, 10000, ImGuiInputTextFlags_EnterReturnsTrue))
-        s.points.points = size_t(std::max(n, 0));
+    if (inputIntCommitted("points", &n, 1000, 10000)) s.points.points = size_t(std::max(n, 0));
     ImGui::SameLine();
     constexpr auto methods = enumNames(pointcloud::Method{});
     const char* names[methods.size()];
@@ -93,21 +91,19 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
         s.points.method = methods[size_t(m)].first;
     int seed = int(s.points.seed);
     ImGui::SetNextItemWidth(90);
-    if (ImGui::InputInt("seed", &seed)) s.points.seed = uint64_t(std::max(seed, 0));
+    if (inputIntCommitted("seed", &seed)) s.points.seed = uint64_t(std::max(seed, 0));
     using pointcloud::Method;
     if (s.points.method == Method::Repulsion || s.points.method == Method::StratifiedRepulsion) {
         ImGui::SameLine();
         ImGui::SetNextItemWidth(90);
         int& it = s.points.method == Method::Repulsion ? s.points.repulsionIterations
                                                        : s.points.stratifiedIterations;
-        if (ImGui::InputInt("iterations", &it, 10, 100, ImGuiInputTextFlags_EnterReturnsTrue))
-            it = std::clamp(it, 0, 100000);
+        if (inputIntCommitted("iterations", &it, 10, 100)) it = std::clamp(it, 0, 100000);
     }
     sameLineIfFits(checkboxWidth("disk cache"));
     ImGui::Checkbox("disk cache", &s.useCache);
     ImGui::SetNextItemWidth(300);
-    if (ImGui::InputText("load PLY (empty: generate)", ps.plyBuffer, sizeof ps.plyBuffer,
-                         ImGuiInputTextFlags_EnterReturnsTrue))
+    if (inputTextCommitted("load PLY (empty: generate)", ps.plyBuffer, sizeof ps.plyBuffer))
         s.pointCloudFile = ps.plyBuffer;
 
     if (scene.generating()) {

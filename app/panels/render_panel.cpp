@@ -60,7 +60,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                           "at its mean position");
     int size[2] = {r.width, r.height};
     ImGui::SetNextItemWidth(140);
-    if (ImGui::InputInt2("size", size, ImGuiInputTextFlags_EnterReturnsTrue)) {
+    if (inputInt2Committed("size", size)) {
         r.width = std::clamp(size[0], 16, 4096);
         r.height = std::clamp(size[1], 16, 4096);
     }
@@ -78,10 +78,16 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
         return;
     }
     auto st = scene.stats().find("scene.render");
-    ImGui::TextWrapped("%dx%d | G-buffer %.1f ms, profile %.1f ms, traversal %.1f ms (%d "
-                       "dispatches), tone map %.1f ms | %lld renders",
-                       f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
-                       f.tonemapMs, st != scene.stats().end() ? st->second.runs : 0);
+    // One line, so the image does not move under the cursor when the numbers change; the
+    // breakdown is in its tooltip.
+    const long long renders = st != scene.stats().end() ? st->second.runs : 0;
+    ImGui::Text("%dx%d | %.1f ms | %lld renders", f.width, f.height,
+                f.gbufferMs + f.profileMs + f.traverseMs + f.tonemapMs, renders);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%dx%d frame\nG-buffer %.1f ms\nprofile %.1f ms\ntraversal %.1f ms (%d "
+                          "dispatches)\ntone map %.1f ms\n%lld renders so far",
+                          f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
+                          f.tonemapMs, renders);
     GLuint tex = f.ldr;
     if (ps.heatmap != Heatmap::Image) {
         render::Readback rb = scene.readback();
@@ -116,17 +122,17 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     const float width = std::max(160.0f, std::min(avail.x, (avail.y - 24.0f) * float(f.width) /
                                                                float(std::max(f.height, 1))));
     int px = -1, py = -1;
-    ImVec2 drag;
+    ImVec2 drag, uv;
     float wheel = 0;
-    if (pickImage(tex, f.width, f.height, width, px, py, false, &drag, &wheel)) {
-        try {
-            ui.inspect.debug = scene.debugPixel(px, py);
-            ui.inspect.debugProblem.clear();
-            ui.show(PanelId::Traversal);
-        } catch (const std::exception& e) {
-            ui.inspect.debugProblem = e.what();
-        }
+    if (pickImage("##render", tex, f.width, f.height, width, px, py, false, &drag, &wheel, &uv)) {
+        ui.inspect.pendingPick = std::pair{uv.x, uv.y};
+        ui.inspect.debugProblem.clear();
     }
+    {
+        const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+        ps.imageRect = {a.x, a.y, b.x, b.y};
+    }
+    const bool imageHeld = ImGui::IsItemActive();
     const bool moving = drag.x != 0 || drag.y != 0 || wheel != 0;
     if (moving) {
         r.camera.yaw -= drag.x * 0.01f;
@@ -134,10 +140,33 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
         if (wheel != 0)
             r.camera.distance = std::max(0.05f, r.camera.distance * std::pow(0.9f, wheel));
     }
-    wb.setInteracting(moving || ImGui::IsAnyItemActive());
+    // Interacting (half resolution when enabled): orbiting, zooming or dragging a control; a
+    // press on the image that does not drag is a click, typing is not an interaction.
+    const bool dragging = imageHeld && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f);
+    const bool typing = ImGui::GetIO().WantTextInput; // a text field edits nothing yet
+    wb.setInteracting(moving || dragging || (ImGui::IsAnyItemActive() && !imageHeld && !typing));
+    // A click is traced on the finished full-resolution frame, wherever the click was made.
+    if (ui.inspect.pendingPick) {
+        const bool full = f.width == r.width && f.height == r.height;
+        if (full && !scene.rendering() && !imageHeld) {
+            const auto [u, v] = *ui.inspect.pendingPick;
+            ui.inspect.pendingPick.reset();
+            try {
+                ui.inspect.debug =
+                    scene.debugPixel(std::clamp(int(u * float(f.width)), 0, f.width - 1),
+                                     std::clamp(int(v * float(f.height)), 0, f.height - 1));
+                ui.inspect.debugProblem.clear();
+                ui.show(PanelId::Traversal);
+            } catch (const std::exception& e) {
+                ui.inspect.debugProblem = e.what();
+            }
+        } else {
+            hintText("tracing the clicked pixel when the full-resolution frame is done ...");
+        }
+    }
     if (ui.inspect.debug && ui.inspect.debug->hit) {
         const float s = width / float(f.width);
-        const ImVec2 o = ImGui::GetItemRectMin();
+        const ImVec2 o(ps.imageRect.x0, ps.imageRect.y0);
         ImGui::GetWindowDrawList()->AddRect(
             ImVec2(o.x + float(ui.inspect.debug->x) * s, o.y + float(ui.inspect.debug->y) * s),
             ImVec2(o.x + float(ui.inspect.debug->x + 1) * s + 2,

@@ -1,9 +1,13 @@
 // Helpers shared by the scene panels (scene_panel_util.h).
 #include "scene_panel_util.h"
 
+#include <imgui_internal.h>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdarg>
+#include <unordered_map>
 
 namespace app {
 
@@ -39,6 +43,54 @@ float checkboxWidth(const char* label) {
            ImGui::CalcTextSize(label, nullptr, true).x;
 }
 
+namespace {
+// Values typed into integer fields and not yet committed, by widget ID (ImGui keeps the text
+// of the active field itself; this keeps the parsed value until the field lets go).
+std::unordered_map<ImGuiID, std::array<int, 2>>& pendingInts() {
+    static std::unordered_map<ImGuiID, std::array<int, 2>> pending;
+    return pending;
+}
+
+template <int N, class Edit> bool committedInts(const char* label, int* v, Edit edit) {
+    auto& pending = pendingInts();
+    // (ImGui 1.86's GetID would mark the ID alive and break the field's group bookkeeping)
+    const ImGuiID id = ImGui::GetCurrentWindow()->GetIDNoKeepAlive(label);
+    const auto it = pending.find(id);
+    std::array<int, 2> shown{v[0], N > 1 ? v[N - 1] : 0};
+    if (it != pending.end()) shown = it->second;
+    const bool changed = edit(shown.data());
+    const bool typing = ImGui::IsItemActive() && ImGui::GetIO().WantTextInput;
+    if (changed && typing) {
+        pending[id] = shown; // wait for Enter or focus loss
+        return false;
+    }
+    if (changed || (it != pending.end() && !ImGui::IsItemActive())) {
+        for (int i = 0; i < N; ++i)
+            v[i] = shown[size_t(i)];
+        pending.erase(id);
+        return true;
+    }
+    return false;
+}
+} // namespace
+
+bool inputIntCommitted(const char* label, int* v, int step, int stepFast) {
+    return committedInts<1>(label, v,
+                            [&](int* x) { return ImGui::InputInt(label, x, step, stepFast); });
+}
+
+bool inputInt2Committed(const char* label, int v[2]) {
+    return committedInts<2>(label, v, [&](int* x) { return ImGui::InputInt2(label, x); });
+}
+
+bool inputTextCommitted(const char* label, char* buffer, size_t size) {
+    ImGui::InputText(label, buffer, size);
+    // Enter on an unchanged text commits too (it reads the named file again).
+    const bool enter = ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Enter), false) ||
+                       ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_KeyPadEnter), false);
+    return ImGui::IsItemDeactivatedAfterEdit() || (ImGui::IsItemDeactivated() && enter);
+}
+
 float buttonWidth(const char* label) {
     return ImGui::CalcTextSize(label, nullptr, true).x + 2 * ImGui::GetStyle().FramePadding.x;
 }
@@ -48,8 +100,8 @@ float itemWidth(float frame, const char* label) {
     return frame + (text > 0 ? ImGui::GetStyle().ItemInnerSpacing.x + text : 0.0f);
 }
 
-bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool flipY, ImVec2* drag,
-               float* wheel) {
+bool pickImage(const char* id, GLuint tex, int w, int h, float width, int& px, int& py, bool flipY,
+               ImVec2* drag, float* wheel, ImVec2* uv) {
     if (!tex || w <= 0 || h <= 0) {
         ImGui::Dummy(ImVec2(width, width * 0.5f));
         return false;
@@ -60,9 +112,7 @@ bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool fli
                  flipY ? ImVec2(0, 1) : ImVec2(0, 0), flipY ? ImVec2(1, 0) : ImVec2(1, 1));
     // An invisible button over the image gives it an ID, so it can be dragged and clicked.
     ImGui::SetCursorScreenPos(pos);
-    ImGui::PushID(static_cast<int>(tex));
-    ImGui::InvisibleButton("##image", ImVec2(width, height));
-    ImGui::PopID();
+    ImGui::InvisibleButton(id, ImVec2(width, height));
     const bool hovered = ImGui::IsItemHovered();
     if (drag) {
         *drag = ImVec2(0, 0);
@@ -74,8 +124,11 @@ bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool fli
     const ImVec2 dragged = ImGui::GetMouseDragDelta(ImGuiMouseButton_Left, 0.0f);
     if (ImGui::IsItemDeactivated() && dragged.x * dragged.x + dragged.y * dragged.y < 9.0f) {
         const ImVec2 m = ImGui::GetMousePos();
-        px = std::clamp(int((m.x - pos.x) / width * float(w)), 0, w - 1);
-        py = std::clamp(int((m.y - pos.y) / height * float(h)), 0, h - 1);
+        const float u = std::clamp((m.x - pos.x) / width, 0.0f, 1.0f);
+        const float v = std::clamp((m.y - pos.y) / height, 0.0f, 1.0f);
+        px = std::clamp(int(u * float(w)), 0, w - 1);
+        py = std::clamp(int(v * float(h)), 0, h - 1);
+        if (uv) *uv = ImVec2(u, v);
         return true;
     }
     return false;
@@ -91,7 +144,8 @@ bool inspectorImage(Workbench& wb, UiShared& ui, SceneView& view, ImVec2 size, f
     int ix = -1, iy = -1;
     ImVec2 drag;
     float wheel = 0;
-    const bool clicked = pickImage(view.texture(), w, h, float(w), ix, iy, true, &drag, &wheel);
+    const bool clicked =
+        pickImage("##inspector", view.texture(), w, h, float(w), ix, iy, true, &drag, &wheel);
     if (drag.x != 0 || drag.y != 0) {
         cam.yaw -= drag.x * 0.01f;
         cam.pitch = std::clamp(cam.pitch + drag.y * 0.01f, -1.5f, 1.5f);

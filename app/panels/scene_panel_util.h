@@ -25,9 +25,12 @@ using core::luminance; // the scalar the scalar views and heatmaps show
 // A horizontal colour bar of colorRamp with its end labels.
 void rampBar(float lo, float hi, const char* unit);
 // Shows an RGBA texture (row 0 at the top) of w × h scaled to `width`; returns true and the
-// pixel on a click. dragging reports the mouse delta through dx, dy (pixels) when non-null.
-bool pickImage(GLuint tex, int w, int h, float width, int& px, int& py, bool flipY = false,
-               ImVec2* drag = nullptr, float* wheel = nullptr);
+// pixel on a click (uv: the same as a fraction of the image, when non-null). Dragging reports
+// the mouse delta through `drag` (pixels) when non-null. `id` names the widget: it must not
+// change while the image does (a new texture or size while the button is held).
+bool pickImage(const char* id, GLuint tex, int w, int h, float width, int& px, int& py,
+               bool flipY = false, ImVec2* drag = nullptr, float* wheel = nullptr,
+               ImVec2* uv = nullptr);
 // An ImGui combo over the values 0 .. N-1 of enum E, labelled by `names`.
 template <class E, size_t N>
 bool comboEnum(const char* label, E& value, const char* const (&names)[N]) {
@@ -39,6 +42,12 @@ bool comboEnum(const char* label, E& value, const char* const (&names)[N]) {
 // ImGui::SameLine() when an item of `width` pixels still fits on the current line, so rows of
 // controls wrap in narrow areas instead of running off the edge.
 void sameLineIfFits(float width);
+// Edit fields that commit when the edit is done — Enter or focus loss — not on every key
+// (a setting that restarts work would restart per keystroke). The +/- step buttons of the
+// integer fields commit at once. Each returns true when the value was committed.
+bool inputIntCommitted(const char* label, int* v, int step = 1, int stepFast = 100);
+bool inputInt2Committed(const char* label, int v[2]);
+bool inputTextCommitted(const char* label, char* buffer, size_t size);
 // A hint or status line: the disabled text colour, wrapped at the panel's edge.
 void hintText(const char* fmt, ...) IM_FMTARGS(1);
 // Widths of widgets, for sameLineIfFits: a checkbox (or radio button) with `label`, a button,

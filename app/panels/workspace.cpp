@@ -92,8 +92,8 @@ void drawArea(Workbench& wb, UiState& ui, Area area, const Rect& r, int want) {
         ImGuiTabBar* bar = ImGui::GetCurrentContext()->CurrentTabBar;
         ImGuiID setId = 0;
         if (want >= 0) {
-            const ImGuiID wantId =
-                ImGui::GetID(panelLabel(wb, panelEntry(static_cast<PanelId>(want))).c_str());
+            const ImGuiID wantId = ImGui::GetCurrentWindow()->GetIDNoKeepAlive(
+                panelLabel(wb, panelEntry(static_cast<PanelId>(want))).c_str());
             if (bar->SelectedTabId != wantId) bar->NextSelectedTabId = setId = wantId;
         }
         selected = want;
@@ -113,7 +113,8 @@ void drawArea(Workbench& wb, UiState& ui, Area area, const Rect& r, int want) {
                 ImGui::EndTabItem();
             }
             if (bar->NextSelectedTabId != 0 && bar->NextSelectedTabId != setId &&
-                bar->NextSelectedTabId == ImGui::GetID(label.c_str()))
+                bar->NextSelectedTabId ==
+                    ImGui::GetCurrentWindow()->GetIDNoKeepAlive(label.c_str()))
                 selected = static_cast<int>(p.id); // clicked
             if (!open) sh.isOpen(p.id) = false;
         }

@@ -48,7 +48,7 @@ namespace {
 // Records why a (re)load failed; the entry keeps its last good model and programs.
 void fail(ModelEntry& e, const core::Error& err) {
     e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(), err.message()};
-    core::logError(std::string(e.model ? "keeping the last good version: " : "") +
+    core::logError(e.displayPath + ": " + (e.model ? "keeping the last good version: " : "") +
                    e.problem->text());
 }
 } // namespace

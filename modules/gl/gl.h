@@ -41,6 +41,16 @@ bool displayAvailable();
 // Routes KHR_debug messages to the core log (called by both context constructors).
 void installDebugOutput();
 
+// GL debug messages of medium or high severity (and every GL_DEBUG_TYPE_ERROR), grouped by
+// their text with numbers masked: the first message of each group and how often it came.
+// The workbench lists them under Errors; clearDebugProblems() forgets them.
+struct DebugProblem {
+    std::string first;
+    long long count = 0;
+};
+std::vector<DebugProblem> debugProblems();
+void clearDebugProblems();
+
 // ---- RAII objects -------------------------------------------------------------------------------
 template <void (*Deleter)(GLuint)> class Handle {
   public:

@@ -1,6 +1,8 @@
 // gl RAII objects, render targets, program building and KHR_debug output.
 #include "gl.h"
 
+#include <mutex>
+
 #include "core/core.h"
 
 #include <algorithm>
@@ -130,6 +132,29 @@ GLint uniformLocation(const Program& p, const char* name) {
 }
 
 namespace {
+struct DebugProblems {
+    std::mutex mutex;
+    std::vector<std::pair<std::string, DebugProblem>> groups; // key: text with digits masked
+};
+DebugProblems& debugStore() {
+    static DebugProblems store;
+    return store;
+}
+
+void recordProblem(const std::string& text) {
+    std::string key = text;
+    for (char& c : key)
+        if (c >= '0' && c <= '9') c = '#';
+    DebugProblems& st = debugStore();
+    std::lock_guard<std::mutex> lock(st.mutex);
+    for (auto& [k, p] : st.groups)
+        if (k == key) {
+            ++p.count;
+            return;
+        }
+    if (st.groups.size() < 64) st.groups.push_back({key, DebugProblem{text, 1}});
+}
+
 void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei,
                               const GLchar* message, const void*) {
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
@@ -142,8 +167,24 @@ void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum seve
     else if (severity == GL_DEBUG_SEVERITY_MEDIUM)
         level = core::LogLevel::Warn;
     core::log(level, "GL debug [" + std::to_string(id) + "]: " + message);
+    if (level == core::LogLevel::Error || level == core::LogLevel::Warn) recordProblem(message);
 }
 } // namespace
+
+std::vector<DebugProblem> debugProblems() {
+    DebugProblems& st = debugStore();
+    std::lock_guard<std::mutex> lock(st.mutex);
+    std::vector<DebugProblem> out;
+    for (const auto& [k, p] : st.groups)
+        out.push_back(p);
+    return out;
+}
+
+void clearDebugProblems() {
+    DebugProblems& st = debugStore();
+    std::lock_guard<std::mutex> lock(st.mutex);
+    st.groups.clear();
+}
 
 void installDebugOutput() {
     if (!epoxy_has_gl_extension("GL_KHR_debug") && epoxy_gl_version() < 43) return;

@@ -152,3 +152,29 @@ TEST(HotReload, NonUtf8AndEmptySavesAreErrorsNotCrashes) {
     EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base);
     fs::remove_all(root);
 }
+
+// One Errors entry per problem: a broken shader template that every model includes is one
+// entry naming the models it affects, not one per model; the log says it once.
+TEST(HotReload, BrokenTemplateIsOneErrorsEntryListingTheModels) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("oneentry", {"dipole.bssrdf", "better_dipole.bssrdf"});
+    app::Workbench wb(root, true);
+    wb.update();
+    const fs::path tplFile = root / "shaders/pencil_profile.comp";
+    const std::string tpl = testsupport::readText(tplFile);
+    saveLikeAnEditor(tplFile, replaced(tpl, "    init();", "    init(;"));
+    ASSERT_TRUE(waitFor(wb, [&] {
+        return wb.library().find("materials/dipole.bssrdf")->problem.has_value() &&
+               wb.library().find("materials/better_dipole.bssrdf")->problem.has_value();
+    }));
+    for (int i = 0; i < 5; ++i)
+        wb.update();
+    const auto errors = wb.errors();
+    ASSERT_EQ(errors.size(), 1u);
+    EXPECT_EQ(errors[0].source, "shader");
+    EXPECT_NE(errors[0].text.find("shaders/pencil_profile.comp:18:"), std::string::npos)
+        << errors[0].text;
+    EXPECT_NE(errors[0].text.find("(affects better_dipole, dipole)"), std::string::npos)
+        << errors[0].text;
+    fs::remove_all(root);
+}

@@ -1,0 +1,176 @@
+// Interactions with injected mouse input on the real GUI headless: a click on the Render image
+// traces that pixel in the Traversal debugger with "half resolution while moving" on, also
+// right after an orbit left a half-resolution frame on screen; a drag orbits and traces
+// nothing.
+#include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
+#include "gui.h"
+
+namespace {
+
+struct RenderFixture {
+    gl::Context& ctx = testsupport::context(); // before anything that uses GL
+    std::filesystem::path root = testsupport::makeProjectRoot("interact", {"dipole.bssrdf"});
+    app::Workbench wb{root, false};
+    std::unique_ptr<app::HeadlessGui> gui;
+
+    RenderFixture() {
+        app::SceneSettings& s = wb.scene().settings();
+        s.points.points = 3000;
+        s.useCache = false;
+        s.render.width = 96;
+        s.render.height = 54;
+        s.light.shadowMapSize = 256;
+        gui = std::make_unique<app::HeadlessGui>(wb, 1280, 720);
+        gui->ui() = app::UiState{};
+        gui->frame();
+        wb.finishScene();
+        gui->frame();
+    }
+    ~RenderFixture() { std::filesystem::remove_all(root); }
+
+    // The screen position of a point of the image given as a fraction of it.
+    std::pair<float, float> at(float u, float v) {
+        const app::Rect& r = gui->ui().render.imageRect;
+        return {r.x0 + u * r.width(), r.y0 + v * r.height()};
+    }
+    void press(float x, float y) {
+        gui->mouse(x, y, false);
+        gui->frame();
+        gui->mouse(x, y, true);
+        gui->frame();
+    }
+    void release(float x, float y) {
+        gui->mouse(x, y, false);
+        gui->frame();
+        gui->noMouse();
+    }
+    // Frames until the pending click is served (or a bound).
+    void settle() {
+        for (int i = 0; i < 40 && gui->ui().shared.inspect.pendingPick; ++i) {
+            wb.finishScene();
+            gui->frame();
+        }
+    }
+};
+
+} // namespace
+
+TEST(Interactions, ClickOnTheRenderImageTracesThatPixelWithHalfResolutionOn) {
+    RenderFixture fx;
+    app::UiState& ui = fx.gui->ui();
+    ASSERT_TRUE(fx.wb.scene().settings().halfResolutionWhileChanging);
+    ASSERT_TRUE(fx.wb.scene().hasFrame());
+    ASSERT_GT(ui.render.imageRect.width(), 50.0f);
+
+    // a plain click
+    const float u = 0.52f, v = 0.55f;
+    auto [x, y] = fx.at(u, v);
+    fx.press(x, y);
+    fx.release(x, y);
+    fx.settle();
+    ASSERT_TRUE(ui.shared.inspect.debug.has_value()) << ui.shared.inspect.debugProblem;
+    EXPECT_EQ(ui.shared.inspect.debug->x, int(u * 96));
+    EXPECT_EQ(ui.shared.inspect.debug->y, int(v * 54));
+    fx.gui->frame();
+    fx.gui->frame();
+    EXPECT_NE(testsupport::panelWindow(app::PanelId::Traversal), nullptr);
+
+    // a drag orbits the camera at half resolution and traces nothing
+    ui.shared.inspect.debug.reset();
+    const float yaw = fx.wb.scene().settings().render.camera.yaw;
+    fx.press(x, y);
+    bool sawHalf = false;
+    for (int i = 1; i <= 8; ++i) {
+        fx.gui->mouse(x + 6.0f * float(i), y, true);
+        fx.gui->frame();
+        sawHalf |= fx.wb.scene().frame().width == 48;
+    }
+    fx.release(x + 48, y);
+    EXPECT_NE(fx.wb.scene().settings().render.camera.yaw, yaw);
+    EXPECT_TRUE(sawHalf);
+    EXPECT_FALSE(ui.shared.inspect.pendingPick.has_value());
+
+    // a click right after the orbit, with the half-resolution frame still on screen, traces
+    // the full-resolution pixel under the cursor once that frame is done
+    const float u2 = 0.3f, v2 = 0.7f;
+    auto [x2, y2] = fx.at(u2, v2);
+    fx.press(x2, y2);
+    fx.release(x2, y2);
+    fx.settle();
+    ASSERT_TRUE(ui.shared.inspect.debug.has_value()) << ui.shared.inspect.debugProblem;
+    EXPECT_EQ(ui.shared.inspect.debug->x, int(u2 * 96));
+    EXPECT_EQ(ui.shared.inspect.debug->y, int(v2 * 54));
+    EXPECT_TRUE(fx.wb.errors().empty());
+}
+
+// GL debug messages of medium/high severity reach the Errors panel, one entry per problem
+// with its count and first message; Dismiss forgets them.
+TEST(Interactions, GlDebugMessagesAreOneErrorsEntryPerProblem) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("gldebug", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.clearActionErrors();
+    ASSERT_TRUE(wb.errors().empty());
+    for (GLuint bogus : {987654u, 987655u, 987656u}) // never generated: GL_INVALID_OPERATION
+        glBindTexture(GL_TEXTURE_2D, bogus);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    const auto errors = wb.errors();
+    ASSERT_EQ(errors.size(), 1u);
+    EXPECT_EQ(errors[0].source, "GL");
+    EXPECT_NE(errors[0].text.find("(3 times)"), std::string::npos) << errors[0].text;
+    EXPECT_NE(errors[0].text.find("glBindTexture"), std::string::npos) << errors[0].text;
+    wb.clearActionErrors();
+    EXPECT_TRUE(wb.errors().empty());
+    std::filesystem::remove_all(root);
+}
+
+// Dragging a Render control restarts the frame at half resolution; the image on screen must
+// never be a texture the renderer already deleted (GL_INVALID_OPERATION in glBindTexture).
+TEST(Interactions, DraggingARenderControlLeavesNoGlProblem) {
+    RenderFixture fx;
+    gl::clearDebugProblems();
+    ImGuiWindow* w = testsupport::panelWindow(app::PanelId::Render);
+    ASSERT_NE(w, nullptr);
+    const float eps = fx.wb.scene().settings().render.eps;
+    const float x = w->Pos.x + 60, y = w->Pos.y + 10; // on the eps slider
+    fx.press(x, y);
+    for (int i = 0; i < 5; ++i) {
+        fx.gui->mouse(x + 5.0f * float(i), y, true);
+        fx.gui->frame();
+    }
+    fx.release(x + 25, y);
+    for (int i = 0; i < 5; ++i) {
+        fx.wb.finishScene();
+        fx.gui->frame();
+    }
+    EXPECT_NE(fx.wb.scene().settings().render.eps, eps);
+    for (const auto& e : fx.wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+}
+
+// A model deleted while the GUI runs leaves no GL problem behind (its programs are not used
+// after they are gone).
+TEST(Interactions, DeletingAModelLeavesNoGlProblem) {
+    RenderFixture fx;
+    gl::clearDebugProblems();
+    std::filesystem::copy_file(fx.root / "materials/dipole.bssrdf",
+                               fx.root / "materials/second.bssrdf");
+    fx.wb.reloadAll();
+    fx.gui->ui().shared.show(app::PanelId::Pencil);
+    for (int i = 0; i < 3; ++i) {
+        fx.wb.finishScene();
+        fx.gui->frame();
+    }
+    ASSERT_EQ(fx.wb.library().entries().size(), 2u);
+    std::filesystem::remove(fx.root / "materials/dipole.bssrdf");
+    fx.wb.reloadAll();
+    for (int i = 0; i < 5; ++i) {
+        fx.gui->ui().shared.show(i % 2 ? app::PanelId::Render : app::PanelId::Pencil);
+        fx.wb.finishScene();
+        fx.gui->frame();
+    }
+    EXPECT_EQ(fx.wb.library().entries().size(), 1u);
+    for (const auto& e : fx.wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+}
