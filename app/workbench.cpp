@@ -288,7 +288,7 @@ std::string Workbench::normalisationNote() {
 
 std::vector<plot::Series> Workbench::plotSeries() const {
     std::vector<plot::Series> out;
-    size_t index = 0;
+    size_t index = 0, visibleModels = 0;
     auto valueOf = [&](const glm::dvec3& v, int channel) {
         return channel < 3 ? v[channel] : core::luminance(v);
     };
@@ -318,15 +318,24 @@ std::vector<plot::Series> Workbench::plotSeries() const {
             make(2, name + " B", 0xffff6040u);
         } else {
             make(m_plot.channel, name, plot::defaultColor(colorIndex));
+            // Line styles alternate (thick solid, thin dashed), so curves that coincide, as
+            // dipole and better dipole do on Marble, both stay visible.
+            const bool odd = (visibleModels++ % 2) == 1;
+            out.back().dashed = odd;
+            out.back().thickness = odd ? 1.5f : 3.0f;
         }
     }
     if (!m_refSettings.enabled) return out;
     ReferenceSnapshot snap = referenceSnapshot();
     if (snap.pathsDone == 0) return out;
     if (!m_plot.solo.empty()) {
+        const int first = int(out.size()); // each model channel is compared with its own
+        for (size_t i = 0; i < out.size(); ++i)
+            out[i].compareTo = first + int(i % 3);
         for (int c = 0; c < 3; ++c) {
             plot::Series ref = referenceSeries(snap, c, m_plot.rTimesR);
             ref.label = std::string("path traced ") + "RGB"[c];
+            ref.compareTo = first + c;
             out.push_back(std::move(ref));
         }
         return out;
@@ -361,6 +370,9 @@ std::vector<plot::Series> Workbench::plotSeries() const {
             s.label += buf;
         }
     }
+    for (auto& s : out)
+        s.compareTo = int(out.size());
+    ref.compareTo = int(out.size());
     out.push_back(std::move(ref));
     return out;
 }

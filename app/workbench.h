@@ -42,6 +42,7 @@ struct PlotSettings {
     bool fixedRange = false;
     double rMaxMm = 20.0; // used when fixedRange
     double rangeLd = 5.0; // otherwise: this many diffuse mean free paths (largest l_d)
+    plot::Relation relation = plot::Relation::Values; // or ratio / difference to the reference
 };
 // The description of PlotSettings' members (core/fields.h).
 template <class V> void fields(V& v, PlotSettings& s) {
@@ -53,6 +54,7 @@ template <class V> void fields(V& v, PlotSettings& s) {
     v("fixed_range", s.fixedRange, "use r_max_mm instead of range_ld");
     v("r_max_mm", s.rMaxMm, "plot radius with fixed_range, mm");
     v("range_ld", s.rangeLd, "plot radius in largest l_d otherwise");
+    v("relation", s.relation, "values, or each model's ratio / difference to the reference");
 }
 
 struct ErrorItem {

@@ -79,11 +79,9 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
                 s.leaves, s.points, s.maxDepth, double(s.bytes) / (1 << 20), s.buildMs);
     std::vector<float> depthHist(s.nodesPerDepth.begin(), s.nodesPerDepth.end());
     std::vector<float> occ(s.leafOccupancy.begin(), s.leafOccupancy.end());
-    ImGui::PlotHistogram("nodes per depth", depthHist.data(), int(depthHist.size()), 0, nullptr,
-                         0.0f, FLT_MAX, ImVec2(220, 50));
-    sameLineIfFits(itemWidth(160, "points per leaf (0..15)"));
-    ImGui::PlotHistogram("points per leaf (0..15)", occ.data(), int(occ.size()), 0, nullptr, 0.0f,
-                         FLT_MAX, ImVec2(160, 50));
+    histogram("depth", depthHist, ImVec2(220, 50), "depth", 0, "nodes");
+    sameLineIfFits(200);
+    histogram("occupancy", occ, ImVec2(200, 50), "points in the leaf", 0, "leaves");
     ImGui::SetNextItemWidth(200);
     ImGui::SliderInt("level", &ps.level, 0, s.maxDepth);
     sameLineIfFits(checkboxWidth("show traced pixel"));

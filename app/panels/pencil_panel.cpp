@@ -117,11 +117,24 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     ImGui::SameLine();
     ImGui::TextDisabled("r in [0, %.3g] mm", wb.rMaxMm());
 
+    // Values, or each model relative to the path-traced reference.
+    ImGui::SetNextItemWidth(200);
+    const char* relNames[] = {"values", "ratio to reference", "difference to reference"};
+    comboEnum("show", ps.relation, relNames);
+    auto series = wb.plotSeries();
+    const bool hasReference = std::any_of(series.begin(), series.end(),
+                                          [](const plot::Series& s) { return s.compareTo >= 0; });
+    const bool relative = ps.relation != plot::Relation::Values && hasReference;
+    if (ps.relation != plot::Relation::Values && !hasReference) {
+        ImGui::SameLine();
+        hintText("needs the path-traced reference (below)");
+    }
+    if (relative) series = plot::relativeTo(series, ps.relation);
+
     char* exportPath = own.exportName;
     ImGui::SetNextItemWidth(160);
     ImGui::InputText("##export", exportPath, sizeof own.exportName);
     ImGui::SameLine();
-    auto series = wb.plotSeries();
     if (ImGui::Button("Export CSV")) {
         std::string path = std::string(exportPath) + ".csv";
         try {
@@ -137,8 +150,16 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     drawReferenceControls(wb);
 
     plot::Axis x{0.0, wb.rMaxMm(), plot::Scale::Linear, "r [mm]"};
-    plot::Axis y = plot::autoRange(series, ps.yScale, true, 12.0);
+    const bool difference = relative && ps.relation == plot::Relation::Difference;
+    // a difference changes sign: always a linear axis
+    plot::Axis y =
+        plot::autoRange(series, difference ? plot::Scale::Linear : ps.yScale, true, 12.0);
     y.label = ps.rTimesR ? "r * R(r) [1/mm]" : "R(r) [1/mm^2]";
+    if (relative) {
+        const std::string q = ps.rTimesR ? "r R" : "R";
+        y.label = difference ? q + " - " + q + "_ref" + (ps.rTimesR ? " [1/mm]" : " [1/mm^2]")
+                             : q + " / " + q + "_ref";
+    }
     const char* chName[4] = {"red", "green", "blue", "luminance"};
     std::string title = "Pencil beam on a semi-infinite slab - " +
                         std::string(ps.solo.empty() ? chName[ps.channel] : "R, G, B of " + ps.solo);

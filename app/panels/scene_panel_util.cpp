@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdarg>
+#include <string>
 #include <unordered_map>
 
 namespace app {
@@ -89,6 +90,39 @@ bool inputTextCommitted(const char* label, char* buffer, size_t size) {
     const bool enter = ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Enter), false) ||
                        ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_KeyPadEnter), false);
     return ImGui::IsItemDeactivatedAfterEdit() || (ImGui::IsItemDeactivated() && enter);
+}
+
+void histogram(const char* id, const std::vector<float>& values, ImVec2 size, const char* xName,
+               int xFirst, const char* yName) {
+    float hi = 0;
+    for (float v : values)
+        hi = std::max(hi, v);
+    ImGui::BeginGroup();
+    ImGui::PushID(id);
+    ImGui::TextDisabled("%s, max %.0f", yName, hi);
+    ImGui::PlotHistogram("##bars", values.data(), int(values.size()), 0, nullptr, 0.0f,
+                         hi > 0 ? hi : 1.0f, size);
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    const int n = int(values.size());
+    if (ImGui::IsItemHovered() && n > 0) {
+        const int i =
+            std::clamp(int((ImGui::GetMousePos().x - a.x) / (b.x - a.x) * float(n)), 0, n - 1);
+        ImGui::SetTooltip("%s %d: %.0f", xName, xFirst + i, double(values[size_t(i)]));
+    }
+    // x axis: the first and last bin under their bars, the name between
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const ImU32 col = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+    const float barW = n > 0 ? (b.x - a.x) / float(n) : 0.0f;
+    const std::string first = std::to_string(xFirst), last = std::to_string(xFirst + n - 1);
+    dl->AddText(ImVec2(a.x + 0.5f * barW - 0.5f * ImGui::CalcTextSize(first.c_str()).x, b.y), col,
+                first.c_str());
+    if (n > 1)
+        dl->AddText(ImVec2(b.x - 0.5f * barW - 0.5f * ImGui::CalcTextSize(last.c_str()).x, b.y),
+                    col, last.c_str());
+    dl->AddText(ImVec2(0.5f * (a.x + b.x) - 0.5f * ImGui::CalcTextSize(xName).x, b.y), col, xName);
+    ImGui::Dummy(ImVec2(size.x, ImGui::GetTextLineHeight()));
+    ImGui::PopID();
+    ImGui::EndGroup();
 }
 
 float buttonWidth(const char* label) {

@@ -14,6 +14,7 @@
 #include <glm/vec3.hpp>
 
 #include <string>
+#include <vector>
 
 namespace app {
 
@@ -48,6 +49,10 @@ void sameLineIfFits(float width);
 bool inputIntCommitted(const char* label, int* v, int step = 1, int stepFast = 100);
 bool inputInt2Committed(const char* label, int v[2]);
 bool inputTextCommitted(const char* label, char* buffer, size_t size);
+// A bar chart with axes: the y name and maximum above, the first and last x values and the x
+// name below (ImGui's histogram has none); hovering a bar shows its value.
+void histogram(const char* id, const std::vector<float>& values, ImVec2 size, const char* xName,
+               int xFirst, const char* yName);
 // A hint or status line: the disabled text colour, wrapped at the panel's edge.
 void hintText(const char* fmt, ...) IM_FMTARGS(1);
 // Widths of widgets, for sameLineIfFits: a checkbox (or radio button) with `label`, a button,

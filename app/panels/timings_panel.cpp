@@ -26,10 +26,17 @@ void drawTimingsPanel(Workbench&, UiShared&) {
             ImGui::TableNextColumn();
             ImGui::Text("%.3f", t.cpuMs);
             ImGui::TableNextColumn();
-            if (t.gpuMs >= 0)
+            if (t.gpuMs >= 0) {
                 ImGui::Text("%.3f", t.gpuMs);
-            else
-                ImGui::TextDisabled("-");
+            } else {
+                ImGui::TextDisabled("n/a");
+                if (ImGui::IsItemHovered())
+                    ImGui::SetTooltip(t.gpuUnmeasurable
+                                          ? "the driver's GPU timer reported 0 ns: it cannot "
+                                            "time this work (e.g. llvmpipe)"
+                                          : "no GPU time: the stage runs inside another timed "
+                                            "stage, on the CPU only, or its result is pending");
+            }
             ImGui::TableNextColumn();
             ImGui::Text("%lld", t.runs);
         }

@@ -137,8 +137,9 @@ GLint uniformLocation(const Program& p, const char* name);    // -1 when unused/
 struct StageTiming {
     std::string stage;
     double cpuMs = 0;
-    double gpuMs = -1; // -1 until the query result arrives
+    double gpuMs = -1; // -1: no GPU time (nested in another timer, or not arrived yet)
     long long runs = 0;
+    bool gpuUnmeasurable = false; // the driver's timer reported 0 ns (llvmpipe defers work)
 };
 class ScopedStageTimer {
   public:

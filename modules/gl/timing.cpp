@@ -53,7 +53,11 @@ void collectTimings(bool wait) {
         }
         GLuint64 ns = 0;
         glGetQueryObjectui64v(it->query, GL_QUERY_RESULT, &ns);
-        g_table[it->stage].gpuMs = static_cast<double>(ns) * 1e-6;
+        // Exactly 0 ns is no measurement (software drivers run the work outside the query),
+        // not a stage that took no time.
+        auto& t = g_table[it->stage];
+        t.gpuUnmeasurable = ns == 0;
+        t.gpuMs = ns == 0 ? -1.0 : static_cast<double>(ns) * 1e-6;
         glDeleteQueries(1, &it->query);
         it = g_pending.erase(it);
     }

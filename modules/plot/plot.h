@@ -36,7 +36,23 @@ struct Series {
     float thickness = 1.5f;             // pixels
     bool dashed = false;
     bool marker = false; // legend shows an error-bar mark (for reference / measured curves)
+    int compareTo = -1;  // index of the series this one is compared with (relativeTo), -1: none
 };
+
+// What a plot shows of its series: the values, or each series relative to the one it is
+// compared with (Series::compareTo): their ratio, or their difference.
+enum class Relation { Values, Ratio, Difference };
+constexpr auto enumNames(Relation) {
+    return std::array{std::pair{Relation::Values, "values"}, std::pair{Relation::Ratio, "ratio"},
+                      std::pair{Relation::Difference, "difference"}};
+}
+// The series in `relation` to the series they are compared with: y / y_ref or y − y_ref, with
+// y_ref linearly interpolated at each x (points outside the reference's x range, or where a
+// ratio's y_ref ≤ 0, are dropped). A reference (compareTo its own index) becomes the constant
+// 1 or 0 with its error band transformed alike, so the band shows the reference's own
+// uncertainty on the same axis. Series compared with nothing are dropped; Values returns the
+// series unchanged.
+std::vector<Series> relativeTo(const std::vector<Series>& series, Relation relation);
 
 struct Axis {
     double lo = 0, hi = 1;

@@ -10,6 +10,7 @@
 #include "reference_plot.h"
 #include "workbench.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -53,6 +54,25 @@ TEST(Reference, SeriesBandAndModelErrors) {
     // the model's legend carries its error figures against the reference
     EXPECT_NE(series[0].label.find("rel.L2"), std::string::npos) << series[0].label;
     EXPECT_NE(series[0].label.find("ratio@1ld"), std::string::npos) << series[0].label;
+    // the model is compared with the reference: as a ratio the reference is 1 with a band of
+    // its own relative uncertainty, and the model's ratio at a bin centre is R_model / R_ref
+    EXPECT_EQ(series[0].compareTo, 1);
+    EXPECT_EQ(series[1].compareTo, 1);
+    const auto ratio = plot::relativeTo(series, plot::Relation::Ratio);
+    ASSERT_EQ(ratio.size(), 2u);
+    for (size_t i = 0; i < ratio[1].x.size(); ++i) {
+        EXPECT_DOUBLE_EQ(ratio[1].y[i], 1.0);
+        EXPECT_NEAR(ratio[1].bandHi[i] - 1.0, (ref.bandHi[i] - ref.y[i]) / ref.y[i], 1e-12);
+    }
+    {
+        const auto& m = series[0];
+        const size_t k = size_t(std::lower_bound(m.x.begin(), m.x.end(), 1.0) - m.x.begin());
+        const auto rk = std::find(ratio[0].x.begin(), ratio[0].x.end(), m.x[k]);
+        ASSERT_NE(rk, ratio[0].x.end());
+        const double refAt = plot::relativeTo(series, plot::Relation::Difference)[0]
+                                 .y[size_t(rk - ratio[0].x.begin())]; // R_model − R_ref
+        EXPECT_NEAR(ratio[0].y[size_t(rk - ratio[0].x.begin())], m.y[k] / (m.y[k] - refAt), 1e-9);
+    }
 
     // a material change restarts the run
     wb.applyPreset(wb.shared(), "Marble");

@@ -30,7 +30,8 @@ void main() { v[gl_GlobalInvocationID.x] = float(gl_GlobalInvocationID.x) * 0.5;
     gl::collectTimings(true);
     auto t = gl::timings();
     ASSERT_EQ(t.size(), 1u);
-    EXPECT_GE(t[0].gpuMs, 0.0);
+    // the query's result arrived: a time, or a driver that reports 0 ns (shown as n/a)
+    EXPECT_TRUE(t[0].gpuMs >= 0.0 || t[0].gpuUnmeasurable);
 }
 
 TEST(HeadlessContext, CompileErrorsCarryTheDriverLog) {
@@ -71,8 +72,8 @@ TEST(HeadlessContext, NestedStageTimersDoNotNestGlQueries) {
     EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
     bool outerHasGpu = false, innerSeen = false;
     for (const auto& t : gl::timings()) {
-        if (t.stage == "outer") outerHasGpu = t.gpuMs >= 0;
-        if (t.stage == "inner") innerSeen = t.runs == 1 && t.gpuMs < 0;
+        if (t.stage == "outer") outerHasGpu = t.gpuMs >= 0 || t.gpuUnmeasurable;
+        if (t.stage == "inner") innerSeen = t.runs == 1 && t.gpuMs < 0 && !t.gpuUnmeasurable;
     }
     EXPECT_TRUE(outerHasGpu);
     EXPECT_TRUE(innerSeen);
