@@ -135,17 +135,10 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     s.render.camera.pitch = r.camera.pitch;
     wb.finishScene();
     const render::Readback rb = wb.scene().readback();
-    pathtrace::Image img;
-    img.width = rb.width;
-    img.height = rb.height;
+    const pathtrace::Image img = hdrImage(rb);
     const size_t pixels = size_t(rb.width) * size_t(rb.height);
-    img.mean.resize(3 * pixels);
-    img.variance.assign(3 * pixels, 0.0f); // deterministic render: no variance
-    img.samples = 1;
     uint64_t steps = 0, flagged = 0, hits = 0, maxSteps = 0;
     for (size_t p = 0; p < pixels; ++p) {
-        for (int c = 0; c < 3; ++c)
-            img.mean[3 * p + size_t(c)] = rb.hdr[p][c];
         if (rb.position[p].w > 0.5f) {
             ++hits;
             steps += rb.stats[p].x;

@@ -417,6 +417,20 @@ shader::Records SceneStage::shaderRecords() const {
     return out;
 }
 
+pathtrace::Image hdrImage(const render::Readback& rb) {
+    pathtrace::Image img;
+    img.width = rb.width;
+    img.height = rb.height;
+    const size_t pixels = size_t(rb.width) * size_t(rb.height);
+    img.mean.resize(3 * pixels);
+    img.variance.assign(3 * pixels, 0.0f);
+    img.samples = 1;
+    for (size_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < 3; ++c)
+            img.mean[3 * p + size_t(c)] = rb.hdr[p][c];
+    return img;
+}
+
 render::Readback SceneStage::readback() const {
     if (!m_renderer || !hasFrame()) return {};
     return m_renderer->readback();

@@ -19,6 +19,7 @@
 #include "irradiance/irradiance.h"
 #include "mesh/mesh.h"
 #include "octree/octree.h"
+#include "pathtrace/lit_sphere.h"
 #include "pointcloud/generate.h"
 #include "render/render.h"
 
@@ -35,6 +36,10 @@ namespace app {
 
 // The scene's defaults are the ones of the GUI, the `render` command and captures (README
 // "Defaults"); where they differ from the modules' own they are set here.
+// The HDR radiance L_o of a read-back frame as an image (no variance: the render is
+// deterministic), for EXR export (CLI render, the Render panel).
+pathtrace::Image hdrImage(const render::Readback& rb);
+
 struct SceneSettings {
     bool enabled = true;
     std::string meshFile = "third_party/bunny/bunny.obj"; // relative to the root, or absolute
@@ -54,6 +59,7 @@ struct SceneSettings {
                             .secondOrder = true};
     bool halfResolutionWhileChanging = true;
     bool useCache = true; // point-cloud PLY cache (pointcloud::defaultCacheDir)
+    std::string model;    // display path of the rendered model; empty: the first visible one
 };
 // The description of SceneSettings' members (core/fields.h).
 template <class V> void fields(V& v, SceneSettings& s) {
@@ -66,6 +72,7 @@ template <class V> void fields(V& v, SceneSettings& s) {
     v("projected_texture", s.projectedTextureFile,
       "texture of the filtered light (empty: checker)");
     v("render", s.render, "hierarchical render");
+    v("model", s.model, "display path of the rendered model (empty: the first visible)");
     v("half_resolution_while_changing", s.halfResolutionWhileChanging,
       "interactive frames at half resolution");
     v.skip(s.useCache, "where the point cloud comes from, not what it is");
@@ -140,7 +147,7 @@ class SceneStage : public Stage {
     const render::Frame& frame() const { return m_frame; }
     bool hasFrame() const { return m_frame.width > 0; }
     bool rendering() const { return m_renderer && m_renderer->inProgress(); }
-    render::Readback readback() const;
+    render::Readback readback() const; // of the renderer's current frame (done: the shown one)
     irradiance::Stage* irradianceStage() { return m_irradiance_stage.get(); }
     render::Renderer* renderer() { return m_renderer.get(); }
     const std::map<std::string, StageStat>& stats() const { return m_stats; }

@@ -138,7 +138,10 @@ struct IrradiancePanelState {
 
 struct RenderPanelState {
     Heatmap heatmap = Heatmap::Image;
-    Rect imageRect; // where the image was drawn last frame (screen pixels)
+    Rect imageRect;            // where the image was drawn last frame (screen pixels)
+    render::Readback readback; // of the shown frame, for the pixel probe and export
+    long long readbackRuns = -1;
+    char exportName[256] = "render"; // export file name without extension
     gl::Texture heatTex;
     float heatMax = 0;
 };

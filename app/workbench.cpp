@@ -166,7 +166,15 @@ shader::Records Workbench::shaderPrograms() const {
 SceneModelInput Workbench::sceneModelInput() const {
     SceneModelInput in;
     const ModelView* view = nullptr;
-    in.entry = sourceModel(&view);
+    // The Render panel's choice when it names a usable model, else the first visible one.
+    if (const std::string& chosen = m_scene->settings().model; !chosen.empty())
+        if (const bssrdf::ModelEntry* e = m_library->find(chosen); e && e->usable())
+            if (auto it = m_views.find(e->displayPath);
+                it != m_views.end() && it->second.effective) {
+                in.entry = e;
+                view = &it->second;
+            }
+    if (!in.entry) in.entry = sourceModel(&view);
     if (in.entry) {
         in.builtins = builtinsOf(*view->effective);
         in.materialKey = view->materialKey;

@@ -26,6 +26,9 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui);
 void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui);
 void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui);
 void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui);
+// Writes the Render panel's shown frame: .exr (HDR L_o, linear) or .png (tone-mapped, as
+// shown). Throws core::Error naming the path (no finished frame, other extension, I/O).
+void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem::path& path);
 void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui);
 
 // Records the current state as captures/<name> (File → Record capture). Defined in capture_io.

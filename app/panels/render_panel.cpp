@@ -6,6 +6,7 @@
 #include "panels.h"
 #include "scene_panel_util.h"
 
+#include "pathtrace/image_io.h"
 #include "render/frame_analysis.h"
 
 #include <algorithm>
@@ -31,11 +32,118 @@ std::vector<unsigned char> heatImage(const render::Readback& rb, const std::vect
     return rgba;
 }
 
+// The model the Render panel renders: a usable model chosen by name, or the first visible.
+void drawModelChoice(Workbench& wb, std::string& chosen) {
+    const SceneModelInput in = wb.sceneModelInput();
+    const std::string shown = in.entry ? in.entry->displayPath : "(no usable model)";
+    ImGui::SetNextItemWidth(220);
+    if (ImGui::BeginCombo("model", (chosen.empty() ? "first visible: " + shown : shown).c_str())) {
+        if (ImGui::Selectable("(the first visible model)", chosen.empty())) chosen.clear();
+        for (const auto& e : wb.library().entries()) {
+            if (!e.usable()) continue;
+            if (ImGui::Selectable(e.displayPath.c_str(), chosen == e.displayPath))
+                chosen = e.displayPath;
+        }
+        ImGui::EndCombo();
+    }
+    if (!chosen.empty() && (!in.entry || in.entry->displayPath != chosen)) {
+        sameLineIfFits(200);
+        hintText("%s is not usable: showing %s", chosen.c_str(), shown.c_str());
+    }
+}
+
+ImVec2 uvUnderMouse(const Rect& r) {
+    const ImVec2 m = ImGui::GetMousePos();
+    return ImVec2((m.x - r.x0) / std::max(1.0f, r.width()),
+                  (m.y - r.y0) / std::max(1.0f, r.height()));
+}
+
+// The frame's read-back buffers, read again only when a new frame is shown.
+const render::Readback* shownReadback(SceneStage& scene, RenderPanelState& ps) {
+    if (scene.rendering()) return nullptr; // the renderer holds a frame in progress
+    const auto st = scene.stats().find("scene.render");
+    const long long runs = st != scene.stats().end() ? st->second.runs : 0;
+    if (ps.readbackRuns != runs || ps.readback.width == 0) {
+        ps.readback = scene.readback();
+        ps.readbackRuns = runs;
+    }
+    return ps.readback.width > 0 ? &ps.readback : nullptr;
+}
+
+// Hovering the image: a magnified 9 × 9 pixel neighbourhood and the pixel's values.
+void probePixel(SceneStage& scene, RenderPanelState& ps, ImVec2 uv) {
+    const render::Readback* rb = shownReadback(scene, ps);
+    if (!rb) return;
+    const int x = std::clamp(int(uv.x * float(rb->width)), 0, rb->width - 1);
+    const int y = std::clamp(int(uv.y * float(rb->height)), 0, rb->height - 1);
+    ImGui::BeginTooltip();
+    constexpr int kHalf = 4;
+    constexpr float kCell = 12.0f;
+    const ImVec2 o = ImGui::GetCursorScreenPos();
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    for (int dy = -kHalf; dy <= kHalf; ++dy)
+        for (int dx = -kHalf; dx <= kHalf; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            const ImVec2 a(o.x + float(dx + kHalf) * kCell, o.y + float(dy + kHalf) * kCell);
+            ImU32 col = IM_COL32(40, 40, 40, 255);
+            if (xx >= 0 && yy >= 0 && xx < rb->width && yy < rb->height) {
+                const unsigned char* c = &rb->ldr[4 * rb->index(xx, yy)];
+                col = IM_COL32(c[0], c[1], c[2], 255);
+            }
+            dl->AddRectFilled(a, ImVec2(a.x + kCell, a.y + kCell), col);
+        }
+    const ImVec2 c(o.x + kHalf * kCell, o.y + kHalf * kCell);
+    dl->AddRect(c, ImVec2(c.x + kCell, c.y + kCell), IM_COL32(255, 0, 255, 255));
+    ImGui::Dummy(ImVec2((2 * kHalf + 1) * kCell, (2 * kHalf + 1) * kCell));
+    const size_t p = rb->index(x, y);
+    ImGui::Text("pixel (%d, %d) of %dx%d", x, y, rb->width, rb->height);
+    if (rb->position[p].w > 0.5f) {
+        ImGui::Text("L_o  %.5g %.5g %.5g", rb->hdr[p].x, rb->hdr[p].y, rb->hdr[p].z);
+        ImGui::Text("M    %.5g %.5g %.5g", rb->exitance[p].x, rb->exitance[p].y, rb->exitance[p].z);
+        ImGui::Text("steps %u, max stack %u%s", rb->stats[p].x, rb->stats[p].y,
+                    rb->stats[p].z ? ", FLAGGED" : "");
+    } else {
+        ImGui::TextDisabled("background");
+    }
+    ImGui::EndTooltip();
+}
+
+// Export of the shown frame: the name field and the two buttons.
+void drawExport(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
+    ImGui::SetNextItemWidth(160);
+    ImGui::InputText("##renderexport", ps.exportName, sizeof ps.exportName);
+    for (const char* ext : {".exr", ".png"}) {
+        const std::string label = std::string("Export ") + (ext[1] == 'e' ? "EXR" : "PNG");
+        sameLineIfFits(buttonWidth(label.c_str()));
+        if (!ImGui::Button(label.c_str())) continue;
+        const std::string path = std::string(ps.exportName) + ext;
+        try {
+            exportRenderView(wb, ps, path);
+            ui.status = "wrote " + path;
+        } catch (const core::Error& e) {
+            wb.reportActionError(std::string("export render: ") + e.what());
+        }
+    }
+}
+
 } // namespace
+
+void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem::path& path) {
+    const std::string ext = path.extension().string();
+    if (ext != ".exr" && ext != ".png")
+        throw core::Error(path.string(), 0, "the view exports as .exr or .png, not '" + ext + "'");
+    const render::Readback* rb = shownReadback(wb.scene(), ps);
+    if (!rb) throw core::Error(path.string(), 0, "no finished frame to export yet");
+    if (ext == ".exr")
+        pathtrace::writeExr(path, hdrImage(*rb));
+    else
+        gl::writePng(path, rb->width, rb->height, rb->ldr);
+}
 
 void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     SceneStage& scene = wb.scene();
     render::Settings& r = scene.settings().render;
+    drawModelChoice(wb, scene.settings().model);
     ImGui::SetNextItemWidth(160);
     ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
     sameLineIfFits(checkboxWidth("bounding-box criterion"));
@@ -133,6 +241,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
         ps.imageRect = {a.x, a.y, b.x, b.y};
     }
     const bool imageHeld = ImGui::IsItemActive();
+    if (ImGui::IsItemHovered() && !imageHeld) probePixel(scene, ps, uvUnderMouse(ps.imageRect));
     const bool moving = drag.x != 0 || drag.y != 0 || wheel != 0;
     if (moving) {
         r.camera.yaw -= drag.x * 0.01f;
@@ -175,7 +284,8 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     }
     if (!ui.inspect.debugProblem.empty())
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", ui.inspect.debugProblem.c_str());
-    hintText("drag: orbit, wheel: zoom, click: trace a pixel");
+    hintText("drag: orbit, wheel: zoom, hover: pixel zoom and values, click: trace a pixel");
+    drawExport(wb, ps, ui);
 }
 
 } // namespace app

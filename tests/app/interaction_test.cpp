@@ -1,10 +1,13 @@
 // Interactions with injected mouse input on the real GUI headless: a click on the Render image
 // traces that pixel in the Traversal debugger with "half resolution while moving" on, also
 // right after an orbit left a half-resolution frame on screen; a drag orbits and traces
-// nothing.
+// nothing; GL debug messages and problems reach Errors once; the Render panel's model choice,
+// pixel probe and export.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "gui.h"
+#include "panels/panels.h"
+#include "pathtrace/image_io.h"
 
 namespace {
 
@@ -133,7 +136,8 @@ TEST(Interactions, DraggingARenderControlLeavesNoGlProblem) {
     ImGuiWindow* w = testsupport::panelWindow(app::PanelId::Render);
     ASSERT_NE(w, nullptr);
     const float eps = fx.wb.scene().settings().render.eps;
-    const float x = w->Pos.x + 60, y = w->Pos.y + 10; // on the eps slider
+    // on the eps slider: the second row, under the model choice
+    const float x = w->Pos.x + 60, y = w->Pos.y + 10 + ImGui::GetFrameHeightWithSpacing();
     fx.press(x, y);
     for (int i = 0; i < 5; ++i) {
         fx.gui->mouse(x + 5.0f * float(i), y, true);
@@ -173,4 +177,56 @@ TEST(Interactions, DeletingAModelLeavesNoGlProblem) {
     EXPECT_EQ(fx.wb.library().entries().size(), 1u);
     for (const auto& e : fx.wb.errors())
         ADD_FAILURE() << e.source << ": " << e.text;
+}
+
+// The Render panel renders the model chosen in it (a name that is not a usable model falls
+// back to the first visible one); hovering the image shows the pixel probe; the shown frame
+// exports as EXR (the HDR values read back) and PNG, and a bad export path is an Errors-style
+// message naming it.
+TEST(Interactions, RenderPanelModelChoiceProbeAndExport) {
+    RenderFixture fx;
+    std::filesystem::copy_file(fx.root / "materials/dipole.bssrdf",
+                               fx.root / "materials/other.bssrdf");
+    fx.wb.reloadAll();
+    app::SceneSettings& s = fx.wb.scene().settings();
+    EXPECT_EQ(fx.wb.sceneModelInput().entry->displayPath, "materials/dipole.bssrdf");
+    s.model = "materials/other.bssrdf";
+    EXPECT_EQ(fx.wb.sceneModelInput().entry->displayPath, "materials/other.bssrdf");
+    s.model = "materials/none.bssrdf";
+    EXPECT_EQ(fx.wb.sceneModelInput().entry->displayPath, "materials/dipole.bssrdf");
+    s.model.clear();
+    fx.wb.finishScene();
+    fx.gui->frame();
+
+    // hover: the probe reads the shown frame back and draws a tooltip
+    auto [x, y] = fx.at(0.5f, 0.5f);
+    fx.gui->mouse(x, y, false);
+    fx.gui->frame();
+    fx.gui->frame();
+    EXPECT_EQ(fx.gui->ui().render.readback.width, 96);
+    bool tooltip = false;
+    for (ImGuiWindow* w : ImGui::GetCurrentContext()->Windows)
+        tooltip |= w->Active && (w->Flags & ImGuiWindowFlags_Tooltip);
+    EXPECT_TRUE(tooltip);
+    fx.gui->noMouse();
+
+    const auto exr = fx.root / "view.exr", png = fx.root / "view.png";
+    app::exportRenderView(fx.wb, fx.gui->ui().render, exr);
+    app::exportRenderView(fx.wb, fx.gui->ui().render, png);
+    const pathtrace::Image img = pathtrace::readExr(exr);
+    const render::Readback rb = fx.wb.scene().readback();
+    ASSERT_EQ(img.width, rb.width);
+    ASSERT_EQ(img.height, rb.height);
+    for (size_t p = 0; p < size_t(rb.width * rb.height); p += 97)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(img.mean[3 * p + size_t(c)], rb.hdr[p][c]);
+    EXPECT_GT(std::filesystem::file_size(png), 100u);
+    for (const char* bad : {"/proc/no/such/dir/v.exr", "view.tiff"}) {
+        try {
+            app::exportRenderView(fx.wb, fx.gui->ui().render, bad);
+            ADD_FAILURE() << bad;
+        } catch (const core::Error& e) {
+            EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+        }
+    }
 }
