@@ -24,21 +24,43 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Project root (holds materials/ and shaders/): --root, $BSSRDF_WORKBENCH_ROOT, the source
-// tree this binary was built from, or the current directory.
+// Project root (holds materials/ and shaders/): --root, $BSSRDF_WORKBENCH_ROOT, the installed
+// layout beside the executable (<prefix>/share/bssrdf-workbench for <prefix>/bin/...), the
+// nearest folder above the executable that holds both (a build inside the source tree), or
+// the current directory. Never a tree found only by where the binary was built: a copied
+// build must say it found nothing rather than silently read another checkout.
 fs::path findRoot(const std::string& given) {
     auto ok = [](const fs::path& p) {
-        return fs::is_directory(p / "materials") && fs::is_directory(p / "shaders");
+        std::error_code ec;
+        return fs::is_directory(p / "materials", ec) && fs::is_directory(p / "shaders", ec);
     };
     if (!given.empty()) {
         if (!ok(given))
             throw core::Error(given, 0, "--root: expected a folder with materials/ and shaders/");
-        return given;
+        return fs::absolute(given).lexically_normal();
     }
-    if (const char* env = std::getenv("BSSRDF_WORKBENCH_ROOT"); env && ok(env)) return env;
-    if (ok(BW_SOURCE_ROOT)) return BW_SOURCE_ROOT;
+    if (const char* env = std::getenv("BSSRDF_WORKBENCH_ROOT"); env && *env) {
+        if (!ok(env))
+            throw core::Error(env, 0,
+                              "$BSSRDF_WORKBENCH_ROOT: expected a folder with materials/ and "
+                              "shaders/");
+        return fs::absolute(env).lexically_normal();
+    }
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path bin = exe.parent_path();
+        if (ok(bin.parent_path() / "share" / "bssrdf-workbench"))
+            return bin.parent_path() / "share" / "bssrdf-workbench";
+        for (fs::path d = bin; !d.empty(); d = d.parent_path()) {
+            if (ok(d)) return d;
+            if (d == d.root_path()) break;
+        }
+    }
     if (ok(fs::current_path())) return fs::current_path();
-    throw core::Error("cannot find the project root (materials/ and shaders/); pass --root");
+    throw core::Error(exe.empty() ? "bssrdf-workbench" : exe.string(), 0,
+                      "cannot find materials/ and shaders/ beside the executable or in the "
+                      "current folder; pass --root DIR (or set $BSSRDF_WORKBENCH_ROOT)");
 }
 
 bool parseSize(const std::string& s, int& w, int& h, int minSide = 64) {
@@ -299,6 +321,11 @@ int main(int argc, char** argv) {
         return 0;
     }
     try {
+        // Commands that read no project file run anywhere; the rest find the root first.
+        if (*pcCmd) return app::runPointCloudCli(pca);
+        if (*estimateCmd) return app::runEstimateCli(ea);
+        if (*mergeCmd) return app::runMergeCli(ma);
+        if (*slab && !sa.gpu) return app::runSlabCli(sa);
         const fs::path root = findRoot(rootArg);
         if (*prof) return app::runProfile(root, pa);
         if (*inv) return app::runInvert(root, ia);
@@ -322,13 +349,7 @@ int main(int argc, char** argv) {
             return *sphere ? app::runSphereCli(ima) : app::runMeshCli(ima);
         }
         if (*renderCmd) return app::runRenderCli(root, ra2);
-        if (*pcCmd) return app::runPointCloudCli(pca);
-        if (*estimateCmd) return app::runEstimateCli(ea);
-        if (*mergeCmd) return app::runMergeCli(ma);
-        if (*slab) {
-            if (sa.gpu) return app::runSlabGpuCli(root, sa);
-            return app::runSlabCli(sa);
-        }
+        if (*slab) return app::runSlabGpuCli(root, sa);
         if (*shot) {
             app::GuiOptions opt;
             if (!parseSize(shotSize, opt.width, opt.height))
@@ -349,6 +370,7 @@ int main(int argc, char** argv) {
             headless = true;
         }
         if (headless) return runHeadlessDefault(root, headlessOut);
+        std::fprintf(stderr, "resources: %s\n", root.c_str());
         auto ctx = gl::createWindowContext(1600, 1000, "BSSRDF Workbench");
         app::Workbench wb(root, true);
         app::GuiOptions opt;

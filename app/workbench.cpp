@@ -45,6 +45,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         if (!fs::exists(m)) throw core::Error(m.string(), 0, "no such model file");
         m_library->reload(m);
     }
+    core::logInfo("resources: " + m_root.string());
     if (watch)
         m_watcher = std::make_unique<core::FileWatcher>(
             std::vector<fs::path>{m_root / "materials", m_root / "shaders"});
@@ -91,6 +92,8 @@ void Workbench::openModel(const fs::path& file) {
     if (file.extension() != ".bssrdf")
         throw core::Error(file.string(), 0, "not a .bssrdf model file");
     m_library->open(file);
+    // A model from anywhere is hot-reloaded like those in materials/.
+    if (m_watcher) m_watcher->watch(fs::absolute(file).lexically_normal().parent_path());
     update();
 }
 

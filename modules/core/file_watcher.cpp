@@ -3,6 +3,7 @@
 
 #include "core.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <fcntl.h>
 #include <sys/inotify.h>
@@ -42,6 +43,23 @@ void FileWatcher::addWatches(const fs::path& dir) {
     if (wd >= 0) m_wdToDir[wd] = dir;
     for (auto& e : fs::directory_iterator(dir, ec))
         if (e.is_directory(ec)) addWatches(e.path());
+}
+
+void FileWatcher::watch(const fs::path& dir) {
+    for (const auto& [wd, d] : m_wdToDir)
+        if (d == dir) return;
+    if (std::find(m_dirs.begin(), m_dirs.end(), dir) != m_dirs.end()) return;
+    if (m_fd < 0) {
+        m_dirs.push_back(dir);
+        return;
+    }
+    const uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE | IN_DELETE |
+                          IN_MODIFY | IN_DELETE_SELF;
+    const int wd = inotify_add_watch(m_fd, dir.c_str(), mask);
+    if (wd >= 0)
+        m_wdToDir[wd] = dir;
+    else
+        logWarn("cannot watch " + dir.string() + " for changes");
 }
 
 void FileWatcher::drainInotify() {

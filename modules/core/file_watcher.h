@@ -21,6 +21,9 @@ class FileWatcher {
 
     // Non-blocking. Paths (created, modified, renamed onto, deleted) whose burst has settled.
     std::vector<std::filesystem::path> poll();
+    // Also watches `dir` itself (not its subfolders), e.g. the folder of a model opened from
+    // outside the project; a folder already watched is left as it is.
+    void watch(const std::filesystem::path& dir);
     bool usingInotify() const { return m_fd >= 0; }
 
   private:

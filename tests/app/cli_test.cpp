@@ -509,3 +509,46 @@ TEST_F(Cli, SphereAndMeshWriteExrAndRejectBadMeshes) {
     expectFailure({"sphere", "--light", "0,0,0", "--out", "s.exr"}, {"light"});
     expectFailure({"sphere", "--spp", "0", "--out", "s.exr"}, {"--spp"});
 }
+
+// Resources come from --root, or from beside the executable (an installed or in-tree layout),
+// or the current folder; a copied executable with none of them says so and exits non-zero
+// instead of reading the tree it was built in.
+TEST_F(Cli, ResourcesAreFoundBesideTheExecutableNeverFromTheBuildTree) {
+    namespace fs = std::filesystem;
+    const fs::path lone = dir() / "lone", tree = dir() / "tree", elsewhere = dir() / "elsewhere";
+    fs::create_directories(lone);
+    fs::create_directories(tree / "bin");
+    fs::create_directories(elsewhere);
+    fs::copy_file(BW_EXE, lone / "bssrdf-workbench");
+    fs::copy_file(BW_EXE, tree / "bin" / "bssrdf-workbench");
+    fs::copy(fs::path(BW_SOURCE_ROOT) / "shaders", tree / "shaders", fs::copy_options::recursive);
+    fs::create_directories(tree / "materials");
+    fs::copy_file(fs::path(BW_SOURCE_ROOT) / "materials/presets.json",
+                  tree / "materials/presets.json");
+    fs::copy_file(fs::path(BW_SOURCE_ROOT) / "materials/dipole.bssrdf",
+                  tree / "materials/only_here.bssrdf");
+    const std::vector<std::string> args = {
+        "profile", "--preset", "Marble", "--model", "materials/only_here.bssrdf", "--out", "p.csv"};
+
+    auto with = [](std::string exe, std::vector<std::string> rest) {
+        rest.insert(rest.begin(), std::move(exe));
+        return rest;
+    };
+    clitest::RunResult r =
+        clitest::runCommand(with((lone / "bssrdf-workbench").string(), args), elsewhere);
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("pass --root"), std::string::npos) << r.output;
+    // the copy inside a tree finds that tree's materials/ from anywhere
+    r = clitest::runCommand(with((tree / "bin" / "bssrdf-workbench").string(), args), elsewhere);
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(elsewhere / "p.csv"));
+    // --root wins
+    auto rooted = args;
+    rooted.insert(rooted.begin(), {"--root", tree.string()});
+    r = clitest::runCommand(with((lone / "bssrdf-workbench").string(), rooted), elsewhere);
+    EXPECT_EQ(r.code, 0) << r.output;
+    r = clitest::runCommand(
+        with((lone / "bssrdf-workbench").string(), {"--root", elsewhere.string(), "defaults"}),
+        elsewhere);
+    EXPECT_EQ(r.code, 0) << r.output; // a command that reads no project file runs anywhere
+}

@@ -178,3 +178,28 @@ TEST(HotReload, BrokenTemplateIsOneErrorsEntryListingTheModels) {
         << errors[0].text;
     fs::remove_all(root);
 }
+
+// A model opened from outside the project is watched like those in materials/: an edit there
+// reloads it.
+TEST(HotReload, ModelOpenedFromAnywhereIsWatched) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("anywhere", {});
+    const fs::path outside =
+        fs::temp_directory_path() / ("bw_outside_" + std::to_string(::getpid()));
+    fs::create_directories(outside);
+    const fs::path file = outside / "mine.bssrdf";
+    const std::string good =
+        testsupport::readText(testsupport::sourceRoot() / "materials/dipole.bssrdf");
+    saveLikeAnEditor(file, good);
+    app::Workbench wb(root, true);
+    wb.openModel(file);
+    const std::string path = wb.library().entries().at(0).displayPath;
+    ASSERT_TRUE(waitFor(wb, [&] { return valueAt0(wb, path) > 0; }));
+    const double base = valueAt0(wb, path);
+    saveLikeAnEditor(
+        file, replaced(good, "return Multiplier/(4.0*PI)", "return 2.0*Multiplier/(4.0*PI)"));
+    EXPECT_TRUE(waitFor(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-6 * base; }))
+        << valueAt0(wb, path) << " vs " << base;
+    fs::remove_all(outside);
+    fs::remove_all(root);
+}

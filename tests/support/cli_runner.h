@@ -53,10 +53,8 @@ inline std::string describe(const std::vector<std::string>& args, const RunResul
     return s;
 }
 
-// Runs BW_EXE --root BW_SOURCE_ROOT ARGS... in `cwd` (fork/exec, no shell).
-inline RunResult runExe(const std::vector<std::string>& args, const fs::path& cwd) {
-    std::vector<std::string> full = {BW_EXE, "--root", BW_SOURCE_ROOT};
-    full.insert(full.end(), args.begin(), args.end());
+// Runs the command line `full` (program first) in `cwd` (fork/exec, no shell).
+inline RunResult runCommand(std::vector<std::string> full, const fs::path& cwd) {
     std::vector<char*> argv;
     for (auto& a : full)
         argv.push_back(a.data());
@@ -102,6 +100,13 @@ inline RunResult runExe(const std::vector<std::string>& args, const fs::path& cw
     else if (WIFSIGNALED(status))
         r.code = 128 + WTERMSIG(status);
     return r;
+}
+
+// Runs BW_EXE --root BW_SOURCE_ROOT ARGS... in `cwd`.
+inline RunResult runExe(const std::vector<std::string>& args, const fs::path& cwd) {
+    std::vector<std::string> full = {BW_EXE, "--root", BW_SOURCE_ROOT};
+    full.insert(full.end(), args.begin(), args.end());
+    return runCommand(std::move(full), cwd);
 }
 
 inline std::string readText(const fs::path& p) {
