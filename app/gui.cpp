@@ -35,6 +35,10 @@ void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const cha
     auto fraction = [](float f, float fallback) {
         return std::isfinite(f) && f >= 0.05f && f <= 0.95f ? f : fallback;
     };
+    if (std::strncmp(line, "Recent=", 7) == 0 && line[7] && ui->shared.recent.size() < 8) {
+        ui->shared.recent.push_back(line + 7);
+        return;
+    }
     float v[4];
     if (std::sscanf(line, "Splits=%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3]) == 4) {
         const WorkspaceSplits d;
@@ -74,6 +78,8 @@ void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffe
         if (ws.selected[static_cast<size_t>(p.area)] == static_cast<int>(p.id))
             buf->appendf("Tab.%s=%s\n", areaName(p.area), p.iniKey);
     }
+    for (const std::string& r : g_ui->shared.recent)
+        buf->appendf("Recent=%s\n", r.c_str());
     buf->append("\n");
 }
 

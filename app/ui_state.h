@@ -5,6 +5,7 @@
 #pragma once
 
 #include "gl/gl.h"
+#include "panels/file_dialog.h"
 #include "scene_stage.h"
 #include "scene_view.h"
 #include "workspace.h"
@@ -76,6 +77,7 @@ struct UiShared {
     }
     int showRequest = -1; // served by the workspace in the next frame
     WorkspaceState workspace;
+    std::vector<std::string> recent; // recently opened model files, newest first (saved)
     bool quit = false;
     std::string status; // one-line status shown in the menu bar
     SceneInspect inspect;
@@ -87,7 +89,7 @@ struct UiShared {
 struct MenuState {
     bool openModelPopup = false;
     bool recordPopup = false;
-    char pathBuffer[512] = "";
+    FileDialogState openDialog; // File → Open model
     char nameBuffer[128] = "my_capture";
 };
 

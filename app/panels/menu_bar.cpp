@@ -1,4 +1,5 @@
 // Menu bar: File (open model, reload all, record capture, quit) and View (toggle panels).
+#include "file_dialog.h"
 #include "panels.h"
 #include "registry.h"
 
@@ -9,10 +10,29 @@
 
 namespace app {
 
+void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file) {
+    std::filesystem::path p = file;
+    if (p.is_relative() && !std::filesystem::exists(p)) p = wb.root() / p;
+    try {
+        wb.openModel(p);
+        rememberRecent(ui.recent, std::filesystem::absolute(p).lexically_normal().string());
+        ui.status = "opened " + p.filename().string();
+    } catch (const core::Error& e) {
+        wb.reportActionError(std::string("open model: ") + e.what());
+    }
+}
+
 void drawMenuBar(Workbench& wb, UiState& ui) {
     if (ImGui::BeginMainMenuBar()) {
         if (ImGui::BeginMenu("File")) {
             if (ImGui::MenuItem("Open model...", "Ctrl+O")) ui.menu.openModelPopup = true;
+            if (ImGui::BeginMenu("Open recent", !ui.shared.recent.empty())) {
+                std::string pick;
+                for (const std::string& r : ui.shared.recent)
+                    if (ImGui::MenuItem(r.c_str())) pick = r;
+                ImGui::EndMenu();
+                if (!pick.empty()) openModelFile(wb, ui.shared, pick);
+            }
             if (ImGui::MenuItem("Reload all", "F5")) wb.reloadAll();
             if (ImGui::MenuItem("Record capture...", "Ctrl+R")) ui.menu.recordPopup = true;
             ImGui::Separator();
@@ -67,17 +87,10 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
         ui.menu.openModelPopup = false;
     }
     if (ImGui::BeginPopupModal("Open model", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::TextUnformatted("Path of a .bssrdf file (absolute or relative to the project):");
-        ImGui::InputText("##path", ui.menu.pathBuffer, sizeof ui.menu.pathBuffer);
-        if (ImGui::Button("Open")) {
-            std::filesystem::path p = ui.menu.pathBuffer;
-            if (p.is_relative()) p = wb.root() / p;
-            try {
-                wb.openModel(p);
-                ui.shared.status = "opened " + p.filename().string();
-            } catch (const core::Error& e) {
-                wb.reportActionError(std::string("open model: ") + e.what());
-            }
+        FileDialogState& d = ui.menu.openDialog;
+        if (d.dir.empty()) d.dir = wb.root() / "materials";
+        if (auto chosen = drawFileDialog(d, ".bssrdf")) {
+            openModelFile(wb, ui.shared, *chosen);
             ImGui::CloseCurrentPopup();
         }
         ImGui::SameLine();

@@ -10,6 +10,9 @@
 namespace app {
 
 void drawMenuBar(Workbench& wb, UiState& ui);
+// Opens a model file (relative: to the current folder, else to the root) and remembers it
+// among the recent files; a failure is an Errors entry.
+void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file);
 // Every open panel: docked as tabs in the workspace's areas, or floating (workspace.h).
 void drawWorkspace(Workbench& wb, UiState& ui);
 // The panels drawn this frame: the shown tab of each area (a pending UiShared::show request

@@ -19,7 +19,7 @@ constexpr ImGuiWindowFlags kHostFlags =
     ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings |
     ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_NoScrollbar |
-    ImGuiWindowFlags_NoScrollWithMouse;
+    ImGuiWindowFlags_NoScrollWithMouse | ImGuiWindowFlags_NoFocusOnAppearing;
 
 size_t idx(Area a) {
     return static_cast<size_t>(a);
@@ -174,7 +174,8 @@ void drawFloating(Workbench& wb, UiState& ui, const PanelEntry& p, const Rect& v
     if (request == static_cast<int>(p.id)) ImGui::SetNextWindowFocus();
     bool open = true;
     const bool shown = ImGui::Begin(panelLabel(wb, p).c_str(), &open,
-                                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse);
+                                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse |
+                                        ImGuiWindowFlags_NoFocusOnAppearing);
     const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
     saved = clampInto({pos.x, pos.y, pos.x + size.x, pos.y + size.y}, view);
     bool dock = false;

@@ -3,6 +3,8 @@
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "gui.h"
+#include "panels/file_dialog.h"
+#include "panels/panels.h"
 #include "panels/registry.h"
 
 #include <imgui.h>
@@ -151,4 +153,79 @@ TEST(PanelRegistry, EveryPanelOnceAndTheSceneFollowsItsPanels) {
     EXPECT_EQ(testsupport::panelWindow(app::PanelId::Octree), nullptr);
     EXPECT_FALSE(wb.scene().settings().enabled);
     std::filesystem::remove_all(root);
+}
+
+// File → Open model: the dialog lists a folder's subfolders and its .bssrdf files (hidden ones
+// left out), opening a model remembers it among the recent files (newest first, no
+// duplicates, saved with the layout), and a bad file is an Errors entry naming it.
+TEST(FileDialog, ListsFoldersAndModelsAndRemembersRecentFiles) {
+    auto& ctx = testsupport::context();
+    auto root = testsupport::makeProjectRoot("dialog", {"dipole.bssrdf"});
+    const fs::path d = root / "browse";
+    fs::create_directories(d / "sub");
+    fs::create_directories(d / ".hidden");
+    core::writeFile(d / "b.bssrdf", core::readFile(root / "materials/dipole.bssrdf"));
+    core::writeFile(d / "a.txt", "x");
+    core::writeFile(d / ".c.bssrdf", "x");
+    const auto entries = app::listDirectory(d, ".bssrdf");
+    ASSERT_EQ(entries.size(), 2u);
+    EXPECT_EQ(entries[0].name, "sub");
+    EXPECT_TRUE(entries[0].directory);
+    EXPECT_EQ(entries[1].name, "b.bssrdf");
+    EXPECT_EQ(app::listDirectory(d, "").size(), 3u);
+    try {
+        app::listDirectory(d / "nope", ".bssrdf");
+        ADD_FAILURE() << "listing a missing folder";
+    } catch (const core::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("nope"), std::string::npos) << e.what();
+    }
+
+    std::vector<std::string> recent{"x", "y"};
+    app::rememberRecent(recent, "y");
+    EXPECT_EQ(recent, (std::vector<std::string>{"y", "x"}));
+    for (int i = 0; i < 10; ++i)
+        app::rememberRecent(recent, std::to_string(i), 8);
+    EXPECT_EQ(recent.size(), 8u);
+    EXPECT_EQ(recent.front(), "9");
+
+    {
+        app::Workbench wb(root, false);
+        app::HeadlessGui gui(wb, 1280, 720);
+        app::UiState& ui = gui.ui();
+        ui.menu.openModelPopup = true;
+        ui.menu.openDialog.dir = d;
+        gui.frame();
+        gui.frame();
+        ImGuiWindow* modal = ImGui::FindWindowByName("Open model");
+        ASSERT_NE(modal, nullptr);
+        EXPECT_TRUE(modal->Active);
+        EXPECT_EQ(ui.menu.openDialog.entries.size(), 2u);
+        app::openModelFile(wb, ui.shared, d / "b.bssrdf");
+        ASSERT_NE(wb.library().find("b"), nullptr);
+        ASSERT_FALSE(ui.shared.recent.empty());
+        EXPECT_EQ(ui.shared.recent.front(), (d / "b.bssrdf").string());
+        app::openModelFile(wb, ui.shared, d / "a.txt");
+        const auto errors = wb.errors();
+        ASSERT_EQ(errors.size(), 1u);
+        EXPECT_NE(errors[0].text.find("a.txt"), std::string::npos) << errors[0].text;
+        EXPECT_EQ(ui.shared.recent.size(), 1u); // a failed open is not remembered
+    }
+    // recent files persist with the layout
+    const fs::path config = root / "config";
+    ::setenv("XDG_CONFIG_HOME", config.c_str(), 1);
+    app::GuiOptions opt;
+    opt.frames = 1;
+    opt.persistLayout = true;
+    fs::create_directories(config / "bssrdf-workbench");
+    core::writeFile(config / "bssrdf-workbench/imgui.ini",
+                    "[BssrdfWorkbench][Panels]\nRecent=/some/where.bssrdf\n");
+    {
+        app::Workbench wb(root, false);
+        ASSERT_EQ(app::runGui(wb, ctx, opt), 0);
+    }
+    EXPECT_NE(
+        core::readFile(config / "bssrdf-workbench/imgui.ini").find("Recent=/some/where.bssrdf"),
+        std::string::npos);
+    ::unsetenv("XDG_CONFIG_HOME");
+    fs::remove_all(root);
 }
