@@ -280,7 +280,8 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         return 2;
     }
     capture::ReplayReport report;
-    if (!update) report.inputProblems = capture::checkInputs(m, captureDir, root);
+    if (!update)
+        report.inputProblems = capture::checkInputs(m, captureDir, root, &report.inputNotes);
     std::vector<fs::path> models;
     for (const auto& mf : m.models)
         if (fs::exists(root / mf.path) && fs::path(mf.path).extension() == ".bssrdf")

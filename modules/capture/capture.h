@@ -171,13 +171,23 @@ Comparison compareCsvStage(const StageOutput& output, const std::filesystem::pat
 //                                the capture"
 //   output edited            -> "pencil_plot.csv: content hash changed since recording ..."
 // Model paths are relative to `projectRoot`, output files to `captureDir`. Empty = all good.
+// A model whose text changed only in comments or whitespace compiles to the same program: it
+// is a note ("materials/x.bssrdf: only comments or whitespace changed ..."), appended to
+// `notes` when given, not a problem.
 std::vector<std::string> checkInputs(const Manifest& manifest,
                                      const std::filesystem::path& captureDir,
-                                     const std::filesystem::path& projectRoot);
+                                     const std::filesystem::path& projectRoot,
+                                     std::vector<std::string>* notes = nullptr);
+
+// What a .bssrdf model compiles from: its text without comments ('#' lines outside the
+// ::begin/::end sections, // and /* */ inside them) and with every run of whitespace made one
+// space. Two texts with the same tokens assemble to the same GLSL apart from #line numbers.
+std::string modelTokens(std::string_view text);
 
 struct ReplayReport {
     std::vector<Comparison> stages;
     std::vector<std::string> inputProblems;
+    std::vector<std::string> inputNotes; // printed as NOTE lines; they do not fail the replay
     // No input problems, at least one stage compared, every stage passed.
     bool pass() const;
     // One line per input problem ("INPUT ..."), one per stage (formatComparison), then a

@@ -96,9 +96,59 @@ Comparison compareCsvStage(const StageOutput& output, const std::filesystem::pat
     return compareTables(output.stage, expected, actual, output.absTol, output.relTol, keyColumn);
 }
 
+std::string modelTokens(std::string_view text) {
+    std::string out;
+    bool inSection = false, pendingSpace = false;
+    size_t i = 0;
+    auto emit = [&](char c) {
+        if (pendingSpace && !out.empty()) out += ' ';
+        pendingSpace = false;
+        out += c;
+    };
+    bool lineStart = true;
+    while (i < text.size()) {
+        const char c = text[i];
+        if (lineStart) {
+            // section markers switch between the header (where # starts a comment) and GLSL
+            size_t j = i;
+            while (j < text.size() && (text[j] == ' ' || text[j] == '\t'))
+                ++j;
+            const std::string_view rest = text.substr(j);
+            if (rest.substr(0, 7) == "::begin") inSection = true;
+            if (rest.substr(0, 5) == "::end") inSection = false;
+            if (!inSection && !rest.empty() && rest[0] == '#') {
+                const size_t nl = text.find('\n', j);
+                i = nl == std::string_view::npos ? text.size() : nl;
+                continue;
+            }
+            lineStart = false;
+        }
+        if (c == '\n') {
+            lineStart = true;
+            pendingSpace = true;
+            ++i;
+        } else if (c == ' ' || c == '\t' || c == '\r') {
+            pendingSpace = true;
+            ++i;
+        } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '/') {
+            const size_t nl = text.find('\n', i);
+            i = nl == std::string_view::npos ? text.size() : nl;
+        } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+            const size_t end = text.find("*/", i + 2);
+            i = end == std::string_view::npos ? text.size() : end + 2;
+            pendingSpace = true;
+        } else {
+            emit(c);
+            ++i;
+        }
+    }
+    return out;
+}
+
 std::vector<std::string> checkInputs(const Manifest& manifest,
                                      const std::filesystem::path& captureDir,
-                                     const std::filesystem::path& projectRoot) {
+                                     const std::filesystem::path& projectRoot,
+                                     std::vector<std::string>* notes) {
     std::vector<std::string> problems;
     // Appends a problem when `path` is missing, unreadable or its hash differs from `recorded`.
     auto check = [&](const std::string& shown, const std::filesystem::path& path,
@@ -126,6 +176,23 @@ std::vector<std::string> checkInputs(const Manifest& manifest,
             problems.push_back(m.path + ": " + bad);
             continue;
         }
+        // Only comments or whitespace changed: the same program, a note (the recorded text is
+        // in the manifest to compare with).
+        std::error_code ec;
+        if (!m.source.empty() && std::filesystem::exists(projectRoot / m.path, ec)) {
+            try {
+                if (hashFile(projectRoot / m.path) != m.hash &&
+                    modelTokens(core::readFile(projectRoot / m.path)) == modelTokens(m.source)) {
+                    if (notes)
+                        notes->push_back(m.path +
+                                         ": only comments or whitespace changed since "
+                                         "recording (the model compiles to the same program)");
+                    continue;
+                }
+            } catch (const core::Error&) {
+                // unreadable: reported by check() below
+            }
+        }
         check(m.path, projectRoot / m.path, m.hash, "missing", "content hash changed");
     }
     for (const StageOutput& o : manifest.outputs) {
@@ -150,6 +217,8 @@ bool ReplayReport::pass() const {
 
 std::string ReplayReport::text() const {
     std::string out;
+    for (const std::string& n : inputNotes)
+        out += "NOTE " + n + "\n";
     for (const std::string& p : inputProblems)
         out += "INPUT " + p + "\n";
     size_t failed = 0;

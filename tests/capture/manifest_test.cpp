@@ -328,3 +328,27 @@ TEST(Manifest, ReplayReport) {
     EXPECT_NE(text.find("replay FAIL: 1 of 2 stages failed, 1 input problem\n"), std::string::npos)
         << text;
 }
+
+namespace {
+std::string swap(std::string text, const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+} // namespace
+
+// modelTokens: comments and whitespace go, code and preprocessor lines inside sections stay.
+TEST(ModelTokens, CommentsAndWhitespaceOnly) {
+    const std::string a = "analytic radial\n# header comment\n::begin initializer\n"
+                          "#define K 2.0\nfloat f() { return K; } // why\n::end initializer\n";
+    const std::string b = "analytic   radial\n\n# another comment\n# more\n::begin initializer\n"
+                          "#define K 2.0\n/* block\n comment */float f() {\n  return K;\n}\n"
+                          "::end initializer\n";
+    EXPECT_EQ(capture::modelTokens(a), capture::modelTokens(b));
+    EXPECT_NE(capture::modelTokens(a), capture::modelTokens(swap(a, "2.0", "3.0")));
+    // a '#' line inside a section is GLSL (a directive), not a comment
+    EXPECT_NE(capture::modelTokens(a), capture::modelTokens(swap(a, "#define K 2.0\n", "")));
+    // tokens stay apart: "a b" is not "ab"
+    EXPECT_NE(capture::modelTokens("::begin x\nfloat a;\n::end x"),
+              capture::modelTokens("::begin x\nfloata;\n::end x"));
+}
