@@ -196,6 +196,56 @@ void applyParams(Workbench& wb, const json& params, const std::string& where) {
     }
 }
 
+// A failed image stage leaves pictures of the failure beside the capture, in
+// <capture>.replay/: the replayed image (EXR) and a PNG of recorded | replayed | difference,
+// the difference as each pixel's worst |a − b| / (absTol + relTol·|b|) on the colour ramp
+// over [0, 2] (above 1: out of tolerance), the images tone-mapped alike. Returns the line that
+// names them, or why they could not be written (the replay result stands either way).
+std::string writeImageDifference(const fs::path& captureDir, const std::string& stage,
+                                 const pathtrace::Image& recorded, const pathtrace::Image& replayed,
+                                 double absTol, double relTol) {
+    if (recorded.width != replayed.width || recorded.height != replayed.height)
+        return "(no difference image: the sizes differ)";
+    const fs::path dir = captureDir.parent_path() / (captureDir.filename().string() + ".replay");
+    const int w = recorded.width, h = recorded.height;
+    std::vector<unsigned char> rgba(size_t(3 * w) * size_t(h) * 4, 255);
+    auto put = [&](int x, int y, glm::vec3 c) {
+        unsigned char* p = &rgba[(size_t(y) * size_t(3 * w) + size_t(x)) * 4];
+        for (int k = 0; k < 3; ++k)
+            p[k] = (unsigned char)(std::clamp(c[k], 0.0f, 1.0f) * 255.0f + 0.5f);
+    };
+    auto tone = [](float v) {
+        return std::pow(std::max(v, 0.0f) / (1.0f + std::max(v, 0.0f)), 1.0f / 2.2f);
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * size_t(w) + size_t(x);
+            float excess = 0;
+            glm::vec3 a, b;
+            for (int c = 0; c < 3; ++c) {
+                a[c] = recorded.mean[3 * p + size_t(c)];
+                b[c] = replayed.mean[3 * p + size_t(c)];
+                const double d = std::abs(double(b[c]) - double(a[c]));
+                const double lim = absTol + relTol * std::abs(double(a[c]));
+                excess = std::max(excess, float(lim > 0 ? d / lim : (d > 0 ? 1e9 : 0.0)));
+                if (!std::isfinite(a[c]) || !std::isfinite(b[c])) excess = 1e9f;
+            }
+            put(x, y, {tone(a.x), tone(a.y), tone(a.z)});
+            put(x + w, y, {tone(b.x), tone(b.y), tone(b.z)});
+            put(x + 2 * w, y, colorRamp(std::min(excess, 2.0f) / 2.0f));
+        }
+    try {
+        fs::create_directories(dir);
+        const fs::path png = dir / (stage + ".diff.png"), exr = dir / (stage + ".replayed.exr");
+        gl::writePng(png, 3 * w, h, rgba);
+        pathtrace::writeExr(exr, replayed);
+        return "recorded | replayed | difference (ramp over 0..2x tolerance): " + png.string() +
+               "; replayed image: " + exr.string();
+    } catch (const std::exception& e) {
+        return std::string("(no difference image: ") + e.what() + ")";
+    }
+}
+
 } // namespace
 
 void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name, int traceX,
@@ -318,9 +368,14 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
                     c.message = "updated";
                 } else {
                     try {
-                        c = capture::compareTables(
-                            rec.stage, renderTable(pathtrace::readExr(captureDir / rec.file)),
-                            renderTable(sc.image->image), rec.absTol, rec.relTol);
+                        const pathtrace::Image recorded = pathtrace::readExr(captureDir / rec.file);
+                        c = capture::compareTables(rec.stage, renderTable(recorded),
+                                                   renderTable(sc.image->image), rec.absTol,
+                                                   rec.relTol);
+                        if (!c.pass && c.message.empty())
+                            c.artifacts =
+                                writeImageDifference(captureDir, rec.stage, recorded,
+                                                     sc.image->image, rec.absTol, rec.relTol);
                     } catch (const core::Error& e) {
                         c.message = std::string("cannot read the recorded image: ") + e.what();
                     }

@@ -119,6 +119,7 @@ struct Comparison {
     double expected = 0, actual = 0, diff = 0, limit = 0;
     std::string message;      // why it failed without a value location (shape, names, file)
     bool statistical = false; // csv_stat: worstExcess = max|z| / zLimit, limit = zLimit
+    std::string artifacts;    // where images of a failure were written (printed after it)
     double alpha = 0;         // csv_stat: family-wise false-alarm probability
 };
 

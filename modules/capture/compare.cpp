@@ -171,7 +171,18 @@ Comparison compareStatTables(const std::string& stage, const Table& expected, co
     return c;
 }
 
+namespace {
+std::string formatComparisonBody(const Comparison& c);
+} // namespace
+
 std::string formatComparison(const Comparison& c) {
+    std::string out = formatComparisonBody(c);
+    if (!c.artifacts.empty()) out += "\n     " + c.artifacts;
+    return out;
+}
+
+namespace {
+std::string formatComparisonBody(const Comparison& c) {
     std::string out = std::string(c.pass ? "PASS " : "FAIL ") + c.stage + "  ";
     if (!c.message.empty()) return out + c.message;
     if (c.statistical) {
@@ -205,5 +216,6 @@ std::string formatComparison(const Comparison& c) {
                "x tolerance)";
     return out + " [" + tol + "]";
 }
+} // namespace
 
 } // namespace capture

@@ -215,3 +215,39 @@ TEST(CaptureReplay, BadMeshIsAnErrorEntryNotACrash) {
     EXPECT_TRUE(listed);
     std::filesystem::remove_all(root);
 }
+
+// A failing image stage leaves recorded | replayed | difference as a PNG (and the replayed
+// EXR) beside the capture, named in the report.
+TEST(CaptureReplay, FailingImageStageWritesADifferenceImage) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("diffimg", {"dipole.bssrdf"});
+    if (!fs::exists(root / "third_party/bunny/bunny.obj")) {
+        fs::create_directories(root / "third_party/bunny");
+        fs::copy_file(testsupport::sourceRoot() / "third_party/bunny/bunny.obj",
+                      root / "third_party/bunny/bunny.obj");
+    }
+    const fs::path dir = root / "captures/scene";
+    fs::create_directories(dir.parent_path());
+    fs::copy(testsupport::sourceRoot() / "captures/dipole_bunny_scene", dir,
+             fs::copy_options::recursive);
+    std::string out;
+    ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    auto img = pathtrace::readExr(dir / "scene_render.exr");
+    for (size_t p = 0; p < img.mean.size(); p += 3 * 7)
+        img.mean[p] *= 1.5f;
+    pathtrace::writeExr(dir / "scene_render.exr", img);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
+    EXPECT_NE(out.find("FAIL scene.render"), std::string::npos) << out;
+    const fs::path png = root / "captures/scene.replay/scene.render.diff.png";
+    EXPECT_NE(out.find(png.string()), std::string::npos) << out;
+    ASSERT_TRUE(fs::exists(png)) << out;
+    ASSERT_TRUE(fs::exists(root / "captures/scene.replay/scene.render.replayed.exr"));
+    const std::string b = core::readFile(png);
+    auto be32 = [&](size_t o) {
+        return (int(uint8_t(b[o])) << 24) | (int(uint8_t(b[o + 1])) << 16) |
+               (int(uint8_t(b[o + 2])) << 8) | int(uint8_t(b[o + 3]));
+    };
+    EXPECT_EQ(be32(16), 3 * img.width); // recorded | replayed | difference side by side
+    EXPECT_EQ(be32(20), img.height);
+    fs::remove_all(root);
+}
