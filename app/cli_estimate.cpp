@@ -1,6 +1,8 @@
 // `bssrdf-workbench estimate` / `merge` (see cli_estimate.h).
 #include "cli_estimate.h"
 
+#include "cli_interrupt.h"
+
 #include "cli_options.h"
 #include "cli_output.h"
 #include "cli_slab.h"
@@ -169,8 +171,9 @@ int runEstimateCli(EstimateArgs a) {
                                std::min(first * pathtrace::kChunkPaths, a.settings.paths);
         return paths * a.settings.thetaIDeg.size();
     }();
-    const auto table =
-        pathtrace::estimateTable(a.medium, a.settings, first, last, [&](uint64_t done) {
+    const auto table = pathtrace::estimateTable(
+        a.medium, a.settings, first, last,
+        [&](uint64_t done) {
             const double sec = clock.ms() / 1000.0;
             std::fprintf(stderr, "\restimate: %5.1f%%  %llu / %llu paths  %.0f paths/s   ",
                          total ? 100.0 * double(done) / double(total) : 100.0,
@@ -178,9 +181,20 @@ int runEstimateCli(EstimateArgs a) {
                          static_cast<unsigned long long>(total),
                          sec > 0 ? double(done) / sec : 0.0);
             std::fflush(stderr);
-        });
+        },
+        interruptFlag());
     std::fprintf(stderr, "\n");
     writeOutputs(table, a.out, a.csv, a.csvDir);
+    if (interrupted()) {
+        // The table holds the paths traced so far (its tallies count them) and merges like
+        // any shard; the run is incomplete, so the exit status says so.
+        std::fprintf(stderr,
+                     "error: estimate: interrupted: %s holds %llu of %llu paths per angle "
+                     "(partial)\n",
+                     a.out.c_str(), static_cast<unsigned long long>(table.tallies[0].paths),
+                     static_cast<unsigned long long>(total / a.settings.thetaIDeg.size()));
+        return kInterrupted;
+    }
     return report(table);
 }
 

@@ -1,5 +1,7 @@
 // `bssrdf-workbench slab`: runs pathtrace::runSlab and writes R_d(r) as CSV (see cli_slab.h).
 #include "cli_slab.h"
+
+#include "cli_interrupt.h"
 #include "core/text.h"
 
 #include "cli_estimate.h"
@@ -61,7 +63,7 @@ std::function<void(uint64_t)> progressLine(const pathtrace::SlabSettings& s,
 
 int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
                  const pathtrace::SlabSettings& s, const pathtrace::SlabResult& r,
-                 const std::string& device) {
+                 const std::string& device, bool partial) {
     const std::string problem = pathtrace::energyProblem(r);
     const double perSecond = r.seconds > 0 ? double(r.paths) / r.seconds : 0;
     std::ostringstream out;
@@ -85,6 +87,9 @@ int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
         << "# roulette_survival " << core::formatNumber(s.termination.rouletteSurvival) << "\n"
         << "# max_events " << s.termination.maxEvents << "\n"
         << "# paths " << r.paths << "\n"
+        << (partial ? "# partial: interrupted after " + std::to_string(r.paths) + " of " +
+                          std::to_string(s.paths) + " paths\n"
+                    : std::string())
         << "# total_Rd " << core::formatNumber(r.totalRd) << " +- "
         << core::formatNumber(r.totalRdStderr) << "\n"
         << "# specular " << core::formatNumber(r.specular) << "\n"
@@ -158,8 +163,17 @@ int runSlabCli(const SlabArgs& a) {
         return 0;
     }
     core::Stopwatch clock;
-    const pathtrace::SlabResult r = pathtrace::runSlab(k.m, k.s, progressLine(k.s, clock));
+    const pathtrace::SlabResult r =
+        pathtrace::runSlab(k.m, k.s, progressLine(k.s, clock), interruptFlag());
     std::fprintf(stderr, "\n");
+    if (interrupted()) {
+        // what is done so far: the completed prefix of chunks, marked partial in the header
+        writeSlabCsv(a.out, k.m, k.s, r, "CPU", true);
+        std::fprintf(stderr, "error: slab: interrupted: %s holds %llu of %llu paths (partial)\n",
+                     a.out.c_str(), static_cast<unsigned long long>(r.paths),
+                     static_cast<unsigned long long>(k.s.paths));
+        return kInterrupted;
+    }
     return writeSlabCsv(a.out, k.m, k.s, r, "CPU");
 }
 

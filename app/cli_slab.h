@@ -48,7 +48,7 @@ constexpr int kEnergyCheckFailed = 3;
 // returns 0, or kEnergyCheckFailed (problem on stderr) when it fails its energy check.
 int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
                  const pathtrace::SlabSettings& s, const pathtrace::SlabResult& r,
-                 const std::string& device);
+                 const std::string& device, bool partial = false);
 
 // Validates (core::Error naming the argument; the output must be writable), runs with a
 // progress line on stderr, writes the CSV — or with --shard the shard's table. Returns 0, or

@@ -94,6 +94,29 @@ BssrdfTable estimateTable(const Medium& m, const EstimateSettings& s, uint64_t f
         before += t.tallies.back().paths;
         if (cancel && cancel->load()) break;
     }
+    if (cancel && cancel->load()) {
+        // Interrupted: the table covers the completed prefix of chunks, which must be the same
+        // for every angle (angles are traced one after another).
+        if (t.tallies.size() != s.thetaIDeg.size())
+            throw core::Error("estimate", 0,
+                              "interrupted while tracing theta_i " +
+                                  core::formatNumber(s.thetaIDeg[t.tallies.size() - 1]) +
+                                  " before the other angles were done: no consistent partial "
+                                  "table (angles are traced one after another)");
+        const uint64_t paths = t.tallies.front().paths;
+        for (const BssrdfTally& tally : t.tallies)
+            if (tally.paths != paths)
+                throw core::Error("estimate", 0,
+                                  "interrupted with unequal paths per angle: no consistent "
+                                  "partial table");
+        const uint64_t firstPath = firstChunk * kChunkPaths;
+        const uint64_t end = std::min(lastChunk * kChunkPaths, s.paths);
+        if (firstPath + paths < end) {
+            if (paths % kChunkPaths != 0)
+                throw core::Error("estimate", 0, "interrupted inside a chunk");
+            t.chunks = {{firstChunk, firstChunk + paths / kChunkPaths}};
+        }
+    }
     return t;
 }
 

@@ -39,7 +39,9 @@ struct BssrdfTable {
     BssrdfSlice slice(size_t i) const;
 };
 
-// Runs the chunks [first, last) of every angle (progress: paths done over all angles).
+// Runs the chunks [first, last) of every angle (progress: paths done over all angles). When
+// `cancel` is set, the table covers the chunks completed so far (a valid table, mergeable like
+// a shard); interrupted before every angle had the same chunks, it throws core::Error.
 BssrdfTable estimateTable(const Medium& m, const EstimateSettings& s, uint64_t firstChunk,
                           uint64_t lastChunk, const std::function<void(uint64_t)>& progress = {},
                           const std::atomic<bool>* cancel = nullptr);

@@ -278,3 +278,31 @@ TEST_F(Estimate, RejectsBadTableFiles) {
 }
 
 } // namespace
+
+// Ctrl-C: slab and estimate stop, write what they have — marked partial — and exit 130.
+TEST_F(Estimate, InterruptWritesThePartialResult) {
+    namespace fs = std::filesystem;
+    auto with = [](std::vector<std::string> rest) {
+        rest.insert(rest.begin(), {BW_EXE, "--root", BW_SOURCE_ROOT});
+        return rest;
+    };
+    clitest::RunResult r = clitest::runCommand(
+        with({"slab", "--sigma-a", "0.01", "--sigma-s", "1", "--paths", "1e10", "--out", "s.csv"}),
+        dir(), 1500, SIGINT);
+    EXPECT_EQ(r.code, 130) << r.output;
+    EXPECT_NE(r.output.find("interrupted"), std::string::npos) << r.output;
+    const std::string csv = clitest::readText(dir() / "s.csv");
+    EXPECT_NE(csv.find("# partial: interrupted after "), std::string::npos) << csv;
+    EXPECT_NE(csv.find(" of 10000000000 paths"), std::string::npos) << csv;
+    EXPECT_NE(csv.find("r_mm,Rd_per_mm2,stderr"), std::string::npos);
+
+    r = clitest::runCommand(with({"estimate", "--sigma-a", "0.01", "--sigma-s", "1", "--theta-i",
+                                  "0", "--paths", "1e10", "--out", "t.bwtable"}),
+                            dir(), 1500, SIGINT);
+    EXPECT_EQ(r.code, 130) << r.output;
+    EXPECT_NE(r.output.find("(partial)"), std::string::npos) << r.output;
+    EXPECT_GT(fs::file_size(dir() / "t.bwtable"), 0u);
+    // the partial table is a valid table (it merges like a shard)
+    r = run({"merge", "t.bwtable", "--out", "m.bwtable", "--csv", "m.csv"});
+    EXPECT_EQ(r.code, 0) << r.output;
+}

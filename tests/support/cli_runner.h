@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <csignal>
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -53,8 +54,10 @@ inline std::string describe(const std::vector<std::string>& args, const RunResul
     return s;
 }
 
-// Runs the command line `full` (program first) in `cwd` (fork/exec, no shell).
-inline RunResult runCommand(std::vector<std::string> full, const fs::path& cwd) {
+// Runs the command line `full` (program first) in `cwd` (fork/exec, no shell); with
+// signalAfterMs > 0, sends `sig` to it after that many milliseconds.
+inline RunResult runCommand(std::vector<std::string> full, const fs::path& cwd,
+                            int signalAfterMs = 0, int sig = 0) {
     std::vector<char*> argv;
     for (auto& a : full)
         argv.push_back(a.data());
@@ -80,6 +83,10 @@ inline RunResult runCommand(std::vector<std::string> full, const fs::path& cwd) 
         ::_exit(127);
     }
     ::close(fds[1]);
+    if (signalAfterMs > 0) {
+        ::usleep(useconds_t(signalAfterMs) * 1000u);
+        ::kill(pid, sig);
+    }
     RunResult r;
     char buf[4096];
     for (;;) {
