@@ -51,6 +51,13 @@ class Fields : public ::testing::Test {
         ImGui::GetIO().MouseDown[0] = down;
     }
     void key(int k) { ImGui::GetIO().KeysDown[k] = true; }
+    // A click (press, release) at (x, y), a frame each.
+    void click(float x, float y, const std::function<void()>& body) {
+        mouse(x, y, true);
+        frame(body);
+        mouse(x, y, false);
+        frame(body);
+    }
     void type(const char* s) { ImGui::GetIO().AddInputCharactersUTF8(s); }
 };
 
@@ -65,10 +72,7 @@ TEST_F(Fields, IntegerFieldCommitsOnEnterAndFocusLossNotPerKey) {
     const ImVec4 r = frame(body); // the group: the text field, then the - and + buttons
     const float tx = r.x + 20, ty = (r.y + r.w) * 0.5f;
     // click into the text, go to its end, replace "5" by "42"
-    mouse(tx, ty, true);
-    frame(body);
-    mouse(tx, ty, false);
-    frame(body);
+    click(tx, ty, body);
     key(kEnd);
     frame(body);
     key(kBackspace);
@@ -85,10 +89,7 @@ TEST_F(Fields, IntegerFieldCommitsOnEnterAndFocusLossNotPerKey) {
     EXPECT_EQ(commits, 1);
 
     // typing then clicking elsewhere commits as well
-    mouse(tx, ty, true);
-    frame(body);
-    mouse(tx, ty, false);
-    frame(body);
+    click(tx, ty, body);
     key(kEnd);
     frame(body);
     type("7");
@@ -103,10 +104,7 @@ TEST_F(Fields, IntegerFieldCommitsOnEnterAndFocusLossNotPerKey) {
     EXPECT_EQ(commits, 2);
 
     // the + button (the right end of the 200 px wide field, before its label) commits at once
-    mouse(r.x + 200 - 9, ty, true);
-    frame(body);
-    mouse(r.x + 200 - 9, ty, false);
-    frame(body);
+    click(r.x + 200 - 9, ty, body);
     EXPECT_EQ(value, 428);
     EXPECT_EQ(commits, 3);
 }
@@ -120,26 +118,17 @@ TEST_F(Fields, TextFieldCommitsOnFocusLossAndOnEnterUnchanged) {
     };
     const ImVec4 r = frame(body);
     const float tx = r.x + 100, ty = (r.y + r.w) * 0.5f;
-    mouse(tx, ty, true);
-    frame(body);
-    mouse(tx, ty, false);
-    frame(body);
+    click(tx, ty, body);
     key(kEnd);
     frame(body);
     type("x");
     frame(body);
     EXPECT_EQ(commits, 0);
-    mouse(450, 250, true);
-    frame(body);
-    mouse(450, 250, false);
-    frame(body);
+    click(450, 250, body);
     EXPECT_EQ(commits, 1);
     EXPECT_STREQ(buffer, "a.objx");
     // Enter without an edit: read the same file again
-    mouse(tx, ty, true);
-    frame(body);
-    mouse(tx, ty, false);
-    frame(body);
+    click(tx, ty, body);
     key(kEnter);
     frame(body);
     EXPECT_EQ(commits, 2);
