@@ -122,8 +122,18 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     if (!s.environmentFile.empty() && s.light.mode != irradiance::LightMode::Directional)
         s.environmentFile = fs::absolute(s.environmentFile).string();
     core::Stopwatch clock;
+    // A progress line on stderr: each step as it starts, the point cloud's fraction while it
+    // is generated, with the time so far.
+    auto progress = [&clock](const char* step, double fraction) {
+        if (fraction >= 0)
+            std::fprintf(stderr, "\rrender: %s %5.1f%%  %.1f s   ", step, 100.0 * fraction,
+                         clock.ms() / 1000.0);
+        else
+            std::fprintf(stderr, "\rrender: %s ...  %.1f s          ", step, clock.ms() / 1000.0);
+        std::fflush(stderr);
+    };
     wb.update();
-    wb.finishScene();
+    wb.finishScene(progress);
     // Everything the pipeline refused is an error here (the GUI would keep the last good).
     for (const auto& p : wb.scene().problems())
         throw core::Error(p);
@@ -133,7 +143,8 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     // The camera is fitted to the mesh on load; apply the requested orbit and render again.
     s.render.camera.yaw = r.camera.yaw;
     s.render.camera.pitch = r.camera.pitch;
-    wb.finishScene();
+    wb.finishScene(progress);
+    std::fprintf(stderr, "\n");
     const render::Readback rb = wb.scene().readback();
     const pathtrace::Image img = hdrImage(rb);
     const size_t pixels = size_t(rb.width) * size_t(rb.height);

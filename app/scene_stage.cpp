@@ -196,6 +196,9 @@ bool SceneStage::updatePointCloud(bool wait) {
     if (!m_pending.valid()) return false;
     if (!wait && m_pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
         return false;
+    if (wait && m_finishProgress)
+        while (m_pending.wait_for(std::chrono::milliseconds(200)) != std::future_status::ready)
+            m_finishProgress("point cloud", m_cloudProgress->load());
     try {
         pointcloud::Generated g = m_pending.get();
         applyCloud(std::move(g.cloud), g.fromCache, g.milliseconds);
@@ -372,11 +375,20 @@ bool SceneStage::update(const SceneModelInput& model, bool interacting) {
     return changed;
 }
 
-void SceneStage::finish(const SceneModelInput& model) {
+void SceneStage::finish(const SceneModelInput& model, const FinishProgress& progress) {
+    m_finishProgress = progress;
+    auto step = [&](const char* name) {
+        if (progress) progress(name, -1.0);
+    };
+    step("mesh");
     updateMesh();
+    step("point cloud");
     updatePointCloud(true);
+    step("irradiance");
     updateIrradiance(lightIor(model), true);
+    step("render");
     updateRender(model, false, true);
+    m_finishProgress = {};
 }
 
 bool SceneStage::reloadShaders(const std::vector<std::filesystem::path>& changed) {

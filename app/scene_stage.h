@@ -25,6 +25,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <map>
 #include <memory>
@@ -114,7 +115,10 @@ class SceneStage : public Stage {
     bool update(const SceneModelInput& model, bool interacting);
     // Waits for a running point-cloud generation and runs every stage to completion at full
     // resolution (CLI, captures, tests, bench). Occluded IBL runs all its samples.
-    void finish(const SceneModelInput& model);
+    // `progress(step, fraction)` hears each step as it starts (fraction −1) and, while the
+    // point cloud is generated, its fraction done about every 200 ms.
+    using FinishProgress = std::function<void(const char* step, double fraction)>;
+    void finish(const SceneModelInput& model, const FinishProgress& progress = {});
     // Hot reload: rebuilds exactly the render and irradiance programs whose shader files
     // include one of `changed` (a failure keeps the old program and is a "shaders" problem);
     // what they computed is computed again. Returns true when a program was rebuilt.
@@ -220,6 +224,7 @@ class SceneStage : public Stage {
     // The displayed frame's image, owned here: the renderer reallocates its textures when a
     // new frame changes size (half resolution while moving), and the shown frame must not
     // point at a deleted texture meanwhile.
+    FinishProgress m_finishProgress; // set during finish()
     gl::Texture m_displayLdr;
     int m_displayW = 0, m_displayH = 0;
     // What the last frame was rendered with (for the brute-force comparison pass).

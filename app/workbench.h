@@ -130,7 +130,9 @@ class Workbench {
     // The model and material the scene renders with (the same source model as the lit spheres).
     SceneModelInput sceneModelInput() const;
     // Runs every scene stage to completion (CLI, captures, tests).
-    void finishScene() { m_scene->finish(sceneModelInput()); }
+    void finishScene(const SceneStage::FinishProgress& progress = {}) {
+        m_scene->finish(sceneModelInput(), progress);
+    }
     void setInteracting(bool v) { m_interacting = v; }
     // Every GL program with the shader files it was built from and its build count, by
     // "owner:program" (model:<model file>:<template>, scene's render:/irradiance:,
