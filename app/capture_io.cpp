@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
+constexpr const char* kExternalPrefix = "external/";
 
 struct StageTable {
     std::string stage, file, key;
@@ -163,14 +164,21 @@ capture::Table imageTable(const pathtrace::Image& img) {
         }
     return t;
 }
+// A model's path in a capture: its path under the root, or for a model opened from outside
+// the project "external/FILE" (its text is in the manifest; replay loads it from there).
+std::string capturePathOf(const bssrdf::ModelEntry& e) {
+    if (!fs::path(e.displayPath).is_absolute()) return e.displayPath;
+    return std::string(kExternalPrefix) + e.file.filename().string();
+}
+
 json paramsJson(Workbench& wb) {
     json models = json::object();
     for (auto& e : wb.library().entries()) {
         auto& v = wb.view(e.displayPath);
-        models[e.displayPath] = {{"visible", v.visible},
-                                 {"override", v.override},
-                                 {"own", core::toJson(v.own)},
-                                 {"values", toJson(e.values)}};
+        models[capturePathOf(e)] = {{"visible", v.visible},
+                                    {"override", v.override},
+                                    {"own", core::toJson(v.own)},
+                                    {"values", toJson(e.values)}};
     }
     return {{"shared", core::toJson(wb.shared())}, {"models", models}};
 }
@@ -181,12 +189,16 @@ void applyParams(Workbench& wb, const json& params, const std::string& where) {
     wb.shared() = core::fromJson(params["shared"], where, "params.shared", MaterialSettings{});
     for (auto it = params["models"].begin(); it != params["models"].end(); ++it) {
         auto* e = wb.library().find(it.key());
+        // an external model was loaded from a copy of its recorded text: find it by its file
+        if (!e && it.key().rfind(kExternalPrefix, 0) == 0)
+            for (auto& cand : wb.library().entries())
+                if (capturePathOf(cand) == it.key()) e = &cand;
         if (!e) continue; // reported as an input problem / missing stage
         const std::string path = "params.models." + it.key();
         const std::string w = where + " (" + path + ")";
         if (!it->contains("own") || !it->contains("values"))
             throw core::Error(where, 0, path + ": needs 'own' and 'values'");
-        auto& v = wb.view(it.key());
+        auto& v = wb.view(e->displayPath);
         v.visible = it->value("visible", true);
         v.override = it->value("override", false);
         v.own = core::fromJson(it->at("own"), where, path + ".own", MaterialSettings{});
@@ -265,7 +277,13 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
     m.glVersion = gpuString(GL_VERSION);
     for (auto& e : wb.library().entries()) {
         std::string text = core::readFile(e.file);
-        m.models.push_back({e.displayPath, core::hashHex(text), text});
+        const std::string path = capturePathOf(e);
+        for (const capture::ModelFile& other : m.models)
+            if (other.path == path)
+                throw core::Error(e.displayPath, 0,
+                                  "two models opened from outside the project are both named " +
+                                      e.file.filename().string() + "; rename one to record");
+        m.models.push_back({path, core::hashHex(text), text});
     }
     const SceneSettings& scene = wb.scene().settings();
     if (scene.enabled) { // the scene's mesh is an input: path and content hash
@@ -333,9 +351,28 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
     if (!update)
         report.inputProblems = capture::checkInputs(m, captureDir, root, &report.inputNotes);
     std::vector<fs::path> models;
-    for (const auto& mf : m.models)
-        if (fs::exists(root / mf.path) && fs::path(mf.path).extension() == ".bssrdf")
+    // Models recorded from outside the project are replayed from their recorded text, written
+    // to a temporary folder (removed when the replay ends).
+    const fs::path external =
+        fs::temp_directory_path() / ("bw_replay_external_" + std::to_string(::getpid()));
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            fs::remove_all(dir, ec);
+        }
+    } cleanup{external};
+    for (const auto& mf : m.models) {
+        if (fs::path(mf.path).extension() != ".bssrdf") continue;
+        if (mf.path.rfind(kExternalPrefix, 0) == 0) {
+            const fs::path file = external / fs::path(mf.path).filename();
+            fs::create_directories(external);
+            core::writeFile(file, mf.source);
+            models.push_back(file);
+        } else if (fs::exists(root / mf.path)) {
             models.push_back(root / mf.path);
+        }
+    }
     const std::string where = (captureDir / capture::kManifestFileName).string();
     try {
         Workbench wb(root, false, models);

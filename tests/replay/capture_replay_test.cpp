@@ -251,3 +251,39 @@ TEST(CaptureReplay, FailingImageStageWritesADifferenceImage) {
     EXPECT_EQ(be32(20), img.height);
     fs::remove_all(root);
 }
+
+// A model opened from outside the project is recorded as external/FILE with its text, and
+// replays from that text wherever the original went.
+TEST(CaptureReplay, ModelFromOutsideTheProjectRecordsAndReplays) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("external", {"dipole.bssrdf"});
+    const fs::path outside = root.parent_path() / (root.filename().string() + "_outside");
+    fs::create_directories(outside);
+    const std::string text =
+        testsupport::readText(testsupport::sourceRoot() / "materials/better_dipole.bssrdf");
+    core::writeFile(outside / "mine.bssrdf", text);
+    const fs::path dir = root / "captures" / "ext";
+    {
+        app::Workbench wb(root, false);
+        wb.openModel(outside / "mine.bssrdf");
+        ASSERT_NE(wb.library().find("mine"), nullptr);
+        ASSERT_TRUE(wb.library().find("mine")->usable());
+        app::recordCaptureTo(wb, dir, "ext");
+    }
+    const capture::Manifest m = capture::readManifest(dir);
+    const auto ext = std::find_if(m.models.begin(), m.models.end(),
+                                  [](const auto& f) { return f.path == "external/mine.bssrdf"; });
+    ASSERT_NE(ext, m.models.end());
+    EXPECT_EQ(ext->source, text);
+    EXPECT_TRUE(m.params["models"].contains("external/mine.bssrdf")) << m.params.dump();
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    EXPECT_NE(out.find("NOTE external/mine.bssrdf: opened from outside the project"),
+              std::string::npos)
+        << out;
+    EXPECT_NE(out.find("PASS pencil_plot.mine"), std::string::npos) << out;
+    // the original is gone: the recorded text still replays
+    fs::remove_all(outside);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    fs::remove_all(root);
+}
