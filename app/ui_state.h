@@ -6,6 +6,7 @@
 
 #include "gl/gl.h"
 #include "panels/file_dialog.h"
+#include "replay_process.h"
 #include "scene_stage.h"
 #include "scene_view.h"
 #include "workspace.h"
@@ -28,6 +29,7 @@ enum class PanelId {
     Octree,
     Irradiance,
     Traversal,
+    Captures,
     Errors,
     Log,
     Timings,
@@ -148,6 +150,23 @@ struct RenderPanelState {
     float heatMax = 0;
 };
 
+// The Captures panel: the captures found, the selected one, a replay running in a child
+// process and what it reported, the difference pictures of failing image stages.
+struct CapturesPanelState {
+    std::vector<std::string> names;
+    std::string selected, replaying;
+    std::filesystem::path exe; // empty: this executable (tests name bssrdf-workbench)
+    std::unique_ptr<ReplayProcess> proc;
+    double started = 0;
+    std::string report;
+    struct Picture {
+        std::string file, problem;
+        gl::Texture tex;
+        int width = 0, height = 0;
+    };
+    std::vector<Picture> pictures;
+};
+
 struct TraversalPanelState {
     char filter[64] = "";
     bool showRecurse = true, showNodeEval = true, showPointEval = true;
@@ -166,6 +185,7 @@ struct UiState {
     IrradiancePanelState irradiance;
     RenderPanelState render;
     TraversalPanelState traversal;
+    CapturesPanelState captures;
 };
 
 } // namespace app

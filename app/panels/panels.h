@@ -32,6 +32,9 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui);
 // Writes the Render panel's shown frame: .exr (HDR L_o, linear) or .png (tone-mapped, as
 // shown). Throws core::Error naming the path (no finished frame, other extension, I/O).
 void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem::path& path);
+void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
+// Starts replaying captures/NAME in a child process (core::Error when it cannot start).
+void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name);
 void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui);
 
 // Records the current state as captures/<name> (File → Record capture). Defined in capture_io.

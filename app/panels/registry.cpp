@@ -25,6 +25,8 @@ const std::array<PanelEntry, kPanelCount>& panelRegistry() {
          [](Workbench& wb, UiState& ui) { drawIrradiancePanel(wb, ui.irradiance, ui.shared); }},
         {PanelId::Traversal, "Traversal debugger", "Traversal", 2, Area::Right, false, true,
          [](Workbench& wb, UiState& ui) { drawTraversalPanel(wb, ui.traversal, ui.shared); }},
+        {PanelId::Captures, "Captures", "Captures", 1, Area::Centre, true, false,
+         [](Workbench& wb, UiState& ui) { drawCapturesPanel(wb, ui.captures, ui.shared); }},
         {PanelId::Errors, "Errors", "Errors", 3, Area::Bottom, true, false,
          [](Workbench& wb, UiState& ui) { drawErrorsPanel(wb, ui.errors, ui.shared); }},
         {PanelId::Log, "Log", "Log", 3, Area::Bottom, true, false,

@@ -37,7 +37,10 @@ void drawModelChoice(Workbench& wb, std::string& chosen) {
     const SceneModelInput in = wb.sceneModelInput();
     const std::string shown = in.entry ? in.entry->displayPath : "(no usable model)";
     ImGui::SetNextItemWidth(220);
-    if (ImGui::BeginCombo("model", (chosen.empty() ? "first visible: " + shown : shown).c_str())) {
+    const std::string preview = chosen.empty() ? "first visible: " + shown : shown;
+    const bool open = ImGui::BeginCombo("model", preview.c_str());
+    if (!open && ImGui::IsItemHovered()) ImGui::SetTooltip("renders %s", preview.c_str());
+    if (open) {
         if (ImGui::Selectable("(the first visible model)", chosen.empty())) chosen.clear();
         for (const auto& e : wb.library().entries()) {
             if (!e.usable()) continue;

@@ -6,6 +6,7 @@
 #include "panels/file_dialog.h"
 #include "panels/panels.h"
 #include "panels/registry.h"
+#include "pathtrace/image_io.h"
 
 #include <imgui.h>
 #include <imgui_internal.h>
@@ -227,5 +228,60 @@ TEST(FileDialog, ListsFoldersAndModelsAndRemembersRecentFiles) {
         core::readFile(config / "bssrdf-workbench/imgui.ini").find("Recent=/some/where.bssrdf"),
         std::string::npos);
     ::unsetenv("XDG_CONFIG_HOME");
+    fs::remove_all(root);
+}
+
+// The Captures panel replays a capture in a child process while the GUI keeps drawing, shows
+// the report, loads the difference picture of a failing image stage, and cancels a replay.
+TEST(CapturesPanel, ReplaysInAChildProcessAndShowsTheDifference) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("capspanel", {"dipole.bssrdf"});
+    if (!fs::exists(root / "third_party/bunny/bunny.obj")) {
+        fs::create_directories(root / "third_party/bunny");
+        fs::copy_file(testsupport::sourceRoot() / "third_party/bunny/bunny.obj",
+                      root / "third_party/bunny/bunny.obj");
+    }
+    const fs::path dir = root / "captures/scene";
+    fs::create_directories(dir.parent_path());
+    fs::copy(testsupport::sourceRoot() / "captures/dipole_bunny_scene", dir,
+             fs::copy_options::recursive);
+    auto img = pathtrace::readExr(dir / "scene_render.exr");
+    for (size_t p = 0; p < img.mean.size(); p += 3 * 5)
+        img.mean[p] *= 2.0f;
+    pathtrace::writeExr(dir / "scene_render.exr", img);
+
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui.captures.exe = BW_EXE;
+    ui.shared.show(app::PanelId::Captures);
+    gui.frame();
+    gui.frame();
+    ASSERT_EQ(ui.captures.names, std::vector<std::string>{"scene"});
+    ui.captures.selected = "scene";
+    app::startReplay(wb, ui.captures, "scene");
+    int frames = 0;
+    core::Stopwatch clock;
+    while (!ui.captures.proc->done() && clock.ms() < 120000) {
+        gui.frame(); // the GUI keeps drawing while the child replays
+        ++frames;
+    }
+    ASSERT_TRUE(ui.captures.proc->done());
+    EXPECT_GT(frames, 1);
+    EXPECT_EQ(ui.captures.proc->exitCode(), 1) << ui.captures.report;
+    EXPECT_NE(ui.captures.report.find("FAIL scene.render"), std::string::npos)
+        << ui.captures.report;
+    gui.frame();
+    ASSERT_EQ(ui.captures.pictures.size(), 1u) << ui.captures.report;
+    EXPECT_TRUE(ui.captures.pictures[0].problem.empty()) << ui.captures.pictures[0].problem;
+    EXPECT_EQ(ui.captures.pictures[0].width, 3 * img.width);
+
+    // cancel: the child is killed and the panel says so
+    app::startReplay(wb, ui.captures, "scene");
+    ui.captures.proc->cancel();
+    gui.frame();
+    EXPECT_EQ(ui.captures.proc->exitCode(), 128 + 9);
+    EXPECT_NE(ui.captures.report.find("(cancelled)"), std::string::npos);
+    EXPECT_TRUE(wb.errors().empty());
     fs::remove_all(root);
 }
