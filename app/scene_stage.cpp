@@ -534,7 +534,9 @@ bool SceneStage::advanceBruteForce(double budgetMs) {
     if (!m_bruteRunning) return false;
     try {
         if (!m_bruteRenderer->advance(budgetMs)) return false;
-        m_bruteResult = m_bruteRenderer->readback().exitance;
+        render::Readback rb = m_bruteRenderer->readback();
+        m_bruteResult = std::move(rb.exitance);
+        m_bruteLdr = std::move(rb.ldr);
         m_bruteFrame = m_bruteFor;
     } catch (const std::exception& ex) {
         setProblem("brute force", ex.what());
@@ -547,6 +549,10 @@ const std::vector<glm::vec4>* SceneStage::bruteForceResult() const {
     auto it = m_stats.find("scene.render");
     const long long runs = it == m_stats.end() ? 0 : it->second.runs;
     return m_bruteFrame == runs && !m_bruteResult.empty() ? &m_bruteResult : nullptr;
+}
+
+const std::vector<unsigned char>* SceneStage::bruteForceImage() const {
+    return bruteForceResult() && !m_bruteLdr.empty() ? &m_bruteLdr : nullptr;
 }
 
 std::vector<glm::vec4> SceneStage::bruteForceExitance() {

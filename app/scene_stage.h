@@ -174,6 +174,9 @@ class SceneStage : public Stage {
     void requestBruteForce();
     bool bruteForceRunning() const { return m_bruteRunning; }
     const std::vector<glm::vec4>* bruteForceResult() const;
+    // The brute-force frame's tone-mapped image (RGBA8, row 0 at the top), under the same
+    // condition as bruteForceResult (the Render panel's A/B view).
+    const std::vector<unsigned char>* bruteForceImage() const;
     // Finishes the current frame, then runs the brute-force pass to the end (tests, CLI).
     std::vector<glm::vec4> bruteForceExitance();
 
@@ -234,6 +237,7 @@ class SceneStage : public Stage {
     bssrdf::Builtins m_frameBuiltins;
     std::unique_ptr<render::Renderer> m_bruteRenderer;
     std::vector<glm::vec4> m_bruteResult;
+    std::vector<unsigned char> m_bruteLdr;
     long long m_bruteFor = -1, m_bruteFrame = -1;
     bool m_bruteRunning = false;
     bool advanceBruteForce(double budgetMs);

@@ -32,6 +32,52 @@ std::vector<unsigned char> heatImage(const render::Readback& rb, const std::vect
     return rgba;
 }
 
+// A/B: the brute-force image of the same view over the part of the image right of the
+// divider, and a strip under the image to drag the divider.
+bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
+    SceneStage& scene = wb.scene();
+    const std::vector<unsigned char>* brute = scene.bruteForceImage();
+    const Rect r = ps.imageRect;
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const float xs = r.x0 + ps.split * r.width();
+    if (brute) {
+        const render::Frame& f = scene.frame();
+        const auto st = scene.stats().find("scene.render");
+        const long long runs = st != scene.stats().end() ? st->second.runs : 0;
+        if (ps.abFrame != runs || !ps.abTex.id()) {
+            gl::uploadRGBA8(ps.abTex, f.width, f.height, brute->data());
+            ps.abFrame = runs;
+        }
+        dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ps.abTex.id())),
+                     ImVec2(xs, r.y0), ImVec2(r.x1, r.y1), ImVec2(ps.split, 0), ImVec2(1, 1));
+        dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255), "B: brute force");
+    } else if (scene.bruteForceRunning()) {
+        dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 200, 80, 255), "brute force ...");
+    } else if (!scene.rendering()) {
+        try {
+            scene.requestBruteForce(); // the B side of this view
+        } catch (const std::exception& e) {
+            wb.reportActionError(e.what());
+            ps.abSplit = false;
+        }
+    }
+    dl->AddText(ImVec2(r.x0 + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255), "A: hierarchical");
+    dl->AddLine(ImVec2(xs, r.y0), ImVec2(xs, r.y1), IM_COL32(255, 255, 0, 255), 2.0f);
+    // the divider's handle: a strip under the image, dragged sideways
+    const ImVec2 keep = ImGui::GetCursorScreenPos();
+    ImGui::SetCursorScreenPos(ImVec2(r.x0, r.y1 + 1));
+    ImGui::InvisibleButton("##divider", ImVec2(std::max(1.0f, r.width()), 10));
+    const bool active = ImGui::IsItemActive();
+    if (ImGui::IsItemHovered() || active) ImGui::SetMouseCursor(ImGuiMouseCursor_ResizeEW);
+    if (active)
+        ps.split =
+            std::clamp((ImGui::GetIO().MousePos.x - r.x0) / std::max(1.0f, r.width()), 0.0f, 1.0f);
+    dl->AddRectFilled(ImVec2(xs - 6, r.y1 + 1), ImVec2(xs + 6, r.y1 + 11),
+                      IM_COL32(255, 255, 0, active ? 255 : 160));
+    ImGui::SetCursorScreenPos(ImVec2(keep.x, std::max(keep.y, r.y1 + 12)));
+    return active;
+}
+
 // The model the Render panel renders: a usable model chosen by name, or the first visible.
 void drawModelChoice(Workbench& wb, std::string& chosen) {
     const SceneModelInput in = wb.sceneModelInput();
@@ -180,6 +226,11 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     const char* heat[] = {"image", "nodes visited", "max stack depth", "rel. error vs brute force"};
     ImGui::SetNextItemWidth(200);
     comboEnum("show", ps.heatmap, heat);
+    sameLineIfFits(checkboxWidth("A/B: brute force"));
+    ImGui::Checkbox("A/B: brute force", &ps.abSplit);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("left of the divider the hierarchical render, right of it brute force "
+                          "(every point) of the same view; drag the strip under the image");
 
     const render::Frame& f = scene.frame();
     if (!scene.hasFrame()) {
@@ -244,6 +295,8 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
         ps.imageRect = {a.x, a.y, b.x, b.y};
     }
     const bool imageHeld = ImGui::IsItemActive();
+    // moving the divider changes nothing to render (no half-resolution frame)
+    const bool dividerHeld = ps.abSplit && ps.heatmap == Heatmap::Image && drawAbSplit(wb, ps);
     if (ImGui::IsItemHovered() && !imageHeld) probePixel(scene, ps, uvUnderMouse(ps.imageRect));
     const bool moving = drag.x != 0 || drag.y != 0 || wheel != 0;
     if (moving) {
@@ -256,7 +309,8 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     // press on the image that does not drag is a click, typing is not an interaction.
     const bool dragging = imageHeld && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f);
     const bool typing = ImGui::GetIO().WantTextInput; // a text field edits nothing yet
-    wb.setInteracting(moving || dragging || (ImGui::IsAnyItemActive() && !imageHeld && !typing));
+    wb.setInteracting(moving || dragging ||
+                      (ImGui::IsAnyItemActive() && !imageHeld && !typing && !dividerHeld));
     // A click is traced on the finished full-resolution frame, wherever the click was made.
     if (ui.inspect.pendingPick) {
         const bool full = f.width == r.width && f.height == r.height;

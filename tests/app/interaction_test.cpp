@@ -230,3 +230,31 @@ TEST(Interactions, RenderPanelModelChoiceProbeAndExport) {
         }
     }
 }
+
+// A/B: brute force of the same view right of the divider (requested by the view itself), the
+// divider dragged with the mouse on the strip under the image.
+TEST(Interactions, RenderPanelAbSplitShowsBruteForceAndTheDividerDrags) {
+    RenderFixture fx;
+    app::UiState& ui = fx.gui->ui();
+    ui.render.abSplit = true;
+    for (int i = 0; i < 60 && !fx.wb.scene().bruteForceImage(); ++i)
+        fx.gui->frame(); // the view requests the brute-force pass; update() advances it
+    ASSERT_NE(fx.wb.scene().bruteForceImage(), nullptr);
+    fx.gui->frame();
+    EXPECT_NE(ui.render.abTex.id(), 0u);
+    EXPECT_EQ(fx.wb.scene().bruteForceImage()->size(), size_t(96 * 54 * 4));
+    // drag the divider from the middle to a quarter of the image
+    const app::Rect r = ui.render.imageRect;
+    const float y = r.y1 + 6;
+    fx.press(r.x0 + 0.5f * r.width(), y);
+    for (int i = 1; i <= 5; ++i) {
+        fx.gui->mouse(r.x0 + (0.5f - 0.05f * float(i)) * r.width(), y, true);
+        fx.gui->frame();
+    }
+    fx.release(r.x0 + 0.25f * r.width(), y);
+    EXPECT_NEAR(ui.render.split, 0.25f, 0.02f);
+    // moving the divider rendered nothing new: the brute-force image is still the current one
+    EXPECT_NE(fx.wb.scene().bruteForceImage(), nullptr);
+    EXPECT_EQ(fx.wb.scene().frame().width, 96);
+    EXPECT_TRUE(fx.wb.errors().empty());
+}
