@@ -180,8 +180,8 @@ TEST_F(CliScene, RenderWritesExrOfTheMesh) {
     EXPECT_TRUE(contains(r.output, "64x48")) << r.output;
     EXPECT_TRUE(contains(r.output, "wrote out.exr")) << r.output;
     // the progress line names every step of the pipeline as it starts
-    for (const char* step : {"render: mesh", "render: point cloud", "render: irradiance",
-                             "render: render"})
+    for (const char* step :
+         {"render: mesh", "render: point cloud", "render: irradiance", "render: render"})
         EXPECT_TRUE(contains(r.output, step)) << step << "\n" << r.output;
     expectRenderedExr(dir() / "out.exr", 64, 48);
     const std::string png = readText(dir() / "out.png");
