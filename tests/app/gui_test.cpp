@@ -236,15 +236,7 @@ TEST(FileDialog, ListsFoldersAndModelsAndRemembersRecentFiles) {
 TEST(CapturesPanel, ReplaysInAChildProcessAndShowsTheDifference) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("capspanel", {"dipole.bssrdf"});
-    if (!fs::exists(root / "third_party/bunny/bunny.obj")) {
-        fs::create_directories(root / "third_party/bunny");
-        fs::copy_file(testsupport::sourceRoot() / "third_party/bunny/bunny.obj",
-                      root / "third_party/bunny/bunny.obj");
-    }
-    const fs::path dir = root / "captures/scene";
-    fs::create_directories(dir.parent_path());
-    fs::copy(testsupport::sourceRoot() / "captures/dipole_bunny_scene", dir,
-             fs::copy_options::recursive);
+    const fs::path dir = testsupport::copyCapture(root, "dipole_bunny_scene", "scene");
     auto img = pathtrace::readExr(dir / "scene_render.exr");
     for (size_t p = 0; p < img.mean.size(); p += 3 * 5)
         img.mean[p] *= 2.0f;

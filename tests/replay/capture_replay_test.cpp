@@ -221,15 +221,7 @@ TEST(CaptureReplay, BadMeshIsAnErrorEntryNotACrash) {
 TEST(CaptureReplay, FailingImageStageWritesADifferenceImage) {
     testsupport::context();
     const fs::path root = testsupport::makeProjectRoot("diffimg", {"dipole.bssrdf"});
-    if (!fs::exists(root / "third_party/bunny/bunny.obj")) {
-        fs::create_directories(root / "third_party/bunny");
-        fs::copy_file(testsupport::sourceRoot() / "third_party/bunny/bunny.obj",
-                      root / "third_party/bunny/bunny.obj");
-    }
-    const fs::path dir = root / "captures/scene";
-    fs::create_directories(dir.parent_path());
-    fs::copy(testsupport::sourceRoot() / "captures/dipole_bunny_scene", dir,
-             fs::copy_options::recursive);
+    const fs::path dir = testsupport::copyCapture(root, "dipole_bunny_scene", "scene");
     std::string out;
     ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     auto img = pathtrace::readExr(dir / "scene_render.exr");

@@ -43,6 +43,22 @@ inline std::filesystem::path makeProjectRoot(const std::string& tag,
     return root;
 }
 
+// A copy of the committed capture captures/<name> as <root>/captures/<as>, with the bunny the
+// scene captures read (third_party/bunny/bunny.obj) under `root`. Returns the capture folder.
+inline std::filesystem::path copyCapture(const std::filesystem::path& root, const std::string& name,
+                                         const std::string& as) {
+    namespace fs = std::filesystem;
+    const fs::path bunny = "third_party/bunny/bunny.obj";
+    if (!fs::exists(root / bunny)) {
+        fs::create_directories((root / bunny).parent_path());
+        fs::copy_file(sourceRoot() / bunny, root / bunny);
+    }
+    const fs::path dir = root / "captures" / as;
+    fs::create_directories(dir.parent_path());
+    fs::copy(sourceRoot() / "captures" / name, dir, fs::copy_options::recursive);
+    return dir;
+}
+
 inline std::string readText(const std::filesystem::path& p) {
     return core::readFile(p);
 }
