@@ -511,6 +511,10 @@ glm::vec3 SceneStage::exitanceAt(const glm::vec3& xo, const glm::vec3& no) {
 }
 
 void SceneStage::requestBruteForce() {
+    requestComparison({});
+}
+
+void SceneStage::requestComparison(const Comparison& c) {
     if (!hasFrame() || !m_tree || !m_mesh || !m_frameModel)
         throw core::Error("render", 0, "no rendered frame to compare with yet");
     // A second renderer with its own buffers, so the displayed frame stays as it is.
@@ -518,15 +522,19 @@ void SceneStage::requestBruteForce() {
         m_bruteRenderer = std::make_unique<render::Renderer>(shader::Sources{m_root});
     m_bruteRenderer->setMesh(*m_mesh);
     m_bruteRenderer->setOctree(*m_tree);
-    m_bruteRenderer->setModel(*m_frameModel);
-    m_bruteRenderer->setMaterial(m_frameValues, m_frameBuiltins);
+    m_compareIsBrute = c.model == nullptr;
+    m_compareName = m_compareIsBrute ? "brute force" : c.name;
+    m_bruteRenderer->setModel(m_compareIsBrute ? *m_frameModel : *c.model);
+    m_bruteRenderer->setMaterial(m_compareIsBrute ? m_frameValues : c.values,
+                                 m_compareIsBrute ? m_frameBuiltins : c.builtins);
     render::Settings bs = m_frameSettings;
     bs.width = m_frame.width;
     bs.height = m_frame.height;
-    bs.bruteForce = true;
+    bs.bruteForce = m_compareIsBrute || m_frameSettings.bruteForce;
     bs.iterationsPerDispatch = kInteractiveIterations;
     m_bruteRenderer->begin(bs);
     m_bruteFor = m_stats["scene.render"].runs;
+    m_bruteFrame = -1; // the previous comparison no longer stands
     m_bruteRunning = true;
 }
 
@@ -548,11 +556,14 @@ bool SceneStage::advanceBruteForce(double budgetMs) {
 const std::vector<glm::vec4>* SceneStage::bruteForceResult() const {
     auto it = m_stats.find("scene.render");
     const long long runs = it == m_stats.end() ? 0 : it->second.runs;
-    return m_bruteFrame == runs && !m_bruteResult.empty() ? &m_bruteResult : nullptr;
+    return m_compareIsBrute && m_bruteFrame == runs && !m_bruteResult.empty() ? &m_bruteResult
+                                                                              : nullptr;
 }
 
-const std::vector<unsigned char>* SceneStage::bruteForceImage() const {
-    return bruteForceResult() && !m_bruteLdr.empty() ? &m_bruteLdr : nullptr;
+const std::vector<unsigned char>* SceneStage::comparisonImage() const {
+    auto it = m_stats.find("scene.render");
+    const long long runs = it == m_stats.end() ? 0 : it->second.runs;
+    return m_bruteFrame == runs && !m_bruteLdr.empty() ? &m_bruteLdr : nullptr;
 }
 
 std::vector<glm::vec4> SceneStage::bruteForceExitance() {

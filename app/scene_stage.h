@@ -174,9 +174,20 @@ class SceneStage : public Stage {
     void requestBruteForce();
     bool bruteForceRunning() const { return m_bruteRunning; }
     const std::vector<glm::vec4>* bruteForceResult() const;
-    // The brute-force frame's tone-mapped image (RGBA8, row 0 at the top), under the same
-    // condition as bruteForceResult (the Render panel's A/B view).
-    const std::vector<unsigned char>* bruteForceImage() const;
+    // The same second renderer as the B side of the Render panel's A/B view: brute force of
+    // the shown frame's model (`model` null), or another model rendered hierarchically with its
+    // own parameters and material, same view, size and settings.
+    struct Comparison {
+        const bssrdf::Model* model = nullptr;
+        bssrdf::ParamValues values;
+        bssrdf::Builtins builtins;
+        std::string name; // what the B side shows (for the label)
+    };
+    void requestComparison(const Comparison& c);
+    // The comparison frame's tone-mapped image (RGBA8, row 0 at the top) and what it is,
+    // while the frame it was started for is the current one.
+    const std::vector<unsigned char>* comparisonImage() const;
+    const std::string& comparisonName() const { return m_compareName; }
     // Finishes the current frame, then runs the brute-force pass to the end (tests, CLI).
     std::vector<glm::vec4> bruteForceExitance();
 
@@ -238,6 +249,8 @@ class SceneStage : public Stage {
     std::unique_ptr<render::Renderer> m_bruteRenderer;
     std::vector<glm::vec4> m_bruteResult;
     std::vector<unsigned char> m_bruteLdr;
+    bool m_compareIsBrute = true; // the second renderer's pass is brute force of the frame
+    std::string m_compareName;
     long long m_bruteFor = -1, m_bruteFrame = -1;
     bool m_bruteRunning = false;
     bool advanceBruteForce(double budgetMs);

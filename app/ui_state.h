@@ -146,7 +146,8 @@ struct RenderPanelState {
     render::Readback readback; // of the shown frame, for the pixel probe and export
     long long readbackRuns = -1;
     char exportName[256] = "render"; // export file name without extension
-    bool abSplit = false;            // A/B: the hierarchical render left, brute force right
+    bool abSplit = false;            // A/B: the render left of the divider, B right of it
+    std::string abWith;              // B: "" brute force, else a model's display path
     float split = 0.5f;              // the divider, as a fraction of the image width
     gl::Texture abTex;               // the brute-force image
     long long abFrame = -1;          // the render (run count) whose brute force abTex holds

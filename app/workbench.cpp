@@ -185,6 +185,16 @@ SceneModelInput Workbench::sceneModelInput() const {
     return in;
 }
 
+void Workbench::requestSceneComparison(const std::string& model) {
+    if (model.empty()) return m_scene->requestBruteForce();
+    const bssrdf::ModelEntry* e = m_library->find(model);
+    auto it = e ? m_views.find(e->displayPath) : m_views.end();
+    if (!e || !e->usable() || it == m_views.end() || !it->second.effective)
+        throw core::Error(model, 0, "not a usable model to compare with");
+    m_scene->requestComparison(
+        {&*e->model, e->values, builtinsOf(*it->second.effective), e->model->name});
+}
+
 const bssrdf::ModelEntry* Workbench::sourceModel(const ModelView** view) const {
     for (const auto& e : m_library->entries()) {
         auto it = m_views.find(e.displayPath);

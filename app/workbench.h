@@ -130,6 +130,9 @@ class Workbench {
     // The model and material the scene renders with (the same source model as the lit spheres).
     SceneModelInput sceneModelInput() const;
     // Runs every scene stage to completion (CLI, captures, tests).
+    // Starts the B side of the Render panel's A/B view: "" brute force of the shown frame,
+    // else the model with this display path, with its own parameters and material.
+    void requestSceneComparison(const std::string& model);
     void finishScene(const SceneStage::FinishProgress& progress = {}) {
         m_scene->finish(sceneModelInput(), progress);
     }

@@ -36,7 +36,14 @@ std::vector<unsigned char> heatImage(const render::Readback& rb, const std::vect
 // divider, and a strip under the image to drag the divider.
 bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
     SceneStage& scene = wb.scene();
-    const std::vector<unsigned char>* brute = scene.bruteForceImage();
+    // the B side: current, and of the kind chosen (else asked for again)
+    const std::string wantName =
+        ps.abWith.empty() ? "brute force"
+                          : (wb.library().find(ps.abWith) && wb.library().find(ps.abWith)->model
+                                 ? wb.library().find(ps.abWith)->model->name
+                                 : ps.abWith);
+    const std::vector<unsigned char>* brute =
+        scene.comparisonName() == wantName ? scene.comparisonImage() : nullptr;
     const Rect r = ps.imageRect;
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const float xs = r.x0 + ps.split * r.width();
@@ -50,18 +57,23 @@ bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
         }
         dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ps.abTex.id())),
                      ImVec2(xs, r.y0), ImVec2(r.x1, r.y1), ImVec2(ps.split, 0), ImVec2(1, 1));
-        dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255), "B: brute force");
+        dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255),
+                    ("B: " + wantName).c_str());
     } else if (scene.bruteForceRunning()) {
-        dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 200, 80, 255), "brute force ...");
+        dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 200, 80, 255),
+                    ("B: " + scene.comparisonName() + " ...").c_str());
     } else if (!scene.rendering()) {
         try {
-            scene.requestBruteForce(); // the B side of this view
+            wb.requestSceneComparison(ps.abWith); // the B side of this view
         } catch (const std::exception& e) {
             wb.reportActionError(e.what());
             ps.abSplit = false;
         }
     }
-    dl->AddText(ImVec2(r.x0 + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255), "A: hierarchical");
+    const SceneModelInput a = wb.sceneModelInput();
+    dl->AddText(
+        ImVec2(r.x0 + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255),
+        ("A: " + (a.entry && a.entry->model ? a.entry->model->name : std::string("?"))).c_str());
     dl->AddLine(ImVec2(xs, r.y0), ImVec2(xs, r.y1), IM_COL32(255, 255, 0, 255), 2.0f);
     // the divider's handle: a strip under the image, dragged sideways
     const ImVec2 keep = ImGui::GetCursorScreenPos();
@@ -226,11 +238,23 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     const char* heat[] = {"image", "nodes visited", "max stack depth", "rel. error vs brute force"};
     ImGui::SetNextItemWidth(200);
     comboEnum("show", ps.heatmap, heat);
-    sameLineIfFits(checkboxWidth("A/B: brute force"));
-    ImGui::Checkbox("A/B: brute force", &ps.abSplit);
+    sameLineIfFits(checkboxWidth("A/B") + 200);
+    ImGui::Checkbox("A/B", &ps.abSplit);
     if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("left of the divider the hierarchical render, right of it brute force "
-                          "(every point) of the same view; drag the strip under the image");
+        ImGui::SetTooltip("left of the divider this render, right of it B: brute force (every "
+                          "point) or another model, same view; drag the strip under the image");
+    if (ps.abSplit) {
+        ImGui::SameLine();
+        ImGui::SetNextItemWidth(180);
+        if (ImGui::BeginCombo("B", ps.abWith.empty() ? "brute force" : ps.abWith.c_str())) {
+            if (ImGui::Selectable("brute force", ps.abWith.empty())) ps.abWith.clear();
+            for (const auto& e : wb.library().entries())
+                if (e.usable() &&
+                    ImGui::Selectable(e.displayPath.c_str(), ps.abWith == e.displayPath))
+                    ps.abWith = e.displayPath;
+            ImGui::EndCombo();
+        }
+    }
 
     const render::Frame& f = scene.frame();
     if (!scene.hasFrame()) {

@@ -232,17 +232,17 @@ TEST(Interactions, RenderPanelModelChoiceProbeAndExport) {
 }
 
 // A/B: brute force of the same view right of the divider (requested by the view itself), the
-// divider dragged with the mouse on the strip under the image.
-TEST(Interactions, RenderPanelAbSplitShowsBruteForceAndTheDividerDrags) {
+// divider dragged with the mouse on the strip under the image; then another model as B.
+TEST(Interactions, RenderPanelAbSplitShowsBruteForceOrAnotherModel) {
     RenderFixture fx;
     app::UiState& ui = fx.gui->ui();
     ui.render.abSplit = true;
-    for (int i = 0; i < 60 && !fx.wb.scene().bruteForceImage(); ++i)
+    for (int i = 0; i < 60 && !fx.wb.scene().comparisonImage(); ++i)
         fx.gui->frame(); // the view requests the brute-force pass; update() advances it
-    ASSERT_NE(fx.wb.scene().bruteForceImage(), nullptr);
+    ASSERT_NE(fx.wb.scene().comparisonImage(), nullptr);
     fx.gui->frame();
     EXPECT_NE(ui.render.abTex.id(), 0u);
-    EXPECT_EQ(fx.wb.scene().bruteForceImage()->size(), size_t(96 * 54 * 4));
+    EXPECT_EQ(fx.wb.scene().comparisonImage()->size(), size_t(96 * 54 * 4));
     // drag the divider from the middle to a quarter of the image
     const app::Rect r = ui.render.imageRect;
     const float y = r.y1 + 6;
@@ -254,7 +254,36 @@ TEST(Interactions, RenderPanelAbSplitShowsBruteForceAndTheDividerDrags) {
     fx.release(r.x0 + 0.25f * r.width(), y);
     EXPECT_NEAR(ui.render.split, 0.25f, 0.02f);
     // moving the divider rendered nothing new: the brute-force image is still the current one
-    EXPECT_NE(fx.wb.scene().bruteForceImage(), nullptr);
+    EXPECT_NE(fx.wb.scene().comparisonImage(), nullptr);
     EXPECT_EQ(fx.wb.scene().frame().width, 96);
+    EXPECT_EQ(fx.wb.scene().comparisonName(), "brute force");
+
+    // B: another model (a copy of the dipole at twice the Multiplier), same view
+    std::string text = testsupport::readText(fx.root / "materials/dipole.bssrdf");
+    core::writeFile(fx.root / "materials/twice.bssrdf", text);
+    fx.wb.reloadAll();
+    fx.wb.library().find("materials/twice.bssrdf")->values["Multiplier"] = {2.0f, 0, 0};
+    fx.wb.update();
+    fx.wb.finishScene();
+    ui.render.abWith = "materials/twice.bssrdf";
+    for (int i = 0; i < 60 && fx.wb.scene().comparisonName() != "twice"; ++i)
+        fx.gui->frame();
+    for (int i = 0; i < 60 && !fx.wb.scene().comparisonImage(); ++i)
+        fx.gui->frame();
+    ASSERT_NE(fx.wb.scene().comparisonImage(), nullptr);
+    EXPECT_EQ(fx.wb.scene().comparisonName(), "twice");
+    // not brute force: the relative-error heatmap does not take it for brute force
+    EXPECT_EQ(fx.wb.scene().bruteForceResult(), nullptr);
+    // twice the exitance: B is brighter than A wherever the surface is lit
+    const render::Readback a = fx.wb.scene().readback();
+    const std::vector<unsigned char>& b = *fx.wb.scene().comparisonImage();
+    long brighter = 0, compared = 0;
+    for (size_t p = 0; p < a.ldr.size() / 4; ++p) {
+        if (a.position[p].w < 0.5f || a.ldr[4 * p] < 20 || a.ldr[4 * p] > 235) continue;
+        ++compared;
+        brighter += b[4 * p] > a.ldr[4 * p] ? 1 : 0;
+    }
+    EXPECT_GT(compared, 100);
+    EXPECT_GT(brighter, compared * 9 / 10);
     EXPECT_TRUE(fx.wb.errors().empty());
 }
