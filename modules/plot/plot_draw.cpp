@@ -47,12 +47,14 @@ struct Frame {
     }
 };
 
-void drawTextCentred(ImDrawList* dl, float cx, float y, float xMin, float xMax, ImU32 col,
+// Returns whether the text is wider than [xMin, xMax] (then it is cut at the panel's edge).
+bool drawTextCentred(ImDrawList* dl, float cx, float y, float xMin, float xMax, ImU32 col,
                      const std::string& text) {
-    if (text.empty()) return;
+    if (text.empty()) return false;
     const float w = ImGui::CalcTextSize(text.c_str()).x;
     const float x = std::max(xMin, std::min(cx - 0.5f * w, xMax - w));
     dl->AddText(ImVec2(x, y), col, text.c_str());
+    return w > xMax - xMin;
 }
 
 void drawGridAndTicks(ImDrawList* dl, const Frame& f, const std::vector<Tick>& xt,
@@ -310,8 +312,16 @@ PlotState drawPlot(const char* id, ImVec2 size, const std::vector<Series>& serie
     drawTickLabels(dl, f, xt, yt, xa, ya, st.min, st.max);
 
     const float cx = 0.5f * (f.min.x + f.max.x);
-    drawTextCentred(dl, cx, titleY, st.min.x + kPad, st.max.x - kPad, kText, title);
-    drawTextCentred(dl, cx, subtitleY, st.min.x + kPad, st.max.x - kPad, kTextDim, subtitle);
+    const bool cutTitle =
+        drawTextCentred(dl, cx, titleY, st.min.x + kPad, st.max.x - kPad, kText, title);
+    const bool cutSubtitle =
+        drawTextCentred(dl, cx, subtitleY, st.min.x + kPad, st.max.x - kPad, kTextDim, subtitle);
+    // a title cut at a narrow panel's edge is whole in a tooltip
+    if ((cutTitle || cutSubtitle) && ImGui::IsWindowHovered()) {
+        const ImVec2 m = ImGui::GetIO().MousePos;
+        if (m.x >= st.min.x && m.x <= st.max.x && m.y >= titleY && m.y < top)
+            ImGui::SetTooltip("%s\n%s", title.c_str(), subtitle.c_str());
+    }
     if (!ya.label.empty())
         dl->AddText(ImVec2(st.min.x + kPad, yLabelY), kTextDim, ya.label.c_str());
     drawTextCentred(dl, cx, xLabelY, st.min.x + kPad, st.max.x - kPad, kTextDim, xa.label);
