@@ -159,6 +159,7 @@ struct RenderPanelState {
 // process and what it reported, the difference pictures of failing image stages.
 struct CapturesPanelState {
     std::vector<std::string> names;
+    double listedAt = -1e9; // when `names` was read
     std::string selected, replaying;
     std::filesystem::path exe; // empty: this executable (tests name bssrdf-workbench)
     std::unique_ptr<ReplayProcess> proc;

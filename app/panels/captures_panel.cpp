@@ -80,8 +80,12 @@ void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name)
 }
 
 void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
-    if (ps.names.empty() || ImGui::SmallButton("Refresh"))
+    // listed when the panel first shows (and again every few seconds while there are none)
+    const double now = core::secondsSinceStart();
+    if (ImGui::SmallButton("Refresh") || (ps.names.empty() && now - ps.listedAt > 3.0)) {
         ps.names = listCaptures(wb.root() / "captures");
+        ps.listedAt = now;
+    }
     ImGui::BeginChild("list", ImVec2(std::min(240.0f, ImGui::GetContentRegionAvail().x * 0.35f), 0),
                       true);
     if (ps.names.empty()) hintText("no captures under captures/ (File → Record capture)");

@@ -18,12 +18,7 @@ struct RenderFixture {
     std::unique_ptr<app::HeadlessGui> gui;
 
     RenderFixture() {
-        app::SceneSettings& s = wb.scene().settings();
-        s.points.points = 3000;
-        s.useCache = false;
-        s.render.width = 96;
-        s.render.height = 54;
-        s.light.shadowMapSize = 256;
+        testsupport::useSmallScene(wb.scene().settings());
         gui = std::make_unique<app::HeadlessGui>(wb, 1280, 720);
         gui->ui() = app::UiState{};
         gui->frame();
@@ -48,6 +43,14 @@ struct RenderFixture {
         gui->frame();
         gui->noMouse();
     }
+    // A click at (u, v) of the image, then frames until it is traced; the pixel it names.
+    std::pair<int, int> clickAndTrace(float u, float v) {
+        auto [x, y] = at(u, v);
+        press(x, y);
+        release(x, y);
+        settle();
+        return {int(u * 96), int(v * 54)};
+    }
     // Frames until the pending click is served (or a bound).
     void settle() {
         for (int i = 0; i < 40 && gui->ui().shared.inspect.pendingPick; ++i) {
@@ -67,14 +70,10 @@ TEST(Interactions, ClickOnTheRenderImageTracesThatPixelWithHalfResolutionOn) {
     ASSERT_GT(ui.render.imageRect.width(), 50.0f);
 
     // a plain click
-    const float u = 0.52f, v = 0.55f;
-    auto [x, y] = fx.at(u, v);
-    fx.press(x, y);
-    fx.release(x, y);
-    fx.settle();
+    const auto [px, py] = fx.clickAndTrace(0.52f, 0.55f);
     ASSERT_TRUE(ui.shared.inspect.debug.has_value()) << ui.shared.inspect.debugProblem;
-    EXPECT_EQ(ui.shared.inspect.debug->x, int(u * 96));
-    EXPECT_EQ(ui.shared.inspect.debug->y, int(v * 54));
+    EXPECT_EQ(ui.shared.inspect.debug->x, px);
+    EXPECT_EQ(ui.shared.inspect.debug->y, py);
     fx.gui->frame();
     fx.gui->frame();
     EXPECT_NE(testsupport::panelWindow(app::PanelId::Traversal), nullptr);
@@ -82,6 +81,7 @@ TEST(Interactions, ClickOnTheRenderImageTracesThatPixelWithHalfResolutionOn) {
     // a drag orbits the camera at half resolution and traces nothing
     ui.shared.inspect.debug.reset();
     const float yaw = fx.wb.scene().settings().render.camera.yaw;
+    auto [x, y] = fx.at(0.52f, 0.55f);
     fx.press(x, y);
     bool sawHalf = false;
     for (int i = 1; i <= 8; ++i) {
@@ -96,14 +96,10 @@ TEST(Interactions, ClickOnTheRenderImageTracesThatPixelWithHalfResolutionOn) {
 
     // a click right after the orbit, with the half-resolution frame still on screen, traces
     // the full-resolution pixel under the cursor once that frame is done
-    const float u2 = 0.3f, v2 = 0.7f;
-    auto [x2, y2] = fx.at(u2, v2);
-    fx.press(x2, y2);
-    fx.release(x2, y2);
-    fx.settle();
+    const auto [qx, qy] = fx.clickAndTrace(0.3f, 0.7f);
     ASSERT_TRUE(ui.shared.inspect.debug.has_value()) << ui.shared.inspect.debugProblem;
-    EXPECT_EQ(ui.shared.inspect.debug->x, int(u2 * 96));
-    EXPECT_EQ(ui.shared.inspect.debug->y, int(v2 * 54));
+    EXPECT_EQ(ui.shared.inspect.debug->x, qx);
+    EXPECT_EQ(ui.shared.inspect.debug->y, qy);
     EXPECT_TRUE(fx.wb.errors().empty());
 }
 

@@ -34,11 +34,7 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
     ui.shared.isOpen(app::PanelId::Octree) = ui.shared.isOpen(app::PanelId::Irradiance) =
         ui.shared.isOpen(app::PanelId::Traversal) = true;
     app::SceneSettings& s = wb.scene().settings();
-    s.points.points = 3000;
-    s.useCache = false;
-    s.render.width = 96;
-    s.render.height = 54;
-    s.light.shadowMapSize = 256;
+    testsupport::useSmallScene(s);
     s.light.occludedTotalSamples = 8;
     gui.frame(); // enables the scene (its panels are open)
     ASSERT_TRUE(s.enabled);

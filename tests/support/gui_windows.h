@@ -2,6 +2,7 @@
 #pragma once
 
 #include "panels/registry.h"
+#include "scene_stage.h"
 #include "workspace.h"
 
 #include <imgui.h>
@@ -11,6 +12,16 @@
 #include <vector>
 
 namespace testsupport {
+
+// A scene small enough for tests: 3000 points, no disk cache, a 96 × 54 frame, a 256² shadow
+// map.
+inline void useSmallScene(app::SceneSettings& s) {
+    s.points.points = 3000;
+    s.useCache = false;
+    s.render.width = 96;
+    s.render.height = 54;
+    s.light.shadowMapSize = 256;
+}
 
 // The top-level windows drawn in the last frame (no children, tooltips, popups, menus).
 inline std::vector<ImGuiWindow*> topWindows() {
