@@ -101,6 +101,7 @@ void drawPanels(Workbench& wb, UiState& ui) {
     for (const PanelEntry& p : panelRegistry())
         scene |= p.needsScene && shown[static_cast<size_t>(p.id)];
     wb.scene().settings().enabled = scene;
+    wb.sliceSettings().enabled = shown[static_cast<size_t>(PanelId::Slice)];
     wb.setInteracting(false); // the Render panel sets it while the user drags
     drawWorkspace(wb, ui);
 }

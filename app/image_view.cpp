@@ -50,6 +50,20 @@ std::array<uint8_t, 3> divergingColor(float t) {
     return {uint8_t(40 * a), uint8_t(110 * a), uint8_t(255 * a)};
 }
 
+std::array<uint8_t, 3> sequentialColor(float t) {
+    // five stops from dark violet through teal to yellow: monotone in lightness, so a log
+    // scale reads the same in grey print
+    static const float kStops[5][3] = {
+        {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+    t = std::clamp(std::isfinite(t) ? t : 0.0f, 0.0f, 1.0f) * 4.0f;
+    const int i = std::min(int(t), 3);
+    const float f = t - float(i);
+    std::array<uint8_t, 3> c;
+    for (int k = 0; k < 3; ++k)
+        c[size_t(k)] = uint8_t(kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k]) + 0.5f);
+    return c;
+}
+
 std::vector<uint8_t> differenceMap(const pathtrace::Image& a, const pathtrace::Image& b,
                                    float range) {
     const size_t n = size_t(a.width) * size_t(a.height);

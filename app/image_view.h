@@ -22,6 +22,8 @@ std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float 
 std::vector<uint8_t> differenceMap(const pathtrace::Image& a, const pathtrace::Image& b,
                                    float range);
 std::array<uint8_t, 3> divergingColor(float t); // t in [−1, 1]
+// A sequential colour map (dark violet → yellow, lightness increasing) for t in [0, 1].
+std::array<uint8_t, 3> sequentialColor(float t);
 
 // Largest |a − b| of the luminance over the pixels (a default range for the difference view).
 float maxAbsDifference(const pathtrace::Image& a, const pathtrace::Image& b);

@@ -15,6 +15,7 @@ json settingsJson(Workbench& wb, int traceX, int traceY) {
             {"r_max_mm", wb.rMaxMm()},
             {"reference", core::toJson(wb.referenceSettings())},
             {"lit_spheres", core::toJson(wb.litSphereSettings())},
+            {"slice", core::toJson(wb.sliceSettings())},
             {"scene", scene}};
 }
 
@@ -31,6 +32,8 @@ void applySettingsJson(Workbench& wb, const json& settings, const std::string& f
             wb.plotSettings() = p;
         } else if (key == "reference") {
             wb.referenceSettings() = core::fromJson(*it, file, path, ReferenceSettings{});
+        } else if (key == "slice") {
+            wb.sliceSettings() = core::fromJson(*it, file, path, SliceSettings{});
         } else if (key == "lit_spheres") {
             wb.litSphereSettings() = core::fromJson(*it, file, path, LitSphereSettings{});
         } else if (key == "scene") {
@@ -67,6 +70,7 @@ std::string defaultsTable() {
     rows(MaterialSettings{}, "material.");
     rows(PlotSettings{}, "plot.");
     rows(ReferenceSettings{}, "reference.");
+    rows(SliceSettings{}, "slice.");
     rows(LitSphereSettings{}, "lit_spheres.");
     rows(SceneSettings{}, "scene.");
     return out;

@@ -10,7 +10,7 @@
 
 namespace app {
 
-// The manifest's "settings": plot, reference, lit_spheres and scene (with the traced pixel
+// The manifest's "settings": plot, reference, slice, lit_spheres and scene (with the traced pixel
 // (traceX, traceY) as scene.trace_pixel), and r_max_mm (informational: it is derived).
 nlohmann::json settingsJson(Workbench& wb, int traceX, int traceY);
 // Applies a manifest's "settings"; sections that are absent keep the workbench's settings.

@@ -30,6 +30,7 @@ enum class PanelId {
     Irradiance,
     Traversal,
     Captures,
+    Slice,
     Errors,
     Log,
     Timings,
@@ -173,6 +174,21 @@ struct CapturesPanelState {
     std::vector<Picture> pictures;
 };
 
+// The BSSRDF slice panel: what it compares and shows (the run's settings are SliceSettings).
+enum class SliceQuantity { R, S };
+struct SlicePanelState {
+    std::string model;                         // the compared model's display path ("": first)
+    SliceQuantity quantity = SliceQuantity::R; // R over the plane, or S in one exit cell
+    int cell = 0;                              // S: the exit-direction cell shown
+    int bin = -1;                              // the selected spatial bin (click), -1: none
+    float decades = 4.0f;                      // log colour scale: this many decades below the max
+    float diffRange = 0.5f;                    // relative difference at full colour
+    bool greyTies = true;                      // differences within 2 standard errors drawn grey
+    Rect refRect;                              // the reference heatmap last frame (screen px)
+    float thetaEdit = 0, rangeEdit = 0;        // θi and r_max while their fields are edited
+    bool editing[2] = {false, false};
+};
+
 struct TraversalPanelState {
     char filter[64] = "";
     bool showRecurse = true, showNodeEval = true, showPointEval = true;
@@ -192,6 +208,7 @@ struct UiState {
     RenderPanelState render;
     TraversalPanelState traversal;
     CapturesPanelState captures;
+    SlicePanelState slice;
 };
 
 } // namespace app

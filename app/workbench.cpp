@@ -34,6 +34,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     if (const auto* p = material::findPreset(m_presets, m_shared.preset))
         m_shared.params = material::applyPreset(*p, m_shared.params);
     m_reference = std::make_unique<ReferenceStage>(m_root / "shaders" / "pathtrace_slab.comp");
+    m_slice = std::make_unique<SliceStage>();
     m_litSpheres = std::make_unique<LitSphereStage>(m_root / "shaders" / "pathtrace_sphere.comp");
     m_scene = std::make_unique<SceneStage>(m_root);
     m_scene->settings().enabled = false;
@@ -64,6 +65,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
              return m_pencil.update({m_library.get(), &m_views, m_rMax, m_plot.samples}) || changed;
          }},
         {m_reference.get(), [this] { return m_reference->update(referenceInputs()); }},
+        {m_slice.get(), [this] { return m_slice->update(sliceInputs()); }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
         {m_scene.get(), [this] { return m_scene->update(sceneModelInput(), m_interacting); }},
     };
@@ -211,6 +213,19 @@ ReferenceInputs Workbench::referenceInputs() const {
     ReferenceInputs in;
     in.settings = m_refSettings;
     in.rMaxMm = m_rMax;
+    const ModelView* view = nullptr;
+    if (const bssrdf::ModelEntry* e = sourceModel(&view)) {
+        in.params = view->effective;
+        in.model = e->displayPath;
+    }
+    return in;
+}
+
+SliceInputs Workbench::sliceInputs() {
+    SliceInputs in;
+    in.library = m_library.get();
+    in.views = &m_views;
+    in.settings = m_sliceSettings;
     const ModelView* view = nullptr;
     if (const bssrdf::ModelEntry* e = sourceModel(&view)) {
         in.params = view->effective;

@@ -4,6 +4,8 @@
 //   material    — σ per model: as given, or inverted from R_dr / l_d   (model_stages.h)
 //   pencil      — pencil-beam profile per model on the GPU             (model_stages.h)
 //   reference   — path-traced R_d(r) for the source model's σ          (reference_stage.h)
+//   slice       — the whole BSSRDF at oblique incidence: path traced
+//                 (seed 001) and every model on the same bins             (slice_stage.h)
 //   lit sphere  — path-traced and BSSRDF-integrated lit spheres        (lit_sphere_stage.h)
 //   scene       — mesh → point cloud → octree → irradiance → render    (scene_stage.h)
 // The source model of the last three is one choice: the soloed model, else the first
@@ -19,6 +21,7 @@
 #include "plot/plot.h"
 #include "reference_stage.h"
 #include "scene_stage.h"
+#include "slice_stage.h"
 
 #include <array>
 #include <filesystem>
@@ -108,6 +111,15 @@ class Workbench {
     // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
     ReferenceSnapshot finishReference();
 
+    // BSSRDF slice (seed 001): settings, the stage (reference snapshot, model slices).
+    SliceSettings& sliceSettings() { return m_sliceSettings; }
+    SliceStage& slice() { return *m_slice; }
+    // Runs the slice's estimate to its target and evaluates every model (captures, tests).
+    SliceSnapshot finishSlice() {
+        update(); // the stages before it (the models' σ) first
+        return m_slice->finish(sliceInputs());
+    }
+
     // Lit spheres (thesis 3.5, 3.6.2): path traced and BSSRDF integrated, same setup.
     LitSphereSettings& litSphereSettings() { return m_sphere; }
     const std::string& litSphereModel() const { return m_litSpheres->model(); }
@@ -148,6 +160,7 @@ class Workbench {
     // visible), with a usable material.
     const bssrdf::ModelEntry* sourceModel(const ModelView** view) const;
     ReferenceInputs referenceInputs() const;
+    SliceInputs sliceInputs();
     // budgetMs < 0: fixed slices (deterministic), else adaptive.
     LitSphereInputs litSphereInputs(double budgetMs) const;
 
@@ -166,6 +179,8 @@ class Workbench {
     MaterialStage m_material;
     PencilStage m_pencil;
     std::unique_ptr<ReferenceStage> m_reference;
+    SliceSettings m_sliceSettings;
+    std::unique_ptr<SliceStage> m_slice;
     std::unique_ptr<LitSphereStage> m_litSpheres;
     std::unique_ptr<SceneStage> m_scene;
     // The stages in data-flow order: run() gathers the stage's inputs and updates it.

@@ -2,6 +2,8 @@
 // Pencil-beam profile (thesis 3.6.3): the model's Bssrdf() on the semi-infinite slab z <= 0
 // with the surface normal n = (0,0,1), a normally incident pencil beam entering at the origin
 // (Xi = 0, Wi = n) and light leaving at Xo = (r, 0, 0) along Wo = n. r in mm.
+// With Queries = 1 the same program evaluates Bssrdf(0, Wi, Xo, Wo) at arbitrary geometry: each
+// entry is three vec4 (Xo, Wi, Wo in .xyz) — the BSSRDF slice panel's bins (app/slice_model.h).
 layout(local_size_x = 64) in;
 
 #include "common/bssrdf_prelude.glsl"
@@ -9,6 +11,7 @@ layout(local_size_x = 64) in;
 #pragma bssrdf_model
 
 uniform uint Count;
+uniform uint Queries; // 0: pencil-beam radii (one vec4 per entry), 1: (Xo, Wi, Wo) per entry
 layout(std430, binding = 0) readonly buffer Radii { vec4 radii[]; };
 layout(std430, binding = 1) writeonly buffer Values { vec4 values[]; };
 
@@ -17,6 +20,11 @@ void main() {
     if (i >= Count) return;
     init();
     const vec3 n = vec3(0.0, 0.0, 1.0);
+    if (Queries == 1u) {
+        vec3 xo = radii[3u * i].xyz, wi = radii[3u * i + 1u].xyz, wo = radii[3u * i + 2u].xyz;
+        values[i] = vec4(Bssrdf(vec3(0.0), wi, xo, wo), length(xo));
+        return;
+    }
     float r = radii[i].x;
     values[i] = vec4(Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);
 }

@@ -5,6 +5,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
+
 namespace bssrdf {
 
 ParamValues defaultValues(const Model& m) {
@@ -76,13 +78,16 @@ std::vector<double> radiusGrid(double rMaxMm, int samples) {
 }
 
 namespace {
-// Uploads `in` (vec4 per entry), dispatches, reads back vec4 per entry.
-std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t count) {
+// Uploads `in` (`inVec4` vec4 per entry), dispatches, reads back vec4 per entry. `queries`
+// sets pencil_profile.comp's Queries uniform where the program has it.
+std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t count,
+                            size_t inVec4 = 1, GLuint queries = 0) {
     const size_t bytes = count * 4 * sizeof(float);
-    gl::Buffer inBuf = gl::createBuffer(bytes, in.data());
+    gl::Buffer inBuf = gl::createBuffer(bytes * inVec4, in.data());
     gl::Buffer outBuf = gl::createBuffer(bytes, nullptr);
     glUseProgram(program);
     glUniform1ui(glGetUniformLocation(program, "Count"), static_cast<GLuint>(count));
+    if (GLint q = glGetUniformLocation(program, "Queries"); q >= 0) glUniform1ui(q, queries);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, inBuf.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, outBuf.id());
     glDispatchCompute(static_cast<GLuint>((count + 63) / 64), 1, 1);
@@ -106,6 +111,35 @@ Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& value
     for (size_t i = 0; i < radii.size(); ++i)
         p.value[i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};
     return p;
+}
+
+std::vector<glm::dvec3> evaluateQueries(GLuint program, const Model& m, const ParamValues& values,
+                                        const Builtins& b, const std::vector<Query>& queries) {
+    if (queries.empty()) return {};
+    if (glGetUniformLocation(program, "Queries") < 0)
+        throw core::Error("shaders/pencil_profile.comp", 0,
+                          "the template has no `Queries` uniform: it cannot evaluate at given "
+                          "directions");
+    setUniforms(program, m, values, b);
+    std::vector<float> in(queries.size() * 12, 0.0f);
+    for (size_t i = 0; i < queries.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            in[12 * i + c] = queries[i].xo[c];
+            in[12 * i + 4 + c] = queries[i].wi[c];
+            in[12 * i + 8 + c] = queries[i].wo[c];
+        }
+    std::vector<glm::dvec3> r(queries.size());
+    // batches keep one dispatch short on a software rasteriser
+    constexpr size_t kBatch = size_t(1) << 16;
+    for (size_t first = 0; first < queries.size(); first += kBatch) {
+        const size_t n = std::min(kBatch, queries.size() - first);
+        std::vector<float> part(in.begin() + std::ptrdiff_t(12 * first),
+                                in.begin() + std::ptrdiff_t(12 * (first + n)));
+        auto out = runBatch(program, part, n, 3, 1);
+        for (size_t i = 0; i < n; ++i)
+            r[first + i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};
+    }
+    return r;
 }
 
 std::vector<glm::dvec3> evaluateDiffuseReflectance(GLuint program, const Model& m,

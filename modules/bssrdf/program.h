@@ -65,6 +65,15 @@ struct Profile {
 Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& values,
                         const Builtins& b, const std::vector<double>& radii);
 
+// Bssrdf(Xi = 0, Wi, Xo, Wo) at arbitrary geometry (mm, unit vectors) through the pencil
+// program's query mode. Throws core::Error when the program is not built from a template
+// with that mode.
+struct Query {
+    glm::vec3 xo{0.0f}, wi{0.0f, 0.0f, 1.0f}, wo{0.0f, 0.0f, 1.0f};
+};
+std::vector<glm::dvec3> evaluateQueries(GLuint program, const Model& m, const ParamValues& values,
+                                        const Builtins& b, const std::vector<Query>& queries);
+
 // Runs invert_rdr.comp on a batch of α′ (one vec3 per entry) and returns R_dr(α′).
 std::vector<glm::dvec3> evaluateDiffuseReflectance(GLuint program, const Model& m,
                                                    const ParamValues& values, const Builtins& b,

@@ -81,6 +81,7 @@ TEST(Settings, EveryStructIsDescribedAndRoundTrips) {
     expectDescribed<app::PlotSettings>("app::PlotSettings");
     expectDescribed<app::ReferenceSettings>("app::ReferenceSettings");
     expectDescribed<app::LitSphereSettings>("app::LitSphereSettings");
+    expectDescribed<app::SliceSettings>("app::SliceSettings");
     expectDescribed<app::SceneSettings>("app::SceneSettings");
 }
 
