@@ -6,11 +6,13 @@
 #include "capture/capture.h"
 #include "core/core.h"
 #include "core/fields.h"
+#include "core/text.h"
 #include "gl/gl.h"
 #include "panels/panels.h"
 #include "pathtrace/image_io.h"
 #include "settings_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -76,6 +78,84 @@ std::optional<capture::Table> referenceTable(Workbench& wb) {
     return t;
 }
 
+// The BSSRDF slice (when enabled): the path-traced table with its standard errors (z-tested
+// on replay; the last row, bin -1, holds the total diffuse reflectance), and every model on its
+// bins (float32 GPU evaluations summed in double).
+void sliceTables(Workbench& wb, std::vector<StageTable>& out) {
+    if (!wb.sliceSettings().enabled) return;
+    const SliceSnapshot snap = wb.finishSlice();
+    if (!snap.problem.empty()) throw core::Error("slice", 0, snap.problem);
+    if (!snap.slice) return;
+    const pathtrace::BssrdfBins& b = snap.settings.bins;
+    const pathtrace::BssrdfSlice& s = *snap.slice;
+    const std::vector<double> edges = b.rEdges();
+    const size_t cells = b.dirBins() > 1 ? size_t(b.dirBins()) : 0;
+    auto geometry = [&](size_t bin) {
+        const int ir = int(bin) / b.thetaSBins, it = int(bin) % b.thetaSBins;
+        const double dth = 180.0 / b.thetaSBins;
+        return std::vector<double>{double(bin), edges[size_t(ir)], edges[size_t(ir) + 1], it * dth,
+                                   (it + 1) * dth};
+    };
+    const std::vector<std::string> geomColumns{"bin", "r_lo_mm", "r_hi_mm", "theta_s_lo_deg",
+                                               "theta_s_hi_deg"};
+    StageTable ref{"slice",
+                   "slice.csv",
+                   "bin",
+                   {},
+                   0,
+                   0,
+                   "Monte Carlo: per-value z-test, Bonferroni over all bins and cells",
+                   kReferenceAlpha};
+    ref.table.comments = {"BSSRDF slice (seed 001), sigma of " + wb.slice().model() + ", channel " +
+                              std::string(1, "RGB"[std::clamp(wb.sliceSettings().channel, 0, 2)]) +
+                              ", theta_i " + core::formatNumber(s.thetaIDeg, 6) + " deg, " +
+                              std::to_string(snap.pathsDone) + " paths",
+                          "R per incident photon (MCML), 1/mm^2; S_k in exit cell k, 1/(mm^2 sr)",
+                          "last row (bin -1): total diffuse reflectance"};
+    ref.table.columns = geomColumns;
+    ref.table.columns.insert(ref.table.columns.end(), {"R", "R_stderr"});
+    for (size_t k = 0; k < cells; ++k) {
+        ref.table.columns.push_back("S" + std::to_string(k));
+        ref.table.columns.push_back("S" + std::to_string(k) + "_stderr");
+    }
+    for (size_t bin = 0; bin < s.R.size(); ++bin) {
+        std::vector<double> row = geometry(bin);
+        row.insert(row.end(), {s.R[bin], s.RStderr[bin]});
+        for (size_t k = 0; k < cells; ++k)
+            row.insert(row.end(), {s.S[bin * cells + k], s.SStderr[bin * cells + k]});
+        ref.table.rows.push_back(std::move(row));
+    }
+    std::vector<double> total{-1, 0, 0, 0, 0, s.totalRd, s.totalRdStderr};
+    total.resize(ref.table.columns.size(), 0.0);
+    ref.table.rows.push_back(std::move(total));
+    out.push_back(std::move(ref));
+    for (const auto& [path, r] : wb.slice().models()) {
+        if (!r.slice) continue;
+        const std::string name = fs::path(path).stem().string();
+        StageTable m{"slice_model." + name,
+                     "slice_model_" + name + ".csv",
+                     "bin",
+                     {},
+                     0,
+                     kProfileRelTol,
+                     "float32 GPU evaluation of Bssrdf(), averaged in double"};
+        m.table.comments = {"model " + path + " on the slice's bins, own sigma",
+                            "R per incident photon, 1/mm^2; S_k in exit cell k, 1/(mm^2 sr)"};
+        m.table.columns = geomColumns;
+        m.table.columns.push_back("R");
+        for (size_t k = 0; k < cells; ++k)
+            m.table.columns.push_back("S" + std::to_string(k));
+        for (size_t bin = 0; bin < r.slice->R.size(); ++bin) {
+            std::vector<double> row = geometry(bin);
+            row.push_back(r.slice->R[bin]);
+            for (size_t k = 0; k < cells; ++k)
+                row.push_back(r.slice->S[bin * cells + k]);
+            m.table.rows.push_back(std::move(row));
+        }
+        out.push_back(std::move(m));
+    }
+}
+
 std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& missing) {
     std::vector<StageTable> out;
     for (auto& e : wb.library().entries()) {
@@ -121,6 +201,7 @@ std::vector<StageTable> stageTables(Workbench& wb, std::vector<std::string>& mis
         out.push_back({"reference", "reference.csv", "r_mm", std::move(*ref), 0, 0,
                        "Monte Carlo: per-value z-test, Bonferroni over all bins and channels",
                        kReferenceAlpha});
+    sliceTables(wb, out);
     return out;
 }
 

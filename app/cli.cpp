@@ -164,6 +164,16 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         wb.referenceSettings().paths = a.referencePaths;
         if (a.referenceBins) wb.referenceSettings().bins = *a.referenceBins;
     }
+    if (a.sliceThetaI &&
+        !(std::isfinite(*a.sliceThetaI) && *a.sliceThetaI >= 0 && *a.sliceThetaI < 90))
+        throw core::Error("--slice-theta-i", 0,
+                          "the incidence angle must lie in [0, 90) degrees, got " +
+                              core::formatNumber(*a.sliceThetaI, 6));
+    if (a.slicePaths > 0) {
+        wb.sliceSettings().enabled = true;
+        wb.sliceSettings().paths = a.slicePaths;
+        if (a.sliceThetaI) wb.sliceSettings().thetaIDeg = *a.sliceThetaI;
+    }
     if (a.litSphereSize > 0) {
         auto& ls = wb.litSphereSettings();
         ls.enabled = true;

@@ -41,7 +41,9 @@ struct RecordArgs {
     std::vector<std::string> models;
     uint64_t referencePaths = 0;      // > 0: also record the path-traced reference (per channel)
     std::optional<int> referenceBins; // default: ReferenceSettings{}.bins (the GUI's)
-    int litSphereSize = 0;            // > 0: also record the lit-sphere images at this size
+    uint64_t slicePaths = 0; // > 0: also record the BSSRDF slice (reference and every model)
+    std::optional<double> sliceThetaI; // default: SliceSettings{}.thetaIDeg (the GUI's)
+    int litSphereSize = 0;             // > 0: also record the lit-sphere images at this size
     std::string litMesh; // with litSphereSize: path trace this OBJ instead of the sphere
     // > 0: also record the mesh pipeline (thesis 3.3) with this many points
     size_t scenePoints = 0;

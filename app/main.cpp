@@ -169,6 +169,12 @@ int main(int argc, char** argv) {
     rec->add_option("--reference-paths", ra.referencePaths,
                     "also record the path-traced pencil-beam reference with this many paths per "
                     "channel (default 0: off)");
+    rec->add_option("--slice-paths", ra.slicePaths,
+                    "also record the BSSRDF slice (path-traced table and every model on its "
+                    "bins) with this many paths (default 0: off)");
+    rec->add_option("--slice-theta-i", ra.sliceThetaI,
+                    "incidence angle of the slice, degrees (default " +
+                        app::defaultText(app::SliceSettings{}.thetaIDeg) + ")");
     rec->add_option("--lit-spheres", ra.litSphereSize,
                     "also record the lit-sphere images (path traced and BSSRDF integrated) at "
                     "this size in pixels (default 0: off)")

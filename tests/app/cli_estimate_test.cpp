@@ -207,6 +207,16 @@ TEST_F(CliOutputs, RecordNeverOverwritesSilentlyNorLeavesHalfACapture) {
     EXPECT_EQ(entries, 1u);
 }
 
+// `record --slice-*`: a bad incidence angle is refused naming the flag, and nothing is left.
+TEST_F(CliOutputs, RecordRefusesABadSliceAngle) {
+    const std::string dipole = std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf";
+    for (const char* angle : {"90", "-1", "nan"})
+        expectFailure({"record", "--name", "s", "--model", dipole, "--out", "caps/s",
+                       "--slice-paths", "100", "--slice-theta-i", angle},
+                      {"--slice-theta-i", "[0, 90)"});
+    EXPECT_FALSE(fs::exists(m_dir.path() / "caps/s"));
+}
+
 TEST_F(Estimate, RejectsBadArguments) {
     const std::vector<std::string> out = {"--out", "t.bwtable"};
     auto with = [&](std::vector<std::string> extra) {

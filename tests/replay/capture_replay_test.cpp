@@ -6,6 +6,7 @@
 #include "mesh/mesh.h"
 #include "pathtrace/image_io.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace {
@@ -278,4 +279,50 @@ TEST(CaptureReplay, ModelFromOutsideTheProjectRecordsAndReplays) {
     fs::remove_all(outside);
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     fs::remove_all(root);
+}
+
+// The BSSRDF slice: its path-traced table is replayed by per-value z-tests (bitwise identical on
+// the same build), every model's table by float tolerance; a value moved by 20 standard errors,
+// or a model's value by 1 %, fails naming the stage.
+TEST(CaptureReplay, SliceTablesAreComparedStatisticallyAndModelsByTolerance) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("slicecap", {"dipole.bssrdf"});
+    const auto dir = root / "captures" / "slice";
+    {
+        app::Workbench wb(root, false);
+        auto& s = wb.sliceSettings();
+        s.enabled = true;
+        s.thetaIDeg = 60;
+        s.rBins = 5;
+        s.thetaSBins = 4;
+        s.dirCosBins = 2;
+        s.dirPhiBins = 2;
+        s.paths = 16384;
+        app::recordCaptureTo(wb, dir, "slice");
+    }
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    EXPECT_NE(out.find("PASS slice "), std::string::npos) << out;
+    EXPECT_NE(out.find("PASS slice_model.dipole"), std::string::npos) << out;
+    const std::string line = out.substr(
+        out.find("PASS slice "), out.find('\n', out.find("PASS slice ")) - out.find("PASS slice "));
+    EXPECT_NE(line.find("identical"), std::string::npos) << line;
+    // the recorded settings are what the replay runs (θi 60, 5 × 4 bins, 2 × 2 cells)
+    capture::Table t = capture::readCsv(dir / "slice.csv");
+    ASSERT_EQ(t.rows.size(), 21u); // 20 bins and the total
+    ASSERT_EQ(t.columns.size(), 5u + 2u + 2u * 4u);
+    // R of bin 3 moved by 20 standard errors fails the z-test
+    const auto col = size_t(std::find(t.columns.begin(), t.columns.end(), "R") - t.columns.begin());
+    t.rows[3][col] += 20 * t.rows[3][col + 1];
+    capture::writeCsv(dir / "slice.csv", t);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
+    EXPECT_NE(out.find("FAIL slice "), std::string::npos) << out;
+    // a model value 1 % off fails the model's stage
+    capture::Table m = capture::readCsv(dir / "slice_model_dipole.csv");
+    const auto mc = size_t(std::find(m.columns.begin(), m.columns.end(), "R") - m.columns.begin());
+    m.rows[2][mc] *= 1.01;
+    capture::writeCsv(dir / "slice_model_dipole.csv", m);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
+    EXPECT_NE(out.find("FAIL slice_model.dipole"), std::string::npos) << out;
+    std::filesystem::remove_all(root);
 }
