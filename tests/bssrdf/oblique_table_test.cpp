@@ -16,6 +16,7 @@
 #include "pathtrace/bssrdf_table.h"
 #include "pathtrace/fresnel.h"
 #include "pointcloud/pointcloud.h"
+#include "render/frame_analysis.h"
 #include "render/render.h"
 #include "shader/program.h"
 
@@ -136,6 +137,25 @@ struct Reference {
             return (1 - fr) * lerpS(r0) + fr * lerpS(r1);
         };
         return (1 - fa) * slice(a0) + fa * slice(a1);
+    }
+    // The model at normal incidence (Wi = +z): the θs mean, exit azimuth from each bin's axis.
+    double evalNormal(glm::dvec3 xi, glm::dvec3 xo, glm::dvec3 wo) const {
+        const glm::dvec3 d = xo - xi;
+        const double r = glm::length(d);
+        if (r >= centres.back()) return 0;
+        size_t r0, r1;
+        double fr;
+        bracket(centres, r, r0, r1, fr);
+        auto atan2z = [](double y, double x) { return x == 0 && y == 0 ? 0.0 : std::atan2(y, x); };
+        const double phiRel = atan2z(wo.y, wo.x) - atan2z(d.y, d.x);
+        double sum = 0;
+        for (int k = 0; k < nS(); ++k) {
+            const size_t c =
+                size_t(cell(std::clamp(wo.z, 0.0, 1.0),
+                            std::fmod(phiRel + (k + 0.5) * kPi / nS() + 4 * kPi, 2 * kPi)));
+            sum += (1 - fr) * at(0, r0, size_t(k), c) + fr * at(0, r1, size_t(k), c);
+        }
+        return sum / nS();
     }
     // The model at (Xi, Wi, Xo, Wo) with a beam (Wi not along the normal).
     double eval(glm::dvec3 xi, glm::dvec3 wi, glm::dvec3 xo, glm::dvec3 wo) const {
@@ -463,6 +483,65 @@ TEST_F(ObliqueTable, BadTablesAreErrorsNamingTheFile) {
     expectError("big", {"materials/big.bwtable",
                         "51840 values, at most " + std::to_string(bssrdf::kMaxObliqueValues),
                         "fewer r, theta_s or direction bins"});
+}
+
+// The renderer on a flat plate facing +z (the table's own geometry) lit uniformly: brute force
+// M(xo) = Σ E·A·Bssrdf(p_i, +z, xo, +z) at the centre pixel, with the independent values.
+TEST_F(ObliqueTable, PlateExitanceMatchesTheTable) {
+    testsupport::context();
+    const auto& table = obliqueTableData();
+    pathtrace::writeTable(m_dir / "t.bwtable", table);
+    model("oblique", "estimate t.bwtable");
+    const bssrdf::Model m = load("oblique");
+    const Reference ref(table);
+    bssrdf::Builtins b;
+    b.ior = float(kMedium.eta);
+    b.scale = 1.0f; // mesh units are mm
+    const float thickness = 1.0f, half = 4.0f, h = 0.1f;
+    const int k = int(std::lround(2 * half / h));
+    std::vector<glm::vec3> p, n, irr;
+    std::vector<float> a;
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+            p.emplace_back(-half + (float(i) + 0.5f) * h, -half + (float(j) + 0.5f) * h,
+                           0.5f * thickness);
+            n.emplace_back(0.0f, 0.0f, 1.0f);
+            a.push_back(h * h);
+            irr.emplace_back(1.0f, 2.0f, 0.5f);
+        }
+    octree::Octree tree = octree::build(p, n, a);
+    octree::setIrradiance(tree, irr);
+    render::Renderer r(shader::Sources{m_root});
+    r.setMesh(mesh::makeThinPlate(2.0 * half, 2.0 * half, thickness));
+    r.setOctree(tree);
+    r.setModel(m);
+    r.setMaterial(bssrdf::defaultValues(m), b);
+    render::Settings s;
+    s.width = s.height = 8;
+    s.camera.target = glm::vec3(0.0f, 0.0f, 0.5f * thickness);
+    s.camera.yaw = 0.0f; // camera on +z, looking down at the lit face
+    s.camera.pitch = 0.0f;
+    s.camera.distance = 20.0f;
+    s.camera.radius = 10.0f;
+    s.camera.fovY = 0.1f;
+    s.bruteForce = true;
+    r.render(s);
+    const render::Readback rb = r.readback();
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+    const size_t centre = rb.index(4, 4);
+    ASSERT_EQ(rb.position[centre].w, 1.0f);
+    const glm::vec3 xo(rb.position[centre]);
+    ASSERT_NEAR(xo.z, 0.5f * thickness, 1e-5f);
+    const auto pairs = render::allPointPairs(tree, xo, glm::vec3(0, 0, 1), 1.0f);
+    std::vector<glm::vec3> values;
+    for (const auto& q : pairs)
+        values.emplace_back(
+            float(ref.evalNormal(glm::dvec3(q.xi), glm::dvec3(q.xo), glm::dvec3(q.wo))));
+    const glm::vec3 expected = render::bruteForceExitance(tree, values, 1.0f);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(expected[c], 0.0f);
+        EXPECT_NEAR(rb.exitance[centre][c], expected[c], 1e-4f * expected[c]) << c;
+    }
 }
 
 // (e) The renderer (hierarchical and brute force, on the bunny) and the lit sphere draw an
