@@ -208,7 +208,7 @@ vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {
         fr = (r - TabRad[lo]) / (TabRad[hi] - TabRad[lo]);
     }
     float tangential = length(Wi.xy);
-    float thetaI = tabAtan(tangential, max(Wi.z, 0.0));
+    float thetaI = Wi.z > 0.0 ? atan(tangential, Wi.z) : 0.5 * PI; // below the surface: 90°
     int a0 = TabA - 1, a1 = TabA - 1;
     float fa = 0.0;
     if (!(thetaI >= TabThetaI[TabA - 1])) {

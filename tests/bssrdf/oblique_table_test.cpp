@@ -419,6 +419,38 @@ TEST_F(ObliqueTable, OneCellReducesToTheRadialPath) {
         EXPECT_NEAR(got[i][0], expected[i], 2e-6 * expected[i]) << "r " << pairs[i].xo.x;
 }
 
+// A table of one oblique angle only is a non-radial model whose values hold for every
+// incidence (clamped θi): with one θs bin and one cell, R(45°)/(1 − R_sp(45°)).
+TEST_F(ObliqueTable, SingleObliqueAngleHoldsForEveryIncidence) {
+    testsupport::context();
+    pathtrace::EstimateSettings s;
+    s.thetaIDeg = {45.0};
+    s.bins.rBins = 4;
+    s.bins.rMaxMm = 2;
+    s.bins.thetaSBins = 1;
+    s.paths = 16384;
+    const auto table = pathtrace::estimateTable(kMedium, s, 0, pathtrace::chunkCount(s));
+    pathtrace::writeTable(m_dir / "t45.bwtable", table);
+    model("t45", "estimate t45.bwtable");
+    const bssrdf::Model m = load("t45");
+    EXPECT_FALSE(m.attrs.radial);
+    EXPECT_FALSE(m.attrs.noWi);
+    EXPECT_TRUE(m.attrs.noWo);
+    const auto slice = table.slice(0);
+    std::vector<render::BssrdfPair> pairs;
+    for (double thetaI : {0.0, 10.0, 45.0, 80.0, 120.0}) {
+        const double t = thetaI * kPi / 180;
+        pairs.push_back(pair(glm::dvec3(0), glm::dvec3(-std::sin(t), 0, std::cos(t)),
+                             glm::dvec3(0.75, 0, 0), glm::dvec3(0, 0, 1)));
+    }
+    const auto got = evaluate("t45", pairs);
+    ASSERT_EQ(got.size(), pairs.size());
+    const double expected = slice.R[1] / (1 - slice.specular); // the centre of bin 1
+    EXPECT_GT(expected, 0);
+    for (size_t i = 0; i < got.size(); ++i)
+        EXPECT_NEAR(got[i][2], expected, 2e-6 * expected) << i;
+}
+
 // (d) Bad inputs: each a core::Error naming the data file.
 TEST_F(ObliqueTable, BadTablesAreErrorsNamingTheFile) {
     auto s = obliqueSettings();
