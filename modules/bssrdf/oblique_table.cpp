@@ -179,7 +179,7 @@ vec3 tabSlice(int a, int r0, int r1, float fr, int s0, int s1, float fs, int c) 
     return mix(lo, hi, fr);
 }
 
-// The cell of an exit direction with cos θo = cosO and azimuth (wx, wy) in the beam frame.
+// The cell of an exit direction with cos θo = cosO and azimuth phi (radians) in the beam frame.
 int tabCell(float cosO, float phi) {
     int ring = clamp(int(cosO * float(TabCos)), 0, TabCos - 1);
     float p = phi < 0.0 ? phi + 2.0 * PI : phi;
