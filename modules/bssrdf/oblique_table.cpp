@@ -191,6 +191,24 @@ float tabAtan(float y, float x) {
     return (x == 0.0 && y == 0.0) ? 0.0 : atan(y, x);
 }
 
+// Value between angles a0/a1 (weight fa), radii r0/r1 (fr), θs bins s0/s1 (fs) for the exit
+// direction: its cell, or without an exit azimuth (Wo along the normal) the mean over the
+// sectors of its ring.
+vec3 tabExit(int a0, int a1, float fa, int r0, int r1, float fr, int s0, int s1, float fs,
+             float cosO, bool hasAzimuth, float phi) {
+    if (hasAzimuth) {
+        int c = tabCell(cosO, phi);
+        return mix(tabSlice(a0, r0, r1, fr, s0, s1, fs, c), tabSlice(a1, r0, r1, fr, s0, s1, fs, c),
+                   fa);
+    }
+    int first = clamp(int(cosO * float(TabCos)), 0, TabCos - 1) * TabPhi;
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < TabPhi; ++k)
+        sum += mix(tabSlice(a0, r0, r1, fr, s0, s1, fs, first + k),
+                   tabSlice(a1, r0, r1, fr, s0, s1, fs, first + k), fa);
+    return sum / float(TabPhi);
+}
+
 vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {
     vec3 d = Xo - Xi;
     float r = length(d);
@@ -226,17 +244,16 @@ vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {
         }
     }
     float cosO = clamp(Wo.z, 0.0, 1.0);
+    bool hasAzimuth = length(Wo.xy) >= 1e-6;
     float sector = PI / float(TabS);
     if (tangential < 1e-6) {
         // Normal incidence: the mean over the θs bins, the exit azimuth measured from each
         // bin's beam axis (the in-plane direction of Xo − Xi turned back by the bin's centre).
         float phiRel = tabAtan(Wo.y, Wo.x) - tabAtan(d.y, d.x);
         vec3 sum = vec3(0.0);
-        for (int k = 0; k < TabS; ++k) {
-            int c = tabCell(cosO, mod(phiRel + (float(k) + 0.5) * sector, 2.0 * PI));
-            sum += mix(tabSlice(a0, r0, r1, fr, k, k, 0.0, c),
-                       tabSlice(a1, r0, r1, fr, k, k, 0.0, c), fa);
-        }
+        for (int k = 0; k < TabS; ++k)
+            sum += tabExit(a0, a1, fa, r0, r1, fr, k, k, 0.0, cosO, hasAzimuth,
+                           mod(phiRel + (float(k) + 0.5) * sector, 2.0 * PI));
         return sum / float(TabS);
     }
     vec2 beam = -Wi.xy / tangential;
@@ -247,9 +264,8 @@ vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {
     float fl = floor(u);
     int s0 = clamp(int(fl), 0, TabS - 1), s1 = clamp(int(fl) + 1, 0, TabS - 1);
     float fs = clamp(u - fl, 0.0, 1.0);
-    int c = tabCell(cosO, tabAtan(mirror * dot(Wo.xy, side), dot(Wo.xy, beam)));
-    return mix(tabSlice(a0, r0, r1, fr, s0, s1, fs, c), tabSlice(a1, r0, r1, fr, s0, s1, fs, c),
-               fa);
+    return tabExit(a0, a1, fa, r0, r1, fr, s0, s1, fs, cosO, hasAzimuth,
+                   tabAtan(mirror * dot(Wo.xy, side), dot(Wo.xy, beam)));
 }
 )GLSL";
     return g.str();

@@ -27,7 +27,9 @@
 // centre), linear in θi between the table's angles (the first and last angle's values
 // outside their range), nearest cell in direction. When Wi's tangential part is below 1e-6
 // (normal incidence) the azimuth is undefined: the value is the mean over the θs bins, each
-// taken at its sector centre with the exit azimuth measured from that bin's beam axis.
+// taken at its sector centre with the exit azimuth measured from that bin's beam axis. When
+// Wo's tangential part is below 1e-6 (exit along the normal, as the renderer and the lit
+// sphere pass it) the exit azimuth is undefined: the mean over the sectors of its ring.
 #pragma once
 
 #include "pathtrace/bssrdf_table.h"
