@@ -2,7 +2,7 @@
 // names a measured or externally computed radial profile (CSV `r_mm,R,G,B`, thesis 3.1.1) or
 // path-traced tables (`.bwtable`, pathtrace/bssrdf_table.h). The data are embedded in a
 // generated `shader` section as GLSL constant arrays, so a table model works everywhere a
-// model does: pencil plot, renderer, lit spheres, slice panel. Section syntax (one directive;
+// model does: pencil plot, renderer, lit spheres. Section syntax (one directive;
 // `#` comments):
 //   profile FILE.csv                      values in the model convention: R_d per unit power
 //                                         entering, 1/mm² (materials/README.md)
