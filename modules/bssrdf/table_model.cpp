@@ -3,6 +3,7 @@
 #include "bssrdf/table_model.h"
 
 #include "bssrdf/detail/text_lines.h"
+#include "bssrdf/oblique_table.h"
 #include "core/core.h"
 #include "core/text.h"
 #include "pathtrace/bssrdf_table.h"
@@ -78,15 +79,21 @@ std::vector<double> normalIncidence(const pathtrace::BssrdfTable& t, const std::
     return out;
 }
 
-RadialTable readEstimates(const std::vector<fs::path>& files, const std::vector<std::string>& names,
-                          std::vector<Model::TableMedium>& media) {
+// Reads the tables of an `estimate` directive and their media (one per channel).
+std::vector<pathtrace::BssrdfTable> readTables(const std::vector<fs::path>& files,
+                                               std::vector<Model::TableMedium>& media) {
     std::vector<pathtrace::BssrdfTable> tables;
-    for (size_t i = 0; i < files.size(); ++i) {
-        tables.push_back(pathtrace::readTable(files[i]));
+    for (const auto& f : files) {
+        tables.push_back(pathtrace::readTable(f));
         const auto& m = tables.back().medium;
         media.push_back({m.sigmaA, m.sigmaS, m.g, m.eta});
     }
     if (tables.size() == 1) media.assign(3, media[0]);
+    return tables;
+}
+
+RadialTable radialEstimates(const std::vector<pathtrace::BssrdfTable>& tables,
+                            const std::vector<std::string>& names) {
     const auto edges = tables[0].settings.bins.rEdges();
     for (size_t i = 1; i < tables.size(); ++i)
         if (tables[i].settings.bins.rEdges() != edges)
@@ -103,6 +110,23 @@ RadialTable readEstimates(const std::vector<fs::path>& files, const std::vector<
         addRow(t, 0.5 * (edges[k] + edges[k + 1]), {channel[0][k], channel[1][k], channel[2][k]},
                names[0], 0);
     return t;
+}
+
+// The attributes of an oblique table model follow from its data: not radial, dependent on Wi,
+// and on Wo unless there is one direction cell. Claims the data contradict become notes.
+void setObliqueAttributes(Model& m, const ObliqueTable& t) {
+    std::string dropped;
+    auto clear = [&](bool& attr, bool keep, const char* name) {
+        if (attr && !keep) dropped += std::string(dropped.empty() ? "" : ", ") + name;
+        attr = keep;
+    };
+    clear(m.attrs.radial, false, "radial");
+    clear(m.attrs.noWi, false, "no_wi");
+    clear(m.attrs.noWo, t.cells() == 1, "no_wo");
+    if (!dropped.empty())
+        m.notes.push_back(core::formatLocation(m.path, m.table->beginLine,
+                                               "the table is oblique (non-radial): attribute(s) " +
+                                                   dropped + " ignored"));
 }
 
 std::string glslFloat(double v) {
@@ -230,7 +254,15 @@ void expandTable(Model& m, const fs::path& modelDir) {
         if (files.size() != 1 && files.size() != 3)
             throw core::Error(m.path, directiveLine,
                               "'estimate' takes one table (all channels) or three (R G B)");
-        t = readEstimates(files, names, m.tableMedia);
+        const auto tables = readTables(files, m.tableMedia);
+        if (!std::all_of(tables.begin(), tables.end(), isRadialTable)) {
+            const ObliqueTable o = obliqueTable(tables, names);
+            setObliqueAttributes(m, o);
+            m.dataFiles = files;
+            m.shader = Section{"shader", obliqueTableGlsl(o), s.firstLine, s.beginLine};
+            return;
+        }
+        t = radialEstimates(tables, names);
     } else {
         throw core::Error(m.path, directiveLine,
                           "unknown table directive '" + kind + "' (expected profile or estimate)");
