@@ -79,22 +79,37 @@ material::MaterialParams effectiveParams(const bssrdf::ModelEntry& e, const Mate
         material::validate(p, "parameters");
         return p;
     }
-    if (!e.hasInversion())
-        throw core::Error(e.displayPath, 0,
-                          "R_dr / l_d parametrisation unavailable: the model has no "
-                          "diffuseReflectance section");
     // g, η and scale are validated on their own; σ comes from the inversion.
     material::MaterialParams probe = p;
     probe.sigmaA = glm::dvec3(0.01);
     probe.sigmaS = glm::dvec3(1.0);
     material::validate(probe, "parameters");
     gl::ScopedStageTimer timer("inversion");
-    const GLuint program = e.programs.at("invert_rdr.comp").id();
-    auto batch = [&](const std::vector<glm::dvec3>& alpha) {
-        return bssrdf::evaluateDiffuseReflectance(program, *e.model, e.values, builtinsOf(p),
-                                                  alpha);
-    };
-    glm::dvec3 alphaPrime = material::solveAlphaPrime(s.rdr, batch);
+    glm::dvec3 alphaPrime;
+    if (e.hasInversion()) {
+        const GLuint program = e.programs.at("invert_rdr.comp").id();
+        auto batch = [&](const std::vector<glm::dvec3>& alpha) {
+            return bssrdf::evaluateDiffuseReflectance(program, *e.model, e.values, builtinsOf(p),
+                                                      alpha);
+        };
+        alphaPrime = material::solveAlphaPrime(s.rdr, batch);
+    } else {
+        // no closed form: R_dr by integrating the model's own profile (one GPU profile per
+        // α′, so a coarse grid per round and more rounds: 16^8 brackets α′ to ~2^-32)
+        const GLuint program = e.programs.at("pencil_profile.comp").id();
+        auto batch = [&](const std::vector<glm::dvec3>& alpha) {
+            return bssrdf::integrateDiffuseReflectance(program, *e.model, e.values, builtinsOf(p),
+                                                       alpha);
+        };
+        try {
+            alphaPrime = material::solveAlphaPrime(s.rdr, batch, 16, 8);
+        } catch (const core::Error& err) {
+            throw core::Error(e.displayPath, 0,
+                              std::string("R_dr / l_d by the numerically integrated profile "
+                                          "(no diffuseReflectance section): ") +
+                                  err.what());
+        }
+    }
     auto sig = material::sigmaFromAlphaPrime(alphaPrime, s.ld, p.g);
     p.sigmaA = sig.sigmaA;
     p.sigmaS = sig.sigmaS;

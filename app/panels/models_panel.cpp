@@ -57,7 +57,7 @@ void drawModelsPanel(Workbench& wb, UiShared&) {
                 ImGui::TextWrapped("%s%s%s%s | R_dr/l_d: %s", a.analytic ? "analytic" : "",
                                    a.radial ? " radial" : "", a.noWi ? " no_wi" : "",
                                    a.noWo ? " no_wo" : "",
-                                   e.hasInversion() ? "yes" : "no (no diffuseReflectance)");
+                                   e.hasInversion() ? "yes" : "numeric (2 pi int R r dr)");
                 ImGui::PopStyleColor();
                 drawModelParams(e);
                 ImGui::Checkbox("own parameters", &view.override);

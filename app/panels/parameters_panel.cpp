@@ -73,13 +73,13 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared&) {
     sameLineIfFits(checkboxWidth("R_dr, l_d"));
     ImGui::RadioButton("R_dr, l_d", &mode, 1);
     s.mode = static_cast<ParamMode>(mode);
-    // models that cannot use R_dr / l_d say why
+    // models without a closed form integrate their profile: say so
     if (s.mode == ParamMode::RdrLd)
         for (auto& e : wb.library().entries())
             if (e.model && !e.hasInversion())
-                ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1),
-                                   "%s: R_dr/l_d unavailable (no diffuseReflectance section)",
-                                   e.model->name.c_str());
+                hintText("%s: R_dr from its profile, integrated numerically (no "
+                         "diffuseReflectance section)",
+                         e.model->name.c_str());
 
     auto& p = s.params;
     if (s.mode == ParamMode::Sigma) {

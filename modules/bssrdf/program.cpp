@@ -3,9 +3,11 @@
 
 #include "core/core.h"
 
+#include <glm/common.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace bssrdf {
 
@@ -140,6 +142,39 @@ std::vector<glm::dvec3> evaluateQueries(GLuint program, const Model& m, const Pa
             r[first + i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};
     }
     return r;
+}
+
+std::vector<glm::dvec3> integrateDiffuseReflectance(GLuint pencilProgram, const Model& m,
+                                                    const ParamValues& values, const Builtins& b,
+                                                    const std::vector<glm::dvec3>& alphaPrime) {
+    constexpr int kPoints = 2048;
+    constexpr double kRMin = 1e-6, kRMaxCap = 1e5, kLdMultiple = 60.0;
+    std::vector<glm::dvec3> out(alphaPrime.size());
+    const double twoPi = 2.0 * 3.14159265358979323846;
+    for (size_t k = 0; k < alphaPrime.size(); ++k) {
+        const glm::dvec3 a = glm::clamp(alphaPrime[k], glm::dvec3(0.0), glm::dvec3(1.0));
+        double rMax = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double ld = 1.0 / std::sqrt(3.0 * std::max(1.0 - a[c], 1e-300));
+            rMax = std::max(rMax, std::min(kRMaxCap, kLdMultiple * ld));
+        }
+        std::vector<double> radii(kPoints);
+        const double u0 = std::log(kRMin), u1 = std::log(rMax), du = (u1 - u0) / (kPoints - 1);
+        for (int i = 0; i < kPoints; ++i)
+            radii[size_t(i)] = std::exp(u0 + du * i);
+        Builtins bk = b;
+        bk.sigmaA = glm::vec3(1.0 - a);
+        bk.sigmaS = glm::vec3(a / std::max(1.0 - double(b.g), 1e-12));
+        const Profile prof = evaluateProfile(pencilProgram, m, values, bk, radii);
+        glm::dvec3 sum = prof.value[0] * (radii[0] * radii[0] / 2.0); // below r_min
+        for (int i = 0; i + 1 < kPoints; ++i) {
+            const double r0 = radii[size_t(i)], r1 = radii[size_t(i) + 1];
+            sum +=
+                0.5 * du * (prof.value[size_t(i)] * r0 * r0 + prof.value[size_t(i) + 1] * r1 * r1);
+        }
+        out[k] = twoPi * sum;
+    }
+    return out;
 }
 
 std::vector<glm::dvec3> evaluateDiffuseReflectance(GLuint program, const Model& m,

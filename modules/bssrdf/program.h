@@ -74,6 +74,17 @@ struct Query {
 std::vector<glm::dvec3> evaluateQueries(GLuint program, const Model& m, const ParamValues& values,
                                         const Builtins& b, const std::vector<Query>& queries);
 
+// The total diffuse reflectance R_dr(α′) = 2π ∫ R(r) r dr of a model without a
+// `diffuseReflectance` section, integrated numerically from its pencil-beam profile (the pencil
+// program at normal incidence): R_dr is scale free, so each α′ (per channel) is evaluated at
+// σ′t = 1 — σa = 1 − α′, σs = α′/(1 − g) — with g and η from `b`. The integral runs in ln r
+// from 10⁻⁶ to r_max = min(10⁵, 60 l_d) mean free paths (l_d = 1/√(3(1 − α′))) on 2048 points
+// by the trapezoid rule on R r², plus R(r_min) r_min²/2 below. `pencilProgram` must come from
+// buildModelProgram(m, "pencil_profile.comp").
+std::vector<glm::dvec3> integrateDiffuseReflectance(GLuint pencilProgram, const Model& m,
+                                                    const ParamValues& values, const Builtins& b,
+                                                    const std::vector<glm::dvec3>& alphaPrime);
+
 // Runs invert_rdr.comp on a batch of α′ (one vec3 per entry) and returns R_dr(α′).
 std::vector<glm::dvec3> evaluateDiffuseReflectance(GLuint program, const Model& m,
                                                    const ParamValues& values, const Builtins& b,
