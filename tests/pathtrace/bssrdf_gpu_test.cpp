@@ -259,6 +259,25 @@ TEST(BssrdfGpu, StepStopsAtThePathCountAndBadSettingsThrow) {
     bad.bins.rBins = 0;
     EXPECT_THROW(gpu.reset(Medium{}, bad), core::Error);
     EXPECT_THROW(gpu.reset(Medium{}, s, 1), core::Error); // one angle only
+    // connections: 128 batches, fewer for a table whose cells would not fit kMaxSlots, and a
+    // clear error when even kMinBatches would not
+    EstimateSettings big = s;
+    big.estimator = BssrdfEstimator::Connections;
+    gpu.reset(Medium{}, big);
+    EXPECT_EQ(gpu.batches(), GpuBssrdfEstimator::kMaxBatches);
+    big.bins.rBins = 300;
+    big.bins.thetaSBins = 20;
+    big.bins.dirCosBins = big.bins.dirPhiBins = 4; // 6000 × (1 + 16) cells: 64 batches fit
+    gpu.reset(Medium{}, big);
+    EXPECT_EQ(gpu.batches(), 64u);
+    big.bins.thetaSBins = 200; // 60000 × 17 cells × 16 batches > 2^23 slots
+    try {
+        gpu.reset(Medium{}, big);
+        ADD_FAILURE() << "a table beyond the GPU tally was accepted";
+    } catch (const core::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("bins"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("CPU"), std::string::npos) << e.what();
+    }
     bad = s;
     bad.termination.rouletteWeight = 0.5;
     bad.termination.rouletteSurvival = 1e-12; // survivors beyond what the tallies hold
