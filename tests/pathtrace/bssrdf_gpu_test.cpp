@@ -4,7 +4,7 @@
 //     1e-3) at θi 0° and 60°, g 0 and 0.8, for the connections and implicit estimators (and
 //     analog once), uniform and logarithmic radial bins; the slice's energy check;
 //   - the batch-means standard errors of the connections against the CPU's per-path ones;
-//   - scattering orders: single + multiple = all;
+//   - scattering orders: single + multiple = all; long paths past llvmpipe's loop limit;
 //   - bitwise determinism for any step sizes and iteration budgets;
 //   - hot reload: a broken shader names its file and line and the old program keeps working.
 #include "../support/gl_fixture.h"
@@ -225,6 +225,29 @@ TEST(BssrdfGpu, SingleAndMultipleOrdersAddUpToAll) {
     const double err = std::sqrt(eAll * eAll + eSingle * eSingle + eMulti * eMulti);
     EXPECT_LT(std::fabs(single + multi - all), 4.0 * err)
         << single << " + " << multi << " vs " << all << " ± " << err;
+}
+
+// Past llvmpipe's loop limit: without absorption and with an index-matched surface, some
+// paths run for more collisions (each with 6 + 1 connection samples) than one invocation may
+// loop (65535); suspended and resumed across dispatches, none is lost: every path's weight 1
+// leaves or is truncated, exactly.
+TEST(BssrdfGpu, LongPathsAreNotLost) {
+    testsupport::context();
+    const Medium m{0.0, 1.0, 0.0, 1.0};
+    EstimateSettings s = smallSettings(BssrdfEstimator::Connections, 30.0, false);
+    s.bins.dirCosBins = s.bins.dirPhiBins = 1;
+    s.paths = 2000;
+    s.termination.maxEvents = 100000;
+    const BssrdfTally t = traceGpu(m, s);
+    EXPECT_EQ(t.paths, s.paths);
+    EXPECT_GT(t.events.value(), 2000.0 * 200.0); // the heavy tail of return times is there
+    EXPECT_EQ(t.absSum.value(), 0.0);
+    EXPECT_GT(t.truncatedPaths, 0u);
+    EXPECT_EQ(t.truncSum.value(), double(t.truncatedPaths)); // each with weight 1
+    EXPECT_EQ(t.exitSum.value() + t.truncSum.value(), double(s.paths));
+    const BssrdfSlice sl = finalize(t, s.bins, 30.0, m);
+    EXPECT_LT(std::fabs(sl.energyDiff), 5.0 * sl.energyDiffStderr)
+        << sl.energyDiff << " ± " << sl.energyDiffStderr;
 }
 
 TEST(BssrdfGpu, DeterministicForAnyStepsAndBudgets) {
