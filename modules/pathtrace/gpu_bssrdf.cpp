@@ -366,13 +366,14 @@ BssrdfTable estimateTableGpu(GpuBssrdfEstimator& gpu, const Medium& m, const Est
     bool stopped = false;
     for (size_t a = 0; a < s.thetaIDeg.size() && !stopped; ++a) {
         gpu.reset(m, s, a);
-        // whole chunks per step, so a cancelled run keeps a prefix of whole chunks
+        // one chunk per step: a cancelled run keeps a prefix of whole chunks, and stops within
+        // one chunk's time
         while (!gpu.finished()) {
             if (cancel && cancel->load()) {
                 stopped = true;
                 break;
             }
-            gpu.step(GpuBssrdfEstimator::kMaxPathsPerRound);
+            gpu.step(kChunkPaths);
             if (progress) progress(before + gpu.pathsDone());
         }
         t.tallies.push_back(gpu.tally());

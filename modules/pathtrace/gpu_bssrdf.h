@@ -129,9 +129,10 @@ class GpuBssrdfEstimator {
 };
 
 // The whole run of `s` (every angle, all s.paths) on `gpu`, as a table of one run (chunks
-// [0, chunkCount)). `progress` gets the paths done over all angles. When `cancel` is set, the
-// table keeps the completed prefix of whole chunks of the angle being traced if it is the only
-// angle, else throws core::Error (no consistent partial table).
+// [0, chunkCount)), traced one chunk of kChunkPaths paths per step. `progress` gets the paths
+// done over all angles. When `cancel` is set, the table keeps the completed prefix of whole
+// chunks of the angle being traced if it is the only angle, else throws core::Error (no
+// consistent partial table).
 BssrdfTable estimateTableGpu(GpuBssrdfEstimator& gpu, const Medium& m, const EstimateSettings& s,
                              const std::function<void(uint64_t)>& progress = {},
                              const std::atomic<bool>* cancel = nullptr);

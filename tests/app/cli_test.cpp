@@ -484,6 +484,21 @@ TEST_F(Cli, EstimateOnTheGpuWritesTheSameKindOfTable) {
                   {"--shard", "CPU"});
 }
 
+// Ctrl-C during `estimate --gpu` writes the chunks traced so far as a valid table (it merges
+// like a shard) and exits 130, as on the CPU.
+TEST_F(Cli, EstimateOnTheGpuInterruptedWritesThePartialTable) {
+    const std::vector<std::string> args = {
+        BW_EXE,      "--root", BW_SOURCE_ROOT,   "estimate", "--sigma-a", "0.2",
+        "--sigma-s", "1",      "--theta-i",      "30",       "--r-bins",  "5",
+        "--rmax",    "3",      "--theta-s-bins", "2",        "--paths",   "1e10",
+        "--gpu",     "--out",  "t.bwtable"};
+    RunResult r = runCommand(args, dir(), 3000, SIGINT);
+    EXPECT_EQ(r.code, 130) << r.output;
+    EXPECT_TRUE(contains(r.output, "(partial)")) << r.output;
+    r = run({"merge", "t.bwtable", "--out", "m.bwtable", "--csv", "m.csv"});
+    EXPECT_EQ(r.code, 0) << r.output;
+}
+
 TEST_F(Cli, SlabRejectsBadInputs) {
     const std::vector<std::string> base = {"slab", "--paths", "1000", "--out", "x.csv"};
     auto with = [&](std::vector<std::string> extra) {
