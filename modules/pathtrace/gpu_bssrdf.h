@@ -14,8 +14,9 @@
 //   done), bitwise: not of step sizes, budgets or scheduling.
 //
 // Tally scale. Every walk weight is at most W = max(1 − R(θi), roulette_weight /
-// roulette_survival) (analog: 1 − R(θi)), and every connection term at most 2·α·W·e^{−2} (its
-// bound in bssrdf_walk.cpp, times at most 2 from the 32-bit roulette threshold). The shader
+// roulette_survival) (analog: 1 − R(θi)), and every connection term at most α·W (its bound in
+// bssrdf_walk.cpp; a vertex past the connection roulette's d₀ at most 2·e^{−2}·α·W, the 2 from
+// the 32-bit roulette threshold). The shader
 // tallies values times s = 2^−k, the smallest k ≥ 0 with W·s ≤ 8, and the host divides
 // exactly. So the atomic tallies never see a value above 8: per slot and dispatch at most
 // 2^16 invocations × kMaxEventBudget (2^12) iterations × 8 < 2^32, which a 64-bit sum in
