@@ -240,9 +240,11 @@ float connection(Path p, vec2 point, float qa, out vec3 dir) {
     dir = delta / d;
     float t21 = 1.0 - fresnelExit(dir.z, Eta);
     if (!(t21 > 0.0)) return 0.0;
-    float cosP = dot(p.d, dir);
-    float h = 1.0 + G * G - 2.0 * G * cosP;
-    float phase = 0.5 * (1.0 - G * G) / (h * sqrt(h)) / (2.0 * PT_PI);
+    // HG: p = (1 − g²) / (4π h^{3/2}), h = 1 + g² − 2g cos = (1 − g)² + g |u − ω₂₁|² (no
+    // cancellation near the forward peak of a strongly forward medium)
+    vec3 du = p.d - dir;
+    float h = (1.0 - G) * (1.0 - G) + G * dot(du, du);
+    float phase = (1.0 - G * G) / (4.0 * PT_PI * h * sqrt(h));
     float qp = phase * dir.z / d2;
     // f/(qa + qp) = α w gain e^{−σt d} T₂₁ · qp/(qa + qp); the ratio as 1/(1 + qa/qp) stays
     // finite even where qp overflows (a vertex right under the point)
