@@ -5,6 +5,7 @@
 #include "core/fields.h"
 #include "gl/gl.h"
 #include "pathtrace/bssrdf_estimate.h"
+#include "pathtrace/gpu_bssrdf.h"
 #include "pathtrace/gpu_slab.h"
 #include "pathtrace/pathtrace.h"
 
@@ -82,14 +83,40 @@ std::pair<std::vector<double>, double> connectionsTo1Percent(const pathtrace::Me
     return {times, double(paths) / sec};
 }
 
+// The oblique-incidence estimate (bssrdf_estimate.h) of `e` for about `seconds`: paths/s on
+// one CPU core, and on the GL walk when `gpu` is given (else NaN).
+std::pair<double, double> estimateRates(const pathtrace::Medium& m, pathtrace::EstimateSettings e,
+                                        pathtrace::GpuBssrdfEstimator* gpu, double seconds) {
+    e.threads = 1;
+    auto cpuRun = [&](uint64_t paths) {
+        e.paths = paths;
+        core::Stopwatch clock;
+        pathtrace::estimateChunks(m, e, 0, 0, pathtrace::chunkCount(e));
+        return double(paths) / std::max(clock.ms() / 1000.0, 1e-6);
+    };
+    const double cpu = cpuRun(pathsFor(cpuRun(2000), seconds));
+    if (!gpu) return {cpu, NAN};
+    e.paths = uint64_t(1) << 40;
+    gpu->reset(m, e);
+    gpu->step(pathtrace::GpuBssrdfEstimator::kMaxPathsPerRound); // warm-up
+    const uint64_t before = gpu->pathsDone();
+    const double t0 = gpu->seconds();
+    while (gpu->seconds() - t0 < seconds)
+        gpu->step(pathtrace::GpuBssrdfEstimator::kMaxPathsPerRound);
+    return {cpu, double(gpu->pathsDone() - before) / std::max(gpu->seconds() - t0, 1e-9)};
+}
+
 } // namespace
 
 int benchPathtrace(const std::filesystem::path& root, double seconds) {
     std::unique_ptr<gl::Context> ctx;
     std::unique_ptr<pathtrace::GpuSlabTracer> gpu;
+    std::unique_ptr<pathtrace::GpuBssrdfEstimator> gpuWalk;
     try {
         ctx = gl::createHeadlessContext(false);
         gpu = std::make_unique<pathtrace::GpuSlabTracer>(root / "shaders/pathtrace_slab.comp");
+        gpuWalk =
+            std::make_unique<pathtrace::GpuBssrdfEstimator>(root / "shaders/bssrdf_walk.comp");
         std::printf("GPU tracer on: %s\n", ctx->renderer().c_str());
     } catch (const core::Error& e) {
         std::printf("GPU tracer unavailable: %s\n", e.what());
@@ -110,6 +137,28 @@ int benchPathtrace(const std::filesystem::path& root, double seconds) {
                 std::printf("%-5.2g %-5.2g %-7.3g %14.0f %14.0f %10.2f\n", eta, g, albedo, cpuRate,
                             gRate, gRate / cpuRate);
             }
+
+    // The whole BSSRDF at oblique incidence: the GL walk against one CPU core, both measured
+    // here in this run.
+    std::printf("\nestimate at theta_i 45 deg (sigma_a 0.01/mm, sigma_s 1/mm, g 0.8, eta 1.3; "
+                "20 x 6 bins over 5 mm, 2x2 direction cells), %.1f s per run\n",
+                seconds);
+    std::printf("%-12s %16s %14s %10s\n", "estimator", "CPU paths/s/core", "GPU paths/s",
+                "GPU/CPU");
+    for (auto est :
+         {pathtrace::BssrdfEstimator::Implicit, pathtrace::BssrdfEstimator::Connections}) {
+        pathtrace::EstimateSettings e;
+        e.thetaIDeg = {45.0};
+        e.bins.rBins = 20;
+        e.bins.rMaxMm = 5.0;
+        e.bins.thetaSBins = 6;
+        e.bins.dirCosBins = e.bins.dirPhiBins = 2;
+        e.estimator = est;
+        const auto [cpuRate, gRate] =
+            estimateRates({0.01, 1.0, 0.8, 1.3}, e, gpuWalk.get(), seconds);
+        std::printf("%-12s %16.0f %14.0f %10.2f\n", core::nameOf(est), cpuRate, gRate,
+                    gRate / cpuRate);
+    }
 
     // Time to 1 % in the 0.15 mm bin at l_d and 4 l_d, one core, every estimator of this
     // build measured here in this run; ratios are against the analog estimator of the same run

@@ -9,7 +9,9 @@
 
 #include "core/core.h"
 #include "core/text.h"
+#include "gl/gl.h"
 #include "pathtrace/bssrdf_table.h"
+#include "pathtrace/gpu_bssrdf.h"
 
 #include <cstdio>
 #include <sstream>
@@ -118,11 +120,12 @@ void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
         ->capture_default_str();
     cmd->add_flag("--multiple-only", a.multipleOnly, "skip the first scattering event");
     cmd->add_flag("--single-only", a.singleOnly, "the first scattering event only");
-    cmd->add_option("--threads", a.settings.threads, "worker threads (default: all cores)");
+    cmd->add_option("--threads", a.settings.threads,
+                    "worker threads (default: all cores; ignored with --gpu)");
     cmd->add_option("--shard", a.shard,
                     "run shard K of N (1 <= K <= N): a disjoint range of the same paths; combine "
-                    "with `merge`");
-    cmd->add_flag("--gpu", a.gpu, "the GL compute tracer (not available for this command yet)");
+                    "with `merge` (CPU only)");
+    cmd->add_flag("--gpu", a.gpu, "trace on the GL compute walk (headless context)");
     cmd->add_option("--out", a.out, "table file to write (.bwtable)")->required();
     cmd->add_option("--csv", a.csv,
                     "CSV per spatial bin: theta_i_deg,r_lo_mm,r_hi_mm,theta_s_lo_deg,"
@@ -131,7 +134,7 @@ void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
                     "CSV per direction cell: ...,theta_o_deg,phi_o_deg,solid_angle_sr,S,stderr");
 }
 
-int runEstimateCli(EstimateArgs a) {
+int runEstimateCli(EstimateArgs a, const std::filesystem::path& root) {
     pathtrace::validate(a.medium, "estimate");
     a.settings.thetaIDeg = parseList(a.thetaI, "--theta-i");
     for (double t : a.settings.thetaIDeg)
@@ -153,10 +156,11 @@ int runEstimateCli(EstimateArgs a) {
     if (a.multipleOnly) a.settings.orders = pathtrace::ScatterOrders::MultipleOnly;
     if (a.singleOnly) a.settings.orders = pathtrace::ScatterOrders::SingleOnly;
     pathtrace::validate(a.settings);
-    if (a.gpu)
-        throw core::Error("--gpu", 0,
-                          "the GL compute tracer has no oblique-incidence estimate yet; run on "
-                          "the CPU (leave out --gpu)");
+    if (a.gpu && !a.shard.empty())
+        throw core::Error("--shard", 0,
+                          "shards run on the CPU walk (leave out --gpu): the GL walk's error bars "
+                          "come from batch means over its whole run, so its tables would not "
+                          "merge into exactly the table of one run");
     uint64_t first = 0, last = pathtrace::chunkCount(a.settings);
     if (!a.shard.empty()) {
         const auto [k, n] = parseShard(a.shard, "--shard");
@@ -171,19 +175,26 @@ int runEstimateCli(EstimateArgs a) {
                                std::min(first * pathtrace::kChunkPaths, a.settings.paths);
         return paths * a.settings.thetaIDeg.size();
     }();
-    const auto table = pathtrace::estimateTable(
-        a.medium, a.settings, first, last,
-        [&](uint64_t done) {
-            const double sec = clock.ms() / 1000.0;
-            std::fprintf(stderr, "\restimate: %5.1f%%  %llu / %llu paths  %.0f paths/s   ",
-                         total ? 100.0 * double(done) / double(total) : 100.0,
-                         static_cast<unsigned long long>(done),
-                         static_cast<unsigned long long>(total),
-                         sec > 0 ? double(done) / sec : 0.0);
-            std::fflush(stderr);
-        },
-        interruptFlag());
+    const auto progress = [&](uint64_t done) {
+        const double sec = clock.ms() / 1000.0;
+        std::fprintf(stderr, "\restimate: %5.1f%%  %llu / %llu paths  %.0f paths/s   ",
+                     total ? 100.0 * double(done) / double(total) : 100.0,
+                     static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
+                     sec > 0 ? double(done) / sec : 0.0);
+        std::fflush(stderr);
+    };
+    std::string device = "CPU";
+    const auto table = [&] {
+        if (!a.gpu)
+            return pathtrace::estimateTable(a.medium, a.settings, first, last, progress,
+                                            interruptFlag());
+        auto ctx = gl::createHeadlessContext(false);
+        device = std::string("GPU (") + ctx->renderer() + ")";
+        pathtrace::GpuBssrdfEstimator gpu(root / "shaders" / "bssrdf_walk.comp");
+        return pathtrace::estimateTableGpu(gpu, a.medium, a.settings, progress, interruptFlag());
+    }();
     std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "traced on %s\n", device.c_str());
     writeOutputs(table, a.out, a.csv, a.csvDir);
     if (interrupted()) {
         // The table holds the paths traced so far (its tallies count them) and merges like

@@ -329,7 +329,7 @@ int main(int argc, char** argv) {
     try {
         // Commands that read no project file run anywhere; the rest find the root first.
         if (*pcCmd) return app::runPointCloudCli(pca);
-        if (*estimateCmd) return app::runEstimateCli(ea);
+        if (*estimateCmd && !ea.gpu) return app::runEstimateCli(ea);
         if (*mergeCmd) return app::runMergeCli(ma);
         if (*slab && !sa.gpu) return app::runSlabCli(sa);
         const fs::path root = findRoot(rootArg);
@@ -356,6 +356,7 @@ int main(int argc, char** argv) {
         }
         if (*renderCmd) return app::runRenderCli(root, ra2);
         if (*slab) return app::runSlabGpuCli(root, sa);
+        if (*estimateCmd) return app::runEstimateCli(ea, root);
         if (*shot) {
             app::GuiOptions opt;
             if (!parseSize(shotSize, opt.width, opt.height))

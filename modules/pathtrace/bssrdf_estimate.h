@@ -19,6 +19,8 @@
 //   Sums: each chunk of kChunkPaths paths is summed path by path in doubles, then added into
 //   ExactSum accumulators (detail/exact_sum.h), so a run cut into shards (disjoint chunk ranges)
 //   and merged gives bitwise the table of one run, for any thread and shard count.
+//   The same walk and estimators on the GL compute tracer: gpu_bssrdf.h (its tallies have this
+//   shape; the connections' second moments there come from batch means).
 #pragma once
 
 #include "pathtrace/detail/exact_sum.h"

@@ -318,10 +318,6 @@ class Walker {
     PathAcc m_binAcc, m_dirAcc;
 };
 
-uint64_t streamSeed(uint64_t seed, size_t angleIndex) {
-    return angleIndex == 0 ? seed : splitmix64(seed ^ (0x9e3779b97f4a7c15ull * angleIndex));
-}
-
 } // namespace
 
 namespace detail {
@@ -333,7 +329,7 @@ PathRecord traceBssrdfPath(const Medium& m, const EstimateSettings& s, size_t an
     t.reset(s.bins);
     Walker walker(m, s, s.thetaIDeg[angleIndex]);
     PathRecord record;
-    walker.trace(Pcg32::forPath(streamSeed(s.seed, angleIndex), path), t, &record);
+    walker.trace(Pcg32::forPath(bssrdfStreamSeed(s.seed, angleIndex), path), t, &record);
     return record;
 }
 
@@ -342,7 +338,7 @@ uint64_t traceBssrdfChunk(const Medium& m, const EstimateSettings& s, size_t ang
                           const std::atomic<bool>* cancel) {
     t.reset(s.bins);
     Walker walker(m, s, s.thetaIDeg[angleIndex]);
-    const uint64_t seed = streamSeed(s.seed, angleIndex);
+    const uint64_t seed = bssrdfStreamSeed(s.seed, angleIndex);
     for (uint64_t i = 0; i < count; ++i) {
         if ((i & 63u) == 0 && cancel && cancel->load(std::memory_order_relaxed)) return i;
         walker.trace(Pcg32::forPath(seed, first + i), t);

@@ -63,3 +63,15 @@ void ptTally(uint slot, float v, inout Rng rng) {
     ptAdd64(4u * slot, ptFixed(v, rngUniform(rng)));
     ptAdd64(4u * slot + 2u, ptFixed(v * v, rngUniform(rng)));
 }
+
+// Adds a value to the first moment of slot `slot` only (for tallies whose second moments are
+// formed otherwise, e.g. from batch sums: shaders/bssrdf_walk.comp). Same range rules.
+void ptTallySum(uint slot, float v, inout Rng rng) {
+    if (v == 0.0) return;
+    if (!(v > 0.0 && v <= PT_HEAVY_WEIGHT)) {
+        uint i = atomicAdd(ptHeavyCount, 1u);
+        if (i < uint(ptHeavy.length())) ptHeavy[i] = uvec2(slot, floatBitsToUint(v));
+        return;
+    }
+    ptAdd64(4u * slot, ptFixed(v, rngUniform(rng)));
+}

@@ -237,7 +237,7 @@ TEST_F(Estimate, RejectsBadArguments) {
     expectFailure(with({"--shard", "4/3"}), {"--shard"});
     expectFailure(with({"--shard", "two"}), {"--shard"});
     expectFailure(with({"--single-only", "--multiple-only"}), {"--single-only"});
-    expectFailure(with({"--gpu"}), {"--gpu"});
+    expectFailure(with({"--gpu", "--shard", "1/2"}), {"--shard", "CPU"});
     // An unwritable output fails at once, before any path is traced.
     RunResult r = run(estimate({"--paths", "100000000", "--out", "/proc/nope/t.bwtable"}));
     EXPECT_NE(r.code, 0);

@@ -477,6 +477,49 @@ TEST_F(Cli, SlabWritesHistogramWithStandardErrors) {
     EXPECT_EQ(rows, 25);
 }
 
+// `estimate --gpu`: the GL compute walk writes the table and CSVs of the CPU walk's shape,
+// says which device traced it, passes its energy checks, and its table reads back (`merge` of
+// the one file gives the same bytes). --threads is ignored; shards are refused.
+TEST_F(Cli, EstimateOnTheGpuWritesTheSameKindOfTable) {
+    const std::vector<std::string> args = {
+        "estimate",  "--sigma-a", "0.2",   "--sigma-s",   "1",     "--theta-i",
+        "0,60",      "--r-bins",  "5",     "--rmax",      "3",     "--theta-s-bins",
+        "2",         "--paths",   "20000", "--dir-bins",  "2x3",   "--gpu",
+        "--threads", "3",         "--out", "gpu.bwtable", "--csv", "r.csv",
+        "--csv-dir", "s.csv"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    EXPECT_TRUE(contains(r.output, "traced on GPU (")) << r.output;
+    EXPECT_TRUE(contains(r.output, "theta_i 60: 20000 paths")) << r.output;
+    EXPECT_FALSE(contains(r.output, "energy check failed")) << r.output;
+    const std::string csv = readText(dir() / "r.csv");
+    EXPECT_EQ(csv.rfind("theta_i_deg,r_lo_mm,r_hi_mm,theta_s_lo_deg,theta_s_hi_deg,R,stderr\n", 0),
+              0u);
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 5 * 2);
+    const std::string dirCsv = readText(dir() / "s.csv");
+    EXPECT_EQ(std::count(dirCsv.begin(), dirCsv.end(), '\n'), 1 + 2 * 5 * 2 * 6);
+    r = run({"merge", "gpu.bwtable", "--out", "copy.bwtable"});
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(readText(dir() / "gpu.bwtable"), readText(dir() / "copy.bwtable"));
+    expectFailure({"estimate", "--paths", "1000", "--gpu", "--shard", "1/2", "--out", "x.bwtable"},
+                  {"--shard", "CPU"});
+}
+
+// Ctrl-C during `estimate --gpu` writes the chunks traced so far as a valid table (it merges
+// like a shard) and exits 130, as on the CPU.
+TEST_F(Cli, EstimateOnTheGpuInterruptedWritesThePartialTable) {
+    const std::vector<std::string> args = {
+        BW_EXE,      "--root", BW_SOURCE_ROOT,   "estimate", "--sigma-a", "0.2",
+        "--sigma-s", "1",      "--theta-i",      "30",       "--r-bins",  "5",
+        "--rmax",    "3",      "--theta-s-bins", "2",        "--paths",   "1e10",
+        "--gpu",     "--out",  "t.bwtable"};
+    RunResult r = runCommand(args, dir(), 3000, SIGINT);
+    EXPECT_EQ(r.code, 130) << r.output;
+    EXPECT_TRUE(contains(r.output, "(partial)")) << r.output;
+    r = run({"merge", "t.bwtable", "--out", "m.bwtable", "--csv", "m.csv"});
+    EXPECT_EQ(r.code, 0) << r.output;
+}
+
 TEST_F(Cli, SlabRejectsBadInputs) {
     const std::vector<std::string> base = {"slab", "--paths", "1000", "--out", "x.csv"};
     auto with = [&](std::vector<std::string> extra) {

@@ -4,12 +4,19 @@
 #pragma once
 
 #include "pathtrace/bssrdf_estimate.h"
+#include "pathtrace/rng.h"
 
 #include <atomic>
 #include <cstdint>
 #include <vector>
 
 namespace pathtrace::detail {
+
+// The seed of the path streams of incidence angle `angleIndex` (the CPU walk's PCG32 streams and
+// the GL walk's Philox streams are both keyed by it and the path index).
+inline uint64_t bssrdfStreamSeed(uint64_t seed, size_t angleIndex) {
+    return angleIndex == 0 ? seed : splitmix64(seed ^ (0x9e3779b97f4a7c15ull * angleIndex));
+}
 
 // Sums of one chunk in doubles, formed path by path.
 struct ChunkTally {

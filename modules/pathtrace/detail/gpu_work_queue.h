@@ -1,8 +1,8 @@
 // pathtrace/detail/gpu_work_queue: the host machinery shared by the GL compute path tracers
-// (gpu_slab.cpp, gpu_sphere.cpp): program build with its uniform-location table, the tally,
-// heavy-list, queue and suspended-path buffers, the suspended-path dispatch loop of a round,
-// and the exact readback of the 64-bit fixed-point tallies (shaders/common/pathtrace_tally.glsl)
-// into 128-bit host sums.
+// (gpu_slab.cpp, gpu_sphere.cpp, gpu_bssrdf.cpp): program build with its uniform-location
+// table, the tally, heavy-list, queue and suspended-path buffers, the suspended-path dispatch
+// loop of a round, and the exact readback of the 64-bit fixed-point tallies
+// (shaders/common/pathtrace_tally.glsl) into 128-bit host sums.
 #pragma once
 
 #include "gl/gl.h"
