@@ -5,6 +5,7 @@
 #include "../support/gl_fixture.h"
 #include "bssrdf/program.h"
 #include "gui.h"
+#include "pathtrace/bssrdf_table.h"
 #include "pathtrace/fresnel.h"
 #include "slice_model.h"
 #include "workbench.h"
@@ -232,4 +233,41 @@ TEST(SlicePanel, ClickingABinPicksItForTheExitDirections) {
     if (const char* dir = std::getenv("BW_PANEL_PNG_DIR"))
         gl::writePng((std::filesystem::path(dir) / "Slice-clicked-1600x1000.png").string(), 1600,
                      1000, gui.pixels());
+}
+
+// A path-traced oblique table loaded as a model (table models, pathtrace/bssrdf_table.h) is a
+// model like any other in the slice: evaluated on the bins through its generated Bssrdf().
+TEST(SliceStage, ObliqueTableModelIsEvaluatedLikeAnyModel) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("slice_table", {"dipole.bssrdf"});
+    app::SliceSettings settings;
+    smallSlice(settings);
+    settings.paths = 16384;
+    pathtrace::Medium m; // one medium for all channels: the table's
+    m.sigmaA = 0.01;
+    m.sigmaS = 1.0;
+    m.g = 0.0;
+    m.eta = 1.3;
+    const pathtrace::EstimateSettings est = app::estimateSettings(settings, m);
+    pathtrace::writeTable(root / "materials" / "t.bwtable",
+                          pathtrace::estimateTable(m, est, 0, pathtrace::chunkCount(est)));
+    std::ofstream(root / "materials" / "table.bssrdf")
+        << "analytic\n::begin table\nestimate t.bwtable\n::end table\n";
+    app::Workbench wb(root, false);
+    wb.shared().params.sigmaA = glm::dvec3(m.sigmaA);
+    wb.shared().params.sigmaS = glm::dvec3(m.sigmaS);
+    wb.shared().params.eta = m.eta;
+    wb.sliceSettings() = settings;
+    const app::SliceSnapshot snap = wb.finishSlice();
+    ASSERT_TRUE(snap.slice);
+    const auto& r = wb.slice().models().at("materials/table.bssrdf");
+    ASSERT_TRUE(r.slice) << r.problem;
+    EXPECT_TRUE(r.problem.empty()) << r.problem;
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+    const int inner = 3 * wb.sliceSettings().thetaSBins; // the first three rings
+    for (int bin = 0; bin < inner; ++bin) {
+        EXPECT_TRUE(std::isfinite(r.slice->R[size_t(bin)]));
+        EXPECT_GT(r.slice->R[size_t(bin)], 0.0) << bin;
+    }
 }
