@@ -170,19 +170,11 @@ bool SliceStage::update(const SliceInputs& in) {
         m_seen = v;
         changed = true;
     }
-    const size_t before = m_models.size();
-    std::string keys;
-    for (const auto& [k, r] : m_models)
-        keys += r.key;
-    evaluateModels(in, SliceSnapshot{});
-    std::string after;
-    for (const auto& [k, r] : m_models)
-        after += r.key;
-    return changed || keys != after || before != m_models.size();
+    return evaluateModels(in) || changed;
 }
 
-void SliceStage::evaluateModels(const SliceInputs& in, const SliceSnapshot&) {
-    if (!in.library || !in.views) return;
+bool SliceStage::evaluateModels(const SliceInputs& in) {
+    if (!in.library || !in.views) return false;
     const int c = in.settings.channel;
     // the bins are the reference's (its medium's l_d), the σ each model's own
     const pathtrace::EstimateSettings est =
@@ -190,8 +182,9 @@ void SliceStage::evaluateModels(const SliceInputs& in, const SliceSnapshot&) {
     try {
         pathtrace::validate(est);
     } catch (const core::Error&) {
-        return; // the reference names the bad setting; the models keep their last slices
+        return false; // the reference names the bad setting; the models keep their last slices
     }
+    bool changed = false;
     std::map<std::string, ModelSliceResult> next;
     for (const bssrdf::ModelEntry& e : in.library->entries()) {
         auto v = in.views->find(e.displayPath);
@@ -208,6 +201,7 @@ void SliceStage::evaluateModels(const SliceInputs& in, const SliceSnapshot&) {
             r = std::move(old->second);
             continue;
         }
+        changed = true;
         r.key = key;
         r.medium = medium;
         try {
@@ -237,7 +231,9 @@ void SliceStage::evaluateModels(const SliceInputs& in, const SliceSnapshot&) {
             r.problem = e.displayPath + ": " + err.what();
         }
     }
+    changed |= next.size() != m_models.size(); // a model gone
     m_models = std::move(next);
+    return changed;
 }
 
 StageStatus SliceStage::status() const {

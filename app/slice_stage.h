@@ -131,7 +131,8 @@ class SliceStage : public StageOf<SliceInputs> {
     const std::string& model() const { return m_model; }
 
   private:
-    void evaluateModels(const SliceInputs& in, const SliceSnapshot& snap);
+    // Evaluates the models whose key changed; true when any result was recomputed or removed.
+    bool evaluateModels(const SliceInputs& in);
 
     SliceRunner m_runner;
     std::string m_key, m_model, m_problem;

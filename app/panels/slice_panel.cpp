@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numbers>
 
 namespace app {
@@ -174,15 +175,20 @@ struct LogScale {
     }
 };
 
-void logColourBar(const LogScale& s, float width) {
+// A horizontal colour bar of `width` pixels: colour(t) for t from 0 (left) to 1 (right).
+void gradientBar(float width, const std::function<ImU32(float)>& colour) {
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const ImVec2 p = ImGui::GetCursorScreenPos();
     const float h = 10;
     for (int i = 0; i < 64; ++i)
         dl->AddRectFilled(ImVec2(p.x + width * float(i) / 64, p.y),
                           ImVec2(p.x + width * float(i + 1) / 64, p.y + h),
-                          rgb(sequentialColor((float(i) + 0.5f) / 64)));
+                          colour((float(i) + 0.5f) / 64));
     ImGui::Dummy(ImVec2(width, h));
+}
+
+void logColourBar(const LogScale& s, float width) {
+    gradientBar(width, [](float t) { return rgb(sequentialColor(t)); });
     char lo[32], hi[32];
     std::snprintf(lo, sizeof lo, "%.3g", s.hi * std::pow(10.0, -s.decades));
     std::snprintf(hi, sizeof hi, "%.3g (log)", s.hi);
@@ -199,14 +205,7 @@ void logColourBar(const LogScale& s, float width) {
 }
 
 void diffColourBar(float range, float width) {
-    ImDrawList* dl = ImGui::GetWindowDrawList();
-    const ImVec2 p = ImGui::GetCursorScreenPos();
-    const float h = 10;
-    for (int i = 0; i < 64; ++i)
-        dl->AddRectFilled(ImVec2(p.x + width * float(i) / 64, p.y),
-                          ImVec2(p.x + width * float(i + 1) / 64, p.y + h),
-                          rgb(divergingColor(-1.0f + 2.0f * (float(i) + 0.5f) / 64)));
-    ImGui::Dummy(ImVec2(width, h));
+    gradientBar(width, [](float t) { return rgb(divergingColor(2.0f * t - 1.0f)); });
     ImGui::Text("-%.0f%% model low   +%.0f%% model high", double(range) * 100, double(range) * 100);
 }
 
