@@ -91,6 +91,9 @@ void validateEnvironment(const EnvironmentMap& env, const std::string& name) {
     }
 }
 
+// Most texels readEnvironment accepts (8192x4096, 384 MiB of float RGB).
+constexpr long long kMaxReadTexels = 8192LL * 4096LL;
+
 EnvironmentMap readEnvironment(const std::filesystem::path& path) {
     const std::string name = path.string();
     const std::string bytes = core::readFile(path); // names the path when missing
@@ -104,6 +107,11 @@ EnvironmentMap readEnvironment(const std::filesystem::path& path) {
         const long long h = static_cast<long long>(dw.max.y) - dw.min.y + 1;
         if (w < 1 || h < 1 || w > 16384 || h > 16384)
             throw core::Error(name, 0, "EXR data window is empty or larger than 16384");
+        // The header alone sets the allocation: a few bytes must not claim gigabytes.
+        if (w * h > kMaxReadTexels)
+            throw core::Error(name, 0,
+                              "EXR data window " + std::to_string(w) + "x" + std::to_string(h) +
+                                  " has more than 8192x4096 texels");
         const Imf::ChannelList& ch = file.header().channels();
         for (const char* c : kChannels)
             if (!ch.findChannel(c))
