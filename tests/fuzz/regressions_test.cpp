@@ -3,6 +3,7 @@
 // once crashed, hung or printed raw bytes) and each seed of corpus/NAME/ must end in success or
 // in a core::Error with a printable message. Also tests core::printableText.
 #include "core/core.h"
+#include "fuzz_common.h"
 
 #include <gtest/gtest.h>
 
@@ -14,8 +15,7 @@
 
 #define BW_FUZZ_TARGETS(X)                                                                         \
     X(bssrdf_model)                                                                                \
-    X(profile_csv) X(bwtable) X(capture_csv) X(manifest) X(obj) X(ply) X(exr) X(presets)           \
-        X(settings)
+    X(profile_csv) X(bwtable) X(capture_csv) X(manifest) X(obj) X(ply) X(exr) X(presets) X(settings)
 
 #define BW_DECLARE(name) extern "C" int fuzzOne_##name(const uint8_t* data, size_t size);
 BW_FUZZ_TARGETS(BW_DECLARE)
@@ -25,6 +25,17 @@ namespace {
 namespace fs = std::filesystem;
 
 using Entry = int (*)(const uint8_t*, size_t);
+
+// The targets write their inputs under fuzz::scratchDir(); removed when the tests end.
+class RemoveScratch : public ::testing::Environment {
+  public:
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(fuzz::scratchDir(), ec);
+    }
+};
+[[maybe_unused]] ::testing::Environment* const kRemoveScratch =
+    ::testing::AddGlobalTestEnvironment(new RemoveScratch);
 
 std::vector<fs::path> filesIn(const fs::path& dir) {
     std::vector<fs::path> out;
