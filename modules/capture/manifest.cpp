@@ -321,6 +321,9 @@ Manifest readManifest(const std::filesystem::path& captureDir) {
         size_t offset = e.byte > 0 ? e.byte - 1 : 0;
         throw core::Error(fileName, core::lineOfOffset(text, offset),
                           "invalid JSON: " + parseErrorMessage(e.what()));
+    } catch (const json::exception& e) {
+        // e.g. out_of_range 406: a number too large for a double ("1e999")
+        throw core::Error(fileName, 0, "invalid JSON: " + parseErrorMessage(e.what()));
     }
     Reader reader(fileName, text);
     return reader.manifest(j);

@@ -28,6 +28,7 @@ class Error : public std::runtime_error {
     const std::string& message() const { return m_message; }
 
   private:
+    Error(std::string file, int line, std::string message, int); // already printable
     std::string m_file;
     int m_line;
     std::string m_message;
@@ -68,6 +69,12 @@ std::string readFile(const std::filesystem::path& path);
 void writeFile(const std::filesystem::path& path, std::string_view bytes);
 // Offset of the first byte that breaks UTF-8, or nullopt when the text is valid.
 std::optional<size_t> firstInvalidUtf8(std::string_view text);
+// `text` with every byte a terminal would not show as text escaped: control characters (other
+// than newline and tab), DEL and bytes that break UTF-8 become "\xNN", a backslash stays one.
+// Error messages pass through it, so that a message quoting the input never prints raw bytes.
+std::string printableText(std::string_view text);
+// True when printableText(text) would return `text` unchanged.
+bool isPrintableText(std::string_view text);
 // 1-based line number of a byte offset.
 int lineOfOffset(std::string_view text, size_t offset);
 

@@ -81,6 +81,57 @@ std::optional<size_t> firstInvalidUtf8(std::string_view s) {
     return std::nullopt;
 }
 
+namespace {
+// Length of the valid UTF-8 sequence starting at s[i] (a byte >= 0x80), or 0 when it is not one.
+size_t utf8SequenceAt(std::string_view s, size_t i) {
+    unsigned char c = static_cast<unsigned char>(s[i]);
+    size_t len = (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
+    if (len == 0 || i + len > s.size()) return 0;
+    return firstInvalidUtf8(s.substr(i, len)) ? 0 : len;
+}
+
+bool plainByte(unsigned char c) {
+    return (c >= 0x20 && c < 0x7F) || c == '\n' || c == '\t';
+}
+} // namespace
+
+std::string printableText(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    size_t i = 0;
+    while (i < text.size()) {
+        unsigned char c = static_cast<unsigned char>(text[i]);
+        if (plainByte(c)) {
+            out += char(c);
+            ++i;
+            continue;
+        }
+        size_t len = c >= 0x80 ? utf8SequenceAt(text, i) : 0;
+        if (len > 0) {
+            out.append(text.substr(i, len));
+            i += len;
+            continue;
+        }
+        static const char kHex[] = "0123456789abcdef";
+        out += "\\x";
+        out += kHex[c >> 4];
+        out += kHex[c & 15];
+        ++i;
+    }
+    return out;
+}
+
+bool isPrintableText(std::string_view text) {
+    size_t i = 0;
+    while (i < text.size()) {
+        unsigned char c = static_cast<unsigned char>(text[i]);
+        size_t len = plainByte(c) ? 1 : c >= 0x80 ? utf8SequenceAt(text, i) : 0;
+        if (len == 0) return false;
+        i += len;
+    }
+    return true;
+}
+
 int lineOfOffset(std::string_view text, size_t offset) {
     int line = 1;
     for (size_t i = 0; i < offset && i < text.size(); ++i)

@@ -15,9 +15,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <numbers>
 #include <string>
+#include <string_view>
 
 namespace irradiance {
 namespace {
@@ -58,6 +61,38 @@ EnvironmentMap halve(const EnvironmentMap& env) {
     }
     return out;
 }
+// Walks the attributes of the first header of an EXR (name, type, 32-bit size, value; an empty
+// name ends the header) and refuses a size past the end of the file before OpenEXR allocates it:
+// a few bytes must not make the library reserve and clear gigabytes.
+void checkExrHeader(std::string_view bytes, const std::string& name) {
+    auto fail = [&](const std::string& msg) {
+        throw core::Error(name, 0, "cannot read EXR environment: header: " + msg);
+    };
+    if (bytes.size() < 8 || bytes.substr(0, 4) != std::string_view("\x76\x2f\x31\x01", 4))
+        fail("not an OpenEXR file (no magic number)");
+    size_t pos = 8;
+    auto text = [&](const char* what) {
+        const size_t end = bytes.find('\0', pos);
+        if (end == std::string_view::npos || end - pos > 255)
+            fail(std::string("truncated ") + what);
+        std::string_view t = bytes.substr(pos, end - pos);
+        pos = end + 1;
+        return t;
+    };
+    for (;;) {
+        const std::string_view attr = text("attribute name");
+        if (attr.empty()) return;
+        text("attribute type");
+        if (bytes.size() - pos < 4) fail("truncated size of attribute '" + std::string(attr) + "'");
+        int32_t size = 0;
+        std::memcpy(&size, bytes.data() + pos, 4); // little-endian file, little-endian host
+        pos += 4;
+        if (size < 0 || size_t(size) > bytes.size() - pos)
+            fail("attribute '" + std::string(attr) + "' claims " + std::to_string(size) +
+                 " bytes; the file has " + std::to_string(bytes.size() - pos) + " after it");
+        pos += size_t(size);
+    }
+}
 } // namespace
 
 glm::vec3 latLongDirection(double theta, double phi) {
@@ -91,9 +126,13 @@ void validateEnvironment(const EnvironmentMap& env, const std::string& name) {
     }
 }
 
+// Most texels readEnvironment accepts (8192x4096, 384 MiB of float RGB).
+constexpr long long kMaxReadTexels = 8192LL * 4096LL;
+
 EnvironmentMap readEnvironment(const std::filesystem::path& path) {
     const std::string name = path.string();
     const std::string bytes = core::readFile(path); // names the path when missing
+    checkExrHeader(bytes, name);
     EnvironmentMap env;
     try {
         Imf::StdISStream is;
@@ -104,6 +143,11 @@ EnvironmentMap readEnvironment(const std::filesystem::path& path) {
         const long long h = static_cast<long long>(dw.max.y) - dw.min.y + 1;
         if (w < 1 || h < 1 || w > 16384 || h > 16384)
             throw core::Error(name, 0, "EXR data window is empty or larger than 16384");
+        // The header alone sets the allocation: a few bytes must not claim gigabytes.
+        if (w * h > kMaxReadTexels)
+            throw core::Error(name, 0,
+                              "EXR data window " + std::to_string(w) + "x" + std::to_string(h) +
+                                  " has more than 8192x4096 texels");
         const Imf::ChannelList& ch = file.header().channels();
         for (const char* c : kChannels)
             if (!ch.findChannel(c))

@@ -42,7 +42,8 @@ double texelSolidAngle(int y, int width, int height);
 void validateEnvironment(const EnvironmentMap& env, const std::string& name);
 
 // Reads a lat-long EXR. Throws core::Error(path, 0, ...) when the file is missing, not an EXR or
-// truncated, lacks an R, G or B channel, or holds non-finite or negative values.
+// truncated, lacks an R, G or B channel, has more than 8192x4096 texels, or holds non-finite or
+// negative values.
 EnvironmentMap readEnvironment(const std::filesystem::path& path);
 // Writes R, G, B as FLOAT, ZIP compressed (atomic; round trips bitwise).
 void writeEnvironment(const std::filesystem::path& path, const EnvironmentMap& env);

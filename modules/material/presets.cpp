@@ -15,6 +15,9 @@ std::vector<Preset> loadPresets(const std::filesystem::path& file) {
     } catch (const nlohmann::json::parse_error& e) {
         int line = core::lineOfOffset(text, e.byte > 0 ? e.byte - 1 : 0);
         throw core::Error(file.string(), line, std::string("invalid JSON: ") + e.what());
+    } catch (const nlohmann::json::exception& e) {
+        // e.g. out_of_range 406: a number too large for a double ("1e999")
+        throw core::Error(file.string(), 0, std::string("invalid JSON: ") + e.what());
     }
     std::vector<Preset> out;
     if (!j.contains("presets") || !j["presets"].is_array())
