@@ -265,9 +265,13 @@ json paramsJson(Workbench& wb) {
 }
 
 void applyParams(Workbench& wb, const json& params, const std::string& where) {
-    if (!params.contains("shared") || !params.contains("models"))
+    // Every JSON type is checked here, so a hostile manifest gets a message with its JSON
+    // path, never the JSON library's own exception text.
+    if (!params.is_object() || !params.contains("shared") || !params.contains("models"))
         throw core::Error(where, 0, "params needs 'shared' and 'models'");
     wb.shared() = core::fromJson(params["shared"], where, "params.shared", MaterialSettings{});
+    if (!params["models"].is_object())
+        throw core::Error(where, 0, "params.models: expected an object");
     for (auto it = params["models"].begin(); it != params["models"].end(); ++it) {
         auto* e = wb.library().find(it.key());
         // an external model was loaded from a copy of its recorded text: find it by its file
@@ -277,11 +281,17 @@ void applyParams(Workbench& wb, const json& params, const std::string& where) {
         if (!e) continue; // reported as an input problem / missing stage
         const std::string path = "params.models." + it.key();
         const std::string w = where + " (" + path + ")";
-        if (!it->contains("own") || !it->contains("values"))
+        if (!it->is_object() || !it->contains("own") || !it->contains("values"))
             throw core::Error(where, 0, path + ": needs 'own' and 'values'");
+        auto flag = [&](const char* key, bool otherwise) {
+            if (!it->contains(key)) return otherwise;
+            if (!it->at(key).is_boolean())
+                throw core::Error(where, 0, path + "." + key + ": expected true or false");
+            return it->at(key).get<bool>();
+        };
         auto& v = wb.view(e->displayPath);
-        v.visible = it->value("visible", true);
-        v.override = it->value("override", false);
+        v.visible = flag("visible", true);
+        v.override = flag("override", false);
         v.own = core::fromJson(it->at("own"), where, path + ".own", MaterialSettings{});
         auto values = valuesFromJson(it->at("values"), w);
         for (auto& [k, val] : values)
@@ -414,6 +424,26 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
         core::logWarn("capture " + name + ": not recorded: " + s);
 }
 
+// The input files a replayed capture's settings name resolve inside the capture folder or the
+// project (the root holding materials/ and shaders/), never elsewhere ("../../etc/passwd", an
+// absolute path outside, a symlink out): checked before anything is read.
+static void checkCaptureInputs(Workbench& wb, const fs::path& captureDir,
+                               const std::string& where) {
+    const std::vector<fs::path> folders = {captureDir, wb.root()};
+    const SceneSettings& sc = wb.scene().settings();
+    const std::pair<const char*, const std::string*> inputs[] = {
+        {"settings.scene.mesh", &sc.meshFile},
+        {"settings.scene.point_cloud_file", &sc.pointCloudFile},
+        {"settings.scene.environment", &sc.environmentFile},
+        {"settings.scene.projected_texture", &sc.projectedTextureFile},
+        {"settings.lit_spheres.mesh", &wb.litSphereSettings().mesh}};
+    for (const auto& [key, value] : inputs)
+        if (std::string bad = capture::confinedInputProblem(*value, wb.root(), folders);
+            !bad.empty())
+            throw core::Error(where, 0,
+                              std::string(key) + ": '" + core::printableText(*value) + "' " + bad);
+}
+
 std::string recordCapture(Workbench& wb, const std::string& name) {
     fs::path dir = wb.root() / "captures" / name;
     recordCaptureTo(wb, dir, name);
@@ -428,6 +458,16 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         out = std::string("ERROR ") + e.what() + "\n";
         return 2;
     }
+    // A capture may come from someone else: its outputs stay plain files inside its folder
+    // (read on replay, written by --update).
+    for (size_t i = 0; i < m.outputs.size(); ++i)
+        if (std::string bad = capture::outputPathProblem(captureDir, m.outputs[i].file);
+            !bad.empty()) {
+            out = "ERROR " + (captureDir / capture::kManifestFileName).string() + ": outputs[" +
+                  std::to_string(i) + "].file '" + core::printableText(m.outputs[i].file) +
+                  "': " + bad + "\n";
+            return 2;
+        }
     capture::ReplayReport report;
     if (!update)
         report.inputProblems = capture::checkInputs(m, captureDir, root, &report.inputNotes);
@@ -461,6 +501,7 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
         int traceX = -1, traceY = -1;
         applySettingsJson(wb, m.settings, where, traceX, traceY);
+        checkCaptureInputs(wb, captureDir, where);
         wb.update();
         std::vector<std::string> missing;
         auto tables = stageTables(wb, missing);

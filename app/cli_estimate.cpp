@@ -120,8 +120,9 @@ void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
         ->capture_default_str();
     cmd->add_flag("--multiple-only", a.multipleOnly, "skip the first scattering event");
     cmd->add_flag("--single-only", a.singleOnly, "the first scattering event only");
-    cmd->add_option("--threads", a.settings.threads,
-                    "worker threads (default: all cores; ignored with --gpu)");
+    addCountOption(cmd, "--threads", a.settings.threads,
+                   "worker threads, 0 … 1024 (default 0: all cores; ignored with --gpu)",
+                   kThreadLimits);
     cmd->add_option("--shard", a.shard,
                     "run shard K of N (1 <= K <= N): a disjoint range of the same paths; combine "
                     "with `merge` (CPU only)");

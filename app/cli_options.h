@@ -3,7 +3,8 @@
 // from the struct it writes into (which holds the GUI's defaults), so the CLI cannot drift.
 //   bool           "--flag" sets it, "--no-flag" clears it (or the table's own "!--x")
 //   enum           its names (core::enumNames)
-//   number/string  the value
+//   number/string  the value; a number must be finite and inside the setting's core::Limits
+//                  (the same check the JSON reader makes), else it is refused naming the flag
 #pragma once
 
 #include "core/fields.h"
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -67,26 +69,80 @@ void addEnumOption(CLI::App* cmd, const std::string& flag, E& m, const std::stri
 }
 
 // An integer option that also takes exact scientific notation ("1e6", "2.5e3"): anything that
-// is not an integer within M's range is refused naming the flag.
+// is not an integer within M's range and `lim` is refused naming the flag.
 template <class M>
-void addCountOption(CLI::App* cmd, const std::string& flag, M& m, const std::string& help) {
-    cmd->add_option_function<std::string>(
-           flag,
-           [&m, flag](const std::string& v) {
-               char* end = nullptr;
-               const long double x = std::strtold(v.c_str(), &end);
-               const bool parsed = !v.empty() && end == v.c_str() + v.size();
-               if (!parsed || !(x == std::floor(x)) ||
-                   x < static_cast<long double>(std::numeric_limits<M>::min()) ||
-                   x > static_cast<long double>(std::numeric_limits<M>::max()))
-                   throw CLI::ValidationError(flag, "expected a whole number (e.g. 1000000 or "
-                                                    "1e6) within range, got '" +
-                                                        v + "'");
-               m = static_cast<M>(x);
-           },
-           help)
+CLI::Option* addCountOption(CLI::App* cmd, const std::string& flag, M& m, const std::string& help,
+                            core::Limits lim = {}) {
+    return cmd
+        ->add_option_function<std::string>(
+            flag,
+            [&m, flag, lim](const std::string& v) {
+                char* end = nullptr;
+                const long double x = std::strtold(v.c_str(), &end);
+                const bool parsed = !v.empty() && end == v.c_str() + v.size();
+                if (!parsed || !(x == std::floor(x)) ||
+                    x < static_cast<long double>(std::numeric_limits<M>::min()) ||
+                    x > static_cast<long double>(std::numeric_limits<M>::max()))
+                    throw CLI::ValidationError(flag, "expected a whole number (e.g. 1000000 or "
+                                                     "1e6) within range, got '" +
+                                                         v + "'");
+                if (std::string p = core::limitProblem(static_cast<M>(x), lim); !p.empty())
+                    throw CLI::ValidationError(flag, p);
+                m = static_cast<M>(x);
+            },
+            help)
         ->type_name("INT");
 }
+
+template <class M> struct OptionalValue { using type = M; };
+template <class M> struct OptionalValue<std::optional<M>> { using type = M; };
+
+// A floating-point option (M a number or std::optional of one): the whole argument must be a finite
+// number inside `lim` ("nan", "inf", "1e999" and "2x" are refused naming the flag, never replaced
+// by a default).
+template <class M>
+CLI::Option* addNumberOption(CLI::App* cmd, const std::string& flag, M& m, const std::string& help,
+                             core::Limits lim = {}) {
+    return cmd
+        ->add_option_function<std::string>(
+            flag,
+            [&m, flag, lim](const std::string& v) {
+                char* end = nullptr;
+                const double x = std::strtod(v.c_str(), &end);
+                if (v.empty() || end != v.c_str() + v.size())
+                    throw CLI::ValidationError(flag, "expected a number, got '" + v + "'");
+                using Value = typename OptionalValue<M>::type;
+                if (std::string p = core::limitProblem(static_cast<Value>(x), lim); !p.empty())
+                    throw CLI::ValidationError(flag, p);
+                m = static_cast<Value>(x);
+            },
+            help)
+        ->type_name("FLOAT");
+}
+
+// Every option of `cmd` and its subcommands whose values are floating-point numbers (CLI11's
+// type name FLOAT, whatever added it) refuses "nan", "inf" and numbers beyond double's range
+// naming the flag. Run once on the finished command line, before parsing.
+inline void refuseNonFiniteNumbers(CLI::App& cmd) {
+    for (CLI::Option* o : cmd.get_options()) {
+        if (o->get_type_name().rfind("FLOAT", 0) != 0) continue;
+        o->check(
+            [](const std::string& v) -> std::string {
+                char* end = nullptr;
+                const double x = std::strtod(v.c_str(), &end);
+                if (v.empty() || end != v.c_str() + v.size())
+                    return "expected a number, got '" + v + "'";
+                if (!std::isfinite(x)) return "must be a finite number, got '" + v + "'";
+                return "";
+            },
+            "", "finite");
+    }
+    for (CLI::App* sub : cmd.get_subcommands([](CLI::App*) { return true; }))
+        refuseNonFiniteNumbers(*sub);
+}
+
+// --threads of every command: 0 (the default) uses all hardware threads.
+inline constexpr core::Limits kThreadLimits{0, 1024};
 
 struct SettingFlag {
     const char* path; // in the description: "render.eps", "points.count"
@@ -98,7 +154,7 @@ struct SettingFlag {
 template <class T>
 void addSettingOptions(CLI::App* cmd, T& s, const std::vector<SettingFlag>& flags) {
     std::vector<bool> used(flags.size(), false);
-    core::forEachField(s, [&](const std::string& path, auto& m, const char* doc) {
+    core::forEachField(s, [&](const std::string& path, auto& m, const char* doc, core::Limits lim) {
         using M = std::remove_reference_t<decltype(m)>;
         for (size_t i = 0; i < flags.size(); ++i) {
             if (path != flags[i].path) continue;
@@ -111,8 +167,10 @@ void addSettingOptions(CLI::App* cmd, T& s, const std::vector<SettingFlag>& flag
             } else if constexpr (core::NamedEnum<M>) {
                 addEnumOption(cmd, flag, m, help);
             } else if constexpr (std::is_integral_v<M>) {
-                addCountOption(cmd, flag, m, help);
-            } else if constexpr (std::is_arithmetic_v<M> || std::is_same_v<M, std::string>) {
+                addCountOption(cmd, flag, m, help, lim);
+            } else if constexpr (std::is_floating_point_v<M>) {
+                addNumberOption(cmd, flag, m, help, lim);
+            } else if constexpr (std::is_same_v<M, std::string>) {
                 cmd->add_option(flag, m, help);
             } else {
                 throw std::logic_error("no command-line form for " + path);

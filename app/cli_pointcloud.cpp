@@ -4,6 +4,7 @@
 
 #include "cli_options.h"
 #include "core/core.h"
+#include "core/fields.h"
 #include "mesh/mesh.h"
 #include "pointcloud/generate.h"
 
@@ -16,11 +17,13 @@ void addPointCloudOptions(CLI::App* cmd, PointCloudArgs& a) {
     addSettingOptions(cmd, a.options,
                       {{"count", "--points"}, {"method", "--method"}, {"seed", "--seed"}});
     const pointcloud::GenerateOptions d;
-    cmd->add_option("--iterations", a.iterations,
-                    "relaxation iterations (default " + std::to_string(d.stratifiedIterations) +
-                        " stratified-repulsion, " + std::to_string(d.repulsionIterations) +
-                        " repulsion)");
-    cmd->add_option("--threads", a.options.threads, "worker threads (default: all cores)");
+    addCountOption(cmd, "--iterations", a.iterations,
+                   "relaxation iterations (default " + std::to_string(d.stratifiedIterations) +
+                       " stratified-repulsion, " + std::to_string(d.repulsionIterations) +
+                       " repulsion)",
+                   core::limitsOf<pointcloud::GenerateOptions>("iterations"));
+    addCountOption(cmd, "--threads", a.options.threads,
+                   "worker threads, 0 … 1024 (default 0: all cores)", kThreadLimits);
     cmd->add_flag("--no-cache{false}", a.useCache, "neither read nor write the point-cloud cache");
     cmd->add_option("--out", a.out, "PLY file (x y z nx ny nz area, float32)")->required();
 }

@@ -136,7 +136,8 @@ void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
                        {"termination.max_events", "--max-events"},
                        {"termination.roulette_weight", "--roulette-weight"},
                        {"termination.roulette_survival", "--roulette-survival"}});
-    cmd->add_option("--threads", a.settings.threads, "worker threads (default: all cores)");
+    addCountOption(cmd, "--threads", a.settings.threads,
+                   "worker threads, 0 … 1024 (default 0: all cores)", kThreadLimits);
     cmd->add_flag("--analog", a.analog, "same as --estimator analog (thesis Algorithm 1)");
     cmd->add_flag("--gpu", a.gpu, "trace on the GL compute tracer instead of the CPU");
     cmd->add_option("--shard", a.shard,

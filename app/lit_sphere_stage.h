@@ -7,6 +7,7 @@
 //     thread.
 #pragma once
 
+#include "core/limits.h"
 #include "stage.h"
 
 #include "bssrdf/program_library.h"
@@ -44,11 +45,12 @@ struct LitSphereSettings {
 // The description of LitSphereSettings' members (core/fields.h).
 template <class V> void fields(V& v, LitSphereSettings& s) {
     v("enabled", s.enabled, "render the lit spheres");
-    v("radius_mm", s.radiusMm, "sphere radius, mm");
+    v("radius_mm", s.radiusMm, "sphere radius, mm", core::Limits{1e-3, 1e4});
     v("light", s.lightDir, "direction towards the light");
-    v("size", s.size, "image side in pixels");
-    v("path_spp", s.pathSpp, "path tracer samples per pixel");
-    v("integrated_spp", s.integratedSpp, "BSSRDF integration samples per pixel");
+    v("size", s.size, "image side in pixels", core::Limits{8, 4096});
+    v("path_spp", s.pathSpp, "path tracer samples per pixel", core::Limits{1, 1e7});
+    v("integrated_spp", s.integratedSpp, "BSSRDF integration samples per pixel",
+      core::Limits{1, 1e8});
     v("seed", s.seed, "random seed");
     v("gpu", s.gpu, "GL compute path tracer instead of the CPU");
     v("mesh", s.mesh, "OBJ to path trace instead of the sphere (empty: sphere)");

@@ -141,11 +141,14 @@ int main(int argc, char** argv) {
     prof->add_option("--eta", pa.eta,
                      "relative index of refraction (default " +
                          app::defaultText(materialDefaults.eta) + ")");
-    prof->add_option("--rmax", pa.rMax,
-                     "largest radius in mm (default " + app::defaultText(plotDefaults.rangeLd) +
-                         " x largest l_d)");
-    prof->add_option("--samples", pa.samples,
-                     "number of radii (default " + std::to_string(plotDefaults.samples) + ")");
+    // the plot's own ranges (PlotSettings' description), as in the GUI and in captures
+    app::addNumberOption(prof, "--rmax", pa.rMax,
+                         "largest radius in mm (default " + app::defaultText(plotDefaults.rangeLd) +
+                             " x largest l_d)",
+                         core::limitsOf<app::PlotSettings>("r_max_mm"));
+    app::addCountOption(prof, "--samples", pa.samples,
+                        "number of radii (default " + std::to_string(plotDefaults.samples) + ")",
+                        core::limitsOf<app::PlotSettings>("samples"));
     prof->add_option("--out", pa.out, "CSV file: # header, then r_mm,R,G,B")->required();
 
     auto* inv = cli.add_subcommand("invert", "R_dr / l_d -> sigma_a, sigma_s (1/mm)");
@@ -253,7 +256,8 @@ int main(int argc, char** argv) {
         c->add_option("--size", imSize, "image WxH" + dflt(imSize));
         c->add_option("--spp", ima.spp, "paths per covered pixel" + dflt(std::to_string(ima.spp)));
         c->add_option("--seed", ima.seed, "random seed" + dflt(std::to_string(ima.seed)));
-        c->add_option("--threads", ima.threads, "worker threads (default: all cores)");
+        app::addCountOption(c, "--threads", ima.threads,
+                            "worker threads, 0 … 1024 (default 0: all cores)", app::kThreadLimits);
         c->add_option("--out", ima.out, "EXR file: R,G,B exitance and varR,varG,varB")->required();
     };
     auto* sphere = cli.add_subcommand("sphere", "path-traced lit sphere (thesis 3.6.2) as EXR");
@@ -308,6 +312,7 @@ int main(int argc, char** argv) {
 
     // Command-line errors in the one form every error takes, `error: <argument>: message`, with
     // exit status 2 (usage); help and version exit 0 as the parser prints them.
+    app::refuseNonFiniteNumbers(cli);
     try {
         cli.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

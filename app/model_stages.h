@@ -5,6 +5,7 @@
 // inputs) changed; results live in the model's ModelView.
 #pragma once
 
+#include "core/limits.h"
 #include "stage.h"
 
 #include "bssrdf/program_library.h"
@@ -34,8 +35,8 @@ struct MaterialSettings {
 template <class V> void fields(V& v, MaterialSettings& s) {
     v("mode", s.mode, "parametrisation: sigma or rdr_ld");
     v.inlined(s.params);
-    v("rdr", s.rdr, "diffuse reflectance R_dr (rdr_ld mode)");
-    v("ld_mm", s.ld, "diffuse mean free path l_d, mm (rdr_ld mode)");
+    v("rdr", s.rdr, "diffuse reflectance R_dr (rdr_ld mode)", core::Limits{0, 1});
+    v("ld_mm", s.ld, "diffuse mean free path l_d, mm (rdr_ld mode)", core::Limits{0, 1e6});
     v("preset", s.preset, "last applied preset");
 }
 

@@ -3,6 +3,7 @@
 // the UI never waits. The plot reads snapshots; any change of inputs restarts the run.
 #pragma once
 
+#include "core/limits.h"
 #include "stage.h"
 
 #include "material/material.h"
@@ -33,8 +34,8 @@ struct ReferenceSettings {
 // The description of ReferenceSettings' members (core/fields.h).
 template <class V> void fields(V& v, ReferenceSettings& s) {
     v("enabled", s.enabled, "path-trace the reference");
-    v("paths", s.paths, "photon paths per channel");
-    v("bins", s.bins, "radial bins");
+    v("paths", s.paths, "photon paths per channel", core::Limits{1, 1e18});
+    v("bins", s.bins, "radial bins", core::Limits{1, 1e5});
     v("seed", s.seed, "random seed");
     v("gpu", s.gpu, "GL compute tracer instead of the CPU");
     v("estimator", s.estimator, "slab estimator (connections: CPU only)");

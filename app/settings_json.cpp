@@ -5,6 +5,8 @@
 #include "core/core.h"
 #include "core/fields.h"
 
+#include <cmath>
+
 namespace app {
 using nlohmann::json;
 
@@ -28,7 +30,6 @@ void applySettingsJson(Workbench& wb, const json& settings, const std::string& f
         const std::string path = "settings." + key;
         if (key == "plot") {
             PlotSettings p = core::fromJson(*it, file, path, PlotSettings{});
-            if (p.samples < 2) throw core::Error(file, 0, path + ".samples: must be >= 2");
             wb.plotSettings() = p;
         } else if (key == "reference") {
             wb.referenceSettings() = core::fromJson(*it, file, path, ReferenceSettings{});
@@ -91,6 +92,10 @@ bssrdf::ParamValues valuesFromJson(const json& j, const std::string& where) {
             !(*it)[2].is_number())
             throw core::Error(where, 0, "value of '" + it.key() + "' must be 3 numbers");
         v[it.key()] = {(*it)[0].get<float>(), (*it)[1].get<float>(), (*it)[2].get<float>()};
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(v[it.key()][c]))
+                throw core::Error(where, 0,
+                                  "value of '" + it.key() + "' out of range: " + it->dump());
     }
     return v;
 }

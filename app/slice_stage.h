@@ -9,6 +9,7 @@
 // stays on screen.
 #pragma once
 
+#include "core/limits.h"
 #include "stage.h"
 
 #include "bssrdf/program_library.h"
@@ -42,15 +43,17 @@ struct SliceSettings {
 };
 template <class V> void fields(V& v, SliceSettings& s) {
     v("enabled", s.enabled, "path-trace the BSSRDF slice");
-    v("channel", s.channel, "medium of colour channel 0 R, 1 G, 2 B");
-    v("theta_i_deg", s.thetaIDeg, "incidence angle, degrees [0, 90)");
-    v("range_ld", s.rangeLd, "radius of the last bin edge in l_d of the channel");
-    v("r_bins", s.rBins, "radial bins");
+    v("channel", s.channel, "medium of colour channel 0 R, 1 G, 2 B", core::Limits{0, 2});
+    v("theta_i_deg", s.thetaIDeg, "incidence angle, degrees [0, 90)", core::Limits{0, 90});
+    v("range_ld", s.rangeLd, "radius of the last bin edge in l_d of the channel",
+      core::Limits{0.01, 1000});
+    v("r_bins", s.rBins, "radial bins", core::Limits{1, 1e4});
     v("log_r", s.logR, "logarithmic radial bins");
-    v("theta_s_bins", s.thetaSBins, "bins of theta_s over [0, 180] deg");
-    v("dir_cos_bins", s.dirCosBins, "exit-direction rings (equal solid angle)");
-    v("dir_phi_bins", s.dirPhiBins, "exit-direction azimuth sectors");
-    v("paths", s.paths, "photon paths");
+    v("theta_s_bins", s.thetaSBins, "bins of theta_s over [0, 180] deg", core::Limits{1, 1e4});
+    v("dir_cos_bins", s.dirCosBins, "exit-direction rings (equal solid angle)",
+      core::Limits{1, 1e3});
+    v("dir_phi_bins", s.dirPhiBins, "exit-direction azimuth sectors", core::Limits{1, 1e3});
+    v("paths", s.paths, "photon paths", core::Limits{1, 1e18});
     v("seed", s.seed, "random seed");
     v("estimator", s.estimator, "estimator");
     v("orders", s.orders, "scattering orders tallied");

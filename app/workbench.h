@@ -15,6 +15,7 @@
 
 #include "bssrdf/program_library.h"
 #include "core/file_watcher.h"
+#include "core/limits.h"
 #include "lit_sphere_stage.h"
 #include "material/material.h"
 #include "model_stages.h"
@@ -51,12 +52,12 @@ struct PlotSettings {
 template <class V> void fields(V& v, PlotSettings& s) {
     v("y_scale", s.yScale, "y axis scale");
     v("r_times_r", s.rTimesR, "plot r·R(r)");
-    v("channel", s.channel, "0 R, 1 G, 2 B, 3 luminance");
+    v("channel", s.channel, "0 R, 1 G, 2 B, 3 luminance", core::Limits{0, 3});
     v("solo", s.solo, "display path of the soloed model (empty: all)");
-    v("samples", s.samples, "radii evaluated");
+    v("samples", s.samples, "radii evaluated", core::Limits{2, 16384});
     v("fixed_range", s.fixedRange, "use r_max_mm instead of range_ld");
-    v("r_max_mm", s.rMaxMm, "plot radius with fixed_range, mm");
-    v("range_ld", s.rangeLd, "plot radius in largest l_d otherwise");
+    v("r_max_mm", s.rMaxMm, "plot radius with fixed_range, mm", core::Limits{0.01, 1000});
+    v("range_ld", s.rangeLd, "plot radius in largest l_d otherwise", core::Limits{0.1, 50});
     v("relation", s.relation, "values, or each model's ratio / difference to the reference");
 }
 

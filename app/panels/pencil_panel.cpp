@@ -101,18 +101,26 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
         ImGui::EndCombo();
     }
     ImGui::SetNextItemWidth(90);
+    // The ranges are the settings' own (PlotSettings' description), as on the CLI and in captures.
+    static const core::Limits samplesLim = core::limitsOf<PlotSettings>("samples"),
+                              rMaxLim = core::limitsOf<PlotSettings>("r_max_mm"),
+                              rangeLim = core::limitsOf<PlotSettings>("range_ld");
     if (inputIntCommitted("samples", &ps.samples, 256))
-        ps.samples = std::clamp(ps.samples, 512, 16384);
+        ps.samples = std::clamp(ps.samples, int(samplesLim.lo), int(samplesLim.hi));
     sameLineIfFits(checkboxWidth("fixed range"));
     ImGui::Checkbox("fixed range", &ps.fixedRange);
     sameLineIfFits(itemWidth(120, "r max [mm]"));
     ImGui::SetNextItemWidth(120);
     if (ps.fixedRange) {
         float r = float(ps.rMaxMm);
-        if (ImGui::DragFloat("r max [mm]", &r, 0.1f, 0.01f, 1000.0f, "%.3g")) ps.rMaxMm = r;
+        if (ImGui::DragFloat("r max [mm]", &r, 0.1f, float(rMaxLim.lo), float(rMaxLim.hi), "%.3g",
+                             ImGuiSliderFlags_AlwaysClamp))
+            ps.rMaxMm = r;
     } else {
         float k = float(ps.rangeLd);
-        if (ImGui::DragFloat("x largest l_d", &k, 0.05f, 0.1f, 50.0f, "%.2f")) ps.rangeLd = k;
+        if (ImGui::DragFloat("x largest l_d", &k, 0.05f, float(rangeLim.lo), float(rangeLim.hi),
+                             "%.2f", ImGuiSliderFlags_AlwaysClamp))
+            ps.rangeLd = k;
     }
     ImGui::SameLine();
     ImGui::TextDisabled("r in [0, %.3g] mm", wb.rMaxMm());

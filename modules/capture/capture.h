@@ -80,6 +80,16 @@ bool isValidName(std::string_view name); // non-empty, [A-Za-z0-9_.-], not "." o
 bool isHash(std::string_view text);      // "fnv1a64:" + 16 lowercase hex digits
 // "" when `path` is a plain relative path that stays inside its folder, else the reason.
 std::string relativePathProblem(std::string_view path);
+
+// Untrusted captures (confine.cpp). A capture may come from someone else, so what its manifest
+// names is confined: "" when the output `file` of the capture in `captureDir` resolves (symlinks
+// followed) to a place inside that folder and is not itself a symlink, else the reason.
+std::string outputPathProblem(const std::filesystem::path& captureDir, const std::string& file);
+// "" when the input file `path` (absolute, or relative to `projectRoot` as the workbench resolves
+// settings paths) resolves, symlinks followed, inside one of `folders`, else the reason naming
+// them. An empty `path` (no file) is fine.
+std::string confinedInputProblem(const std::string& path, const std::filesystem::path& projectRoot,
+                                 const std::vector<std::filesystem::path>& folders);
 std::string utcNow(); // current time as "YYYY-MM-DDTHH:MM:SSZ"
 
 // ---- CSV tables -----------------------------------------------------------------------------

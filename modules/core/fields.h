@@ -2,6 +2,7 @@
 // A settings struct T describes its members once, next to its definition, by an ADL function
 //   template <class V> void fields(V& v, T& s) {
 //       v("eps", s.eps, "solid-angle criterion ε");  // a member: JSON key, reference, doc
+//       v("count", s.count, "points", Limits{1, 1e7}); // a number with the values it accepts
 //       v.inlined(s.params);                          // a described member whose fields sit at
 //                                                     // this level (flat JSON)
 //       v.skip(s.threads, "results do not depend on it"); // a member that is no setting
@@ -11,16 +12,21 @@
 // From that come: toJson / fromJson (symmetric by construction; enums by name; a missing key
 // keeps the value already there, so older files read with today's defaults; an unknown key,
 // a wrong type or an unknown enum name throws core::Error(file, 0, "path.key: expected …")),
-// keyOf (a hash of every described member, for stage caches), fieldCount (the number of
-// members of an aggregate: tests compare it with the description so a member added to the
-// struct but not to its description fails) and forEachField (CLI flags, defaults tables).
+// keyOf (a hash of every described member, for stage caches), checkLimits (a numeric member
+// outside its Limits, or a floating-point one that is not finite, throws naming its path: the
+// JSON reader and the CLI flags both call it, so a setting has one range everywhere), fieldCount
+// (the number of members of an aggregate: tests compare it with the description so a member added
+// to the struct but not to its description fails) and forEachField (CLI flags, defaults tables).
 #pragma once
 
 #include "core/core.h"
+#include "core/limits.h"
+#include "core/text.h"
 
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <set>
@@ -59,10 +65,39 @@ E enumFromName(std::string_view name, const std::string& file, const std::string
                     "' (expected " + enumNameList<E>() + ")");
 }
 
+// ---- limits -------------------------------------------------------------------------------
+// core::Limits (core/limits.h): the range a description gives a numeric member.
+
+// An empty string when `value` is acceptable, else why not ("must be between 1 and 10, got 0").
+template <class M> std::string limitProblem(const M& value, Limits lim) {
+    if constexpr (std::is_same_v<M, glm::vec3> || std::is_same_v<M, glm::dvec3>) {
+        for (int c = 0; c < 3; ++c)
+            if (std::string p = limitProblem(double(value[c]), lim); !p.empty())
+                return "component " + std::to_string(c) + " " + p;
+        return "";
+    } else if constexpr (std::is_arithmetic_v<M> && !std::is_same_v<M, bool>) {
+        const double v = double(value);
+        auto formatNumber = [](double x) { return core::formatNumber(x, 12); };
+        if (std::is_floating_point_v<M> && !std::isfinite(value))
+            return "must be a finite number, got " + formatNumber(v);
+        if (v < lim.lo || v > lim.hi) {
+            if (lim.hi == std::numeric_limits<double>::infinity())
+                return "must be at least " + formatNumber(lim.lo) + ", got " + formatNumber(v);
+            if (lim.lo == -std::numeric_limits<double>::infinity())
+                return "must be at most " + formatNumber(lim.hi) + ", got " + formatNumber(v);
+            return "must be between " + formatNumber(lim.lo) + " and " + formatNumber(lim.hi) +
+                   ", got " + formatNumber(v);
+        }
+        return "";
+    } else {
+        return "";
+    }
+}
+
 // ---- descriptions -------------------------------------------------------------------------
 namespace detail {
 struct NullVisitor {
-    template <class T> void operator()(const char*, T&, const char*) {}
+    template <class T> void operator()(const char*, T&, const char*, Limits = {}) {}
     template <class T> void inlined(T&) {}
     template <class T> void skip(T&, const char*) {}
 };
@@ -78,9 +113,11 @@ namespace detail {
 template <class F> struct LeafVisitor {
     F& f;
     const std::string& prefix;
-    template <class M> void operator()(const char* key, M& m, const char* doc) {
+    template <class M> void operator()(const char* key, M& m, const char* doc, Limits lim = {}) {
         if constexpr (Described<M>)
             forEachField(m, f, prefix + key + ".");
+        else if constexpr (std::is_invocable_v<F&, const std::string&, M&, const char*, Limits>)
+            f(prefix + key, m, doc, lim);
         else
             f(prefix + key, m, doc);
     }
@@ -89,16 +126,28 @@ template <class F> struct LeafVisitor {
 };
 struct Counter {
     size_t n = 0;
-    template <class M> void operator()(const char*, M&, const char*) { ++n; }
+    template <class M> void operator()(const char*, M&, const char*, Limits = {}) { ++n; }
     template <class M> void inlined(M&) { ++n; }
     template <class M> void skip(M&, const char*) { ++n; }
 };
 } // namespace detail
-// Calls f(path, member&, doc) for every described leaf member (nested structs flattened into
+// Calls f(path, member&, doc) — or f(path, member&, doc, limits) where f takes them — for every
+// described leaf member (nested structs flattened into
 // "a.b" paths; inlined members at their parent's level). Skipped members are not visited.
 template <class T, class F> void forEachField(T& s, F&& f, const std::string& prefix) {
     detail::LeafVisitor<std::remove_reference_t<F>> v{f, prefix};
     fields(v, s);
+}
+
+// The Limits the description of T gives the leaf member at `path` ("render.eps"); no limits
+// for a member without them or a path T does not have.
+template <class T> Limits limitsOf(const std::string& path) {
+    T t{};
+    Limits out;
+    forEachField(t, [&](const std::string& p, auto&, const char*, Limits lim) {
+        if (p == path) out = lim;
+    });
+    return out;
 }
 
 // Members an aggregate has (brace initialisation with as many convertible values as accepted).
@@ -131,7 +180,9 @@ template <class T> nlohmann::json toJson(const T& value);
 namespace detail {
 struct JsonWriter {
     nlohmann::json& j;
-    template <class M> void operator()(const char* key, M& m, const char*) { j[key] = toJson(m); }
+    template <class M> void operator()(const char* key, M& m, const char*, Limits = {}) {
+        j[key] = toJson(m);
+    }
     template <class M> void inlined(M& m) { fields(*this, m); }
     template <class M> void skip(M&, const char*) {}
 };
@@ -161,9 +212,13 @@ struct JsonReader {
     const std::string& file;
     const std::string& path;
     std::set<std::string> known;
-    template <class M> void operator()(const char* key, M& m, const char*) {
+    template <class M> void operator()(const char* key, M& m, const char*, Limits lim = {}) {
         known.insert(key);
-        if (auto it = j.find(key); it != j.end()) fromJson(*it, m, file, path + "." + key);
+        auto it = j.find(key);
+        if (it == j.end()) return;
+        fromJson(*it, m, file, path + "." + key);
+        if (std::string p = limitProblem(m, lim); !p.empty())
+            throw Error(file, 0, path + "." + key + ": " + p);
     }
     template <class M> void inlined(M& m) { fields(*this, m); }
     template <class M> void skip(M&, const char*) {}
@@ -199,6 +254,8 @@ void fromJson(const nlohmann::json& j, T& out, const std::string& file, const st
             !j[2].is_number())
             fail("expected an array of 3 numbers");
         out = T(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(out[c])) fail("number " + j[c].dump() + " out of range");
     } else if constexpr (std::is_same_v<T, bool>) {
         if (!j.is_boolean()) fail("expected true or false");
         out = j.get<bool>();
@@ -210,7 +267,9 @@ void fromJson(const nlohmann::json& j, T& out, const std::string& file, const st
         out = j.get<T>();
     } else if constexpr (std::is_floating_point_v<T>) {
         if (!j.is_number()) fail("expected a number");
-        out = static_cast<T>(j.get<double>());
+        const double v = j.get<double>();
+        if (!std::isfinite(static_cast<T>(v))) fail("number " + j.dump() + " out of range");
+        out = static_cast<T>(v);
     } else if constexpr (std::is_same_v<T, std::string>) {
         if (!j.is_string()) fail("expected a string");
         out = j.get<std::string>();

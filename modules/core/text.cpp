@@ -27,6 +27,10 @@ std::string readFile(const std::filesystem::path& path) {
 void writeFile(const std::filesystem::path& path, std::string_view bytes) {
     std::filesystem::path tmp = path;
     tmp += ".tmp";
+    // A file or symlink already at the temporary name (a crashed write, or one planted in an
+    // untrusted capture folder) is removed, never written through.
+    std::error_code removeEc;
+    std::filesystem::remove(tmp, removeEc);
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         if (!out)

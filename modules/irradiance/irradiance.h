@@ -48,6 +48,7 @@
 // at 1024² ~0.3 s.
 #pragma once
 
+#include "core/limits.h"
 #include "gl/gl.h"
 #include "irradiance/environment.h"
 #include "irradiance/light_frame.h"
@@ -104,18 +105,20 @@ struct Settings {
 template <class V> void fields(V& v, Settings& s) {
     v("mode", s.mode, "lighting mode");
     v("direction", s.direction, "towards the light");
-    v("irradiance", s.irradiance, "E0, RGB, on a surface facing the light");
+    v("irradiance", s.irradiance, "E0, RGB, on a surface facing the light", core::Limits{0, 1e6});
     v("filter", s.filter, "shadow-map filter (thesis Fig. 3.3)");
-    v("shadow_map_size", s.shadowMapSize, "shadow-map texels per side");
-    v("depth_offset", s.depthOffset, "constant shadow offset, mesh units");
-    v("slope_offset", s.slopeOffset, "slope-scaled shadow offset multiplier");
-    v("jitter_samples", s.jitterSamples, "PCF lookups of offset-pcf-jitter");
-    v("jitter_radius", s.jitterRadius, "their disk radius in texels");
-    v("ior", s.ior, "relative index of refraction η (set from the material)");
-    v("env_intensity", s.envIntensity, "environment radiance multiplier");
+    v("shadow_map_size", s.shadowMapSize, "shadow-map texels per side", core::Limits{16, 8192});
+    v("depth_offset", s.depthOffset, "constant shadow offset, mesh units", core::Limits{0, 1});
+    v("slope_offset", s.slopeOffset, "slope-scaled shadow offset multiplier", core::Limits{0, 1e3});
+    v("jitter_samples", s.jitterSamples, "PCF lookups of offset-pcf-jitter", core::Limits{1, 16});
+    v("jitter_radius", s.jitterRadius, "their disk radius in texels", core::Limits{0, 64});
+    v("ior", s.ior, "relative index of refraction η (set from the material)", core::Limits{1, 4});
+    v("env_intensity", s.envIntensity, "environment radiance multiplier", core::Limits{0, 1e6});
     v("env_rotation", s.envRotation, "environment rotation about +y, radians");
-    v("occluded_per_step", s.occludedSamplesPerStep, "occluded IBL shadow maps per step");
-    v("occluded_samples", s.occludedTotalSamples, "occluded IBL environment samples K");
+    v("occluded_per_step", s.occludedSamplesPerStep, "occluded IBL shadow maps per step",
+      core::Limits{1, 64});
+    v("occluded_samples", s.occludedTotalSamples, "occluded IBL environment samples K",
+      core::Limits{1, 1048576});
     v("seed", s.seed, "seed of the environment samples");
 }
 

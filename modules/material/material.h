@@ -9,6 +9,8 @@
 //   - the colour swatch of thesis 3.6.1: an RGB triple rescaled to luminance 0.75.
 #pragma once
 
+#include "core/limits.h"
+
 #include <glm/vec3.hpp>
 
 #include <filesystem>
@@ -28,11 +30,11 @@ struct MaterialParams {
 };
 // The description of MaterialParams' members (core/fields.h).
 template <class V> void fields(V& v, MaterialParams& p) {
-    v("sigma_a", p.sigmaA, "absorption coefficient σa, 1/mm");
-    v("sigma_s", p.sigmaS, "scattering coefficient σs, 1/mm");
-    v("g", p.g, "Henyey-Greenstein mean cosine");
-    v("eta", p.eta, "relative index of refraction η");
-    v("scale", p.scale, "mm per mesh unit");
+    v("sigma_a", p.sigmaA, "absorption coefficient σa, 1/mm", core::Limits{0, 1e6});
+    v("sigma_s", p.sigmaS, "scattering coefficient σs, 1/mm", core::Limits{0, 1e6});
+    v("g", p.g, "Henyey-Greenstein mean cosine", core::Limits{-1, 1});
+    v("eta", p.eta, "relative index of refraction η", core::Limits{0.01, 100});
+    v("scale", p.scale, "mm per mesh unit", core::Limits{1e-6, 1e9});
 }
 
 // Throws core::Error("<what>", 0, msg) naming the field and channel: σa < 0, σs ≤ 0,

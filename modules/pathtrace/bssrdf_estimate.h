@@ -23,6 +23,7 @@
 //   shape; the connections' second moments there come from batch means).
 #pragma once
 
+#include "core/limits.h"
 #include "pathtrace/detail/exact_sum.h"
 #include "pathtrace/pathtrace.h"
 
@@ -72,14 +73,16 @@ struct BssrdfBins {
     std::vector<double> rEdges() const;
 };
 template <class V> void fields(V& v, BssrdfBins& b) {
-    v("r_bins", b.rBins, "radial bins");
-    v("r_max_mm", b.rMaxMm, "radius of the last bin edge, mm");
+    v("r_bins", b.rBins, "radial bins", core::Limits{1, 1e5});
+    v("r_max_mm", b.rMaxMm, "radius of the last bin edge, mm", core::Limits{1e-9, 1e9});
     v("r_spacing", b.spacing, "radial bin spacing");
-    v("r_start_mm", b.rStartMm, "inner edge of the first radial bin, mm");
-    v("r_min_mm", b.rMinMm, "log spacing: outer edge of the first bin, mm (0: r_max/1000)");
-    v("theta_s_bins", b.thetaSBins, "bins of theta_s over [0, 180] deg");
-    v("dir_cos_bins", b.dirCosBins, "exit-direction rings (equal solid angle)");
-    v("dir_phi_bins", b.dirPhiBins, "exit-direction azimuth sectors");
+    v("r_start_mm", b.rStartMm, "inner edge of the first radial bin, mm", core::Limits{0, 1e9});
+    v("r_min_mm", b.rMinMm, "log spacing: outer edge of the first bin, mm (0: r_max/1000)",
+      core::Limits{0, 1e9});
+    v("theta_s_bins", b.thetaSBins, "bins of theta_s over [0, 180] deg", core::Limits{1, 1e4});
+    v("dir_cos_bins", b.dirCosBins, "exit-direction rings (equal solid angle)",
+      core::Limits{1, 1e4});
+    v("dir_phi_bins", b.dirPhiBins, "exit-direction azimuth sectors", core::Limits{1, 1e4});
 }
 
 struct EstimateSettings {
@@ -95,7 +98,7 @@ struct EstimateSettings {
 template <class V> void fields(V& v, EstimateSettings& s) {
     v("theta_i_deg", s.thetaIDeg, "incidence angles, degrees");
     v("bins", s.bins, "spatial and directional bins");
-    v("paths", s.paths, "photon paths per incidence angle");
+    v("paths", s.paths, "photon paths per incidence angle", core::Limits{1, 1e18});
     v("seed", s.seed, "random seed");
     v.skip(s.threads, "worker threads; results do not depend on it");
     v("termination", s.termination, "roulette and event limit");

@@ -43,6 +43,8 @@
 //   tally.cpp (sums, merge, finalize), run_slab.cpp, validate.cpp.
 #pragma once
 
+#include "core/limits.h"
+
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -61,10 +63,10 @@ struct Medium {
 };
 // The description of Medium's members (core/fields.h).
 template <class V> void fields(V& v, Medium& m) {
-    v("sigma_a", m.sigmaA, "absorption coefficient, 1/mm");
-    v("sigma_s", m.sigmaS, "scattering coefficient, 1/mm");
-    v("g", m.g, "Henyey-Greenstein mean cosine");
-    v("eta", m.eta, "relative index of refraction (medium / outside)");
+    v("sigma_a", m.sigmaA, "absorption coefficient, 1/mm", core::Limits{0, 1e6});
+    v("sigma_s", m.sigmaS, "scattering coefficient, 1/mm", core::Limits{0, 1e6});
+    v("g", m.g, "Henyey-Greenstein mean cosine", core::Limits{-1, 1});
+    v("eta", m.eta, "relative index of refraction (medium / outside)", core::Limits{0.01, 100});
 }
 // Throws core::Error("<what>", 0, msg) naming the field.
 void validate(const Medium& m, const std::string& what = "medium");
@@ -77,9 +79,11 @@ struct Termination {
 };
 // The description of Termination's members (core/fields.h).
 template <class V> void fields(V& v, Termination& t) {
-    v("roulette_weight", t.rouletteWeight, "weight roulette below this weight");
-    v("roulette_survival", t.rouletteSurvival, "roulette survival probability");
-    v("max_events", t.maxEvents, "interactions after which a path is truncated");
+    v("roulette_weight", t.rouletteWeight, "weight roulette below this weight", core::Limits{0, 1});
+    v("roulette_survival", t.rouletteSurvival, "roulette survival probability",
+      core::Limits{1e-6, 1});
+    v("max_events", t.maxEvents, "interactions after which a path is truncated",
+      core::Limits{1, 4294967295.0});
 }
 // Throws core::Error("<what>", 0, msg) naming the field: rouletteWeight not in (0, 1),
 // rouletteSurvival not in (0, 1], maxEvents < 1.
@@ -108,9 +112,9 @@ struct SlabSettings {
 };
 // The description of SlabSettings' members (core/fields.h).
 template <class V> void fields(V& v, SlabSettings& s) {
-    v("r_max_mm", s.rMaxMm, "histogram radius, mm");
-    v("bins", s.bins, "radial bins");
-    v("paths", s.paths, "photon paths");
+    v("r_max_mm", s.rMaxMm, "histogram radius, mm", core::Limits{1e-9, 1e9});
+    v("bins", s.bins, "radial bins", core::Limits{1, 1e6});
+    v("paths", s.paths, "photon paths", core::Limits{1, 1e18});
     v("seed", s.seed, "random seed");
     v.skip(s.threads, "worker threads; results do not depend on it");
     v("termination", s.termination, "roulette and event limit");

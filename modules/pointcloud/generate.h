@@ -11,6 +11,7 @@
 //            "uniform"     — sampleUniform only (white noise, for comparison)
 #pragma once
 
+#include "core/limits.h"
 #include "pointcloud/pointcloud.h"
 
 #include <array>
@@ -45,12 +46,15 @@ struct GenerateOptions {
 };
 // The description of GenerateOptions' members (core/fields.h).
 template <class V> void fields(V& v, GenerateOptions& o) {
-    v("count", o.points, "number of points N");
+    v("count", o.points, "number of points N", core::Limits{1, 16777216});
     v("method", o.method, "generation method");
     v("seed", o.seed, "random seed");
-    v("iterations", o.repulsionIterations, "repulsion: Turk relaxation iterations");
-    v("stratified_iterations", o.stratifiedIterations, "stratified-repulsion: iterations");
-    v("candidate_factor", o.candidateFactor, "elimination: candidates per point");
+    v("iterations", o.repulsionIterations, "repulsion: Turk relaxation iterations",
+      core::Limits{0, 100000});
+    v("stratified_iterations", o.stratifiedIterations, "stratified-repulsion: iterations",
+      core::Limits{0, 100000});
+    v("candidate_factor", o.candidateFactor, "elimination: candidates per point",
+      core::Limits{1.5, 50});
     v.skip(o.threads, "worker threads; results do not depend on it");
     v.skip(o.memoryCapBytes, "a limit of the machine, not of the result");
 }

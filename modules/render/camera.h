@@ -10,6 +10,7 @@
 // margin: distance = 1.05·radius / sin(min(fovY, fovX)/2).
 #pragma once
 
+#include "core/limits.h"
 #include "mesh/mesh.h"
 
 #include <glm/mat4x4.hpp>
@@ -36,10 +37,11 @@ template <class V> void fields(V& v, Camera& c) {
     v("target", c.target, "point looked at, mesh units");
     v("yaw", c.yaw, "orbit angle about +y, radians");
     v("pitch", c.pitch, "orbit elevation, radians");
-    v("distance", c.distance, "distance from the target, mesh units");
-    v("fov_y", c.fovY, "vertical field of view, radians");
+    v("distance", c.distance, "distance from the target, mesh units", core::Limits{1e-6, 1e6});
+    v("fov_y", c.fovY, "vertical field of view, radians", core::Limits{0.001, 3.1});
     v.skip(c.aspect, "replaced by the image's width/height");
-    v("radius", c.radius, "bounding-sphere radius of the framed object (clip planes)");
+    v("radius", c.radius, "bounding-sphere radius of the framed object (clip planes)",
+      core::Limits{1e-9, 1e9});
 }
 
 } // namespace render

@@ -21,6 +21,7 @@
 #pragma once
 
 #include "bssrdf/program.h"
+#include "core/limits.h"
 #include "gl/gl.h"
 #include "mesh/mesh.h"
 #include "octree/octree.h"
@@ -66,19 +67,21 @@ struct Settings {
 };
 // The description of Settings' members (core/fields.h).
 template <class V> void fields(V& v, Settings& s) {
-    v("width", s.width, "image width in pixels");
-    v("height", s.height, "image height in pixels");
+    v("width", s.width, "image width in pixels", core::Limits{1, 8192});
+    v("height", s.height, "image height in pixels", core::Limits{1, 8192});
     v("camera", s.camera, "orbit camera");
-    v("eps", s.eps, "criterion threshold ε (octree::defaultEps)");
+    v("eps", s.eps, "criterion threshold ε (octree::defaultEps)", core::Limits{0, 1e6});
     v("bbox_criterion", s.boundingBoxCriterion, "bounding-box distance in the criterion");
     v("second_order", s.secondOrder, "accepted nodes by the second-order three-point rule");
     v("brute_force", s.bruteForce, "sum every point (no hierarchy)");
     v("direct_bssrdf", s.directBssrdf, "radial models: Bssrdf() instead of the profile table");
-    v("max_steps", s.maxSteps, "traversal steps per pixel before it is cut");
-    v("stack_size", s.stackSize, "usable traversal stack entries");
-    v("exposure", s.exposure, "tone mapping exposure, stops");
-    v("gamma", s.gamma, "tone mapping gamma");
-    v("background", s.background, "display colour of misses");
+    v("max_steps", s.maxSteps, "traversal steps per pixel before it is cut",
+      core::Limits{1, 4294967295.0});
+    v("stack_size", s.stackSize, "usable traversal stack entries",
+      core::Limits{1, octree::kStackSize});
+    v("exposure", s.exposure, "tone mapping exposure, stops", core::Limits{-64, 64});
+    v("gamma", s.gamma, "tone mapping gamma", core::Limits{0.1, 10});
+    v("background", s.background, "display colour of misses", core::Limits{0, 1e3});
     v.skip(s.iterationsPerDispatch, "dispatch slicing; results do not depend on it");
 }
 

@@ -159,7 +159,7 @@ TEST_F(CliScene, PointCloudRejectsBadInputs) {
             {m.name, m.fragment});
     }
     expectFailure({"pointcloud", "--mesh", kBunny, "--points", "0", "--out", "x.ply"},
-                  {"--points", "at least 1"});
+                  {"--points", "between 1 and 16777216, got 0"});
     expectFailure({"pointcloud", "--mesh", kBunny, "--points", "50000000", "--out", "x.ply"},
                   {"--points", "16777216"});
     expectFailure({"pointcloud", "--mesh", kBunny, "--method", "poisson", "--out", "x.ply"},
@@ -207,7 +207,8 @@ TEST_F(CliScene, RenderRejectsBadMeshes) {
 }
 
 TEST_F(CliScene, RenderRejectsBadArguments) {
-    expectFailure(with(renderArgs(kBunny), "--points", "0"), {"--points", "at least 1"});
+    expectFailure(with(renderArgs(kBunny), "--points", "0"),
+                  {"--points", "between 1 and 16777216, got 0"});
     expectFailure(with(renderArgs(kBunny), "--points", "50000000"), {"--points", "16777216"});
     expectFailure(renderArgs(kBunny, {"--method", "poisson"}), {"--method", "poisson"});
     expectFailure(renderArgs(kBunny, {"--light", "garbage"}), {"--light", "garbage"});

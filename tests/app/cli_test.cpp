@@ -527,7 +527,7 @@ TEST_F(Cli, SlabRejectsBadInputs) {
         a.insert(a.end(), extra.begin(), extra.end());
         return a;
     };
-    expectFailure(with({"--sigma-a", "-0.1"}), {"sigma_a"});
+    expectFailure(with({"--sigma-a", "-0.1"}), {"--sigma-a", "must be between 0 and"});
     expectFailure(with({"--sigma-s", "0"}), {"sigma_s"});
     expectFailure(with({"--g", "1"}), {"g"});
     expectFailure(with({"--eta", "0"}), {"eta"});
@@ -535,7 +535,7 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     expectFailure(with({"--rmax", "-1"}), {"rmax"});
     expectFailure({"slab", "--paths", "0", "--out", "x.csv"}, {"path"});
     expectFailure({"slab", "--paths", "1000", "--out", "/proc/nope/x.csv"}, {"/proc/nope/x.csv"});
-    expectFailure(with({"--max-events", "0"}), {"maxEvents"});
+    expectFailure(with({"--max-events", "0"}), {"--max-events", "between 1 and 4294967295"});
     // sigma_a = 0 (no absorption) is valid and terminates; the few paths of the heavy tail of
     // return times that reach the event limit are truncated, and since their weight exceeds the
     // standard error the CSV is written but the energy check fails: exit status 3, saying so
@@ -550,6 +550,44 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     r = run({"slab", "--sigma-a", "0.05", "--paths", "2000", "--out", "ok2.csv"});
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_NE(readText(dir() / "ok2.csv").find("# energy_check ok"), std::string::npos);
+}
+
+// Numbers on the command line are refused when not finite, negative where a count is meant or
+// outside the setting's range, naming the flag, never replaced by a default; no output written.
+TEST_F(Cli, NumericArgumentsAreRefusedNeverReplacedByDefaults) {
+    const std::string mesh = (sourceRoot() / "tests/fuzz/corpus/obj/box.obj").string();
+    const std::string model = (sourceRoot() / "materials/dipole.bssrdf").string();
+    expectFailure({"slab", "--rmax", "nan", "--paths", "100", "--out", "a.csv"},
+                  {"--rmax", "finite"});
+    expectFailure({"slab", "--g", "inf", "--paths", "100", "--out", "a.csv"}, {"--g", "finite"});
+    expectFailure({"slab", "--threads", "-3", "--paths", "100", "--out", "a.csv"},
+                  {"--threads", "between 0 and 1024"});
+    expectFailure({"pointcloud", "--mesh", mesh, "--iterations", "-1", "--out", "a.ply"},
+                  {"--iterations", "between 0 and 100000, got -1"});
+    expectFailure({"pointcloud", "--mesh", mesh, "--threads", "-3", "--out", "a.ply"},
+                  {"--threads"});
+    expectFailure({"pointcloud", "--mesh", mesh, "--points", "1e9", "--out", "a.ply"},
+                  {"--points", "16777216"});
+    expectFailure(
+        {"profile", "--model", model, "--preset", "Marble", "--rmax", "1e300", "--out", "a.csv"},
+        {"--rmax", "between 0.01 and 1000"});
+    expectFailure({"profile", "--model", model, "--preset", "Marble", "--samples", "2000000000",
+                   "--out", "a.csv"},
+                  {"--samples", "between 2 and 16384"});
+    expectFailure(
+        {"profile", "--model", model, "--preset", "Marble", "--eta", "nan", "--out", "a.csv"},
+        {"--eta", "finite"});
+    expectFailure({"render", "--mesh", mesh, "--model", model, "--preset", "Marble", "--yaw", "nan",
+                   "--out", "a.exr"},
+                  {"--yaw", "finite"});
+    expectFailure({"render", "--mesh", mesh, "--model", model, "--preset", "Marble", "--width",
+                   "-5", "--out", "a.exr"},
+                  {"--width"});
+    expectFailure({"sphere", "--threads", "-1", "--out", "a.exr"}, {"--threads"});
+    expectFailure({"estimate", "--paths", "1000", "--threads", "5000", "--out", "a.bwtable"},
+                  {"--threads", "1024"});
+    for (const char* f : {"a.csv", "a.ply", "a.exr", "a.bwtable"})
+        EXPECT_FALSE(fs::exists(dir() / f)) << f;
 }
 
 TEST_F(Cli, SphereAndMeshWriteExrAndRejectBadMeshes) {

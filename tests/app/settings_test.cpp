@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -22,7 +24,7 @@ namespace {
 // one (only = -1) or only the one with that index (in forEachField order).
 template <class T> size_t perturb(T& s, long only = -1) {
     size_t index = 0;
-    core::forEachField(s, [&](const std::string&, auto& m, const char*) {
+    core::forEachField(s, [&](const std::string&, auto& m, const char*, core::Limits lim) {
         using M = std::remove_reference_t<decltype(m)>;
         if (only >= 0 && long(index++) != only) return;
         if (only < 0) ++index;
@@ -36,11 +38,20 @@ template <class T> size_t perturb(T& s, long only = -1) {
                     break;
                 }
         } else if constexpr (std::is_arithmetic_v<M>) {
-            m = M(m + M(1));
+            // a change that stays inside the member's limits
+            if constexpr (std::is_integral_v<M>)
+                m = double(m) + 1 <= lim.hi ? M(m + 1) : M(m - 1);
+            else
+                m = lim.hi > m ? M(m + std::min(1.0, (lim.hi - m) / 2))
+                               : M(m - std::min(1.0, (m - lim.lo) / 2));
         } else if constexpr (std::is_same_v<M, std::string>) {
             m += "x";
         } else {
-            m += M(0.5f, 1.5f, 2.5f);
+            for (int c = 0; c < 3; ++c) { // distinct changes inside the limits
+                const double step = 0.5 + c;
+                m[c] = lim.hi > m[c] ? m[c] + std::min(step, (lim.hi - m[c]) / (2 + c))
+                                     : m[c] - std::min(step, (m[c] - lim.lo) / (2 + c));
+            }
         }
     });
     return index;
@@ -85,13 +96,6 @@ TEST(Settings, EveryStructIsDescribedAndRoundTrips) {
     expectDescribed<app::SceneSettings>("app::SceneSettings");
 }
 
-TEST(Settings, RenderKeySeesTheBackground) {
-    render::Settings a, b;
-    b.background.x += 0.25f;
-    EXPECT_NE(core::keyOf(a), core::keyOf(b));
-    EXPECT_EQ(core::keyOf(a), core::keyOf(render::Settings{}));
-}
-
 std::string errorOf(const nlohmann::json& j) {
     try {
         app::SceneSettings s;
@@ -100,6 +104,82 @@ std::string errorOf(const nlohmann::json& j) {
         return e.what();
     }
     return "";
+}
+
+// Every default lies inside its own limits (one range per setting, shared by the GUI, the CLI
+// and captures), and the JSON reader refuses a value outside them naming the path and range.
+template <class T> void expectDefaultsWithinLimits(const char* name) {
+    SCOPED_TRACE(name);
+    T s{};
+    core::forEachField(s, [&](const std::string& path, auto& m, const char*, core::Limits lim) {
+        EXPECT_EQ(core::limitProblem(m, lim), "") << path;
+    });
+    // and the description survives a JSON round trip through the checking reader
+    T back{};
+    EXPECT_NO_THROW(core::fromJson(core::toJson(s), back, "test", "s"));
+}
+
+TEST(Settings, DefaultsLieWithinTheirLimits) {
+    expectDefaultsWithinLimits<render::Camera>("render::Camera");
+    expectDefaultsWithinLimits<render::Settings>("render::Settings");
+    expectDefaultsWithinLimits<irradiance::Settings>("irradiance::Settings");
+    expectDefaultsWithinLimits<pointcloud::GenerateOptions>("pointcloud::GenerateOptions");
+    expectDefaultsWithinLimits<pathtrace::Termination>("pathtrace::Termination");
+    expectDefaultsWithinLimits<pathtrace::SlabSettings>("pathtrace::SlabSettings");
+    expectDefaultsWithinLimits<pathtrace::EstimateSettings>("pathtrace::EstimateSettings");
+    expectDefaultsWithinLimits<material::MaterialParams>("material::MaterialParams");
+    expectDefaultsWithinLimits<app::MaterialSettings>("app::MaterialSettings");
+    expectDefaultsWithinLimits<app::PlotSettings>("app::PlotSettings");
+    expectDefaultsWithinLimits<app::ReferenceSettings>("app::ReferenceSettings");
+    expectDefaultsWithinLimits<app::LitSphereSettings>("app::LitSphereSettings");
+    expectDefaultsWithinLimits<app::SliceSettings>("app::SliceSettings");
+    expectDefaultsWithinLimits<app::SceneSettings>("app::SceneSettings");
+}
+
+TEST(Settings, LimitsAreCheckedWhenReadAndNamed) {
+    EXPECT_EQ(core::limitProblem(5, core::Limits{1, 10}), "");
+    EXPECT_EQ(core::limitProblem(0, core::Limits{1, 10}), "must be between 1 and 10, got 0");
+    EXPECT_EQ(core::limitProblem(-2.5, core::Limits{0}), "must be at least 0, got -2.5");
+    EXPECT_NE(core::limitProblem(std::nan(""), core::Limits{}).find("finite"), std::string::npos);
+    EXPECT_NE(core::limitProblem(float(INFINITY), core::Limits{}).find("finite"),
+              std::string::npos);
+    EXPECT_NE(core::limitProblem(glm::vec3(1, -1, 1), core::Limits{0, 2}).find("component 1"),
+              std::string::npos);
+    EXPECT_EQ(core::limitsOf<app::PlotSettings>("samples").lo, 2.0);
+    EXPECT_EQ(core::limitsOf<app::SceneSettings>("render.width").hi, 8192.0);
+
+    using nlohmann::json;
+    std::string e = errorOf(json::parse(R"({"render": {"width": 0}})"));
+    EXPECT_NE(e.find("settings.scene.render.width: must be between 1 and 8192, got 0"),
+              std::string::npos)
+        << e;
+    e = errorOf(json::parse(R"({"points": {"count": 100000000}})"));
+    EXPECT_NE(e.find("settings.scene.points.count: must be between 1 and 16777216"),
+              std::string::npos)
+        << e;
+    // a number beyond float's range is refused, not read as infinity
+    e = errorOf(json::parse(R"({"render": {"camera": {"yaw": 1e300}}})"));
+    EXPECT_NE(e.find("settings.scene.render.camera.yaw: number 1e+300 out of range"),
+              std::string::npos)
+        << e;
+    e = errorOf(json::parse(R"({"light": {"irradiance": [1, -1, 1]}})"));
+    EXPECT_NE(e.find("settings.scene.light.irradiance: component 1 must be between 0"),
+              std::string::npos)
+        << e;
+    // the plot's samples: the CLI's and the GUI's range, checked for captures too
+    app::PlotSettings p;
+    EXPECT_THROW(core::fromJson(json::parse(R"({"samples": 1})"), p, "m", "settings.plot"),
+                 core::Error);
+    EXPECT_THROW(core::fromJson(json::parse(R"({"samples": 2000000000})"), p, "m", "s"),
+                 core::Error);
+    EXPECT_NO_THROW(core::fromJson(json::parse(R"({"samples": 2})"), p, "m", "s"));
+}
+
+TEST(Settings, RenderKeySeesTheBackground) {
+    render::Settings a, b;
+    b.background.x += 0.25f;
+    EXPECT_NE(core::keyOf(a), core::keyOf(b));
+    EXPECT_EQ(core::keyOf(a), core::keyOf(render::Settings{}));
 }
 
 TEST(Settings, BadJsonNamesItsPath) {

@@ -3,11 +3,15 @@
 #include "../support/gl_fixture.h"
 #include "capture/capture.h"
 #include "capture_io.h"
+#include "core/core.h"
 #include "mesh/mesh.h"
 #include "pathtrace/image_io.h"
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+
+#include <nlohmann/json.hpp>
 
 namespace {
 namespace fs = std::filesystem;
@@ -325,4 +329,155 @@ TEST(CaptureReplay, SliceTablesAreComparedStatisticallyAndModelsByTolerance) {
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
     EXPECT_NE(out.find("FAIL slice_model.dipole"), std::string::npos) << out;
     std::filesystem::remove_all(root);
+}
+
+// ---- untrusted captures -------------------------------------------------------------------
+namespace {
+// Rewrites the capture's manifest through `edit` (the JSON as the recorder wrote it).
+template <class F> void editManifest(const Recorded& r, F edit) {
+    nlohmann::json j = nlohmann::json::parse(testsupport::readText(r.dir / "manifest.json"));
+    edit(j);
+    core::writeFile(r.dir / "manifest.json", j.dump(2));
+}
+} // namespace
+
+TEST(CaptureReplay, HostileInputPathsStayInsideTheCaptureAndTheProject) {
+    auto r = record("hostile_inputs");
+    const nlohmann::json original =
+        nlohmann::json::parse(testsupport::readText(r.dir / "manifest.json"));
+    // a folder outside the project, reached by "..", by an absolute path and by a symlink
+    const fs::path outside = r.root.parent_path() / (r.root.filename().string() + "_outside");
+    fs::create_directories(outside);
+    core::writeFile(outside / "secret.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    fs::create_symlink(outside, r.dir / "link");
+    const std::string relOut = "../" + outside.filename().string() + "/secret.obj";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"mesh", "../../../etc/passwd"},
+        {"mesh", relOut},
+        {"mesh", (outside / "secret.obj").string()},
+        {"mesh", "captures/rec/link/secret.obj"},
+        {"environment", relOut},
+        {"point_cloud_file", "/etc/hostname"},
+        {"projected_texture", "captures/rec/link/secret.obj"},
+    };
+    for (const auto& [key, value] : cases) {
+        SCOPED_TRACE(key + " = " + value);
+        editManifest(r, [&](nlohmann::json& j) {
+            j = original;
+            j["settings"]["scene"][key] = value;
+        });
+        std::string out;
+        EXPECT_EQ(replay(r, out), 2) << out;
+        EXPECT_NE(out.find("settings.scene." + key + ": '" + value + "'"), std::string::npos)
+            << out;
+        EXPECT_NE(out.find("outside the folders a capture may read"), std::string::npos) << out;
+    }
+    editManifest(r, [&](nlohmann::json& j) {
+        j = original;
+        j["settings"]["lit_spheres"]["mesh"] = relOut;
+    });
+    std::string out;
+    EXPECT_EQ(replay(r, out), 2) << out;
+    EXPECT_NE(out.find("settings.lit_spheres.mesh"), std::string::npos) << out;
+    // the project's own data folders and the capture folder itself are fine
+    fs::copy_file(outside / "secret.obj", r.dir / "own.obj");
+    editManifest(r, [&](nlohmann::json& j) {
+        j = original;
+        j["settings"]["scene"]["projected_texture"] = "captures/rec/own.obj";
+    });
+    EXPECT_EQ(capture::confinedInputProblem("captures/rec/own.obj", r.root, {r.dir}), "");
+    EXPECT_EQ(capture::confinedInputProblem("materials/dipole.bssrdf", r.root,
+                                            {r.dir, r.root / "materials"}),
+              "");
+    editManifest(r, [&](nlohmann::json& j) { j = original; });
+    EXPECT_EQ(replay(r, out), 0) << out;
+    fs::remove_all(outside);
+    fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, OutputsNeverLeadOutOfTheCaptureFolder) {
+    auto r = record("hostile_outputs");
+    const fs::path outside = r.root.parent_path() / (r.root.filename().string() + "_victim");
+    fs::create_directories(outside);
+    const std::string victimText = "must stay unchanged\n";
+    core::writeFile(outside / "victim.csv", victimText);
+    // an output replaced by a symlink to a file outside: refused before anything is read or
+    // written, with --update too
+    const fs::path out0 = r.dir / "pencil_plot_dipole.csv";
+    fs::remove(out0);
+    fs::create_symlink(outside / "victim.csv", out0);
+    for (bool update : {false, true}) {
+        std::string out;
+        EXPECT_EQ(replay(r, out, update), 2) << out;
+        EXPECT_NE(out.find("pencil_plot_dipole.csv"), std::string::npos) << out;
+        EXPECT_NE(out.find("symbolic link"), std::string::npos) << out;
+        EXPECT_EQ(testsupport::readText(outside / "victim.csv"), victimText);
+    }
+    // a symlinked sub-folder: the output resolves outside
+    fs::remove(out0);
+    fs::create_symlink(outside, r.dir / "sub");
+    EXPECT_NE(capture::outputPathProblem(r.dir, "sub/victim.csv").find("outside the capture"),
+              std::string::npos);
+    // "..", absolute names: refused by the manifest reader, naming the JSON path
+    editManifest(r, [&](nlohmann::json& j) { j["outputs"][0]["file"] = "../../victim.csv"; });
+    std::string out;
+    EXPECT_EQ(replay(r, out), 2) << out;
+    EXPECT_NE(out.find("outputs[0].file"), std::string::npos) << out;
+    EXPECT_NE(out.find("'..' would escape the folder"), std::string::npos) << out;
+    fs::remove_all(outside);
+    fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, UpdateNeverWritesThroughAPlantedTemporaryFile) {
+    auto r = record("hostile_tmp");
+    const fs::path outside = r.root.parent_path() / (r.root.filename().string() + "_tmpvictim");
+    fs::create_directories(outside);
+    core::writeFile(outside / "victim.csv", "unchanged\n");
+    // every output's temporary name is a symlink out of the folder
+    for (const auto& o : capture::readManifest(r.dir).outputs)
+        fs::create_symlink(outside / "victim.csv", r.dir / (o.file + ".tmp"));
+    std::string out;
+    EXPECT_EQ(replay(r, out, true), 0) << out;
+    EXPECT_EQ(testsupport::readText(outside / "victim.csv"), "unchanged\n");
+    EXPECT_EQ(replay(r, out), 0) << out; // the update wrote the real outputs
+    fs::remove_all(outside);
+    fs::remove_all(r.root);
+}
+
+TEST(CaptureReplay, WrongJsonTypesNameTheirPathNotTheLibrary) {
+    auto r = record("hostile_types");
+    const nlohmann::json original =
+        nlohmann::json::parse(testsupport::readText(r.dir / "manifest.json"));
+    const std::vector<std::pair<std::function<void(nlohmann::json&)>, std::string>> cases = {
+        {[](nlohmann::json& j) {
+             j["params"]["models"] = nlohmann::json::array({1, 2});
+         },
+         "params.models: expected an object"},
+        {[](nlohmann::json& j) {
+             j["params"]["models"]["materials/dipole.bssrdf"]["visible"] = "yes";
+         },
+         "params.models.materials/dipole.bssrdf.visible: expected true or false"},
+        {[](nlohmann::json& j) { j["params"]["models"]["materials/dipole.bssrdf"] = 3; },
+         "params.models.materials/dipole.bssrdf: needs 'own' and 'values'"},
+        {[](nlohmann::json& j) { j["settings"]["plot"]["samples"] = "many"; },
+         "settings.plot.samples: expected an integer"},
+        {[](nlohmann::json& j) { j["settings"]["plot"]["samples"] = 1; },
+         "settings.plot.samples: must be between 2 and 16384, got 1"},
+        {[](nlohmann::json& j) { j["settings"]["scene"]["render"]["width"] = 1e9; },
+         "settings.scene.render.width: expected an integer"},
+        {[](nlohmann::json& j) { j["settings"]["reference"] = nlohmann::json::array(); },
+         "settings.reference: expected an object"},
+    };
+    for (const auto& [edit, message] : cases) {
+        SCOPED_TRACE(message);
+        editManifest(r, [&](nlohmann::json& j) {
+            j = original;
+            edit(j);
+        });
+        std::string out;
+        EXPECT_EQ(replay(r, out), 2) << out;
+        EXPECT_NE(out.find(message), std::string::npos) << out;
+        EXPECT_EQ(out.find("json.exception"), std::string::npos) << out;
+    }
+    fs::remove_all(r.root);
 }
