@@ -12,7 +12,10 @@
 //    equivalent closest-point query that also handles non-manifold neighbourhoods. Positions
 //    are double buffered (read iteration k, write k+1), so the parallel loop is deterministic.
 //  * Weighted sample elimination (Yuksel 2015) with an indexed max-heap.
-//  * Nearest-neighbour uniformity metrics over a hash grid (ring search).
+//  * Nearest-neighbour uniformity metrics: each point's nearest neighbour from a k-d tree
+//    (nanoflann), O(n log n) whatever the spread of the points. (A ring search on the hash grid
+//    was O(R^4) in the ring count R: a mesh with one far vertex, whose points sit on a long
+//    needle triangle, ran for minutes.)
 #include "pointcloud/internal.h"
 #include "pointcloud/pointcloud.h"
 
@@ -22,6 +25,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+
+#include <nanoflann.hpp>
 
 namespace pointcloud {
 
@@ -290,30 +295,36 @@ PointCloud sampleElimination(const mesh::Mesh& m, size_t n, uint64_t seed,
     return out;
 }
 
+namespace {
+// The positions as nanoflann's dataset interface.
+struct PositionsAdaptor {
+    const std::vector<V3>& pos;
+    size_t kdtree_get_point_count() const { return pos.size(); }
+    double kdtree_get_pt(size_t i, size_t dim) const { return pos[i][dim]; }
+    template <class Box> bool kdtree_get_bbox(Box&) const { return false; }
+};
+} // namespace
+
 Uniformity measureUniformity(const PointCloud& cloud, int threads) {
     Uniformity u;
     const size_t n = cloud.points.size();
     if (n < 2) return u;
     std::vector<V3> pos = positionsOf(cloud);
-    double area = cloud.totalArea;
-    if (!(area > 0))
-        for (const auto& p : cloud.points)
-            area += p.area;
-    double cell = area > 0 ? std::sqrt(area / double(n)) : 1.0;
-    PointGrid grid(pos, cell);
+    const PositionsAdaptor data{pos};
+    using Tree =
+        nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PositionsAdaptor>,
+                                            PositionsAdaptor, 3, size_t>;
+    Tree tree(3, data, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    tree.buildIndex();
     std::vector<double> nn(n);
     parallelFor(n, threads, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
-            double best = std::numeric_limits<double>::infinity();
-            // A point in ring k + 1 is at least k·cell away: stop once best <= k·cell.
-            for (int ring = 0; ring < 1 << 20; ++ring) {
-                if (best <= double(ring - 1) * cell) break;
-                grid.forRing(pos[i], ring, [&](size_t j) {
-                    if (j == i) return;
-                    best = std::min(best, length(sub(pos[j], pos[i])));
-                });
-            }
-            nn[i] = best;
+            // the two nearest: the point itself (distance 0) and its nearest neighbour, or
+            // a coincident point (then both are at distance 0)
+            size_t index[2];
+            double d2[2];
+            const size_t found = tree.knnSearch(pos[i].data(), 2, index, d2);
+            nn[i] = found == 2 ? std::sqrt(d2[1]) : std::numeric_limits<double>::infinity();
         }
     });
     double sum = 0, sum2 = 0;
