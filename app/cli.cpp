@@ -2,6 +2,7 @@
 // record and replay (captures).
 #include "cli.h"
 #include "cli_output.h"
+#include "cli_slab.h"
 #include "core/text.h"
 
 #include "capture_io.h"
@@ -106,6 +107,7 @@ int runProfile(const fs::path& root, const ProfileArgs& a) {
         out << "# param " << k << " " << core::formatNumber(val[0]) << " "
             << core::formatNumber(val[1]) << " " << core::formatNumber(val[2]) << "\n";
     out << "# " << Workbench::normalisationNote() << "\n";
+    if (!v.profileProblem.empty()) out << "# invalid " << v.profileProblem << "\n";
     out << "r_mm,R,G,B\n";
     for (size_t i = 0; i < v.profile.r.size(); ++i)
         out << core::formatNumber(v.profile.r[i]) << ',' << core::formatNumber(v.profile.value[i].x)
@@ -114,6 +116,10 @@ int runProfile(const fs::path& root, const ProfileArgs& a) {
     core::writeFile(a.out, out.str());
     std::cerr << "wrote " << a.out << " (" << v.profile.r.size() << " radii up to "
               << core::formatNumber(wb.rMaxMm()) << " mm)\n";
+    if (!v.profileProblem.empty()) { // written, but not a valid reflectance: say so, status 3
+        std::cerr << "error: " << e.displayPath << ": " << v.profileProblem << "\n";
+        return kEnergyCheckFailed;
+    }
     return 0;
 }
 

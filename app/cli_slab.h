@@ -40,7 +40,8 @@ double defaultSlabRMax(const pathtrace::Medium& m);
 
 // Exit statuses of every command: 0 success; 1 a bad input, file or run (`error: …` names
 // it); kUsageError a command line the parser refused; kEnergyCheckFailed a result that failed
-// its own energy check (output still written).
+// its own check (output still written): a path-traced energy balance, or a model profile with
+// NaN, Inf or negative values.
 constexpr int kUsageError = 2;
 constexpr int kEnergyCheckFailed = 3;
 

@@ -59,6 +59,7 @@ void computeProfile(bssrdf::ModelEntry& e, ModelView& v, double rMax, int sample
     v.profile =
         bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model, e.values,
                                 builtinsOf(*v.effective), bssrdf::radiusGrid(rMax, samples));
+    v.profileProblem = bssrdf::profileProblem(v.profile);
 }
 
 } // namespace
@@ -138,7 +139,16 @@ StageStatus MaterialStage::status() const {
     return st;
 }
 
+StageStatus PencilStage::status() const {
+    StageStatus st;
+    if (!m_views) return st;
+    for (const auto& [path, v] : *m_views)
+        if (!v.profileProblem.empty()) st.problems.push_back(path + ": " + v.profileProblem);
+    return st;
+}
+
 bool PencilStage::update(const PencilInputs& in) {
+    m_views = in.views;
     bool changed = false;
     for (auto& e : in.library->entries()) {
         if (!e.usable()) continue;

@@ -50,6 +50,7 @@ struct ModelView {
     std::string materialKey;
     bssrdf::Profile profile;
     std::string profileKey;
+    std::string profileProblem; // NaN, Inf or negative values of the profile (Errors)
 };
 
 // Effective σ for one model: validates, and inverts R_dr / l_d with the model's own
@@ -84,7 +85,10 @@ class PencilStage : public StageOf<PencilInputs> {
   public:
     const char* name() const override { return "pencil"; }
     bool update(const PencilInputs& in) override;
-    StageStatus status() const override { return {}; }
+    StageStatus status() const override; // "<model>: R(r) is NaN at …" per model
+
+  private:
+    const std::map<std::string, ModelView>* m_views = nullptr;
 };
 
 } // namespace app

@@ -393,6 +393,10 @@ std::vector<plot::Series> Workbench::plotSeries() const {
                 s.label += "  (other sigma: no error figures)";
                 continue;
             }
+            if (!it->second.profileProblem.empty()) {
+                s.label += "  (NaN, Inf or negative values, see Errors: no error figures)";
+                continue;
+            }
             glm::dvec3 ld = material::diffuseMeanFreePath(*it->second.effective);
             if (snap.energyFails(m_plot.channel)) {
                 s.label += "  (reference failed its energy check: no error figures)";

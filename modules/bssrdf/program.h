@@ -61,6 +61,11 @@ struct Profile {
     std::vector<double> r;         // mm
     std::vector<glm::dvec3> value; // Bssrdf() RGB, 1/mm² for the shipped models
 };
+// "" when every value of `p` is finite and >= 0, else what is not and where, e.g.
+// "R(r) is NaN at 3 of 512 radii (r 0 to 0.039 mm, channel R); negative at 9 of 512 radii
+// (r 2.3 to 4.1 mm, channels G B)" (profile_check.cpp). Such values are reported, never drawn
+// or summed as if they were numbers.
+std::string profileProblem(const Profile& p);
 // Runs pencil_profile.comp. `program` must come from buildModelProgram(m, "pencil_profile.comp").
 Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& values,
                         const Builtins& b, const std::vector<double>& radii);

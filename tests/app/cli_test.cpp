@@ -252,6 +252,33 @@ TEST_F(Cli, ProfileRejectsBadPresetModelAndOutput) {
 }
 
 // A GLSL error inside the shader section is reported against the user's file and line.
+// A model whose profile is NaN near the origin and negative farther out: the CSV is written
+// (saying so), the error names the model, the kinds, the radii and the channels, status 3.
+TEST_F(Cli, ProfileWithNanOrNegativeValuesIsReportedWithTheRadii) {
+    const fs::path bad = dir() / "bad_values.bssrdf";
+    writeText(bad, "analytic radial no_wi no_wo\n"
+                   "::begin shader\n"
+                   "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                   "    float r = length(Xo - Xi);\n"
+                   "    float nan = sqrt(-1.0 - r);\n"
+                   "    return vec3(r < 1.0 ? nan : 1.0, r > 2.0 ? -1.0 : 1.0, 1.0);\n"
+                   "}\n"
+                   "::end shader\n");
+    const std::vector<std::string> args = {"profile", "--model", bad.string(), "--preset",
+                                           "Marble",  "--rmax",  "4",          "--samples",
+                                           "401",     "--out",   "bad.csv"};
+    RunResult r = run(args);
+    EXPECT_EQ(r.code, 3) << describe(args, r);
+    EXPECT_TRUE(contains(r.output, "error: ")) << r.output;
+    EXPECT_TRUE(contains(r.output, "bad_values.bssrdf: R(r) is NaN at 100 of 401 radii (r 0 to "
+                                   "0.99 mm, channel R)"))
+        << r.output;
+    EXPECT_TRUE(contains(r.output, "negative at 200 of 401 radii (r 2.01 to 4 mm, channel G)"))
+        << r.output;
+    const std::string csv = readText(dir() / "bad.csv");
+    EXPECT_TRUE(contains(csv, "# invalid R(r) is NaN at 100 of 401 radii")) << csv;
+}
+
 TEST_F(Cli, ProfileReportsShaderErrorAtModelFileLine) {
     auto lines = splitLines(readText(sourceRoot() / kDipole));
     int begin = -1, end = -1;

@@ -2,6 +2,7 @@
 // window layout and panel visibility persist between runs.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
+#include "core/core.h"
 #include "gui.h"
 #include "panels/file_dialog.h"
 #include "panels/panels.h"
@@ -275,5 +276,37 @@ TEST(CapturesPanel, ReplaysInAChildProcessAndShowsTheDifference) {
     EXPECT_EQ(ui.captures.proc->exitCode(), 128 + 9);
     EXPECT_NE(ui.captures.report.find("(cancelled)"), std::string::npos);
     EXPECT_TRUE(wb.errors().empty());
+    fs::remove_all(root);
+}
+
+// A model that evaluates to NaN somewhere is an entry in the Errors panel naming the model and
+// where in r; the plot legend gives no error figures for it; a fixed model clears the entry.
+TEST(HeadlessGui, ModelNanValuesAreAnErrorEntryWithTheRadii) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("nanmodel", {"dipole.bssrdf"});
+    const fs::path bad = root / "materials" / "nan_model.bssrdf";
+    auto write = [&](const char* red) {
+        core::writeFile(bad, std::string("analytic radial no_wi no_wo\n::begin shader\n"
+                                         "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                                         "    float r = length(Xo - Xi);\n"
+                                         "    float nan = sqrt(-1.0 - r);\n"
+                                         "    return vec3(") +
+                                 red + ", 1.0, 1.0);\n}\n::end shader\n");
+    };
+    write("r < 1.0 ? nan : 1.0");
+    app::Workbench wb(root, false);
+    wb.update();
+    bool found = false;
+    for (const auto& e : wb.errors())
+        if (e.text.find("materials/nan_model.bssrdf: R(r) is NaN at ") != std::string::npos &&
+            e.text.find("channel R)") != std::string::npos)
+            found = true;
+    EXPECT_TRUE(found);
+    // fixed: the entry goes
+    write("1.0");
+    wb.reloadAll();
+    wb.update();
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.text;
     fs::remove_all(root);
 }
