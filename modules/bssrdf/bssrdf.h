@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -69,6 +70,8 @@ struct Model {
 Model parseModel(std::string_view text, const std::string& displayPath);
 // core::readFile + parseModel; read errors are reported against displayPath too.
 Model loadModel(const std::filesystem::path& file, const std::string& displayPath);
+// Larger model files are refused by loadModel before they are read.
+inline constexpr std::uintmax_t kMaxModelBytes = std::uintmax_t(4) << 20;
 
 // Names a parameter may not take: the built-in uniforms and constant (SigmaA, SigmaS, G, IOR,
 // Scale, PI) and the reserved function names (Bssrdf, DiffuseReflectance, init, main).

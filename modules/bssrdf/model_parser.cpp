@@ -7,6 +7,7 @@
 #include "bssrdf/detail/text_lines.h"
 #include "core/core.h"
 
+#include <cstdio>
 #include <map>
 #include <regex>
 
@@ -245,6 +246,16 @@ Model parseModel(std::string_view text, const std::string& displayPath) {
 }
 
 Model loadModel(const std::filesystem::path& file, const std::string& displayPath) {
+    // Checked before reading, so a huge file costs nothing (a model is a page of GLSL).
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(file, ec);
+    if (!ec && bytes > kMaxModelBytes) {
+        char size[32];
+        std::snprintf(size, sizeof size, "%.1f MiB", double(bytes) / (1 << 20));
+        throw core::Error(displayPath, 0,
+                          std::string("the file is ") + size + "; a model file may be at most " +
+                              std::to_string(kMaxModelBytes >> 20) + " MiB");
+    }
     std::string text;
     try {
         text = core::readFile(file);

@@ -1,4 +1,7 @@
-// core::FileWatcher — inotify on directories with debounce, polling fallback.
+// core::FileWatcher — inotify on directories with debounce, polling fallback. A watched folder
+// that is deleted (its watch ends with IN_IGNORED) is looked for again every 250 ms; when it
+// reappears it is watched again and every file in it reported, since files written before the
+// new watch raised no event.
 #include "file_watcher.h"
 
 #include "core.h"
@@ -15,6 +18,11 @@ namespace fs = std::filesystem;
 namespace {
 double nowMs() {
     return secondsSinceStart() * 1000.0;
+}
+// Editor temporaries and our own atomic-write temporaries are not model files.
+bool ignoredName(const std::string& name) {
+    return name.empty() || name[0] == '.' || name.back() == '~' || name.ends_with(".tmp") ||
+           name.ends_with(".swp");
 }
 } // namespace
 
@@ -71,13 +79,14 @@ void FileWatcher::drainInotify() {
             auto* ev = reinterpret_cast<inotify_event*>(p);
             p += sizeof(inotify_event) + ev->len;
             auto it = m_wdToDir.find(ev->wd);
-            if (it == m_wdToDir.end() || ev->len == 0) continue;
-            fs::path path = it->second / ev->name;
-            std::string name = ev->name;
-            // editor temporaries and our own atomic-write temporaries are not model files
-            if (name.empty() || name[0] == '.' || name.back() == '~' || name.ends_with(".tmp") ||
-                name.ends_with(".swp"))
+            if (it == m_wdToDir.end()) continue;
+            if (ev->mask & IN_IGNORED) { // the folder was deleted (or unmounted)
+                m_wdToDir.erase(it);
                 continue;
+            }
+            if (ev->len == 0) continue;
+            fs::path path = it->second / ev->name;
+            if (ignoredName(ev->name)) continue;
             if ((ev->mask & IN_ISDIR) && (ev->mask & (IN_CREATE | IN_MOVED_TO))) addWatches(path);
             m_pending[path] = nowMs();
         }
@@ -104,10 +113,28 @@ void FileWatcher::scanPolling() {
     m_pollStamp = std::move(now);
 }
 
+void FileWatcher::rewatchReappeared(double t) {
+    if (t - m_lastRewatchMs < 250.0) return;
+    m_lastRewatchMs = t;
+    for (const fs::path& d : m_dirs) {
+        bool watched = false;
+        for (const auto& [wd, w] : m_wdToDir)
+            watched |= w == d;
+        std::error_code ec;
+        if (watched || !fs::is_directory(d, ec)) continue;
+        addWatches(d);
+        for (auto it = fs::recursive_directory_iterator(d, ec);
+             !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+            if (it->is_regular_file(ec) && !ignoredName(it->path().filename().string()))
+                m_pending[it->path()] = t;
+    }
+}
+
 std::vector<fs::path> FileWatcher::poll() {
     const double t = nowMs();
     if (m_fd >= 0) {
         drainInotify();
+        rewatchReappeared(t);
     } else if (t - m_lastScanMs > 250.0) {
         bool first = m_lastScanMs < -1e8;
         m_lastScanMs = t;

@@ -30,6 +30,7 @@ class FileWatcher {
     void addWatches(const std::filesystem::path& dir);
     void drainInotify();
     void scanPolling();
+    void rewatchReappeared(double nowMs); // folders of m_dirs deleted and created again
 
     std::vector<std::filesystem::path> m_dirs;
     double m_debounceMs;
@@ -38,6 +39,7 @@ class FileWatcher {
     std::map<std::filesystem::path, double> m_pending;      // path -> last event time (ms)
     std::map<std::filesystem::path, long long> m_pollStamp; // polling fallback
     double m_lastScanMs = -1e9;
+    double m_lastRewatchMs = -1e9;
 };
 
 } // namespace core
