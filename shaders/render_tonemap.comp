@@ -2,7 +2,9 @@
 // Tone mapping of the point-cloud renderer's HDR image (thesis 3.6.4: "renders in high dynamic
 // range and supports post-process gamma correction and exposure adjustment"):
 //   c = clamp((L·2^exposure)^(1/gamma), 0, 1) per channel, alpha 1;
-// pixels whose HDR alpha is 0 (G-buffer miss) show TonemapBackground (display values).
+// pixels whose HDR alpha is 0 (G-buffer miss) show TonemapBackground (display values); a pixel
+// whose radiance is NaN or infinite (a model that returned such values) shows magenta, never
+// black or a clamped colour that could pass for a result.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(rgba32f, binding = 0) readonly uniform image2D TonemapHdr;
@@ -21,6 +23,7 @@ void main() {
     if (hdr.w != 0.0) {
         vec3 v = max(hdr.rgb * exp2(TonemapExposure), vec3(0.0));
         c = pow(v, vec3(1.0 / TonemapGamma));
+        if (any(isnan(hdr.rgb)) || any(isinf(hdr.rgb))) c = vec3(1.0, 0.0, 1.0);
     }
     imageStore(TonemapLdr, pix, vec4(clamp(c, 0.0, 1.0), 1.0));
 }

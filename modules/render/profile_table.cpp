@@ -37,12 +37,13 @@ float chooseProfileRadius(const std::vector<double>& radii, const std::vector<gl
         for (const auto& v : values)
             if (std::isfinite(v[c])) ref[c] = std::max(ref[c], std::fabs(v[c]));
     }
-    // last probe (r > 0) where some channel is above the decay threshold
+    // last probe (r > 0) where some channel is above the decay threshold or not a number: NaN
+    // and Inf stay inside the table, so they reach the image (magenta) instead of vanishing
     size_t last = 0;
     for (size_t j = 1; j < radii.size(); ++j)
         for (int c = 0; c < 3; ++c) {
             const double v = values[j][c];
-            if (ref[c] > 0.0 && (!std::isfinite(v) || std::fabs(v) > kProfileDecay * ref[c]))
+            if (!std::isfinite(v) || (ref[c] > 0.0 && std::fabs(v) > kProfileDecay * ref[c]))
                 last = j;
         }
     double rMax = radii.size() > 1 ? radii[std::min(last + 1, radii.size() - 1)] : 1.0;

@@ -662,6 +662,37 @@ TEST(RenderModel, BrokenModelKeepsPreviousProgram) {
     }
 }
 
+// A model returning NaN: the hit pixels' radiance is NaN and the tone-mapped image shows them
+// magenta (never black); a valid model's image has no magenta pixel.
+TEST(RenderModel, NanFromTheModelShowsMagenta) {
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    auto magentaOf = [](const render::Readback& rb) {
+        size_t n = 0;
+        for (size_t p = 0; p < rb.ldr.size() / 4; ++p)
+            n += rb.ldr[4 * p] == 255 && rb.ldr[4 * p + 1] == 0 && rb.ldr[4 * p + 2] == 255;
+        return n;
+    };
+    r.render(s);
+    const render::Readback good = r.readback();
+    EXPECT_EQ(magentaOf(good), 0u);
+    const bssrdf::Model nan =
+        bssrdf::parseModel("analytic radial no_wi no_wo\n::begin shader\n"
+                           "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                           "    return vec3(sqrt(-1.0 - length(Xo - Xi)));\n}\n::end shader\n",
+                           "materials/nan.bssrdf");
+    r.setModel(nan);
+    r.render(s);
+    const render::Readback bad = r.readback();
+    const std::vector<size_t> hits = hitPixels(bad);
+    ASSERT_FALSE(hits.empty());
+    for (size_t p : hits)
+        EXPECT_TRUE(std::isnan(bad.hdr[p].x)) << p;
+    EXPECT_EQ(magentaOf(bad), hits.size());
+    // the shared renderer gets its model back for the other tests
+    r.setModel(fixture().dipole);
+}
+
 // A model with a loop of its own (64 iterations per Bssrdf call) exceeds llvmpipe's 65535 loop
 // iterations per invocation at the default dispatch size; the renderer notices (sentinel loop)
 // and renders again with fewer iterations per dispatch. The brute-force result then equals the
