@@ -237,20 +237,22 @@ TEST_F(NormalizedDiffusion, ProfileIntegratesToDiffuseReflectance) {
 
 // The scaling factor the GPU profile has: R(r)·r ∝ e^(-r/d) + e^(-r/(3d)), so far out
 // (r = 20 d and 40 d, where the fast term is e^(-2x/3) < 2e-6 of the slow one) the log-slope
-// of R·r is 1/(3d) = s(A) σ′t/3. Float: the two values carry ~1e-6 relative, the slope over
-// ln ratios of 20/3 then ~3e-7 relative; the fast term shifts it by < 3e-7.
+// of R·r is 1/(3d) = s(A)/(3 l), l = 1/σ′t or 1/σtr. Float: 1/d carries ~1e-6 (from A) and
+// the exponentials (3 + 2x) ulp, x <= 14, over a log ratio of 20/3: ~1e-6 of s; 1e-4 absolute
+// on s ~ 1 … 5.
 TEST_F(NormalizedDiffusion, ProfileHasThePapersScalingFactor) {
     const Medium m{"", 0.01, 1.0, 0.0, 1.3};
-    for (int configuration : {0, 1}) {
+    const double sigmaTr = std::sqrt(3 * m.sa * (m.sa + m.ss));
+    for (int configuration : {0, 1, 2}) {
         m_e->values["Configuration"] = {float(configuration), 0, 0};
         const Reference ref = reference(m.sa, m.ss, m.g, m.eta, configuration);
         const double r1 = double(float(20 / ref.invD)), r2 = double(float(40 / ref.invD));
         const auto got = bssrdf::evaluateProfile(m_e->programs.at("pencil_profile.comp").id(),
                                                  *m_e->model, m_e->values, builtins(m), {r1, r2});
-        // far out the slow exponential dominates (the fast one is e^(-2/3 x) smaller)
         const double slope =
             3 * std::log((got.value[0].x * r1) / (got.value[1].x * r2)) / (r2 - r1);
-        EXPECT_NEAR(slope / (m.sa + m.ss), scalingFactor(ref.A, configuration), 1e-4)
+        const double invL = configuration == 2 ? sigmaTr : m.sa + m.ss;
+        EXPECT_NEAR(slope / invL, scalingFactor(ref.A, configuration), 1e-4)
             << "configuration " << configuration;
     }
 }
