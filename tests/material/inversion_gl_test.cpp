@@ -1,6 +1,8 @@
 // R_dr / l_d inversion round trip on the GPU (thesis 3.4) for every Jensen et al. 2001 preset
-// and both shipped models: σ → (R_dr, l_d) in double precision by independent C++ closed
-// forms → GPU bisection over the model's own DiffuseReflectance → σ, within 1e-4 relative.
+// and every shipped model with a DiffuseReflectance section (dipole, better dipole, normalized
+// diffusion, photon beam diffusion): σ → (R_dr, l_d) in double precision by independent C++
+// closed forms → GPU bisection over the model's own DiffuseReflectance → σ, within 1e-4
+// relative.
 #include "../support/gl_fixture.h"
 #include "bssrdf/program.h"
 #include "material/material.h"
@@ -38,6 +40,44 @@ double betterRdr(double a, double eta) {
     const double phiInt =
         s > 0 ? (std::exp(-s * zr) - std::exp(-s * zv)) / (2 * D * s) : (zv - zr) / (2 * D);
     return a * (cphi * phiInt + ce * 0.5 * (std::exp(-s * zr) + std::exp(-s * zv)));
+}
+
+// Exact Fresnel moments ∫0^1 F(mu) mu^k dmu (Simpson, 20000 intervals), as the zoo models
+// compute them (to float precision), not the 128-step midpoint rule of better_dipole.bssrdf.
+double exactMoment(int k, double eta) {
+    auto f = [&](double mu) {
+        const double sin2t = eta * eta * (1 - mu * mu);
+        if (sin2t >= 1) return std::pow(mu, k);
+        const double ct = std::sqrt(1 - sin2t);
+        const double rs = (eta * mu - ct) / (eta * mu + ct), rp = (mu - eta * ct) / (mu + eta * ct);
+        return 0.5 * (rs * rs + rp * rp) * std::pow(mu, k);
+    };
+    const int n = 20000;
+    double sum = f(0) + f(1);
+    for (int i = 1; i < n; ++i)
+        sum += (i % 2 ? 4 : 2) * f(double(i) / n);
+    return sum / (3.0 * n);
+}
+
+// normalized_diffusion.bssrdf: A = the better dipole's R_dr with exact moments.
+double normalizedDiffusionRdr(double a, double eta) {
+    const double c1 = exactMoment(1, eta), c2 = exactMoment(2, eta);
+    const double A = (1 + 3 * c2) / (1 - 2 * c1), cphi = 0.25 * (1 - 2 * c1),
+                 ce = 0.5 * (1 - 3 * c2);
+    const double D = (2 - a) / 3, s = std::sqrt((1 - a) / D), zv = 1 + 4 * A * D;
+    const double phiInt = s > 0 ? (std::exp(-s) - std::exp(-s * zv)) / (2 * D * s) : 2 * A;
+    return a * (cphi * phiInt + ce * 0.5 * (std::exp(-s) + std::exp(-s * zv)));
+}
+
+// photon_beam_diffusion.bssrdf: α′/(1 + s) [C_φ 2A (1 − e^(−x))/x + C_E (1 + e^(−x))/2],
+// x = 4 A D s at σ′t = 1 (derivation in the model file).
+double photonBeamDiffusionRdr(double a, double eta) {
+    const double c1 = exactMoment(1, eta), c2 = exactMoment(2, eta);
+    const double A = (1 + 3 * c2) / (1 - 2 * c1), cphi = 0.25 * (1 - 2 * c1),
+                 ce = 0.5 * (1 - 3 * c2);
+    const double D = (2 - a) / 3, s = std::sqrt((1 - a) / D), x = 4 * A * D * s;
+    const double f = x > 0 ? -std::expm1(-x) / x : 1;
+    return a / (1 + s) * (cphi * 2 * A * f + ce * 0.5 * (1 + std::exp(-x)));
 }
 
 struct Loaded {
@@ -87,6 +127,43 @@ TEST(InversionGpu, RoundTripForEveryPresetAndModel) {
                 for (int c = 0; c < 3; ++c)
                     s.rdr[c] = std::string(model) == "dipole.bssrdf" ? classicRdr(a[c], truth.eta)
                                                                      : betterRdr(a[c], truth.eta);
+                material::MaterialParams got = app::effectiveParams(*l.entry, s);
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_NEAR(got.sigmaA[c] / truth.sigmaA[c], 1.0, 1e-4)
+                        << model << " " << pr.name << " g=" << g << " channel " << c;
+                    EXPECT_NEAR(got.sigmaS[c] / truth.sigmaS[c], 1.0, 1e-4)
+                        << model << " " << pr.name << " g=" << g << " channel " << c;
+                }
+            }
+        }
+    }
+}
+
+// The same round trip for the zoo models with a DiffuseReflectance section: σ → (R_dr of the
+// model's closed form in double, l_d) → GPU bisection → σ.
+TEST(InversionGpu, RoundTripForTheZooModels) {
+    auto presets = material::loadPresets(testsupport::sourceRoot() / "materials/presets.json");
+    for (const char* model : {"normalized_diffusion.bssrdf", "photon_beam_diffusion.bssrdf"}) {
+        auto l = load(model);
+        ASSERT_TRUE(l.entry->hasInversion()) << model;
+        for (double g : {0.0, 0.7}) {
+            for (const auto& pr : presets) {
+                if (pr.name == "Spectralon") continue; // σa = 0: l_d infinite
+                const material::MaterialParams truth = material::applyPreset(pr, [&] {
+                    material::MaterialParams b;
+                    b.g = g;
+                    return b;
+                }());
+                app::MaterialSettings s;
+                s.mode = app::ParamMode::RdrLd;
+                s.params.g = truth.g;
+                s.params.eta = truth.eta;
+                const glm::dvec3 a = material::reducedAlbedo(truth);
+                s.ld = material::diffuseMeanFreePath(truth);
+                for (int c = 0; c < 3; ++c)
+                    s.rdr[c] = std::string(model) == "normalized_diffusion.bssrdf"
+                                   ? normalizedDiffusionRdr(a[c], truth.eta)
+                                   : photonBeamDiffusionRdr(a[c], truth.eta);
                 material::MaterialParams got = app::effectiveParams(*l.entry, s);
                 for (int c = 0; c < 3; ++c) {
                     EXPECT_NEAR(got.sigmaA[c] / truth.sigmaA[c], 1.0, 1e-4)
