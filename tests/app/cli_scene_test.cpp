@@ -170,15 +170,28 @@ TEST_F(CliScene, PointCloudRejectsBadInputs) {
     EXPECT_FALSE(fs::exists(dir() / "x.ply"));
 }
 
-// A mesh with one vertex far away (1e20 and 4e10 mesh units, in a triangle with two bunny
-// vertices): after normalisation the bunny is a speck and the points lie on a needle triangle.
-// The run ends with the metrics printed (the nearest-neighbour metric was a grid ring search
-// that took minutes here; a relapse shows as this test hanging); nothing is asserted on time.
-TEST_F(CliScene, PointCloudOnAMeshWithAFarVertexEnds) {
+// Meshes that once made work unbounded: one vertex far away (1e20 and 4e10 mesh units, in a
+// triangle with two bunny vertices: after normalisation the bunny is a speck and the points
+// lie on a needle triangle), a lone needle triangle, and 100 000 coincident vertices in
+// degenerate triangles. Each run ends with the metrics printed (the nearest-neighbour metric
+// was a grid ring search that took minutes on the far vertex; a relapse shows as this test
+// hanging); nothing is asserted on time.
+TEST_F(CliScene, PointCloudOnExtremeMeshesEnds) {
     const std::string bunny = readText(fs::path(BW_SOURCE_ROOT) / kBunny);
-    for (const char* far : {"1e20", "4e10"}) {
-        SCOPED_TRACE(far);
-        std::ofstream(dir() / "far.obj") << bunny << "\nv " << far << " 0 0\nf 1 2 1840\n";
+    std::string coincident = bunny + "\n";
+    for (int i = 0; i < 100000; ++i)
+        coincident += "v 0.25 0.25 0.25\n";
+    for (int i = 0; i < 100000 - 2; ++i)
+        coincident += "f " + std::to_string(1840 + i) + " " + std::to_string(1841 + i) + " " +
+                      std::to_string(1842 + i) + "\n";
+    const std::vector<std::pair<std::string, std::string>> meshes = {
+        {"far 1e20", bunny + "\nv 1e20 0 0\nf 1 2 1840\n"},
+        {"far 4e10", bunny + "\nv 4e10 0 0\nf 1 2 1840\n"},
+        {"needle", "v 0 0 0\nv 1 0 0\nv 0.5 1e-9 0\nf 1 2 3\n"},
+        {"coincident", coincident}};
+    for (const auto& [name, text] : meshes) {
+        SCOPED_TRACE(name);
+        std::ofstream(dir() / "far.obj") << text;
         RunResult r = run({"pointcloud", "--mesh", "far.obj", "--points", "2000", "--no-cache",
                            "--out", "far.ply"});
         EXPECT_EQ(r.code, 0) << r.output;
