@@ -20,6 +20,10 @@ void checkWritable(const std::string& path, const std::string& flag) {
             flag, 0, "cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
     if (std::filesystem::is_directory(p, ec))
         throw core::Error(flag, 0, "'" + path + "' is a folder");
+    // outputs are written to a temporary file and renamed into place: never over a device,
+    // FIFO or socket (/dev/full, /dev/null)
+    if (std::filesystem::exists(p, ec) && !std::filesystem::is_regular_file(p, ec))
+        throw core::Error(flag, 0, "'" + path + "' is not a regular file");
     const bool existed = std::filesystem::exists(p, ec);
     std::ofstream probe(p, std::ios::app);
     if (!probe) throw core::Error(flag, 0, "cannot write '" + path + "'");

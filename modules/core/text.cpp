@@ -25,6 +25,12 @@ std::string readFile(const std::filesystem::path& path) {
 }
 
 void writeFile(const std::filesystem::path& path, std::string_view bytes) {
+    // Only a regular file (or nothing) is replaced: renaming over /dev/full, a FIFO or a socket
+    // would replace the node itself.
+    std::error_code statEc;
+    const auto st = std::filesystem::status(path, statEc);
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+        throw Error(path.string(), 0, "not a regular file: refusing to replace it");
     std::filesystem::path tmp = path;
     tmp += ".tmp";
     // A file or symlink already at the temporary name (a crashed write, or one planted in an
@@ -36,7 +42,7 @@ void writeFile(const std::filesystem::path& path, std::string_view bytes) {
         if (!out)
             throw Error(path.string(), 0, std::string("cannot write: ") + std::strerror(errno));
         out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-        out.flush();
+        out.close(); // a full disk may only show when the last buffer is written
         if (!out) {
             std::filesystem::remove(tmp);
             throw Error(path.string(), 0, "write failed (disk full?)");

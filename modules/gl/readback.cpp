@@ -22,9 +22,14 @@ std::vector<unsigned char> readPixelsRGBA8(GLuint fbo, int x, int y, int width, 
 
 void writePng(const std::filesystem::path& path, int width, int height,
               const std::vector<unsigned char>& rgba) {
-    if (!stbi_write_png(path.c_str(), width, height, 4, rgba.data(), width * 4))
-        throw core::Error(path.string(), 0,
-                          "cannot write PNG (directory missing or not writable?)");
+    // encoded in memory, then written atomically (core::writeFile: temporary file + rename)
+    std::string bytes;
+    auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+    };
+    if (!stbi_write_png_to_func(append, &bytes, width, height, 4, rgba.data(), width * 4))
+        throw core::Error(path.string(), 0, "cannot encode the PNG");
+    core::writeFile(path, bytes);
 }
 
 } // namespace gl

@@ -617,6 +617,39 @@ TEST_F(Cli, NumericArgumentsAreRefusedNeverReplacedByDefaults) {
         EXPECT_FALSE(fs::exists(dir() / f)) << f;
 }
 
+// A write that fails part-way (the file-size limit makes the disk "full" after 1 KiB: the
+// first buffer is written, a later one fails) gives a clear message and a non-zero exit, and
+// leaves neither the output nor its temporary behind; a device is never replaced.
+TEST_F(Cli, FailedWritesLeaveNoPartialOutput) {
+    auto limited = [&](const std::vector<std::string>& args) {
+        std::vector<std::string> full = {
+            "/bin/bash", "-c",     "ulimit -f 1; trap '' XFSZ; exec \"$0\" \"$@\"",
+            BW_EXE,      "--root", BW_SOURCE_ROOT};
+        full.insert(full.end(), args.begin(), args.end());
+        return runCommand(full, dir());
+    };
+    RunResult r = limited({"profile", "--model", kDipole, "--preset", "Marble", "--samples", "4000",
+                           "--out", "big.csv"});
+    EXPECT_NE(r.code, 0) << r.output;
+    EXPECT_LT(r.code, 128) << r.output;
+    EXPECT_TRUE(contains(r.output, "big.csv")) << r.output;
+    EXPECT_TRUE(contains(r.output, "write failed")) << r.output;
+    EXPECT_FALSE(fs::exists(dir() / "big.csv"));
+    EXPECT_FALSE(fs::exists(dir() / "big.csv.tmp"));
+    r = limited({"screenshot", "--out", "big.png", "--size", "640x480", "--frames", "1"});
+    EXPECT_NE(r.code, 0) << r.output;
+    EXPECT_FALSE(fs::exists(dir() / "big.png"));
+    EXPECT_FALSE(fs::exists(dir() / "big.png.tmp"));
+    // the same commands without the limit work
+    r = run({"profile", "--model", kDipole, "--preset", "Marble", "--samples", "4000", "--out",
+             "big.csv"});
+    EXPECT_EQ(r.code, 0) << r.output;
+    // a device is refused, not replaced
+    expectFailure({"profile", "--model", kDipole, "--preset", "Marble", "--out", "/dev/full"},
+                  {"/dev/full", "not a regular file"});
+    EXPECT_TRUE(fs::is_character_file("/dev/full"));
+}
+
 TEST_F(Cli, SphereAndMeshWriteExrAndRejectBadMeshes) {
     RunResult r = run({"sphere", "--size", "16x16", "--spp", "2", "--out", "s.exr"});
     ASSERT_EQ(r.code, 0) << r.output;
