@@ -35,11 +35,15 @@ std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float 
     std::vector<uint8_t> out(n * 4, 255);
     if (img.mean.size() < n * 3) return out;
     const float k = std::exp2(exposure), inv = 1.0f / std::max(gamma, 0.05f);
-    for (size_t p = 0; p < n; ++p)
+    for (size_t p = 0; p < n; ++p) {
+        bool invalid = false;
         for (int c = 0; c < 3; ++c) {
+            invalid |= !std::isfinite(img.mean[3 * p + c]);
             const float v = std::pow(std::max(img.mean[3 * p + c] * k, 0.0f), inv);
             out[4 * p + c] = uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
         }
+        if (invalid) out[4 * p] = 255, out[4 * p + 1] = 0, out[4 * p + 2] = 255;
+    }
     return out;
 }
 

@@ -14,7 +14,8 @@ namespace app {
 // mean = (n_a m_a + n_b m_b)/(n_a + n_b), variance of the mean likewise with squared weights.
 pathtrace::Image combine(const pathtrace::Image& a, const pathtrace::Image& b);
 
-// RGBA8 for display: value · 2^exposure, then ^(1/gamma), clamped.
+// RGBA8 for display: value · 2^exposure, then ^(1/gamma), clamped; a pixel with a NaN or
+// infinite value (a model that returned one) is magenta, never black.
 std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float gamma);
 
 // Signed difference a − b of the luminance, mapped to blue (negative) – black – red

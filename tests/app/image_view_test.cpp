@@ -39,6 +39,15 @@ TEST(ImageView, TonemapExposureAndGamma) {
     EXPECT_EQ(px[1], 255);
     px = app::tonemap(img, 0.0f, 2.0f); // 0.25^(1/2) = 0.5
     EXPECT_EQ(px[2], 128);
+    // a NaN or infinite value in any channel shows magenta
+    for (float bad : {std::nanf(""), INFINITY, -INFINITY}) {
+        auto im = flat(0.25f, 0, 1);
+        im.mean[1] = bad;
+        px = app::tonemap(im, 0.0f, 1.0f);
+        EXPECT_EQ(px[0], 255);
+        EXPECT_EQ(px[1], 0);
+        EXPECT_EQ(px[2], 255);
+    }
 }
 
 TEST(ImageView, DifferenceIsSignedAndReadoutHasStderr) {
