@@ -9,6 +9,7 @@
 #include "cli_pointcloud.h"
 #include "cli_render.h"
 #include "cli_slab.h"
+#include "compare.h"
 #include "core/core.h"
 #include "gl/gl.h"
 #include "gui.h"
@@ -220,6 +221,23 @@ int main(int argc, char** argv) {
         "estimate", "the whole BSSRDF of the slab at oblique incidence (seed 001) as a table");
     app::EstimateArgs ea;
     app::addEstimateOptions(estimateCmd, ea);
+    auto* compareCmd = cli.add_subcommand(
+        "compare", "score every model against the path-traced reference (scoreboard)");
+    app::CompareArgs ca;
+    compareCmd->add_option("--models", ca.models,
+                           "model files (default: every materials/*.bssrdf)");
+    compareCmd->add_option("--presets", ca.presets, "preset names (default: all)");
+    app::addCountOption(compareCmd, "--paths", ca.paths,
+                        "reference paths per preset and channel (default " +
+                            std::to_string(ca.paths) + ")",
+                        core::Limits{1000, 1e12});
+    compareCmd->add_option("--baseline", ca.baseline, "an earlier scores.json to compare with");
+    app::addNumberOption(compareCmd, "--fail-if-worse", ca.failIfWorse,
+                         "with --baseline: exit 1 when a rel_l2 grew by more than PCT %",
+                         core::Limits{0, 1e6});
+    compareCmd->add_option("--out", ca.out, "output folder: scores.json, report.md, report.html")
+        ->required();
+
     auto* mergeCmd =
         cli.add_subcommand("merge", "merge table shards (estimate --shard) into one table");
     app::MergeArgs ma;
@@ -343,6 +361,7 @@ int main(int argc, char** argv) {
         if (*rec) return app::runRecord(root, ra);
         if (*rep) return app::runReplay(root, repDir, repUpdate);
         if (*benchReload) return app::benchReload(root, reloadRuns);
+        if (*compareCmd) return app::runCompareCli(root, ca);
         if (*benchPt) return app::benchPathtrace(root, benchSeconds);
         if (*benchHier) return app::benchHierarchy(root, hbo);
         if (*sphere || *meshCmd) {

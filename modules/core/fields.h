@@ -12,9 +12,9 @@
 // From that come: toJson / fromJson (symmetric by construction; enums by name; a missing key
 // keeps the value already there, so older files read with today's defaults; an unknown key,
 // a wrong type or an unknown enum name throws core::Error(file, 0, "path.key: expected …")),
-// keyOf (a hash of every described member, for stage caches), checkLimits (a numeric member
-// outside its Limits, or a floating-point one that is not finite, throws naming its path: the
-// JSON reader and the CLI flags both call it, so a setting has one range everywhere), fieldCount
+// keyOf (a hash of every described member, for stage caches), limitProblem (why a numeric
+// value is outside its Limits or, floating-point, not finite: the JSON reader throws it naming
+// the path, the CLI flags refuse it naming the flag, so a setting has one range everywhere), fieldCount
 // (the number of members of an aggregate: tests compare it with the description so a member added
 // to the struct but not to its description fails) and forEachField (CLI flags, defaults tables).
 #pragma once

@@ -1,0 +1,69 @@
+// `bssrdf-workbench compare`: every model × preset × channel scored against the path-traced
+// reference (the scoreboard). At normal incidence (θi = 0) for every number below:
+//   l_d       = 1/√(3σa(σa + σs(1 − g)))                 (the channel's diffuse mean free path)
+//   R_ref(r)  = R_d(r)/(1 − R_sp)                         (per unit power entering, as plotted)
+//   rel_l2    = √(∫(R_m − R_ref)² r dr / ∫R_ref² r dr) over r ∈ [0.1 l_d, 4 l_d], the integrals
+//               as sums over the reference's radial bins (bin centre r_i, width Δr)
+//   rel_l2_se = the standard error of rel_l2 from the reference's bin standard errors s_i by the
+//               delta method: ∂rel/∂R_ref,i = rel/2 · (−2(R_m,i − R_ref,i)/N − 2R_ref,i/D) r_i Δr
+//               with N, D the two sums, so se = √Σ(∂rel/∂R_ref,i · s_i)²
+//   ratio_1ld, ratio_4ld = R_m/R_ref at the bin holding 1 l_d and 4 l_d (with their se)
+//   total_ratio = 2π∫₀^∞ R_m r dr / (R_d,total/(1 − R_sp)), the model's integral on 2048 points
+//               in ln r up to 60 l_d
+//   r_err5_ld = the first radius (in l_d, from 0.1 l_d) where |R_m − R_ref| exceeds both 5 % of
+//               R_ref and 2 standard errors (noise is not an error); absent when none does
+// Models whose rel_l2 differ from the best of their (preset, channel) by less than
+// 2√(se_a² + se_b²) share its rank ("tie"). The reference is cached on disk by medium and
+// settings (BSSRDF_WORKBENCH_CACHE, else ~/.cache/bssrdf-workbench/reference), so a second run
+// costs only the models. Outputs: DIR/scores.json (schema below), DIR/report.md and
+// DIR/report.html (one self-contained page, cells coloured by rel_l2).
+//
+// scores.json = {"schema": "bssrdf-workbench-scores", "version": 1, "theta_i": [0],
+//   "paths": P, "rows": [{"model", "preset", "channel": "R"|"G"|"B", "theta_i", "ld_mm",
+//   "rel_l2", "rel_l2_se", "ratio_1ld", "ratio_1ld_se", "ratio_4ld", "ratio_4ld_se",
+//   "total_ratio", "total_ratio_se", "r_err5_ld" (or null), "rank", "tie"}]}
+//
+// --baseline FILE --fail-if-worse PCT: exit 1 when a row's rel_l2 grew by more than PCT % over
+// the baseline's same (model, preset, channel, theta_i) and by more than 2 standard errors.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace app {
+
+struct CompareArgs {
+    std::vector<std::string> models;   // default: every materials/*.bssrdf
+    std::vector<std::string> presets;  // default: every preset of presets.json
+    uint64_t paths = 200000;           // per preset and channel
+    std::string baseline;              // an earlier scores.json
+    std::optional<double> failIfWorse; // percent
+    std::string out;                   // output folder
+};
+
+struct ScoreRow {
+    std::string model, preset, channel;
+    double thetaI = 0, ldMm = 0;
+    double relL2 = 0, relL2Se = 0;
+    double ratio1 = 0, ratio1Se = 0, ratio4 = 0, ratio4Se = 0;
+    double totalRatio = 0, totalRatioSe = 0;
+    std::optional<double> rErr5Ld;
+    int rank = 1;
+    bool tie = false;
+};
+
+// Scores from one model's profile against one reference channel (exposed for tests):
+// rMid, rd, rdSe: the reference's bins; specular R_sp; totalRd, totalRdSe; model: R_m at rMid;
+// modelTotal: 2π∫R_m r dr.
+ScoreRow scoreAgainstReference(const std::vector<double>& rMid, const std::vector<double>& rd,
+                               const std::vector<double>& rdSe, double specular, double totalRd,
+                               double totalRdSe, double ldMm, const std::vector<double>& model,
+                               double modelTotal);
+// Ranks and ties within each (preset, channel, theta_i).
+void rankRows(std::vector<ScoreRow>& rows);
+
+int runCompareCli(const std::filesystem::path& root, const CompareArgs& a);
+
+} // namespace app

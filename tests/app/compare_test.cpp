@@ -1,0 +1,200 @@
+// `compare` (app/compare.h): the scores of a model against a synthetic reference (exact values,
+// the delta-method standard error against finite differences, ties within the noise), and the
+// command end to end: scores.json schema, reports, the reference cache, --fail-if-worse and bad
+// inputs.
+#include "../support/cli_fixture.h"
+#include "compare.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+namespace {
+namespace fs = std::filesystem;
+using namespace clitest;
+
+struct Synthetic {
+    std::vector<double> r, rd, se, model;
+};
+// A reference R_d(r) = e^(−r) on 90 bins of 0.05 (l_d = 1), standard error 1 % of each value.
+Synthetic synthetic(double modelScale) {
+    Synthetic s;
+    for (int i = 0; i < 90; ++i) {
+        const double r = 0.05 * (i + 0.5);
+        s.r.push_back(r);
+        s.rd.push_back(std::exp(-r));
+        s.se.push_back(0.01 * std::exp(-r));
+        s.model.push_back(modelScale * std::exp(-r)); // R_sp = 0 below: R_ref = R_d
+    }
+    return s;
+}
+
+app::ScoreRow score(const Synthetic& s, double modelTotal = 1.0) {
+    return app::scoreAgainstReference(s.r, s.rd, s.se, 0.0, 1.0, 0.01, 1.0, s.model, modelTotal);
+}
+
+} // namespace
+
+TEST(CompareScores, ExactValuesOfAScaledModel) {
+    // a model equal to the reference: no error anywhere
+    app::ScoreRow same = score(synthetic(1.0));
+    EXPECT_DOUBLE_EQ(same.relL2, 0.0);
+    EXPECT_DOUBLE_EQ(same.ratio1, 1.0);
+    EXPECT_DOUBLE_EQ(same.ratio4, 1.0);
+    EXPECT_FALSE(same.rErr5Ld.has_value());
+    // R_m = 1.1 R_ref: rel_l2 = 0.1 exactly, ratios 1.1, the error exceeds 5 % (and 2 se = 2 %)
+    // from the first bin inside [0.1, 4] l_d, whose centre is 0.125
+    app::ScoreRow high = score(synthetic(1.1), 1.1);
+    EXPECT_NEAR(high.relL2, 0.1, 1e-12);
+    EXPECT_NEAR(high.ratio1, 1.1, 1e-12);
+    EXPECT_NEAR(high.ratio4, 1.1, 1e-12);
+    EXPECT_NEAR(high.totalRatio, 1.1, 1e-12);
+    ASSERT_TRUE(high.rErr5Ld.has_value());
+    EXPECT_NEAR(*high.rErr5Ld, 0.125, 1e-12);
+    // R_sp divides the reference: R_ref = R_d/(1 − R_sp)
+    Synthetic s = synthetic(1.0 / 0.96);
+    app::ScoreRow sp =
+        app::scoreAgainstReference(s.r, s.rd, s.se, 0.04, 0.96, 0.01, 1.0, s.model, 1.0);
+    EXPECT_NEAR(sp.relL2, 0.0, 1e-12);
+    EXPECT_NEAR(sp.totalRatio, 1.0, 1e-12);
+}
+
+TEST(CompareScores, StandardErrorIsTheDeltaMethodOfTheReferenceErrors) {
+    // se(rel_l2)² = Σ (∂rel/∂R_d,i · s_i)²; each derivative by a central finite difference
+    Synthetic s = synthetic(1.0);
+    for (size_t i = 0; i < s.model.size(); ++i)
+        s.model[i] *= 1.0 + 0.2 * std::sin(double(i)); // an uneven error
+    const app::ScoreRow base = score(s);
+    double var = 0;
+    for (size_t i = 0; i < s.r.size(); ++i) {
+        const double h = 1e-6 * s.rd[i];
+        Synthetic up = s, down = s;
+        up.rd[i] += h;
+        down.rd[i] -= h;
+        const double d = (score(up).relL2 - score(down).relL2) / (2 * h);
+        var += d * d * s.se[i] * s.se[i];
+    }
+    EXPECT_NEAR(base.relL2Se, std::sqrt(var), 1e-6 * std::sqrt(var));
+    EXPECT_GT(base.relL2Se, 0.0);
+}
+
+TEST(CompareScores, DifferencesWithinTheNoiseAreTies) {
+    std::vector<app::ScoreRow> rows;
+    auto row = [](const char* model, double rel, double se) {
+        app::ScoreRow r;
+        r.model = model, r.preset = "P", r.channel = "R", r.relL2 = rel, r.relL2Se = se;
+        return r;
+    };
+    rows.push_back(row("c", 0.30, 0.01)); // far from the others
+    rows.push_back(row("b", 0.11, 0.01)); // within 2√2 · 0.01 of a
+    rows.push_back(row("a", 0.10, 0.01));
+    rows.push_back(row("d", 0.135, 0.01)); // beyond the noise from a (0.035 > 0.028): own rank
+    app::rankRows(rows);
+    ASSERT_EQ(rows.size(), 4u);
+    EXPECT_EQ(rows[0].model, "a");
+    EXPECT_EQ(rows[0].rank, 1);
+    EXPECT_TRUE(rows[0].tie);
+    EXPECT_EQ(rows[1].model, "b");
+    EXPECT_EQ(rows[1].rank, 1);
+    EXPECT_TRUE(rows[1].tie);
+    EXPECT_EQ(rows[2].model, "d");
+    EXPECT_EQ(rows[2].rank, 3);
+    EXPECT_FALSE(rows[2].tie);
+    EXPECT_EQ(rows[3].model, "c");
+    EXPECT_EQ(rows[3].rank, 4);
+    EXPECT_FALSE(rows[3].tie);
+}
+
+class CompareCli : public CliFixture {};
+
+TEST_F(CompareCli, WritesScoresAndReportsCachesTheReferenceAndFailsIfWorse) {
+    // a cache of its own, so the first run traces (the commands inherit the environment)
+    ::setenv("BSSRDF_WORKBENCH_CACHE", (dir() / "cache").c_str(), 1);
+    const std::vector<std::string> args = {"compare",
+                                           "--models",
+                                           "materials/dipole.bssrdf",
+                                           "materials/better_dipole.bssrdf",
+                                           "--presets",
+                                           "Marble",
+                                           "Skin1",
+                                           "--paths",
+                                           "5000",
+                                           "--out",
+                                           "cmp"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    const nlohmann::json j = nlohmann::json::parse(readText(dir() / "cmp/scores.json"));
+    EXPECT_EQ(j["schema"], "bssrdf-workbench-scores");
+    EXPECT_EQ(j["version"], 1);
+    ASSERT_EQ(j["rows"].size(), 12u); // 2 models × 2 presets × 3 channels
+    for (const auto& row : j["rows"]) {
+        for (const char* k : {"model", "preset", "channel"})
+            EXPECT_TRUE(row[k].is_string()) << k;
+        for (const char* k :
+             {"theta_i", "ld_mm", "rel_l2", "rel_l2_se", "ratio_1ld", "ratio_1ld_se", "ratio_4ld",
+              "ratio_4ld_se", "total_ratio", "total_ratio_se", "rank"})
+            EXPECT_TRUE(row[k].is_number()) << k << " " << row.dump();
+        EXPECT_TRUE(row["r_err5_ld"].is_number() || row["r_err5_ld"].is_null());
+        EXPECT_TRUE(row["tie"].is_boolean());
+        EXPECT_GE(row["rel_l2"].get<double>(), 0.0);
+        EXPECT_GT(row["rel_l2_se"].get<double>(), 0.0);
+        EXPECT_GE(row["rank"].get<int>(), 1);
+    }
+    EXPECT_NE(readText(dir() / "cmp/report.html").find("<table>"), std::string::npos);
+    EXPECT_NE(readText(dir() / "cmp/report.md").find("| Marble | R | "), std::string::npos);
+    EXPECT_NE(r.output.find("6 references traced"), std::string::npos) << r.output;
+
+    // the second run takes the references from the cache; the same models are not worse
+    std::vector<std::string> again = args;
+    again.back() = "cmp2";
+    again.insert(again.end(), {"--baseline", "cmp/scores.json", "--fail-if-worse", "5"});
+    r = run(again);
+    EXPECT_EQ(r.code, 0) << describe(again, r);
+    EXPECT_NE(r.output.find("0 references traced, 6 from the cache"), std::string::npos)
+        << r.output;
+    EXPECT_EQ(readText(dir() / "cmp2/scores.json"), readText(dir() / "cmp/scores.json"));
+
+    // a baseline where the row farthest from the reference (in standard errors) was exact:
+    // that row is worse now beyond the noise, exit 1 naming it
+    size_t far = 0;
+    auto zOf = [&](size_t i) {
+        return j["rows"][i]["rel_l2"].get<double>() / j["rows"][i]["rel_l2_se"].get<double>();
+    };
+    for (size_t i = 1; i < j["rows"].size(); ++i)
+        if (zOf(i) > zOf(far)) far = i;
+    ASSERT_GT(zOf(far), 2.0);
+    nlohmann::json better = j;
+    better["rows"][far]["rel_l2"] = 0.0;
+    better["rows"][far]["rel_l2_se"] = 0.0;
+    std::ofstream(dir() / "better.json") << better.dump();
+    again[again.size() - 3] = "better.json";
+    r = run(again);
+    EXPECT_EQ(r.code, 1) << describe(again, r);
+    EXPECT_NE(r.output.find("worse: " + j["rows"][far]["model"].get<std::string>()),
+              std::string::npos)
+        << r.output;
+}
+
+TEST_F(CompareCli, BadInputsNameTheirArgumentAndWriteNothing) {
+    expectFailure({"compare", "--presets", "Marble", "Nonsense", "--paths", "2000", "--out", "o1"},
+                  {"--presets", "unknown preset 'Nonsense'"});
+    EXPECT_FALSE(fs::exists(dir() / "o1/scores.json"));
+    std::ofstream(dir() / "other.json") << R"({"schema": "something-else", "rows": []})";
+    expectFailure({"compare", "--presets", "Marble", "--paths", "2000", "--baseline", "other.json",
+                   "--fail-if-worse", "5", "--out", "o2"},
+                  {"other.json", "not a scores file"});
+    std::ofstream(dir() / "v2.json")
+        << R"({"schema": "bssrdf-workbench-scores", "version": 2, "rows": []})";
+    expectFailure({"compare", "--presets", "Marble", "--paths", "2000", "--baseline", "v2.json",
+                   "--fail-if-worse", "5", "--out", "o3"},
+                  {"v2.json", "schema version"});
+    EXPECT_FALSE(fs::exists(dir() / "o2"));
+    expectFailure({"compare", "--presets", "Marble", "--paths", "2000", "--out", "/proc/no/dir"},
+                  {"--out", "/proc/no/dir"});
+    expectFailure({"compare", "--fail-if-worse", "5", "--out", "o4"},
+                  {"--fail-if-worse", "--baseline"});
+    expectFailure({"compare", "--paths", "nan", "--out", "o5"}, {"--paths"});
+}
