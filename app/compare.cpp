@@ -386,6 +386,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
         }
 
     std::vector<ScoreRow> rows;
+    json skipped = json::array();
     size_t cached = 0, traced = 0;
     for (const std::string& preset : presets) {
         MaterialSettings s;
@@ -394,10 +395,14 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
         for (int c = 0; c < 3; ++c) {
             const pathtrace::Medium m{p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
             const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
-            if (!(std::isfinite(ld) && ld > 0))
-                throw core::Error("--presets", 0,
-                                  preset + " channel " + "RGB"[c] +
-                                      ": no diffuse mean free path (sigma_a = 0)");
+            if (!(std::isfinite(ld) && ld > 0)) { // σa = 0 (Spectralon): no l_d to score over
+                skipped.push_back({{"preset", preset},
+                                   {"channel", std::string(1, "RGB"[c])},
+                                   {"reason", "sigma_a = 0: no diffuse mean free path l_d"}});
+                std::fprintf(stderr, "compare: %s %c not scored (sigma_a = 0: no l_d)\n",
+                             preset.c_str(), "RGB"[c]);
+                continue;
+            }
             pathtrace::SlabSettings ss;
             ss.rMaxMm = kRangeLd * ld;
             ss.bins = kBins;
@@ -431,11 +436,8 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     }
     rankRows(rows);
 
-    json j = {{"schema", kSchema},
-              {"version", kSchemaVersion},
-              {"theta_i", {0.0}},
-              {"paths", a.paths},
-              {"rows", json::array()}};
+    json j = {{"schema", kSchema}, {"version", kSchemaVersion}, {"theta_i", {0.0}},
+              {"paths", a.paths},  {"rows", json::array()},     {"skipped", skipped}};
     for (const ScoreRow& r : rows)
         j["rows"].push_back(rowJson(r));
     writeReports(a.out, rows, a.paths);

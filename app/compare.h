@@ -21,7 +21,8 @@
 // scores.json = {"schema": "bssrdf-workbench-scores", "version": 1, "theta_i": [0],
 //   "paths": P, "rows": [{"model", "preset", "channel": "R"|"G"|"B", "theta_i", "ld_mm",
 //   "rel_l2", "rel_l2_se", "ratio_1ld", "ratio_1ld_se", "ratio_4ld", "ratio_4ld_se",
-//   "total_ratio", "total_ratio_se", "r_err5_ld" (or null), "rank", "tie"}]}
+//   "total_ratio", "total_ratio_se", "r_err5_ld" (or null), "rank", "tie"}],
+//   "skipped": [{"preset", "channel", "reason"}]}   (channels with σa = 0 have no l_d)
 //
 // --baseline FILE --fail-if-worse PCT: exit 1 when a row's rel_l2 grew by more than PCT % over
 // the baseline's same (model, preset, channel, theta_i) and by more than 2 standard errors.

@@ -178,6 +178,23 @@ TEST_F(CompareCli, WritesScoresAndReportsCachesTheReferenceAndFailsIfWorse) {
         << r.output;
 }
 
+// Every preset is scored by default; a channel without absorption (Spectralon) has no l_d, so it
+// is listed as skipped with the reason instead of failing the run.
+TEST_F(CompareCli, ChannelsWithoutAbsorptionAreSkippedWithTheReason) {
+    const std::vector<std::string> args = {"compare",   "--models",   "materials/dipole.bssrdf",
+                                           "--presets", "Spectralon", "Marble",
+                                           "--paths",   "2000",       "--out",
+                                           "sp"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    const nlohmann::json j = nlohmann::json::parse(readText(dir() / "sp/scores.json"));
+    EXPECT_EQ(j["rows"].size(), 3u); // Marble's three channels
+    ASSERT_EQ(j["skipped"].size(), 3u);
+    EXPECT_EQ(j["skipped"][0]["preset"], "Spectralon");
+    EXPECT_NE(j["skipped"][0]["reason"].get<std::string>().find("sigma_a = 0"), std::string::npos);
+    EXPECT_NE(r.output.find("Spectralon R not scored"), std::string::npos) << r.output;
+}
+
 TEST_F(CompareCli, BadInputsNameTheirArgumentAndWriteNothing) {
     expectFailure({"compare", "--presets", "Marble", "Nonsense", "--paths", "2000", "--out", "o1"},
                   {"--presets", "unknown preset 'Nonsense'"});
