@@ -14,9 +14,10 @@
 // a wrong type or an unknown enum name throws core::Error(file, 0, "path.key: expected …")),
 // keyOf (a hash of every described member, for stage caches), limitProblem (why a numeric
 // value is outside its Limits or, floating-point, not finite: the JSON reader throws it naming
-// the path, the CLI flags refuse it naming the flag, so a setting has one range everywhere), fieldCount
-// (the number of members of an aggregate: tests compare it with the description so a member added
-// to the struct but not to its description fails) and forEachField (CLI flags, defaults tables).
+// the path, the CLI flags refuse it naming the flag, so a setting has one range everywhere),
+// fieldCount (the number of members of an aggregate: tests compare it with the description so a
+// member added to the struct but not to its description fails) and forEachField (CLI flags,
+// defaults tables).
 #pragma once
 
 #include "core/core.h"

@@ -5,6 +5,7 @@
 #include "../support/gl_fixture.h"
 #include "bssrdf/program.h"
 #include "bssrdf/program_library.h"
+#include "model_reference.h"
 
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
@@ -15,6 +16,9 @@
 
 namespace {
 
+using model_ref::fresnelInside;
+using model_ref::moment;
+
 constexpr double kPi = std::numbers::pi;
 using V = std::array<double, 3>;
 double dot(const V& a, const V& b) {
@@ -24,24 +28,6 @@ double dot(const V& a, const V& b) {
 struct Medium {
     double sa, ss, g, eta;
 };
-
-// Fresnel reflectance from inside at cos θ = mu; moments by Simpson's rule (not the model's).
-double fresnelInside(double mu, double eta) {
-    const double s2 = eta * eta * (1 - mu * mu);
-    if (s2 >= 1) return 1;
-    const double ct = std::sqrt(1 - s2);
-    const double rs = (eta * mu - ct) / (eta * mu + ct), rp = (mu - eta * ct) / (mu + eta * ct);
-    return 0.5 * (rs * rs + rp * rp);
-}
-double moment(int k, double eta) { // ∫0^1 F(mu) mu^k dmu
-    const int n = 20000;
-    const double h = 1.0 / n;
-    auto f = [&](double mu) { return fresnelInside(mu, eta) * std::pow(mu, k); };
-    double s = f(0) + f(1);
-    for (int i = 1; i < n; ++i)
-        s += (i % 2 ? 4 : 2) * f(i * h);
-    return s * h / 3;
-}
 
 // The paper's S'_d(x, w, d) and the model value pi (S'_r − S'_v) on the plane z = 0.
 double directionalDipole(const Medium& m, const V& wi, const V& x) {

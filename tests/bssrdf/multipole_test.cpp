@@ -8,6 +8,7 @@
 #include "bssrdf/program.h"
 #include "bssrdf/program_library.h"
 #include "material/material.h"
+#include "model_reference.h"
 
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
@@ -17,12 +18,11 @@
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using model_ref::builtins;
+using model_ref::media;
+using model_ref::Medium;
 
-struct Medium {
-    std::string name;
-    double sa, ss, g, eta;
-};
+constexpr double kPi = std::numbers::pi;
 
 // The multipole at the float inputs the GPU sees.
 struct Multipole {
@@ -64,28 +64,6 @@ struct Multipole {
         return alphaP / 2 * sum;
     }
 };
-
-std::vector<Medium> media() {
-    std::vector<Medium> out;
-    for (const auto& p :
-         material::loadPresets(testsupport::sourceRoot() / "materials/presets.json")) {
-        for (int c = 0; c < 3; ++c) // the presets list σ′s; with g = 0, σs = σ′s
-            out.push_back({p.name + "[" + std::to_string(c) + "]", p.sigmaA[c], p.sigmaSPrime[c],
-                           0.0, p.eta});
-    }
-    out.push_back({"anisotropic eta 1.5", 0.05, 5.0, 0.8, 1.5});
-    out.push_back({"matched boundary", 0.2, 1.0, 0.0, 1.0});
-    return out;
-}
-
-bssrdf::Builtins builtins(const Medium& m) {
-    bssrdf::Builtins b;
-    b.sigmaA = glm::vec3(float(m.sa));
-    b.sigmaS = glm::vec3(float(m.ss));
-    b.g = float(m.g);
-    b.ior = float(m.eta);
-    return b;
-}
 
 } // namespace
 

@@ -9,6 +9,7 @@
 #include "bssrdf/program.h"
 #include "bssrdf/program_library.h"
 #include "material/material.h"
+#include "model_reference.h"
 
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
@@ -21,39 +22,14 @@
 
 namespace {
 
+using model_ref::builtins;
+using model_ref::fresnelInside;
+using model_ref::media;
+using model_ref::Medium;
+using model_ref::moment;
+using model_ref::simpson;
+
 constexpr double kPi = std::numbers::pi;
-
-struct Medium {
-    std::string name;
-    double sa, ss, g, eta;
-};
-
-double fresnelInside(double mu, double eta) {
-    const double s2 = eta * eta * (1 - mu * mu);
-    if (s2 >= 1) return 1;
-    const double ct = std::sqrt(1 - s2);
-    const double rs = (eta * mu - ct) / (eta * mu + ct), rp = (mu - eta * ct) / (mu + eta * ct);
-    return 0.5 * (rs * rs + rp * rp);
-}
-// ∫0^1 F(mu) mu^k dmu by Simpson's rule on 20000 intervals (not the model's rule).
-double moment(int k, double eta) {
-    const int n = 20000;
-    const double h = 1.0 / n;
-    auto f = [&](double mu) { return fresnelInside(mu, eta) * std::pow(mu, k); };
-    double s = f(0) + f(1);
-    for (int i = 1; i < n; ++i)
-        s += (i % 2 ? 4 : 2) * f(i * h);
-    return s * h / 3;
-}
-
-// Composite Simpson's rule on n (even) intervals.
-double simpson(const std::function<double(double)>& f, double a, double b, int n) {
-    const double h = (b - a) / n;
-    double s = f(a) + f(b);
-    for (int i = 1; i < n; ++i)
-        s += (i % 2 ? 4 : 2) * f(a + i * h);
-    return s * h / 3;
-}
 
 // The better dipole's total diffuse reflectance at σ′t = 1, as 2π ∫ R(r) r dr of d'Eon 2012's
 // profile R = α′(C_φ φ + C_E E), integrated numerically in ln r (Simpson, 40000 intervals
@@ -114,29 +90,6 @@ Reference reference(double sa0, double ss0, double g0, double eta0, int configur
 double profile(const Reference& ref, double r) {
     return ref.A * ref.invD * (std::exp(-ref.invD * r) + std::exp(-ref.invD * r / 3)) /
            (8 * kPi * r);
-}
-
-std::vector<Medium> media() {
-    std::vector<Medium> out;
-    for (const auto& p :
-         material::loadPresets(testsupport::sourceRoot() / "materials/presets.json")) {
-        // the presets list σ′s; with g = 0, σs = σ′s
-        for (int c = 0; c < 3; ++c)
-            out.push_back({p.name + "[" + std::to_string(c) + "]", p.sigmaA[c], p.sigmaSPrime[c],
-                           0.0, p.eta});
-    }
-    out.push_back({"anisotropic eta 1.5", 0.05, 5.0, 0.8, 1.5});
-    out.push_back({"matched boundary", 0.2, 1.0, 0.0, 1.0});
-    return out;
-}
-
-bssrdf::Builtins builtins(const Medium& m) {
-    bssrdf::Builtins b;
-    b.sigmaA = glm::vec3(float(m.sa));
-    b.sigmaS = glm::vec3(float(m.ss));
-    b.g = float(m.g);
-    b.ior = float(m.eta);
-    return b;
 }
 
 } // namespace

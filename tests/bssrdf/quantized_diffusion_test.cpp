@@ -11,6 +11,7 @@
 #include "bssrdf/program_library.h"
 #include "core/core.h"
 #include "material/material.h"
+#include "model_reference.h"
 
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
@@ -23,31 +24,14 @@ using testsupport::replaced;
 
 namespace {
 
+using model_ref::builtins;
+using model_ref::fresnelInside;
+using model_ref::media;
+using model_ref::Medium;
+using model_ref::moment;
+
 constexpr double kPi = std::numbers::pi;
 constexpr int kLobes = 40;
-
-struct Medium {
-    std::string name;
-    double sa, ss, g, eta;
-};
-
-double fresnelInside(double mu, double eta) {
-    const double s2 = eta * eta * (1 - mu * mu);
-    if (s2 >= 1) return 1;
-    const double ct = std::sqrt(1 - s2);
-    const double rs = (eta * mu - ct) / (eta * mu + ct), rp = (mu - eta * ct) / (mu + eta * ct);
-    return 0.5 * (rs * rs + rp * rp);
-}
-// ∫0^1 F(mu) mu^k dmu by Simpson's rule on 20000 intervals (not the model's rule).
-double moment(int k, double eta) {
-    const int n = 20000;
-    const double h = 1.0 / n;
-    auto f = [&](double mu) { return fresnelInside(mu, eta) * std::pow(mu, k); };
-    double s = f(0) + f(1);
-    for (int i = 1; i < n; ++i)
-        s += (i % 2 ? 4 : 2) * f(i * h);
-    return s * h / 3;
-}
 
 double g1(double z, double v) {
     return std::exp(-z * z / (2 * v)) / std::sqrt(2 * kPi * v);
@@ -142,28 +126,6 @@ double timeResolved(const Reference& ref, double r) {
     return integrate(ref, kLo, kHi,
                      [&](double v) { return std::exp(-x * x / (2 * v)) / (2 * kPi * v); }) *
            ref.stp * ref.stp;
-}
-
-std::vector<Medium> media() {
-    std::vector<Medium> out;
-    for (const auto& p :
-         material::loadPresets(testsupport::sourceRoot() / "materials/presets.json")) {
-        for (int c = 0; c < 3; ++c) // the presets list σ′s; with g = 0, σs = σ′s
-            out.push_back({p.name + "[" + std::to_string(c) + "]", p.sigmaA[c], p.sigmaSPrime[c],
-                           0.0, p.eta});
-    }
-    out.push_back({"anisotropic eta 1.5", 0.05, 5.0, 0.8, 1.5});
-    out.push_back({"matched boundary", 0.2, 1.0, 0.0, 1.0});
-    return out;
-}
-
-bssrdf::Builtins builtins(const Medium& m) {
-    bssrdf::Builtins b;
-    b.sigmaA = glm::vec3(float(m.sa));
-    b.sigmaS = glm::vec3(float(m.ss));
-    b.g = float(m.g);
-    b.ior = float(m.eta);
-    return b;
 }
 
 // Radii (mm) where the reference is compared: 0 and 0.01 … 10 l, and 0.3 … 3 diffusion lengths.
