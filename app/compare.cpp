@@ -1,6 +1,7 @@
 // `bssrdf-workbench compare`: the scoreboard (compare.h has the definitions of every number).
 #include "compare.h"
 
+#include "capture/scores.h"
 #include "cli.h"
 #include "cli_output.h"
 #include "core/core.h"
@@ -28,8 +29,8 @@ using nlohmann::json;
 
 namespace {
 
-constexpr const char* kSchema = "bssrdf-workbench-scores";
-constexpr int kSchemaVersion = 1;
+constexpr const char* kSchema = capture::kScoresSchema;
+constexpr int kSchemaVersion = capture::kScoresVersion;
 constexpr double kPi = std::numbers::pi;
 
 // The reference's radial histogram: [0, 4.5 l_d) in 90 bins (0.05 l_d each).
@@ -209,50 +210,6 @@ void writeReports(const fs::path& dir, const std::vector<ScoreRow>& rows, uint64
     core::writeFile(dir / "report.html", html.str());
 }
 
-// Rows of an earlier scores.json, checked against this schema; throws naming the file.
-std::vector<ScoreRow> readBaseline(const std::string& file) {
-    json j;
-    try {
-        j = json::parse(core::readFile(file));
-    } catch (const json::exception& e) {
-        throw core::Error(file, 0, std::string("not JSON: ") + e.what());
-    }
-    if (!j.is_object() || j.value("schema", "") != kSchema)
-        throw core::Error(
-            file, 0, std::string("not a scores file (expected \"schema\": \"") + kSchema + "\")");
-    if (!j.contains("version") || !j["version"].is_number_integer() ||
-        j["version"].get<int>() != kSchemaVersion)
-        throw core::Error(file, 0,
-                          "scores of another schema version (expected " +
-                              std::to_string(kSchemaVersion) + ")");
-    if (!j.contains("rows") || !j["rows"].is_array())
-        throw core::Error(file, 0, "rows: expected an array");
-    std::vector<ScoreRow> rows;
-    for (size_t i = 0; i < j["rows"].size(); ++i) {
-        const json& r = j["rows"][i];
-        const std::string at = "rows[" + std::to_string(i) + "]";
-        auto str = [&](const char* k) {
-            if (!r.is_object() || !r.contains(k) || !r[k].is_string())
-                throw core::Error(file, 0, at + "." + k + ": expected a string");
-            return r[k].get<std::string>();
-        };
-        auto num = [&](const char* k) {
-            if (!r.contains(k) || !r[k].is_number())
-                throw core::Error(file, 0, at + "." + k + ": expected a number");
-            return r[k].get<double>();
-        };
-        ScoreRow s;
-        s.model = str("model");
-        s.preset = str("preset");
-        s.channel = str("channel");
-        s.thetaI = num("theta_i");
-        s.relL2 = num("rel_l2");
-        s.relL2Se = num("rel_l2_se");
-        rows.push_back(s);
-    }
-    return rows;
-}
-
 } // namespace
 
 ScoreRow scoreAgainstReference(const std::vector<double>& rMid, const std::vector<double>& rd,
@@ -347,7 +304,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     if (a.failIfWorse && !(*a.failIfWorse >= 0))
         throw core::Error("--fail-if-worse", 0, "must be a percentage >= 0");
     const std::vector<ScoreRow> baseline =
-        a.baseline.empty() ? std::vector<ScoreRow>{} : readBaseline(a.baseline);
+        a.baseline.empty() ? std::vector<ScoreRow>{} : capture::readScores(a.baseline);
     // the output folder must be writable before any work is done
     std::error_code ec;
     fs::create_directories(a.out, ec);

@@ -28,6 +28,8 @@
 // the baseline's same (model, preset, channel, theta_i) and by more than 2 standard errors.
 #pragma once
 
+#include "capture/scores.h"
+
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -44,16 +46,7 @@ struct CompareArgs {
     std::string out;                   // output folder
 };
 
-struct ScoreRow {
-    std::string model, preset, channel;
-    double thetaI = 0, ldMm = 0;
-    double relL2 = 0, relL2Se = 0;
-    double ratio1 = 0, ratio1Se = 0, ratio4 = 0, ratio4Se = 0;
-    double totalRatio = 0, totalRatioSe = 0;
-    std::optional<double> rErr5Ld;
-    int rank = 1;
-    bool tie = false;
-};
+using ScoreRow = capture::ScoreRow;
 
 // Scores from one model's profile against one reference channel (exposed for tests):
 // rMid, rd, rdSe: the reference's bins; specular R_sp; totalRd, totalRdSe; model: R_m at rMid;

@@ -15,7 +15,8 @@
 
 #define BW_FUZZ_TARGETS(X)                                                                         \
     X(bssrdf_model)                                                                                \
-    X(profile_csv) X(bwtable) X(capture_csv) X(manifest) X(obj) X(ply) X(exr) X(presets) X(settings)
+    X(profile_csv)                                                                                 \
+    X(bwtable) X(capture_csv) X(manifest) X(obj) X(ply) X(exr) X(presets) X(settings) X(scores)
 
 #define BW_DECLARE(name) extern "C" int fuzzOne_##name(const uint8_t* data, size_t size);
 BW_FUZZ_TARGETS(BW_DECLARE)

@@ -1,0 +1,63 @@
+// scores.json read back (scores.h).
+#include "capture/scores.h"
+
+#include "core/core.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+namespace capture {
+using nlohmann::json;
+
+std::vector<ScoreRow> readScores(const std::string& file) {
+    json j;
+    try {
+        j = json::parse(core::readFile(file));
+    } catch (const json::exception& e) {
+        throw core::Error(file, 0, std::string("not JSON: ") + core::printableText(e.what()));
+    }
+    if (!j.is_object() || !j.contains("schema") || !j["schema"].is_string() ||
+        j["schema"].get<std::string>() != kScoresSchema)
+        throw core::Error(file, 0,
+                          std::string("not a scores file (expected \"schema\": \"") +
+                              kScoresSchema + "\")");
+    if (!j.contains("version") || !j["version"].is_number_integer() ||
+        j["version"].get<int>() != kScoresVersion)
+        throw core::Error(file, 0,
+                          "scores of another schema version (expected " +
+                              std::to_string(kScoresVersion) + ")");
+    if (!j.contains("rows") || !j["rows"].is_array())
+        throw core::Error(file, 0, "rows: expected an array");
+    std::vector<ScoreRow> rows;
+    for (size_t i = 0; i < j["rows"].size(); ++i) {
+        const json& r = j["rows"][i];
+        const std::string at = "rows[" + std::to_string(i) + "]";
+        auto str = [&](const char* k) {
+            if (!r.is_object() || !r.contains(k) || !r[k].is_string())
+                throw core::Error(file, 0, at + "." + k + ": expected a string");
+            return r[k].get<std::string>();
+        };
+        auto num = [&](const char* k) {
+            if (!r.contains(k) || !r[k].is_number())
+                throw core::Error(file, 0, at + "." + k + ": expected a number");
+            return r[k].get<double>();
+        };
+        ScoreRow s;
+        s.model = str("model");
+        s.preset = str("preset");
+        s.channel = str("channel");
+        s.thetaI = num("theta_i");
+        s.relL2 = num("rel_l2");
+        s.relL2Se = num("rel_l2_se");
+        if (!(std::isfinite(s.thetaI) && s.relL2 >= 0 && std::isfinite(s.relL2) && s.relL2Se >= 0 &&
+              std::isfinite(s.relL2Se)))
+            throw core::Error(file, 0,
+                              at + ": theta_i, rel_l2 and rel_l2_se must be finite, "
+                                   "rel_l2 and rel_l2_se >= 0");
+        rows.push_back(s);
+    }
+    return rows;
+}
+
+} // namespace capture
