@@ -6,12 +6,14 @@
 
 #include "../support/gl_fixture.h"
 #include "bssrdf/program.h"
+#include "bssrdf/program_library.h"
 #include "material/material.h"
 
 #include <glm/glm.hpp>
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -70,5 +72,25 @@ inline bssrdf::Builtins builtins(const Medium& m) {
     b.ior = float(m.eta);
     return b;
 }
+
+// A fixture holding one shipped model (materials/FILE) built for the pencil profile and the
+// R_dr inversion, with a headless GL context; fails the test when it does not load.
+class ModelTest : public ::testing::Test {
+  protected:
+    explicit ModelTest(std::string file) : m_file(std::move(file)) {}
+    void SetUp() override {
+        testsupport::context();
+        m_lib = std::make_unique<bssrdf::ModelLibrary>(
+            testsupport::sourceRoot(),
+            std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp"});
+        m_lib->reload(testsupport::sourceRoot() / "materials" / m_file);
+        m_e = m_lib->find("materials/" + m_file);
+        ASSERT_NE(m_e, nullptr);
+        ASSERT_FALSE(m_e->problem) << m_e->problem->text();
+    }
+    std::string m_file;
+    std::unique_ptr<bssrdf::ModelLibrary> m_lib;
+    bssrdf::ModelEntry* m_e = nullptr;
+};
 
 } // namespace model_ref

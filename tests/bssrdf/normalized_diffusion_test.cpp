@@ -94,20 +94,9 @@ double profile(const Reference& ref, double r) {
 
 } // namespace
 
-class NormalizedDiffusion : public ::testing::Test {
+class NormalizedDiffusion : public model_ref::ModelTest {
   protected:
-    void SetUp() override {
-        testsupport::context();
-        m_lib = std::make_unique<bssrdf::ModelLibrary>(
-            testsupport::sourceRoot(),
-            std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp"});
-        m_lib->reload(testsupport::sourceRoot() / "materials" / "normalized_diffusion.bssrdf");
-        m_e = m_lib->find("materials/normalized_diffusion.bssrdf");
-        ASSERT_NE(m_e, nullptr);
-        ASSERT_FALSE(m_e->problem) << m_e->problem->text();
-    }
-    std::unique_ptr<bssrdf::ModelLibrary> m_lib;
-    bssrdf::ModelEntry* m_e = nullptr;
+    NormalizedDiffusion() : ModelTest("normalized_diffusion.bssrdf") {}
 };
 
 TEST_F(NormalizedDiffusion, AttributesAndParameter) {

@@ -78,20 +78,9 @@ struct Pbd {
 
 } // namespace
 
-class PhotonBeamDiffusion : public ::testing::Test {
+class PhotonBeamDiffusion : public model_ref::ModelTest {
   protected:
-    void SetUp() override {
-        testsupport::context();
-        m_lib = std::make_unique<bssrdf::ModelLibrary>(
-            testsupport::sourceRoot(),
-            std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp"});
-        m_lib->reload(testsupport::sourceRoot() / "materials" / "photon_beam_diffusion.bssrdf");
-        m_e = m_lib->find("materials/photon_beam_diffusion.bssrdf");
-        ASSERT_NE(m_e, nullptr);
-        ASSERT_FALSE(m_e->problem) << m_e->problem->text();
-    }
-    std::unique_ptr<bssrdf::ModelLibrary> m_lib;
-    bssrdf::ModelEntry* m_e = nullptr;
+    PhotonBeamDiffusion() : ModelTest("photon_beam_diffusion.bssrdf") {}
 };
 
 TEST_F(PhotonBeamDiffusion, Attributes) {

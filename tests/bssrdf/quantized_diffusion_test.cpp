@@ -141,24 +141,13 @@ std::vector<double> radii(const Reference& ref) {
 
 } // namespace
 
-class QuantizedDiffusion : public ::testing::Test {
+class QuantizedDiffusion : public model_ref::ModelTest {
   protected:
-    void SetUp() override {
-        testsupport::context();
-        m_lib = std::make_unique<bssrdf::ModelLibrary>(
-            testsupport::sourceRoot(),
-            std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp"});
-        m_lib->reload(testsupport::sourceRoot() / "materials" / "quantized_diffusion.bssrdf");
-        m_e = m_lib->find("materials/quantized_diffusion.bssrdf");
-        ASSERT_NE(m_e, nullptr);
-        ASSERT_FALSE(m_e->problem) << m_e->problem->text();
-    }
+    QuantizedDiffusion() : ModelTest("quantized_diffusion.bssrdf") {}
     bssrdf::Profile profile(const Medium& m, const std::vector<double>& r) {
         return bssrdf::evaluateProfile(m_e->programs.at("pencil_profile.comp").id(), *m_e->model,
                                        m_e->values, builtins(m), r);
     }
-    std::unique_ptr<bssrdf::ModelLibrary> m_lib;
-    bssrdf::ModelEntry* m_e = nullptr;
 };
 
 TEST_F(QuantizedDiffusion, Attributes) {
