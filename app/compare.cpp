@@ -4,6 +4,7 @@
 #include "capture/scores.h"
 #include "cli.h"
 #include "cli_output.h"
+#include "compare_oblique.h"
 #include "core/core.h"
 #include "core/fields.h"
 #include "core/text.h"
@@ -37,7 +38,9 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kRangeLd = 4.5;
 constexpr int kBins = 90;
 
-fs::path referenceCacheDir() {
+} // namespace
+
+fs::path compareCacheDir() {
     if (const char* c = std::getenv("BSSRDF_WORKBENCH_CACHE"); c && *c)
         return fs::path(c) / "reference";
     if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
@@ -46,6 +49,8 @@ fs::path referenceCacheDir() {
         return fs::path(h) / ".cache" / "bssrdf-workbench" / "reference";
     return {};
 }
+
+namespace {
 
 json resultJson(const pathtrace::SlabResult& r) {
     return {{"r_mid", r.rMid},
@@ -80,7 +85,7 @@ std::optional<pathtrace::SlabResult> cachedResult(const fs::path& file) {
 // The path-traced reference of one medium, from the cache or traced (and cached).
 pathtrace::SlabResult reference(const pathtrace::Medium& m, const pathtrace::SlabSettings& s,
                                 const std::string& what, bool& fromCache) {
-    const fs::path dir = referenceCacheDir();
+    const fs::path dir = compareCacheDir();
     const fs::path file = dir.empty() ? fs::path() : dir / (core::keyOf(m, s) + ".json");
     if (auto r = cachedResult(file)) {
         fromCache = true;
@@ -146,68 +151,10 @@ json rowJson(const ScoreRow& r) {
             {"total_ratio", r.totalRatio},
             {"total_ratio_se", r.totalRatioSe},
             {"r_err5_ld", r.rErr5Ld ? json(*r.rErr5Ld) : json(nullptr)},
+            {"rel_l2_dir", r.relL2Dir ? json(*r.relL2Dir) : json(nullptr)},
+            {"rel_l2_dir_se", r.relL2DirSe ? json(*r.relL2DirSe) : json(nullptr)},
             {"rank", r.rank},
             {"tie", r.tie}};
-}
-
-// rel_l2 → a cell colour from green (0) through yellow (10 %) to red (>= 30 %).
-std::string cellColour(double rel) {
-    const double t = std::clamp(rel / 0.3, 0.0, 1.0);
-    const int red = int(std::lround(255 * std::min(1.0, 2 * t)));
-    const int green = int(std::lround(200 * std::min(1.0, 2 * (1 - t))));
-    char b[16];
-    std::snprintf(b, sizeof b, "#%02x%02x60", red, green);
-    return b;
-}
-
-std::string htmlEscape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        if (c == '<')
-            out += "&lt;";
-        else if (c == '>')
-            out += "&gt;";
-        else if (c == '&')
-            out += "&amp;";
-        else
-            out += c;
-    }
-    return out;
-}
-
-void writeReports(const fs::path& dir, const std::vector<ScoreRow>& rows, uint64_t paths) {
-    std::ostringstream md, html;
-    md << "# BSSRDF scoreboard\n\nθi = 0, " << paths
-       << " reference paths per preset and channel. rel_l2 over [0.1, 4] l_d (± standard error "
-          "from the reference); `=` marks a tie with the best of its preset and channel.\n\n"
-       << "| preset | ch | model | rank | rel_l2 | ratio at 1 l_d | ratio at 4 l_d | total ratio "
-          "| error > 5 % from |\n|---|---|---|---|---|---|---|---|---|\n";
-    html << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>BSSRDF scoreboard</title>"
-            "<style>body{font-family:sans-serif;background:#111;color:#ddd}"
-            "table{border-collapse:collapse}td,th{border:1px solid #444;padding:3px 8px;"
-            "text-align:right}th{background:#222}td.l{text-align:left}</style></head><body>"
-         << "<h1>BSSRDF scoreboard</h1><p>&theta;<sub>i</sub> = 0, " << paths
-         << " reference paths per preset and channel; rel_l2 over [0.1, 4] l<sub>d</sub>, "
-            "&plusmn; standard error from the reference; = marks a tie with the best.</p>"
-         << "<table><tr><th>preset</th><th>ch</th><th>model</th><th>rank</th><th>rel_l2</th>"
-            "<th>ratio 1 l<sub>d</sub></th><th>ratio 4 l<sub>d</sub></th><th>total ratio</th>"
-            "<th>error &gt; 5 % from (l<sub>d</sub>)</th></tr>\n";
-    for (const ScoreRow& r : rows) {
-        const std::string rank = (r.tie ? "=" : "") + std::to_string(r.rank);
-        const std::string rel = fmt(100 * r.relL2, 3) + " % ± " + fmt(100 * r.relL2Se, 2) + " %";
-        const std::string err5 = r.rErr5Ld ? fmt(*r.rErr5Ld, 3) : "none";
-        md << "| " << r.preset << " | " << r.channel << " | " << r.model << " | " << rank << " | "
-           << rel << " | " << fmt(r.ratio1) << " | " << fmt(r.ratio4) << " | " << fmt(r.totalRatio)
-           << " | " << err5 << " |\n";
-        html << "<tr><td class=l>" << htmlEscape(r.preset) << "</td><td>" << r.channel
-             << "</td><td class=l>" << htmlEscape(r.model) << "</td><td>" << rank
-             << "</td><td style=\"background:" << cellColour(r.relL2) << ";color:#000\">"
-             << htmlEscape(rel) << "</td><td>" << fmt(r.ratio1) << "</td><td>" << fmt(r.ratio4)
-             << "</td><td>" << fmt(r.totalRatio) << "</td><td>" << err5 << "</td></tr>\n";
-    }
-    html << "</table></body></html>\n";
-    core::writeFile(dir / "report.md", md.str());
-    core::writeFile(dir / "report.html", html.str());
 }
 
 } // namespace
@@ -342,62 +289,126 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                               "unknown preset '" + name + "' (known: " + known + ")");
         }
 
-    std::vector<ScoreRow> rows;
+    for (double t : a.thetaI)
+        if (!(std::isfinite(t) && t >= 0 && t < 90))
+            throw core::Error("--theta-i", 0,
+                              "incidence angles must be degrees in [0, 90), got " + fmt(t));
+    if (a.thetaI.empty()) throw core::Error("--theta-i", 0, "give at least one angle");
+
+    CompareReport report;
+    report.paths = a.paths;
+    report.thetaI = a.thetaI;
+    std::vector<ScoreRow>& rows = report.rows;
     json skipped = json::array();
     size_t cached = 0, traced = 0;
+    auto stem = [](const std::string& displayPath) {
+        std::string m = displayPath.substr(displayPath.rfind('/') + 1);
+        return m.substr(0, m.rfind('.'));
+    };
     for (const std::string& preset : presets) {
         MaterialSettings s;
         wb.applyPreset(s, preset);
         const material::MaterialParams& p = s.params;
         for (int c = 0; c < 3; ++c) {
+            const std::string ch(1, "RGB"[c]);
             const pathtrace::Medium m{p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
             const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
             if (!(std::isfinite(ld) && ld > 0)) { // σa = 0 (Spectralon): no l_d to score over
                 skipped.push_back({{"preset", preset},
-                                   {"channel", std::string(1, "RGB"[c])},
+                                   {"channel", ch},
                                    {"reason", "sigma_a = 0: no diffuse mean free path l_d"}});
                 std::fprintf(stderr, "compare: %s %c not scored (sigma_a = 0: no l_d)\n",
                              preset.c_str(), "RGB"[c]);
                 continue;
             }
-            pathtrace::SlabSettings ss;
-            ss.rMaxMm = kRangeLd * ld;
-            ss.bins = kBins;
-            ss.paths = a.paths;
-            bool fromCache = false;
-            const pathtrace::SlabResult ref =
-                reference(m, ss, preset + " " + std::string(1, "RGB"[c]), fromCache);
-            (fromCache ? cached : traced)++;
-            for (auto& e : wb.library().entries()) {
-                if (!e.usable()) continue;
-                const material::MaterialParams eff = effectiveParams(e, s);
-                const bssrdf::Builtins b = builtinsOf(eff);
-                const GLuint program = e.programs.at("pencil_profile.comp").id();
-                const bssrdf::Profile prof =
-                    bssrdf::evaluateProfile(program, *e.model, e.values, b, ref.rMid);
-                if (std::string bad = bssrdf::profileProblem(prof); !bad.empty())
-                    throw core::Error(e.displayPath, 0, preset + ": " + bad);
-                std::vector<double> mv(prof.value.size());
-                for (size_t i = 0; i < mv.size(); ++i)
-                    mv[i] = prof.value[i][c];
-                ScoreRow row = scoreAgainstReference(ref.rMid, ref.rd, ref.rdStderr, ref.specular,
-                                                     ref.totalRd, ref.totalRdStderr, ld, mv,
-                                                     modelTotal(program, e, b, ld, c));
-                row.model = e.displayPath.substr(e.displayPath.rfind('/') + 1);
-                row.model = row.model.substr(0, row.model.rfind('.'));
-                row.preset = preset;
-                row.channel = std::string(1, "RGB"[c]);
-                rows.push_back(row);
+            for (double thetaI : a.thetaI) {
+                if (thetaI == 0) {
+                    pathtrace::SlabSettings ss;
+                    ss.rMaxMm = kRangeLd * ld;
+                    ss.bins = kBins;
+                    ss.paths = a.paths;
+                    bool fromCache = false;
+                    const pathtrace::SlabResult ref =
+                        reference(m, ss, preset + " " + ch, fromCache);
+                    (fromCache ? cached : traced)++;
+                    ProfileCurves curves{preset, c, ld, ref.rMid, {}, {}, {}};
+                    for (size_t i = 0; i < ref.rMid.size(); ++i) {
+                        curves.ref.push_back(ref.rd[i] / (1 - ref.specular));
+                        curves.refSe.push_back(ref.rdStderr[i] / (1 - ref.specular));
+                    }
+                    for (auto& e : wb.library().entries()) {
+                        if (!e.usable()) continue;
+                        const material::MaterialParams eff = effectiveParams(e, s);
+                        const bssrdf::Builtins b = builtinsOf(eff);
+                        const GLuint program = e.programs.at("pencil_profile.comp").id();
+                        const bssrdf::Profile prof =
+                            bssrdf::evaluateProfile(program, *e.model, e.values, b, ref.rMid);
+                        if (std::string bad = bssrdf::profileProblem(prof); !bad.empty())
+                            throw core::Error(e.displayPath, 0, preset + ": " + bad);
+                        std::vector<double> mv(prof.value.size());
+                        for (size_t i = 0; i < mv.size(); ++i)
+                            mv[i] = prof.value[i][c];
+                        ScoreRow row = scoreAgainstReference(
+                            ref.rMid, ref.rd, ref.rdStderr, ref.specular, ref.totalRd,
+                            ref.totalRdStderr, ld, mv, modelTotal(program, e, b, ld, c));
+                        row.model = stem(e.displayPath);
+                        row.preset = preset;
+                        row.channel = ch;
+                        rows.push_back(row);
+                        curves.models.emplace_back(row.model, std::move(mv));
+                    }
+                    report.profiles.push_back(std::move(curves));
+                    continue;
+                }
+                const pathtrace::EstimateSettings es = obliqueSettings(ld, thetaI, a.paths);
+                bool fromCache = false;
+                const pathtrace::BssrdfSlice ref = obliqueReference(
+                    m, es, preset + " " + ch + " at " + fmt(thetaI, 3) + " deg", fromCache);
+                (fromCache ? cached : traced)++;
+                SliceMaps maps{preset, c, thetaI, ld, es.bins, ref.R, ref.RStderr, {}};
+                for (auto& e : wb.library().entries()) {
+                    if (!e.usable()) continue;
+                    const material::MaterialParams eff = effectiveParams(e, s);
+                    const bool readsWo = !e.model->attrs.noWo;
+                    const SliceSampling n = sliceSampling(es.bins, readsWo);
+                    const std::vector<bssrdf::Query> q =
+                        sliceQueries(es.bins, thetaI, readsWo, n);
+                    const std::vector<glm::dvec3> rgb = bssrdf::evaluateQueries(
+                        e.programs.at("pencil_profile.comp").id(), *e.model, e.values,
+                        builtinsOf(eff), q);
+                    std::vector<double> values(rgb.size());
+                    for (size_t i = 0; i < rgb.size(); ++i)
+                        values[i] = rgb[i][c];
+                    const ModelSlice ms = modelSlice(es.bins, thetaI, eff.eta, readsWo, n, values);
+                    for (size_t i = 0; i < ms.R.size(); ++i)
+                        if (!std::isfinite(ms.R[i]) || ms.R[i] < 0)
+                            throw core::Error(e.displayPath, 0,
+                                              preset + ": Bssrdf() is negative or not finite on "
+                                                       "the slice at theta_i " +
+                                                  fmt(thetaI, 3) + " deg, r = " +
+                                                  fmt(es.bins.rEdges()[i / size_t(es.bins.thetaSBins)], 4) +
+                                                  " mm");
+                    ScoreRow row = scoreSlice(es.bins, ref, ms, ld);
+                    row.model = stem(e.displayPath);
+                    row.preset = preset;
+                    row.channel = ch;
+                    rows.push_back(row);
+                    maps.models.emplace_back(row.model, ms.R);
+                }
+                report.slices.push_back(std::move(maps));
             }
         }
     }
     rankRows(rows);
 
-    json j = {{"schema", kSchema}, {"version", kSchemaVersion}, {"theta_i", {0.0}},
+    json angles = json::array();
+    for (double t : a.thetaI)
+        angles.push_back(t);
+    json j = {{"schema", kSchema}, {"version", kSchemaVersion}, {"theta_i", angles},
               {"paths", a.paths},  {"rows", json::array()},     {"skipped", skipped}};
     for (const ScoreRow& r : rows)
         j["rows"].push_back(rowJson(r));
-    writeReports(a.out, rows, a.paths);
+    writeReports(a.out, report, a.plots);
     core::writeFile(fs::path(a.out) / "scores.json", j.dump(2) + "\n");
     std::printf("%zu rows (%zu references traced, %zu from the cache): %s\n", rows.size(), traced,
                 cached, (fs::path(a.out) / "scores.json").c_str());
@@ -409,7 +420,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
             if (b.model != r.model || b.preset != r.preset || b.channel != r.channel ||
                 b.thetaI != r.thetaI)
                 continue;
-            const double noise = 2 * std::sqrt(r.relL2Se * r.relL2Se + b.relL2Se * b.relL2Se);
+            const double noise = 3 * std::sqrt(r.relL2Se * r.relL2Se + b.relL2Se * b.relL2Se);
             if (r.relL2 > b.relL2 * (1 + *a.failIfWorse / 100) && r.relL2 - b.relL2 > noise) {
                 std::fprintf(stderr, "worse: %s %s %s rel_l2 %s -> %s\n", r.model.c_str(),
                              r.preset.c_str(), r.channel.c_str(), fmt(b.relL2).c_str(),

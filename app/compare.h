@@ -24,11 +24,20 @@
 //   "total_ratio", "total_ratio_se", "r_err5_ld" (or null), "rank", "tie"}],
 //   "skipped": [{"preset", "channel", "reason"}]}   (channels with σa = 0 have no l_d)
 //
+// At θi > 0 (--theta-i) the rows are scored against the seed 001 estimate of the whole BSSRDF,
+// over the plane and the exit directions (compare_oblique.h); such rows add "rel_l2_dir" and
+// "rel_l2_dir_se" (null at θi = 0). The report adds per preset and channel the pencil plot of
+// every model with the reference band, the ratio to the reference against r, and at θi > 0
+// polar heatmaps of the relative difference (compare_report.cpp), drawn headless by the
+// panels' own plot code.
+//
 // --baseline FILE --fail-if-worse PCT: exit 1 when a row's rel_l2 grew by more than PCT % over
-// the baseline's same (model, preset, channel, theta_i) and by more than 2 standard errors.
+// the baseline's same (model, preset, channel, theta_i) and by more than 3 standard errors of
+// the difference, 3√(se² + se_baseline²).
 #pragma once
 
 #include "capture/scores.h"
+#include "pathtrace/bssrdf_estimate.h"
 
 #include <filesystem>
 #include <optional>
@@ -40,6 +49,8 @@ namespace app {
 struct CompareArgs {
     std::vector<std::string> models;   // default: every materials/*.bssrdf
     std::vector<std::string> presets;  // default: every preset of presets.json
+    std::vector<double> thetaI{0.0};   // incidence angles, degrees in [0, 90)
+    bool plots = true;                 // PNG plots in the reports
     uint64_t paths = 200000;           // per preset and channel
     std::string baseline;              // an earlier scores.json
     std::optional<double> failIfWorse; // percent
@@ -47,6 +58,36 @@ struct CompareArgs {
 };
 
 using ScoreRow = capture::ScoreRow;
+
+// What the report draws besides the table (compare_report.cpp).
+struct ProfileCurves { // θi = 0, one preset and channel
+    std::string preset;
+    int channel = 0;
+    double ld = 0;
+    std::vector<double> r, ref, refSe; // R_d/(1 − R_sp) and its standard error at bin centres
+    std::vector<std::pair<std::string, std::vector<double>>> models; // name, R at r
+};
+struct SliceMaps { // θi > 0, one preset, channel and angle
+    std::string preset;
+    int channel = 0;
+    double thetaI = 0, ld = 0;
+    pathtrace::BssrdfBins bins;
+    std::vector<double> refR, refSe;                                 // per spatial bin
+    std::vector<std::pair<std::string, std::vector<double>>> models; // name, R per bin
+};
+struct CompareReport {
+    uint64_t paths = 0;
+    std::vector<double> thetaI;
+    std::vector<ScoreRow> rows;
+    std::vector<ProfileCurves> profiles;
+    std::vector<SliceMaps> slices;
+};
+// report.md and report.html in `dir` (and the pictures in dir/plots when `pictures`).
+void writeReports(const std::filesystem::path& dir, const CompareReport& r, bool pictures);
+
+// Where references are cached: $BSSRDF_WORKBENCH_CACHE/reference, else
+// $XDG_CACHE_HOME/bssrdf-workbench/reference, else ~/.cache/bssrdf-workbench/reference.
+std::filesystem::path compareCacheDir();
 
 // Scores from one model's profile against one reference channel (exposed for tests):
 // rMid, rd, rdSe: the reference's bins; specular R_sp; totalRd, totalRdSe; model: R_m at rMid;

@@ -231,6 +231,12 @@ int main(int argc, char** argv) {
                         "reference paths per preset and channel (default " +
                             std::to_string(ca.paths) + ")",
                         core::Limits{1000, 1e12});
+    compareCmd
+        ->add_option("--theta-i", ca.thetaI,
+                     "incidence angles in degrees, [0, 90): DEG[,DEG...]; 0 scores the radial "
+                     "profile, others the whole BSSRDF (default 0)")
+        ->delimiter(',');
+    compareCmd->add_flag("!--no-plots", ca.plots, "reports without the PNG plots");
     compareCmd->add_option("--baseline", ca.baseline, "an earlier scores.json to compare with");
     app::addNumberOption(compareCmd, "--fail-if-worse", ca.failIfWorse,
                          "with --baseline: exit 1 when a rel_l2 grew by more than PCT %",

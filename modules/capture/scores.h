@@ -20,6 +20,8 @@ struct ScoreRow {
     double ratio1 = 0, ratio1Se = 0, ratio4 = 0, ratio4Se = 0;
     double totalRatio = 0, totalRatioSe = 0;
     std::optional<double> rErr5Ld;
+    // θi > 0 only: relative L2 over the plane and the exit directions (app/compare_oblique.h)
+    std::optional<double> relL2Dir, relL2DirSe;
     int rank = 1;
     bool tie = false;
 };

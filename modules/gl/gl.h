@@ -161,6 +161,8 @@ void recordTiming(const std::string& stage, double cpuMs);
 // ---- readback -----------------------------------------------------------------------------------
 // Reads an RGBA8 rectangle of the bound read framebuffer, rows top-to-bottom.
 std::vector<unsigned char> readPixelsRGBA8(GLuint fbo, int x, int y, int width, int height);
+// RGBA8 pixels (top row first) encoded as PNG bytes; empty when they cannot be encoded.
+std::string encodePng(int width, int height, const std::vector<unsigned char>& rgba);
 // Writes RGBA8 pixels (top row first) as PNG; throws core::Error naming the path.
 void writePng(const std::filesystem::path& path, int width, int height,
               const std::vector<unsigned char>& rgba);

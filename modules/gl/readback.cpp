@@ -20,15 +20,22 @@ std::vector<unsigned char> readPixelsRGBA8(GLuint fbo, int x, int y, int width, 
     return pixels;
 }
 
-void writePng(const std::filesystem::path& path, int width, int height,
-              const std::vector<unsigned char>& rgba) {
-    // encoded in memory, then written atomically (core::writeFile: temporary file + rename)
+std::string encodePng(int width, int height, const std::vector<unsigned char>& rgba) {
     std::string bytes;
     auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
     };
-    if (!stbi_write_png_to_func(append, &bytes, width, height, 4, rgba.data(), width * 4))
-        throw core::Error(path.string(), 0, "cannot encode the PNG");
+    if (width <= 0 || height <= 0 || rgba.size() < size_t(width) * size_t(height) * 4 ||
+        !stbi_write_png_to_func(append, &bytes, width, height, 4, rgba.data(), width * 4))
+        return {};
+    return bytes;
+}
+
+void writePng(const std::filesystem::path& path, int width, int height,
+              const std::vector<unsigned char>& rgba) {
+    // encoded in memory, then written atomically (core::writeFile: temporary file + rename)
+    const std::string bytes = encodePng(width, height, rgba);
+    if (bytes.empty()) throw core::Error(path.string(), 0, "cannot encode the PNG");
     core::writeFile(path, bytes);
 }
 
