@@ -114,24 +114,6 @@ pathtrace::SlabResult reference(const pathtrace::Medium& m, const pathtrace::Sla
     return r;
 }
 
-// 2π∫₀^∞ R r dr of one channel of a model: 2048 points in ln r from 1e-6 l_d to 60 l_d,
-// trapezoid in ln r (∫ R r² d ln r).
-double modelTotal(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::Builtins& b, double ld,
-                  int channel) {
-    const int n = 2048;
-    const double a = std::log(1e-6 * ld), z = std::log(60.0 * ld), h = (z - a) / (n - 1);
-    std::vector<double> radii(n);
-    for (int k = 0; k < n; ++k)
-        radii[k] = std::exp(a + h * k);
-    const bssrdf::Profile p = bssrdf::evaluateProfile(program, *e.model, e.values, b, radii);
-    double sum = 0;
-    for (int k = 0; k < n; ++k) {
-        const double f = p.value[k][channel] * radii[k] * radii[k];
-        sum += (k == 0 || k == n - 1 ? 0.5 : 1.0) * f;
-    }
-    return 2 * kPi * sum * h;
-}
-
 std::string fmt(double v, int digits = 4) {
     return std::isfinite(v) ? core::formatNumber(v, digits) : "—";
 }
@@ -158,6 +140,24 @@ json rowJson(const ScoreRow& r) {
 }
 
 } // namespace
+
+// 2π∫₀^∞ R r dr of one channel of a model: 2048 points in ln r from 1e-6 l_d to 60 l_d,
+// trapezoid in ln r (∫ R r² d ln r).
+double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::Builtins& b, double ld,
+                  int channel) {
+    const int n = 2048;
+    const double a = std::log(1e-6 * ld), z = std::log(60.0 * ld), h = (z - a) / (n - 1);
+    std::vector<double> radii(n);
+    for (int k = 0; k < n; ++k)
+        radii[k] = std::exp(a + h * k);
+    const bssrdf::Profile p = bssrdf::evaluateProfile(program, *e.model, e.values, b, radii);
+    double sum = 0;
+    for (int k = 0; k < n; ++k) {
+        const double f = p.value[k][channel] * radii[k] * radii[k];
+        sum += (k == 0 || k == n - 1 ? 0.5 : 1.0) * f;
+    }
+    return 2 * kPi * sum * h;
+}
 
 ScoreRow scoreAgainstReference(const std::vector<double>& rMid, const std::vector<double>& rd,
                                const std::vector<double>& rdSe, double specular, double totalRd,
@@ -350,7 +350,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                             mv[i] = prof.value[i][c];
                         ScoreRow row = scoreAgainstReference(
                             ref.rMid, ref.rd, ref.rdStderr, ref.specular, ref.totalRd,
-                            ref.totalRdStderr, ld, mv, modelTotal(program, e, b, ld, c));
+                            ref.totalRdStderr, ld, mv, modelTotalRd(program, e, b, ld, c));
                         row.model = stem(e.displayPath);
                         row.preset = preset;
                         row.channel = ch;

@@ -36,7 +36,9 @@
 // the difference, 3√(se² + se_baseline²).
 #pragma once
 
+#include "bssrdf/program_library.h"
 #include "capture/scores.h"
+#include "gl/gl.h"
 #include "pathtrace/bssrdf_estimate.h"
 
 #include <filesystem>
@@ -96,6 +98,10 @@ ScoreRow scoreAgainstReference(const std::vector<double>& rMid, const std::vecto
                                const std::vector<double>& rdSe, double specular, double totalRd,
                                double totalRdSe, double ldMm, const std::vector<double>& model,
                                double modelTotal);
+// 2π∫₀^∞ R r dr of one channel of a model (the pencil program), on 2048 points in ln r from
+// 1e-6 l_d to 60 l_d.
+double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::Builtins& b,
+                    double ldMm, int channel);
 // Ranks and ties within each (preset, channel, theta_i).
 void rankRows(std::vector<ScoreRow>& rows);
 

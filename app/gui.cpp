@@ -102,6 +102,7 @@ void drawPanels(Workbench& wb, UiState& ui) {
         scene |= p.needsScene && shown[static_cast<size_t>(p.id)];
     wb.scene().settings().enabled = scene;
     wb.sliceSettings().enabled = shown[static_cast<size_t>(PanelId::Slice)];
+    wb.setScoreboardEnabled(shown[static_cast<size_t>(PanelId::Scoreboard)]);
     wb.setInteracting(false); // the Render panel sets it while the user drags
     drawWorkspace(wb, ui);
 }

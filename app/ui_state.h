@@ -31,6 +31,7 @@ enum class PanelId {
     Traversal,
     Captures,
     Slice,
+    Scoreboard,
     Errors,
     Log,
     Timings,
@@ -174,6 +175,12 @@ struct CapturesPanelState {
     std::vector<Picture> pictures;
 };
 
+// The Scoreboard panel: which channels it lists (the table is ScoreboardStage's).
+struct ScoreboardPanelState {
+    int channel = 3;             // 0 R, 1 G, 2 B, 3 all
+    std::vector<Rect> rowRects;  // where each listed row was drawn last frame (screen px)
+};
+
 // The BSSRDF slice panel: what it compares and shows (the run's settings are SliceSettings).
 enum class SliceQuantity { R, S };
 struct SlicePanelState {
@@ -209,6 +216,7 @@ struct UiState {
     TraversalPanelState traversal;
     CapturesPanelState captures;
     SlicePanelState slice;
+    ScoreboardPanelState scoreboard;
 };
 
 } // namespace app

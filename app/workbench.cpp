@@ -35,6 +35,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         m_shared.params = material::applyPreset(*p, m_shared.params);
     m_reference = std::make_unique<ReferenceStage>(m_root / "shaders" / "pathtrace_slab.comp");
     m_slice = std::make_unique<SliceStage>();
+    m_scoreboard = std::make_unique<ScoreboardStage>();
     m_litSpheres = std::make_unique<LitSphereStage>(m_root / "shaders" / "pathtrace_sphere.comp");
     m_scene = std::make_unique<SceneStage>(m_root);
     m_scene->settings().enabled = false;
@@ -66,6 +67,14 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
          }},
         {m_reference.get(), [this] { return m_reference->update(referenceInputs()); }},
         {m_slice.get(), [this] { return m_slice->update(sliceInputs()); }},
+        {m_scoreboard.get(),
+         [this] {
+             const ReferenceSnapshot snap = m_reference->snapshot();
+             const ReferenceInputs ri = referenceInputs();
+             ScoreboardInputs in{m_scoreboardEnabled, m_library.get(), &m_views, &snap, ri.model,
+                                 ri.params};
+             return m_scoreboard->update(in);
+         }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
         {m_scene.get(), [this] { return m_scene->update(sceneModelInput(), m_interacting); }},
     };

@@ -22,6 +22,7 @@
 #include "plot/plot.h"
 #include "reference_stage.h"
 #include "scene_stage.h"
+#include "scoreboard_stage.h"
 #include "slice_stage.h"
 
 #include <array>
@@ -115,6 +116,11 @@ class Workbench {
     // BSSRDF slice (seed 001): settings, the stage (reference snapshot, model slices).
     SliceSettings& sliceSettings() { return m_sliceSettings; }
     SliceStage& slice() { return *m_slice; }
+
+    // The scoreboard of the current parameters (scoreboard_stage.h): every model against the
+    // pencil plot's reference. Runs while enabled (the GUI: while its panel shows).
+    void setScoreboardEnabled(bool on) { m_scoreboardEnabled = on; }
+    const ScoreboardStage& scoreboard() const { return *m_scoreboard; }
     // Runs the slice's estimate to its target and evaluates every model (captures, tests).
     SliceSnapshot finishSlice() {
         update(); // the stages before it (the models' σ) first
@@ -182,6 +188,8 @@ class Workbench {
     std::unique_ptr<ReferenceStage> m_reference;
     SliceSettings m_sliceSettings;
     std::unique_ptr<SliceStage> m_slice;
+    std::unique_ptr<ScoreboardStage> m_scoreboard;
+    bool m_scoreboardEnabled = false;
     std::unique_ptr<LitSphereStage> m_litSpheres;
     std::unique_ptr<SceneStage> m_scene;
     // The stages in data-flow order: run() gathers the stage's inputs and updates it.

@@ -36,6 +36,7 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
 // Starts replaying captures/NAME in a child process (core::Error when it cannot start).
 void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name);
 void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared& ui);
+void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui);
 void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui);
 
 // Records the current state as captures/<name> (File → Record capture). Defined in capture_io.
