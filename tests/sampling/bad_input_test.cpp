@@ -5,6 +5,7 @@
 
 #include "core/core.h"
 #include "core/text.h"
+#include "sampling/disk_sampling.h"
 #include "sampling/gaussian_lobes.h"
 #include "sampling/tabulated_radial.h"
 
@@ -117,4 +118,23 @@ TEST(RadialBadInput, BadLobes) {
                    GaussianLobes({{1, std::nan("")}});
                }),
                "variance must be finite and > 0");
+}
+
+TEST(DiskSamplerBadInput, Probabilities) {
+    const GaussianLobes g({{1, 1}});
+    const std::array<const RadialDistribution*, 3> all{&g, &g, &g};
+    EXPECT_HAS(errorOf([&] { DiskSampler(all, {0, 0, 0}); }), "axis probabilities sum to 0");
+    EXPECT_HAS(errorOf([&] {
+                   DiskSampler(all, {1, -1, 0});
+               }),
+               "axis probabilities must be finite and >= 0");
+    EXPECT_HAS(errorOf([&] {
+                   DiskSampler(all, {1, 0, 0}, {std::nan(""), 1, 1});
+               }),
+               "channel probabilities must be finite and >= 0");
+    EXPECT_HAS(errorOf([&] {
+                   DiskSampler({&g, nullptr, &g}, AxisScheme::Uniform);
+               }),
+               "channel 1 has a probability > 0 but no distribution");
+    EXPECT_NO_THROW(DiskSampler({&g, nullptr, nullptr}, {1, 1, 1}, {1, 0, 0}));
 }
