@@ -31,12 +31,18 @@
 // Because R is decreasing and r_a(x) <= |x − P|, pdf_c(r_a(x)) >= R_c(|x − P|)/E_c, so with
 // the three axes f/p stays bounded: the 1/|V·N| of eq. 1 cannot blow up.
 //
-// Why "every hit" and not "one hit". pbrt-v3's first version kept one of the n hits of its
-// probe at random and divided the density by n; in the MIS sum it used the same n for the
-// other axes' densities, as if the probes through x along T and B also found n points. They
-// generally do not (on a thin box a probe along N finds the top and bottom faces, one along T
-// may find one side face only), so the combined density was wrong and the estimate biased.
-// Counting every hit needs no count at all: each hit carries its own density p(x).
+// "Every hit" and pbrt-v3's first version. pbrt-v3 first kept one of the n hits of its probe,
+// chosen uniformly, and returned the MIS density divided by that n, i.e. as if the probes along
+// the other axes through the kept point also found n hits. They generally do not (near the
+// edge of a box with slanted sides, the probe along N through a side-face point also crosses
+// the bottom, the probe along T finds the side face alone), so that number is not the density
+// of the kept point: that is Σ_{a,c} P_a P_c p_{a,c}(x) / n_{a,c}(x), each strategy with its
+// own count. Used only as f/pdf, it is still unbiased: keeping one of n terms at random and
+// multiplying by n estimates their sum without bias, so in expectation it is the every-hit
+// estimator, with more variance; it is wrong wherever the value is used as a density (MIS
+// against another technique, density-based weights). Counting every hit needs no count, and
+// each hit carries its true density p(x). tests/sampling/disk_geometry_test.cpp measures both
+// statements.
 #pragma once
 
 #include "sampling/frame.h"
