@@ -38,6 +38,7 @@ const Graph kAllowed = {
     {"pointcloud", {"core", "mesh"}},
     {"bssrdf", {"core", "gl", "shader", "litsphere", "pathtrace"}},
     {"pathtrace", {"core", "gl", "shader", "litsphere", "mesh"}},
+    {"sampling", {"core", "mesh"}},
     {"irradiance", {"core", "gl", "shader", "mesh", "pointcloud"}},
     {"render", {"core", "gl", "shader", "bssrdf", "octree", "mesh"}},
 };

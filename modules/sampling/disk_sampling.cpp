@@ -1,0 +1,152 @@
+// sampling/disk_sampling: see disk_sampling.h.
+#include "sampling/disk_sampling.h"
+
+#include "core/core.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace sampling {
+namespace {
+
+// Normalised copy of p; throws unless finite, >= 0, with a positive sum.
+std::array<double, 3> normalised(const std::array<double, 3>& p, const char* what) {
+    double sum = 0;
+    for (double v : p) {
+        if (!(std::isfinite(v) && v >= 0))
+            throw core::Error("disk sampler", 0,
+                              std::string(what) + " probabilities must be finite and >= 0");
+        sum += v;
+    }
+    if (!(sum > 0))
+        throw core::Error("disk sampler", 0, std::string(what) + " probabilities sum to 0");
+    return {p[0] / sum, p[1] / sum, p[2] / sum};
+}
+
+// Index i with u in [Σ_{j<i} p_j, Σ_{j<=i} p_j), never one of probability 0.
+int choose(const std::array<double, 3>& p, double u) {
+    double cum = 0;
+    int last = 0;
+    for (int i = 0; i < 3; ++i) {
+        if (p[i] <= 0) continue;
+        last = i;
+        cum += p[i];
+        if (u < cum) return i;
+    }
+    return last; // u within rounding of 1
+}
+
+} // namespace
+
+std::array<double, 3> axisProbabilities(AxisScheme s) {
+    switch (s) {
+    case AxisScheme::Uniform:
+        return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    case AxisScheme::Pbrt:
+        return {0.5, 0.25, 0.25};
+    case AxisScheme::NormalOnly:
+        return {1.0, 0.0, 0.0};
+    }
+    return {1.0, 0.0, 0.0};
+}
+
+const char* axisSchemeName(AxisScheme s) {
+    switch (s) {
+    case AxisScheme::Uniform:
+        return "uniform";
+    case AxisScheme::Pbrt:
+        return "pbrt";
+    case AxisScheme::NormalOnly:
+        return "normal-only";
+    }
+    return "?";
+}
+
+DiskSampler::DiskSampler(std::array<const RadialDistribution*, 3> channels,
+                         std::array<double, 3> axisP, std::array<double, 3> channelP)
+    : m_channels(channels), m_axisP(normalised(axisP, "axis")),
+      m_chanP(normalised(channelP, "channel")) {
+    for (int c = 0; c < 3; ++c) {
+        if (m_chanP[c] == 0) continue;
+        if (!m_channels[c])
+            throw core::Error("disk sampler", 0,
+                              "channel " + std::to_string(c) +
+                                  " has a probability > 0 but no distribution");
+        const double rm = m_channels[c]->radiusMax();
+        m_rm2[c] = rm * rm;
+        m_radiusMax = std::max(m_radiusMax, rm);
+    }
+}
+
+Probe DiskSampler::probe(const Frame& f, double uAxis, double uChannel, double uRadius,
+                         double uAngle) const {
+    Probe p;
+    p.axis = choose(m_axisP, uAxis);
+    p.channel = choose(m_chanP, uChannel);
+    const RadialDistribution& d = *m_channels[p.channel];
+    p.radius = d.sample(uRadius);
+    // The disk's own axes: the other two of (N, T, B), in cyclic order.
+    const glm::dvec3& v = f.axis(p.axis);
+    const glm::dvec3& e1 = f.axis((p.axis + 1) % 3);
+    const glm::dvec3& e2 = f.axis((p.axis + 2) % 3);
+    const double phi = 2 * std::numbers::pi * uAngle;
+    const glm::dvec3 onDisk = f.p + p.radius * (std::cos(phi) * e1 + std::sin(phi) * e2);
+    const double rm = d.radiusMax();
+    const double half = std::sqrt(std::max(0.0, (rm - p.radius) * (rm + p.radius)));
+    p.dir = v;
+    p.org = onDisk - half * v;
+    p.length = 2 * half;
+    return p;
+}
+
+void DiskSampler::probeHits(const Surface& s, const Frame& f, const Probe& p,
+                            std::vector<SurfaceHit>& out) const {
+    const size_t first = out.size();
+    s.intersectAll(p.org, p.dir, 0.0, p.length, out);
+    const double rm2 = m_rm2[p.channel];
+    out.erase(std::remove_if(out.begin() + std::ptrdiff_t(first), out.end(),
+                             [&](const SurfaceHit& h) {
+                                 const glm::dvec3 d = h.point.x - f.p;
+                                 return !(glm::dot(d, d) <= rm2);
+                             }),
+              out.end());
+}
+
+double DiskSampler::strategyPdf(const Frame& f, int axis, int channel, const glm::dvec3& x,
+                                const glm::dvec3& nx) const {
+    if (m_chanP[channel] == 0) return 0;
+    const glm::dvec3 d = x - f.p;
+    const double d2 = glm::dot(d, d);
+    if (!(d2 <= m_rm2[channel])) return 0;
+    const glm::dvec3& v = f.axis(axis);
+    const double along = glm::dot(d, v);
+    const double r = std::sqrt(std::max(0.0, d2 - along * along)); // <= |d| as computed
+    return m_channels[channel]->pdfArea(r) * std::fabs(glm::dot(v, nx));
+}
+
+double DiskSampler::pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const {
+    double p = 0;
+    for (int a = 0; a < 3; ++a) {
+        if (m_axisP[a] == 0) continue;
+        for (int c = 0; c < 3; ++c)
+            if (m_chanP[c] > 0) p += m_axisP[a] * m_chanP[c] * strategyPdf(f, a, c, x, nx);
+    }
+    return p;
+}
+
+std::array<std::array<double, 3>, 3> DiskSampler::misWeights(const Frame& f, const glm::dvec3& x,
+                                                             const glm::dvec3& nx) const {
+    std::array<std::array<double, 3>, 3> w{};
+    const double p = pdf(f, x, nx);
+    if (!(p > 0)) return w;
+    for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c)
+            if (m_axisP[a] > 0 && m_chanP[c] > 0)
+                w[a][c] = m_axisP[a] * m_chanP[c] * strategyPdf(f, a, c, x, nx) / p;
+    return w;
+}
+
+} // namespace sampling

@@ -1,0 +1,146 @@
+// sampling/disk_sampling: disk-based probe-ray sampling with axis and channel MIS, King et al.
+// 2013 (eq. 1, "Axis and Weight Multiple Importance Sampling").
+//
+// Sampling (one sample): an axis a ∈ {N, T, B} of the shading frame with probability P_a
+// (AxisScheme: Uniform 1/3 each as in the paper, Pbrt 1/2, 1/4, 1/4 as pbrt-v3, NormalOnly
+// 1, 0, 0); a channel c with probability P_c (1/3 each by default); a point on the disk through
+// P perpendicular to V_a, at radius r ~ channel c's RadialDistribution and angle 2πu, so of
+// density pdf_c(r) per unit disk area (pdf_area of radial.h); the probe is the segment along
+// V_a through that point, clipped to the sphere of radius R_m,c around P (half-length
+// √(R_m,c² − r²)), and EVERY surface point it crosses is used.
+//
+// What the estimator integrates. Fix (a, c). A surface point x with |x − P| <= R_m,c lies on
+// exactly one probe line of axis a (the one through its projection onto the disk, at radius
+// r_a(x) = |(x − P) − ((x − P)·V_a) V_a|), and that line's segment reaches it (the segment is
+// the whole chord of the sphere). Projecting a small surface patch dA(x) onto the disk along
+// V_a gives dA_disk = |V_a·N_x| dA(x). So the hits of one probe, summed, turn the disk integral
+// into a surface integral:
+//     E_disk[ Σ_{hits x} h(x) ] = ∫_{S ∩ B(P, R_m,c)} h(x) · pdf_c(r_a(x)) · |V_a·N_x| dA(x)
+// for any h; several surface points on one line (a sphere seen edge-on, the two faces of a
+// thin box) are each counted once, through their own patch. Hence strategy (a, c) finds x with
+// area density p_{a,c}(x) = pdf_c(r_a(x)) · |V_a·N_x| · [|x − P| <= R_m,c], and choosing (a, c)
+// at random with the balance heuristic (Veach's one-sample MIS) gives the combined density
+//     p(x) = Σ_a Σ_c P_a · P_c · p_{a,c}(x)
+// and the estimator  F = Σ_{hits x} f(x)/p(x)  with expectation
+//     E[F] = Σ_{a,c} P_a P_c ∫ p_{a,c}(x) f(x)/p(x) dA = ∫_{S, p(x) > 0} f(x) dA(x),
+// i.e. ∫ f over the surface within max_c R_m,c of P (minus the points no strategy can find:
+// with NormalOnly, surfaces parallel to N, such as the side faces of a box seen from its top;
+// with the three axes, Σ_a (V_a·N_x)² = 1 so some |V_a·N_x| >= 1/√3 and only the radial
+// cut-offs remain). For f(x) = R(|x − P|)·E(x) this is the paper's eq. 1 with the MIS of its
+// second section. The per-strategy weights w_{a,c}(x) = P_a P_c p_{a,c}(x)/p(x) sum to 1.
+// Because R is decreasing and r_a(x) <= |x − P|, pdf_c(r_a(x)) >= R_c(|x − P|)/E_c, so with
+// the three axes f/p stays bounded: the 1/|V·N| of eq. 1 cannot blow up.
+//
+// "Every hit" and pbrt-v3's first version. pbrt-v3 first kept one of the n hits of its probe,
+// chosen uniformly, and returned the MIS density divided by that n, i.e. as if the probes along
+// the other axes through the kept point also found n hits. They generally do not (near the
+// edge of a box with slanted sides, the probe along N through a side-face point also crosses
+// the bottom, the probe along T finds the side face alone), so that number is not the density
+// of the kept point: that is Σ_{a,c} P_a P_c p_{a,c}(x) / n_{a,c}(x), each strategy with its
+// own count. Used only as f/pdf, it is still unbiased: keeping one of n terms at random and
+// multiplying by n estimates their sum without bias, so in expectation it is the every-hit
+// estimator, with more variance; it is wrong wherever the value is used as a density (MIS
+// against another technique, density-based weights). Counting every hit needs no count, and
+// each hit carries its true density p(x). tests/sampling/disk_geometry_test.cpp measures both
+// statements.
+#pragma once
+
+#include "sampling/frame.h"
+#include "sampling/radial.h"
+#include "sampling/surface.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <vector>
+
+namespace sampling {
+
+enum class AxisScheme { Uniform, Pbrt, NormalOnly };
+// P_a for a = N, T, B.
+std::array<double, 3> axisProbabilities(AxisScheme s);
+const char* axisSchemeName(AxisScheme s);
+
+// One probe segment: org + t·dir, t in [0, length], dir = V_axis.
+struct Probe {
+    int axis = 0, channel = 0;
+    double radius = 0;   // r on the disk
+    glm::dvec3 org{0.0}; // disk point − half·dir
+    glm::dvec3 dir{0, 0, 1};
+    double length = 0; // 2·√(R_m,c² − r²)
+};
+
+class DiskSampler {
+  public:
+    // One distribution per channel (not owned; they may be the same object). Probabilities
+    // must be finite and >= 0 with a positive sum (they are normalised); a channel of
+    // probability 0 may be nullptr. Throws core::Error("disk sampler", 0, …) otherwise.
+    DiskSampler(std::array<const RadialDistribution*, 3> channels,
+                std::array<double, 3> axisProbabilities,
+                std::array<double, 3> channelProbabilities = {1.0 / 3, 1.0 / 3, 1.0 / 3});
+    DiskSampler(std::array<const RadialDistribution*, 3> channels, AxisScheme scheme)
+        : DiskSampler(channels, axisProbabilities(scheme)) {}
+
+    // The probe of axis uAxis, channel uChannel, radius uRadius, angle uAngle (each in [0, 1)).
+    Probe probe(const Frame& f, double uAxis, double uChannel, double uRadius, double uAngle) const;
+    // p_{a,c}(x) without the selection probabilities (see above).
+    double strategyPdf(const Frame& f, int axis, int channel, const glm::dvec3& x,
+                       const glm::dvec3& nx) const;
+    // The combined area density p(x).
+    double pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const;
+    // w_{a,c}(x), [axis][channel]; all 0 where p(x) = 0.
+    std::array<std::array<double, 3>, 3> misWeights(const Frame& f, const glm::dvec3& x,
+                                                    const glm::dvec3& nx) const;
+    // max_c R_m,c over channels of probability > 0: the integration domain's radius.
+    double radiusMax() const { return m_radiusMax; }
+    double axisProbability(int a) const { return m_axisP[a]; }
+    double channelProbability(int c) const { return m_chanP[c]; }
+    const RadialDistribution* channel(int c) const { return m_channels[c]; }
+
+    // The hits of one probe that the estimator uses: every hit with |x − P| <= R_m,c (the test
+    // of the density's indicator, in the same arithmetic), appended to `out`.
+    void probeHits(const Surface& s, const Frame& f, const Probe& p,
+                   std::vector<SurfaceHit>& out) const;
+
+  private:
+    std::array<const RadialDistribution*, 3> m_channels;
+    std::array<double, 3> m_axisP{}, m_chanP{};
+    std::array<double, 3> m_rm2{}; // R_m,c², 0 for unused channels
+    double m_radiusMax = 0;
+};
+
+// One sample of the disk estimator F = Σ_{hits x} f(x, N_x)/p(x) (see above) at the frame's
+// point: four uniforms from rng.uniform(), `scratch` reused between calls (no allocation once
+// it has grown). f(const glm::dvec3& x, const glm::dvec3& nx) -> glm::dvec3.
+template <class Rng, class F>
+glm::dvec3 estimateDisk(const DiskSampler& ds, const Surface& s, const Frame& f, Rng& rng,
+                        F&& integrand, std::vector<SurfaceHit>& scratch) {
+    const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    const Probe p = ds.probe(f, u0, u1, u2, u3);
+    scratch.clear();
+    ds.probeHits(s, f, p, scratch);
+    glm::dvec3 sum(0.0);
+    for (const SurfaceHit& h : scratch) {
+        const double pdf = ds.pdf(f, h.point.x, h.point.n);
+        if (pdf > 0) sum += integrand(h.point.x, h.point.n) / pdf;
+    }
+    return sum;
+}
+
+template <class Rng, class F>
+glm::dvec3 estimateDisk(const DiskSampler& ds, const Surface& s, const Frame& f, Rng& rng,
+                        F&& integrand) {
+    std::vector<SurfaceHit> scratch;
+    return estimateDisk(ds, s, f, rng, integrand, scratch);
+}
+
+// One sample of uniform area sampling, area·f(x, N_x) with x uniform on the shape (three
+// uniforms from rng.uniform()).
+template <class Rng, class F>
+glm::dvec3 estimateUniformArea(const AreaSampler& a, Rng& rng, F&& integrand) {
+    const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+    const SurfacePoint p = a.sampleArea(u0, u1, u2);
+    return a.area() * integrand(p.x, p.n);
+}
+
+} // namespace sampling

@@ -1,0 +1,168 @@
+// sampling/tabulated_radial: see tabulated_radial.h.
+#include "sampling/tabulated_radial.h"
+
+#include "core/core.h"
+#include "core/text.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace sampling {
+namespace {
+std::string num(double v) {
+    return core::formatNumber(v, 6);
+}
+} // namespace
+
+TabulatedRadial::TabulatedRadial(std::vector<double> radii, std::vector<double> values, double eps,
+                                 int channel, const std::string& name)
+    : m_radii(std::move(radii)), m_values(std::move(values)), m_eps(eps) {
+    const std::string ch = "channel " + std::to_string(channel) + ": ";
+    auto fail = [&](const std::string& msg) { throw core::Error(name, 0, ch + msg); };
+    if (!(eps > 0 && eps < 1)) fail("eps must be in (0, 1) (it is " + num(eps) + ")");
+    if (m_radii.size() < 2)
+        fail("the table needs at least 2 radii (it has " + std::to_string(m_radii.size()) + ")");
+    if (m_radii.size() != m_values.size())
+        fail("radii and values differ in length (" + std::to_string(m_radii.size()) + " and " +
+             std::to_string(m_values.size()) + ")");
+    if (m_radii[0] != 0) fail("the first radius must be 0 (it is " + num(m_radii[0]) + ")");
+    for (size_t k = 1; k < m_radii.size(); ++k) {
+        if (!std::isfinite(m_radii[k]))
+            fail("radius " + std::to_string(k) + " is not finite (" + num(m_radii[k]) + ")");
+        if (!(m_radii[k] > m_radii[k - 1]))
+            fail("radii must increase strictly (entry " + std::to_string(k) + ": " +
+                 num(m_radii[k]) + " after " + num(m_radii[k - 1]) + ")");
+    }
+    for (size_t k = 0; k < m_values.size(); ++k) {
+        const double v = m_values[k];
+        const std::string at =
+            " at r = " + num(m_radii[k]) + " mm (entry " + std::to_string(k) + ")";
+        if (std::isnan(v)) fail("R(r) is NaN" + at);
+        if (std::isinf(v)) fail("R(r) is infinite" + at);
+        if (v < 0) fail("R(r) is negative (" + num(v) + ")" + at);
+    }
+
+    const size_t n = m_radii.size();
+    m_cumulative.assign(n, 0.0);
+    for (size_t k = 0; k + 1 < n; ++k)
+        m_cumulative[k + 1] = m_cumulative[k] + partial(k, m_radii[k + 1] - m_radii[k]);
+    const double total = m_cumulative.back();
+    if (!(total > 0)) fail("the profile has no energy (R(r) = 0 over the whole table)");
+    if (!std::isfinite(total)) fail("the profile's energy is not finite");
+
+    // R_m: the smallest r with ∫0^r = (1 − eps)·total. upper_bound finds the first interval
+    // whose end exceeds the target, so an interval of zero energy is never chosen.
+    const double target = (1 - eps) * total;
+    auto it = std::upper_bound(m_cumulative.begin(), m_cumulative.end(), target);
+    m_lastInterval = std::min<size_t>(size_t(it - m_cumulative.begin()) - 1, n - 2);
+    const size_t m = m_lastInterval;
+    const double t = invert(m, m_radii[m + 1] - m_radii[m], target - m_cumulative[m]);
+    m_radiusMax = std::min(m_radii[m] + t, m_radii[m + 1]);
+    m_kept = m_cumulative[m] + partial(m, m_radiusMax - m_radii[m]);
+
+    // Convergence: the last 1 % of the radius range must hold at most eps of the energy.
+    const double rLast = m_radii.back(), rEdge = 0.99 * rLast;
+    const size_t ke = intervalOf(rEdge);
+    const double beyond = (total - (m_cumulative[ke] + partial(ke, rEdge - m_radii[ke]))) / total;
+    if (beyond > eps)
+        fail("the energy does not converge within the tabulated range: " + num(beyond) +
+             " of it lies in the last 1 % of the radii (r > " + num(rEdge) +
+             " mm), more than eps = " + num(eps) +
+             "; 1 - eps of the energy is reached only at r = " + num(m_radiusMax) +
+             " mm of the table's " + num(rLast) + " mm");
+}
+
+double TabulatedRadial::partial(size_t k, double t) const {
+    const double a = m_radii[k], h = m_radii[k + 1] - a;
+    const double ra = m_values[k], rb = m_values[k + 1];
+    const double rt = t >= h ? rb : ra + (rb - ra) * (t / h);
+    return t / 6 * (ra * (3 * a + t) + rt * (3 * a + 2 * t));
+}
+
+double TabulatedRadial::invert(size_t k, double h, double y) const {
+    if (y <= 0) return 0;
+    const double a = m_radii[k], ra = m_values[k],
+                 s = (m_values[k + 1] - ra) / (m_radii[k + 1] - a);
+    const double whole = partial(k, h);
+    if (y >= whole) return h;
+    double lo = 0, hi = h;
+    double t = h * (y / whole); // first guess: energy linear in t
+    for (int i = 0; i < 100; ++i) {
+        const double g = partial(k, t) - y;
+        if (g == 0) return t;
+        (g > 0 ? hi : lo) = t;
+        const double d = (a + t) * (ra + s * t);
+        double next = d > 0 ? t - g / d : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (std::fabs(next - t) <= 2e-16 * (a + h) || hi - lo <= 2e-16 * (a + h)) return next;
+        t = next;
+    }
+    return t;
+}
+
+size_t TabulatedRadial::intervalOf(double r) const {
+    auto it = std::upper_bound(m_radii.begin(), m_radii.end(), r);
+    const size_t k = it == m_radii.begin() ? 0 : size_t(it - m_radii.begin()) - 1;
+    return std::min(k, m_radii.size() - 2);
+}
+
+double TabulatedRadial::sample(double u) const {
+    const double y = std::clamp(u, 0.0, 1.0) * m_kept;
+    auto it = std::upper_bound(m_cumulative.begin(), m_cumulative.end(), y);
+    size_t k = it == m_cumulative.begin() ? 0 : size_t(it - m_cumulative.begin()) - 1;
+    k = std::min(k, m_lastInterval);
+    const double h = (k == m_lastInterval ? m_radiusMax : m_radii[k + 1]) - m_radii[k];
+    return std::min(m_radii[k] + invert(k, h, y - m_cumulative[k]), m_radiusMax);
+}
+
+double TabulatedRadial::profile(double r) const {
+    if (!(r >= 0) || r > m_radii.back()) return 0;
+    const size_t k = intervalOf(r);
+    const double h = m_radii[k + 1] - m_radii[k], f = std::min((r - m_radii[k]) / h, 1.0);
+    return m_values[k] + (m_values[k + 1] - m_values[k]) * f;
+}
+
+double TabulatedRadial::pdfArea(double r) const {
+    if (!(r >= 0) || r > m_radiusMax) return 0;
+    return profile(r) / (2 * std::numbers::pi * m_kept);
+}
+
+double TabulatedRadial::cdf(double r) const {
+    if (!(r > 0)) return 0;
+    if (r >= m_radiusMax) return 1;
+    const size_t k = intervalOf(r);
+    return std::min((m_cumulative[k] + partial(k, r - m_radii[k])) / m_kept, 1.0);
+}
+
+double TabulatedRadial::totalEnergy() const {
+    return 2 * std::numbers::pi * m_cumulative.back();
+}
+double TabulatedRadial::keptEnergy() const {
+    return 2 * std::numbers::pi * m_kept;
+}
+
+std::vector<double> profileGridRadii(double rMax, int count) {
+    std::vector<double> r(size_t(std::max(count, 0)));
+    for (int k = 0; k < count; ++k) {
+        const double f = count > 1 ? double(k) / (count - 1) : 0.0;
+        r[size_t(k)] = rMax * f * f;
+    }
+    return r;
+}
+
+std::array<TabulatedRadial, 3> tabulateChannels(const std::vector<double>& radii,
+                                                const std::vector<glm::dvec3>& values, double eps,
+                                                const std::string& name) {
+    auto column = [&](int c) {
+        std::vector<double> v(values.size());
+        for (size_t k = 0; k < values.size(); ++k)
+            v[k] = values[k][c];
+        return v;
+    };
+    return {TabulatedRadial(radii, column(0), eps, 0, name),
+            TabulatedRadial(radii, column(1), eps, 1, name),
+            TabulatedRadial(radii, column(2), eps, 2, name)};
+}
+
+} // namespace sampling

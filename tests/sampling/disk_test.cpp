@@ -1,0 +1,223 @@
+// sampling/disk_sampling, the parts that need no long runs: the frame, the axis schemes, every
+// hit of a probe (sphere: two; thin box: top and bottom), the MIS weights of random hits on a
+// sphere and a box summing to 1, and the plane: with NormalOnly and one channel every sample is
+// exactly the kept energy (zero variance); with the three axes and channel MIS the mean is the
+// kept energy of each channel within Monte Carlo error (z-test, Bonferroni, family-wise 1e-3).
+#include "sampling_support.h"
+
+#include "mesh/mesh.h"
+#include "pathtrace/rng.h"
+#include "sampling/analytic_surfaces.h"
+#include "sampling/disk_sampling.h"
+#include "sampling/gaussian_lobes.h"
+#include "sampling/mesh_surface.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace sampling;
+using namespace samplingtest;
+
+namespace {
+std::array<const RadialDistribution*, 3> pointers(const std::array<TabulatedRadial, 3>& ch) {
+    return {&ch[0], &ch[1], &ch[2]};
+}
+// f_c(x) = R_c(|x − P|) for |x − P| <= R_m,c, else 0: on the plane its integral is E_m,c.
+struct CutProfile {
+    const DiskSampler* ds;
+    glm::dvec3 p;
+    glm::dvec3 operator()(const glm::dvec3& x, const glm::dvec3&) const {
+        const double d = glm::length(x - p);
+        glm::dvec3 f(0.0);
+        for (int c = 0; c < 3; ++c)
+            if (ds->channel(c) && d <= ds->channel(c)->radiusMax())
+                f[c] = ds->channel(c)->profile(d);
+        return f;
+    }
+};
+} // namespace
+
+TEST(DiskSampling, FrameIsOrthonormal) {
+    pathtrace::Pcg32 rng(1, 2);
+    for (int i = 0; i < 1000; ++i) {
+        const glm::dvec3 n(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+        const Frame f = Frame::fromNormal(glm::dvec3(0.0), i == 0 ? glm::dvec3(0, 0, -1) : n);
+        EXPECT_NEAR(glm::length(f.t), 1, 1e-14);
+        EXPECT_NEAR(glm::length(f.b), 1, 1e-14);
+        EXPECT_NEAR(glm::dot(f.n, f.t), 0, 1e-14);
+        EXPECT_NEAR(glm::dot(f.n, f.b), 0, 1e-14);
+        EXPECT_NEAR(glm::dot(f.t, f.b), 0, 1e-14);
+        EXPECT_NEAR(glm::dot(glm::cross(f.t, f.b), f.n), 1, 1e-14);
+    }
+}
+
+TEST(DiskSampling, AxisSchemes) {
+    using A = std::array<double, 3>;
+    EXPECT_EQ(axisProbabilities(AxisScheme::Uniform), (A{1.0 / 3, 1.0 / 3, 1.0 / 3}));
+    EXPECT_EQ(axisProbabilities(AxisScheme::Pbrt), (A{0.5, 0.25, 0.25}));
+    EXPECT_EQ(axisProbabilities(AxisScheme::NormalOnly), (A{1, 0, 0}));
+    // the probe picks axes and channels in proportion (and never one of probability 0)
+    const GaussianLobes g({{1, 1}});
+    const DiskSampler ds({&g, &g, nullptr}, {0.5, 0.25, 0.25}, {0.75, 0.25, 0});
+    const Frame f;
+    int axis[3] = {}, chan[3] = {};
+    for (int i = 0; i < 1000; ++i) {
+        const Probe p = ds.probe(f, (i + 0.5) / 1000, (i + 0.5) / 1000, 0.5, 0.25);
+        ++axis[p.axis];
+        ++chan[p.channel];
+    }
+    EXPECT_EQ(axis[0], 500);
+    EXPECT_EQ(axis[1], 250);
+    EXPECT_EQ(chan[0], 750);
+    EXPECT_EQ(chan[2], 0);
+    EXPECT_EQ(ds.probe(f, 1 - 0x1p-53, 1 - 0x1p-53, 0, 0).channel, 1);
+}
+
+TEST(DiskSampling, ProbeGeometry) {
+    const GaussianLobes g({{1, 2}});
+    const DiskSampler ds({&g, &g, &g}, AxisScheme::Uniform);
+    const Frame f = Frame::fromNormal({1, 2, 3}, {0.3, -0.2, 0.9});
+    pathtrace::Pcg32 rng(5, 6);
+    for (int i = 0; i < 1000; ++i) {
+        const Probe p = ds.probe(f, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform());
+        const glm::dvec3 mid = p.org + 0.5 * p.length * p.dir;
+        const glm::dvec3 end = p.org + p.length * p.dir;
+        EXPECT_NEAR(glm::length(mid - f.p), p.radius, 1e-12);        // disk point at radius r
+        EXPECT_NEAR(glm::dot(mid - f.p, p.dir), 0, 1e-12);           // on the disk's plane
+        EXPECT_NEAR(glm::length(p.org - f.p), g.radiusMax(), 1e-12); // chord of the sphere
+        EXPECT_NEAR(glm::length(end - f.p), g.radiusMax(), 1e-12);
+        EXPECT_EQ(p.dir, f.axis(p.axis));
+    }
+}
+
+TEST(DiskSampling, EveryHitOfAProbe) {
+    // Sphere of radius 1: a probe along T at height 0.9 below the top crosses it twice.
+    const SphereSurface s({0, 0, 0}, 1);
+    std::vector<SurfaceHit> hits;
+    s.intersectAll({-2, 0, 0.9}, {1, 0, 0}, 0, 4, hits);
+    ASSERT_EQ(hits.size(), 2u);
+    EXPECT_NEAR(std::fabs(hits[0].point.x.x), std::sqrt(1 - 0.81), 1e-14);
+    EXPECT_NEAR(hits[0].point.x.x + hits[1].point.x.x, 0, 1e-14);
+    hits.clear();
+    s.intersectAll({-2, 0, 0.9}, {1, 0, 0}, 0, 2, hits); // segment ends inside: one
+    EXPECT_EQ(hits.size(), 1u);
+    // Thin box 4 × 4 × 0.2 (Embree): a vertical probe finds top and bottom, a horizontal one
+    // the two side faces, each once, at the exact distances.
+    const MeshSurface box(mesh::makeBox(4, 4, 0.2));
+    EXPECT_NEAR(box.area(), 2 * 16 + 4 * 0.8, 1e-6); // float vertices
+    hits.clear();
+    box.intersectAll({0.3, -0.7, -5}, {0, 0, 1}, 0, 10, hits);
+    ASSERT_EQ(hits.size(), 2u);
+    double tsum = 0;
+    for (const auto& h : hits) {
+        tsum += h.t;
+        EXPECT_NEAR(std::fabs(h.point.n.z), 1, 0);
+        EXPECT_NEAR(h.point.x.z, h.point.n.z * 0.1, 1e-7);
+    }
+    EXPECT_NEAR(tsum, 10, 1e-6);
+    hits.clear();
+    box.intersectAll({-3, 0.5, 0.05}, {1, 0, 0}, 0, 6, hits);
+    EXPECT_EQ(hits.size(), 2u);
+    hits.clear();
+    box.intersectAll({-3, 0.5, 0.05}, {1, 0, 0}, 0, 2.5, hits); // stops inside the box
+    EXPECT_EQ(hits.size(), 1u);
+    hits.clear();
+    box.intersectAll({-3, 0.5, 0.5}, {1, 0, 0}, 0, 6, hits); // passes above
+    EXPECT_EQ(hits.size(), 0u);
+}
+
+TEST(DiskSampling, MisWeightsOfAHitSumToOne) {
+    const auto ch = skinChannels();
+    const SphereSurface sphere({0, 0, 0}, 6);
+    const MeshSurface box(mesh::makeBox(40, 40, 4));
+    const std::pair<const Surface*, Frame> cases[] = {
+        {&sphere, Frame::fromNormal(glm::dvec3(0, 0.6, 0.8) * 6.0, {0, 0.6, 0.8})},
+        {&box, Frame::fromNormal({19, 18.5, 2}, {0, 0, 1})}};
+    for (AxisScheme scheme : {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly}) {
+        const DiskSampler ds(pointers(ch), scheme);
+        for (const auto& [surface, f] : cases) {
+            pathtrace::Pcg32 rng(9, 10);
+            int checked = 0;
+            std::vector<SurfaceHit> hits;
+            for (int i = 0; i < 20000; ++i) {
+                const Probe p =
+                    ds.probe(f, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform());
+                hits.clear();
+                ds.probeHits(*surface, f, p, hits);
+                for (const auto& h : hits) {
+                    const auto w = ds.misWeights(f, h.point.x, h.point.n);
+                    double sum = 0;
+                    for (const auto& row : w)
+                        for (double v : row) {
+                            EXPECT_GE(v, 0);
+                            sum += v;
+                        }
+                    ASSERT_NEAR(sum, 1.0, 1e-12) << axisSchemeName(scheme);
+                    // the strategy that found the hit could have found it
+                    EXPECT_GT(w[p.axis][p.channel], 0) << axisSchemeName(scheme);
+                    ++checked;
+                }
+            }
+            EXPECT_GT(checked, 5000);
+        }
+    }
+}
+
+TEST(DiskSampling, PlaneNormalOnlyIsExact) {
+    const auto ch = skinChannels();
+    const PlaneSurface plane({0, 0, 0}, {0, 0, 1});
+    const Frame f = Frame::fromNormal({0, 0, 0}, {0, 0, 1});
+    // one channel: every sample is E_m of that channel
+    for (int c = 0; c < 3; ++c) {
+        std::array<double, 3> cp{0, 0, 0};
+        cp[c] = 1;
+        const DiskSampler ds(pointers(ch), axisProbabilities(AxisScheme::NormalOnly), cp);
+        pathtrace::Pcg32 rng(3, uint64_t(c));
+        for (int i = 0; i < 2000; ++i) {
+            const glm::dvec3 e = estimateDisk(ds, plane, f, rng, CutProfile{&ds, f.p});
+            ASSERT_NEAR(e[c] / ch[c].keptEnergy(), 1.0, 1e-9) << "channel " << c;
+        }
+    }
+    // three channels of one profile (channel MIS over identical pdfs): exact in all three
+    const GaussianLobes g({{0.7, 0.3}, {0.3, 4.0}});
+    const DiskSampler ds({&g, &g, &g}, AxisScheme::NormalOnly);
+    pathtrace::Pcg32 rng(4, 4);
+    for (int i = 0; i < 2000; ++i) {
+        const glm::dvec3 e = estimateDisk(ds, plane, f, rng, CutProfile{&ds, f.p});
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(e[c] / g.keptEnergy(), 1.0, 1e-9);
+    }
+}
+
+// The three-axis schemes on a plane, tables and lobes: mean = E_m,c per channel (z-test).
+TEST(DiskSampling, PlaneReproducesTheKeptEnergy) {
+    const auto ch = skinChannels();
+    const GaussianLobes g0({{0.233, 0.0064}, {0.1, 0.0484}, {0.118, 0.187}, {0.358, 1.99}});
+    const GaussianLobes g1({{0.455, 0.0064}, {0.336, 0.0484}, {0.198, 0.187}});
+    const GaussianLobes g2({{0.649, 0.0064}, {0.344, 0.0484}, {0.007, 0.567}});
+    const std::array<std::array<const RadialDistribution*, 3>, 2> sets = {
+        pointers(ch), std::array<const RadialDistribution*, 3>{&g0, &g1, &g2}};
+    const PlaneSurface plane({1, 2, 3}, {0.2, 0.3, 1});
+    const Frame f = Frame::fromNormal({1, 2, 3}, {0.2, 0.3, 1});
+    const double zMax = core::bonferroniZ(1e-3, 2 * 3 * 3);
+    int set = 0;
+    for (const auto& dists : sets) {
+        for (AxisScheme scheme : {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly}) {
+            const DiskSampler ds(dists, scheme);
+            pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(21, uint64_t(3 * set + int(scheme)));
+            Accumulator acc;
+            std::vector<SurfaceHit> scratch;
+            for (int i = 0; i < 200000; ++i)
+                acc.add(estimateDisk(ds, plane, f, rng, CutProfile{&ds, f.p}, scratch));
+            for (int c = 0; c < 3; ++c) {
+                const double z = (acc.mean[c] - dists[c]->keptEnergy()) / acc.stderrOfMean()[c];
+                EXPECT_LT(std::fabs(z), zMax)
+                    << axisSchemeName(scheme) << " set " << set << " channel " << c << " mean "
+                    << acc.mean[c] << " expected " << dists[c]->keptEnergy();
+                EXPECT_GT(acc.stderrOfMean()[c], 0); // channel MIS over different pdfs: noisy
+            }
+        }
+        ++set;
+    }
+}
