@@ -9,6 +9,7 @@
 #include "cli_pointcloud.h"
 #include "cli_render.h"
 #include "cli_slab.h"
+#include "cli_integrate.h"
 #include "compare.h"
 #include "core/core.h"
 #include "gl/gl.h"
@@ -291,6 +292,12 @@ int main(int argc, char** argv) {
     meshCmd->add_option("--mesh", ima.mesh, "closed, outward-facing triangle mesh (OBJ)")
         ->required();
 
+    auto* integrateCmd = cli.add_subcommand(
+        "integrate", "BSSRDF-integrated lit sphere or mesh, uniform or disk importance sampling, "
+                     "as EXR");
+    app::IntegrateArgs integ;
+    app::addIntegrateOptions(integrateCmd, integ);
+
     auto* pcCmd = cli.add_subcommand(
         "pointcloud", "even point cloud on a mesh (thesis 2.6.4) as binary PLY, with metrics");
     app::PointCloudArgs pca;
@@ -385,6 +392,7 @@ int main(int argc, char** argv) {
             return *sphere ? app::runSphereCli(ima) : app::runMeshCli(ima);
         }
         if (*renderCmd) return app::runRenderCli(root, ra2);
+        if (*integrateCmd) return app::runIntegrateCli(root, integ);
         if (*slab) return app::runSlabGpuCli(root, sa);
         if (*estimateCmd) return app::runEstimateCli(ea, root);
         if (*shot) {

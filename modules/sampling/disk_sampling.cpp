@@ -60,7 +60,7 @@ const char* axisSchemeName(AxisScheme s) {
     case AxisScheme::Pbrt:
         return "pbrt";
     case AxisScheme::NormalOnly:
-        return "normal-only";
+        return "normal";
     }
     return "?";
 }

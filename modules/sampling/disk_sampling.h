@@ -52,11 +52,17 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace sampling {
 
 enum class AxisScheme { Uniform, Pbrt, NormalOnly };
+// Names of the schemes (settings, command line).
+constexpr auto enumNames(AxisScheme) {
+    return std::array{std::pair{AxisScheme::Uniform, "uniform"}, std::pair{AxisScheme::Pbrt, "pbrt"},
+                      std::pair{AxisScheme::NormalOnly, "normal"}};
+}
 // P_a for a = N, T, B.
 std::array<double, 3> axisProbabilities(AxisScheme s);
 const char* axisSchemeName(AxisScheme s);

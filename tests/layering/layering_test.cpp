@@ -41,6 +41,7 @@ const Graph kAllowed = {
     {"sampling", {"core", "mesh"}},
     {"irradiance", {"core", "gl", "shader", "mesh", "pointcloud"}},
     {"render", {"core", "gl", "shader", "bssrdf", "octree", "mesh"}},
+    {"integrate", {"core", "gl", "litsphere", "mesh", "bssrdf", "sampling", "render", "pathtrace"}},
 };
 
 std::string readAll(const fs::path& p) {

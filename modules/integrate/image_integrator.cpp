@@ -1,0 +1,237 @@
+// The BSSRDF-integrated image by uniform or disk sampling (integrate.h).
+#include "integrate/integrate.h"
+
+#include "core/core.h"
+#include "gl/gl.h"
+#include "pathtrace/fresnel.h"
+#include "pathtrace/rng.h"
+#include "render/profile_table.h"
+#include "sampling/analytic_surfaces.h"
+#include "sampling/frame.h"
+#include "sampling/mesh_surface.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace integrate {
+
+struct ImageIntegrator::Geometry {
+    std::unique_ptr<sampling::SphereSurface> sphere;
+    std::unique_ptr<sampling::MeshSurface> mesh;
+    double sizeMm = 0; // a length of the object's scale: offsets of shadow rays
+    const sampling::Surface& surface() const {
+        return sphere ? static_cast<const sampling::Surface&>(*sphere) : *mesh;
+    }
+    const sampling::AreaSampler& area() const {
+        return sphere ? static_cast<const sampling::AreaSampler&>(*sphere) : *mesh;
+    }
+    bool convex() const { return sphere != nullptr; }
+};
+
+namespace {
+
+void validateSetup(const litsphere::Setup& s) {
+    if (!(std::isfinite(s.radiusMm) && s.radiusMm > 0))
+        throw core::Error("integrate", 0, "radius must be a finite length > 0 mm");
+    if (s.width < 1 || s.height < 1 || s.width > 8192 || s.height > 8192)
+        throw core::Error("integrate", 0, "image size must be 1 … 8192 pixels on each side");
+    const double l2 = s.lightDir[0] * s.lightDir[0] + s.lightDir[1] * s.lightDir[1] +
+                      s.lightDir[2] * s.lightDir[2];
+    if (!(std::isfinite(l2) && l2 > 0))
+        throw core::Error("integrate", 0, "the light direction must be finite and non-zero");
+}
+
+// Unpolarised Fresnel transmittance into the medium at cos θi in (0, 1].
+double fresnelTransmittance(double cosI, double eta) {
+    return 1.0 - pathtrace::fresnelDielectric(cosI, eta);
+}
+
+// One model evaluation waiting for the GPU: its pixel, query and factor Ft·cos⁺/p (or ·A).
+struct Pending {
+    bssrdf::Query q;
+    double factor;
+};
+
+} // namespace
+
+ImageIntegrator::ImageIntegrator(const litsphere::Setup& setup)
+    : m_setup(setup), m_geo(std::make_unique<Geometry>()) {
+    validateSetup(setup);
+    m_geo->sphere = std::make_unique<sampling::SphereSurface>(glm::dvec3(0.0), setup.radiusMm);
+    m_geo->sizeMm = setup.radiusMm;
+    findShadingPoints();
+}
+
+ImageIntegrator::ImageIntegrator(const litsphere::Setup& setup, mesh::Mesh m,
+                                 const std::string& name)
+    : m_setup(setup), m_geo(std::make_unique<Geometry>()) {
+    validateSetup(setup);
+    mesh::checkClosedOutward(m, name);
+    mesh::normalizeMesh(m, name);
+    m_geo->mesh = std::make_unique<sampling::MeshSurface>(m, 2 * setup.radiusMm, name);
+    m_geo->sizeMm = 2 * setup.radiusMm;
+    findShadingPoints();
+}
+
+ImageIntegrator::~ImageIntegrator() = default;
+
+void ImageIntegrator::findShadingPoints() {
+    const double l[3] = {m_setup.lightDir[0], m_setup.lightDir[1], m_setup.lightDir[2]};
+    m_light = glm::normalize(glm::dvec3(l[0], l[1], l[2]));
+    const int w = m_setup.width, h = m_setup.height;
+    const double e = m_setup.extent();
+    m_hit.assign(size_t(w) * size_t(h), 0);
+    m_shading.assign(m_hit.size(), {});
+    const double far = 10 * m_geo->sizeMm + 10 * e;
+    tbb::parallel_for(0, h, [&](int j) {
+        std::vector<sampling::SurfaceHit> hits;
+        for (int i = 0; i < w; ++i) {
+            const double x = e * (2 * (i + 0.5) / w - 1), y = e * (1 - 2 * (j + 0.5) / h);
+            hits.clear();
+            m_geo->surface().intersectAll({x, y, far}, {0, 0, -1}, 0, 2 * far, hits);
+            if (hits.empty()) continue;
+            const auto first = std::min_element(
+                hits.begin(), hits.end(),
+                [](const sampling::SurfaceHit& a, const sampling::SurfaceHit& b) { return a.t < b.t; });
+            if (first->point.n.z <= 0) continue; // a back face: the camera sees no outside
+            const size_t p = size_t(j) * size_t(w) + size_t(i);
+            m_hit[p] = 1;
+            m_shading[p] = first->point;
+        }
+    });
+}
+
+void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
+                               const bssrdf::ParamValues& values, const bssrdf::Builtins& b,
+                               const Settings& s, const std::string& name) {
+    if (!(s.energyLoss > 0 && s.energyLoss < 1))
+        throw core::Error("integrate", 0, "the energy given up beyond R_m must lie in (0, 1)");
+    m_program = pencilProgram;
+    m_model = m;
+    m_values = values;
+    m_builtins = b;
+    m_settings = s;
+    m_disk.reset();
+    m_radial.reset();
+    if (s.sampling == Sampling::Disk) {
+        core::Stopwatch clock;
+        const render::ProfileTable t = render::buildProfileTable(pencilProgram, m, values, b, 0.0);
+        std::vector<glm::dvec3> v(t.values.begin(), t.values.end());
+        m_radial.emplace(sampling::tabulateChannels(
+            sampling::profileGridRadii(t.rMax, int(t.values.size())), v, s.energyLoss, name));
+        m_disk = std::make_unique<sampling::DiskSampler>(
+            std::array<const sampling::RadialDistribution*, 3>{&(*m_radial)[0], &(*m_radial)[1],
+                                                               &(*m_radial)[2]},
+            s.axes);
+        gl::recordTiming("integrate: radial tables", clock.ms());
+    }
+    m_sum.assign(3 * m_hit.size(), 0.0);
+    m_sumSq.assign(3 * m_hit.size(), 0.0);
+    m_samples = 0;
+    m_evaluations = 0;
+    m_seconds = 0;
+}
+
+std::array<double, 3> ImageIntegrator::radiusMax() const {
+    if (!m_radial) return {0, 0, 0};
+    return {(*m_radial)[0].radiusMax(), (*m_radial)[1].radiusMax(), (*m_radial)[2].radiusMax()};
+}
+
+void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel) {
+    if (!m_model || samplesPerPixel < 1) return;
+    core::Stopwatch clock;
+    const size_t pixels = m_hit.size();
+    const double eta = m_builtins.ior;
+    const uint64_t seed = pathtrace::splitmix64(m_settings.seed ^ 0x494e5447ull); // 'INTG'
+    const sampling::Surface& surface = m_geo->surface();
+    const double eps = 1e-7 * m_geo->sizeMm, far = 10 * m_geo->sizeMm;
+    // one sample per pixel per round: the queries of a round go to the GPU together
+    for (int round = 0; round < samplesPerPixel; ++round) {
+        if (cancel && cancel->load()) break;
+        const uint64_t s = m_samples;
+        std::vector<std::vector<Pending>> perPixel(pixels);
+        tbb::parallel_for(size_t(0), pixels, [&](size_t p) {
+            if (!m_hit[p]) return;
+            pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(seed, s * pixels + p);
+            const sampling::SurfacePoint& at = m_shading[p];
+            const sampling::Frame f = sampling::Frame::fromNormal(at.x, at.n);
+            std::vector<sampling::SurfaceHit> hits, shadow;
+            auto add = [&](const sampling::SurfacePoint& x, double inversePdf) {
+                const double cosL = glm::dot(x.n, m_light);
+                if (!(cosL > 0) || !(inversePdf > 0)) return;
+                if (!m_geo->convex()) { // a shadow ray toward the light
+                    shadow.clear();
+                    surface.intersectAll(x.x + eps * x.n, m_light, eps, far, shadow);
+                    if (!shadow.empty()) return;
+                }
+                Pending q;
+                q.q.xo = glm::vec3(at.x - x.x);
+                q.q.wi = glm::vec3(m_light);
+                q.q.wo = glm::vec3(at.n);
+                q.factor = fresnelTransmittance(cosL, eta) * cosL * inversePdf;
+                perPixel[p].push_back(q);
+            };
+            if (m_disk) {
+                const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(),
+                             u3 = rng.uniform();
+                const sampling::Probe probe = m_disk->probe(f, u0, u1, u2, u3);
+                m_disk->probeHits(surface, f, probe, hits);
+                for (const sampling::SurfaceHit& h : hits) {
+                    const double pdf = m_disk->pdf(f, h.point.x, h.point.n);
+                    if (pdf > 0) add(h.point, 1.0 / pdf);
+                }
+            } else {
+                const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+                add(m_geo->area().sampleArea(u0, u1, u2), m_geo->area().area());
+            }
+        });
+        std::vector<bssrdf::Query> queries;
+        for (const auto& v : perPixel)
+            for (const Pending& q : v)
+                queries.push_back(q.q);
+        const std::vector<glm::dvec3> values =
+            bssrdf::evaluateQueries(m_program, *m_model, m_values, m_builtins, queries);
+        size_t k = 0;
+        for (size_t p = 0; p < pixels; ++p) {
+            if (!m_hit[p]) continue;
+            glm::dvec3 F(0.0);
+            for (const Pending& q : perPixel[p])
+                F += values[k++] * q.factor;
+            for (int c = 0; c < 3; ++c) {
+                m_sum[3 * p + size_t(c)] += F[c];
+                m_sumSq[3 * p + size_t(c)] += F[c] * F[c];
+            }
+        }
+        m_evaluations += queries.size();
+        ++m_samples;
+    }
+    m_seconds += clock.ms() / 1000.0;
+}
+
+litsphere::Image ImageIntegrator::image() const {
+    litsphere::Image img;
+    img.width = m_setup.width;
+    img.height = m_setup.height;
+    const size_t pixels = m_hit.size();
+    img.mean.assign(3 * pixels, 0.0f);
+    img.variance.assign(3 * pixels, 0.0f);
+    img.samples = m_samples * pixels;
+    if (m_samples == 0 || m_sum.size() != 3 * pixels) return img;
+    const double n = double(m_samples);
+    for (size_t i = 0; i < 3 * pixels; ++i) {
+        const double mean = m_sum[i] / n;
+        img.mean[i] = float(mean);
+        if (m_samples < 2) {
+            img.variance[i] = m_sum[i] == 0 ? 0.0f : std::numeric_limits<float>::infinity();
+            continue;
+        }
+        const double var = std::max(0.0, (m_sumSq[i] / n - mean * mean) / (n - 1));
+        img.variance[i] = float(var);
+    }
+    return img;
+}
+
+} // namespace integrate

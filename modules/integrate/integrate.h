@@ -1,0 +1,121 @@
+// integrate: the BSSRDF-integrated picture of the lit-sphere setup (thesis 3.5, litsphere.h) on
+// the sphere or on any closed mesh, by uniform area sampling or by the disk probe-ray importance
+// sampling of King et al. 2013 (sampling/disk_sampling.h), for every model.
+//   Pixel value: the radiant exitance at the pixel-centre camera ray's first surface point P
+//       M(P) = ∫_A Bssrdf(x, L, P, n(P)) · Ft(η, n(x)·L) · max(0, n(x)·L) · V(x) dA(x)
+//   (L the unit light direction, irradiance 1; Ft = 1 − F the exact unpolarised Fresnel
+//   transmittance; V(x) = 1 when x sees the light: always where n·L > 0 on the convex sphere, a
+//   shadow ray on meshes), the quantity of bssrdf/sphere_integrator.h, which it reproduces on
+//   the sphere with uniform sampling.
+//   Estimators, per pixel sample:
+//     uniform  F = A · f(x), x uniform on the surface (sampling::AreaSampler);
+//     disk     F = Σ_hits f(x)/p(x), p the balance-heuristic density over the three axes and
+//              the three channels (sampling::DiskSampler); each channel's radial distribution is
+//              the model's own profile R(r) = Bssrdf(0, n, (r, 0, 0), n) tabulated on the GPU
+//              (render::buildProfileTable, no cap), cut at R_m,c keeping all but `energyLoss`
+//              of its energy. The disk estimator integrates over |x − P| <= max_c R_m,c: on a
+//              plane it gives up exactly that fraction, a bias the tests keep below their noise.
+//   The model is evaluated on the GPU (bssrdf::evaluateQueries, translation invariance: Xi = 0,
+//   Xo = P − x) with the actual directions, so directional models are integrated as they are.
+//   Geometry: the sphere of radius R mm at the origin, or the mesh normalised to one unit on its
+//   longest axis, centred, times 2R mm (the lit-mesh convention of pathtrace/mesh_tracer.h);
+//   orthographic camera along −z over ±1.1 R, pixel (0, 0) top left.
+//   Random numbers: sample s of pixel p draws from Pcg32::forPath(seed', s·P + p), P the pixel
+//   count, so an image depends only on (setup, model, seed, samples done), not on threads or on
+//   how steps were sized.
+//   Accumulation: Σ F and Σ F² per pixel in double; the image is the mean and the variance of
+//   the mean, as litsphere::Image.
+#pragma once
+
+#include "bssrdf/program.h"
+#include "core/limits.h"
+#include "litsphere/litsphere.h"
+#include "mesh/mesh.h"
+#include "sampling/disk_sampling.h"
+#include "sampling/tabulated_radial.h"
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace integrate {
+
+enum class Sampling { Uniform, Disk };
+constexpr auto enumNames(Sampling) {
+    return std::array{std::pair{Sampling::Uniform, "uniform"}, std::pair{Sampling::Disk, "disk"}};
+}
+
+// The estimator's settings; the Lit spheres panel, `integrate` and captures share these
+// defaults (uniform area sampling: what the panel did before importance sampling existed).
+struct Settings {
+    Sampling sampling = Sampling::Uniform;
+    sampling::AxisScheme axes = sampling::AxisScheme::Uniform;
+    double energyLoss = sampling::kDefaultEnergyLoss; // eps of R_m
+    uint64_t seed = 1;
+};
+template <class V> void fields(V& v, Settings& s) {
+    v("sampling", s.sampling, "BSSRDF integration: uniform area sampling or disk probe rays");
+    v("axes", s.axes, "disk sampling: probe axes uniform (1/3 each), pbrt (N 1/2) or normal");
+    v("energy_loss", s.energyLoss, "disk sampling: energy given up beyond R_m",
+      core::Limits{1e-9, 0.5});
+    v("seed", s.seed, "random seed");
+}
+
+class ImageIntegrator {
+  public:
+    // The sphere of setup.radiusMm (validated: core::Error("integrate", 0, …) naming the field).
+    explicit ImageIntegrator(const litsphere::Setup& setup);
+    // A closed, consistently wound mesh (mesh::checkClosedOutward: an open mesh is a
+    // core::Error naming it), normalised and scaled as above.
+    ImageIntegrator(const litsphere::Setup& setup, mesh::Mesh m, const std::string& name);
+    ~ImageIntegrator();
+    ImageIntegrator(const ImageIntegrator&) = delete;
+    ImageIntegrator& operator=(const ImageIntegrator&) = delete;
+
+    // The model and estimator; starts over. `pencilProgram` from
+    // bssrdf::buildModelProgram(m, "pencil_profile.comp"). With Sampling::Disk the model's
+    // profile is tabulated here (GPU) and a profile that cannot be sampled (NaN, negative, no
+    // energy, energy that does not converge) is a core::Error naming the model and the radius.
+    void setModel(GLuint pencilProgram, const bssrdf::Model& m, const bssrdf::ParamValues& values,
+                  const bssrdf::Builtins& b, const Settings& s, const std::string& name);
+    // Takes `samplesPerPixel` (>= 1) more samples per pixel; stops early between batches when
+    // `cancel` is set (the image then holds whole samples only). Needs the GL context current.
+    void step(int samplesPerPixel, const std::atomic<bool>* cancel = nullptr);
+    litsphere::Image image() const;
+    uint64_t samplesPerPixelDone() const { return m_samples; }
+    double seconds() const { return m_seconds; }
+    // R_m per channel of the disk sampler (0 before setModel or with uniform sampling).
+    std::array<double, 3> radiusMax() const;
+    // Model evaluations (hits) so far: the cost of the estimator besides the probe rays.
+    uint64_t evaluations() const { return m_evaluations; }
+    const litsphere::Setup& setup() const { return m_setup; }
+
+  private:
+    struct Geometry;
+    void findShadingPoints();
+
+    litsphere::Setup m_setup;
+    std::unique_ptr<Geometry> m_geo;
+    glm::dvec3 m_light{0, 0, 1};
+    // the model
+    GLuint m_program = 0;
+    std::optional<bssrdf::Model> m_model;
+    bssrdf::ParamValues m_values;
+    bssrdf::Builtins m_builtins;
+    Settings m_settings;
+    std::optional<std::array<sampling::TabulatedRadial, 3>> m_radial;
+    std::unique_ptr<sampling::DiskSampler> m_disk;
+    // per pixel: shading point (valid when the centre ray hits), Σ F, Σ F²
+    std::vector<char> m_hit;
+    std::vector<sampling::SurfacePoint> m_shading;
+    std::vector<double> m_sum, m_sumSq;
+    uint64_t m_samples = 0, m_evaluations = 0;
+    double m_seconds = 0;
+};
+
+} // namespace integrate
