@@ -35,4 +35,10 @@ struct HierarchyBenchOptions {
 // and nearest-neighbour CV against Turk's repulsion with `turkIterations` iterations.
 int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOptions& o);
 
+// bench sampling: equal-time relative RMSE of the BSSRDF-integrated lit sphere and bunny
+// (Marble, Skin1) by disk importance sampling (each axis scheme) against uniform area sampling,
+// against a long disk-sampled reference; one line per case (bench_sampling.cpp).
+int benchSampling(const std::filesystem::path& root, double seconds, int size,
+                  double referenceFactor);
+
 } // namespace app

@@ -319,6 +319,19 @@ int main(int argc, char** argv) {
     benchPt->add_option("--seconds", benchSeconds, "seconds per case and tracer (default 4)")
         ->check(CLI::Range(0.5, 600.0));
 
+    auto* benchSamp = bench->add_subcommand(
+        "sampling", "BSSRDF integration: equal-time error of disk importance vs uniform sampling");
+    double sampSeconds = 2.0, sampReference = 10.0;
+    int sampSize = 48;
+    benchSamp->add_option("--seconds", sampSeconds, "seconds per method and case (default 2)")
+        ->check(CLI::Range(0.05, 600.0));
+    benchSamp->add_option("--size", sampSize, "image side in pixels (default 48)")
+        ->check(CLI::Range(4, 1024));
+    benchSamp
+        ->add_option("--reference-factor", sampReference,
+                     "the reference runs this many times longer (default 10)")
+        ->check(CLI::Range(1.0, 1000.0));
+
     auto* benchHier = bench->add_subcommand(
         "hierarchy", "hierarchical vs brute-force render, point-cloud generation vs Turk");
     app::HierarchyBenchOptions hbo;
@@ -377,6 +390,7 @@ int main(int argc, char** argv) {
         if (*compareCmd) return app::runCompareCli(root, ca);
         if (*benchPt) return app::benchPathtrace(root, benchSeconds);
         if (*benchHier) return app::benchHierarchy(root, hbo);
+        if (*benchSamp) return app::benchSampling(root, sampSeconds, sampSize, sampReference);
         if (*sphere || *meshCmd) {
             const glm::dvec3 sa = app::parseRgb(imSigmaA, "--sigma-a");
             const glm::dvec3 ss = app::parseRgb(imSigmaS, "--sigma-s");

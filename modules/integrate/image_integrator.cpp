@@ -49,6 +49,9 @@ double fresnelTransmittance(double cosI, double eta) {
     return 1.0 - pathtrace::fresnelDielectric(cosI, eta);
 }
 
+// Model evaluations gathered before one trip to the GPU (a round of whole samples per pixel).
+constexpr size_t kQueriesPerRound = size_t(1) << 15;
+
 // One model evaluation waiting for the GPU: its pixel, query and factor Ft·cos⁺/p (or ·A).
 struct Pending {
     bssrdf::Query q;
@@ -148,65 +151,79 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
     const uint64_t seed = pathtrace::splitmix64(m_settings.seed ^ 0x494e5447ull); // 'INTG'
     const sampling::Surface& surface = m_geo->surface();
     const double eps = 1e-7 * m_geo->sizeMm, far = 10 * m_geo->sizeMm;
-    // one sample per pixel per round: the queries of a round go to the GPU together
-    for (int round = 0; round < samplesPerPixel; ++round) {
+    // Rounds of `batch` samples per pixel: the queries of a round go to the GPU together.
+    const int batch = int(std::clamp<size_t>(kQueriesPerRound / std::max<size_t>(pixels, 1), 1, 64));
+    for (int done = 0; done < samplesPerPixel;) {
         if (cancel && cancel->load()) break;
-        const uint64_t s = m_samples;
-        std::vector<std::vector<Pending>> perPixel(pixels);
+        const int n = std::min(batch, samplesPerPixel - done);
+        const uint64_t s0 = m_samples;
+        // per pixel and sample of the round: its pending evaluations
+        std::vector<std::vector<Pending>> pending(pixels * size_t(n));
         tbb::parallel_for(size_t(0), pixels, [&](size_t p) {
             if (!m_hit[p]) return;
-            pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(seed, s * pixels + p);
             const sampling::SurfacePoint& at = m_shading[p];
             const sampling::Frame f = sampling::Frame::fromNormal(at.x, at.n);
             std::vector<sampling::SurfaceHit> hits, shadow;
-            auto add = [&](const sampling::SurfacePoint& x, double inversePdf) {
-                const double cosL = glm::dot(x.n, m_light);
-                if (!(cosL > 0) || !(inversePdf > 0)) return;
-                if (!m_geo->convex()) { // a shadow ray toward the light
-                    shadow.clear();
-                    surface.intersectAll(x.x + eps * x.n, m_light, eps, far, shadow);
-                    if (!shadow.empty()) return;
+            for (int k = 0; k < n; ++k) {
+                std::vector<Pending>& out = pending[p * size_t(n) + size_t(k)];
+                pathtrace::Pcg32 rng =
+                    pathtrace::Pcg32::forPath(seed, (s0 + uint64_t(k)) * pixels + p);
+                // x lit (cos > 0, not shadowed): queue Bssrdf(x → P) with Ft·cos⁺/p(x)
+                auto add = [&](const sampling::SurfacePoint& x, double cosL, double inversePdf) {
+                    if (!m_geo->convex()) { // a shadow ray toward the light
+                        shadow.clear();
+                        surface.intersectAll(x.x + eps * x.n, m_light, eps, far, shadow);
+                        if (!shadow.empty()) return;
+                    }
+                    Pending q;
+                    q.q.xo = glm::vec3(at.x - x.x);
+                    q.q.wi = glm::vec3(m_light);
+                    q.q.wo = glm::vec3(at.n);
+                    q.factor = fresnelTransmittance(cosL, eta) * cosL * inversePdf;
+                    out.push_back(q);
+                };
+                if (m_disk) {
+                    const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(),
+                                 u3 = rng.uniform();
+                    const sampling::Probe probe = m_disk->probe(f, u0, u1, u2, u3);
+                    hits.clear();
+                    m_disk->probeHits(surface, f, probe, hits);
+                    for (const sampling::SurfaceHit& h : hits) {
+                        const double cosL = glm::dot(h.point.n, m_light);
+                        if (!(cosL > 0)) continue; // unlit: no contribution, no pdf needed
+                        const double pdf = m_disk->pdf(f, h.point.x, h.point.n);
+                        if (pdf > 0) add(h.point, cosL, 1.0 / pdf);
+                    }
+                } else {
+                    const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+                    const sampling::SurfacePoint x = m_geo->area().sampleArea(u0, u1, u2);
+                    const double cosL = glm::dot(x.n, m_light);
+                    if (cosL > 0) add(x, cosL, m_geo->area().area());
                 }
-                Pending q;
-                q.q.xo = glm::vec3(at.x - x.x);
-                q.q.wi = glm::vec3(m_light);
-                q.q.wo = glm::vec3(at.n);
-                q.factor = fresnelTransmittance(cosL, eta) * cosL * inversePdf;
-                perPixel[p].push_back(q);
-            };
-            if (m_disk) {
-                const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(),
-                             u3 = rng.uniform();
-                const sampling::Probe probe = m_disk->probe(f, u0, u1, u2, u3);
-                m_disk->probeHits(surface, f, probe, hits);
-                for (const sampling::SurfaceHit& h : hits) {
-                    const double pdf = m_disk->pdf(f, h.point.x, h.point.n);
-                    if (pdf > 0) add(h.point, 1.0 / pdf);
-                }
-            } else {
-                const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-                add(m_geo->area().sampleArea(u0, u1, u2), m_geo->area().area());
             }
         });
         std::vector<bssrdf::Query> queries;
-        for (const auto& v : perPixel)
+        for (const auto& v : pending)
             for (const Pending& q : v)
                 queries.push_back(q.q);
         const std::vector<glm::dvec3> values =
             bssrdf::evaluateQueries(m_program, *m_model, m_values, m_builtins, queries);
-        size_t k = 0;
+        size_t i = 0;
         for (size_t p = 0; p < pixels; ++p) {
             if (!m_hit[p]) continue;
-            glm::dvec3 F(0.0);
-            for (const Pending& q : perPixel[p])
-                F += values[k++] * q.factor;
-            for (int c = 0; c < 3; ++c) {
-                m_sum[3 * p + size_t(c)] += F[c];
-                m_sumSq[3 * p + size_t(c)] += F[c] * F[c];
+            for (int k = 0; k < n; ++k) {
+                glm::dvec3 F(0.0);
+                for (const Pending& q : pending[p * size_t(n) + size_t(k)])
+                    F += values[i++] * q.factor;
+                for (int c = 0; c < 3; ++c) {
+                    m_sum[3 * p + size_t(c)] += F[c];
+                    m_sumSq[3 * p + size_t(c)] += F[c] * F[c];
+                }
             }
         }
         m_evaluations += queries.size();
-        ++m_samples;
+        m_samples += uint64_t(n);
+        done += n;
     }
     m_seconds += clock.ms() / 1000.0;
 }

@@ -44,6 +44,7 @@ TabulatedRadial::TabulatedRadial(std::vector<double> radii, std::vector<double> 
     }
 
     const size_t n = m_radii.size();
+    m_quadraticGrid = m_radii == profileGridRadii(m_radii.back(), int(n));
     m_cumulative.assign(n, 0.0);
     for (size_t k = 0; k + 1 < n; ++k)
         m_cumulative[k + 1] = m_cumulative[k] + partial(k, m_radii[k + 1] - m_radii[k]);
@@ -102,6 +103,16 @@ double TabulatedRadial::invert(size_t k, double h, double y) const {
 }
 
 size_t TabulatedRadial::intervalOf(double r) const {
+    if (m_quadraticGrid) { // r_k = rMax (k/(K−1))²: k from the square root, then exact
+        const size_t last = m_radii.size() - 2;
+        const double t = std::sqrt(std::max(r, 0.0) / m_radii.back()) * double(m_radii.size() - 1);
+        size_t k = t >= double(last) ? last : size_t(t);
+        while (k > 0 && r < m_radii[k])
+            --k;
+        while (k < last && r >= m_radii[k + 1])
+            ++k;
+        return k;
+    }
     auto it = std::upper_bound(m_radii.begin(), m_radii.end(), r);
     const size_t k = it == m_radii.begin() ? 0 : size_t(it - m_radii.begin()) - 1;
     return std::min(k, m_radii.size() - 2);

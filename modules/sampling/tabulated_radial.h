@@ -63,6 +63,7 @@ class TabulatedRadial final : public RadialDistribution {
     std::vector<double> m_cumulative; // ∫0^{r_k} r R dr (no 2π)
     double m_eps = kDefaultEnergyLoss;
     size_t m_lastInterval = 0; // interval holding R_m
+    bool m_quadraticGrid = false; // radii are profileGridRadii(r_{K−1}, K): O(1) intervalOf
     double m_radiusMax = 0;
     double m_kept = 0; // ∫0^{R_m} r R dr (no 2π)
 };
