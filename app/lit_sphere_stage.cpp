@@ -194,11 +194,26 @@ bool LitSphereStage::update(const LitSphereInputs& in) {
         m_problem.clear();
         m_ptSppSeen = 0;
         try {
-            m_integrator.reset(setup);
             std::filesystem::path mesh;
             if (!ls.mesh.empty()) {
                 mesh = ls.mesh;
                 if (mesh.is_relative()) mesh = in.root / mesh;
+            }
+            m_probe.reset();
+            if (ls.sampling == integrate::Sampling::Uniform && mesh.empty()) {
+                m_integrator.reset(setup);
+            } else { // disk sampling, or any sampling of a mesh: the CPU + GPU integrator
+                m_probe = mesh.empty()
+                              ? std::make_unique<integrate::ImageIntegrator>(setup)
+                              : std::make_unique<integrate::ImageIntegrator>(
+                                    setup, mesh::loadObj(mesh), mesh.string());
+                integrate::Settings is;
+                is.sampling = ls.sampling;
+                is.axes = ls.axes;
+                is.seed = ls.seed;
+                // (re)tabulates the model's radial profile for disk sampling (Timings)
+                m_probe->setModel(e->programs.at("pencil_profile.comp").id(), *e->model,
+                                  e->values, in.builtins, is, e->displayPath);
             }
             m_pathTraced.start(mediaOf(*in.params), setup, ls.pathSpp, ls.gpu, mesh);
         } catch (const core::Error& err) {
@@ -208,29 +223,41 @@ bool LitSphereStage::update(const LitSphereInputs& in) {
         changed = true;
     }
     if (!m_problem.empty()) return changed;
-    // the GPU integration takes a slice per frame, sized to stay near the budget
-    const uint64_t done = m_integrator.samplesPerPixelDone();
-    if (done < uint64_t(ls.integratedSpp) && e->programs.count("sphere_bssrdf.comp")) {
-        const int n =
-            int(std::min<uint64_t>(uint64_t(m_integratedSlice), uint64_t(ls.integratedSpp) - done));
-        core::Stopwatch sw;
-        m_integrator.step(e->programs.at("sphere_bssrdf.comp").id(), *e->model, e->values,
-                          in.builtins, n); // timed inside as "sphere BSSRDF integration"
-        const double ms = sw.ms();
-        if (in.budgetMs < 0)
-            m_integratedSlice = kFixedSlice; // fixed slices (finish)
-        else if (ms < 0.5 * in.budgetMs)
-            m_integratedSlice = std::min(m_integratedSlice * 2, 4096);
-        else if (ms > in.budgetMs)
-            m_integratedSlice = std::max(m_integratedSlice / 2, 1);
-        changed = true;
-    }
+    changed |= stepIntegration(in);
     if (ls.gpu) m_pathTraced.stepGpu(in.budgetMs < 0 ? 1e9 : 0.5 * in.budgetMs);
     if (m_pathTraced.sppDone() != m_ptSppSeen) {
         m_ptSppSeen = m_pathTraced.sppDone();
         changed = true;
     }
     return changed;
+}
+
+bool LitSphereStage::stepIntegration(const LitSphereInputs& in) {
+    const bssrdf::ModelEntry* e = in.entry;
+    const LitSphereSettings& ls = in.settings;
+    // a slice per frame, sized to stay near the budget (fixed slices in finish())
+    const uint64_t done = integratedSppDone();
+    if (done >= uint64_t(ls.integratedSpp)) return false;
+    if (!m_probe && !e->programs.count("sphere_bssrdf.comp")) return false;
+    const int n =
+        int(std::min<uint64_t>(uint64_t(m_integratedSlice), uint64_t(ls.integratedSpp) - done));
+    core::Stopwatch sw;
+    if (m_probe) {
+        m_probe->step(n);
+        gl::recordTiming("sphere BSSRDF integration (probe rays)", sw.ms());
+    } else {
+        m_integrator.step(e->programs.at("sphere_bssrdf.comp").id(), *e->model, e->values,
+                          in.builtins, n); // timed inside as "sphere BSSRDF integration"
+    }
+    const double ms = sw.ms();
+    const int maxSlice = m_probe ? 256 : 4096;
+    if (in.budgetMs < 0)
+        m_integratedSlice = m_probe ? 64 : kFixedSlice; // fixed slices (finish)
+    else if (ms < 0.5 * in.budgetMs)
+        m_integratedSlice = std::min(m_integratedSlice * 2, maxSlice);
+    else if (ms > in.budgetMs)
+        m_integratedSlice = std::max(m_integratedSlice / 2, 1);
+    return true;
 }
 
 void LitSphereStage::finish(LitSphereInputs in) {
@@ -241,7 +268,7 @@ void LitSphereStage::finish(LitSphereInputs in) {
     m_integratedSlice = kFixedSlice;
     update(in);
     while (in.settings.enabled && m_problem.empty() &&
-           m_integrator.samplesPerPixelDone() < uint64_t(in.settings.integratedSpp))
+           integratedSppDone() < uint64_t(in.settings.integratedSpp))
         if (!update(in)) break;
     m_pathTraced.wait();
 }
@@ -256,7 +283,7 @@ StageStatus LitSphereStage::status() const {
                       ? double(m_pathTraced.sppDone()) / double(m_pathTraced.sppTarget())
                       : 1.0;
     st.stats.push_back({"path traced spp", std::to_string(m_pathTraced.sppDone())});
-    st.stats.push_back({"integrated spp", std::to_string(m_integrator.samplesPerPixelDone())});
+    st.stats.push_back({"integrated spp", std::to_string(integratedSppDone())});
     return st;
 }
 

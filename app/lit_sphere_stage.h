@@ -12,6 +12,7 @@
 
 #include "bssrdf/program_library.h"
 #include "bssrdf/sphere_integrator.h"
+#include "integrate/integrate.h"
 #include "material/material.h"
 #include "pathtrace/gpu_sphere.h"
 #include "pathtrace/lit_sphere.h"
@@ -41,6 +42,10 @@ struct LitSphereSettings {
     uint64_t seed = 1;
     bool gpu = false; // path trace on the GL compute tracer (sliced per frame) instead of the CPU
     std::string mesh; // OBJ path: path trace this mesh (CPU, Embree) instead of the sphere
+    // BSSRDF integration: uniform area sampling (on the sphere: the GPU pass) or disk probe rays
+    // (integrate/integrate.h); the defaults are the estimator's own
+    integrate::Sampling sampling = integrate::Settings{}.sampling;
+    sampling::AxisScheme axes = integrate::Settings{}.axes;
 };
 // The description of LitSphereSettings' members (core/fields.h).
 template <class V> void fields(V& v, LitSphereSettings& s) {
@@ -53,7 +58,9 @@ template <class V> void fields(V& v, LitSphereSettings& s) {
       core::Limits{1, 1e8});
     v("seed", s.seed, "random seed");
     v("gpu", s.gpu, "GL compute path tracer instead of the CPU");
-    v("mesh", s.mesh, "OBJ to path trace instead of the sphere (empty: sphere)");
+    v("mesh", s.mesh, "OBJ to path trace and integrate instead of the sphere (empty: sphere)");
+    v("sampling", s.sampling, "BSSRDF integration: uniform area sampling or disk probe rays");
+    v("axes", s.axes, "disk sampling: probe axes uniform (1/3 each), pbrt (N 1/2) or normal");
 }
 
 // The path-traced sphere: CPU passes in a background thread, or the GL compute tracer
@@ -127,15 +134,22 @@ class LitSphereStage : public StageOf<LitSphereInputs> {
 
     const PathTracedSphere& pathTracer() const { return m_pathTraced; }
     PathTracedSphere& pathTracer() { return m_pathTraced; }
-    pathtrace::Image integratedImage() const { return m_integrator.image(); }
-    uint64_t integratedSppDone() const { return m_integrator.samplesPerPixelDone(); }
+    pathtrace::Image integratedImage() const {
+        return m_probe ? m_probe->image() : m_integrator.image();
+    }
+    uint64_t integratedSppDone() const {
+        return m_probe ? m_probe->samplesPerPixelDone() : m_integrator.samplesPerPixelDone();
+    }
     const std::string& model() const { return m_model; }
     // The first problem: a bad setup, else the path tracer's own (e.g. a mesh it refused).
     std::string problem() const { return !m_problem.empty() ? m_problem : m_pathTraced.problem(); }
 
   private:
     PathTracedSphere m_pathTraced;
-    bssrdf::SphereIntegrator m_integrator;
+    bssrdf::SphereIntegrator m_integrator;           // uniform sampling of the sphere (GPU)
+    std::unique_ptr<integrate::ImageIntegrator> m_probe; // otherwise: disk, or a mesh
+    // One integration step within the budget; true when samples were added.
+    bool stepIntegration(const LitSphereInputs& in);
     std::string m_key, m_model, m_problem;
     int m_ptSppSeen = 0;
     int m_integratedSlice = 16;
