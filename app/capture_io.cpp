@@ -224,8 +224,9 @@ std::vector<ImageStage> imageStages(Workbench& wb) {
     // The real cause (a refused mesh, a bad setup), never a consequence such as an empty image.
     if (const std::string problem = wb.litSphereProblem(); !problem.empty())
         throw core::Error("lit spheres", 0, problem);
-    if (!wb.litSphereSettings().mesh.empty()) // the BSSRDF integration covers the sphere only
-        return {{"lit_mesh.path_traced", "lit_mesh_path_traced.exr", wb.pathTracedSphere()}};
+    if (!wb.litSphereSettings().mesh.empty()) // both renderings cover the mesh
+        return {{"lit_mesh.path_traced", "lit_mesh_path_traced.exr", wb.pathTracedSphere()},
+                {"lit_mesh.integrated", "lit_mesh_integrated.exr", wb.integratedSphere()}};
     return {{"lit_sphere.path_traced", "lit_sphere_path_traced.exr", wb.pathTracedSphere()},
             {"lit_sphere.integrated", "lit_sphere_integrated.exr", wb.integratedSphere()}};
 }

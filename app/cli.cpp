@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "cli_output.h"
 #include "cli_slab.h"
+#include "core/fields.h"
 #include "core/text.h"
 
 #include "capture_io.h"
@@ -190,6 +191,10 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
             fs::path mesh = resolveModel(root, a.litMesh); // exists, absolute or under root
             ls.mesh = core::relativeTo(mesh, root);
         }
+        if (!a.litSampling.empty())
+            ls.sampling = core::enumFromName<integrate::Sampling>(a.litSampling, "--lit-sampling", "");
+        if (!a.litAxes.empty())
+            ls.axes = core::enumFromName<sampling::AxisScheme>(a.litAxes, "--lit-axes", "");
     }
     int traceX = -1, traceY = -1;
     if (a.scenePoints > 0) {

@@ -45,6 +45,7 @@ struct RecordArgs {
     std::optional<double> sliceThetaI; // default: SliceSettings{}.thetaIDeg (the GUI's)
     int litSphereSize = 0;             // > 0: also record the lit-sphere images at this size
     std::string litMesh; // with litSphereSize: path trace this OBJ instead of the sphere
+    std::string litSampling, litAxes; // with litSphereSize: the integration's sampling and axes
     // > 0: also record the mesh pipeline (thesis 3.3) with this many points
     size_t scenePoints = 0;
     std::string sceneMesh = "third_party/bunny/bunny.obj"; // relative to the root

@@ -187,6 +187,12 @@ int main(int argc, char** argv) {
     rec->add_option("--lit-mesh", ra.litMesh,
                     "with --lit-spheres: path trace this OBJ (a file under the project root) "
                     "instead of the sphere");
+    rec->add_option("--lit-sampling", ra.litSampling,
+                    "with --lit-spheres: BSSRDF integration uniform or disk (default " +
+                        std::string(core::nameOf(app::LitSphereSettings{}.sampling)) + ")");
+    rec->add_option("--lit-axes", ra.litAxes,
+                    "with --lit-sampling disk: probe axes uniform, pbrt or normal (default " +
+                        std::string(core::nameOf(app::LitSphereSettings{}.axes)) + ")");
     rec->add_option("--reference-bins", ra.referenceBins,
                     "radial bins of the reference (default " +
                         std::to_string(app::ReferenceSettings{}.bins) + ")")
