@@ -5,7 +5,6 @@
 #include "gl/gl.h"
 #include "pathtrace/fresnel.h"
 #include "pathtrace/rng.h"
-#include "render/profile_table.h"
 #include "sampling/analytic_surfaces.h"
 #include "sampling/frame.h"
 #include "sampling/mesh_surface.h"
@@ -121,15 +120,10 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
     m_radial.reset();
     if (s.sampling == Sampling::Disk) {
         core::Stopwatch clock;
-        const render::ProfileTable t = render::buildProfileTable(pencilProgram, m, values, b, 0.0);
-        std::vector<glm::dvec3> v(t.values.begin(), t.values.end());
-        m_radial.emplace(sampling::tabulateChannels(
-            sampling::profileGridRadii(t.rMax, int(t.values.size())), v, s.energyLoss, name));
-        m_disk = std::make_unique<sampling::DiskSampler>(
-            std::array<const sampling::RadialDistribution*, 3>{&(*m_radial)[0], &(*m_radial)[1],
-                                                               &(*m_radial)[2]},
-            s.axes);
-        gl::recordTiming("integrate: radial tables", clock.ms());
+        m_radial = std::make_unique<RadialSource>(
+            radialSource(pencilProgram, m, values, b, s.energyLoss, name));
+        m_disk = std::make_unique<sampling::DiskSampler>(m_radial->pointers(), s.axes);
+        gl::recordTiming("integrate: radial distributions (" + m_radial->kind + ")", clock.ms());
     }
     m_sum.assign(3 * m_hit.size(), 0.0);
     m_sumSq.assign(3 * m_hit.size(), 0.0);
@@ -140,7 +134,8 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
 
 std::array<double, 3> ImageIntegrator::radiusMax() const {
     if (!m_radial) return {0, 0, 0};
-    return {(*m_radial)[0].radiusMax(), (*m_radial)[1].radiusMax(), (*m_radial)[2].radiusMax()};
+    return {m_radial->channel[0]->radiusMax(), m_radial->channel[1]->radiusMax(),
+            m_radial->channel[2]->radiusMax()};
 }
 
 void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel) {

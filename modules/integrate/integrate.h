@@ -31,6 +31,7 @@
 #include "core/limits.h"
 #include "litsphere/litsphere.h"
 #include "mesh/mesh.h"
+#include "integrate/radial_source.h"
 #include "sampling/disk_sampling.h"
 #include "sampling/tabulated_radial.h"
 
@@ -108,7 +109,7 @@ class ImageIntegrator {
     bssrdf::ParamValues m_values;
     bssrdf::Builtins m_builtins;
     Settings m_settings;
-    std::optional<std::array<sampling::TabulatedRadial, 3>> m_radial;
+    std::unique_ptr<RadialSource> m_radial;
     std::unique_ptr<sampling::DiskSampler> m_disk;
     // per pixel: shading point (valid when the centre ray hits), Σ F, Σ F²
     std::vector<char> m_hit;
