@@ -103,6 +103,8 @@ void drawPanels(Workbench& wb, UiState& ui) {
     wb.scene().settings().enabled = scene;
     wb.sliceSettings().enabled = shown[static_cast<size_t>(PanelId::Slice)];
     wb.setScoreboardEnabled(shown[static_cast<size_t>(PanelId::Scoreboard)]);
+    wb.monteCarloSettings().enabled =
+        shown[static_cast<size_t>(PanelId::Render)] && ui.render.mode == RenderMode::MonteCarlo;
     wb.setInteracting(false); // the Render panel sets it while the user drags
     drawWorkspace(wb, ui);
 }

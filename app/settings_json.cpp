@@ -18,6 +18,7 @@ json settingsJson(Workbench& wb, int traceX, int traceY) {
             {"reference", core::toJson(wb.referenceSettings())},
             {"lit_spheres", core::toJson(wb.litSphereSettings())},
             {"slice", core::toJson(wb.sliceSettings())},
+            {"monte_carlo", core::toJson(wb.monteCarloSettings())},
             {"scene", scene}};
 }
 
@@ -35,6 +36,8 @@ void applySettingsJson(Workbench& wb, const json& settings, const std::string& f
             wb.referenceSettings() = core::fromJson(*it, file, path, ReferenceSettings{});
         } else if (key == "slice") {
             wb.sliceSettings() = core::fromJson(*it, file, path, SliceSettings{});
+        } else if (key == "monte_carlo") {
+            wb.monteCarloSettings() = core::fromJson(*it, file, path, MonteCarloSettings{});
         } else if (key == "lit_spheres") {
             wb.litSphereSettings() = core::fromJson(*it, file, path, LitSphereSettings{});
         } else if (key == "scene") {
@@ -74,6 +77,7 @@ std::string defaultsTable() {
     rows(SliceSettings{}, "slice.");
     rows(LitSphereSettings{}, "lit_spheres.");
     rows(SceneSettings{}, "scene.");
+    rows(MonteCarloSettings{}, "monte_carlo.");
     return out;
 }
 

@@ -142,7 +142,13 @@ struct IrradiancePanelState {
     gl::Texture cubeTex;
 };
 
+// What the Render panel shows: the point-cloud renderer (hierarchical or brute force: its
+// render settings say which) or the Monte Carlo render of the same view (monte_carlo_stage.h).
+enum class RenderMode { PointCloud, MonteCarlo };
+
 struct RenderPanelState {
+    RenderMode mode = RenderMode::PointCloud;
+    gl::Texture mcTex; // the Monte Carlo image, tone mapped
     Heatmap heatmap = Heatmap::Image;
     Rect imageRect;            // where the image was drawn last frame (screen pixels)
     render::Readback readback; // of the shown frame, for the pixel probe and export

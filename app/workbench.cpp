@@ -36,6 +36,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     m_reference = std::make_unique<ReferenceStage>(m_root / "shaders" / "pathtrace_slab.comp");
     m_slice = std::make_unique<SliceStage>();
     m_scoreboard = std::make_unique<ScoreboardStage>();
+    m_monteCarlo = std::make_unique<MonteCarloStage>();
     m_litSpheres = std::make_unique<LitSphereStage>(m_root / "shaders" / "pathtrace_sphere.comp");
     m_scene = std::make_unique<SceneStage>(m_root);
     m_scene->settings().enabled = false;
@@ -77,6 +78,8 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
          }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
         {m_scene.get(), [this] { return m_scene->update(sceneModelInput(), m_interacting); }},
+        {m_monteCarlo.get(),
+         [this] { return m_monteCarlo->update({m_mc, m_scene.get(), sceneModelInput(), 20.0}); }},
     };
     update();
 }

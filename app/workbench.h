@@ -22,6 +22,7 @@
 #include "plot/plot.h"
 #include "reference_stage.h"
 #include "scene_stage.h"
+#include "monte_carlo_stage.h"
 #include "scoreboard_stage.h"
 #include "slice_stage.h"
 
@@ -155,6 +156,11 @@ class Workbench {
     void finishScene(const SceneStage::FinishProgress& progress = {}) {
         m_scene->finish(sceneModelInput(), progress);
     }
+    // The Render panel's Monte Carlo renderer (monte_carlo_stage.h) of the shown frame's view.
+    MonteCarloSettings& monteCarloSettings() { return m_mc; }
+    const MonteCarloStage& monteCarlo() const { return *m_monteCarlo; }
+    // Runs it to its target on the current frame (CLI, tests, bench).
+    void finishMonteCarlo() { m_monteCarlo->finish({m_mc, m_scene.get(), sceneModelInput(), -1}); }
     void setInteracting(bool v) { m_interacting = v; }
     // Every GL program with the shader files it was built from and its build count, by
     // "owner:program" (model:<model file>:<template>, scene's render:/irradiance:,
@@ -192,6 +198,8 @@ class Workbench {
     bool m_scoreboardEnabled = false;
     std::unique_ptr<LitSphereStage> m_litSpheres;
     std::unique_ptr<SceneStage> m_scene;
+    MonteCarloSettings m_mc;
+    std::unique_ptr<MonteCarloStage> m_monteCarlo;
     // The stages in data-flow order: run() gathers the stage's inputs and updates it.
     struct PipelineStep {
         Stage* stage;

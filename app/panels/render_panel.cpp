@@ -6,6 +6,7 @@
 #include "panels.h"
 #include "scene_panel_util.h"
 
+#include "../image_view.h"
 #include "pathtrace/image_io.h"
 #include "render/frame_analysis.h"
 
@@ -209,8 +210,18 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
     sameLineIfFits(checkboxWidth("bounding-box criterion"));
     ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
-    sameLineIfFits(checkboxWidth("brute force"));
-    ImGui::Checkbox("brute force", &r.bruteForce);
+    sameLineIfFits(220);
+    int renderer = ps.mode == RenderMode::MonteCarlo ? 2 : (r.bruteForce ? 1 : 0);
+    ImGui::SetNextItemWidth(220);
+    if (ImGui::Combo("renderer", &renderer,
+                     "hierarchical\0brute force\0Monte Carlo (probe rays)\0")) {
+        r.bruteForce = renderer == 1;
+        ps.mode = renderer == 2 ? RenderMode::MonteCarlo : RenderMode::PointCloud;
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("hierarchical / brute force: the point cloud (thesis 3.3)\nMonte "
+                          "Carlo: entry points by probe rays (King et al. 2013) with shadow rays, "
+                          "on the finished frame's view, progressive");
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("exposure", &r.exposure, -10.0f, 10.0f, "%.1f EV");
     sameLineIfFits(100 + ImGui::CalcTextSize("gamma").x + 8);
@@ -275,6 +286,45 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                           f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
                           f.tonemapMs, renders);
     GLuint tex = f.ldr;
+    if (ps.mode == RenderMode::MonteCarlo) {
+        MonteCarloSettings& mc = wb.monteCarloSettings();
+        int sampling = static_cast<int>(mc.sampling);
+        ImGui::SetNextItemWidth(150);
+        if (ImGui::Combo("sampling", &sampling, "uniform area\0disk probe rays\0"))
+            mc.sampling = static_cast<integrate::Sampling>(sampling);
+        if (mc.sampling == integrate::Sampling::Disk) {
+            sameLineIfFits(itemWidth(150, "axes"));
+            int axes = static_cast<int>(mc.axes);
+            ImGui::SetNextItemWidth(150);
+            if (ImGui::Combo("axes", &axes, "N, T, B: 1/3 each\0N 1/2, T, B 1/4\0N only\0"))
+                mc.axes = static_cast<sampling::AxisScheme>(axes);
+        }
+        sameLineIfFits(itemWidth(100, "spp"));
+        ImGui::SetNextItemWidth(100);
+        if (inputIntCommitted("spp", &mc.spp, 64)) mc.spp = std::clamp(mc.spp, 1, 10000000);
+        const MonteCarloStage& m = wb.monteCarlo();
+        if (!m.problem().empty()) {
+            ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", m.problem().c_str());
+        } else if (m.active()) {
+            const litsphere::Image img = m.image();
+            double var = 0, sum2 = 0;
+            for (size_t i = 0; i < img.mean.size(); ++i)
+                if (std::isfinite(img.variance[i])) {
+                    var += img.variance[i];
+                    sum2 += double(img.mean[i]) * img.mean[i];
+                }
+            ImGui::Text("Monte Carlo %llu / %d spp, %.1f s, relative standard error %.3g",
+                        (unsigned long long)m.sppDone(), mc.spp, m.seconds(),
+                        sum2 > 0 ? std::sqrt(var / sum2) : 0.0);
+            if (img.width == f.width && img.height == f.height) {
+                const std::vector<uint8_t> rgba = tonemap(img, r.exposure, r.gamma);
+                gl::uploadRGBA8(ps.mcTex, img.width, img.height, rgba.data());
+                tex = ps.mcTex.id();
+            }
+        } else {
+            hintText("waiting for the full-resolution frame ...");
+        }
+    }
     if (ps.heatmap != Heatmap::Image) {
         render::Readback rb = scene.readback();
         const std::vector<glm::vec4>* brute = scene.bruteForceResult();

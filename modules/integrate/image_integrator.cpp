@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace integrate {
 
@@ -76,6 +77,40 @@ ImageIntegrator::ImageIntegrator(const litsphere::Setup& setup, mesh::Mesh m,
     m_geo->mesh = std::make_unique<sampling::MeshSurface>(m, 2 * setup.radiusMm, name);
     m_geo->sizeMm = 2 * setup.radiusMm;
     findShadingPoints();
+}
+
+ImageIntegrator::ImageIntegrator(const mesh::Mesh& m, double scaleMm, const std::string& name,
+                                 const ViewPoints& view)
+    : m_geo(std::make_unique<Geometry>()) {
+    if (!(std::isfinite(scaleMm) && scaleMm > 0))
+        throw core::Error("integrate", 0, "the scale must be a finite length > 0 mm");
+    const size_t pixels = size_t(view.width) * size_t(view.height);
+    if (view.width < 1 || view.height < 1 || view.position.size() != pixels ||
+        view.normal.size() != pixels)
+        throw core::Error("integrate", 0, "the view's G-buffer does not match its size");
+    const double l2 = glm::dot(view.lightDir, view.lightDir);
+    if (!(std::isfinite(l2) && l2 > 0))
+        throw core::Error("integrate", 0, "the light direction must be finite and non-zero");
+    m_setup.width = view.width;
+    m_setup.height = view.height;
+    m_setup.radiusMm = scaleMm;
+    m_geo->mesh = std::make_unique<sampling::MeshSurface>(m, scaleMm, name);
+    m_geo->sizeMm = scaleMm;
+    m_light = glm::normalize(view.lightDir);
+    m_irradiance = view.irradiance;
+    m_view = true;
+    m_hit.assign(pixels, 0);
+    m_shading.assign(pixels, {});
+    m_toCamera.assign(pixels, glm::dvec3(0, 0, 1));
+    for (size_t p = 0; p < pixels; ++p) {
+        if (!(view.position[p].w > 0.5f)) continue;
+        const glm::dvec3 x(view.position[p]), n(view.normal[p]);
+        if (!(glm::dot(n, n) > 0)) continue;
+        m_hit[p] = 1;
+        m_shading[p] = {x * scaleMm, glm::normalize(n)};
+        const glm::dvec3 d = view.camera - x;
+        if (glm::dot(d, d) > 0) m_toCamera[p] = glm::normalize(d);
+    }
 }
 
 ImageIntegrator::~ImageIntegrator() = default;
@@ -172,7 +207,7 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                     }
                     Pending q;
                     q.q.xo = glm::vec3(at.x - x.x);
-                    q.q.wi = glm::vec3(m_light);
+                    q.q.wi = glm::vec3(m_view ? x.n : m_light);
                     q.q.wo = glm::vec3(at.n);
                     q.factor = fresnelTransmittance(cosL, eta) * cosL * inversePdf;
                     out.push_back(q);
@@ -206,10 +241,17 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
         size_t i = 0;
         for (size_t p = 0; p < pixels; ++p) {
             if (!m_hit[p]) continue;
+            // the view's radiance: E0 and the exit transmittance Ft(η, cos θo)/π
+            glm::dvec3 scale(1.0);
+            if (m_view) {
+                const double cosO = std::min(1.0, std::abs(glm::dot(m_shading[p].n, m_toCamera[p])));
+                scale = m_irradiance * (fresnelTransmittance(cosO, eta) / std::numbers::pi);
+            }
             for (int k = 0; k < n; ++k) {
                 glm::dvec3 F(0.0);
                 for (const Pending& q : pending[p * size_t(n) + size_t(k)])
                     F += values[i++] * q.factor;
+                F *= scale;
                 for (int c = 0; c < 3; ++c) {
                     m_sum[3 * p + size_t(c)] += F[c];
                     m_sumSq[3 * p + size_t(c)] += F[c] * F[c];

@@ -29,6 +29,8 @@
 
 #include "bssrdf/program.h"
 #include "core/limits.h"
+
+#include <glm/vec4.hpp>
 #include "litsphere/litsphere.h"
 #include "mesh/mesh.h"
 #include "integrate/radial_source.h"
@@ -67,6 +69,22 @@ template <class V> void fields(V& v, Settings& s) {
     v("seed", s.seed, "random seed");
 }
 
+// The shading points of a rendered view of a mesh (the hierarchical renderer's G-buffer,
+// render::Readback): per pixel the surface point and normal in mesh units (w = 1: hit) and the
+// camera position, for the Monte Carlo render of the Render panel. The pixel value is then the
+// renderer's radiance, with its conventions (render.h, irradiance.h):
+//     L_o(P) = Ft(η, cos θo)/π · ∫_A Bssrdf(x, n(x), P, n(P)) · E_t(x) dA(x),
+//     E_t(x) = E0 · Ft(η, n(x)·L) · max(0, n(x)·L) · V(x),   cos θo = min(1, |n(P)·ω_o|),
+// ω_o towards the camera, V by a shadow ray through the mesh (Embree; the point-cloud pipeline
+// uses a shadow map).
+struct ViewPoints {
+    int width = 0, height = 0;
+    std::vector<glm::vec4> position, normal; // mesh units; position.w > 0.5: the pixel hits
+    glm::dvec3 camera{0.0};                  // mesh units
+    glm::dvec3 lightDir{0, 0, 1};            // towards the light
+    glm::dvec3 irradiance{1.0};              // E0, RGB
+};
+
 class ImageIntegrator {
   public:
     // The sphere of setup.radiusMm (validated: core::Error("integrate", 0, …) naming the field).
@@ -74,6 +92,11 @@ class ImageIntegrator {
     // A closed, consistently wound mesh (mesh::checkClosedOutward: an open mesh is a
     // core::Error naming it), normalised and scaled as above.
     ImageIntegrator(const litsphere::Setup& setup, mesh::Mesh m, const std::string& name);
+    // A view of a mesh (normalised as the scene has it, in mesh units) scaled by `scaleMm`: the
+    // Monte Carlo render of the Render panel (ViewPoints above). Not checked for closedness
+    // (the scene's meshes are what they are; probe rays find every surface).
+    ImageIntegrator(const mesh::Mesh& m, double scaleMm, const std::string& name,
+                    const ViewPoints& view);
     ~ImageIntegrator();
     ImageIntegrator(const ImageIntegrator&) = delete;
     ImageIntegrator& operator=(const ImageIntegrator&) = delete;
@@ -115,6 +138,10 @@ class ImageIntegrator {
     std::vector<char> m_hit;
     std::vector<sampling::SurfacePoint> m_shading;
     std::vector<double> m_sum, m_sumSq;
+    // the view's conventions (ViewPoints): Wi = n(x), E0, Ft(η, cos θo)/π per pixel
+    bool m_view = false;
+    glm::dvec3 m_irradiance{1.0};
+    std::vector<glm::dvec3> m_toCamera; // per pixel, unit
     uint64_t m_samples = 0, m_evaluations = 0;
     double m_seconds = 0;
 };
