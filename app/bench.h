@@ -41,4 +41,18 @@ int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOption
 int benchSampling(const std::filesystem::path& root, double seconds, int size,
                   double referenceFactor);
 
+struct ConvergenceBenchOptions {
+    std::string preset = "Marble";
+    int width = 160, height = 90;
+    size_t points = 50000;
+    std::vector<float> eps{16.0f, 8.0f, 4.0f, 2.0f, 1.0f}; // bounding-box criterion (default)
+    int referenceSpp = 1024;
+    int maxSpp = 256;
+    std::string out; // folder for convergence.csv and convergence.png (empty: print only)
+};
+// bench convergence: relative RMSE against time of the Render panel's renderers (hierarchical
+// at several eps, brute force, Monte Carlo uniform and disk with each axis scheme) on the
+// default scene against a converged Monte Carlo image; a log-log plot (bench_convergence.cpp).
+int benchConvergence(const std::filesystem::path& root, const ConvergenceBenchOptions& o);
+
 } // namespace app

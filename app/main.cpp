@@ -338,6 +338,23 @@ int main(int argc, char** argv) {
                      "the reference runs this many times longer (default 10)")
         ->check(CLI::Range(1.0, 1000.0));
 
+    auto* benchConv = bench->add_subcommand(
+        "convergence", "error against time of the Render panel's renderers, log-log plot");
+    app::ConvergenceBenchOptions cbo;
+    benchConv->add_option("--preset", cbo.preset, "material preset (default Marble)");
+    benchConv->add_option("--width", cbo.width, "frame width (default 160)")
+        ->check(CLI::Range(8, 4096));
+    benchConv->add_option("--height", cbo.height, "frame height (default 90)")
+        ->check(CLI::Range(8, 4096));
+    benchConv->add_option("--points", cbo.points, "point-cloud points (default 50000)")
+        ->check(CLI::Range(100, 10000000));
+    benchConv->add_option("--reference-spp", cbo.referenceSpp,
+                          "samples per pixel of the converged image (default 1024)")
+        ->check(CLI::Range(1, 1000000));
+    benchConv->add_option("--max-spp", cbo.maxSpp, "last Monte Carlo point (default 256)")
+        ->check(CLI::Range(1, 1000000));
+    benchConv->add_option("--out", cbo.out, "folder for convergence.csv and convergence.png");
+
     auto* benchHier = bench->add_subcommand(
         "hierarchy", "hierarchical vs brute-force render, point-cloud generation vs Turk");
     app::HierarchyBenchOptions hbo;
@@ -396,6 +413,7 @@ int main(int argc, char** argv) {
         if (*compareCmd) return app::runCompareCli(root, ca);
         if (*benchPt) return app::benchPathtrace(root, benchSeconds);
         if (*benchHier) return app::benchHierarchy(root, hbo);
+        if (*benchConv) return app::benchConvergence(root, cbo);
         if (*benchSamp) return app::benchSampling(root, sampSeconds, sampSize, sampReference);
         if (*sphere || *meshCmd) {
             const glm::dvec3 sa = app::parseRgb(imSigmaA, "--sigma-a");

@@ -9,6 +9,24 @@
 
 namespace app {
 
+integrate::ViewPoints viewPointsOf(SceneStage& scene) {
+    const irradiance::Settings& light = scene.settings().light;
+    if (light.mode != irradiance::LightMode::Directional)
+        throw core::Error("monte carlo", 0,
+                          "the Monte Carlo render has the directional light only (the scene's "
+                          "light is another mode)");
+    const render::Readback rb = scene.readback();
+    integrate::ViewPoints view;
+    view.width = rb.width;
+    view.height = rb.height;
+    view.position = rb.position;
+    view.normal = rb.normal;
+    view.camera = glm::dvec3(scene.settings().render.camera.position());
+    view.lightDir = glm::dvec3(light.direction);
+    view.irradiance = glm::dvec3(light.irradiance);
+    return view;
+}
+
 bool MonteCarloStage::update(const MonteCarloInputs& in) {
     const MonteCarloSettings& s = in.settings;
     if (!s.enabled || !in.scene) return false;
@@ -20,8 +38,10 @@ bool MonteCarloStage::update(const MonteCarloInputs& in) {
     if (scene.rendering() || scene.frame().width != r.width || scene.frame().height != r.height)
         return false;
     const irradiance::Settings& light = scene.settings().light;
+    MonteCarloSettings keyed = s; // spp is a target the render runs to, not an input
+    keyed.spp = 0;
     const std::string key =
-        core::keyOf(r.camera, r.width, r.height, light, s) + scene.meshHash() +
+        core::keyOf(r.camera, r.width, r.height, light, keyed) + scene.meshHash() +
         std::to_string(e->generation) + toJson(e->values).dump() + in.model.materialKey;
     bool changed = false;
     if (key != m_key) {
@@ -30,19 +50,7 @@ bool MonteCarloStage::update(const MonteCarloInputs& in) {
         m_problem.clear();
         changed = true;
         try {
-            if (light.mode != irradiance::LightMode::Directional)
-                throw core::Error("monte carlo", 0,
-                                  "the Monte Carlo render has the directional light only (the "
-                                  "scene's light is another mode)");
-            const render::Readback rb = scene.readback();
-            integrate::ViewPoints view;
-            view.width = rb.width;
-            view.height = rb.height;
-            view.position = rb.position;
-            view.normal = rb.normal;
-            view.camera = glm::dvec3(r.camera.position());
-            view.lightDir = glm::dvec3(light.direction);
-            view.irradiance = glm::dvec3(light.irradiance);
+            const integrate::ViewPoints view = viewPointsOf(scene);
             m_integrator = std::make_unique<integrate::ImageIntegrator>(
                 scene.mesh(), double(in.model.builtins.scale), scene.settings().meshFile, view);
             integrate::Settings is;

@@ -34,6 +34,11 @@ template <class V> void fields(V& v, MonteCarloSettings& s) {
     v("seed", s.seed, "random seed");
 }
 
+// The shading points, camera and directional light of a finished frame of `scene` (its
+// read-back G-buffer), in the renderer's conventions. Throws core::Error when the light is not
+// directional.
+integrate::ViewPoints viewPointsOf(SceneStage& scene);
+
 struct MonteCarloInputs {
     MonteCarloSettings settings;
     SceneStage* scene = nullptr;
