@@ -61,6 +61,14 @@ TabulatedRadial::TabulatedRadial(std::vector<double> radii, std::vector<double> 
     const double t = invert(m, m_radii[m + 1] - m_radii[m], target - m_cumulative[m]);
     m_radiusMax = std::min(m_radii[m] + t, m_radii[m + 1]);
     m_kept = m_cumulative[m] + partial(m, m_radiusMax - m_radii[m]);
+    // guide table of sample(): entry j is the last interval k with cumulative[k] <= j/G · kept
+    m_guide.assign(n, 0);
+    for (size_t j = 0, k = 0; j < m_guide.size(); ++j) {
+        const double y = double(j) / double(m_guide.size()) * m_kept;
+        while (k < m_lastInterval && m_cumulative[k + 1] <= y)
+            ++k;
+        m_guide[j] = k;
+    }
 
     // Convergence: the last 1 % of the radius range must hold at most eps of the energy.
     const double rLast = m_radii.back(), rEdge = 0.99 * rLast;
@@ -120,9 +128,13 @@ size_t TabulatedRadial::intervalOf(double r) const {
 
 double TabulatedRadial::sample(double u) const {
     const double y = std::clamp(u, 0.0, 1.0) * m_kept;
-    auto it = std::upper_bound(m_cumulative.begin(), m_cumulative.end(), y);
-    size_t k = it == m_cumulative.begin() ? 0 : size_t(it - m_cumulative.begin()) - 1;
-    k = std::min(k, m_lastInterval);
+    // the guide table gives the first interval that can hold y; a short scan finds it (the
+    // interval of upper_bound: the last k with cumulative[k] <= y)
+    const size_t g = std::min(size_t(std::clamp(u, 0.0, 1.0) * double(m_guide.size())),
+                              m_guide.size() - 1);
+    size_t k = m_guide[g];
+    while (k < m_lastInterval && m_cumulative[k + 1] <= y)
+        ++k;
     const double h = (k == m_lastInterval ? m_radiusMax : m_radii[k + 1]) - m_radii[k];
     return std::min(m_radii[k] + invert(k, h, y - m_cumulative[k]), m_radiusMax);
 }

@@ -64,6 +64,7 @@ class TabulatedRadial final : public RadialDistribution {
     double m_eps = kDefaultEnergyLoss;
     size_t m_lastInterval = 0; // interval holding R_m
     bool m_quadraticGrid = false; // radii are profileGridRadii(r_{K−1}, K): O(1) intervalOf
+    std::vector<size_t> m_guide;  // sample(): first candidate interval per 1/K of probability
     double m_radiusMax = 0;
     double m_kept = 0; // ∫0^{R_m} r R dr (no 2π)
 };
