@@ -501,7 +501,8 @@ void SceneStage::adoptFrame() {
     const std::string text = (m_frameModel ? m_frameModel->path + ": " : std::string()) + bad;
     if (bad.empty())
         clearProblem("render values");
-    else if (auto it = m_problems.find("render values"); it == m_problems.end() || it->second != text)
+    else if (auto it = m_problems.find("render values");
+             it == m_problems.end() || it->second != text)
         setProblem("render values", text);
     StageStat& st = m_stats["scene.render"];
     st.ms = m_renderClock.ms();

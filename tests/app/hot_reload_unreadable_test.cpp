@@ -51,8 +51,7 @@ class WithoutDacOverride {
     WithoutDacOverride() {
         if (::syscall(SYS_capget, &m_header, m_saved) != 0) return;
         __user_cap_data_struct dropped[2] = {m_saved[0], m_saved[1]};
-        dropped[0].effective &=
-            ~(CAP_TO_MASK(CAP_DAC_OVERRIDE) | CAP_TO_MASK(CAP_DAC_READ_SEARCH));
+        dropped[0].effective &= ~(CAP_TO_MASK(CAP_DAC_OVERRIDE) | CAP_TO_MASK(CAP_DAC_READ_SEARCH));
         m_dropped = ::syscall(SYS_capset, &m_header, dropped) == 0;
     }
     ~WithoutDacOverride() {
@@ -100,8 +99,8 @@ TEST(HotReloadUnreadable, AnErrorNamingTheFileTheLastGoodVersionStays) {
     // a new version saved without read permission: the same
     {
         const fs::path tmp = root / "materials" / "next.tmp";
-        core::writeFile(tmp, replaced(good, "return Multiplier/(4.0*PI)",
-                                      "return 2.0*Multiplier/(4.0*PI)"));
+        core::writeFile(
+            tmp, replaced(good, "return Multiplier/(4.0*PI)", "return 2.0*Multiplier/(4.0*PI)"));
         ASSERT_EQ(::chmod(tmp.c_str(), 0), 0);
         fs::rename(tmp, file);
     }
@@ -111,7 +110,8 @@ TEST(HotReloadUnreadable, AnErrorNamingTheFileTheLastGoodVersionStays) {
     EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base);
     // readable again: that version is adopted
     ASSERT_EQ(::chmod(file.c_str(), 0644), 0);
-    updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-5 * base; }, 8000);
+    updateUntil(
+        wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-5 * base; }, 8000);
     EXPECT_NEAR(valueAt0(wb, path), 2 * base, 1e-5 * base);
     EXPECT_TRUE(errorNaming(wb, path).empty()) << errorNaming(wb, path);
     fs::remove_all(root);
