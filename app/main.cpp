@@ -7,6 +7,7 @@
 #include "cli_image.h"
 #include "cli_options.h"
 #include "cli_pointcloud.h"
+#include "cli_probe.h"
 #include "cli_render.h"
 #include "cli_slab.h"
 #include "cli_integrate.h"
@@ -14,6 +15,7 @@
 #include "core/core.h"
 #include "gl/gl.h"
 #include "gui.h"
+#include "model_probe_process.h"
 #include "settings_json.h"
 #include "workbench.h"
 
@@ -377,6 +379,11 @@ int main(int argc, char** argv) {
     benchHier->add_option("--box-eps", hbo.boxEps,
                           "bounding-box criterion eps values (default 12.8 6.4 3.2 1.6)");
 
+    // The check of a new model in a child process (model_probe_process.h); hidden from --help.
+    auto* probeCmd = cli.add_subcommand("probe-model", "check a model's first evaluation");
+    app::ProbeModelArgs pma;
+    app::addProbeModelOptions(probeCmd, pma);
+
     // Command-line errors in the one form every error takes, `error: <argument>: message`, with
     // exit status 2 (usage); help and version exit 0 as the parser prints them.
     app::refuseNonFiniteNumbers(cli);
@@ -393,6 +400,8 @@ int main(int argc, char** argv) {
         return app::kUsageError;
     }
     if (verbose) core::setLogEchoLevel(core::LogLevel::Info);
+    // Every model a Workbench loads is first evaluated by this executable in a child process.
+    app::setModelProbeExecutable(app::selfExecutable());
 
     if (*defaultsCmd) {
         std::fputs(app::defaultsTable().c_str(), stdout);
@@ -405,6 +414,7 @@ int main(int argc, char** argv) {
         if (*mergeCmd) return app::runMergeCli(ma);
         if (*slab && !sa.gpu) return app::runSlabCli(sa);
         const fs::path root = findRoot(rootArg);
+        if (*probeCmd) return app::runProbeModel(root, pma);
         if (*prof) return app::runProfile(root, pa);
         if (*inv) return app::runInvert(root, ia);
         if (*rec) return app::runRecord(root, ra);

@@ -496,6 +496,14 @@ void SceneStage::adoptFrame() {
     glCopyImageSubData(m_frame.ldr, GL_TEXTURE_2D, 0, 0, 0, 0, m_displayLdr.id(), GL_TEXTURE_2D, 0,
                        0, 0, 0, m_frame.width, m_frame.height, 1);
     m_frame.ldr = m_displayLdr.id();
+    // NaN, Inf or negative radiance is counted, named after the model, never passed off as black
+    const std::string bad = render::invalidPixelsProblem(m_frame.invalid);
+    const std::string text = (m_frameModel ? m_frameModel->path + ": " : std::string()) + bad;
+    if (bad.empty())
+        clearProblem("render values");
+    else if (auto it = m_problems.find("render values");
+             it == m_problems.end() || it->second != text)
+        setProblem("render values", text);
     StageStat& st = m_stats["scene.render"];
     st.ms = m_renderClock.ms();
     ++st.runs;

@@ -6,7 +6,7 @@
 
 #include "gl/gl.h"
 #include "panels/file_dialog.h"
-#include "replay_process.h"
+#include "child_process.h"
 #include "scene_stage.h"
 #include "scene_view.h"
 #include "workspace.h"

@@ -1,6 +1,7 @@
 // Workbench state and stage graph: reload → material (inversion) → pencil profile.
 #include "workbench.h"
 
+#include "model_probe_process.h"
 #include "reference_plot.h"
 
 #include "core/color.h"
@@ -43,11 +44,17 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     m_library = std::make_unique<bssrdf::ModelLibrary>(
         m_root,
         std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp", "sphere_bssrdf.comp"});
+    // A new or changed model is first evaluated in a child process with a time limit, so a
+    // Bssrdf() that does not end never reaches this process's GL (model_probe_process.h).
+    if (!modelProbeExecutable().empty())
+        m_library->setProbe(
+            makeProbeStarter(m_root, [this](const fs::path& file) { return probeInputs(file); }));
     if (models.empty()) m_library->scanAll();
     for (const auto& m : models) {
         if (!fs::exists(m)) throw core::Error(m.string(), 0, "no such model file");
         m_library->reload(m);
     }
+    m_library->waitForProbes(); // all at once: as long as the slowest, within the limit
     core::logInfo("resources: " + m_root.string());
     if (watch)
         m_watcher = std::make_unique<core::FileWatcher>(
@@ -72,8 +79,8 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
          [this] {
              const ReferenceSnapshot snap = m_reference->snapshot();
              const ReferenceInputs ri = referenceInputs();
-             ScoreboardInputs in{m_scoreboardEnabled, m_library.get(), &m_views, &snap, ri.model,
-                                 ri.params};
+             ScoreboardInputs in{
+                 m_scoreboardEnabled, m_library.get(), &m_views, &snap, ri.model, ri.params};
              return m_scoreboard->update(in);
          }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
@@ -136,8 +143,21 @@ double Workbench::autoRMax() const {
     return ld > 0 ? m_plot.rangeLd * ld : 20.0;
 }
 
+ProbeInputs Workbench::probeInputs(const fs::path& file) const {
+    ProbeInputs in;
+    const std::string path = core::relativeTo(file, m_root);
+    const auto it = m_views.find(path);
+    material::MaterialParams p =
+        (it != m_views.end() && it->second.override ? it->second.own : m_shared).params;
+    if (it != m_views.end() && it->second.effective) p = *it->second.effective;
+    in.builtins = builtinsOf(p);
+    in.rMaxMm = m_rMax;
+    in.samples = m_plot.samples;
+    return in;
+}
+
 bool Workbench::update() {
-    bool changed = false;
+    bool changed = m_library->pollProbes();
     if (m_watcher) {
         auto paths = m_watcher->poll();
         if (!paths.empty()) {

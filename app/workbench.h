@@ -18,6 +18,7 @@
 #include "core/limits.h"
 #include "lit_sphere_stage.h"
 #include "material/material.h"
+#include "model_probe_process.h"
 #include "model_stages.h"
 #include "plot/plot.h"
 #include "reference_stage.h"
@@ -169,6 +170,8 @@ class Workbench {
 
   private:
     double autoRMax() const;
+    // What the check of a new version of `file` evaluates: its current σ, the plot's radii.
+    ProbeInputs probeInputs(const std::filesystem::path& file) const;
     // The model whose σ the reference, the lit spheres and the scene use (solo, else first
     // visible), with a usable material.
     const bssrdf::ModelEntry* sourceModel(const ModelView** view) const;

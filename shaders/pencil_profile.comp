@@ -4,6 +4,9 @@
 // (Xi = 0, Wi = n) and light leaving at Xo = (r, 0, 0) along Wo = n. r in mm.
 // With Queries = 1 the same program evaluates Bssrdf(0, Wi, Xo, Wo) at arbitrary geometry: each
 // entry is three vec4 (Xo, Wi, Wo in .xyz) — the BSSRDF slice panel's bins (app/slice_model.h).
+// With Sentinel > 0 (the check of a new model, bssrdf/model_probe.h) a loop of that length runs
+// after Bssrdf(): a driver that stops loops after a total iteration count (Mesa llvmpipe) cuts
+// it short when a loop in the model used up the budget, and .w of the value is then -1.
 layout(local_size_x = 64) in;
 
 #include "common/bssrdf_prelude.glsl"
@@ -12,8 +15,16 @@ layout(local_size_x = 64) in;
 
 uniform uint Count;
 uniform uint Queries; // 0: pencil-beam radii (one vec4 per entry), 1: (Xo, Wi, Wo) per entry
+uniform uint Sentinel; // 0, or the length of a loop that must run in full after Bssrdf()
 layout(std430, binding = 0) readonly buffer Radii { vec4 radii[]; };
 layout(std430, binding = 1) writeonly buffer Values { vec4 values[]; };
+
+// .w: r (or |Xo|), -1 when the sentinel loop was cut short.
+float sentinelCheck(float w) {
+    uint s = 0u;
+    for (uint q = 0u; q < Sentinel; ++q) s += 1u;
+    return s == Sentinel ? w : -1.0;
+}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -22,9 +33,11 @@ void main() {
     const vec3 n = vec3(0.0, 0.0, 1.0);
     if (Queries == 1u) {
         vec3 xo = radii[3u * i].xyz, wi = radii[3u * i + 1u].xyz, wo = radii[3u * i + 2u].xyz;
-        values[i] = vec4(Bssrdf(vec3(0.0), wi, xo, wo), length(xo));
+        vec3 v = Bssrdf(vec3(0.0), wi, xo, wo);
+        values[i] = vec4(v, sentinelCheck(length(xo)));
         return;
     }
     float r = radii[i].x;
-    values[i] = vec4(Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);
+    vec3 v = Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n);
+    values[i] = vec4(v, sentinelCheck(r));
 }

@@ -50,6 +50,9 @@ void drawModelsPanel(Workbench& wb, UiShared&) {
                                    e.model ? "\n(showing the last good version)" : "");
                 ImGui::PopStyleColor();
             }
+            if (e.checking())
+                ImGui::TextDisabled("checking the new version's first evaluation%s",
+                                    e.model ? " (showing the last good version)" : "");
             if (e.model) {
                 const auto& a = e.model->attrs;
                 ImGui::PushStyleColor(ImGuiCol_Text,

@@ -1,5 +1,6 @@
 // bssrdf GPU half: program building with #line source maps, uniforms, consumer dispatch.
 #include "bssrdf/program.h"
+#include "detail/run_batch.h"
 
 #include "core/core.h"
 
@@ -79,17 +80,17 @@ std::vector<double> radiusGrid(double rMaxMm, int samples) {
     return r;
 }
 
-namespace {
-// Uploads `in` (`inVec4` vec4 per entry), dispatches, reads back vec4 per entry. `queries`
-// sets pencil_profile.comp's Queries uniform where the program has it.
+namespace detail {
 std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t count,
-                            size_t inVec4 = 1, GLuint queries = 0) {
+                            size_t inVec4, GLuint queries, GLuint sentinel,
+                            const std::vector<float>* outInit) {
     const size_t bytes = count * 4 * sizeof(float);
     gl::Buffer inBuf = gl::createBuffer(bytes * inVec4, in.data());
-    gl::Buffer outBuf = gl::createBuffer(bytes, nullptr);
+    gl::Buffer outBuf = gl::createBuffer(bytes, outInit ? outInit->data() : nullptr);
     glUseProgram(program);
     glUniform1ui(glGetUniformLocation(program, "Count"), static_cast<GLuint>(count));
     if (GLint q = glGetUniformLocation(program, "Queries"); q >= 0) glUniform1ui(q, queries);
+    if (GLint q = glGetUniformLocation(program, "Sentinel"); q >= 0) glUniform1ui(q, sentinel);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, inBuf.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, outBuf.id());
     glDispatchCompute(static_cast<GLuint>((count + 63) / 64), 1, 1);
@@ -98,7 +99,8 @@ std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t
     glGetNamedBufferSubData(outBuf.id(), 0, static_cast<GLsizeiptr>(bytes), out.data());
     return out;
 }
-} // namespace
+} // namespace detail
+using detail::runBatch;
 
 Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& values,
                         const Builtins& b, const std::vector<double>& radii) {

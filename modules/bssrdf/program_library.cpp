@@ -46,7 +46,9 @@ ModelEntry& ModelLibrary::open(const fs::path& file) {
 
 namespace {
 // Records why a (re)load failed; the entry keeps its last good model and programs.
+// A version under its check is dropped: it is older than what failed.
 void fail(ModelEntry& e, const core::Error& err) {
+    e.pending.reset();
     e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(), err.message()};
     core::logError(e.displayPath + ": " + (e.model ? "keeping the last good version: " : "") +
                    e.problem->text());
@@ -75,29 +77,88 @@ void ModelLibrary::load(ModelEntry& e) {
             return fail(e, err);
         }
     }
-    e.values = e.model ? carryOver(parsed, *e.model, e.values) : defaultValues(parsed);
-    e.model = std::move(parsed);
-    e.programs = std::move(programs);
-    if (e.problem) core::logInfo(e.displayPath + ": recovered");
-    e.problem.reset();
-    ++e.generation;
-    ++e.modelGeneration;
+    PendingModel c;
+    c.model = std::move(parsed);
+    c.programs = std::move(programs);
+    propose(e, std::move(c));
 }
 
 void ModelLibrary::rebuild(ModelEntry& e, const std::vector<std::string>& consumers) {
-    std::map<std::string, gl::Program> programs;
+    PendingModel c;
+    c.model = *e.model;
+    c.newModel = false;
     for (const auto& consumer : consumers) {
         try {
-            programs[consumer] =
+            c.programs[consumer] =
                 buildModelProgram(*e.model, consumer, m_sources, e.shaders[consumer]);
         } catch (const core::Error& err) {
             return fail(e, err);
         }
     }
-    for (auto& [consumer, program] : programs)
-        e.programs[consumer] = std::move(program);
+    propose(e, std::move(c));
+}
+
+void ModelLibrary::propose(ModelEntry& e, PendingModel c) {
+    e.pending.reset(); // a newer version replaces one still under its check, which stops
+    if (m_probe) {
+        try {
+            const ParamValues values =
+                e.model ? carryOver(c.model, *e.model, e.values) : defaultValues(c.model);
+            c.probe = m_probe(e.file, c.model, values, probeKey(c.model, m_sources));
+        } catch (const core::Error& err) {
+            return fail(e, err);
+        }
+        if (c.probe) {
+            core::logInfo(e.displayPath + ": checking its first evaluation in a separate process");
+            e.pending = std::make_unique<PendingModel>(std::move(c));
+            return;
+        }
+    }
+    adopt(e, std::move(c));
+}
+
+void ModelLibrary::adopt(ModelEntry& e, PendingModel c) {
+    if (c.newModel) {
+        e.values = e.model ? carryOver(c.model, *e.model, e.values) : defaultValues(c.model);
+        e.model = std::move(c.model);
+        e.programs = std::move(c.programs);
+        ++e.modelGeneration;
+    } else {
+        for (auto& [consumer, program] : c.programs)
+            e.programs[consumer] = std::move(program);
+    }
+    if (e.problem) core::logInfo(e.displayPath + ": recovered");
     e.problem.reset();
     ++e.generation;
+}
+
+bool ModelLibrary::finishProbes(bool block) {
+    bool changed = false;
+    for (auto& e : m_entries) {
+        if (!e.pending) continue;
+        const ProbeVerdict v = block ? e.pending->probe->wait() : e.pending->probe->poll();
+        if (!v.done) continue;
+        std::unique_ptr<PendingModel> c = std::move(e.pending);
+        if (v.problem.empty())
+            adopt(e, std::move(*c));
+        else
+            fail(e, core::Error(e.displayPath, 0, v.problem));
+        changed = true;
+    }
+    return changed;
+}
+
+bool ModelLibrary::pollProbes() {
+    return finishProbes(false);
+}
+
+bool ModelLibrary::waitForProbes() {
+    return finishProbes(true);
+}
+
+bool ModelLibrary::checking() const {
+    return std::any_of(m_entries.begin(), m_entries.end(),
+                       [](const ModelEntry& e) { return e.checking(); });
 }
 
 bool ModelLibrary::reload(const fs::path& fileIn) {
@@ -154,8 +215,8 @@ bool ModelLibrary::onFilesChanged(const std::vector<fs::path>& paths) {
         for (const auto& [consumer, record] : e.shaders)
             if (record.dependencies.containsAny(others)) hit.push_back(consumer);
         if (hit.empty()) continue;
-        if (e.problem || !e.model)
-            load(e); // the last load failed: nothing newer than the last good is trusted
+        if (e.problem || !e.model || e.pending)
+            load(e); // the last load failed or is under its check: the file is read again
         else
             rebuild(e, hit);
         changed = true;

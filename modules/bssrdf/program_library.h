@@ -3,13 +3,17 @@
 // last good state on any error (parse, compile, link, missing function) and recovers on the
 // next good save; parameter values survive when name and type persist. Each program records
 // the shader files it was built from (shader::Record): a changed shader file rebuilds exactly
-// the programs that read it.
+// the programs that read it. With a probe set (model_probe.h), a new or changed model is adopted
+// only once its first evaluation finished in time elsewhere; until then the last good version
+// stays in use.
 #pragma once
 
+#include "bssrdf/model_probe.h"
 #include "bssrdf/program.h"
 
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +27,14 @@ struct Problem {
     std::string text() const; // "file:line: message"
 };
 
+// A version of a model that parsed and built, waiting for its check before it is adopted.
+struct PendingModel {
+    Model model;
+    std::map<std::string, gl::Program> programs; // all consumers, or those rebuilt
+    bool newModel = true;                        // false: programs rebuilt for new shader files
+    std::unique_ptr<PendingProbe> probe;
+};
+
 struct ModelEntry {
     std::filesystem::path file;
     std::string displayPath;                     // relative to the project root
@@ -30,9 +42,11 @@ struct ModelEntry {
     std::map<std::string, gl::Program> programs; // consumer template -> last good program
     shader::Records shaders; // consumer template -> its shader files (not the model file)
     ParamValues values;
-    std::optional<Problem> problem; // set while the file on disk is broken
-    long long generation = 0;       // bumps on every successful (re)load or program rebuild
-    long long modelGeneration = 0;  // bumps when the model itself (the parse) is replaced
+    std::optional<Problem> problem;        // set while the file on disk is broken
+    long long generation = 0;              // bumps on every successful (re)load or program rebuild
+    long long modelGeneration = 0;         // bumps when the model itself (the parse) is replaced
+    std::unique_ptr<PendingModel> pending; // a newer version under its check (probe)
+    bool checking() const { return pending != nullptr; }
     bool usable() const { return model.has_value() && programs.count("pencil_profile.comp"); }
     bool hasInversion() const { return model && model->diffuseReflectance.has_value(); }
 };
@@ -58,12 +72,25 @@ class ModelLibrary {
     ModelEntry* find(const std::string& nameOrPath);
     const std::filesystem::path& root() const { return m_root; }
     const shader::Sources& sources() const { return m_sources; }
+    // Checks every new or changed model before adopting it (model_probe.h). Off by default.
+    void setProbe(ProbeStarter starter) { m_probe = std::move(starter); }
+    // Adopts the models whose check passed, records a problem for those whose check failed
+    // (the last good version stays). Never blocks. Returns true if anything changed.
+    bool pollProbes();
+    // Waits for every check under way (each bounded by its time limit), then as pollProbes().
+    bool waitForProbes();
+    bool checking() const;
+
     // Problems not tied to one model (e.g. a shader template that fails for every model).
     const std::vector<Problem>& problems() const { return m_problems; }
 
   private:
     void load(ModelEntry& e);
     void rebuild(ModelEntry& e, const std::vector<std::string>& consumers);
+    // Checks `c` first when a probe is set, else adopts it at once.
+    void propose(ModelEntry& e, PendingModel c);
+    void adopt(ModelEntry& e, PendingModel c);
+    bool finishProbes(bool block);
     std::string displayPathOf(const std::filesystem::path& file) const;
 
     std::filesystem::path m_root;
@@ -71,6 +98,7 @@ class ModelLibrary {
     std::vector<std::string> m_consumers;
     std::vector<ModelEntry> m_entries;
     std::vector<Problem> m_problems;
+    ProbeStarter m_probe;
 };
 
 } // namespace bssrdf

@@ -19,6 +19,10 @@ namespace {
 double nowMs() {
     return secondsSinceStart() * 1000.0;
 }
+// Writes, renames, creations, deletions, and a changed mode (IN_ATTRIB: a model made unreadable,
+// or readable again, is read again).
+constexpr uint32_t kWatchMask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE |
+                                IN_DELETE | IN_MODIFY | IN_DELETE_SELF | IN_ATTRIB;
 // Editor temporaries and our own atomic-write temporaries are not model files.
 bool ignoredName(const std::string& name) {
     return name.empty() || name[0] == '.' || name.back() == '~' || name.ends_with(".tmp") ||
@@ -45,9 +49,7 @@ FileWatcher::~FileWatcher() {
 void FileWatcher::addWatches(const fs::path& dir) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) return;
-    const uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE | IN_DELETE |
-                          IN_MODIFY | IN_DELETE_SELF;
-    int wd = inotify_add_watch(m_fd, dir.c_str(), mask);
+    int wd = inotify_add_watch(m_fd, dir.c_str(), kWatchMask);
     if (wd >= 0) m_wdToDir[wd] = dir;
     for (auto& e : fs::directory_iterator(dir, ec))
         if (e.is_directory(ec)) addWatches(e.path());
@@ -61,9 +63,7 @@ void FileWatcher::watch(const fs::path& dir) {
         m_dirs.push_back(dir);
         return;
     }
-    const uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE | IN_DELETE |
-                          IN_MODIFY | IN_DELETE_SELF;
-    const int wd = inotify_add_watch(m_fd, dir.c_str(), mask);
+    const int wd = inotify_add_watch(m_fd, dir.c_str(), kWatchMask);
     if (wd >= 0)
         m_wdToDir[wd] = dir;
     else

@@ -72,4 +72,22 @@ glm::vec3 bruteForceExitance(const octree::Octree& tree, const std::vector<glm::
     return sum;
 }
 
+std::string invalidPixelsProblem(const InvalidPixels& n) {
+    if (!n.any()) return "";
+    std::string out;
+    auto add = [&](uint32_t count, const char* what, const char* shown) {
+        if (count == 0) return;
+        out += out.empty() ? "L_o is " : ", ";
+        out += what;
+        out += " at " + std::to_string(count);
+        if (out.find(" of ") == std::string::npos)
+            out += " of " + std::to_string(n.surface) + " surface pixels";
+        out += shown;
+    };
+    add(n.nan, "NaN", " (magenta)");
+    add(n.inf, "infinite", " (magenta)");
+    add(n.negative, "negative", " (black)");
+    return out + ": the model returned such values";
+}
+
 } // namespace render

@@ -3,7 +3,8 @@
 // points (the point cloud panel's "radiance" colouring), and the brute-force sum of thesis
 // eq. 3.3 at one surface point for the traversal debugger:
 //     M(xo) = Σ_i E_i A_i · S(xi, xo)   over every point of the cloud (no hierarchy),
-// with positions scaled to mm as the shader does (A_i in mesh units², scale² to mm²).
+// with positions scaled to mm as the shader does (A_i in mesh units², scale² to mm²); and the
+// Errors text of a frame whose radiance has NaN, infinite or negative pixels.
 #pragma once
 
 #include "core/color.h"
@@ -14,6 +15,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <string>
 #include <vector>
 
 namespace render {
@@ -44,5 +46,9 @@ std::vector<BssrdfPair> allPointPairs(const octree::Octree& tree, glm::vec3 xo, 
                                       float scale);
 glm::vec3 bruteForceExitance(const octree::Octree& tree, const std::vector<glm::vec3>& values,
                              float scale);
+
+// "" when the frame has no invalid pixel, else e.g. "L_o is NaN at 812 of 5210 surface pixels
+// (magenta), negative at 3 (black)".
+std::string invalidPixelsProblem(const InvalidPixels& n);
 
 } // namespace render

@@ -85,6 +85,14 @@ template <class V> void fields(V& v, Settings& s) {
     v.skip(s.iterationsPerDispatch, "dispatch slicing; results do not depend on it");
 }
 
+// What the tone map pass counted in a frame's L_o (a model that returned such values): NaN
+// and infinite pixels show magenta, negative ones (a component < 0) clamp to black.
+struct InvalidPixels {
+    uint32_t surface = 0; // pixels that show the mesh
+    uint32_t nan = 0, inf = 0, negative = 0;
+    bool any() const { return nan + inf + negative > 0; }
+};
+
 struct Frame {
     int width = 0, height = 0;
     GLuint ldr = 0;      // RGBA8, tone mapped
@@ -94,6 +102,7 @@ struct Frame {
     double gbufferMs = 0, profileMs = 0, traverseMs = 0, tonemapMs = 0; // CPU, after glFinish
     int dispatches = 0; // traversal dispatches of the frame
     uint32_t iterationsPerDispatch = 0;
+    InvalidPixels invalid;
 };
 
 struct Readback {

@@ -107,6 +107,7 @@ struct Renderer::State {
     gl::Texture position, normal, depth, hdr, ldr;
     gl::FramebufferId fbo;
     gl::Buffer stats, exitance, state, control;
+    gl::Buffer invalidCounts; // the tone map's counts: surface, NaN, Inf, negative pixels
 
     void resize(int w, int h);
     void gbuffer(const Settings& s);
@@ -115,7 +116,8 @@ struct Renderer::State {
     // every pixel finished; sets loopLimit when the driver cut a loop short.
     void bindTraverse(const Settings& s, uint32_t perDispatch);
     bool dispatchOnce(const Settings& s, uint32_t perDispatch, int dispatch, bool& loopLimit);
-    void tonemap(const Settings& s);
+    // Tone maps the frame and counts its invalid pixels.
+    InvalidPixels tonemap(const Settings& s);
     // Progressive frame (begin / advance).
     struct Progress {
         bool active = false;
@@ -141,6 +143,7 @@ Renderer::Renderer(shader::Sources src) : m(std::make_unique<State>()) {
     m->tableBuffer = gl::createBuffer(sizeof(dummy), dummy);
     const uint32_t zero[4] = {};
     m->control = gl::createBuffer(sizeof(zero), zero);
+    m->invalidCounts = gl::createBuffer(sizeof(zero), zero);
 }
 
 Renderer::~Renderer() = default;
@@ -452,7 +455,7 @@ bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int 
     return !loopLimit && ctl[0] == 0;
 }
 
-void Renderer::State::tonemap(const Settings& s) {
+InvalidPixels Renderer::State::tonemap(const Settings& s) {
     gl::ScopedStageTimer timer("render.tonemap");
     const GLuint prog = tonemapProgram.id();
     glUseProgram(prog);
@@ -463,10 +466,15 @@ void Renderer::State::tonemap(const Settings& s) {
     glUniform3f(loc("TonemapBackground"), s.background.x, s.background.y, s.background.z);
     glBindImageTexture(0, hdr.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(1, ldr.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    uint32_t counts[4] = {};
+    glNamedBufferSubData(invalidCounts.id(), 0, sizeof(counts), counts);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, invalidCounts.id());
     glDispatchCompute(static_cast<GLuint>((width + kLocal - 1) / kLocal),
                       static_cast<GLuint>((height + kLocal - 1) / kLocal), 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
-                    GL_TEXTURE_UPDATE_BARRIER_BIT);
+                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(invalidCounts.id(), 0, sizeof(counts), counts);
+    return {counts[0], counts[1], counts[2], counts[3]};
 }
 
 Frame Renderer::render(const Settings& s) {
@@ -554,7 +562,7 @@ bool Renderer::advance(double budgetMs) {
     f.dispatches = p.dispatch;
     if (!done) return false;
     clock.reset();
-    m->tonemap(s);
+    f.invalid = m->tonemap(s);
     glFinish();
     f.tonemapMs = clock.ms();
     p.active = false;

@@ -279,6 +279,35 @@ TEST_F(Cli, ProfileWithNanOrNegativeValuesIsReportedWithTheRadii) {
     EXPECT_TRUE(contains(csv, "# invalid R(r) is NaN at 100 of 401 radii")) << csv;
 }
 
+// A model whose Bssrdf() runs for very long (a loop the driver cuts only after 65 535 heavy
+// iterations on llvmpipe, about 5 s; never ending elsewhere): its first evaluation runs in a
+// child process with the limit of $BSSRDF_WORKBENCH_PROBE_SECONDS, and the command stops with
+// the file and the limit named instead of waiting.
+TEST_F(Cli, ProfileOfAModelThatDoesNotFinishFailsWithinTheLimit) {
+    const fs::path slow = dir() / "hanging.bssrdf";
+    writeText(slow, "analytic radial no_wi no_wo\n"
+                    "::begin shader\n"
+                    "#define STEP x = sin(x * 1.37 + 0.11) + cos(x * 0.73);\n"
+                    "#define STEP4 STEP STEP STEP STEP\n"
+                    "#define STEP16 STEP4 STEP4 STEP4 STEP4\n"
+                    "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                    "    float x = length(Xo - Xi);\n"
+                    "    while (SigmaA.x >= 0.0) { STEP16 STEP16 STEP16 STEP16 }\n"
+                    "    return vec3(x);\n"
+                    "}\n"
+                    "::end shader\n");
+    ::setenv("BSSRDF_WORKBENCH_PROBE_SECONDS", "1", 1);
+    const std::vector<std::string> args = {"profile", "--model", slow.string(), "--preset",
+                                           "Marble",  "--out",   "hang.csv"};
+    RunResult r = run(args);
+    ::unsetenv("BSSRDF_WORKBENCH_PROBE_SECONDS");
+    EXPECT_EQ(r.code, 1) << describe(args, r);
+    EXPECT_TRUE(contains(r.output, "hanging.bssrdf: Bssrdf() did not finish within 1 s"))
+        << r.output;
+    EXPECT_TRUE(contains(r.output, "a loop that does not end?")) << r.output;
+    EXPECT_FALSE(fs::exists(dir() / "hang.csv"));
+}
+
 TEST_F(Cli, ProfileReportsShaderErrorAtModelFileLine) {
     auto lines = splitLines(readText(sourceRoot() / kDipole));
     int begin = -1, end = -1;

@@ -360,6 +360,45 @@ TEST(SceneStage, ModelHotReloadReRendersAndABrokenEditKeepsTheLastGoodFrame) {
     EXPECT_NEAR(totalExitance(b.scene().readback()) / total0, 1.0, 1e-5);
 }
 
+// NaN, Inf or negative radiance from the model: magenta (or black) pixels, and a count in Errors
+// naming the model; gone when the model is good again.
+TEST(SceneStage, InvalidPixelsFromTheModelAreCountedInErrorsNamingIt) {
+    SceneBench b("invalid");
+    app::Workbench& wb = *b.wb;
+    wb.finishScene();
+    ASSERT_TRUE(b.scene().hasFrame()) << allErrors(wb);
+    EXPECT_FALSE(b.scene().frame().invalid.any());
+    const uint32_t surface = b.scene().frame().invalid.surface;
+    EXPECT_GT(surface, 0u);
+    const fs::path file = b.root / "materials" / "dipole.bssrdf";
+    const std::string original = testsupport::readText(file);
+    writeText(file, testsupport::replaced(original, "return Multiplier/(4.0*PI)",
+                                          "return sqrt(-1.0 - R)*Multiplier/(4.0*PI)"));
+    wb.reloadAll();
+    wb.finishScene();
+    const render::InvalidPixels n = b.scene().frame().invalid;
+    EXPECT_EQ(n.nan, surface);
+    EXPECT_EQ(n.surface, surface);
+    const std::string errors = allErrors(wb);
+    EXPECT_TRUE(contains(errors, "render values: materials/dipole.bssrdf: L_o is NaN at " +
+                                     std::to_string(surface) + " of " + std::to_string(surface) +
+                                     " surface pixels (magenta)"))
+        << errors;
+    // negative values: counted too (they show black)
+    writeText(file, testsupport::replaced(original, "return Multiplier/(4.0*PI)",
+                                          "return -Multiplier/(4.0*PI)"));
+    wb.reloadAll();
+    wb.finishScene();
+    EXPECT_EQ(b.scene().frame().invalid.negative, surface);
+    EXPECT_TRUE(contains(allErrors(wb), "L_o is negative at " + std::to_string(surface)))
+        << allErrors(wb);
+    writeText(file, original);
+    wb.reloadAll();
+    wb.finishScene();
+    EXPECT_FALSE(b.scene().frame().invalid.any());
+    EXPECT_EQ(allErrors(wb), "");
+}
+
 // ---- (g): bad inputs keep the previous scene ----------------------------------------------
 
 TEST(SceneStage, BadInputsKeepThePreviousSceneAndNameTheFile) {

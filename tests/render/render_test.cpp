@@ -5,6 +5,7 @@
 // error reduction, the radial profile table, the flat-plate closed form
 // M = E·R_dr of the classical dipole, the stack/iteration flags, and keep-last-good models.
 #include "render/render.h"
+#include "render/frame_analysis.h"
 
 #include "../support/gl_fixture.h"
 #include "bssrdf/bssrdf.h"
@@ -673,22 +674,31 @@ TEST(RenderModel, NanFromTheModelShowsMagenta) {
             n += rb.ldr[4 * p] == 255 && rb.ldr[4 * p + 1] == 0 && rb.ldr[4 * p + 2] == 255;
         return n;
     };
-    r.render(s);
+    const render::Frame goodFrame = r.render(s);
     const render::Readback good = r.readback();
     EXPECT_EQ(magentaOf(good), 0u);
+    EXPECT_FALSE(goodFrame.invalid.any());
+    EXPECT_EQ(goodFrame.invalid.surface, hitPixels(good).size());
     const bssrdf::Model nan =
         bssrdf::parseModel("analytic radial no_wi no_wo\n::begin shader\n"
                            "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
                            "    return vec3(sqrt(-1.0 - length(Xo - Xi)));\n}\n::end shader\n",
                            "materials/nan.bssrdf");
     r.setModel(nan);
-    r.render(s);
+    const render::Frame badFrame = r.render(s);
     const render::Readback bad = r.readback();
     const std::vector<size_t> hits = hitPixels(bad);
     ASSERT_FALSE(hits.empty());
     for (size_t p : hits)
         EXPECT_TRUE(std::isnan(bad.hdr[p].x)) << p;
     EXPECT_EQ(magentaOf(bad), hits.size());
+    // and counted (the scene stage's Errors entry)
+    EXPECT_EQ(badFrame.invalid.nan, hits.size());
+    EXPECT_EQ(badFrame.invalid.surface, hits.size());
+    EXPECT_EQ(render::invalidPixelsProblem(badFrame.invalid),
+              "L_o is NaN at " + std::to_string(hits.size()) + " of " +
+                  std::to_string(hits.size()) +
+                  " surface pixels (magenta): the model returned such values");
     // the shared renderer gets its model back for the other tests
     r.setModel(fixture().dipole);
 }

@@ -1,6 +1,6 @@
-// The replay child process (replay_process.h): fork/exec with stdout and stderr on a
-// non-blocking pipe, reaped with waitpid(WNOHANG).
-#include "replay_process.h"
+// Child processes (child_process.h): fork/exec with stdout and stderr on a non-blocking pipe,
+// reaped with waitpid(WNOHANG).
+#include "child_process.h"
 
 #include "core/core.h"
 
@@ -20,19 +20,19 @@ fs::path selfExecutable() {
     return ec ? fs::path("bssrdf-workbench") : p;
 }
 
-ReplayProcess::ReplayProcess(const fs::path& exe, const fs::path& root, const fs::path& dir) {
-    std::vector<std::string> args = {exe.string(), "--root", root.string(), "replay", dir.string()};
+ChildProcess::ChildProcess(const std::vector<std::string>& argsIn, const std::string& what) {
+    std::vector<std::string> args = argsIn;
     std::vector<char*> argv;
     for (auto& a : args)
         argv.push_back(a.data());
     argv.push_back(nullptr);
     int fds[2];
-    if (::pipe(fds) != 0) throw core::Error(dir.string(), 0, "cannot start the replay (pipe)");
+    if (::pipe2(fds, O_CLOEXEC) != 0) throw core::Error(what, 0, "cannot start a process (pipe)");
     m_pid = ::fork();
     if (m_pid < 0) {
         ::close(fds[0]);
         ::close(fds[1]);
-        throw core::Error(dir.string(), 0, "cannot start the replay (fork)");
+        throw core::Error(what, 0, "cannot start a process (fork)");
     }
     if (m_pid == 0) {
         ::dup2(fds[1], STDOUT_FILENO);
@@ -47,12 +47,12 @@ ReplayProcess::ReplayProcess(const fs::path& exe, const fs::path& root, const fs
     ::fcntl(m_fd, F_SETFL, ::fcntl(m_fd, F_GETFL) | O_NONBLOCK);
 }
 
-ReplayProcess::~ReplayProcess() {
+ChildProcess::~ChildProcess() {
     if (!m_done) cancel();
     if (m_fd >= 0) ::close(m_fd);
 }
 
-bool ReplayProcess::poll() {
+bool ChildProcess::poll() {
     if (m_done) return true;
     char buf[4096];
     for (;;) {
@@ -74,7 +74,7 @@ bool ReplayProcess::poll() {
     return m_done;
 }
 
-void ReplayProcess::cancel() {
+void ChildProcess::cancel() {
     if (m_done || m_pid <= 0) return;
     ::kill(m_pid, SIGKILL);
     int status = 0;

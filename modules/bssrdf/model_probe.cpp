@@ -1,0 +1,71 @@
+// The check of a new model (model_probe.h): its key, the warm-up and the sentinel evaluation.
+#include "bssrdf/model_probe.h"
+
+#include "bssrdf/assembly.h"
+#include "core/core.h"
+#include "detail/run_batch.h"
+
+namespace bssrdf {
+namespace {
+// .w of an output the invocation did not write (the templates write r ≥ 0, 0 or -1).
+constexpr float kNotWritten = -2.0f;
+} // namespace
+
+std::string probeKey(const Model& m, const shader::Sources& src) {
+    shader::Dependencies deps;
+    std::string text = src.assemble("pencil_profile.comp", deps, modelExtension(&m)).glsl;
+    if (m.diffuseReflectance)
+        text += src.assemble("invert_rdr.comp", deps, modelExtension(&m)).glsl;
+    return core::hashHex(text);
+}
+
+void warmUp(GLuint program) {
+    // Count = 0: every invocation of the one work group returns at its first line.
+    const std::vector<float> zeros(64 * 4, 0.0f);
+    gl::Buffer in = gl::createBuffer(zeros.size() * sizeof(float), zeros.data());
+    gl::Buffer out = gl::createBuffer(zeros.size() * sizeof(float), nullptr);
+    glUseProgram(program);
+    glUniform1ui(glGetUniformLocation(program, "Count"), 0u);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+    glDispatchCompute(1, 1, 1);
+    glFinish();
+}
+
+ProbeResult evaluateProbe(GLuint pencilProgram, GLuint inversionProgram, const Model& m,
+                          const ParamValues& values, const Builtins& b,
+                          const std::vector<double>& radii) {
+    ProbeResult res;
+    setUniforms(pencilProgram, m, values, b);
+    std::vector<float> in(radii.size() * 4, 0.0f);
+    for (size_t i = 0; i < radii.size(); ++i)
+        in[4 * i] = static_cast<float>(radii[i]);
+    const std::vector<float> unwritten(radii.size() * 4, kNotWritten);
+    const auto out =
+        detail::runBatch(pencilProgram, in, radii.size(), 1, 0, kProbeSentinel, &unwritten);
+    res.profile.r = radii;
+    for (size_t i = 0; i < radii.size(); ++i) {
+        res.profile.value.push_back({out[4 * i], out[4 * i + 1], out[4 * i + 2]});
+        res.loopsCut += out[4 * i + 3] == -1.0f;
+        res.notWritten += out[4 * i + 3] == kNotWritten;
+    }
+    res.evaluated = radii.size();
+    if (inversionProgram == 0) return res;
+    // α′ across (0, 1], as the bisection of the inversion visits them
+    std::vector<float> alpha;
+    for (float a : {0.01f, 0.3f, 0.6f, 0.9f, 0.99f, 0.9999f, 1.0f})
+        alpha.insert(alpha.end(), {a, a, a, 0.0f});
+    setUniforms(inversionProgram, m, values, b);
+    const size_t n = alpha.size() / 4;
+    const std::vector<float> unwrittenRdr(n * 4, kNotWritten);
+    const auto rdr =
+        detail::runBatch(inversionProgram, alpha, n, 1, 0, kProbeSentinel, &unwrittenRdr);
+    for (size_t i = 0; i < n; ++i) {
+        res.loopsCut += rdr[4 * i + 3] == -1.0f;
+        res.notWritten += rdr[4 * i + 3] == kNotWritten;
+    }
+    res.evaluated += n;
+    return res;
+}
+
+} // namespace bssrdf

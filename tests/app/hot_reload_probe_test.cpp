@@ -1,0 +1,156 @@
+// A model whose Bssrdf() does not end, or runs for very long, saved while the workbench runs:
+// its first evaluation runs in a child process (the workbench executable,
+// app/model_probe_process.h) with a short limit, update() keeps returning at once while it runs,
+// the Errors panel names the file and why, the last good version stays in use, and the fixed file
+// is adopted.
+#include "../support/gl_fixture.h"
+#include "core/core.h"
+#include "model_probe_process.h"
+#include "workbench.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <thread>
+
+using testsupport::replaced;
+
+namespace {
+namespace fs = std::filesystem;
+
+double valueAt0(app::Workbench& wb, const std::string& path) {
+    if (!wb.library().find(path)) return -1.0;
+    auto& v = wb.view(path);
+    return v.profile.value.empty() ? -1.0 : v.profile.value[0].x;
+}
+
+std::string errorNaming(app::Workbench& wb, const std::string& what) {
+    for (const auto& e : wb.errors())
+        if (e.text.find(what) != std::string::npos) return e.text;
+    return "";
+}
+
+// Runs update() until done() or `ms` pass; returns the longest single update() in ms.
+template <class F> double updateUntil(app::Workbench& wb, F done, double ms = 60000) {
+    core::Stopwatch sw;
+    double longest = 0;
+    while (sw.ms() < ms) {
+        core::Stopwatch one;
+        wb.update();
+        longest = std::max(longest, one.ms());
+        if (done()) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return longest;
+}
+
+// The dipole with `body` run before its return statement.
+std::string withLoop(const std::string& good, const std::string& body) {
+    return replaced(good, "return Multiplier/(4.0*PI)", body + "\n    return Multiplier/(4.0*PI)");
+}
+// 64 sine/cosine steps per iteration of a loop whose condition the compiler cannot decide (σa is
+// never negative): on llvmpipe the driver stops it after 65 535 iterations, about 5 s for the
+// 512 radii of the pencil profile on a 2-core machine; elsewhere it never ends.
+const char* kSlowLoop = "    float slow = Xo.x;\n"
+                        "#define STEP slow = sin(slow * 1.37 + 0.11) + cos(slow * 0.73);\n"
+                        "#define STEP4 STEP STEP STEP STEP\n"
+                        "#define STEP16 STEP4 STEP4 STEP4 STEP4\n"
+                        "    while (SigmaA.x >= 0.0) { STEP16 STEP16 STEP16 STEP16 }\n"
+                        "    if (slow > 1e30) return vec3(slow);";
+
+struct ProbeFixture : ::testing::Test {
+    void SetUp() override {
+        testsupport::context();
+        app::setModelProbeExecutable(BW_EXE);
+        ::setenv("BSSRDF_WORKBENCH_PROBE_SECONDS", "1", 1);
+        root = testsupport::makeProjectRoot(
+            "probe_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()),
+            {"dipole.bssrdf"});
+        file = root / path;
+        good = testsupport::readText(file);
+    }
+    void TearDown() override {
+        app::setModelProbeExecutable({});
+        ::unsetenv("BSSRDF_WORKBENCH_PROBE_SECONDS");
+        fs::remove_all(root);
+    }
+    fs::path root, file;
+    std::string path = "materials/dipole.bssrdf", good;
+};
+
+} // namespace
+
+TEST_F(ProbeFixture, SlowModelTimesOutTheLastGoodVersionStaysThenTheFixIsAdopted) {
+    app::Workbench wb(root, true);
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+    core::writeFile(file, withLoop(good, kSlowLoop));
+    std::string error;
+    const double longest = updateUntil(wb, [&] {
+        error = errorNaming(wb, path);
+        return !error.empty();
+    });
+    EXPECT_NE(error.find("did not finish within 1 s"), std::string::npos) << error;
+    EXPECT_NE(error.find("a loop that does not end?"), std::string::npos) << error;
+    // The main process never evaluated the model: no update() waited for it (evaluating it here
+    // would take about 5 s on llvmpipe, for ever on a GPU).
+    EXPECT_LT(longest, 2500.0);
+    EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base); // the last good version stays
+    EXPECT_TRUE(wb.library().find(path)->usable());
+    // fixed: checked again and adopted
+    core::writeFile(file,
+                    replaced(good, "return Multiplier/(4.0*PI)", "return 2.0*Multiplier/(4.0*PI)"));
+    updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-5 * base; });
+    EXPECT_NEAR(valueAt0(wb, path), 2 * base, 1e-5 * base);
+    EXPECT_TRUE(errorNaming(wb, path).empty()) << errorNaming(wb, path);
+}
+
+TEST_F(ProbeFixture, EndlessLoopIsRefusedNamingTheFile) {
+    app::Workbench wb(root, true);
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+    // On llvmpipe the compiler drops what follows a loop that provably never ends (the value is
+    // never written); a loop on a uniform is stopped by the driver's iteration limit; a GPU
+    // runs either until the child is killed. Each is an Errors entry naming the file. (A loop
+    // on a uniform with an empty body is removed by the compiler: that model is fine.)
+    for (const char* loop : {"    while (true) {}",
+                             "    float spin = 0.0;\n    while (SigmaA.x >= 0.0) { spin += 1.0; }\n"
+                             "    if (spin < 0.0) return vec3(spin);"}) {
+        core::writeFile(file, withLoop(good, loop));
+        std::string error;
+        const double longest = updateUntil(wb, [&] {
+            error = errorNaming(wb, path);
+            return !error.empty();
+        });
+        EXPECT_TRUE(error.find("never returned") != std::string::npos ||
+                    error.find("did not end") != std::string::npos ||
+                    error.find("did not finish within") != std::string::npos)
+            << loop << ": " << error;
+        EXPECT_LT(longest, 2500.0);
+        EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base) << loop;
+        core::writeFile(file, good); // good again (known: adopted without a check)
+        updateUntil(wb, [&] { return errorNaming(wb, path).empty(); });
+        EXPECT_TRUE(errorNaming(wb, path).empty());
+        EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base);
+    }
+}
+
+TEST_F(ProbeFixture, UnchangedTextIsNotCheckedAgain) {
+    app::Workbench wb(root, true);
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+    // the same text saved again (and a model's text seen before): adopted without a check
+    core::writeFile(file, good);
+    updateUntil(
+        wb, [&] { return false; }, 400);
+    EXPECT_FALSE(wb.library().checking());
+    EXPECT_TRUE(wb.errors().empty());
+    // a changed text is checked before it is adopted
+    core::writeFile(file,
+                    replaced(good, "return Multiplier/(4.0*PI)", "return 3.0*Multiplier/(4.0*PI)"));
+    updateUntil(
+        wb, [&] { return wb.library().checking(); }, 5000);
+    EXPECT_TRUE(wb.library().checking());
+    EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base); // not yet adopted
+    updateUntil(wb, [&] { return !wb.library().checking(); });
+    EXPECT_NEAR(valueAt0(wb, path), 3 * base, 1e-5 * base);
+}
