@@ -3,13 +3,18 @@
 // gutter kept, area ratios A_S/A_T computed independently here, Σ A_T · A_S/A_T = the surface
 // area exactly), the stretch of a known triangle, and the bunny and the procedural shapes.
 #include "texspace/texspace.h"
+#include "texspace/texture_space.h"
 
 #include "core/core.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <numeric>
+#include <random>
+
+#include <glm/geometric.hpp>
 
 namespace {
 
@@ -130,4 +135,78 @@ TEST(Parameterize, AnAtlasThatCannotKeepItsGuttersIsRefused) {
         EXPECT_NE(std::string(e.what()).find("texture larger than 16"), std::string::npos)
             << e.what();
     }
+}
+
+// ---- stages 1 and 2 on the CPU side (texspace/texture_space.h) --------------------------------
+
+
+TEST(TextureSpace, TexelsCoverEveryTriangleOnceAndTheirAreasAddUp) {
+    const mesh::Mesh m = mesh::makeUvSphere(12, 24);
+    const texspace::Parameterization p = texspace::packAtlas(m, 512);
+    const texspace::Texels t = texspace::rasterize(m, p, 512);
+    // Σ over covered texels of A_texel · A_S/A_T estimates the surface area (midpoint rule over
+    // the texture): within 2 % at 512² for this atlas (each triangle covers ~50 texels)
+    const double texel = 1.0 / (512.0 * 512.0);
+    double area = 0;
+    std::vector<int> perTriangle(m.triangles.size(), 0);
+    for (size_t k = 0; k < t.triangle.size(); ++k)
+        if (t.triangle[k] >= 0) {
+            area += texel * t.areaRatio[k];
+            ++perTriangle[size_t(t.triangle[k])];
+            EXPECT_NEAR(glm::length(t.position[k]), 0.5, 0.02); // on the sphere of radius 0.5
+        }
+    EXPECT_NEAR(area, meshArea(m), 0.02 * meshArea(m));
+    for (size_t f = 0; f < perTriangle.size(); ++f)
+        EXPECT_GT(perTriangle[f], 0) << f;
+    EXPECT_EQ(size_t(std::count_if(t.triangle.begin(), t.triangle.end(),
+                                   [](int32_t v) { return v >= 0; })),
+              t.covered);
+}
+
+TEST(TextureSpace, ASharedEdgeBelongsToOneTriangle) {
+    // the square's diagonal passes through texel centres of a 4 × 4 texture: the top-left rule
+    // gives each to exactly one of the two triangles, so all 16 texels are covered once
+    const texspace::Parameterization p = texspace::parameterize(square(), 4);
+    ASSERT_TRUE(p.fromMesh);
+    const texspace::Texels t = texspace::rasterize(square(), p, 4);
+    EXPECT_EQ(t.covered, 16u);
+}
+
+TEST(TextureSpace, MipDescentDrawsTexelsInProportionToTheirWeight) {
+    // Algorithm 3.1 on a 16 × 16 texture with random weights (some 0): chi-square of 2·10^5
+    // draws against w_t/Σw, p-value threshold 1e-3 (normal approximation of χ² with ν dof)
+    const int size = 16;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u01(0, 1);
+    std::vector<double> w(size * size);
+    for (double& x : w)
+        x = u01(rng) < 0.2 ? 0.0 : u01(rng) * u01(rng);
+    const texspace::MipCdf cdf = texspace::buildMipCdf(w, size);
+    const int n = 200000;
+    std::vector<double> count(w.size(), 0);
+    for (int i = 0; i < n; ++i)
+        count[texspace::sampleMip(cdf, u01(rng))] += 1;
+    double chi2 = 0;
+    int dof = -1;
+    for (size_t k = 0; k < w.size(); ++k) {
+        const double expected = n * w[k] / cdf.total();
+        if (w[k] == 0) {
+            EXPECT_EQ(count[k], 0) << "texel " << k << " has no weight";
+            continue;
+        }
+        chi2 += (count[k] - expected) * (count[k] - expected) / expected;
+        ++dof;
+    }
+    const double z = (chi2 - dof) / std::sqrt(2.0 * dof);
+    EXPECT_LT(z, 3.09) << "chi2 " << chi2 << " dof " << dof;
+    // the descent is monotone in u: u = 0 gives the first texel with weight
+    const uint32_t first = texspace::sampleMip(cdf, 0.0);
+    EXPECT_GT(w[first], 0.0);
+}
+
+TEST(TextureSpace, BadCdfInputsAreRefused) {
+    EXPECT_THROW(texspace::buildMipCdf(std::vector<double>(9, 1.0), 3), core::Error);
+    EXPECT_THROW(texspace::buildMipCdf(std::vector<double>(4, 0.0), 2), core::Error);
+    EXPECT_THROW(texspace::buildMipCdf({1.0, -1.0, 1.0, 1.0}, 2), core::Error);
+    EXPECT_THROW(texspace::buildMipCdf({1.0, NAN, 1.0, 1.0}, 2), core::Error);
 }
