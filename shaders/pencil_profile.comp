@@ -4,14 +4,19 @@
 // (Xi = 0, Wi = n) and light leaving at Xo = (r, 0, 0) along Wo = n. r in mm.
 // With Queries = 1 the same program evaluates Bssrdf(0, Wi, Xo, Wo) at arbitrary geometry: each
 // entry is three vec4 (Xo, Wi, Wo in .xyz) — the BSSRDF slice panel's bins (app/slice_model.h).
+// With Queries = 2 (models with a `sample` section) an entry (x, channel, function) gives
+// SampleRadius(x, channel) (function 0), PdfRadius(x, channel) (1) or MaxRadius(channel) (2); with
+// Queries = 3 (models with the lobe interface) an entry (k, channel) gives (QdLobe(k, channel),
+// QdLobeCount()) — the radial distributions of disk sampling (integrate/radial_source.h).
 layout(local_size_x = 64) in;
 
 #include "common/bssrdf_prelude.glsl"
 
+#define BSSRDF_WANT_SAMPLE 1
 #pragma bssrdf_model
 
 uniform uint Count;
-uniform uint Queries; // 0: pencil-beam radii (one vec4 per entry), 1: (Xo, Wi, Wo) per entry
+uniform uint Queries; // 0: radii, 1: (Xo, Wi, Wo), 2: sampler functions, 3: Gaussian lobes
 layout(std430, binding = 0) readonly buffer Radii { vec4 radii[]; };
 layout(std430, binding = 1) writeonly buffer Values { vec4 values[]; };
 
@@ -25,6 +30,23 @@ void main() {
         values[i] = vec4(Bssrdf(vec3(0.0), wi, xo, wo), length(xo));
         return;
     }
+#if defined(BSSRDF_HAS_SAMPLE)
+    if (Queries == 2u) {
+        vec4 q = radii[i];
+        int channel = int(q.y), function = int(q.z);
+        float v = function == 0 ? SampleRadius(q.x, channel)
+                : function == 1 ? PdfRadius(q.x, channel) : MaxRadius(channel);
+        values[i] = vec4(v, q.x, 0.0, 0.0);
+        return;
+    }
+#endif
+#if defined(BSSRDF_HAS_LOBES)
+    if (Queries == 3u) {
+        vec4 q = radii[i];
+        values[i] = vec4(QdLobe(int(q.x), int(q.y)), float(QdLobeCount()), 0.0);
+        return;
+    }
+#endif
     float r = radii[i].x;
     values[i] = vec4(Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n), r);
 }

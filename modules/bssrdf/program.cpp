@@ -1,6 +1,7 @@
 // bssrdf GPU half: program building with #line source maps, uniforms, consumer dispatch.
 #include "bssrdf/program.h"
 
+#include "bssrdf/detail/dispatch.h"
 #include "core/core.h"
 
 #include <glm/common.hpp>
@@ -79,11 +80,9 @@ std::vector<double> radiusGrid(double rMaxMm, int samples) {
     return r;
 }
 
-namespace {
-// Uploads `in` (`inVec4` vec4 per entry), dispatches, reads back vec4 per entry. `queries`
-// sets pencil_profile.comp's Queries uniform where the program has it.
+namespace detail {
 std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t count,
-                            size_t inVec4 = 1, GLuint queries = 0) {
+                            size_t inVec4, GLuint queries) {
     const size_t bytes = count * 4 * sizeof(float);
     gl::Buffer inBuf = gl::createBuffer(bytes * inVec4, in.data());
     gl::Buffer outBuf = gl::createBuffer(bytes, nullptr);
@@ -98,7 +97,9 @@ std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t
     glGetNamedBufferSubData(outBuf.id(), 0, static_cast<GLsizeiptr>(bytes), out.data());
     return out;
 }
-} // namespace
+} // namespace detail
+
+using detail::runBatch;
 
 Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& values,
                         const Builtins& b, const std::vector<double>& radii) {
