@@ -4,6 +4,7 @@
 #include "bssrdf/program.h"
 
 #include "core/core.h"
+#include "core/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,7 +59,7 @@ std::array<std::vector<glm::dvec2>, 3> evaluateLobes(GLuint pencilProgram, const
     if (!(count >= 1 && count <= float(kMaxLobes)))
         throw core::Error(m.path, m.lobesLine,
                           "QdLobeCount() must return 1 … " + std::to_string(kMaxLobes) +
-                              " (it returns " + std::to_string(count) + ")");
+                              " (it returns " + core::formatNumber(count, 9) + ")");
     const size_t n = size_t(count);
     std::vector<float> in(4 * 3 * n, 0.0f);
     for (size_t c = 0; c < 3; ++c)
