@@ -5,10 +5,11 @@
 // `vec2 QdLobe(`, "channel X: …"):
 //   - the lobes themselves (gaussian_lobes.h: finite weights >= 0, variances > 0, some energy);
 //   - energy: |Σ_k w_k / E − 1| <= kEnergyTolerance, E the table's 2π∫R r dr (the table is the
-//     same profile on 4096 radii out to where R has decayed by 1e-7: ~1e-5 apart for a profile
-//     that is the lobe sum);
+//     same profile on 4096 radii out to where R has decayed by 1e-7);
 //   - shape: the lobes' pdf_area against the profile's within the lobes' R_m
 //     (profile_agreement.cpp) on kShapePoints radii r_i = R_m (i/kShapePoints)².
+//   Measured for quantized_diffusion.bssrdf at Skin1: energy 1.3e-4 apart at worst (red), shape
+//   1.4e-4; its lobes with a weight 10 % off or variances 50 % off fail (model_sampler_test).
 #include "integrate/detail/model_samplers.h"
 
 #include "core/core.h"
