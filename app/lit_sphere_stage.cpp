@@ -199,22 +199,26 @@ bool LitSphereStage::update(const LitSphereInputs& in) {
                 mesh = ls.mesh;
                 if (mesh.is_relative()) mesh = in.root / mesh;
             }
-            m_probe.reset();
-            if (ls.sampling == integrate::Sampling::Uniform && mesh.empty()) {
-                m_integrator.reset(setup);
-            } else { // disk sampling, or any sampling of a mesh: the CPU + GPU integrator
-                m_probe = mesh.empty()
-                              ? std::make_unique<integrate::ImageIntegrator>(setup)
-                              : std::make_unique<integrate::ImageIntegrator>(
-                                    setup, mesh::loadObj(mesh), mesh.string());
+            // Disk sampling, or any sampling of a mesh: the CPU + GPU integrator, made aside so
+            // that a failure (a mesh that cannot be read, a profile or a model's own sampler
+            // that cannot be sampled) keeps the last good integration and its image.
+            std::unique_ptr<integrate::ImageIntegrator> probe;
+            if (ls.sampling != integrate::Sampling::Uniform || !mesh.empty()) {
+                probe = mesh.empty() ? std::make_unique<integrate::ImageIntegrator>(setup)
+                                     : std::make_unique<integrate::ImageIntegrator>(
+                                           setup, mesh::loadObj(mesh), mesh.string());
                 integrate::Settings is;
                 is.sampling = ls.sampling;
                 is.axes = ls.axes;
                 is.seed = ls.seed;
-                // (re)tabulates the model's radial profile for disk sampling (Timings)
-                m_probe->setModel(e->programs.at("pencil_profile.comp").id(), *e->model,
-                                  e->values, in.builtins, is, e->displayPath);
+                // (re)builds the model's radial distributions for disk sampling (Timings): its
+                // profile table, its analytic sampler or its lobes, checked
+                probe->setModel(e->programs.at("pencil_profile.comp").id(), *e->model, e->values,
+                                in.builtins, is, e->displayPath);
+            } else {
+                m_integrator.reset(setup);
             }
+            m_probe = std::move(probe);
             m_pathTraced.start(mediaOf(*in.params), setup, ls.pathSpp, ls.gpu, mesh);
         } catch (const core::Error& err) {
             m_problem = err.what();

@@ -14,6 +14,8 @@ void emitDefines(shader::Emitter& out, const Model& m) {
     if (m.attrs.noWi) out.text("#define BSSRDF_NO_WI 1\n");
     if (m.attrs.noWo) out.text("#define BSSRDF_NO_WO 1\n");
     if (!m.diffuseReflectance) out.text("#define BSSRDF_NO_DIFFUSE_REFLECTANCE 1\n");
+    if (m.sample) out.text("#define BSSRDF_HAS_SAMPLE 1\n");
+    if (m.lobesLine > 0) out.text("#define BSSRDF_HAS_LOBES 1\n");
     out.line(2, 0);
 }
 
@@ -38,6 +40,11 @@ void emitModel(shader::Emitter& out, const Model& m, int lineNo, int source) {
     }
     emitSection(m.diffuseReflectance);
     emitSection(m.shader);
+    if (m.sample) { // only templates that evaluate the sampler compile it
+        out.text("#if defined(BSSRDF_WANT_SAMPLE)\n");
+        emitSection(m.sample);
+        out.text("#endif\n");
+    }
     out.line(lineNo + 1, source);
 }
 

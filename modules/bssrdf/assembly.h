@@ -17,11 +17,14 @@ namespace bssrdf {
 // The model's part of the assembly, for shader::assemble / shader::build:
 //   - `#pragma bssrdf_model` is replaced by the model's parameter uniforms, its initializer
 //     (or `void init() {}`), its diffuseReflectance section and its shader section, each under
-//     `#line` directives pointing into the model file. Error if model == nullptr, or when the
-//     pragma appears twice.
+//     `#line` directives pointing into the model file, then its sample section inside
+//     `#if defined(BSSRDF_WANT_SAMPLE)` (a template that evaluates the analytic sampler defines
+//     it before the pragma; no other consumer compiles the sampler). Error if model == nullptr,
+//     or when the pragma appears twice.
 //   - With a model, right after `#version`: `#define BSSRDF_RADIAL 1`, `BSSRDF_NO_WI`,
 //     `BSSRDF_NO_WO` for the attributes set, and `BSSRDF_NO_DIFFUSE_REFLECTANCE` when the
-//     model has no diffuseReflectance section.
+//     model has no diffuseReflectance section, `BSSRDF_HAS_SAMPLE` with a sample section and
+//     `BSSRDF_HAS_LOBES` when the shader section defines the lobe interface.
 // The returned extension refers to `model`, which must outlive its use.
 shader::Extension modelExtension(const Model* model);
 

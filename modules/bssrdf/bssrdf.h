@@ -4,8 +4,12 @@
 //   in any order: 'parameters' (float/bool/color declarations exposed as uniforms),
 //   'initializer' (GLSL, defines void init()), 'diffuseReflectance' (GLSL, defines
 //   vec3 DiffuseReflectance(vec3 AlphaPrime), used for the R_dr/l_d inversion of thesis
-//   Section 3.4) and 'shader' (GLSL, defines vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo)),
-//   or instead of 'shader' a 'table' naming data files (table_model.h).
+//   Section 3.4), 'shader' (GLSL, defines vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo)),
+//   or instead of 'shader' a 'table' naming data files (table_model.h), and 'sample' (GLSL, an
+//   analytic radial sampler for the disk sampling of King et al. 2013: float SampleRadius(float
+//   xi, int channel), float PdfRadius(float r, int channel), float MaxRadius(int channel)).
+//   A shader section may also expose its profile as Gaussian lobes (int QdLobeCount(), vec2
+//   QdLobe(int k, int channel)): both or neither.
 //   Unknown sections are ignored with a note. Every format error throws core::Error carrying
 //   the display path and the 1-based line it is about.
 //   See materials/README.md for the full format, the built-ins and the unit conventions.
@@ -53,6 +57,11 @@ struct Model {
     Attributes attrs;
     std::vector<Param> params;
     std::optional<Section> initializer, diffuseReflectance, shader;
+    // The optional analytic radial sampler (`::begin sample`, materials/README.md).
+    std::optional<Section> sample;
+    // The file line of `vec2 QdLobe(` in the shader section when the model exposes its profile
+    // as Gaussian lobes (QdLobeCount and QdLobe both defined), else 0.
+    int lobesLine = 0;
     // A `table` section (table_model.h): the shader is generated from data files by loadModel.
     std::optional<Section> table;
     std::vector<std::filesystem::path> dataFiles; // the files a table model was made from
@@ -74,7 +83,8 @@ Model loadModel(const std::filesystem::path& file, const std::string& displayPat
 inline constexpr std::uintmax_t kMaxModelBytes = std::uintmax_t(4) << 20;
 
 // Names a parameter may not take: the built-in uniforms and constant (SigmaA, SigmaS, G, IOR,
-// Scale, PI) and the reserved function names (Bssrdf, DiffuseReflectance, init, main).
+// Scale, PI) and the reserved function names (Bssrdf, DiffuseReflectance, init, main,
+// SampleRadius, PdfRadius, MaxRadius, QdLobeCount, QdLobe).
 const std::vector<std::string>& builtinNames();
 
 // True for a valid parameter identifier: [A-Za-z_][A-Za-z0-9_]*, no "gl_" prefix, no "__",

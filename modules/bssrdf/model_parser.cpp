@@ -7,6 +7,7 @@
 #include "bssrdf/detail/text_lines.h"
 #include "core/core.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <regex>
@@ -18,7 +19,8 @@ namespace {
 using detail::tokenize;
 using detail::trim;
 
-constexpr const char* kKnownSections = "parameters, initializer, diffuseReflectance, shader, table";
+constexpr const char* kKnownSections =
+    "parameters, initializer, diffuseReflectance, shader, table, sample";
 
 std::string inQuotes(std::string_view s) {
     std::string out;
@@ -72,6 +74,9 @@ class Parser {
     void closeSection(const std::vector<std::string_view>& tok, int lineNo);
     void assign(Model& m);
     void requireDefinition(const Section& s, const char* pattern, const char* what) const;
+    // The file line of the first match of `pattern` in the section (comments ignored), or 0.
+    int definitionLine(const Section& s, const char* pattern) const;
+    void findLobes(Model& m) const;
 
     std::string_view m_text;
     const std::string& m_path;
@@ -145,6 +150,28 @@ void Parser::requireDefinition(const Section& s, const char* pattern, const char
         fail(s.beginLine, "section " + inQuotes(s.name) + " does not define " + what);
 }
 
+int Parser::definitionLine(const Section& s, const char* pattern) const {
+    const std::string code = stripGlslComments(s.code);
+    std::smatch match;
+    if (!std::regex_search(code, match, std::regex(pattern))) return 0;
+    const auto before = code.begin() + match.position(0);
+    return s.firstLine + static_cast<int>(std::count(code.begin(), before, '\n'));
+}
+
+// The lobe interface (materials/README.md): QdLobeCount and QdLobe, both or neither.
+void Parser::findLobes(Model& m) const {
+    if (!m.shader) return;
+    const int count = definitionLine(*m.shader, R"(\bint\s+QdLobeCount\s*\()");
+    const int lobe = definitionLine(*m.shader, R"(\bvec2\s+QdLobe\s*\()");
+    if (count && !lobe)
+        fail(count, "the lobe interface needs both functions: 'int QdLobeCount()' is defined "
+                    "but 'vec2 QdLobe(int k, int channel)' is not");
+    if (lobe && !count)
+        fail(lobe, "the lobe interface needs both functions: 'vec2 QdLobe(int k, int channel)' "
+                   "is defined but 'int QdLobeCount()' is not");
+    m.lobesLine = lobe;
+}
+
 void Parser::assign(Model& m) {
     for (Section& s : m_sections) {
         if (s.name == "parameters") {
@@ -162,6 +189,13 @@ void Parser::assign(Model& m) {
             m.shader = std::move(s);
         } else if (s.name == "table") {
             m.table = std::move(s);
+        } else if (s.name == "sample") {
+            requireDefinition(s, R"(\bfloat\s+SampleRadius\s*\()",
+                              "float SampleRadius(float xi, int channel)");
+            requireDefinition(s, R"(\bfloat\s+PdfRadius\s*\()",
+                              "float PdfRadius(float r, int channel)");
+            requireDefinition(s, R"(\bfloat\s+MaxRadius\s*\()", "float MaxRadius(int channel)");
+            m.sample = std::move(s);
         } else {
             std::string note =
                 core::formatLocation(m_path, s.beginLine,
@@ -227,6 +261,7 @@ Model Parser::run() {
                                     " is not terminated (missing '::end " + m_open->name + "')");
 
     assign(m);
+    findLobes(m);
     if (m.table && m.shader)
         fail(m.table->beginLine, "a model has either a 'table' or a 'shader' section, not both");
     if (!m.shader && !m.table) fail(lastLine, "missing ::begin shader section");

@@ -150,9 +150,12 @@ Param parseLine(const std::vector<std::string_view>& tok, const std::string& pat
 } // namespace
 
 const std::vector<std::string>& builtinNames() {
+    // clang-format off
     static const std::vector<std::string> names = {
-        "SigmaA", "SigmaS", "G", "IOR", "Scale", "PI", "Bssrdf", "DiffuseReflectance",
-        "init",   "main"};
+        "SigmaA", "SigmaS", "G", "IOR", "Scale", "PI",
+        "Bssrdf", "DiffuseReflectance", "init", "main",
+        "SampleRadius", "PdfRadius", "MaxRadius", "QdLobeCount", "QdLobe"};
+    // clang-format on
     return names;
 }
 

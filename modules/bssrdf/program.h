@@ -5,7 +5,9 @@
 //   - pencil_profile.comp: the pencil-beam profile of thesis 3.6.3 — Bssrdf(Xi = 0,
 //     Wi = n, Xo = (r,0,0), Wo = n) on a radius grid (mm) on the semi-infinite slab;
 //   - invert_rdr.comp: DiffuseReflectance(α′) at a batch of α′ values, the inner step of the
-//     GPU bisection of thesis 3.4.
+//     GPU bisection of thesis 3.4;
+//   - the pencil program's query modes: Bssrdf() at given directions, a model's analytic sampler
+//     functions and its Gaussian lobes (sampler_queries.cpp).
 #pragma once
 
 #include "bssrdf/assembly.h"
@@ -13,6 +15,7 @@
 #include "gl/gl.h"
 #include "shader/program.h"
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include <array>
@@ -78,6 +81,27 @@ struct Query {
 };
 std::vector<glm::dvec3> evaluateQueries(GLuint program, const Model& m, const ParamValues& values,
                                         const Builtins& b, const std::vector<Query>& queries);
+
+// The analytic radial sampler of a model with a `sample` section (materials/README.md) through
+// the pencil program's query mode 2: each query calls one of its functions at x (ξ for
+// SampleRadius, r in mm for PdfRadius, unused for MaxRadius) and channel 0, 1 or 2. Throws
+// core::Error(m.path, 0, …) for a model without the section.
+enum class SamplerFunction { SampleRadius = 0, PdfRadius = 1, MaxRadius = 2 };
+struct SamplerQuery {
+    SamplerFunction function = SamplerFunction::SampleRadius;
+    double x = 0;
+    int channel = 0;
+};
+std::vector<double> evaluateSampler(GLuint pencilProgram, const Model& m, const ParamValues& values,
+                                    const Builtins& b, const std::vector<SamplerQuery>& queries);
+
+// The Gaussian lobes of a model with the lobe interface (materials/README.md) through the
+// pencil program's query mode 3: per channel, (weight, variance in mm²) of lobe k = 0 … count − 1.
+// A count outside 1 … kMaxLobes is a core::Error(m.path, m.lobesLine, …); so is a model without
+// the interface (line 0).
+inline constexpr int kMaxLobes = 4096;
+std::array<std::vector<glm::dvec2>, 3> evaluateLobes(GLuint pencilProgram, const Model& m,
+                                                     const ParamValues& values, const Builtins& b);
 
 // The total diffuse reflectance R_dr(α′) = 2π ∫ R(r) r dr of a model without a
 // `diffuseReflectance` section, integrated numerically from its pencil-beam profile (the pencil

@@ -146,20 +146,23 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
                                const Settings& s, const std::string& name) {
     if (!(s.energyLoss > 0 && s.energyLoss < 1))
         throw core::Error("integrate", 0, "the energy given up beyond R_m must lie in (0, 1)");
+    // built before anything changes: on an error the previous model stays
+    std::unique_ptr<RadialSource> radial;
+    std::unique_ptr<sampling::DiskSampler> disk;
+    if (s.sampling == Sampling::Disk) {
+        core::Stopwatch clock;
+        radial = std::make_unique<RadialSource>(
+            radialSource(pencilProgram, m, values, b, s.energyLoss, name));
+        disk = std::make_unique<sampling::DiskSampler>(radial->pointers(), s.axes);
+        gl::recordTiming("integrate: radial distributions (" + radial->kind + ")", clock.ms());
+    }
     m_program = pencilProgram;
     m_model = m;
     m_values = values;
     m_builtins = b;
     m_settings = s;
-    m_disk.reset();
-    m_radial.reset();
-    if (s.sampling == Sampling::Disk) {
-        core::Stopwatch clock;
-        m_radial = std::make_unique<RadialSource>(
-            radialSource(pencilProgram, m, values, b, s.energyLoss, name));
-        m_disk = std::make_unique<sampling::DiskSampler>(m_radial->pointers(), s.axes);
-        gl::recordTiming("integrate: radial distributions (" + m_radial->kind + ")", clock.ms());
-    }
+    m_disk = std::move(disk);
+    m_radial = std::move(radial);
     m_sum.assign(3 * m_hit.size(), 0.0);
     m_sumSq.assign(3 * m_hit.size(), 0.0);
     m_samples = 0;

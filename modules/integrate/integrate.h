@@ -10,8 +10,9 @@
 //   Estimators, per pixel sample:
 //     uniform  F = A · f(x), x uniform on the surface (sampling::AreaSampler);
 //     disk     F = Σ_hits f(x)/p(x), p the balance-heuristic density over the three axes and
-//              the three channels (sampling::DiskSampler); each channel's radial distribution is
-//              the model's own profile R(r) = Bssrdf(0, n, (r, 0, 0), n) tabulated on the GPU
+//              the three channels (sampling::DiskSampler); each channel's radial distribution
+//              comes from radial_source.h: the model's analytic sampler section, its Gaussian
+//              lobes, or else its profile R(r) = Bssrdf(0, n, (r, 0, 0), n) tabulated on the GPU
 //              (render::buildProfileTable, no cap), cut at R_m,c keeping all but `energyLoss`
 //              of its energy. The disk estimator integrates over |x − P| <= max_c R_m,c: on a
 //              plane it gives up exactly that fraction, a bias the tests keep below their noise.
@@ -103,8 +104,10 @@ class ImageIntegrator {
 
     // The model and estimator; starts over. `pencilProgram` from
     // bssrdf::buildModelProgram(m, "pencil_profile.comp"). With Sampling::Disk the model's
-    // profile is tabulated here (GPU) and a profile that cannot be sampled (NaN, negative, no
-    // energy, energy that does not converge) is a core::Error naming the model and the radius.
+    // radial distributions are built here (GPU, radialSource) and a profile that cannot be
+    // sampled (NaN, negative, no energy, energy that does not converge) is a core::Error naming
+    // the model and the radius; a model's sampler section or lobes that fail their checks name
+    // the model file and line. On an error the integrator keeps its previous model.
     void setModel(GLuint pencilProgram, const bssrdf::Model& m, const bssrdf::ParamValues& values,
                   const bssrdf::Builtins& b, const Settings& s, const std::string& name);
     // Takes `samplesPerPixel` (>= 1) more samples per pixel; stops early between batches when

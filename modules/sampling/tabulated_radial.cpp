@@ -158,6 +158,13 @@ double TabulatedRadial::cdf(double r) const {
     return std::min((m_cumulative[k] + partial(k, r - m_radii[k])) / m_kept, 1.0);
 }
 
+double TabulatedRadial::energyWithin(double r) const {
+    if (!(r > 0)) return 0;
+    if (r >= m_radii.back()) return totalEnergy();
+    const size_t k = intervalOf(r);
+    return 2 * std::numbers::pi * (m_cumulative[k] + partial(k, r - m_radii[k]));
+}
+
 double TabulatedRadial::totalEnergy() const {
     return 2 * std::numbers::pi * m_cumulative.back();
 }

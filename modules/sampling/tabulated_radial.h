@@ -48,6 +48,9 @@ class TabulatedRadial final : public RadialDistribution {
     double totalEnergy() const override;
     double keptEnergy() const override;
 
+    // ∫0^r R 2πr' dr' of the tabulated profile (any r >= 0; the whole energy beyond the table).
+    double energyWithin(double r) const;
+
     double eps() const { return m_eps; }
     const std::vector<double>& radii() const { return m_radii; }
     const std::vector<double>& values() const { return m_values; }

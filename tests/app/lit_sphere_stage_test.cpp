@@ -151,6 +151,33 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
             sum += v;
         EXPECT_GT(sum, 0.0);
     }
+    // a model whose own sampler fails its checks: an Errors entry naming the file and the
+    // section's line, and the last good integration stays (same image, no more samples)
+    const pathtrace::Image good = wb.integratedSphere();
+    const uint64_t goodSpp = wb.integratedSppDone();
+    const std::string dipole = testsupport::readText(root / "materials" / "dipole.bssrdf");
+    const std::string withSampler = dipole +
+                                    "\n::begin sample\n"
+                                    "float MaxRadius(int channel) { return 10.0; }\n"
+                                    "float PdfRadius(float r, int channel) { return 1.0; }\n"
+                                    "float SampleRadius(float xi, int channel) {\n"
+                                    "    return 10.0*xi;\n}\n::end sample\n";
+    core::writeFile(root / "materials" / "dipole.bssrdf", withSampler);
+    wb.reloadAll();
+    wb.update();
+    wb.update();
+    const std::string where = "materials/dipole.bssrdf:" +
+                              std::to_string(testsupport::lineOf(withSampler, "::begin sample"));
+    EXPECT_NE(wb.litSphereProblem().find(where + ": channel R: PdfRadius is the density of the "
+                                                 "radius"),
+              std::string::npos)
+        << wb.litSphereProblem();
+    bool listed = false;
+    for (const app::ErrorItem& e : wb.errors())
+        listed |= e.text.find(where) != std::string::npos;
+    EXPECT_TRUE(listed);
+    EXPECT_EQ(wb.integratedSppDone(), goodSpp);
+    EXPECT_EQ(wb.integratedSphere().mean, good.mean);
     // a model whose profile cannot be sampled is a problem of the stage, not a crash
     core::writeFile(root / "materials" / "dipole.bssrdf",
                     "analytic radial no_wi no_wo\n::begin shader\n"

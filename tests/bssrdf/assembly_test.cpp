@@ -257,6 +257,36 @@ TEST(BssrdfAssembly, DipoleSectionsInOrder) {
     EXPECT_EQ(l.line, lineContaining(model.source, "vec3 DiffuseReflectance("));
 }
 
+TEST(BssrdfAssembly, SampleSectionOnlyWhereTheTemplateAsksForIt) {
+    const auto model = bssrdf::parseModel(kModelText +
+                                              "::begin sample\n"                         // 13
+                                              "float MaxRadius(int c) { return 1.0; }\n" // 14
+                                              "float PdfRadius(float r, int c) { return 2.0*r; }\n"
+                                              "float SampleRadius(float x, int c) { return x; }\n"
+                                              "::end sample\n",
+                                          kPath);
+    const auto out = bssrdf::assemble(kTemplate, "shaders/test.frag", &model, repoResolver);
+    EXPECT_NE(out.glsl.find("#define BSSRDF_HAS_SAMPLE 1\n"), std::string::npos);
+    EXPECT_EQ(out.glsl.find("BSSRDF_HAS_LOBES"), std::string::npos);
+    // the section follows the shader section, inside #if defined(BSSRDF_WANT_SAMPLE)
+    const size_t want = out.glsl.find("#if defined(BSSRDF_WANT_SAMPLE)\n");
+    ASSERT_NE(want, std::string::npos);
+    EXPECT_LT(out.glsl.find("vec3 Bssrdf("), want);
+    EXPECT_LT(want, out.glsl.find("float MaxRadius("));
+    EXPECT_LT(out.glsl.find("float SampleRadius("), out.glsl.find("#endif\n", want));
+    const Location l = locate(out.glsl, "float MaxRadius(");
+    EXPECT_EQ(out.map.files.at(l.source), kPath);
+    EXPECT_EQ(l.line, 14);
+    // the template's next line is still mapped to the template
+    EXPECT_EQ(locate(out.glsl, "TEMPLATE_TOKEN").source, 0);
+    EXPECT_EQ(locate(out.glsl, "TEMPLATE_TOKEN").line, 5);
+    // a model without the section assembles as before
+    const auto plain = bssrdf::parseModel(kModelText, kPath);
+    const auto p = bssrdf::assemble(kTemplate, "shaders/test.frag", &plain, repoResolver);
+    EXPECT_EQ(p.glsl.find("BSSRDF_WANT_SAMPLE"), std::string::npos);
+    EXPECT_EQ(p.glsl.find("BSSRDF_HAS_SAMPLE"), std::string::npos);
+}
+
 TEST(BssrdfAssembly, UniformDeclarations) {
     const auto model = bssrdf::parseModel(
         "analytic\n::begin parameters\nfloat M 0 1 1\nbool B true\ncolor C 1 0 0\n"

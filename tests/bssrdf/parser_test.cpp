@@ -236,3 +236,67 @@ TEST(BssrdfParser, DefinitionsAllowWhitespace) {
                              "Wi, vec3 Xo, vec3 Wo) { return Xi; }\n::end shader\n";
     EXPECT_NO_THROW(bssrdf::parseModel(text, kPath));
 }
+
+// The optional analytic sampler: `::begin sample` with SampleRadius, PdfRadius and MaxRadius.
+namespace {
+const std::string kSample = "::begin sample\n"                                          // 5
+                            "float MaxRadius(int c) { return 1.0; }\n"                  // 6
+                            "float PdfRadius(float r, int c) { return 2.0*r; }\n"       // 7
+                            "float SampleRadius(float xi, int c) { return sqrt(xi); }\n" // 8
+                            "::end sample\n";                                           // 9
+} // namespace
+
+TEST(BssrdfParser, SampleSectionParses) {
+    const auto m = bssrdf::parseModel("analytic radial\n" + kShader + kSample, kPath);
+    expectSectionAt(m, m.sample, "sample");
+    EXPECT_EQ(m.sample->beginLine, 5);
+    EXPECT_NE(m.sample->code.find("float PdfRadius(float r, int c)"), std::string::npos);
+    EXPECT_TRUE(m.notes.empty());
+    EXPECT_EQ(m.lobesLine, 0);
+    EXPECT_FALSE(bssrdf::parseModel("analytic\n" + kShader, kPath).sample.has_value());
+}
+
+TEST(BssrdfParserErrors, SampleSectionWithoutItsFunctions) {
+    auto without = [](const std::string& function) {
+        std::string s = kSample;
+        const size_t at = s.find("float " + function);
+        s.replace(at, s.find('\n', at) - at, "// " + function + " is missing");
+        return "analytic radial\n" + kShader + s;
+    };
+    expectParseError(without("SampleRadius"), 5,
+                     "section 'sample' does not define float SampleRadius(float xi, int channel)");
+    expectParseError(without("PdfRadius"), 5,
+                     "section 'sample' does not define float PdfRadius(float r, int channel)");
+    expectParseError(without("MaxRadius"), 5,
+                     "section 'sample' does not define float MaxRadius(int channel)");
+    // structural errors are reported as for every section
+    expectParseError("analytic\n" + kShader + "::begin sample\nfloat MaxRadius(int c);\n", 5,
+                     "section 'sample' is not terminated");
+    expectParseError("analytic\n" + kShader + kSample + kSample, 10,
+                     "duplicate section 'sample' (first opened at line 5)");
+    expectParseError("analytic\n" + kShader + "::begin sample\n::end shader\n", 6,
+                     "'::end shader' does not match '::begin sample'");
+}
+
+TEST(BssrdfParser, LobeInterfaceIsFoundWithItsLine) {
+    const std::string lobes = "::begin shader\n"                                      // 2
+                              "int QdLobeCount() { return 1; }\n"                     // 3
+                              "/* vec2 QdLobe( */\n"                                  // 4
+                              "vec2 QdLobe(int k, int channel) { return vec2(1.0); }\n" // 5
+                              "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) { return Xi; }\n"
+                              "::end shader\n";
+    EXPECT_EQ(bssrdf::parseModel("analytic radial\n" + lobes, kPath).lobesLine, 5);
+    EXPECT_EQ(bssrdf::parseModel("analytic\n" + kShader, kPath).lobesLine, 0);
+    const auto qd = bssrdf::loadModel(sourceRoot() + "/materials/quantized_diffusion.bssrdf",
+                                      "materials/quantized_diffusion.bssrdf");
+    EXPECT_EQ(qd.lobesLine, lineContaining(qd.source, "vec2 QdLobe(int k"));
+    // one of the two functions alone is an error at its definition
+    std::string noCount = lobes;
+    noCount.replace(noCount.find("int QdLobeCount"), 3, "// ");
+    expectParseError("analytic radial\n" + noCount, 5,
+                     "'vec2 QdLobe(int k, int channel)' is defined but 'int QdLobeCount()' is not");
+    std::string noLobe = lobes;
+    noLobe.replace(noLobe.find("vec2 QdLobe(int"), 4, "vec3");
+    expectParseError("analytic radial\n" + noLobe, 3,
+                     "'int QdLobeCount()' is defined but 'vec2 QdLobe(int k, int channel)' is not");
+}
