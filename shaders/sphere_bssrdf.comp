@@ -42,6 +42,7 @@ uniform vec3 SphereLightDir;     // unit, towards the light
 uniform uvec2 SphereSeed;        // 64-bit seed (lo, hi)
 uniform uvec2 SphereFirstSample; // 64-bit index of this dispatch's first sample (lo, hi)
 uniform uint SphereSamples;      // samples per pixel in this dispatch
+uniform uint SphereSentinel;     // length of a loop run after the samples (> 0, not a constant)
 
 layout(std430, binding = 0) writeonly buffer SphereSums { vec4 sphereSums[]; };
 
@@ -80,8 +81,8 @@ void main() {
     vec2 q = ndc * (SphereExtent / SphereRadius); // in units of R
     float q2 = dot(q, q);
     if (!(q2 < 1.0)) {
-        sphereSums[2u * p] = vec4(0.0);
-        sphereSums[2u * p + 1u] = vec4(0.0);
+        sphereSums[2u * p] = vec4(0.0, 0.0, 0.0, 1.0);
+        sphereSums[2u * p + 1u] = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
     init();
@@ -91,6 +92,7 @@ void main() {
     const float area = 4.0 * PI * SphereRadius * SphereRadius;
     const uvec4 key = spherePcg4d(uvec4(SphereSeed, 0x53504852u, 0u));
 
+    uint samplesDone = 0u;
     precise vec3 sum = vec3(0.0), sumC = vec3(0.0);     // Σf and its Kahan compensation
     precise vec3 sumSq = vec3(0.0), sumSqC = vec3(0.0); // Σf²
     for (uint k = 0u; k < SphereSamples; ++k) {
@@ -115,7 +117,16 @@ void main() {
         precise vec3 t2 = sumSq + y2;
         sumSqC = (t2 - sumSq) - y2;
         sumSq = t2;
+        ++samplesDone;
     }
-    sphereSums[2u * p] = vec4(sum, 0.0);
-    sphereSums[2u * p + 1u] = vec4(sumSq, 0.0);
+    // Mesa llvmpipe ends every loop of an invocation once 65535 iterations have run in all
+    // (nested loops included): a model with loops of its own (quantized diffusion's lobes) can
+    // use that up, cutting samples short. Then this loop is cut too; .w = 0 tells the host,
+    // which takes fewer samples per dispatch (sphere_integrator.cpp).
+    uint sentinel = 0u;
+    for (uint k = 0u; k < SphereSentinel; ++k)
+        ++sentinel;
+    const float complete = samplesDone == SphereSamples && sentinel == SphereSentinel ? 1.0 : 0.0;
+    sphereSums[2u * p] = vec4(sum, complete);
+    sphereSums[2u * p + 1u] = vec4(sumSq, complete);
 }

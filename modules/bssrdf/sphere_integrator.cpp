@@ -43,6 +43,7 @@ void SphereIntegrator::reset(const litsphere::Setup& setup) {
     m_sumSq.assign(pixels * 3, 0.0);
     m_samples = 0;
     m_seconds = 0;
+    m_samplesPerDispatch = kMaxSamplesPerDispatch;
 }
 
 void SphereIntegrator::step(GLuint program, const Model& m, const ParamValues& values,
@@ -63,8 +64,9 @@ void SphereIntegrator::step(GLuint program, const Model& m, const ParamValues& v
     const auto groupsX = static_cast<GLuint>((s.width + kLocalSize - 1) / kLocalSize);
     const auto groupsY = static_cast<GLuint>((s.height + kLocalSize - 1) / kLocalSize);
     const size_t pixels = m_sum.size() / 3;
+    glUniform1ui(loc("SphereSentinel"), 2u);
     for (int done = 0; done < samplesPerPixel;) {
-        const int k = std::min(kMaxSamplesPerDispatch, samplesPerPixel - done);
+        const int k = std::min(m_samplesPerDispatch, samplesPerPixel - done);
         glUniform2ui(loc("SphereFirstSample"), static_cast<GLuint>(m_samples),
                      static_cast<GLuint>(m_samples >> 32));
         glUniform1ui(loc("SphereSamples"), static_cast<GLuint>(k));
@@ -73,6 +75,18 @@ void SphereIntegrator::step(GLuint program, const Model& m, const ParamValues& v
         glGetNamedBufferSubData(m_sums.id(), 0,
                                 static_cast<GLsizeiptr>(m_readback.size() * sizeof(float)),
                                 m_readback.data());
+        bool complete = true;
+        for (size_t p = 0; p < pixels && complete; ++p)
+            complete = m_readback[8 * p + 3] == 1.0f && m_readback[8 * p + 7] == 1.0f;
+        if (!complete) { // the driver's loop budget ran out: fewer samples, the same ones again
+            if (k == 1)
+                throw core::Error(
+                    m.name, 0,
+                    "Bssrdf() runs more loop iterations than the driver allows in one "
+                    "invocation (Mesa llvmpipe: 65535 in all): the sphere cannot be integrated");
+            m_samplesPerDispatch = std::max(1, k / 2);
+            continue;
+        }
         for (size_t p = 0; p < pixels; ++p)
             for (size_t c = 0; c < 3; ++c) {
                 m_sum[3 * p + c] += m_readback[8 * p + c];

@@ -57,6 +57,9 @@ class SphereIntegrator {
     std::vector<float> m_readback;
     std::vector<double> m_sum, m_sumSq; // 3 per pixel
     uint64_t m_samples = 0;
+    // samples per dispatch: halved while the driver's loop limit cuts dispatches short (a model
+    // with loops of its own), kept for the next steps
+    int m_samplesPerDispatch = kMaxSamplesPerDispatch;
     double m_seconds = 0;
 };
 
