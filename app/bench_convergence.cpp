@@ -17,8 +17,8 @@
 #include "core/fields.h"
 #include "gl/gl.h"
 #include "integrate/integrate.h"
-#include "monte_carlo_stage.h"
 #include "model_stages.h"
+#include "monte_carlo_stage.h"
 #include "report_png.h"
 #include "workbench.h"
 
@@ -63,14 +63,14 @@ int benchConvergence(const fs::path& root, const ConvergenceBenchOptions& o) {
     const integrate::ViewPoints view = viewPointsOf(wb.scene());
     const double scale = double(model.builtins.scale);
     auto integrator = [&](integrate::Sampling sampling, sampling::AxisScheme axes, uint64_t seed) {
-        auto ig = std::make_unique<integrate::ImageIntegrator>(wb.scene().mesh(), scale,
-                                                               s.meshFile, view);
+        auto ig = std::make_unique<integrate::ImageIntegrator>(wb.scene().mesh(), scale, s.meshFile,
+                                                               view);
         integrate::Settings is;
         is.sampling = sampling;
         is.axes = axes;
         is.seed = seed;
-        ig->setModel(e.programs.at("pencil_profile.comp").id(), *e.model, e.values,
-                     model.builtins, is, e.displayPath);
+        ig->setModel(e.programs.at("pencil_profile.comp").id(), *e.model, e.values, model.builtins,
+                     is, e.displayPath);
         return ig;
     };
     std::printf("bench convergence: dipole, %s, bunny %dx%d, %zu points, converged image: disk "
@@ -141,10 +141,11 @@ int benchConvergence(const fs::path& root, const ConvergenceBenchOptions& o) {
         integrate::Sampling sampling;
         sampling::AxisScheme axes;
     };
-    for (const Mc m : {Mc{"uniform area", integrate::Sampling::Uniform, sampling::AxisScheme::Uniform},
-                       Mc{"disk, axes 1/3 each", integrate::Sampling::Disk, sampling::AxisScheme::Uniform},
-                       Mc{"disk, axes pbrt", integrate::Sampling::Disk, sampling::AxisScheme::Pbrt},
-                       Mc{"disk, normal only", integrate::Sampling::Disk, sampling::AxisScheme::NormalOnly}}) {
+    for (const Mc m :
+         {Mc{"uniform area", integrate::Sampling::Uniform, sampling::AxisScheme::Uniform},
+          Mc{"disk, axes 1/3 each", integrate::Sampling::Disk, sampling::AxisScheme::Uniform},
+          Mc{"disk, axes pbrt", integrate::Sampling::Disk, sampling::AxisScheme::Pbrt},
+          Mc{"disk, normal only", integrate::Sampling::Disk, sampling::AxisScheme::NormalOnly}}) {
         auto ig = integrator(m.sampling, m.axes, 1);
         Curve c{m.name, {}, {}};
         for (int spp = 1; spp <= o.maxSpp; spp *= 2) {
@@ -154,8 +155,8 @@ int benchConvergence(const fs::path& root, const ConvergenceBenchOptions& o) {
             const double err = relRmse(x, refImg, true);
             c.t.push_back(ig->seconds());
             c.err.push_back(err);
-            std::printf("method=montecarlo sampling=%s spp=%d seconds=%.4g rel_rmse=%.4g\n",
-                        m.name, spp, ig->seconds(), err);
+            std::printf("method=montecarlo sampling=%s spp=%d seconds=%.4g rel_rmse=%.4g\n", m.name,
+                        spp, ig->seconds(), err);
             csv << "montecarlo " << m.name << "," << ig->seconds() << "," << err << "," << spp
                 << "\n";
         }

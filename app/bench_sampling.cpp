@@ -34,10 +34,9 @@ struct Run {
     double seconds = 0;
 };
 
-Run runFor(integrate::ImageIntegrator& ig, const bssrdf::ModelEntry& e,
-           const bssrdf::Builtins& b, const integrate::Settings& s, double seconds) {
-    ig.setModel(e.programs.at("pencil_profile.comp").id(), *e.model, e.values, b, s,
-                e.displayPath);
+Run runFor(integrate::ImageIntegrator& ig, const bssrdf::ModelEntry& e, const bssrdf::Builtins& b,
+           const integrate::Settings& s, double seconds) {
+    ig.setModel(e.programs.at("pencil_profile.comp").id(), *e.model, e.values, b, s, e.displayPath);
     core::Stopwatch clock;
     do {
         ig.step(1);

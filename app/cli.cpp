@@ -192,7 +192,8 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
             ls.mesh = core::relativeTo(mesh, root);
         }
         if (!a.litSampling.empty())
-            ls.sampling = core::enumFromName<integrate::Sampling>(a.litSampling, "--lit-sampling", "");
+            ls.sampling =
+                core::enumFromName<integrate::Sampling>(a.litSampling, "--lit-sampling", "");
         if (!a.litAxes.empty())
             ls.axes = core::enumFromName<sampling::AxisScheme>(a.litAxes, "--lit-axes", "");
     }

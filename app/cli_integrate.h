@@ -17,16 +17,16 @@ class App;
 namespace app {
 
 struct IntegrateArgs {
-    std::string mesh;                 // OBJ (or --sphere)
-    std::optional<double> sphereMm;   // sphere radius in mm (or --mesh)
-    std::optional<double> radiusMm;   // mesh: half its longest axis in mm
+    std::string mesh;               // OBJ (or --sphere)
+    std::optional<double> sphereMm; // sphere radius in mm (or --mesh)
+    std::optional<double> radiusMm; // mesh: half its longest axis in mm
     std::string model, preset, sigmaA, sigmaS;
     std::optional<double> g, eta;
-    std::string sampling, axes;       // enum names of integrate::Sampling / sampling::AxisScheme
-    uint64_t spp = 0;                 // samples per pixel (required)
-    std::string light, size;          // x,y,z and WxH, defaults from LitSphereSettings
+    std::string sampling, axes; // enum names of integrate::Sampling / sampling::AxisScheme
+    uint64_t spp = 0;           // samples per pixel (required)
+    std::string light, size;    // x,y,z and WxH, defaults from LitSphereSettings
     uint64_t seed = 1;
-    double energyLoss = 0;            // eps of R_m, default integrate::Settings
+    double energyLoss = 0; // eps of R_m, default integrate::Settings
     std::string out;
 };
 

@@ -143,8 +143,8 @@ json rowJson(const ScoreRow& r) {
 
 // 2π∫₀^∞ R r dr of one channel of a model: 2048 points in ln r from 1e-6 l_d to 60 l_d,
 // trapezoid in ln r (∫ R r² d ln r).
-double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::Builtins& b, double ld,
-                  int channel) {
+double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::Builtins& b,
+                    double ld, int channel) {
     const int n = 2048;
     const double a = std::log(1e-6 * ld), z = std::log(60.0 * ld), h = (z - a) / (n - 1);
     std::vector<double> radii(n);
@@ -371,23 +371,24 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                     const material::MaterialParams eff = effectiveParams(e, s);
                     const bool readsWo = !e.model->attrs.noWo;
                     const SliceSampling n = sliceSampling(es.bins, readsWo);
-                    const std::vector<bssrdf::Query> q =
-                        sliceQueries(es.bins, thetaI, readsWo, n);
-                    const std::vector<glm::dvec3> rgb = bssrdf::evaluateQueries(
-                        e.programs.at("pencil_profile.comp").id(), *e.model, e.values,
-                        builtinsOf(eff), q);
+                    const std::vector<bssrdf::Query> q = sliceQueries(es.bins, thetaI, readsWo, n);
+                    const std::vector<glm::dvec3> rgb =
+                        bssrdf::evaluateQueries(e.programs.at("pencil_profile.comp").id(), *e.model,
+                                                e.values, builtinsOf(eff), q);
                     std::vector<double> values(rgb.size());
                     for (size_t i = 0; i < rgb.size(); ++i)
                         values[i] = rgb[i][c];
                     const ModelSlice ms = modelSlice(es.bins, thetaI, eff.eta, readsWo, n, values);
                     for (size_t i = 0; i < ms.R.size(); ++i)
                         if (!std::isfinite(ms.R[i]) || ms.R[i] < 0)
-                            throw core::Error(e.displayPath, 0,
-                                              preset + ": Bssrdf() is negative or not finite on "
-                                                       "the slice at theta_i " +
-                                                  fmt(thetaI, 3) + " deg, r = " +
-                                                  fmt(es.bins.rEdges()[i / size_t(es.bins.thetaSBins)], 4) +
-                                                  " mm");
+                            throw core::Error(
+                                e.displayPath, 0,
+                                preset +
+                                    ": Bssrdf() is negative or not finite on "
+                                    "the slice at theta_i " +
+                                    fmt(thetaI, 3) + " deg, r = " +
+                                    fmt(es.bins.rEdges()[i / size_t(es.bins.thetaSBins)], 4) +
+                                    " mm");
                     ScoreRow row = scoreSlice(es.bins, ref, ms, ld);
                     row.model = stem(e.displayPath);
                     row.preset = preset;

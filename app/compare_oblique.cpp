@@ -33,9 +33,15 @@ pathtrace::EstimateSettings obliqueSettings(double ldMm, double thetaIDeg, uint6
 namespace {
 
 json sliceJson(const pathtrace::BssrdfSlice& s) {
-    return {{"theta_i", s.thetaIDeg}, {"specular", s.specular}, {"paths", s.paths},
-            {"R", s.R},               {"R_se", s.RStderr},      {"S", s.S},
-            {"S_se", s.SStderr},      {"total_rd", s.totalRd},  {"total_rd_se", s.totalRdStderr}};
+    return {{"theta_i", s.thetaIDeg},
+            {"specular", s.specular},
+            {"paths", s.paths},
+            {"R", s.R},
+            {"R_se", s.RStderr},
+            {"S", s.S},
+            {"S_se", s.SStderr},
+            {"total_rd", s.totalRd},
+            {"total_rd_se", s.totalRdStderr}};
 }
 
 std::optional<pathtrace::BssrdfSlice> cachedSlice(const fs::path& file,
@@ -136,7 +142,8 @@ capture::ScoreRow scoreSlice(const pathtrace::BssrdfBins& b, const pathtrace::Bs
         std::vector<double> w(ref.S.size());
         for (int ib = 0; ib < nb; ++ib)
             for (int ic = 0; ic < nc; ++ic)
-                w[size_t(ib * nc + ic)] = area[size_t(ib)] * pathtrace::cellProjectedSolidAngle(b, ic);
+                w[size_t(ib * nc + ic)] =
+                    area[size_t(ib)] * pathtrace::cellProjectedSolidAngle(b, ic);
         auto [rel, se] = relL2(model.S, ref.S, ref.SStderr, w);
         row.relL2Dir = rel;
         row.relL2DirSe = se;

@@ -100,18 +100,18 @@ std::vector<Picture> profilePictures(const ProfileCurves& p) {
     plot::Axis y = plot::autoRange(series, plot::Scale::Log, true, 6);
     y.label = "R(r) [1/mm^2]";
     std::vector<Picture> out;
-    out.push_back({base + "_profile.png", p.preset + " " + ch + ": radial profiles",
-                   plotPng(kPlotW, kPlotH, series, x, y, p.preset + " " + ch + ", theta_i = 0",
-                           sub)});
+    out.push_back(
+        {base + "_profile.png", p.preset + " " + ch + ": radial profiles",
+         plotPng(kPlotW, kPlotH, series, x, y, p.preset + " " + ch + ", theta_i = 0", sub)});
     const std::vector<plot::Series> ratio = plot::relativeTo(series, plot::Relation::Ratio);
     plot::Axis yr = plot::autoRange(ratio, plot::Scale::Linear, true);
     yr.lo = std::max(yr.lo, 0.0);
     yr.hi = std::min(yr.hi, 3.0);
     yr.label = "R_model / R_ref";
-    out.push_back({base + "_ratio.png", p.preset + " " + ch + ": ratio to the reference",
-                   plotPng(kPlotW, kPlotH, ratio, x, yr,
-                           p.preset + " " + ch + ": model / path traced",
-                           "band: the reference's own +-2 standard errors")});
+    out.push_back(
+        {base + "_ratio.png", p.preset + " " + ch + ": ratio to the reference",
+         plotPng(kPlotW, kPlotH, ratio, x, yr, p.preset + " " + ch + ": model / path traced",
+                 "band: the reference's own +-2 standard errors")});
     return out;
 }
 
@@ -137,8 +137,8 @@ Picture slicePicture(const SliceMaps& s) {
         int none = -1;
         ImGui::BeginGroup();
         ImGui::TextUnformatted("path traced");
-        polarHeatmap("##ref", float(kDisc), s.bins, {s.refR, [&](size_t i) { return logColour(s.refR[i]); }},
-                     none);
+        polarHeatmap("##ref", float(kDisc), s.bins,
+                     {s.refR, [&](size_t i) { return logColour(s.refR[i]); }}, none);
         ImGui::EndGroup();
         for (size_t k = 0; k < s.models.size(); ++k) {
             const std::vector<double>& m = s.models[k].second;
@@ -215,9 +215,9 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
     for (const ScoreRow& s : r.rows) {
         const std::string rank = (s.tie ? "=" : "") + std::to_string(s.rank);
         const std::string rel = fmt(100 * s.relL2, 3) + " % ± " + fmt(100 * s.relL2Se, 2) + " %";
-        const std::string dir2 =
-            s.relL2Dir ? fmt(100 * *s.relL2Dir, 3) + " % ± " + fmt(100 * s.relL2DirSe.value_or(0), 2) + " %"
-                       : "—";
+        const std::string dir2 = s.relL2Dir ? fmt(100 * *s.relL2Dir, 3) + " % ± " +
+                                                  fmt(100 * s.relL2DirSe.value_or(0), 2) + " %"
+                                            : "—";
         const std::string err5 = s.rErr5Ld ? fmt(*s.rErr5Ld, 3) : "none";
         const std::string th = fmt(s.thetaI, 3);
         md << "| " << s.preset << " | " << s.channel << " | " << th << " | " << s.model << " | "
@@ -239,9 +239,9 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
         html << "<h2>Plots</h2>\n";
         for (const Picture& p : pics) {
             md << "![" << p.caption << "](plots/" << p.file << ")\n";
-            html << "<figure><img alt=\"" << htmlEscape(p.caption) << "\" src=\"data:image/png;base64,"
-                 << base64(p.png) << "\"><figcaption>" << htmlEscape(p.caption)
-                 << "</figcaption></figure>\n";
+            html << "<figure><img alt=\"" << htmlEscape(p.caption)
+                 << "\" src=\"data:image/png;base64," << base64(p.png) << "\"><figcaption>"
+                 << htmlEscape(p.caption) << "</figcaption></figure>\n";
         }
     }
     html << "</body></html>\n";

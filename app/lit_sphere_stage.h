@@ -146,7 +146,7 @@ class LitSphereStage : public StageOf<LitSphereInputs> {
 
   private:
     PathTracedSphere m_pathTraced;
-    bssrdf::SphereIntegrator m_integrator;           // uniform sampling of the sphere (GPU)
+    bssrdf::SphereIntegrator m_integrator;               // uniform sampling of the sphere (GPU)
     std::unique_ptr<integrate::ImageIntegrator> m_probe; // otherwise: disk, or a mesh
     // One integration step within the budget; true when samples were added.
     bool stepIntegration(const LitSphereInputs& in);

@@ -5,12 +5,12 @@
 #include "cli.h"
 #include "cli_estimate.h"
 #include "cli_image.h"
+#include "cli_integrate.h"
 #include "cli_options.h"
 #include "cli_pointcloud.h"
 #include "cli_probe.h"
 #include "cli_render.h"
 #include "cli_slab.h"
-#include "cli_integrate.h"
 #include "compare.h"
 #include "core/core.h"
 #include "gl/gl.h"
@@ -350,8 +350,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(8, 4096));
     benchConv->add_option("--points", cbo.points, "point-cloud points (default 50000)")
         ->check(CLI::Range(100, 10000000));
-    benchConv->add_option("--reference-spp", cbo.referenceSpp,
-                          "samples per pixel of the converged image (default 1024)")
+    benchConv
+        ->add_option("--reference-spp", cbo.referenceSpp,
+                     "samples per pixel of the converged image (default 1024)")
         ->check(CLI::Range(1, 1000000));
     benchConv->add_option("--max-spp", cbo.maxSpp, "last Monte Carlo point (default 256)")
         ->check(CLI::Range(1, 1000000));

@@ -40,9 +40,9 @@ bool MonteCarloStage::update(const MonteCarloInputs& in) {
     const irradiance::Settings& light = scene.settings().light;
     MonteCarloSettings keyed = s; // spp is a target the render runs to, not an input
     keyed.spp = 0;
-    const std::string key =
-        core::keyOf(r.camera, r.width, r.height, light, keyed) + scene.meshHash() +
-        std::to_string(e->generation) + toJson(e->values).dump() + in.model.materialKey;
+    const std::string key = core::keyOf(r.camera, r.width, r.height, light, keyed) +
+                            scene.meshHash() + std::to_string(e->generation) +
+                            toJson(e->values).dump() + in.model.materialKey;
     bool changed = false;
     if (key != m_key) {
         m_key = key;
@@ -57,8 +57,8 @@ bool MonteCarloStage::update(const MonteCarloInputs& in) {
             is.sampling = s.sampling;
             is.axes = s.axes;
             is.seed = s.seed;
-            m_integrator->setModel(e->programs.at("pencil_profile.comp").id(), *e->model,
-                                   e->values, in.model.builtins, is, e->displayPath);
+            m_integrator->setModel(e->programs.at("pencil_profile.comp").id(), *e->model, e->values,
+                                   in.model.builtins, is, e->displayPath);
             m_slice = 1;
         } catch (const std::exception& err) {
             m_integrator.reset();

@@ -5,8 +5,8 @@
 #include "gl/gl.h"
 #include "plot/plot_draw.h"
 
-#include <imgui.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 namespace app {
 
@@ -73,8 +73,8 @@ std::string base64(const std::string& bytes) {
     out.reserve((bytes.size() + 2) / 3 * 4);
     size_t i = 0;
     for (; i + 2 < bytes.size(); i += 3) {
-        const unsigned v = unsigned(uint8_t(bytes[i])) << 16 | unsigned(uint8_t(bytes[i + 1])) << 8 |
-                           unsigned(uint8_t(bytes[i + 2]));
+        const unsigned v = unsigned(uint8_t(bytes[i])) << 16 |
+                           unsigned(uint8_t(bytes[i + 1])) << 8 | unsigned(uint8_t(bytes[i + 2]));
         out += k[v >> 18 & 63];
         out += k[v >> 12 & 63];
         out += k[v >> 6 & 63];

@@ -31,7 +31,8 @@ bool ScoreboardStage::update(const ScoreboardInputs& in) {
     }
     const ReferenceSnapshot& ref = *in.reference;
     // what the table depends on: every usable model (generation, values, σ) and the reference
-    std::string key = in.referenceModel + core::keyOf(*in.params) + "|" + std::to_string(ref.pathsDone) + "|" +
+    std::string key = in.referenceModel + core::keyOf(*in.params) + "|" +
+                      std::to_string(ref.pathsDone) + "|" +
                       std::to_string(ref.channel[0].rMid.size()) + "|" + ref.energy;
     for (const bssrdf::ModelEntry& e : in.library->entries()) {
         auto v = in.views->find(e.displayPath);

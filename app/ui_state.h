@@ -4,9 +4,9 @@
 // Modes are enums. The panels themselves are listed once, in panels/registry.h.
 #pragma once
 
+#include "child_process.h"
 #include "gl/gl.h"
 #include "panels/file_dialog.h"
-#include "child_process.h"
 #include "scene_stage.h"
 #include "scene_view.h"
 #include "workspace.h"
@@ -183,8 +183,8 @@ struct CapturesPanelState {
 
 // The Scoreboard panel: which channels it lists (the table is ScoreboardStage's).
 struct ScoreboardPanelState {
-    int channel = 3;             // 0 R, 1 G, 2 B, 3 all
-    std::vector<Rect> rowRects;  // where each listed row was drawn last frame (screen px)
+    int channel = 3;            // 0 R, 1 G, 2 B, 3 all
+    std::vector<Rect> rowRects; // where each listed row was drawn last frame (screen px)
 };
 
 // The BSSRDF slice panel: what it compares and shows (the run's settings are SliceSettings).

@@ -86,7 +86,9 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
         {m_scene.get(), [this] { return m_scene->update(sceneModelInput(), m_interacting); }},
         {m_monteCarlo.get(),
-         [this] { return m_monteCarlo->update({m_mc, m_scene.get(), sceneModelInput(), 20.0}); }},
+         [this] {
+             return m_monteCarlo->update({m_mc, m_scene.get(), sceneModelInput(), 20.0});
+         }},
     };
     update();
 }

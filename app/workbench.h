@@ -20,10 +20,10 @@
 #include "material/material.h"
 #include "model_probe_process.h"
 #include "model_stages.h"
+#include "monte_carlo_stage.h"
 #include "plot/plot.h"
 #include "reference_stage.h"
 #include "scene_stage.h"
-#include "monte_carlo_stage.h"
 #include "scoreboard_stage.h"
 #include "slice_stage.h"
 

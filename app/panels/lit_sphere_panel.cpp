@@ -99,22 +99,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
         hintText("path tracing %s on the CPU and integrating the BSSRDF over it (longest axis "
                  "= 2 x radius)",
                  s.mesh.c_str());
-    int sampling = static_cast<int>(s.sampling);
-    ImGui::SetNextItemWidth(190);
-    if (ImGui::Combo("BSSRDF sampling", &sampling, "uniform area\0disk probe rays\0"))
-        s.sampling = static_cast<integrate::Sampling>(sampling);
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("uniform: points uniform on the surface (thesis 3.5; on the sphere a GPU "
-                          "pass)\ndisk: probe rays through disks around the shading point, "
-                          "radius importance-sampled from the model's own profile, MIS over "
-                          "three axes and the channels (King et al. 2013)");
-    if (s.sampling == integrate::Sampling::Disk) {
-        sameLineIfFits(itemWidth(150, "axes"));
-        int axes = static_cast<int>(s.axes);
-        ImGui::SetNextItemWidth(150);
-        if (ImGui::Combo("axes", &axes, "N, T, B: 1/3 each\0N 1/2, T, B 1/4\0N only\0"))
-            s.axes = static_cast<sampling::AxisScheme>(axes);
-    }
+    samplingChoice("BSSRDF sampling", s.sampling, s.axes);
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("exposure", &ps.exposure, -10.0f, 10.0f, "%.1f EV");
     sameLineIfFits(itemWidth(120, "gamma"));

@@ -288,17 +288,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     GLuint tex = f.ldr;
     if (ps.mode == RenderMode::MonteCarlo) {
         MonteCarloSettings& mc = wb.monteCarloSettings();
-        int sampling = static_cast<int>(mc.sampling);
-        ImGui::SetNextItemWidth(150);
-        if (ImGui::Combo("sampling", &sampling, "uniform area\0disk probe rays\0"))
-            mc.sampling = static_cast<integrate::Sampling>(sampling);
-        if (mc.sampling == integrate::Sampling::Disk) {
-            sameLineIfFits(itemWidth(150, "axes"));
-            int axes = static_cast<int>(mc.axes);
-            ImGui::SetNextItemWidth(150);
-            if (ImGui::Combo("axes", &axes, "N, T, B: 1/3 each\0N 1/2, T, B 1/4\0N only\0"))
-                mc.axes = static_cast<sampling::AxisScheme>(axes);
-        }
+        samplingChoice("sampling", mc.sampling, mc.axes);
         sameLineIfFits(itemWidth(100, "spp"));
         ImGui::SetNextItemWidth(100);
         if (inputIntCommitted("spp", &mc.spp, 64)) mc.spp = std::clamp(mc.spp, 1, 10000000);

@@ -12,6 +12,24 @@
 
 namespace app {
 
+void samplingChoice(const char* label, integrate::Sampling& s, sampling::AxisScheme& axes) {
+    int v = static_cast<int>(s);
+    ImGui::SetNextItemWidth(170);
+    if (ImGui::Combo(label, &v, "uniform area\0disk probe rays\0"))
+        s = static_cast<integrate::Sampling>(v);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("uniform: entry points uniform on the surface (thesis 3.5)\ndisk: probe "
+                          "rays through disks around the shading point, radius importance-sampled "
+                          "from the model's own profile, MIS over three axes and the channels "
+                          "(King et al. 2013)");
+    if (s != integrate::Sampling::Disk) return;
+    sameLineIfFits(itemWidth(150, "axes"));
+    int a = static_cast<int>(axes);
+    ImGui::SetNextItemWidth(150);
+    if (ImGui::Combo("axes", &a, "N, T, B: 1/3 each\0N 1/2, T, B 1/4\0N only\0"))
+        axes = static_cast<sampling::AxisScheme>(a);
+}
+
 void ensureInspectCamera(Workbench& wb, UiShared& ui) {
     if (ui.inspect.cameraSet || !wb.scene().hasMesh()) return;
     ui.inspect.camera = wb.scene().settings().render.camera;

@@ -60,6 +60,9 @@ void hintText(const char* fmt, ...) IM_FMTARGS(1);
 float checkboxWidth(const char* label);
 float buttonWidth(const char* label);
 float itemWidth(float frame, const char* label);
+// The BSSRDF integration's sampling (uniform area | disk probe rays) and, for disk sampling, its
+// probe-axis scheme, as the Lit spheres and Render panels offer them.
+void samplingChoice(const char* label, integrate::Sampling& sampling, sampling::AxisScheme& axes);
 // Makes ui.inspect.camera frame the scene mesh (once).
 void ensureInspectCamera(Workbench& wb, UiShared& ui);
 

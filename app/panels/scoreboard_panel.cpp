@@ -53,7 +53,8 @@ void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) 
     hintText("Against the reference of %s's medium: %s paths per channel%s. rel_l2 over [0.1, 4] "
              "l_d (+- standard error), ratios at 1 and 4 l_d, \"=\" ties within the noise. Click "
              "a row to open the model in the pencil plot.",
-             wb.referenceModel().c_str(), core::formatNumber(double(sb.referencePaths()), 3).c_str(),
+             wb.referenceModel().c_str(),
+             core::formatNumber(double(sb.referencePaths()), 3).c_str(),
              snap.running ? " (running)" : "");
     for (const std::string& n : sb.notes())
         hintText("%s", n.c_str());
@@ -74,7 +75,8 @@ void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) 
         ImGui::TableNextRow();
         ImGui::TableNextColumn();
         ImGui::PushID(id++);
-        const bool solo = wb.plotSettings().solo == r.displayPath && wb.plotSettings().channel == r.channel;
+        const bool solo =
+            wb.plotSettings().solo == r.displayPath && wb.plotSettings().channel == r.channel;
         if (ImGui::Selectable(s2.channel.c_str(), solo, ImGuiSelectableFlags_SpanAllColumns)) {
             wb.plotSettings().solo = r.displayPath;
             wb.plotSettings().channel = r.channel;
@@ -92,7 +94,8 @@ void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) 
         ImGui::Text("%s%d", s2.tie ? "=" : "", s2.rank);
         ImGui::TableNextColumn();
         ImGui::TableSetBgColor(ImGuiTableBgTarget_CellBg, relColour(s2.relL2));
-        ImGui::Text("%s %% +- %s %%", num(100 * s2.relL2).c_str(), num(100 * s2.relL2Se, 2).c_str());
+        ImGui::Text("%s %% +- %s %%", num(100 * s2.relL2).c_str(),
+                    num(100 * s2.relL2Se, 2).c_str());
         if (r.coveredLd < 4 && ImGui::IsItemHovered())
             ImGui::SetTooltip("the reference reaches %s l_d: scored up to there",
                               num(r.coveredLd).c_str());

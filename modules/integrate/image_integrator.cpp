@@ -130,9 +130,11 @@ void ImageIntegrator::findShadingPoints() {
             hits.clear();
             m_geo->surface().intersectAll({x, y, far}, {0, 0, -1}, 0, 2 * far, hits);
             if (hits.empty()) continue;
-            const auto first = std::min_element(
-                hits.begin(), hits.end(),
-                [](const sampling::SurfaceHit& a, const sampling::SurfaceHit& b) { return a.t < b.t; });
+            const auto first =
+                std::min_element(hits.begin(), hits.end(),
+                                 [](const sampling::SurfaceHit& a, const sampling::SurfaceHit& b) {
+                                     return a.t < b.t;
+                                 });
             if (first->point.n.z <= 0) continue; // a back face: the camera sees no outside
             const size_t p = size_t(j) * size_t(w) + size_t(i);
             m_hit[p] = 1;
@@ -185,7 +187,8 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
     const sampling::Surface& surface = m_geo->surface();
     const double eps = 1e-7 * m_geo->sizeMm, far = 10 * m_geo->sizeMm;
     // Rounds of `batch` samples per pixel: the queries of a round go to the GPU together.
-    const int batch = int(std::clamp<size_t>(kQueriesPerRound / std::max<size_t>(pixels, 1), 1, 64));
+    const int batch =
+        int(std::clamp<size_t>(kQueriesPerRound / std::max<size_t>(pixels, 1), 1, 64));
     for (int done = 0; done < samplesPerPixel;) {
         if (cancel && cancel->load()) break;
         const int n = std::min(batch, samplesPerPixel - done);
@@ -247,7 +250,8 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
             // the view's radiance: E0 and the exit transmittance Ft(η, cos θo)/π
             glm::dvec3 scale(1.0);
             if (m_view) {
-                const double cosO = std::min(1.0, std::abs(glm::dot(m_shading[p].n, m_toCamera[p])));
+                const double cosO =
+                    std::min(1.0, std::abs(glm::dot(m_shading[p].n, m_toCamera[p])));
                 scale = m_irradiance * (fresnelTransmittance(cosO, eta) / std::numbers::pi);
             }
             for (int k = 0; k < n; ++k) {

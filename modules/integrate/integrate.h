@@ -31,12 +31,12 @@
 #include "bssrdf/program.h"
 #include "core/limits.h"
 
-#include <glm/vec4.hpp>
+#include "integrate/radial_source.h"
 #include "litsphere/litsphere.h"
 #include "mesh/mesh.h"
-#include "integrate/radial_source.h"
 #include "sampling/disk_sampling.h"
 #include "sampling/tabulated_radial.h"
+#include <glm/vec4.hpp>
 
 #include <array>
 #include <atomic>

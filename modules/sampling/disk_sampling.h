@@ -60,7 +60,8 @@ namespace sampling {
 enum class AxisScheme { Uniform, Pbrt, NormalOnly };
 // Names of the schemes (settings, command line).
 constexpr auto enumNames(AxisScheme) {
-    return std::array{std::pair{AxisScheme::Uniform, "uniform"}, std::pair{AxisScheme::Pbrt, "pbrt"},
+    return std::array{std::pair{AxisScheme::Uniform, "uniform"},
+                      std::pair{AxisScheme::Pbrt, "pbrt"},
                       std::pair{AxisScheme::NormalOnly, "normal"}};
 }
 // P_a for a = N, T, B.

@@ -130,8 +130,8 @@ double TabulatedRadial::sample(double u) const {
     const double y = std::clamp(u, 0.0, 1.0) * m_kept;
     // the guide table gives the first interval that can hold y; a short scan finds it (the
     // interval of upper_bound: the last k with cumulative[k] <= y)
-    const size_t g = std::min(size_t(std::clamp(u, 0.0, 1.0) * double(m_guide.size())),
-                              m_guide.size() - 1);
+    const size_t g =
+        std::min(size_t(std::clamp(u, 0.0, 1.0) * double(m_guide.size())), m_guide.size() - 1);
     size_t k = m_guide[g];
     while (k < m_lastInterval && m_cumulative[k + 1] <= y)
         ++k;

@@ -65,7 +65,7 @@ class TabulatedRadial final : public RadialDistribution {
     std::vector<double> m_radii, m_values;
     std::vector<double> m_cumulative; // ∫0^{r_k} r R dr (no 2π)
     double m_eps = kDefaultEnergyLoss;
-    size_t m_lastInterval = 0; // interval holding R_m
+    size_t m_lastInterval = 0;    // interval holding R_m
     bool m_quadraticGrid = false; // radii are profileGridRadii(r_{K−1}, K): O(1) intervalOf
     std::vector<size_t> m_guide;  // sample(): first candidate interval per 1/K of probability
     double m_radiusMax = 0;

@@ -145,9 +145,8 @@ Parameterization packAtlas(const mesh::Mesh& m, int textureSize, double gutterTe
     if (!(gutter < 0.25 * (2 - std::sqrt(2.0)) * cell))
         throw core::Error("atlas", 0,
                           std::to_string(n) + " triangles need a texture larger than " +
-                              std::to_string(textureSize) + "² for cells of " +
-                              std::to_string(g) + " per side with " + num(gutterTexels) +
-                              "-texel gutters");
+                              std::to_string(textureSize) + "² for cells of " + std::to_string(g) +
+                              " per side with " + num(gutterTexels) + "-texel gutters");
     p.uv.resize(n);
     p.areaSurface.resize(n);
     p.areaTexture.resize(n);

@@ -29,12 +29,12 @@ namespace texspace {
 
 struct Parameterization {
     std::vector<std::array<glm::dvec2, 3>> uv; // per triangle corner, in [0, 1]²
-    std::vector<double> areaSurface;            // A_S per triangle (mesh units²)
-    std::vector<double> areaTexture;            // A_T per triangle ([0, 1]² units)
-    std::vector<double> stretch;                // σ1/σ2 of texture → surface, >= 1
-    bool fromMesh = false;                      // the mesh's own UVs
-    std::string note;                           // why the atlas was used
-    int gridCells = 0;                          // atlas: G
+    std::vector<double> areaSurface;           // A_S per triangle (mesh units²)
+    std::vector<double> areaTexture;           // A_T per triangle ([0, 1]² units)
+    std::vector<double> stretch;               // σ1/σ2 of texture → surface, >= 1
+    bool fromMesh = false;                     // the mesh's own UVs
+    std::string note;                          // why the atlas was used
+    int gridCells = 0;                         // atlas: G
     double areaRatio(size_t t) const { return areaSurface[t] / areaTexture[t]; }
 };
 

@@ -26,11 +26,11 @@
 namespace texspace {
 
 struct Texels {
-    int size = 0;                       // K
-    std::vector<int32_t> triangle;      // per texel (row-major, v up), −1: not covered
-    std::vector<glm::dvec3> position;   // surface point at the texel centre (mesh units)
-    std::vector<glm::dvec3> normal;     // interpolated vertex normal, unit
-    std::vector<double> areaRatio;      // A_S/A_T of its triangle (mesh units² per [0,1]² unit)
+    int size = 0;                     // K
+    std::vector<int32_t> triangle;    // per texel (row-major, v up), −1: not covered
+    std::vector<glm::dvec3> position; // surface point at the texel centre (mesh units)
+    std::vector<glm::dvec3> normal;   // interpolated vertex normal, unit
+    std::vector<double> areaRatio;    // A_S/A_T of its triangle (mesh units² per [0,1]² unit)
     size_t covered = 0;
 };
 

@@ -312,9 +312,18 @@ TEST_F(CompareCli, BadInputsNameTheirArgumentAndWriteNothing) {
 // workbench's plot code, and writes them to plots/ too.
 TEST_F(CompareCli, ObliqueAnglesAreScoredOverThePlaneAndTheReportHasItsPlots) {
     ::setenv("BSSRDF_WORKBENCH_CACHE", (dir() / "cache").c_str(), 1);
-    const std::vector<std::string> args = {
-        "compare", "--models", "materials/dipole.bssrdf", "materials/directional_dipole.bssrdf",
-        "--presets", "Skin1", "--theta-i", "0,60", "--paths", "3000", "--out", "ob"};
+    const std::vector<std::string> args = {"compare",
+                                           "--models",
+                                           "materials/dipole.bssrdf",
+                                           "materials/directional_dipole.bssrdf",
+                                           "--presets",
+                                           "Skin1",
+                                           "--theta-i",
+                                           "0,60",
+                                           "--paths",
+                                           "3000",
+                                           "--out",
+                                           "ob"};
     RunResult r = run(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     const nlohmann::json j = nlohmann::json::parse(readText(dir() / "ob/scores.json"));
@@ -344,11 +353,12 @@ TEST_F(CompareCli, ObliqueAnglesAreScoredOverThePlaneAndTheReportHasItsPlots) {
          at = html.find("data:image/png;base64,", at + 1))
         ++embedded;
     EXPECT_EQ(embedded, 9u);
-    for (const char* name : {"Skin1_R_profile.png", "Skin1_G_ratio.png", "Skin1_B_theta60_slice.png"}) {
+    for (const char* name :
+         {"Skin1_R_profile.png", "Skin1_G_ratio.png", "Skin1_B_theta60_slice.png"}) {
         const std::string png = readText(dir() / "ob/plots" / name);
         int w = 0, h = 0, n = 0;
-        unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
-                                                  int(png.size()), &w, &h, &n, 3);
+        unsigned char* px = stbi_load_from_memory(
+            reinterpret_cast<const unsigned char*>(png.data()), int(png.size()), &w, &h, &n, 3);
         ASSERT_NE(px, nullptr) << name;
         EXPECT_GE(w, 400) << name;
         EXPECT_GE(h, 200) << name;

@@ -125,9 +125,8 @@ TEST(HotReload, BrokenShaderTemplateKeepsProgramsAndRecovers) {
     EXPECT_EQ(wb.library().find(path)->problem->file, "shaders/pencil_profile.comp");
     EXPECT_TRUE(wb.library().find(path)->usable());
     // a changed template that still works doubles the output
-    saveLikeAnEditor(
-        tplFile, replaced(tpl, "vec3 v = Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n);",
-                          "vec3 v = 2.0*Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n);"));
+    saveLikeAnEditor(tplFile, replaced(tpl, "vec3 v = Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n);",
+                                       "vec3 v = 2.0*Bssrdf(vec3(0.0), n, vec3(r, 0.0, 0.0), n);"));
     ASSERT_TRUE(waitFor(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-6 * base; }));
     EXPECT_FALSE(wb.library().find(path)->problem.has_value());
     fs::remove_all(root);

@@ -27,7 +27,8 @@ const app::ScoreboardRow* findRow(const std::vector<app::ScoreboardRow>& rows,
 
 TEST(ScoreboardPanel, ScoresEveryModelFollowsHotReloadAndAClickOpensThePencilPlot) {
     testsupport::context();
-    auto root = testsupport::makeProjectRoot("scoreboard", {"dipole.bssrdf", "better_dipole.bssrdf"});
+    auto root =
+        testsupport::makeProjectRoot("scoreboard", {"dipole.bssrdf", "better_dipole.bssrdf"});
     app::Workbench wb(root, false);
     wb.referenceSettings().enabled = true;
     wb.referenceSettings().paths = 20000;
@@ -59,7 +60,8 @@ TEST(ScoreboardPanel, ScoresEveryModelFollowsHotReloadAndAClickOpensThePencilPlo
         const pathtrace::SlabResult& ref = snap.channel[size_t(c)];
         const auto m = app::mediaOf(*wb.view(dipole).effective)[size_t(c)];
         const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
-        const bssrdf::Profile p = bssrdf::evaluateProfile(program, *e->model, e->values, b, ref.rMid);
+        const bssrdf::Profile p =
+            bssrdf::evaluateProfile(program, *e->model, e->values, b, ref.rMid);
         std::vector<double> mv;
         for (const auto& v : p.value)
             mv.push_back(v[c]);

@@ -258,13 +258,13 @@ TEST(BssrdfAssembly, DipoleSectionsInOrder) {
 }
 
 TEST(BssrdfAssembly, SampleSectionOnlyWhereTheTemplateAsksForIt) {
-    const auto model = bssrdf::parseModel(kModelText +
-                                              "::begin sample\n"                         // 13
-                                              "float MaxRadius(int c) { return 1.0; }\n" // 14
-                                              "float PdfRadius(float r, int c) { return 2.0*r; }\n"
-                                              "float SampleRadius(float x, int c) { return x; }\n"
-                                              "::end sample\n",
-                                          kPath);
+    const auto model =
+        bssrdf::parseModel(kModelText + "::begin sample\n"                         // 13
+                                        "float MaxRadius(int c) { return 1.0; }\n" // 14
+                                        "float PdfRadius(float r, int c) { return 2.0*r; }\n"
+                                        "float SampleRadius(float x, int c) { return x; }\n"
+                                        "::end sample\n",
+                           kPath);
     const auto out = bssrdf::assemble(kTemplate, "shaders/test.frag", &model, repoResolver);
     EXPECT_NE(out.glsl.find("#define BSSRDF_HAS_SAMPLE 1\n"), std::string::npos);
     EXPECT_EQ(out.glsl.find("BSSRDF_HAS_LOBES"), std::string::npos);

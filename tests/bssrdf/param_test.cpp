@@ -116,9 +116,9 @@ TEST(BssrdfParams, IdentifierRules) {
 
 TEST(BssrdfParams, BuiltinNamesList) {
     const auto& b = bssrdf::builtinNames();
-    for (const char* n : {"SigmaA", "SigmaS", "G", "IOR", "Scale", "PI", "Bssrdf",
-                          "DiffuseReflectance", "init", "main", "SampleRadius", "PdfRadius",
-                          "MaxRadius", "QdLobeCount", "QdLobe"})
+    for (const char* n :
+         {"SigmaA", "SigmaS", "G", "IOR", "Scale", "PI", "Bssrdf", "DiffuseReflectance", "init",
+          "main", "SampleRadius", "PdfRadius", "MaxRadius", "QdLobeCount", "QdLobe"})
         EXPECT_NE(std::find(b.begin(), b.end(), n), b.end()) << n;
     EXPECT_EQ(b.size(), 15u);
 }

@@ -239,11 +239,11 @@ TEST(BssrdfParser, DefinitionsAllowWhitespace) {
 
 // The optional analytic sampler: `::begin sample` with SampleRadius, PdfRadius and MaxRadius.
 namespace {
-const std::string kSample = "::begin sample\n"                                          // 5
-                            "float MaxRadius(int c) { return 1.0; }\n"                  // 6
-                            "float PdfRadius(float r, int c) { return 2.0*r; }\n"       // 7
+const std::string kSample = "::begin sample\n"                                           // 5
+                            "float MaxRadius(int c) { return 1.0; }\n"                   // 6
+                            "float PdfRadius(float r, int c) { return 2.0*r; }\n"        // 7
                             "float SampleRadius(float xi, int c) { return sqrt(xi); }\n" // 8
-                            "::end sample\n";                                           // 9
+                            "::end sample\n";                                            // 9
 } // namespace
 
 TEST(BssrdfParser, SampleSectionParses) {
@@ -279,9 +279,9 @@ TEST(BssrdfParserErrors, SampleSectionWithoutItsFunctions) {
 }
 
 TEST(BssrdfParser, LobeInterfaceIsFoundWithItsLine) {
-    const std::string lobes = "::begin shader\n"                                      // 2
-                              "int QdLobeCount() { return 1; }\n"                     // 3
-                              "/* vec2 QdLobe( */\n"                                  // 4
+    const std::string lobes = "::begin shader\n"                                        // 2
+                              "int QdLobeCount() { return 1; }\n"                       // 3
+                              "/* vec2 QdLobe( */\n"                                    // 4
                               "vec2 QdLobe(int k, int channel) { return vec2(1.0); }\n" // 5
                               "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) { return Xi; }\n"
                               "::end shader\n";

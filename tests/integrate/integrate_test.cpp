@@ -12,6 +12,7 @@
 //   - the image does not depend on how the samples are split into steps;
 //   - bad input: an open mesh, a profile that cannot be sampled.
 #include "../support/gl_fixture.h"
+#include "../support/image_agreement.h"
 #include "bssrdf/program.h"
 #include "bssrdf/sphere_integrator.h"
 #include "core/core.h"
@@ -84,33 +85,9 @@ litsphere::Image integrateImage(integrate::ImageIntegrator& ig, const std::strin
     return ig.image();
 }
 
-struct Agreement {
-    size_t tested = 0;
-    double maxZ = 0;
-    double threshold = 0;
-};
-// Per pixel and channel z = (a − b)/√(var_a + var_b); threshold: Bonferroni at family-wise
-// α = 1e-3 over every tested value. Tested: the values of at least 1e-3 of the channel's
-// brightest pixel in `b`. Below that (the far side of the terminator) the pixel is made of the
-// profile's tail alone, where disk sampling gives up what lies beyond R_m (at most eps = 1e-3 of
-// a plane's energy, integrate.h) and where every estimator's variance estimate is unreliable at
-// these sample counts (rare large contributions).
+using testsupport::Agreement;
 Agreement agree(const litsphere::Image& a, const litsphere::Image& b) {
-    Agreement g;
-    std::vector<double> z;
-    double peak[3] = {0, 0, 0};
-    for (size_t i = 0; i < b.mean.size(); ++i)
-        peak[i % 3] = std::max(peak[i % 3], double(b.mean[i]));
-    for (size_t i = 0; i < a.mean.size(); ++i) {
-        const double v = double(a.variance[i]) + double(b.variance[i]);
-        if (!(b.mean[i] >= 1e-3 * peak[i % 3] && v > 0 && std::isfinite(v))) continue;
-        z.push_back(std::abs(a.mean[i] - b.mean[i]) / std::sqrt(v));
-    }
-    g.tested = z.size();
-    g.threshold = core::bonferroniZ(1e-3, double(std::max<size_t>(1, z.size())));
-    for (double x : z)
-        g.maxZ = std::max(g.maxZ, x);
-    return g;
+    return testsupport::agreePerPixel(a, b);
 }
 
 // Mean over lit pixels of the per-sample variance (variance of the mean × samples).
@@ -143,8 +120,8 @@ TEST(IntegrateSphere, UniformAndDiskConvergeToTheGpuIntegrator) {
     const bssrdf::Builtins b = skin1();
     const litsphere::Image gpu = gpuUniform("dipole.bssrdf", s, b, 65536);
     integrate::ImageIntegrator ig(s);
-    const litsphere::Image uni = integrateImage(ig, "dipole.bssrdf", b, integrate::Sampling::Uniform,
-                                                sampling::AxisScheme::Uniform, 8192);
+    const litsphere::Image uni = integrateImage(
+        ig, "dipole.bssrdf", b, integrate::Sampling::Uniform, sampling::AxisScheme::Uniform, 8192);
     Agreement a = agree(uni, gpu);
     EXPECT_GT(a.tested, 800u);
     EXPECT_LT(a.maxZ, a.threshold) << "uniform vs GPU";
@@ -226,14 +203,14 @@ TEST(IntegrateSphere, ImportanceSamplingHasFarLessVarianceAtEqualSamples) {
     const litsphere::Setup s = setup(24, 10.0);
     integrate::ImageIntegrator ig(s);
     const int spp = 64;
-    const double vu = meanSampleVariance(
-        integrateImage(ig, "dipole.bssrdf", skin1(), integrate::Sampling::Uniform,
-                       sampling::AxisScheme::Uniform, spp),
-        spp);
-    const double vd = meanSampleVariance(
-        integrateImage(ig, "dipole.bssrdf", skin1(), integrate::Sampling::Disk,
-                       sampling::AxisScheme::Uniform, spp),
-        spp);
+    const double vu = meanSampleVariance(integrateImage(ig, "dipole.bssrdf", skin1(),
+                                                        integrate::Sampling::Uniform,
+                                                        sampling::AxisScheme::Uniform, spp),
+                                         spp);
+    const double vd =
+        meanSampleVariance(integrateImage(ig, "dipole.bssrdf", skin1(), integrate::Sampling::Disk,
+                                          sampling::AxisScheme::Uniform, spp),
+                           spp);
     std::printf("per-sample variance, Skin1 sphere R = 10 mm: uniform %.4g, disk %.4g (%.1fx)\n",
                 vu, vd, vu / vd);
     EXPECT_GT(vu / vd, 10.0);
@@ -244,9 +221,9 @@ TEST(IntegrateSphere, DirectionalModelAgreesWithTheGpuIntegrator) {
     const bssrdf::Builtins b = skin1();
     const litsphere::Image gpu = gpuUniform("directional_dipole.bssrdf", s, b, 65536);
     integrate::ImageIntegrator ig(s);
-    const litsphere::Image disk = integrateImage(ig, "directional_dipole.bssrdf", b,
-                                                 integrate::Sampling::Disk,
-                                                 sampling::AxisScheme::Uniform, 512);
+    const litsphere::Image disk =
+        integrateImage(ig, "directional_dipole.bssrdf", b, integrate::Sampling::Disk,
+                       sampling::AxisScheme::Uniform, 512);
     const Agreement a = agree(disk, gpu);
     EXPECT_GT(a.tested, 300u);
     EXPECT_LT(a.maxZ, a.threshold);
@@ -255,9 +232,8 @@ TEST(IntegrateSphere, DirectionalModelAgreesWithTheGpuIntegrator) {
 TEST(IntegrateSphere, TheImageDoesNotDependOnHowStepsAreSplit) {
     const litsphere::Setup s = setup(12, 10.0);
     integrate::ImageIntegrator one(s), two(s);
-    const litsphere::Image a = integrateImage(one, "dipole.bssrdf", skin1(),
-                                              integrate::Sampling::Disk,
-                                              sampling::AxisScheme::Pbrt, 6);
+    const litsphere::Image a = integrateImage(
+        one, "dipole.bssrdf", skin1(), integrate::Sampling::Disk, sampling::AxisScheme::Pbrt, 6);
     const LoadedModel& m = model("dipole.bssrdf");
     integrate::Settings st;
     st.sampling = integrate::Sampling::Disk;
@@ -278,19 +254,19 @@ TEST(IntegrateMesh, DiskAgreesWithUniformOnAThinBoxAndTheBunny) {
     };
     std::vector<Case> cases;
     cases.push_back({"thin box", mesh::makeBox(1.0, 1.0, 0.08)});
-    cases.push_back({"bunny", mesh::loadObj(testsupport::sourceRoot() / "third_party/bunny/bunny.obj")});
+    cases.push_back(
+        {"bunny", mesh::loadObj(testsupport::sourceRoot() / "third_party/bunny/bunny.obj")});
     for (Case& c : cases) {
         litsphere::Setup s = setup(20, 15.0); // 30 mm across
         s.lightDir[0] = 0.3;
         s.lightDir[1] = 0.6;
         s.lightDir[2] = 0.74;
         integrate::ImageIntegrator ig(s, c.mesh, c.name);
-        const litsphere::Image uni = integrateImage(ig, "dipole.bssrdf", b,
-                                                    integrate::Sampling::Uniform,
-                                                    sampling::AxisScheme::Uniform, 8192);
-        const litsphere::Image disk = integrateImage(ig, "dipole.bssrdf", b,
-                                                     integrate::Sampling::Disk,
-                                                     sampling::AxisScheme::Uniform, 512);
+        const litsphere::Image uni =
+            integrateImage(ig, "dipole.bssrdf", b, integrate::Sampling::Uniform,
+                           sampling::AxisScheme::Uniform, 8192);
+        const litsphere::Image disk = integrateImage(
+            ig, "dipole.bssrdf", b, integrate::Sampling::Disk, sampling::AxisScheme::Uniform, 512);
         const Agreement a = agree(disk, uni);
         EXPECT_GT(a.tested, 100u) << c.name;
         EXPECT_LT(a.maxZ, a.threshold) << c.name;

@@ -4,8 +4,8 @@
 // with one-point and second-order nodes, error vs ε and criterion, the second-order rule's
 // error reduction, the radial profile table, the flat-plate closed form
 // M = E·R_dr of the classical dipole, the stack/iteration flags, and keep-last-good models.
-#include "render/render.h"
 #include "render/frame_analysis.h"
+#include "render/render.h"
 
 #include "../support/gl_fixture.h"
 #include "bssrdf/bssrdf.h"

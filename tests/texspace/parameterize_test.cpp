@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 
@@ -51,10 +51,10 @@ TEST(Parameterize, QualifyingUvsAreUsedWithTheirAreaRatios) {
     EXPECT_TRUE(p.fromMesh);
     EXPECT_TRUE(p.note.empty());
     for (size_t t = 0; t < 2; ++t) {
-        EXPECT_DOUBLE_EQ(p.areaSurface[t], 1.0);    // half of the 2 × 1 rectangle
-        EXPECT_DOUBLE_EQ(p.areaTexture[t], 0.5);    // half of the unit square
+        EXPECT_DOUBLE_EQ(p.areaSurface[t], 1.0); // half of the 2 × 1 rectangle
+        EXPECT_DOUBLE_EQ(p.areaTexture[t], 0.5); // half of the unit square
         EXPECT_DOUBLE_EQ(p.areaRatio(t), 2.0);
-        EXPECT_NEAR(p.stretch[t], 2.0, 1e-12);      // x stretched twice, y not
+        EXPECT_NEAR(p.stretch[t], 2.0, 1e-12); // x stretched twice, y not
     }
 }
 
@@ -66,8 +66,7 @@ TEST(Parameterize, BadUvsNameTheTriangleAndFallBackToTheAtlas) {
         << texspace::uvProblem(outside);
     mesh::Mesh overlapping = square();
     overlapping.uvs[3] = {1.0f, 0.2f}; // the second triangle folds over the first
-    EXPECT_NE(texspace::uvProblem(overlapping).find("triangles 0 and 1 overlap"),
-              std::string::npos)
+    EXPECT_NE(texspace::uvProblem(overlapping).find("triangles 0 and 1 overlap"), std::string::npos)
         << texspace::uvProblem(overlapping);
     mesh::Mesh flat = square();
     flat.uvs[1] = {0.0f, 0.0f}; // triangle 0 collapses in the texture
@@ -138,7 +137,6 @@ TEST(Parameterize, AnAtlasThatCannotKeepItsGuttersIsRefused) {
 }
 
 // ---- stages 1 and 2 on the CPU side (texspace/texture_space.h) --------------------------------
-
 
 TEST(TextureSpace, TexelsCoverEveryTriangleOnceAndTheirAreasAddUp) {
     const mesh::Mesh m = mesh::makeUvSphere(12, 24);
