@@ -40,8 +40,11 @@ TEST(MonteCarloRender, AgreesWithItselfAndWithThePointCloudRender) {
     const litsphere::Image disk = wb.monteCarlo().image();
     ASSERT_EQ(disk.width, rb.width);
     ASSERT_EQ(disk.height, rb.height);
-    for (size_t p = 0; p < rb.position.size(); ++p)
-        if (rb.position[p].w < 0.5f) EXPECT_EQ(disk.mean[3 * p], 0.0f) << p;
+    for (size_t p = 0; p < rb.position.size(); ++p) {
+        if (rb.position[p].w < 0.5f) {
+            EXPECT_EQ(disk.mean[3 * p], 0.0f) << p;
+        }
+    }
 
     // the other axis scheme with another seed: an independent estimate of the same image.
     // (Uniform area sampling is no reference here: on a 50 mm bunny Skin1's profile is a few mm
