@@ -42,7 +42,7 @@ const Graph kAllowed = {
     {"irradiance", {"core", "gl", "shader", "mesh", "pointcloud"}},
     {"render", {"core", "gl", "shader", "bssrdf", "octree", "mesh"}},
     {"integrate", {"core", "gl", "litsphere", "mesh", "bssrdf", "sampling", "render", "pathtrace"}},
-    {"texspace", {"core", "mesh"}},
+    {"texspace", {"core", "mesh", "gl", "shader"}},
 };
 
 std::string readAll(const fs::path& p) {
