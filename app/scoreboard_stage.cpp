@@ -56,6 +56,7 @@ bool ScoreboardStage::update(const ScoreboardInputs& in) {
     }
     std::vector<capture::ScoreRow> scores;
     std::vector<ScoreboardRow> rows;
+    std::map<std::string, double> totals; // the ones used now (the rest are dropped)
     for (int c = 0; c < 3; ++c) {
         const pathtrace::SlabResult& r = ref.channel[size_t(c)];
         const pathtrace::Medium m = mediaOf(*in.params)[size_t(c)];
@@ -87,9 +88,14 @@ bool ScoreboardStage::update(const ScoreboardInputs& in) {
                 for (size_t i = 0; i < mv.size(); ++i)
                     mv[i] = prof.value[i][c];
                 ScoreboardRow row;
+                const std::string totalKey = e.displayPath + std::to_string(e.generation) +
+                                             toJson(e.values).dump() + core::keyOf(b, ld, c);
+                auto cached = m_totals.find(totalKey);
+                const double total =
+                    cached != m_totals.end() ? cached->second : modelTotalRd(program, e, b, ld, c);
+                totals[totalKey] = total;
                 row.score = scoreAgainstReference(r.rMid, r.rd, r.rdStderr, r.specular, r.totalRd,
-                                                  r.totalRdStderr, ld, mv,
-                                                  modelTotalRd(program, e, b, ld, c));
+                                                  r.totalRdStderr, ld, mv, total);
                 std::string stem = e.displayPath.substr(e.displayPath.rfind('/') + 1);
                 row.score.model = stem.substr(0, stem.rfind('.'));
                 row.score.preset = "current";
@@ -103,6 +109,7 @@ bool ScoreboardStage::update(const ScoreboardInputs& in) {
             }
         }
     }
+    m_totals = std::move(totals);
     // rank as `compare` does, then keep each row's model and channel with its score
     for (const ScoreboardRow& r : rows)
         scores.push_back(r.score);

@@ -52,6 +52,9 @@ class ScoreboardStage : public StageOf<ScoreboardInputs> {
     std::vector<ScoreboardRow> m_rows;
     std::vector<std::string> m_notes, m_problems;
     uint64_t m_paths = 0;
+    // 2π∫R r dr per (model state, channel): it does not change with the reference, so the
+    // re-scoring while paths arrive does not evaluate 2048 radii per model again
+    std::map<std::string, double> m_totals;
 };
 
 } // namespace app
