@@ -3,6 +3,7 @@
 // replaced by a directory or a symlink loop, a 100 MB file. Nothing crashes, every problem is
 // an entry naming the file, and the workbench recovers when the files are good again.
 #include "../support/gl_fixture.h"
+#include "../support/workbench_values.h"
 #include "core/core.h"
 #include "workbench.h"
 
@@ -13,6 +14,7 @@ using testsupport::replaced;
 
 namespace {
 namespace fs = std::filesystem;
+using testsupport::valueAt0;
 
 template <class F> bool waitFor(app::Workbench& wb, F done, double ms = 8000) {
     core::Stopwatch sw;
@@ -22,12 +24,6 @@ template <class F> bool waitFor(app::Workbench& wb, F done, double ms = 8000) {
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     return false;
-}
-
-double valueAt0(app::Workbench& wb, const std::string& path) {
-    if (!wb.library().find(path)) return -1.0;
-    auto& v = wb.view(path);
-    return v.profile.value.empty() ? -1.0 : v.profile.value[0].x;
 }
 
 void renameSave(const fs::path& file, const std::string& text) {

@@ -4,6 +4,7 @@
 // the Errors panel names the file and why, the last good version stays in use, and the fixed file
 // is adopted.
 #include "../support/gl_fixture.h"
+#include "../support/workbench_values.h"
 #include "core/core.h"
 #include "model_probe_process.h"
 #include "workbench.h"
@@ -16,18 +17,8 @@ using testsupport::replaced;
 
 namespace {
 namespace fs = std::filesystem;
-
-double valueAt0(app::Workbench& wb, const std::string& path) {
-    if (!wb.library().find(path)) return -1.0;
-    auto& v = wb.view(path);
-    return v.profile.value.empty() ? -1.0 : v.profile.value[0].x;
-}
-
-std::string errorNaming(app::Workbench& wb, const std::string& what) {
-    for (const auto& e : wb.errors())
-        if (e.text.find(what) != std::string::npos) return e.text;
-    return "";
-}
+using testsupport::errorNaming;
+using testsupport::valueAt0;
 
 // Runs update() until done() or `ms` pass; returns the longest single update() in ms.
 template <class F> double updateUntil(app::Workbench& wb, F done, double ms = 60000) {

@@ -2,6 +2,7 @@
 // write a broken one, keep the old output and get the error; fix it, recover. Parameter
 // values survive; models appear and disappear with their files; shaders reload too.
 #include "../support/gl_fixture.h"
+#include "../support/workbench_values.h"
 #include "workbench.h"
 
 #include <algorithm>
@@ -13,6 +14,7 @@ using testsupport::replaced;
 
 namespace {
 namespace fs = std::filesystem;
+using testsupport::valueAt0;
 
 // Runs wb.update() until `done` holds (5 s limit: the debounce is 40 ms, a rebuild ~100 ms).
 template <class F> bool waitFor(app::Workbench& wb, F done) {
@@ -23,11 +25,6 @@ template <class F> bool waitFor(app::Workbench& wb, F done) {
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     return false;
-}
-
-double valueAt0(app::Workbench& wb, const std::string& path) {
-    auto& v = wb.view(path);
-    return v.profile.value.empty() ? -1.0 : v.profile.value[0].x;
 }
 
 // Editor-style save: write a temporary next to the file and rename it over the original.

@@ -4,6 +4,7 @@
 // a new version without read permission, are Errors entries naming the file; the last good
 // version stays; readable again, the new version is adopted.
 #include "../support/gl_fixture.h"
+#include "../support/workbench_values.h"
 #include "core/core.h"
 #include "workbench.h"
 
@@ -19,18 +20,8 @@ using testsupport::replaced;
 
 namespace {
 namespace fs = std::filesystem;
-
-double valueAt0(app::Workbench& wb, const std::string& path) {
-    if (!wb.library().find(path)) return -1.0;
-    auto& v = wb.view(path);
-    return v.profile.value.empty() ? -1.0 : v.profile.value[0].x;
-}
-
-std::string errorNaming(app::Workbench& wb, const std::string& what) {
-    for (const auto& e : wb.errors())
-        if (e.text.find(what) != std::string::npos) return e.text;
-    return "";
-}
+using testsupport::errorNaming;
+using testsupport::valueAt0;
 
 template <class F> void updateUntil(app::Workbench& wb, F done, double ms) {
     core::Stopwatch sw;

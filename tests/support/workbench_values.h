@@ -1,0 +1,25 @@
+// Shared by the hot-reload tests: what a Workbench shows of a model, read without side effects.
+#pragma once
+
+#include "workbench.h"
+
+#include <string>
+
+namespace testsupport {
+
+// R of the model's pencil profile at its first radius, channel R; −1 when the model is not
+// loaded or has no profile.
+inline double valueAt0(app::Workbench& wb, const std::string& path) {
+    if (!wb.library().find(path)) return -1.0;
+    auto& v = wb.view(path);
+    return v.profile.value.empty() ? -1.0 : v.profile.value[0].x;
+}
+
+// The text of the first Errors entry containing `what`, "" when there is none.
+inline std::string errorNaming(app::Workbench& wb, const std::string& what) {
+    for (const auto& e : wb.errors())
+        if (e.text.find(what) != std::string::npos) return e.text;
+    return "";
+}
+
+} // namespace testsupport
