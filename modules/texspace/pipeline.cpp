@@ -1,0 +1,314 @@
+// The three stages of texture-space importance sampling (pipeline.h).
+#include "texspace/pipeline.h"
+
+#include "core/color.h"
+#include "core/core.h"
+#include "octree/octree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+
+namespace texspace {
+
+void validateSettings(const Settings& s, int maxTextureSize) {
+    auto fail = [](const std::string& m) { throw core::Error("texture space", 0, m); };
+    const int k = s.textureSize;
+    if (k < 16 || k > 2048 || (k & (k - 1)) != 0)
+        fail("texture_size must be a power of two in [16, 2048] (got " + std::to_string(k) + ")");
+    if (maxTextureSize > 0 && k > maxTextureSize)
+        fail("texture_size " + std::to_string(k) + " is above this GL's limit of " +
+             std::to_string(maxTextureSize) + " texels per side");
+    if (s.samples < 1 || s.samples > (1 << 20))
+        fail("samples N must lie in [1, 1048576] (got " + std::to_string(s.samples) + ")");
+    if (s.sampleSets < 1) fail("sample_sets must be at least 1");
+}
+
+Pipeline::Pipeline(const std::filesystem::path& root)
+    : m_irradiance(std::make_unique<irradiance::Stage>(root / "shaders")),
+      m_sampler(std::make_unique<GpuSampler>(shader::Sources{root})),
+      m_renderer(std::make_unique<render::Renderer>(shader::Sources{root})) {}
+
+Pipeline::~Pipeline() = default;
+
+void Pipeline::setMesh(const mesh::Mesh& m, int textureSize) {
+    Settings probe;
+    probe.textureSize = textureSize;
+    GLint maxTex = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
+    validateSettings(probe, maxTex);
+    // The atlas is laid out for the smallest power-of-two texture (>= K) whose cells hold its
+    // gutters; sampled at a smaller K the texel centres only thin it out (texels are looked up
+    // at their centres, never filtered, so the gutters need not be a texel of K wide).
+    Parameterization param;
+    int layout = textureSize;
+    for (;; layout *= 2) {
+        try {
+            param = parameterize(m, layout);
+            break;
+        } catch (const core::Error&) {
+            if (layout >= 8192) throw;
+        }
+    }
+    Texels texels = rasterize(m, param, textureSize);
+    if (texels.covered == 0)
+        throw core::Error("texture space", 0,
+                          "no texel centre of the " + std::to_string(textureSize) +
+                              "² texture "
+                              "lies inside a triangle: use a larger texture_size");
+    std::vector<uint32_t> covered;
+    std::vector<glm::vec3> pos, nrm;
+    covered.reserve(texels.covered);
+    for (size_t t = 0; t < texels.triangle.size(); ++t)
+        if (texels.triangle[t] >= 0) {
+            covered.push_back(uint32_t(t));
+            pos.emplace_back(texels.position[t]);
+            nrm.emplace_back(texels.normal[t]);
+        }
+    m_irradiance->setScene(m, pos, nrm);
+    m_renderer->setMesh(m);
+    m_param = std::move(param);
+    m_layoutSize = layout;
+    m_texels = std::move(texels);
+    m_covered = std::move(covered);
+    m_lightReady = false;
+    m_running = false;
+    m_et.clear();
+}
+
+double Pipeline::representedArea() const {
+    const double texelArea = 1.0 / (double(m_texels.size) * double(m_texels.size));
+    double a = 0;
+    for (uint32_t t : m_covered)
+        a += m_texels.areaRatio[t] * texelArea;
+    return a;
+}
+
+void Pipeline::beginLight(const irradiance::Settings& light) {
+    if (!hasMesh()) throw core::Error("texture space", 0, "no mesh");
+    m_lightReady = false;
+    m_lightOccluded = light.mode == irradiance::LightMode::OccludedIbl;
+    if (m_lightOccluded)
+        m_irradiance->beginOccluded(light);
+    else
+        finishLight(m_irradiance->compute(light));
+}
+
+bool Pipeline::advanceLight() {
+    if (m_lightReady) return true;
+    if (!m_lightOccluded || !m_irradiance->occludedRunning()) return false;
+    if (!m_irradiance->stepOccluded()) return false;
+    finishLight(m_irradiance->occludedResult());
+    return true;
+}
+
+float Pipeline::lightProgress() const {
+    if (m_lightReady) return 1.0f;
+    return m_lightOccluded ? m_irradiance->occludedProgress() : 0.0f;
+}
+
+void Pipeline::finishLight(std::vector<glm::vec3> et) {
+    const size_t n = m_texels.triangle.size();
+    const double texelArea = 1.0 / double(n);
+    m_et.assign(n, glm::vec3(0.0f));
+    m_weights.assign(n, 0.0);
+    for (size_t k = 0; k < m_covered.size(); ++k) {
+        const uint32_t t = m_covered[k];
+        glm::vec3 e = et[k];
+        if (!(e.x >= 0 && e.y >= 0 && e.z >= 0) || !std::isfinite(e.x + e.y + e.z))
+            throw core::Error("texture space", 0,
+                              "irradiance of texel " + std::to_string(t) +
+                                  " is negative or not finite");
+        m_et[t] = e;
+        m_weights[t] = double(core::luminance(e)) * m_texels.areaRatio[t] * texelArea;
+    }
+    m_total = 0;
+    for (double w : m_weights)
+        m_total += w;
+    if (m_total > 0) {
+        m_cdf = buildMipCdf(m_weights, m_texels.size);
+        m_total = m_cdf.total();
+        m_sampler->setCdf(m_cdf);
+    } else {
+        m_cdf = MipCdf{};
+    }
+    m_lightReady = true;
+}
+
+std::vector<glm::vec3> Pipeline::eprime() const {
+    std::vector<glm::vec3> e(m_et.size(), glm::vec3(0.0f));
+    for (uint32_t t : m_covered)
+        e[t] = m_et[t] * float(m_texels.areaRatio[t]);
+    return e;
+}
+
+SampleSet Pipeline::drawSet(int samples, uint64_t seed, uint64_t index) const {
+    if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
+    if (samples < 1) throw core::Error("texture space", 0, "samples N must be at least 1");
+    SampleSet s;
+    if (!(m_total > 0)) return s;
+    const std::vector<GpuSample> d =
+        m_sampler->draw(uint64_t(samples), seed, index * uint64_t(samples));
+    s.draws.reserve(d.size());
+    std::unordered_map<uint32_t, size_t> slot;
+    for (const GpuSample& g : d) {
+        s.draws.push_back(g.texel);
+        auto [it, added] = slot.try_emplace(g.texel, s.texel.size());
+        if (added) {
+            s.texel.push_back(g.texel);
+            s.count.push_back(0);
+        }
+        ++s.count[it->second];
+    }
+    for (size_t i = 0; i < s.texel.size(); ++i) {
+        const uint32_t t = s.texel[i];
+        const double y = core::luminance(glm::dvec3(m_et[t]));
+        if (!(y > 0) || m_texels.triangle[t] < 0)
+            throw core::Error("texture space", 0,
+                              "texel " + std::to_string(t) + " was drawn without weight");
+        s.position.emplace_back(m_texels.position[t]);
+        s.normal.emplace_back(m_texels.normal[t]);
+        s.irradiance.push_back(m_et[t]);
+        s.area.push_back(float(double(s.count[i]) * m_total / (double(samples) * y)));
+    }
+    return s;
+}
+
+SampleSet Pipeline::allTexels() const {
+    if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
+    SampleSet s;
+    const double texelArea = 1.0 / double(m_texels.triangle.size());
+    for (uint32_t t : m_covered) {
+        if (!(m_weights[t] > 0)) continue;
+        s.texel.push_back(t);
+        s.count.push_back(1);
+        s.position.emplace_back(m_texels.position[t]);
+        s.normal.emplace_back(m_texels.normal[t]);
+        s.irradiance.push_back(m_et[t]);
+        s.area.push_back(float(m_texels.areaRatio[t] * texelArea));
+    }
+    return s;
+}
+
+void Pipeline::setModel(const bssrdf::Model& m) {
+    m_renderer->setModel(m);
+    m_running = false;
+}
+
+void Pipeline::setMaterial(const bssrdf::ParamValues& values, const bssrdf::Builtins& b) {
+    m_renderer->setMaterial(values, b);
+    m_running = false;
+}
+
+namespace {
+
+// The set as an octree of points (render.h's input); a set without points (W = 0) is one point
+// of zero area, so the frame still has its G-buffer and every pixel is 0.
+octree::Octree setTree(const SampleSet& s, const glm::vec3& anywhere) {
+    if (s.position.empty()) {
+        octree::Octree t = octree::build({anywhere}, {glm::vec3(0, 0, 1)}, {0.0f});
+        octree::setIrradiance(t, {glm::vec3(0.0f)});
+        return t;
+    }
+    octree::Octree t = octree::build(s.position, s.normal, s.area);
+    octree::setIrradiance(t, s.irradiance);
+    return t;
+}
+
+} // namespace
+
+void Pipeline::begin(const Settings& s, const render::Settings& view) {
+    validateSettings(s);
+    if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
+    m_run = s;
+    m_view = view;
+    m_view.bruteForce = true;
+    m_setsDone = 0;
+    m_width = m_height = 0;
+    m_sumL.clear(), m_sumL2.clear(), m_sumM.clear(), m_sumM2.clear();
+    m_running = true;
+    m_setRendering = false;
+}
+
+void Pipeline::startSet() {
+    core::Stopwatch clock;
+    m_lastSet = drawSet(m_run.samples, m_run.seed, uint64_t(m_setsDone));
+    m_sampleMs = clock.ms();
+    gl::recordTiming("texture space: draw set", m_sampleMs);
+    m_renderer->setOctree(setTree(m_lastSet, glm::vec3(m_texels.position[m_covered[0]])));
+    m_renderer->begin(m_view);
+    m_setRendering = true;
+}
+
+bool Pipeline::advance(double budgetMs) {
+    if (!m_running) return false;
+    core::Stopwatch clock;
+    while (!done()) {
+        if (!m_setRendering) startSet();
+        const double left = std::max(1.0, budgetMs - clock.ms());
+        if (!m_renderer->advance(left)) return false;
+        m_setRendering = false;
+        const render::Frame& f = m_renderer->currentFrame();
+        m_renderMs = f.gbufferMs + f.profileMs + f.traverseMs + f.tonemapMs;
+        accumulate(m_renderer->readback());
+        if (clock.ms() >= budgetMs) break;
+    }
+    return done();
+}
+
+render::Readback Pipeline::renderSet(const SampleSet& set, const render::Settings& view) {
+    m_running = false;
+    m_setRendering = false;
+    render::Settings v = view;
+    v.bruteForce = true;
+    m_renderer->setOctree(setTree(set, glm::vec3(m_texels.position[m_covered[0]])));
+    m_renderer->render(v);
+    return m_renderer->readback();
+}
+
+void Pipeline::accumulate(const render::Readback& rb) {
+    const size_t n = rb.hdr.size();
+    if (m_setsDone == 0) {
+        m_width = rb.width, m_height = rb.height;
+        m_sumL.assign(3 * n, 0.0), m_sumL2.assign(3 * n, 0.0);
+        m_sumM.assign(3 * n, 0.0), m_sumM2.assign(3 * n, 0.0);
+    }
+    for (size_t p = 0; p < n; ++p)
+        for (int c = 0; c < 3; ++c) {
+            const double l = rb.hdr[p][c], m = rb.exitance[p][c];
+            m_sumL[3 * p + size_t(c)] += l, m_sumL2[3 * p + size_t(c)] += l * l;
+            m_sumM[3 * p + size_t(c)] += m, m_sumM2[3 * p + size_t(c)] += m * m;
+        }
+    ++m_setsDone;
+}
+
+namespace {
+
+litsphere::Image meanImage(int w, int h, int k, const std::vector<double>& s1,
+                           const std::vector<double>& s2) {
+    litsphere::Image im;
+    im.width = w, im.height = h;
+    im.samples = uint64_t(k);
+    im.mean.assign(s1.size(), 0.0f);
+    im.variance.assign(s1.size(), 0.0f);
+    if (k == 0) return im;
+    for (size_t i = 0; i < s1.size(); ++i) {
+        const double m = s1[i] / k;
+        im.mean[i] = float(m);
+        // sample variance of the sets / k; 0 for a single set
+        im.variance[i] = k > 1 ? float(std::max(0.0, (s2[i] - k * m * m) / (k - 1)) / k) : 0.0f;
+    }
+    return im;
+}
+
+} // namespace
+
+litsphere::Image Pipeline::radiance() const {
+    return meanImage(m_width, m_height, m_setsDone, m_sumL, m_sumL2);
+}
+litsphere::Image Pipeline::exitance() const {
+    return meanImage(m_width, m_height, m_setsDone, m_sumM, m_sumM2);
+}
+
+} // namespace texspace

@@ -1,0 +1,170 @@
+// texspace/pipeline: the three stages of texture-space importance sampling (Chang 2007, seed
+// 004, §3.2) as one GPU pipeline beside the point-cloud renderer, seeing the same light and
+// rendering with the same BSSRDF evaluation and exit Fresnel term.
+//   Stage 0 (setMesh): the parameterisation (texspace.h) rasterised into K × K texels
+//     (texture_space.h), K a power of two in [16, 2048].
+//   Stage 1 (beginLight / advanceLight): the transmitted irradiance E_t of every covered texel
+//     by the point-cloud pipeline's own irradiance::Stage (the texels are its points: same
+//     modes, shadow maps, Fresnel transmittance and IBL quadrature), then eq. 3.2's
+//     E′ = E_t · A_S/A_T per texel and the texel weights w_t = Y(E′_t) · A_texel (Y the
+//     luminance, A_texel = 1/K²), so that Σ_t w_t = W approximates ∫_S Y(E_t) dA.
+//   Stage 2 (drawSet): N texels drawn with probability p_t = w_t / W by Algorithm 3.1 on the GPU
+//     (gpu_sampler.h), one set shared by every outgoing point.
+//   Stage 3 (advance): eq. 3.5, per pixel
+//         M(x_o) = ∫_T E′(x) R_d(x, x_o) dx ≈ (1/N) Σ_i E′_i A_texel R_d(x_i, x_o) / p_i
+//                = (W/N) Σ_i R_d(x_i, x_o) · E_t,i / Y(E_t,i)
+//     (for grey light E_t / Y = 1: the thesis's (E′_avg/N) Σ R_d). It is evaluated by the point-
+//     cloud renderer's brute-force pass (render.h) over the drawn texels as points with
+//     irradiance E_t,i and area (count_i · W) / (N · Y(E_t,i)) (a texel drawn count_i times is
+//     one point), so R_d comes from the model's radial profile table, or Bssrdf() for non-radial
+//     models, and L_o = Ft(η, cos θo)/π · M as there. Progressive: every frame draws a new,
+//     independent set (counter-based random numbers, set k uses draws [kN, (k+1)N)) and the
+//     images are averaged; the spread between sets gives each pixel's variance of the mean.
+// The estimator is unbiased for the texel sum (the same sum over every covered texel, allTexels());
+// that sum differs from the surface integral by the rasterisation (texel centres, eq. 3.2 per
+// texel), which is what a larger K reduces.
+// Every call needs the same current OpenGL 4.5 context.
+#pragma once
+
+#include "bssrdf/program.h"
+#include "core/limits.h"
+#include "irradiance/irradiance.h"
+#include "litsphere/litsphere.h"
+#include "mesh/mesh.h"
+#include "render/render.h"
+#include "shader/program.h"
+#include "texspace/gpu_sampler.h"
+#include "texspace/texspace.h"
+#include "texspace/texture_space.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+namespace texspace {
+
+struct Settings {
+    int textureSize = 512; // K, a power of two in [16, 2048]
+    int samples = 1024;    // N per sample set (seed 004 Table 4.2: 49 … 2500), [1, 2^20]
+    int sampleSets = 64;   // progressive target: sets averaged
+    uint64_t seed = 1;
+};
+template <class V> void fields(V& v, Settings& s) {
+    v("texture_size", s.textureSize, "texels per side K (a power of two)", core::Limits{16, 2048});
+    v("samples", s.samples, "texels drawn per sample set N", core::Limits{1, 1048576});
+    v("sample_sets", s.sampleSets, "sample sets averaged (progressive target)",
+      core::Limits{1, 1e6});
+    v("seed", s.seed, "random seed of the draws");
+}
+// Throws core::Error("texture space", 0, …) naming the setting: K not a power of two in
+// [16, 2048] or above maxTextureSize (the GL limit; 0 = unchecked), N or the set count < 1.
+void validateSettings(const Settings& s, int maxTextureSize = 0);
+
+// One drawn set as points of the brute-force pass (distinct texels, draw order of first draw).
+struct SampleSet {
+    std::vector<uint32_t> draws;       // the N drawn texels (row-major index), in draw order
+    std::vector<uint32_t> texel;       // per point
+    std::vector<uint32_t> count;       // times drawn
+    std::vector<glm::vec3> position;   // mesh units
+    std::vector<glm::vec3> normal;     // unit
+    std::vector<float> area;           // (count · W) / (N · Y(E_t)), mesh units²
+    std::vector<glm::vec3> irradiance; // E_t
+};
+
+class Pipeline {
+  public:
+    // root: the project folder (shaders/ below it). Builds every program (core::Error naming
+    // the file and line of a compile error).
+    explicit Pipeline(const std::filesystem::path& root);
+    ~Pipeline();
+    Pipeline(const Pipeline&) = delete;
+    Pipeline& operator=(const Pipeline&) = delete;
+
+    // Stage 0. Throws core::Error for a bad size or a mesh that cannot be parameterised; the
+    // previous mesh stays then. The light must be computed again afterwards.
+    void setMesh(const mesh::Mesh& m, int textureSize);
+    bool hasMesh() const { return m_texels.size > 0; }
+    const Parameterization& parameterization() const { return m_param; }
+    // The texture side the atlas was laid out for (K, or larger when K's texels cannot hold a
+    // gutter between the mesh's triangles; the mesh's own UVs: K).
+    int layoutSize() const { return m_layoutSize; }
+    const Texels& texels() const { return m_texels; }
+    // Σ over covered texels of A_S/A_T · A_texel (mesh units²): the area the texels stand for,
+    // against the mesh's own (the rasterisation's coverage).
+    double representedArea() const;
+
+    // Environment and projected texture of the IBL / filtered modes are set here, as on the
+    // point-cloud pipeline's stage.
+    irradiance::Stage& irradianceStage() { return *m_irradiance; }
+
+    // Stage 1. beginLight validates and starts; advanceLight runs (occluded IBL: the next
+    // environment samples) and returns true when E_t, E′ and the CDF are ready. Throws
+    // core::Error (bad settings, no environment); the previous light stays then.
+    void beginLight(const irradiance::Settings& light);
+    bool advanceLight();
+    bool lightReady() const { return m_lightReady; }
+    float lightProgress() const;
+    const std::vector<glm::vec3>& transmitted() const { return m_et; } // E_t per texel
+    std::vector<glm::vec3> eprime() const;                             // E′ per texel
+    double totalWeight() const { return m_total; }                     // W
+    const MipCdf& cdf() const { return m_cdf; }
+
+    // Stage 2: set `index` of N draws under `seed`. Empty when W = 0 (no light on the surface:
+    // every pixel is 0). Throws when the light is not ready.
+    SampleSet drawSet(int samples, uint64_t seed, uint64_t index) const;
+    // Every covered texel with weight once, area A_S/A_T · A_texel: the expectation of a set.
+    SampleSet allTexels() const;
+
+    // Stage 3. The model and material of the render (as render::Renderer).
+    void setModel(const bssrdf::Model& m);
+    void setMaterial(const bssrdf::ParamValues& values, const bssrdf::Builtins& b);
+    // Starts the accumulation of `s.sampleSets` sets for the view `view` (brute force forced).
+    void begin(const Settings& s, const render::Settings& view);
+    // Renders the next sets until about budgetMs passed (at least one dispatch); true once
+    // s.sampleSets are accumulated.
+    bool advance(double budgetMs);
+    bool done() const { return m_setsDone >= m_run.sampleSets; }
+    int setsDone() const { return m_setsDone; }
+    // Renders one given set to the end (tests, the reference sum): L_o and M per pixel.
+    render::Readback renderSet(const SampleSet& set, const render::Settings& view);
+    // Mean L_o and M over the sets so far with their variance of the mean (samples = sets).
+    litsphere::Image radiance() const;
+    litsphere::Image exitance() const;
+    // The last set drawn (for the panels) and the frame timings of the last set.
+    const SampleSet& lastSet() const { return m_lastSet; }
+    double lastSampleMs() const { return m_sampleMs; }
+    double lastRenderMs() const { return m_renderMs; }
+    render::Renderer& renderer() { return *m_renderer; }
+
+  private:
+    void finishLight(std::vector<glm::vec3> et);
+    void startSet();
+    void accumulate(const render::Readback& rb);
+
+    std::unique_ptr<irradiance::Stage> m_irradiance;
+    std::unique_ptr<GpuSampler> m_sampler;
+    std::unique_ptr<render::Renderer> m_renderer;
+    Parameterization m_param;
+    Texels m_texels;
+    int m_layoutSize = 0;
+    std::vector<uint32_t> m_covered; // covered texel indices (the irradiance points)
+    bool m_lightReady = false, m_lightOccluded = false;
+    std::vector<glm::vec3> m_et;
+    std::vector<double> m_weights;
+    MipCdf m_cdf;
+    double m_total = 0;
+
+    Settings m_run;
+    render::Settings m_view;
+    bool m_running = false, m_setRendering = false;
+    int m_setsDone = 0;
+    int m_width = 0, m_height = 0;
+    std::vector<double> m_sumL, m_sumL2, m_sumM, m_sumM2;
+    SampleSet m_lastSet;
+    double m_sampleMs = 0, m_renderMs = 0;
+};
+
+} // namespace texspace
