@@ -105,6 +105,8 @@ void drawPanels(Workbench& wb, UiState& ui) {
     wb.setScoreboardEnabled(shown[static_cast<size_t>(PanelId::Scoreboard)]);
     wb.monteCarloSettings().enabled =
         shown[static_cast<size_t>(PanelId::Render)] && ui.render.mode == RenderMode::MonteCarlo;
+    wb.textureSpaceSettings().enabled =
+        shown[static_cast<size_t>(PanelId::Render)] && ui.render.mode == RenderMode::TextureSpace;
     wb.setInteracting(false); // the Render panel sets it while the user drags
     drawWorkspace(wb, ui);
 }

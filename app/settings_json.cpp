@@ -19,6 +19,7 @@ json settingsJson(Workbench& wb, int traceX, int traceY) {
             {"lit_spheres", core::toJson(wb.litSphereSettings())},
             {"slice", core::toJson(wb.sliceSettings())},
             {"monte_carlo", core::toJson(wb.monteCarloSettings())},
+            {"texture_space", core::toJson(wb.textureSpaceSettings())},
             {"scene", scene}};
 }
 
@@ -38,6 +39,9 @@ void applySettingsJson(Workbench& wb, const json& settings, const std::string& f
             wb.sliceSettings() = core::fromJson(*it, file, path, SliceSettings{});
         } else if (key == "monte_carlo") {
             wb.monteCarloSettings() = core::fromJson(*it, file, path, MonteCarloSettings{});
+        } else if (key == "texture_space") {
+            wb.textureSpaceSettings() = core::fromJson(*it, file, path, TextureSpaceSettings{});
+            texspace::validateSettings(wb.textureSpaceSettings().sampling);
         } else if (key == "lit_spheres") {
             wb.litSphereSettings() = core::fromJson(*it, file, path, LitSphereSettings{});
         } else if (key == "scene") {
@@ -78,6 +82,7 @@ std::string defaultsTable() {
     rows(LitSphereSettings{}, "lit_spheres.");
     rows(SceneSettings{}, "scene.");
     rows(MonteCarloSettings{}, "monte_carlo.");
+    rows(TextureSpaceSettings{}, "texture_space.");
     return out;
 }
 

@@ -143,12 +143,20 @@ struct IrradiancePanelState {
 };
 
 // What the Render panel shows: the point-cloud renderer (hierarchical or brute force: its
-// render settings say which) or the Monte Carlo render of the same view (monte_carlo_stage.h).
-enum class RenderMode { PointCloud, MonteCarlo };
+// render settings say which), the Monte Carlo render of the same view (monte_carlo_stage.h) or
+// the texture-space render (texspace_stage.h).
+enum class RenderMode { PointCloud, MonteCarlo, TextureSpace };
+
+// What the texture-space view shows: the render, or one of its stages.
+enum class TextureSpaceView { Render, Irradiance, CdfLevel, Samples, Atlas };
 
 struct RenderPanelState {
     RenderMode mode = RenderMode::PointCloud;
     gl::Texture mcTex; // the Monte Carlo image, tone mapped
+    gl::Texture tsTex; // the texture-space image or stage view
+    TextureSpaceView tsView = TextureSpaceView::Render;
+    int tsLevel = 0;              // the CDF mip level shown
+    bool tsSamplesOnMesh = false; // the last set's texels as dots over the render
     Heatmap heatmap = Heatmap::Image;
     Rect imageRect;            // where the image was drawn last frame (screen pixels)
     render::Readback readback; // of the shown frame, for the pixel probe and export

@@ -38,6 +38,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     m_slice = std::make_unique<SliceStage>();
     m_scoreboard = std::make_unique<ScoreboardStage>();
     m_monteCarlo = std::make_unique<MonteCarloStage>();
+    m_textureSpace = std::make_unique<TextureSpaceStage>(m_root);
     m_litSpheres = std::make_unique<LitSphereStage>(m_root / "shaders" / "pathtrace_sphere.comp");
     m_scene = std::make_unique<SceneStage>(m_root);
     m_scene->settings().enabled = false;
@@ -88,6 +89,10 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         {m_monteCarlo.get(),
          [this] {
              return m_monteCarlo->update({m_mc, m_scene.get(), sceneModelInput(), 20.0});
+         }},
+        {m_textureSpace.get(),
+         [this] {
+             return m_textureSpace->update({m_ts, m_scene.get(), sceneModelInput(), 20.0});
          }},
     };
     update();
@@ -174,6 +179,7 @@ bool Workbench::update() {
             // path (templates, #include'd files, shaders/common/*); model files reload models.
             changed |= m_library->onFilesChanged(paths);
             changed |= m_scene->reloadShaders(paths);
+            changed |= m_textureSpace->reloadShaders(paths);
             changed |= m_reference->reloadShaders(paths);
             changed |= m_litSpheres->pathTracer().reloadShaders(paths);
         }
@@ -192,6 +198,8 @@ bool Workbench::update() {
 
 shader::Records Workbench::shaderPrograms() const {
     shader::Records out = m_scene->shaderRecords();
+    for (const auto& [name, record] : m_textureSpace->shaderRecords())
+        out[name] = record;
     for (const auto& e : m_library->entries())
         for (const auto& [consumer, record] : e.shaders)
             out["model:" + e.displayPath + ":" + consumer] = record;

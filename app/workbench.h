@@ -26,6 +26,7 @@
 #include "scene_stage.h"
 #include "scoreboard_stage.h"
 #include "slice_stage.h"
+#include "texspace_stage.h"
 
 #include <array>
 #include <filesystem>
@@ -162,6 +163,13 @@ class Workbench {
     const MonteCarloStage& monteCarlo() const { return *m_monteCarlo; }
     // Runs it to its target on the current frame (CLI, tests, bench).
     void finishMonteCarlo() { m_monteCarlo->finish({m_mc, m_scene.get(), sceneModelInput(), -1}); }
+    // The Render panel's texture-space renderer (texspace_stage.h) of the scene's view.
+    TextureSpaceSettings& textureSpaceSettings() { return m_ts; }
+    TextureSpaceStage& textureSpace() { return *m_textureSpace; }
+    // Runs it to its target (CLI, tests, bench); throws core::Error with its problem.
+    void finishTextureSpace() {
+        m_textureSpace->finish({m_ts, m_scene.get(), sceneModelInput(), -1});
+    }
     void setInteracting(bool v) { m_interacting = v; }
     // Every GL program with the shader files it was built from and its build count, by
     // "owner:program" (model:<model file>:<template>, scene's render:/irradiance:,
@@ -203,6 +211,8 @@ class Workbench {
     std::unique_ptr<SceneStage> m_scene;
     MonteCarloSettings m_mc;
     std::unique_ptr<MonteCarloStage> m_monteCarlo;
+    TextureSpaceSettings m_ts;
+    std::unique_ptr<TextureSpaceStage> m_textureSpace;
     // The stages in data-flow order: run() gathers the stage's inputs and updates it.
     struct PipelineStep {
         Stage* stage;

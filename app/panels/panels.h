@@ -29,6 +29,13 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui);
 void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui);
 void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui);
 void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui);
+// The Render panel's texture-space controls and status (texspace_view.cpp). Sets `tex` to the
+// texture-space image of the frame's size when it shows the render and returns false; draws a
+// stage's image (E′, a CDF level, the samples, the atlas) itself and returns true.
+bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Frame& f, GLuint& tex);
+// The last sample set's texels as dots over the render image drawn at ps.imageRect.
+void drawSamplesOnMesh(Workbench& wb, RenderPanelState& ps, const render::Settings& r,
+                       float pixelScale);
 // Writes the Render panel's shown frame: .exr (HDR L_o, linear) or .png (tone-mapped, as
 // shown). Throws core::Error naming the path (no finished frame, other extension, I/O).
 void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem::path& path);

@@ -211,17 +211,23 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     sameLineIfFits(checkboxWidth("bounding-box criterion"));
     ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
     sameLineIfFits(220);
-    int renderer = ps.mode == RenderMode::MonteCarlo ? 2 : (r.bruteForce ? 1 : 0);
+    int renderer = ps.mode == RenderMode::MonteCarlo     ? 2
+                   : ps.mode == RenderMode::TextureSpace ? 3
+                                                         : (r.bruteForce ? 1 : 0);
     ImGui::SetNextItemWidth(220);
     if (ImGui::Combo("renderer", &renderer,
-                     "hierarchical\0brute force\0Monte Carlo (probe rays)\0")) {
+                     "hierarchical\0brute force\0Monte Carlo (probe rays)\0texture space\0")) {
         r.bruteForce = renderer == 1;
-        ps.mode = renderer == 2 ? RenderMode::MonteCarlo : RenderMode::PointCloud;
+        ps.mode = renderer == 2   ? RenderMode::MonteCarlo
+                  : renderer == 3 ? RenderMode::TextureSpace
+                                  : RenderMode::PointCloud;
     }
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("hierarchical / brute force: the point cloud (thesis 3.3)\nMonte "
                           "Carlo: entry points by probe rays (King et al. 2013) with shadow rays, "
-                          "on the finished frame's view, progressive");
+                          "on the finished frame's view, progressive\ntexture space: N texels "
+                          "drawn by the irradiance-weighted mip CDF (Chang 2007), one set shared "
+                          "by every pixel, progressive over sets");
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("exposure", &r.exposure, -10.0f, 10.0f, "%.1f EV");
     sameLineIfFits(100 + ImGui::CalcTextSize("gamma").x + 8);
@@ -315,6 +321,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
             hintText("waiting for the full-resolution frame ...");
         }
     }
+    if (ps.mode == RenderMode::TextureSpace && drawTextureSpaceView(wb, ps, f, tex)) return;
     if (ps.heatmap != Heatmap::Image) {
         render::Readback rb = scene.readback();
         const std::vector<glm::vec4>* brute = scene.bruteForceResult();
@@ -403,6 +410,8 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                    o.y + float(ui.inspect.debug->y + 1) * s + 2),
             IM_COL32(255, 0, 255, 255));
     }
+    if (ps.mode == RenderMode::TextureSpace && ps.tsSamplesOnMesh)
+        drawSamplesOnMesh(wb, ps, r, width / float(f.width));
     if (!ui.inspect.debugProblem.empty())
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", ui.inspect.debugProblem.c_str());
     hintText("drag: orbit, wheel: zoom, hover: pixel zoom and values, click: trace a pixel");

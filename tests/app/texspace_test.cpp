@@ -1,0 +1,154 @@
+// The Render panel's texture-space renderer (texspace_stage.h) on the default scene (the bunny,
+// no UVs: the atlas): its image covers the frame's pixels and has the point-cloud renderer's
+// radiance (same light, Fresnel terms, 1/π and scale: the sums over the lit pixels agree up to
+// the two discretisations); bad settings and meshes are problems in Errors while the last good
+// image stays; overlapping UVs fall back to the atlas with a note; every stage view of the panel
+// draws.
+#include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
+#include "gui.h"
+#include "texspace_images.h"
+#include "workbench.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace {
+
+bool listed(app::Workbench& wb, const std::string& text) {
+    for (const auto& e : wb.errors())
+        if (e.text.find(text) != std::string::npos) return true;
+    return false;
+}
+
+} // namespace
+
+TEST(TextureSpaceRender, HasThePointCloudRadianceAndKeepsTheLastImageOnBadInput) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("texspace_app", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    app::SceneSettings& s = wb.scene().settings();
+    testsupport::useSmallScene(s);
+    s.points.points = 20000;
+    s.render.bruteForce = true;
+    wb.update();
+    wb.finishScene();
+    ASSERT_TRUE(wb.scene().hasFrame());
+    const render::Readback rb = wb.scene().readback();
+
+    app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
+    ts.sampling.textureSize = 512;
+    ts.sampling.samples = 2500;
+    ts.sampling.sampleSets = 16;
+    wb.finishTextureSpace();
+    const texspace::Pipeline* p = wb.textureSpace().pipeline();
+    ASSERT_NE(p, nullptr);
+    EXPECT_FALSE(p->parameterization().fromMesh);
+    EXPECT_NE(wb.textureSpace().note().find("no texture coordinates"), std::string::npos)
+        << wb.textureSpace().note();
+    const litsphere::Image img = wb.textureSpace().radiance();
+    ASSERT_EQ(img.width, rb.width);
+    ASSERT_EQ(img.height, rb.height);
+    double sumTs = 0, sumPc = 0;
+    for (size_t i = 0; i < img.mean.size(); ++i) {
+        if (rb.position[i / 3].w < 0.5f) {
+            ASSERT_EQ(img.mean[i], 0.0f) << "a pixel off the mesh";
+            continue;
+        }
+        sumTs += img.mean[i];
+        sumPc += rb.hdr[i / 3][int(i % 3)];
+    }
+    // Conventions: a missing 1/π, Fresnel factor, E0, area ratio or mm scale would be off by
+    // 1.3× or more; the rasterised texels, the 20 000 points and the set noise differ by a few
+    // per cent.
+    const double ratio = sumTs / sumPc;
+    std::printf("texture space / point-cloud brute force, summed over lit pixels: %.4f\n", ratio);
+    EXPECT_GT(ratio, 0.93);
+    EXPECT_LT(ratio, 1.07);
+    EXPECT_TRUE(wb.textureSpace().problems().empty());
+
+    // bad settings: a problem naming the setting, the last good image stays
+    ts.sampling.samples = 0;
+    EXPECT_THROW(wb.finishTextureSpace(), core::Error);
+    EXPECT_TRUE(listed(wb, "samples N")) << "N = 0 is listed in Errors";
+    ts.sampling.samples = 2500;
+    ts.sampling.textureSize = 4096;
+    ts.enabled = true; // as while the Render panel shows it
+    wb.update();
+    EXPECT_TRUE(listed(wb, "texture_size"));
+    EXPECT_EQ(wb.textureSpace().radiance().mean, img.mean);
+    ts.sampling.textureSize = 512;
+    wb.update();
+    EXPECT_FALSE(listed(wb, "texture_size"));
+
+    // the stage images have the texture's size and are not blank
+    for (const app::Rgba8Image& im : {app::eprimeImage(*p), app::cdfLevelImage(p->cdf(), 3),
+                                      app::atlasImage(*p), app::samplesImage(*p, p->lastSet())}) {
+        ASSERT_GT(im.width, 0);
+        size_t lit = 0;
+        for (size_t k = 0; k < im.rgba.size(); k += 4)
+            lit += im.rgba[k] + im.rgba[k + 1] + im.rgba[k + 2] > 150;
+        EXPECT_GT(lit, size_t(im.width) * size_t(im.height) / 50);
+    }
+    std::filesystem::remove_all(root);
+}
+
+TEST(TextureSpaceRender, OverlappingUvsFallBackToTheAtlasWithANote) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("texspace_box", {"dipole.bssrdf"});
+    // a box whose six faces all use [0, 1]²: the UVs overlap
+    mesh::writeObj(root / "box.obj", mesh::makeBox(1.0, 0.6, 0.8));
+    app::Workbench wb(root, false);
+    app::SceneSettings& s = wb.scene().settings();
+    testsupport::useSmallScene(s);
+    s.meshFile = (root / "box.obj").string();
+    wb.update();
+    wb.finishScene();
+    app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
+    ts.sampling.textureSize = 128;
+    ts.sampling.samples = 64;
+    ts.sampling.sampleSets = 2;
+    wb.finishTextureSpace();
+    EXPECT_FALSE(wb.textureSpace().pipeline()->parameterization().fromMesh);
+    EXPECT_NE(wb.textureSpace().note().find("overlap"), std::string::npos)
+        << wb.textureSpace().note();
+    EXPECT_EQ(wb.textureSpace().radiance().samples, 2u);
+    std::filesystem::remove_all(root);
+}
+
+TEST(TextureSpaceRender, TheRenderPanelShowsItAndEveryStage) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("texspace_gui", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    testsupport::useSmallScene(wb.scene().settings());
+    app::HeadlessGui gui(wb, 1280, 860);
+    gui.ui().shared.show(app::PanelId::Render);
+    gui.ui().render.mode = app::RenderMode::TextureSpace;
+    gui.ui().render.tsSamplesOnMesh = true;
+    wb.textureSpaceSettings().sampling.textureSize = 256;
+    wb.textureSpaceSettings().sampling.sampleSets = 4;
+    const texspace::Pipeline* p = nullptr;
+    for (int i = 0; i < 400 && !(p && p->done() && p->setsDone() == 4); ++i) {
+        gui.frame();
+        if (wb.scene().generating()) wb.finishScene();
+        p = wb.textureSpace().pipeline();
+    }
+    EXPECT_TRUE(wb.textureSpaceSettings().enabled);
+    ASSERT_NE(p, nullptr);
+    EXPECT_EQ(p->setsDone(), 4);
+    for (auto v : {app::TextureSpaceView::Render, app::TextureSpaceView::Irradiance,
+                   app::TextureSpaceView::CdfLevel, app::TextureSpaceView::Samples,
+                   app::TextureSpaceView::Atlas}) {
+        gui.ui().render.tsView = v;
+        gui.frame();
+        EXPECT_NE(testsupport::panelWindow(app::PanelId::Render), nullptr);
+        if (const char* dir = std::getenv("BW_TS_PNG_DIR"))
+            gl::writePng(std::string(dir) + "/view" + std::to_string(int(v)) + ".png", gui.width(),
+                         gui.height(), gui.pixels());
+    }
+    EXPECT_TRUE(wb.errors().empty());
+    std::filesystem::remove_all(root);
+}
