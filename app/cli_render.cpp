@@ -6,7 +6,9 @@
 #include "cli_options.h"
 #include "core/core.h"
 #include "gl/gl.h"
+#include "image_view.h"
 #include "pathtrace/image_io.h"
+#include "texspace_images.h"
 #include "workbench.h"
 
 #include <cmath>
@@ -36,6 +38,57 @@ void parseLight(const std::string& text, SceneSettings& s) {
     throw core::Error("--light", 0, "expected dir:x,y,z or ibl:FILE.exr, got '" + text + "'");
 }
 
+// --renderer texture-space: the texture-space stage on the scene's mesh, light and view, run to
+// its target; the EXR holds L_o and its variance of the mean over the sets.
+template <class Progress>
+int writeTextureSpace(Workbench& wb, const RenderArgs& a, core::Stopwatch& clock,
+                      const Progress& progress) {
+    progress("texture space", -1);
+    wb.textureSpaceSettings() = a.textureSpace;
+    wb.finishTextureSpace();
+    std::fprintf(stderr, "\n");
+    const TextureSpaceStage& ts = wb.textureSpace();
+    const texspace::Pipeline& p = *ts.pipeline();
+    const litsphere::Image img = ts.radiance();
+    pathtrace::writeExr(a.out, img);
+    if (!a.png.empty()) {
+        const render::Settings& r = wb.scene().settings().render;
+        gl::writePng(a.png, img.width, img.height, tonemap(img, r.exposure, r.gamma));
+    }
+    if (!a.stageImages.empty()) {
+        const fs::path dir = a.stageImages;
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        if (ec) throw core::Error(dir.string(), 0, "--stage-images: " + ec.message());
+        auto png = [&](const std::string& name, const Rgba8Image& im) {
+            gl::writePng(dir / name, im.width, im.height, im.rgba);
+        };
+        png("eprime.png", eprimeImage(p));
+        png("atlas.png", atlasImage(p));
+        png("samples.png", samplesImage(p, p.lastSet()));
+        for (size_t l = 0; l < p.cdf().levels.size(); ++l)
+            png("cdf_level" + std::to_string(l) + ".png", cdfLevelImage(p.cdf(), int(l)));
+    }
+    double var = 0, sum2 = 0;
+    for (size_t i = 0; i < img.mean.size(); ++i) {
+        var += img.variance[i];
+        sum2 += double(img.mean[i]) * img.mean[i];
+    }
+    std::printf("%s with %s: texture space, %s, K = %d (%zu covered texels standing for %.4g of "
+                "%.4g mesh units²), N = %d, %d sets, %dx%d\n",
+                a.mesh.c_str(), wb.sceneModelInput().entry->displayPath.c_str(),
+                p.parameterization().fromMesh ? "the mesh's UVs" : "atlas", p.texels().size,
+                p.texels().covered, p.representedArea(), pointcloud::meshArea(wb.scene().mesh()),
+                a.textureSpace.sampling.samples, p.setsDone(), img.width, img.height);
+    if (!ts.note().empty()) std::printf("note: %s\n", ts.note().c_str());
+    std::printf("relative standard error %.3g; last set drawn in %.1f ms, rendered in %.1f ms; "
+                "total %.1f s\n",
+                sum2 > 0 ? std::sqrt(var / sum2) : 0.0, p.lastSampleMs(), p.lastRenderMs(),
+                clock.ms() / 1000.0);
+    std::printf("wrote %s\n", a.out.c_str());
+    return 0;
+}
+
 } // namespace
 
 void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
@@ -53,7 +106,7 @@ void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
                       {{"points.count", "--points"},
                        {"points.method", "--method"},
                        {"points.seed", "--seed"},
-                       {"light.occluded_samples", "--samples"},
+                       {"light.occluded_samples", "--env-samples"},
                        {"render.eps", "--eps"},
                        {"render.second_order", "--second-order,!--first-order"},
                        {"render.bbox_criterion", "--bbox-criterion"},
@@ -72,6 +125,17 @@ void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
                     "directional E0 (default " + defaultText(a.scene.light.irradiance.x) +
                         "), or the environment intensity (default " +
                         defaultText(a.scene.light.envIntensity) + ")");
+    cmd->add_option("--renderer", a.renderer,
+                    "hierarchical | bruteforce (the point cloud, thesis 3.3) | texture-space "
+                    "(Chang 2007: N texels by the irradiance-weighted mip CDF, averaged over sets; "
+                    "the EXR gains varR, varG, varB) (default hierarchical)")
+        ->check(CLI::IsMember({"hierarchical", "bruteforce", "texture-space"}));
+    addSettingOptions(
+        cmd, a.textureSpace.sampling,
+        {{"texture_size", "--texture-size"}, {"samples", "--samples"}, {"sample_sets", "--sets"}});
+    cmd->add_option("--stage-images", a.stageImages,
+                    "texture-space: write the stage images (E', CDF levels, samples, atlas) as "
+                    "PNG into this folder");
     cmd->add_option("--png", a.png, "also write the tone-mapped image as PNG");
     cmd->add_flag("--no-cache{false}", a.useCache, "neither read nor write the point-cloud cache");
     cmd->add_option("--out", a.out, "EXR file: R, G, B radiance")->required();
@@ -89,7 +153,21 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
         throw core::Error("--eps", 0, "must be a finite number >= 0");
     const int occludedSamples = a.scene.light.occludedTotalSamples;
     if (occludedSamples < 1 || occludedSamples > (1 << 20))
-        throw core::Error("--samples", 0, "must lie in [1, 1048576]");
+        throw core::Error("--env-samples", 0, "must lie in [1, 1048576]");
+    const bool textureSpace = a.renderer == "texture-space";
+    if (textureSpace) {
+        try {
+            texspace::validateSettings(a.textureSpace.sampling);
+        } catch (const core::Error& e) {
+            const std::string m = e.what();
+            throw core::Error(m.find("texture_size") != std::string::npos ? "--texture-size"
+                              : m.find("samples") != std::string::npos    ? "--samples"
+                                                                          : "--sets",
+                              0, m);
+        }
+    } else if (!a.stageImages.empty()) {
+        throw core::Error("--stage-images", 0, "needs --renderer texture-space");
+    }
     if (!std::ifstream(a.mesh)) throw core::Error(a.mesh, 0, "--mesh: cannot open the file");
     const fs::path model = resolveModel(root, a.model);
     auto ctx = gl::createHeadlessContext(false);
@@ -106,6 +184,7 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     s.enabled = true;
     s.useCache = a.useCache;
     s.meshFile = fs::absolute(a.mesh).string();
+    if (a.renderer == "bruteforce") s.render.bruteForce = true;
     pointcloud::checkOptions(s.points);
     if (!a.light.empty()) parseLight(a.light, s);
     if (a.occluded) {
@@ -144,6 +223,7 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     s.render.camera.yaw = r.camera.yaw;
     s.render.camera.pitch = r.camera.pitch;
     wb.finishScene(progress);
+    if (textureSpace) return writeTextureSpace(wb, a, clock, progress);
     std::fprintf(stderr, "\n");
     const render::Readback rb = wb.scene().readback();
     const pathtrace::Image img = hdrImage(rb);

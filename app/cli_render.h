@@ -6,6 +6,7 @@
 #pragma once
 
 #include "scene_stage.h"
+#include "texspace_stage.h"
 
 #include <filesystem>
 #include <optional>
@@ -25,6 +26,10 @@ struct RenderArgs {
     bool occluded = false;
     std::optional<float> irradiance; // E0 of the directional light / env intensity
     bool useCache = true;
+    // hierarchical | bruteforce (the point cloud) | texture-space (seed 004)
+    std::string renderer = "hierarchical";
+    TextureSpaceSettings textureSpace; // --texture-size, --samples, --sets
+    std::string stageImages;           // folder for the texture-space stage images
 };
 
 // The `render` options (flags, help texts with the defaults) writing into `a`.

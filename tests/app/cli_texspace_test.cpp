@@ -1,0 +1,72 @@
+// `bssrdf-workbench render --renderer texture-space` end to end: the EXR (R, G, B and their
+// variances over the sample sets, read back), two seeds agreeing per pixel (z, Bonferroni), the
+// stage images, and every rejected input named.
+#include "../support/cli_fixture.h"
+#include "../support/gl_fixture.h"
+#include "../support/image_agreement.h"
+#include "pathtrace/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace {
+using namespace clitest;
+class TextureSpaceCli : public CliFixture {};
+
+std::vector<std::string> renderArgs(std::vector<std::string> extra) {
+    const std::string bunny = (testsupport::sourceRoot() / "third_party/bunny/bunny.obj").string();
+    std::vector<std::string> a = {
+        "render",   "--mesh", bunny,       "--model", "materials/dipole.bssrdf",
+        "--preset", "Skin1",  "--no-cache"};
+    for (const char* x : {"--width", "64", "--height", "48", "--points", "2000"})
+        a.emplace_back(x);
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+} // namespace
+
+TEST_F(TextureSpaceCli, WritesTheImageWithVariancesAndTwoSeedsAgree) {
+    std::vector<std::string> a =
+        renderArgs({"--renderer", "texture-space", "--texture-size", "256", "--samples", "400",
+                    "--sets", "24", "--out", "a.exr", "--stage-images", "stages"});
+    RunResult r = run(a);
+    ASSERT_EQ(r.code, 0) << describe(a, r);
+    EXPECT_NE(r.output.find("texture space, atlas, K = 256"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("note: the mesh's UVs do not qualify"), std::string::npos);
+    for (const char* f :
+         {"eprime.png", "atlas.png", "samples.png", "cdf_level0.png", "cdf_level8.png"})
+        EXPECT_TRUE(std::filesystem::exists(dir() / "stages" / f)) << f;
+    // another seed of the draws: an independent estimate of the same texel sum
+    std::vector<std::string> b = renderArgs({"--renderer", "texture-space", "--texture-size", "256",
+                                             "--samples", "400", "--sets", "40", "--out", "b.exr"});
+    r = run(b);
+    ASSERT_EQ(r.code, 0) << describe(b, r);
+    const pathtrace::Image ia = pathtrace::readExr(dir() / "a.exr");
+    const pathtrace::Image ib = pathtrace::readExr(dir() / "b.exr");
+    ASSERT_EQ(ia.width, 64);
+    ASSERT_EQ(ia.height, 48);
+    size_t withVariance = 0;
+    for (size_t i = 0; i < ia.mean.size(); ++i)
+        withVariance += ia.mean[i] > 0 && ia.variance[i] > 0;
+    EXPECT_GT(withVariance, 1000u);
+    const testsupport::Agreement g = testsupport::agreePerPixel(ia, ib);
+    EXPECT_GT(g.tested, 1000u);
+    EXPECT_LT(g.maxZ, g.threshold);
+}
+
+TEST_F(TextureSpaceCli, BadInputsAreNamed) {
+    expectFailure(renderArgs({"--renderer", "texture-space", "--samples", "0", "--out", "a.exr"}),
+                  {"--samples"});
+    expectFailure(
+        renderArgs({"--renderer", "texture-space", "--texture-size", "100", "--out", "a.exr"}),
+        {"--texture-size", "power of two"});
+    expectFailure(
+        renderArgs({"--renderer", "texture-space", "--texture-size", "4096", "--out", "a.exr"}),
+        {"--texture-size"});
+    expectFailure(renderArgs({"--renderer", "texture-space", "--sets", "-1", "--out", "a.exr"}),
+                  {"--sets"});
+    expectFailure(renderArgs({"--renderer", "photon-map", "--out", "a.exr"}), {"--renderer"});
+    expectFailure(renderArgs({"--stage-images", "x", "--out", "a.exr"}),
+                  {"--stage-images", "texture-space"});
+}
