@@ -55,4 +55,19 @@ struct ConvergenceBenchOptions {
 // default scene against a converged Monte Carlo image; a log-log plot (bench_convergence.cpp).
 int benchConvergence(const std::filesystem::path& root, const ConvergenceBenchOptions& o);
 
+struct TextureSpaceBenchOptions {
+    std::vector<std::string> presets{"Marble", "Skin1"};
+    std::vector<double> scalesMm{10.0, 50.0}; // model size: mm per mesh unit (longest axis)
+    std::vector<int> samples{49, 100, 400, 900, 1600, 2500}; // seed 004 Table 4.2's range
+    std::vector<int> textures{16, 64, 256, 1024};
+    std::vector<float> eps{64.0f, 32.0f, 16.0f, 8.0f, 4.0f, 2.0f, 1.0f}; // bounding-box criterion
+    size_t points = 50000;
+    int width = 160, height = 90;
+    int sets = 4;
+};
+// bench texture-space: ms per frame and relative RMSE against the brute-force point-cloud render
+// of texture-space sampling for each N and texture size, beside the hierarchical renderer's time
+// at equal error, per material and model size (bench_texspace.cpp).
+int benchTextureSpace(const std::filesystem::path& root, const TextureSpaceBenchOptions& o);
+
 } // namespace app

@@ -219,16 +219,29 @@ struct ImageStage {
     pathtrace::Image image;
 };
 std::vector<ImageStage> imageStages(Workbench& wb) {
-    if (!wb.litSphereSettings().enabled) return {};
-    wb.finishLitSpheres();
-    // The real cause (a refused mesh, a bad setup), never a consequence such as an empty image.
-    if (const std::string problem = wb.litSphereProblem(); !problem.empty())
-        throw core::Error("lit spheres", 0, problem);
-    if (!wb.litSphereSettings().mesh.empty()) // both renderings cover the mesh
-        return {{"lit_mesh.path_traced", "lit_mesh_path_traced.exr", wb.pathTracedSphere()},
-                {"lit_mesh.integrated", "lit_mesh_integrated.exr", wb.integratedSphere()}};
-    return {{"lit_sphere.path_traced", "lit_sphere_path_traced.exr", wb.pathTracedSphere()},
-            {"lit_sphere.integrated", "lit_sphere_integrated.exr", wb.integratedSphere()}};
+    std::vector<ImageStage> out;
+    if (wb.litSphereSettings().enabled) {
+        wb.finishLitSpheres();
+        // The real cause (a refused mesh, a bad setup), never a consequence such as an empty
+        // image.
+        if (const std::string problem = wb.litSphereProblem(); !problem.empty())
+            throw core::Error("lit spheres", 0, problem);
+        if (!wb.litSphereSettings().mesh.empty()) // both renderings cover the mesh
+            out = {{"lit_mesh.path_traced", "lit_mesh_path_traced.exr", wb.pathTracedSphere()},
+                   {"lit_mesh.integrated", "lit_mesh_integrated.exr", wb.integratedSphere()}};
+        else
+            out = {{"lit_sphere.path_traced", "lit_sphere_path_traced.exr", wb.pathTracedSphere()},
+                   {"lit_sphere.integrated", "lit_sphere_integrated.exr", wb.integratedSphere()}};
+    }
+    // The texture-space render (seed 004): the mean over its sample sets with the variance of
+    // the mean per pixel.
+    if (wb.scene().settings().enabled && wb.textureSpaceSettings().enabled) {
+        wb.finishScene();
+        wb.finishTextureSpace();
+        out.push_back(
+            {"texture_space.render", "texture_space_render.exr", wb.textureSpace().radiance()});
+    }
+    return out;
 }
 // x, y, then each channel with its standard error: the form compareStatTables reads.
 capture::Table imageTable(const pathtrace::Image& img) {

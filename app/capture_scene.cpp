@@ -3,6 +3,7 @@
 
 #include "core/core.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace app {
@@ -19,11 +20,73 @@ constexpr double kIrradianceRel = 1e-5, kIrradianceAbs = 1e-7;
 // √n·2^-24; 1e-4 relative plus an absolute floor of 1e-6 of the image maximum.
 constexpr double kRenderRel = 1e-4;
 constexpr double kTraceRel = 1e-4;
+// E′ = E_t · A_S/A_T: the irradiance's float32 roundings and one more product.
+constexpr double kEprimeRel = 2e-5, kEprimeAbs = 1e-7;
 
 void pushHash(std::vector<double>& row, const std::string& hash) {
     const std::string hex = hash.substr(hash.find(':') + 1);
     for (int k = 0; k < 4; ++k)
         row.push_back(double(std::stoul(hex.substr(size_t(4 * k), 4), nullptr, 16)));
+}
+
+// The texture-space stages (seed 004) of the scene's mesh and light.
+void textureSpaceTables(Workbench& wb, SceneCapture& out) {
+    wb.finishTextureSpace();
+    const texspace::Pipeline& p = *wb.textureSpace().pipeline();
+    const texspace::Texels& t = p.texels();
+    const texspace::Parameterization& param = p.parameterization();
+    SceneCaptureTable tx{"texture_space.texels",
+                         "texture_space_texels.csv",
+                         "",
+                         {},
+                         0,
+                         0,
+                         "CPU (parameterisation and rasterisation in double): exact"};
+    tx.table.comments = {"texture side K, atlas layout side, 1 = the mesh's UVs, covered texels, "
+                         "triangles with a texel, largest stretch sigma1/sigma2"};
+    tx.table.columns = {"K", "layout", "from_mesh", "covered", "triangles", "max_stretch"};
+    std::vector<char> hasTexel(param.uv.size(), 0);
+    for (int32_t f : t.triangle)
+        if (f >= 0) hasTexel[size_t(f)] = 1;
+    double worst = 1;
+    for (double x : param.stretch)
+        worst = std::max(worst, x);
+    tx.table.rows.push_back({double(t.size), double(p.layoutSize()), param.fromMesh ? 1.0 : 0.0,
+                             double(t.covered),
+                             double(std::count(hasTexel.begin(), hasTexel.end(), 1)), worst});
+    out.tables.push_back(std::move(tx));
+
+    SceneCaptureTable ep{"texture_space.eprime",
+                         "texture_space_eprime.csv",
+                         "texel",
+                         {},
+                         kEprimeAbs,
+                         kEprimeRel,
+                         "GPU irradiance (float32) times the area ratio: 2e-5 relative + 1e-7"};
+    ep.table.columns = {"texel", "R", "G", "B"};
+    const std::vector<glm::vec3> e = p.eprime();
+    size_t k = 0;
+    for (size_t texel = 0; texel < e.size(); ++texel)
+        if (t.triangle[texel] >= 0 && k++ % 8 == 0)
+            ep.table.rows.push_back({double(texel), e[texel].x, e[texel].y, e[texel].z});
+    out.tables.push_back(std::move(ep));
+
+    SceneCaptureTable sm{"texture_space.samples",
+                         "texture_space_samples.csv",
+                         "draw",
+                         {},
+                         0,
+                         0,
+                         "the GPU descent of Algorithm 3.1 over the float CDF: exact on one "
+                         "driver (a float/double boundary may move a draw on another)"};
+    sm.table.columns = {"draw", "texel"};
+    const texspace::SampleSet first =
+        p.drawSet(std::min(256, wb.textureSpaceSettings().sampling.samples),
+                  wb.textureSpaceSettings().sampling.seed, 0);
+    for (size_t d = 0; d < first.draws.size(); ++d)
+        sm.table.rows.push_back({double(d), double(first.draws[d])});
+    if (sm.table.rows.empty()) sm.table.rows.push_back({-1, 0}); // no light: no draws
+    out.tables.push_back(std::move(sm));
 }
 
 } // namespace
@@ -179,6 +242,7 @@ SceneCapture sceneOutputs(Workbench& wb, int traceX, int traceY) {
         if (tv.table.rows.empty()) tv.table.rows.push_back({-1, 0, 0, 0, 0, 0, 0});
         out.tables.push_back(std::move(tv));
     }
+    if (wb.textureSpaceSettings().enabled) textureSpaceTables(wb, out);
     return out;
 }
 

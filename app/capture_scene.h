@@ -8,6 +8,11 @@
 //   scene.trace_steps  csv, exact   one pixel's traversal steps (CPU replica): node, decision,
 //                                   depth, stack after each step
 //   scene.trace_values csv, tol     that trace's contributions and running sums
+// and with texture_space.enabled (seed 004; its render is an exr_stat stage of capture_io):
+//   texture_space.texels   csv, exact   K, layout size, UVs or atlas, covered texels, triangles
+//                                       with texels, largest stretch
+//   texture_space.eprime   csv, tol     E′ (RGB) of every 8th covered texel (GPU irradiance)
+//   texture_space.samples  csv, exact   the first 256 texels of sample set 0 (the GPU descent)
 // Hashes are split into four 16-bit integers so that they compare exactly as numbers.
 #pragma once
 

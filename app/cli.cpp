@@ -209,6 +209,20 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         traceX = a.traceX >= 0 ? a.traceX : a.sceneWidth / 2;
         traceY = a.traceY >= 0 ? a.traceY : a.sceneHeight / 2;
     }
+    if (a.textureSpace > 0) {
+        if (a.scenePoints == 0)
+            throw core::Error("--texture-space", 0, "needs --scene-points (the scene's mesh)");
+        TextureSpaceSettings& ts = wb.textureSpaceSettings();
+        ts.enabled = true;
+        ts.sampling.textureSize = a.textureSpace;
+        ts.sampling.samples = a.textureSamples;
+        ts.sampling.sampleSets = a.textureSets;
+        try {
+            texspace::validateSettings(ts.sampling);
+        } catch (const core::Error& e) {
+            throw core::Error("--texture-space", 0, e.what());
+        }
+    }
     wb.update();
     // Recorded into a temporary folder beside the target and renamed when complete, so a
     // failed record leaves nothing behind and a replaced capture is never half old, half new.

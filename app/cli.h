@@ -51,7 +51,10 @@ struct RecordArgs {
     std::string sceneMesh = "third_party/bunny/bunny.obj"; // relative to the root
     int sceneWidth = 160, sceneHeight = 90;                // a small frame keeps captures small
     int traceX = -1, traceY = -1; // traced pixel (default: the image centre)
-    bool force = false;           // replace an existing capture folder
+    // > 0: with scenePoints, also record the texture-space stages (seed 004) at this K
+    int textureSpace = 0;
+    int textureSamples = 256, textureSets = 16;
+    bool force = false; // replace an existing capture folder
 };
 int runRecord(const std::filesystem::path& root, const RecordArgs& a);
 

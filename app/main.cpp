@@ -209,6 +209,14 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 4096));
     rec->add_option("--scene-height", ra.sceneHeight, "render height (default 90)")
         ->check(CLI::Range(1, 4096));
+    rec->add_option("--texture-space", ra.textureSpace,
+                    "with --scene-points: also record the texture-space stages (texels, E', "
+                    "the first draws, the render over its sets) at this texture size K "
+                    "(default 0: off)");
+    rec->add_option("--texture-samples", ra.textureSamples,
+                    "with --texture-space: N per sample set (default 256)");
+    rec->add_option("--texture-sets", ra.textureSets,
+                    "with --texture-space: sample sets averaged (default 16)");
     rec->add_option("--trace-x", ra.traceX, "traced pixel x (default: centre)");
     rec->add_option("--trace-y", ra.traceY, "traced pixel y (default: centre)");
     rec->add_flag("--force", ra.force, "replace an existing capture folder");
@@ -358,6 +366,23 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1000000));
     benchConv->add_option("--out", cbo.out, "folder for convergence.csv and convergence.png");
 
+    auto* benchTs = bench->add_subcommand(
+        "texture-space", "texture-space sampling vs the hierarchical render at equal error");
+    app::TextureSpaceBenchOptions tbo;
+    benchTs->add_option("--presets", tbo.presets, "material presets (default Marble Skin1)");
+    benchTs->add_option("--scales", tbo.scalesMm, "model sizes in mm (default 10 50)");
+    benchTs->add_option("--samples", tbo.samples, "N values (default 49 100 400 900 1600 2500)");
+    benchTs->add_option("--textures", tbo.textures, "texture sizes (default 16 64 256 1024)");
+    benchTs->add_option("--eps", tbo.eps, "hierarchical eps values (default 64 … 1)");
+    benchTs->add_option("--points", tbo.points, "point-cloud points (default 50000)")
+        ->check(CLI::Range(100, 10000000));
+    benchTs->add_option("--width", tbo.width, "frame width (default 160)")
+        ->check(CLI::Range(8, 4096));
+    benchTs->add_option("--height", tbo.height, "frame height (default 90)")
+        ->check(CLI::Range(8, 4096));
+    benchTs->add_option("--sets", tbo.sets, "sample sets per case (default 4)")
+        ->check(CLI::Range(1, 10000));
+
     auto* benchHier = bench->add_subcommand(
         "hierarchy", "hierarchical vs brute-force render, point-cloud generation vs Turk");
     app::HierarchyBenchOptions hbo;
@@ -423,6 +448,15 @@ int main(int argc, char** argv) {
         if (*benchReload) return app::benchReload(root, reloadRuns);
         if (*compareCmd) return app::runCompareCli(root, ca);
         if (*benchPt) return app::benchPathtrace(root, benchSeconds);
+        if (*benchTs) {
+            for (int k : tbo.textures)
+                if (k < 16 || k > 2048 || (k & (k - 1)) != 0)
+                    throw core::Error("--textures", 0, "each must be a power of two in [16, 2048]");
+            for (int n : tbo.samples)
+                if (n < 1 || n > (1 << 20))
+                    throw core::Error("--samples", 0, "each must lie in [1, 1048576]");
+            return app::benchTextureSpace(root, tbo);
+        }
         if (*benchHier) return app::benchHierarchy(root, hbo);
         if (*benchConv) return app::benchConvergence(root, cbo);
         if (*benchSamp) return app::benchSampling(root, sampSeconds, sampSize, sampReference);

@@ -1,0 +1,141 @@
+// bench texture-space: texture-space importance sampling (Chang 2007, seed 004) against the
+// hierarchical point-cloud renderer at equal error, on the default scene (the bunny, default
+// light and view, dipole), per material and model size, for N in Table 4.2's range and texture
+// sizes 16² … 1024². Both are measured against the brute-force point-cloud render of the same
+// scene in the same run. Times are wall clock after glFinish of what a frame costs (texture
+// space: drawing the set and rendering it; hierarchical: the frame's G-buffer, profile,
+// traversal and tone map) — GL's timer queries read 0 on llvmpipe. Asserts nothing.
+#include "bench.h"
+
+#include "core/core.h"
+#include "gl/gl.h"
+#include "workbench.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace app {
+namespace {
+
+double frameMs(const render::Frame& f) {
+    return f.gbufferMs + f.profileMs + f.traverseMs + f.tonemapMs;
+}
+
+// Mean squared difference over the mean square of the reference, over covered pixels and RGB.
+double relMse(const render::Readback& a, const render::Readback& ref) {
+    double num = 0, den = 0;
+    for (size_t p = 0; p < ref.hdr.size(); ++p) {
+        if (ref.hdr[p].w < 0.5f) continue;
+        for (int c = 0; c < 3; ++c) {
+            const double d = double(a.hdr[p][c]) - double(ref.hdr[p][c]);
+            num += d * d;
+            den += double(ref.hdr[p][c]) * double(ref.hdr[p][c]);
+        }
+    }
+    return den > 0 ? num / den : 0.0;
+}
+
+struct HierPoint {
+    float eps;
+    double ms, err;
+};
+
+} // namespace
+
+int benchTextureSpace(const std::filesystem::path& root, const TextureSpaceBenchOptions& o) {
+    auto ctx = gl::createHeadlessContext(false);
+    std::printf("GL: %s | %s\n", ctx->renderer().c_str(), ctx->version().c_str());
+    Workbench wb(root, false, {root / "materials" / "dipole.bssrdf"});
+    SceneSettings& s = wb.scene().settings();
+    s.enabled = true;
+    s.useCache = true;
+    s.points.points = o.points;
+    s.render.width = o.width;
+    s.render.height = o.height;
+    std::printf("scene: bunny, dipole, default light and view, %dx%d; reference: brute force over "
+                "%zu points; per case %d sets (rel_rmse of one frame = √ of the mean squared "
+                "error over them); ms: wall clock after glFinish per frame, median\n",
+                o.width, o.height, o.points, o.sets);
+    for (const std::string& preset : o.presets)
+        for (double scale : o.scalesMm) {
+            wb.applyPreset(wb.shared(), preset);
+            wb.shared().params.scale = float(scale);
+            wb.update();
+            wb.finishScene();
+            for (const auto& p : wb.scene().problems())
+                throw core::Error(p);
+            render::Renderer* r = wb.scene().renderer();
+            if (!r || !wb.scene().hasFrame())
+                throw core::Error("bench", 0, "the scene did not render");
+            const render::Settings view = s.render;
+            render::Settings bs = view;
+            bs.bruteForce = true;
+            core::Stopwatch clock;
+            const double bruteMs = frameMs(r->render(bs));
+            const render::Readback ref = r->readback();
+            // the hierarchical renderer's error against time (bounding-box criterion, the
+            // default second-order clusters)
+            std::vector<HierPoint> hier;
+            for (float eps : o.eps) {
+                render::Settings hs = view;
+                hs.bruteForce = false;
+                hs.boundingBoxCriterion = true;
+                hs.secondOrder = true;
+                hs.eps = eps;
+                std::vector<double> ms;
+                for (int i = 0; i < 3; ++i)
+                    ms.push_back(frameMs(r->render(hs)));
+                std::sort(ms.begin(), ms.end());
+                hier.push_back({eps, ms[1], std::sqrt(relMse(r->readback(), ref))});
+                std::printf("preset=%s scale_mm=%g method=hierarchical eps=%g ms=%.2f "
+                            "rel_rmse=%.5f (brute force %.1f ms)\n",
+                            preset.c_str(), scale, double(eps), ms[1], hier.back().err, bruteMs);
+                std::fflush(stdout);
+            }
+            // the cheapest hierarchical frame with at most this error
+            auto atEqualError = [&](double err) {
+                double best = -1;
+                for (const HierPoint& h : hier)
+                    if (h.err <= err && (best < 0 || h.ms < best)) best = h.ms;
+                return best;
+            };
+            for (int k : o.textures) {
+                TextureSpaceSettings& ts = wb.textureSpaceSettings();
+                ts.sampling.textureSize = k;
+                ts.sampling.samples = 1;
+                ts.sampling.sampleSets = 1;
+                wb.finishTextureSpace(); // mesh, texels, light, model: ready to draw
+                texspace::Pipeline& p = *wb.textureSpace().pipeline();
+                for (int n : o.samples) {
+                    std::vector<double> ms;
+                    double mse = 0;
+                    for (int set = 0; set < o.sets; ++set) {
+                        clock.reset();
+                        const texspace::SampleSet drawn = p.drawSet(n, 7, uint64_t(set));
+                        const double drawMs = clock.ms();
+                        const render::Readback rb = p.renderSet(drawn, view);
+                        ms.push_back(drawMs + frameMs(p.renderer().currentFrame()));
+                        mse += relMse(rb, ref) / o.sets;
+                    }
+                    std::sort(ms.begin(), ms.end());
+                    const double err = std::sqrt(mse), h = atEqualError(err);
+                    char hText[32];
+                    if (h < 0)
+                        std::snprintf(hText, sizeof hText, "none");
+                    else
+                        std::snprintf(hText, sizeof hText, "%.2f", h);
+                    std::printf("preset=%s scale_mm=%g method=texture-space samples=%d texture=%d "
+                                "ms=%.2f rel_rmse=%.5f hier_ms_at_equal_error=%s\n",
+                                preset.c_str(), scale, n, k, ms[ms.size() / 2], err, hText);
+                    std::fflush(stdout);
+                }
+            }
+        }
+    std::printf("hier_ms_at_equal_error: the cheapest hierarchical frame (eps above) whose error "
+                "is at most the texture-space one; none: every hierarchical frame has a larger "
+                "error\n");
+    return 0;
+}
+
+} // namespace app
