@@ -82,6 +82,11 @@ uniform uint RenderIterations;      // loop iterations per dispatch
 uniform uint RenderPointCount;      // N (brute force)
 uniform vec3 RenderCameraPosition;  // mesh units
 uniform uint RenderSentinel;        // 2: a loop of this length after the traversal must run in full
+// The hybrid method's global part (seed 004 §3.3, render.h RadialWeight): every evaluation
+// times W_g(r) = 1 − W_l(r), W_l = 1 − ½e^{(r−R_p)K} (r <= R_p), ½e^{−(r−R_p)K} (r > R_p).
+uniform bool RenderWeightGlobal;
+uniform vec3 RenderWeightRp;        // R_p per channel, mm
+uniform float RenderWeightK;        // K, 1/mm
 
 const uint MODE_VISIT = 0u;  // visit `node` (one step)
 const uint MODE_POINTS = 1u; // add point `range.x`, up to `range.y` (brute force: all)
@@ -89,15 +94,29 @@ const uint MODE_NEXT = 2u;   // move to the next node (pop while childnum = 0)
 const uint MODE_DONE = 3u;
 const uint MODE_CLUSTER = 4u; // add second-order term `range.x` (0, 1, 2) of node `node`
 
+vec3 renderGlobalWeight(float r) {
+    vec3 d = vec3(r) - RenderWeightRp;
+    vec3 below = 0.5 * exp(d * RenderWeightK);  // 1 − W_l for r <= R_p
+    vec3 above = 1.0 - 0.5 * exp(-d * RenderWeightK);
+    return mix(below, above, greaterThan(d, vec3(0.0)));
+}
+
+// The profile table at r (mm), weighted when the hybrid's global part is rendered.
+vec3 renderTable(float r) {
+    vec3 v = profileLookup(r);
+    return RenderWeightGlobal ? v * renderGlobalWeight(r) : v;
+}
+
 vec3 renderModel(vec3 xi, vec3 wi, vec3 sxo, vec3 no) {
     precise vec3 sxi = Scale * xi;
+    vec3 dd = sxo - sxi;
 #ifdef BSSRDF_RADIAL
     if (!RenderDirect) {
-        vec3 dd = sxo - sxi;
-        return profileLookup(sqrt(dot(dd, dd)));
+        return renderTable(sqrt(dot(dd, dd)));
     }
 #endif
-    return Bssrdf(sxi, wi, sxo, no);
+    vec3 v = Bssrdf(sxi, wi, sxo, no);
+    return RenderWeightGlobal ? v * renderGlobalWeight(sqrt(dot(dd, dd))) : v;
 }
 
 // Unpolarised Fresnel transmittance 1 − F at cos θ in [0, 1] for relative index eta.
@@ -213,9 +232,9 @@ void main() {
                         // table lookups at the three distances, all in this iteration
                         OctreeCluster c = octreeCluster(node, xo);
                         vec3 ea = octreeNodes[node].irradianceArea.xyz;
-                        M += (ea * OCTREE_CLUSTER_WEIGHTS[0]) * s2 * profileLookup(Scale * c.rho.x);
-                        M += (ea * OCTREE_CLUSTER_WEIGHTS[1]) * s2 * profileLookup(Scale * c.rho.y);
-                        M += (ea * OCTREE_CLUSTER_WEIGHTS[2]) * s2 * profileLookup(Scale * c.rho.z);
+                        M += (ea * OCTREE_CLUSTER_WEIGHTS[0]) * s2 * renderTable(Scale * c.rho.x);
+                        M += (ea * OCTREE_CLUSTER_WEIGHTS[1]) * s2 * renderTable(Scale * c.rho.y);
+                        M += (ea * OCTREE_CLUSTER_WEIGHTS[2]) * s2 * renderTable(Scale * c.rho.z);
                         stats.w += 3u;
                         mode = MODE_NEXT;
                     } else

@@ -45,6 +45,15 @@ inline constexpr uint32_t kIterationsPerDispatch = 32768;
 // smallest dispatch size (the frame's values are then incomplete; set on every pixel).
 inline constexpr uint32_t kFlagLoopLimit = 4u;
 
+// A radial weight on every BSSRDF evaluation of a frame (the hybrid method of seed 004 §3.3:
+// its global part R_d·W_g). W_g(r) = 1 − W_l(r), W_l(r) = 1 − ½e^{(r−R_p)K} for r ≤ R_p and
+// ½e^{−(r−R_p)K} beyond (texspace/hybrid.h), r = |xo − xi| in mm, R_p per channel.
+struct RadialWeight {
+    bool global = false; // multiply by W_g
+    glm::vec3 rp{0.0f};  // R_p per channel, mm
+    float k = 1.5f;      // K, 1/mm
+};
+
 struct Settings {
     int width = 640, height = 360;         // 1 … 8192 each
     Camera camera;                         // camera.aspect is replaced by width/height
@@ -62,6 +71,7 @@ struct Settings {
     // Loop iterations per pixel and traversal dispatch; 0 = kIterationsPerDispatch (lowered
     // automatically when the driver's loop limit is hit). Results do not depend on it.
     uint32_t iterationsPerDispatch = 0;
+    RadialWeight weight; // set by the hybrid renderer; none by default
     // The criterion of the CPU replica that matches these settings.
     octree::Criterion criterion() const;
 };
@@ -83,6 +93,7 @@ template <class V> void fields(V& v, Settings& s) {
     v("gamma", s.gamma, "tone mapping gamma", core::Limits{0.1, 10});
     v("background", s.background, "display colour of misses", core::Limits{0, 1e3});
     v.skip(s.iterationsPerDispatch, "dispatch slicing; results do not depend on it");
+    v.skip(s.weight, "set by the hybrid renderer for its global part");
 }
 
 // What the tone map pass counted in a frame's L_o (a model that returned such values): NaN
@@ -172,6 +183,9 @@ class Renderer {
     std::vector<glm::vec3> evaluatePairs(const std::vector<BssrdfPair>& pairs) const;
     // The profile table of the last frame that used one (empty before; radial models only).
     const ProfileTable& profileTable() const;
+    // Builds the profile table for the current model, material, mesh and octree when it is not
+    // current (radial models; what begin() does) and returns it.
+    const ProfileTable& prepareProfileTable();
     const bssrdf::Builtins& builtins() const;
 
   private:

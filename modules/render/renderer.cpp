@@ -294,6 +294,12 @@ const ProfileTable& Renderer::profileTable() const {
     return m->table;
 }
 
+const ProfileTable& Renderer::prepareProfileTable() {
+    if (!ready()) throw core::Error("render", 0, "not ready: mesh, octree and model first");
+    if (m->model->attrs.radial) m->ensureProfile();
+    return m->table;
+}
+
 const bssrdf::Builtins& Renderer::builtins() const {
     return m->builtins;
 }
@@ -411,6 +417,9 @@ void Renderer::State::bindTraverse(const Settings& s, uint32_t perDispatch) {
     glUniform1ui(loc("RenderPointCount"), pointCount);
     glUniform3f(loc("RenderCameraPosition"), eye.x, eye.y, eye.z);
     glUniform1ui(loc("RenderSentinel"), 2u);
+    glUniform1i(loc("RenderWeightGlobal"), s.weight.global ? 1 : 0);
+    glUniform3f(loc("RenderWeightRp"), s.weight.rp.x, s.weight.rp.y, s.weight.rp.z);
+    glUniform1f(loc("RenderWeightK"), s.weight.k);
     glUniform1f(loc("ProfileRMax"), table.rMax > 0.0f ? table.rMax : 1.0f);
     glUniform1ui(loc("ProfileCount"),
                  static_cast<GLuint>(std::max<size_t>(table.values.size(), 2)));

@@ -6,7 +6,20 @@
 namespace texspace {
 
 GpuSampler::GpuSampler(const shader::Sources& src)
-    : m_program(shader::build(src, {{GL_COMPUTE_SHADER, "texspace_sample.comp"}}, m_record)) {}
+    : m_src(src),
+      m_program(shader::build(src, {{GL_COMPUTE_SHADER, "texspace_sample.comp"}}, m_record)) {}
+
+shader::Reloaded GpuSampler::reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    shader::Reloaded out;
+    if (!m_record.dependencies.containsAny(changed)) return out;
+    try {
+        m_program = shader::build(m_src, {{GL_COMPUTE_SHADER, "texspace_sample.comp"}}, m_record);
+        ++out.rebuilt;
+    } catch (const core::Error& e) {
+        out.problem = e.what();
+    }
+    return out;
+}
 
 void GpuSampler::setCdf(const MipCdf& cdf) {
     if (cdf.levels.size() > 16) throw core::Error("texture space", 0, "at most 16 mip levels");

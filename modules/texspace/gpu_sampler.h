@@ -9,6 +9,7 @@
 #include "texspace/texture_space.h"
 
 #include <cstdint>
+#include <filesystem>
 #include <vector>
 
 namespace texspace {
@@ -26,8 +27,13 @@ class GpuSampler {
     void setCdf(const MipCdf& cdf);
     // Samples first … first + count − 1 under `seed`.
     std::vector<GpuSample> draw(uint64_t count, uint64_t seed, uint64_t first = 0) const;
+    // Hot reload: builds the program again when one of `changed` is among its files; a failure
+    // keeps the last good program.
+    shader::Reloaded reloadShaders(const std::vector<std::filesystem::path>& changed);
+    const shader::Record& record() const { return m_record; }
 
   private:
+    shader::Sources m_src;
     shader::Record m_record; // before m_program: the build fills it
     gl::Program m_program;
     gl::Buffer m_levels;

@@ -26,7 +26,7 @@ void validateSettings(const Settings& s, int maxTextureSize) {
 }
 
 Pipeline::Pipeline(const std::filesystem::path& root)
-    : m_irradiance(std::make_unique<irradiance::Stage>(root / "shaders")),
+    : m_src(root), m_irradiance(std::make_unique<irradiance::Stage>(root / "shaders")),
       m_sampler(std::make_unique<GpuSampler>(shader::Sources{root})),
       m_renderer(std::make_unique<render::Renderer>(shader::Sources{root})) {}
 
@@ -68,6 +68,8 @@ void Pipeline::setMesh(const mesh::Mesh& m, int textureSize) {
         }
     m_irradiance->setScene(m, pos, nrm);
     m_renderer->setMesh(m);
+    m_meshCopy = m;
+    m_localMesh = false;
     m_param = std::move(param);
     m_layoutSize = layout;
     m_texels = std::move(texels);
@@ -88,6 +90,7 @@ double Pipeline::representedArea() const {
 void Pipeline::beginLight(const irradiance::Settings& light) {
     if (!hasMesh()) throw core::Error("texture space", 0, "no mesh");
     m_lightReady = false;
+    m_light = light;
     m_lightOccluded = light.mode == irradiance::LightMode::OccludedIbl;
     if (m_lightOccluded)
         m_irradiance->beginOccluded(light);
@@ -193,6 +196,7 @@ SampleSet Pipeline::allTexels() const {
 
 void Pipeline::setModel(const bssrdf::Model& m) {
     m_renderer->setModel(m);
+    m_radial = m.attrs.radial;
     m_running = false;
 }
 
@@ -227,8 +231,37 @@ void Pipeline::begin(const Settings& s, const render::Settings& view) {
     m_setsDone = 0;
     m_width = m_height = 0;
     m_sumL.clear(), m_sumL2.clear(), m_sumM.clear(), m_sumM2.clear();
+    m_localM.clear(), m_localL.clear();
+    m_taps.clear();
+    m_rp = glm::vec3(0.0f);
+    if (s.hybrid) beginHybrid();
     m_running = true;
     m_setRendering = false;
+}
+
+void Pipeline::beginHybrid() {
+    validateHybrid(m_run.local);
+    if (!m_radial)
+        throw core::Error("hybrid", 0,
+                          "the hybrid needs a radial model (its profile table gives R_p and the "
+                          "local filter)");
+    if (m_light.mode != irradiance::LightMode::Directional)
+        throw core::Error("hybrid", 0,
+                          "the hybrid's local term needs the directional light (the light-view "
+                          "map); the light is another mode");
+    // R_p and the filter from the profile table (the renderer builds it for the current model,
+    // material and mesh; any octree will do for its bounds)
+    m_renderer->setOctree(setTree(allTexels(), glm::vec3(m_texels.position[m_covered[0]])));
+    const render::ProfileTable& table = m_renderer->prepareProfileTable();
+    m_rp = findRp(table, double(m_run.local.lowerBound));
+    m_taps = ringFilter(table, m_rp, double(m_run.local.k), m_run.local.rings, m_run.local.perRing);
+    if (!m_local) m_local = std::make_unique<LocalTerm>(m_src);
+    if (!m_localMesh) {
+        m_local->setMesh(m_meshCopy);
+        m_localMesh = true;
+    }
+    m_local->renderLightMap(m_light.direction, m_run.local.lightMapSize);
+    m_view.weight = {true, m_rp, m_run.local.k};
 }
 
 void Pipeline::startSet() {
@@ -251,6 +284,19 @@ bool Pipeline::advance(double budgetMs) {
         m_setRendering = false;
         const render::Frame& f = m_renderer->currentFrame();
         m_renderMs = f.gbufferMs + f.profileMs + f.traverseMs + f.tonemapMs;
+        if (m_run.hybrid && m_localM.empty()) { // the local term on this view's G-buffer, once
+            core::Stopwatch local;
+            render::Camera cam = m_view.camera;
+            cam.aspect = float(f.width) / float(f.height);
+            const LocalTerm::Result r =
+                m_local->evaluate(f.position, f.normal, f.width, f.height, cam.position(),
+                                  m_renderer->profileTable(), m_taps, m_rp, m_run.local.k,
+                                  m_light.irradiance, m_light.ior, m_renderer->builtins().scale);
+            m_localM = r.exitance;
+            m_localL = r.radiance;
+            m_localMs = local.ms();
+            gl::recordTiming("texture space: hybrid local term", m_localMs);
+        }
         accumulate(m_renderer->readback());
         if (clock.ms() >= budgetMs) break;
     }
@@ -304,11 +350,64 @@ litsphere::Image meanImage(int w, int h, int k, const std::vector<double>& s1,
 
 } // namespace
 
+shader::Reloaded Pipeline::reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    shader::Reloaded out;
+    for (const shader::Reloaded& r :
+         {m_irradiance->reloadShaders(changed), m_sampler->reloadShaders(changed),
+          m_renderer->reloadShaders(changed),
+          m_local ? m_local->reloadShaders(changed) : shader::Reloaded{}}) {
+        out.rebuilt += r.rebuilt;
+        if (out.problem.empty()) out.problem = r.problem;
+    }
+    if (out.rebuilt > 0) {
+        m_lightReady = false;
+        m_running = false;
+    }
+    return out;
+}
+
+shader::Records Pipeline::shaderRecords() const {
+    shader::Records out;
+    for (const auto& [name, r] : m_irradiance->shaderRecords())
+        out["irradiance:" + name] = r;
+    out["sample:texspace_sample.comp"] = m_sampler->record();
+    for (const auto& [name, r] : m_renderer->shaderRecords())
+        out["render:" + name] = r;
+    if (m_local)
+        for (const auto& [name, r] : m_local->records())
+            out["hybrid:" + name] = r;
+    return out;
+}
+
+namespace {
+
+litsphere::Image plus(litsphere::Image im, const std::vector<glm::vec4>& local) {
+    if (local.size() * 3 != im.mean.size()) return im;
+    for (size_t p = 0; p < local.size(); ++p)
+        for (int c = 0; c < 3; ++c)
+            im.mean[3 * p + size_t(c)] += local[p][c];
+    return im;
+}
+
+} // namespace
+
 litsphere::Image Pipeline::radiance() const {
-    return meanImage(m_width, m_height, m_setsDone, m_sumL, m_sumL2);
+    return plus(meanImage(m_width, m_height, m_setsDone, m_sumL, m_sumL2), m_localL);
 }
 litsphere::Image Pipeline::exitance() const {
-    return meanImage(m_width, m_height, m_setsDone, m_sumM, m_sumM2);
+    return plus(meanImage(m_width, m_height, m_setsDone, m_sumM, m_sumM2), m_localM);
+}
+litsphere::Image Pipeline::globalRadiance() const {
+    if (m_localL.empty()) return {};
+    return meanImage(m_width, m_height, m_setsDone, m_sumL, m_sumL2);
+}
+litsphere::Image Pipeline::localRadiance() const {
+    litsphere::Image im;
+    if (m_localL.empty()) return im;
+    im.width = m_width, im.height = m_height;
+    im.mean.assign(m_localL.size() * 3, 0.0f);
+    im.variance.assign(m_localL.size() * 3, 0.0f);
+    return plus(im, m_localL);
 }
 
 } // namespace texspace

@@ -34,11 +34,13 @@
 #include "render/render.h"
 #include "shader/program.h"
 #include "texspace/gpu_sampler.h"
+#include "texspace/hybrid.h"
 #include "texspace/texspace.h"
 #include "texspace/texture_space.h"
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -51,6 +53,10 @@ struct Settings {
     int samples = 1024;    // N per sample set (seed 004 Table 4.2: 49 … 2500), [1, 2^20]
     int sampleSets = 64;   // progressive target: sets averaged
     uint64_t seed = 1;
+    // The hybrid method (hybrid.h): the local part of R_d by the light-view ring filter, the
+    // global part by these sets. Directional light and radial models only.
+    bool hybrid = false;
+    HybridSettings local;
 };
 template <class V> void fields(V& v, Settings& s) {
     v("texture_size", s.textureSize, "texels per side K (a power of two)", core::Limits{16, 2048});
@@ -58,6 +64,8 @@ template <class V> void fields(V& v, Settings& s) {
     v("sample_sets", s.sampleSets, "sample sets averaged (progressive target)",
       core::Limits{1, 1e6});
     v("seed", s.seed, "random seed of the draws");
+    v("hybrid", s.hybrid, "hybrid method: local part by the light-view ring filter");
+    v("local", s.local, "the hybrid's weighting and local filter");
 }
 // Throws core::Error("texture space", 0, …) naming the setting: K not a power of two in
 // [16, 2048] or above maxTextureSize (the GL limit; 0 = unchecked), N or the set count < 1.
@@ -127,23 +135,42 @@ class Pipeline {
     // s.sampleSets are accumulated.
     bool advance(double budgetMs);
     bool done() const { return m_setsDone >= m_run.sampleSets; }
+    int setsTarget() const { return m_run.sampleSets; }
+    // Changes the target of the running accumulation (more sets continue it, fewer end it).
+    void setSampleSets(int sets) { m_run.sampleSets = std::max(1, sets); }
     int setsDone() const { return m_setsDone; }
     // Renders one given set to the end (tests, the reference sum): L_o and M per pixel.
     render::Readback renderSet(const SampleSet& set, const render::Settings& view);
-    // Mean L_o and M over the sets so far with their variance of the mean (samples = sets).
+    // Mean L_o and M over the sets so far with their variance of the mean (samples = sets);
+    // with the hybrid, the local term (deterministic) plus the sets' global term.
     litsphere::Image radiance() const;
     litsphere::Image exitance() const;
+    // The hybrid's parts (empty without it): the local L_o (no variance) and the global L_o.
+    litsphere::Image localRadiance() const;
+    litsphere::Image globalRadiance() const;
+    glm::vec3 hybridRp() const { return m_rp; } // R_p per channel of the running hybrid, mm
+    const std::vector<RingTap>& hybridTaps() const { return m_taps; }
     // The last set drawn (for the panels) and the frame timings of the last set.
     const SampleSet& lastSet() const { return m_lastSet; }
     double lastSampleMs() const { return m_sampleMs; }
     double lastRenderMs() const { return m_renderMs; }
+    double localMs() const { return m_localMs; } // the hybrid's local term (once per view)
     render::Renderer& renderer() { return *m_renderer; }
+
+    // Hot reload of the irradiance, sampling and render programs whose files include one of
+    // `changed` (a failure keeps the last good program); when something was rebuilt the light
+    // must be computed and the accumulation begun again by the caller.
+    shader::Reloaded reloadShaders(const std::vector<std::filesystem::path>& changed);
+    // "irradiance:NAME", "sample:texspace_sample.comp", "render:NAME".
+    shader::Records shaderRecords() const;
 
   private:
     void finishLight(std::vector<glm::vec3> et);
+    void beginHybrid();
     void startSet();
     void accumulate(const render::Readback& rb);
 
+    shader::Sources m_src;
     std::unique_ptr<irradiance::Stage> m_irradiance;
     std::unique_ptr<GpuSampler> m_sampler;
     std::unique_ptr<render::Renderer> m_renderer;
@@ -163,8 +190,17 @@ class Pipeline {
     int m_setsDone = 0;
     int m_width = 0, m_height = 0;
     std::vector<double> m_sumL, m_sumL2, m_sumM, m_sumM2;
+    // the hybrid
+    bool m_radial = false;
+    irradiance::Settings m_light;
+    std::unique_ptr<LocalTerm> m_local;
+    bool m_localMesh = false;
+    mesh::Mesh m_meshCopy;
+    glm::vec3 m_rp{0.0f};
+    std::vector<RingTap> m_taps;
+    std::vector<glm::vec4> m_localM, m_localL; // per pixel, w = hit
     SampleSet m_lastSet;
-    double m_sampleMs = 0, m_renderMs = 0;
+    double m_sampleMs = 0, m_renderMs = 0, m_localMs = 0;
 };
 
 } // namespace texspace

@@ -285,6 +285,95 @@ TEST(TextureSpacePipeline, PlaneOfConstantIrradianceReproducesDiffuseReflectance
     }
 }
 
+// The hybrid (seed 004 §3.3) on the same plane: local term (ring filter, 48 × 16 + 1 taps: a
+// quadrature within ~2e-3 of its integral) plus the global term (texture-space sets with R·W_g)
+// reproduce E_t·R_dr (z-test on the sets); the local part alone is the plane integral of
+// R·W_l within 1 %, and the parts are each a sizeable share.
+TEST(TextureSpacePipeline, HybridOnThePlaneReproducesDiffuseReflectance) {
+    Fixture& f = fixture();
+    mesh::Mesh plane;
+    const float h = 4.0f;
+    plane.vertices = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
+    plane.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    plane.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+    bssrdf::Builtins b;
+    b.sigmaA = glm::vec3(1.0f, 0.5f, 2.0f);
+    b.sigmaS = glm::vec3(10.0f, 15.0f, 10.0f);
+    b.ior = 1.3f;
+    b.scale = 1.0f;
+    texspace::Pipeline& p = *f.pipe;
+    p.setMesh(plane, 256);
+    irradiance::Settings l;
+    l.direction = {0.0f, 0.0f, 1.0f};
+    l.irradiance = glm::vec3(1.0f, 2.0f, 0.5f);
+    l.shadowMapSize = 256;
+    l.ior = b.ior;
+    p.beginLight(l);
+    ASSERT_TRUE(p.advanceLight());
+    p.setModel(f.dipole);
+    p.setMaterial(bssrdf::defaultValues(f.dipole), b);
+    const glm::vec3 et = p.transmitted()[size_t(128) * 256 + 128];
+    render::Settings s;
+    s.width = s.height = 8;
+    s.camera.distance = 20.0f;
+    s.camera.radius = 10.0f;
+    s.camera.fovY = 0.05f;
+    texspace::Settings ts;
+    ts.textureSize = 256;
+    ts.samples = 4096;
+    ts.sampleSets = 256;
+    ts.hybrid = true;
+    ts.local.rings = 48;
+    ts.local.perRing = 16;
+    ts.local.lightMapSize = 2048;
+    p.begin(ts, s);
+    while (!p.advance(1e9)) {
+    }
+    const glm::vec3 rp = p.hybridRp();
+    std::printf("hybrid R_p %.3f %.3f %.3f mm, %zu taps\n", rp.x, rp.y, rp.z,
+                p.hybridTaps().size());
+    const litsphere::Image m = p.exitance();
+    const litsphere::Image local = p.localRadiance(), global = p.globalRadiance();
+    ASSERT_FALSE(local.mean.empty());
+    const size_t centre = size_t(4 * 8 + 4);
+    const double ior = b.ior;
+    const double fdr = -1.44 / (ior * ior) + 0.71 / ior + 0.668 + 0.0636 * ior;
+    const double A = (1.0 + fdr) / (1.0 - fdr);
+    for (int c = 0; c < 3; ++c) {
+        const double st = double(b.sigmaS[c]) + double(b.sigmaA[c]);
+        const double alpha = double(b.sigmaS[c]) / st;
+        const double t = std::sqrt(3.0 * (1.0 - alpha));
+        const double rdr = alpha * 0.5 * (1.0 + std::exp(-4.0 / 3.0 * A * t)) * std::exp(-t);
+        const double expected = double(et[c]) * rdr;
+        const double got = m.mean[3 * centre + size_t(c)];
+        const double se = std::sqrt(double(m.variance[3 * centre + size_t(c)]));
+        const double z = (got - expected) / se;
+        // the local part alone: E_t · ∫ R W_l dA on the plane (classical dipole, fine quadrature)
+        const double tr = std::sqrt(3 * b.sigmaA[c] * st), zr = 1 / st, zv = zr * (1 + 4 * A / 3);
+        double localExact = 0;
+        for (int i = 0; i < 400000; ++i) {
+            const double r = 4.0 * (i + 0.5) / 400000, dr = std::hypot(r, zr),
+                         dv = std::hypot(r, zv);
+            const double rd = alpha / (4 * M_PI) *
+                              (zr * (tr * dr + 1) * std::exp(-tr * dr) / (dr * dr * dr) +
+                               zv * (tr * dv + 1) * std::exp(-tr * dv) / (dv * dv * dv));
+            localExact += rd * texspace::localWeight(r, rp[c], 1.5) * 2 * M_PI * r * 4.0 / 400000;
+        }
+        localExact *= double(et[c]);
+        const double localGot =
+            got - (global.mean[3 * centre + size_t(c)] /
+                   (local.mean[3 * centre + size_t(c)] + global.mean[3 * centre + size_t(c)])) *
+                      got;
+        std::printf("hybrid channel %d: M %.6g ± %.2g, E_t·R_dr %.6g, z %.2f; local %.6g vs %.6g\n",
+                    c, got, se, expected, z, localGot, localExact);
+        EXPECT_LT(std::abs(z), core::bonferroniZ(1e-3, 3.0));
+        EXPECT_NEAR(localGot / localExact, 1.0, 0.01);
+        EXPECT_GT(localGot, 0.1 * expected);
+        EXPECT_LT(localGot, 0.9 * expected);
+    }
+}
+
 TEST(TextureSpacePipeline, NoLightRendersZeroAndBadSettingsAreRefused) {
     Fixture& f = fixture();
     texspace::Pipeline& p = spherePipeline(64);

@@ -1,0 +1,305 @@
+// The hybrid local/global method of seed 004 §3.3 (hybrid.h).
+#include "texspace/hybrid.h"
+
+#include "core/core.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace texspace {
+
+void validateHybrid(const HybridSettings& s) {
+    auto fail = [](const std::string& m) { throw core::Error("hybrid", 0, m); };
+    if (!(s.k > 0) || !std::isfinite(s.k)) fail("k must be a finite number > 0");
+    if (!(s.lowerBound > 0) || !std::isfinite(s.lowerBound))
+        fail("lower_bound must be a finite number > 0");
+    if (s.rings < 1 || s.rings > 64) fail("rings must lie in [1, 64]");
+    if (s.perRing < 1 || s.perRing > 64) fail("per_ring must lie in [1, 64]");
+    if (s.rings * s.perRing + 1 > 1024) fail("at most 1024 taps (rings × per_ring + 1)");
+    if (s.lightMapSize < 16 || s.lightMapSize > 4096) fail("light_map_size must lie in [16, 4096]");
+}
+
+double localWeight(double r, double rp, double k) {
+    return r <= rp ? 1.0 - 0.5 * std::exp((r - rp) * k) : 0.5 * std::exp(-(r - rp) * k);
+}
+
+glm::vec3 findRp(const render::ProfileTable& t, double bound) {
+    glm::vec3 rp(0.0f);
+    const int n = int(t.values.size());
+    for (int c = 0; c < 3; ++c) {
+        auto imp = [&](int k) {
+            const double r = render::profileRadius(t.rMax, k, n);
+            return double(t.values[size_t(k)][c]) * 2.0 * M_PI * r;
+        };
+        // the last entry at or above the bound, then the crossing to the next
+        for (int k = n - 1; k >= 0; --k) {
+            const double a = imp(k);
+            if (!(a >= bound)) continue;
+            const double r0 = render::profileRadius(t.rMax, k, n);
+            if (k == n - 1) {
+                rp[c] = float(r0);
+            } else {
+                const double r1 = render::profileRadius(t.rMax, k + 1, n), b = imp(k + 1);
+                rp[c] = float(r0 + (r1 - r0) * (a - bound) / (a - b));
+            }
+            break;
+        }
+    }
+    return rp;
+}
+
+std::vector<RingTap> ringFilter(const render::ProfileTable& t, const glm::vec3& rp, double k,
+                                int rings, int perRing) {
+    const int n = int(t.values.size());
+    if (n < 2) return {};
+    // the mixture of the channels' normalised R·W_l·2πr on the table's radii, its CDF (trapezoid)
+    std::vector<double> r(static_cast<size_t>(n)), f(static_cast<size_t>(n), 0.0);
+    for (int i = 0; i < n; ++i)
+        r[size_t(i)] = render::profileRadius(t.rMax, i, n);
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> g(static_cast<size_t>(n));
+        double total = 0;
+        for (int i = 0; i < n; ++i) {
+            g[size_t(i)] = std::max(0.0, double(t.values[size_t(i)][c])) *
+                           localWeight(r[size_t(i)], rp[c], k) * 2.0 * M_PI * r[size_t(i)];
+            if (i > 0)
+                total +=
+                    0.5 * (g[size_t(i)] + g[size_t(i - 1)]) * (r[size_t(i)] - r[size_t(i - 1)]);
+        }
+        if (total > 0 && std::isfinite(total))
+            for (int i = 0; i < n; ++i)
+                f[size_t(i)] += g[size_t(i)] / total;
+    }
+    std::vector<double> cdf(static_cast<size_t>(n), 0.0);
+    for (int i = 1; i < n; ++i)
+        cdf[size_t(i)] = cdf[size_t(i - 1)] + 0.5 * (f[size_t(i)] + f[size_t(i - 1)]) *
+                                                  (r[size_t(i)] - r[size_t(i - 1)]);
+    const double total = cdf.back();
+    if (!(total > 0)) return {};
+    auto radiusAt = [&](double q) { // the radius where the CDF reaches q · total (linear)
+        const double target = q * total;
+        const auto it = std::lower_bound(cdf.begin(), cdf.end(), target);
+        if (it == cdf.begin()) return 0.0;
+        if (it == cdf.end()) return r.back();
+        const size_t i = size_t(it - cdf.begin());
+        const double span = cdf[i] - cdf[i - 1];
+        return r[i - 1] + (span > 0 ? (target - cdf[i - 1]) / span : 0.0) * (r[i] - r[i - 1]);
+    };
+    auto mixtureAt = [&](double x) { // f at x, linear between entries
+        const auto it = std::lower_bound(r.begin(), r.end(), x);
+        if (it == r.begin()) return f.front();
+        if (it == r.end()) return f.back();
+        const size_t i = size_t(it - r.begin());
+        const double span = r[i] - r[i - 1];
+        return f[i - 1] + (span > 0 ? (x - r[i - 1]) / span : 0.0) * (f[i] - f[i - 1]);
+    };
+    const double strata = double(rings + 1);
+    std::vector<RingTap> taps;
+    // the centre: the disk of the first stratum, where R·W_l is nearly constant
+    const double b0 = radiusAt(1.0 / strata);
+    taps.push_back({glm::vec2(0.0f), float(M_PI * b0 * b0)});
+    for (int j = 1; j <= rings; ++j) {
+        // ring j: the middle quantile of its stratum; a tap stands for 1/((L+1)·C) of the
+        // importance, i.e. for the area 2πr·total / (f(r)·(L+1)·C) (the estimator's 1/pdf)
+        const double mid = radiusAt((double(j) + 0.5) / strata);
+        const double fm = mixtureAt(mid);
+        if (!(fm > 0)) continue;
+        const double area = 2.0 * M_PI * mid * total / (fm * strata * double(perRing));
+        for (int c = 0; c < perRing; ++c) {
+            const double phi = 2.0 * M_PI * (double(c) + 0.5 * double(j % 2)) / double(perRing);
+            taps.push_back(
+                {glm::vec2(float(mid * std::cos(phi)), float(mid * std::sin(phi))), float(area)});
+        }
+    }
+    return taps;
+}
+
+namespace {
+
+gl::Texture makeTexture(GLenum format, int size) {
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &id);
+    glTextureStorage2D(id, 1, format, size, size);
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return gl::Texture(id);
+}
+
+} // namespace
+
+LocalTerm::LocalTerm(const shader::Sources& src)
+    : m_src(src), m_mapProgram(shader::build(src,
+                                             {{GL_VERTEX_SHADER, "render_gbuffer.vert"},
+                                              {GL_FRAGMENT_SHADER, "render_gbuffer.frag"}},
+                                             m_mapRecord)),
+      m_localProgram(
+          shader::build(src, {{GL_COMPUTE_SHADER, "hybrid_local.comp"}}, m_localRecord)) {}
+
+LocalTerm::~LocalTerm() = default;
+
+void LocalTerm::setMesh(const mesh::Mesh& input) {
+    mesh::Mesh m = input;
+    if (m.normals.size() != m.vertices.size()) mesh::computeVertexNormals(m);
+    std::vector<float> interleaved;
+    interleaved.reserve(m.vertices.size() * 6);
+    for (size_t i = 0; i < m.vertices.size(); ++i) {
+        const auto& v = m.vertices[i];
+        const auto& nn = m.normals[i];
+        interleaved.insert(interleaved.end(), {v[0], v[1], v[2], nn[0], nn[1], nn[2]});
+    }
+    m_vertices = gl::createBuffer(interleaved.size() * sizeof(float), interleaved.data());
+    m_indices = gl::createBuffer(m.triangles.size() * 3 * sizeof(uint32_t), m.triangles.data());
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    glVertexArrayVertexBuffer(vao, 0, m_vertices.id(), 0, 6 * sizeof(float));
+    glVertexArrayElementBuffer(vao, m_indices.id());
+    for (GLuint a = 0; a < 2; ++a) {
+        glEnableVertexArrayAttrib(vao, a);
+        glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
+        glVertexArrayAttribBinding(vao, a, 0);
+    }
+    m_vao = gl::VertexArray(vao);
+    m_indexCount = GLsizei(m.triangles.size() * 3);
+    m_mesh = std::move(m);
+}
+
+void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size) {
+    if (!m_vao) throw core::Error("hybrid", 0, "no mesh");
+    m_frame = irradiance::makeLightFrame(towardsLight, irradiance::boundingSphere(m_mesh, {}));
+    if (size != m_mapSize) {
+        m_lightPosition = makeTexture(GL_RGBA32F, size);
+        m_lightNormal = makeTexture(GL_RGBA32F, size);
+        m_lightDepth = makeTexture(GL_DEPTH_COMPONENT32F, size);
+        GLuint id = 0;
+        glCreateFramebuffers(1, &id);
+        m_fbo = gl::FramebufferId(id);
+        glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT0, m_lightPosition.id(), 0);
+        glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT1, m_lightNormal.id(), 0);
+        glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, m_lightDepth.id(), 0);
+        const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glNamedFramebufferDrawBuffers(id, 2, buffers);
+        if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw core::Error("hybrid", 0, "light-view map framebuffer incomplete");
+        m_mapSize = size;
+    }
+    GLint oldFbo = 0, oldViewport[4] = {};
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &oldFbo);
+    glGetIntegerv(GL_VIEWPORT, oldViewport);
+    const GLboolean depthWas = glIsEnabled(GL_DEPTH_TEST), cullWas = glIsEnabled(GL_CULL_FACE),
+                    blendWas = glIsEnabled(GL_BLEND), scissorWas = glIsEnabled(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_fbo.id());
+    glViewport(0, 0, size, size);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
+    glClearNamedFramebufferfv(m_fbo.id(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(m_fbo.id(), GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(m_fbo.id(), GL_DEPTH, 0, &one);
+    glUseProgram(m_mapProgram.id());
+    const glm::mat4 clip = m_frame.clipFromWorld();
+    glUniformMatrix4fv(glGetUniformLocation(m_mapProgram.id(), "RenderViewProjection"), 1, GL_FALSE,
+                       &clip[0][0]);
+    glBindVertexArray(m_vao.id());
+    glDrawElements(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(oldFbo));
+    glViewport(oldViewport[0], oldViewport[1], oldViewport[2], oldViewport[3]);
+    if (!depthWas) glDisable(GL_DEPTH_TEST);
+    if (cullWas) glEnable(GL_CULL_FACE);
+    if (blendWas) glEnable(GL_BLEND);
+    if (scissorWas) glEnable(GL_SCISSOR_TEST);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+}
+
+LocalTerm::Result LocalTerm::evaluate(GLuint gPosition, GLuint gNormal, int width, int height,
+                                      const glm::vec3& cameraPosition,
+                                      const render::ProfileTable& table,
+                                      const std::vector<RingTap>& taps, const glm::vec3& rp,
+                                      float k, const glm::vec3& irradiance, float ior,
+                                      float scaleMm) {
+    if (m_mapSize == 0) throw core::Error("hybrid", 0, "no light-view map");
+    if (taps.size() > 1024) throw core::Error("hybrid", 0, "at most 1024 taps");
+    const size_t pixels = size_t(width) * size_t(height);
+    Result out;
+    std::vector<float> tableData(table.values.size() * 4);
+    for (size_t i = 0; i < table.values.size(); ++i) {
+        tableData[4 * i] = table.values[i].x;
+        tableData[4 * i + 1] = table.values[i].y;
+        tableData[4 * i + 2] = table.values[i].z;
+        tableData[4 * i + 3] = render::profileRadius(table.rMax, int(i), int(table.values.size()));
+    }
+    std::vector<glm::vec4> tapData;
+    for (const RingTap& t : taps)
+        tapData.emplace_back(t.offsetMm.x, t.offsetMm.y, t.areaMm2, 0.0f);
+    if (tapData.empty()) tapData.emplace_back(0.0f);
+    gl::Buffer tableBuffer = gl::createBuffer(std::max<size_t>(tableData.size(), 4) * sizeof(float),
+                                              tableData.empty() ? nullptr : tableData.data());
+    gl::Buffer tapBuffer = gl::createBuffer(tapData.size() * sizeof(glm::vec4), tapData.data());
+    gl::Buffer result = gl::createBuffer(pixels * 2 * sizeof(glm::vec4), nullptr);
+    const GLuint p = m_localProgram.id();
+    glUseProgram(p);
+    auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
+    glUniform2i(loc("LocalSize"), width, height);
+    glUniform1i(loc("LocalTapCount"), GLint(taps.size()));
+    glUniform1i(loc("LightMapSize"), m_mapSize);
+    glUniform3fv(loc("LightCentre"), 1, &m_frame.centre.x);
+    glUniform3fv(loc("LightU"), 1, &m_frame.u.x);
+    glUniform3fv(loc("LightV"), 1, &m_frame.v.x);
+    glUniform3fv(loc("LightW"), 1, &m_frame.w.x);
+    glUniform1f(loc("LightExtent"), m_frame.extent);
+    glUniform3fv(loc("LightIrradiance"), 1, &irradiance.x);
+    glUniform1f(loc("LocalIor"), ior);
+    glUniform1f(loc("LocalScale"), scaleMm);
+    glUniform3fv(loc("LocalRp"), 1, &rp.x);
+    glUniform1f(loc("LocalK"), k);
+    glUniform3fv(loc("LocalCamera"), 1, &cameraPosition.x);
+    glUniform1f(loc("ProfileRMax"), table.rMax > 0 ? table.rMax : 1.0f);
+    glUniform1ui(loc("ProfileCount"), GLuint(std::max<size_t>(table.values.size(), 2)));
+    glBindImageTexture(0, gPosition, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, gNormal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, m_lightPosition.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(3, m_lightNormal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tableBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, tapBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, result.id());
+    glDispatchCompute(GLuint((width + 7) / 8), GLuint((height + 7) / 8), 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> raw(pixels * 2);
+    glGetNamedBufferSubData(result.id(), 0, GLsizeiptr(raw.size() * sizeof(glm::vec4)), raw.data());
+    out.exitance.assign(raw.begin(), raw.begin() + std::ptrdiff_t(pixels));
+    out.radiance.assign(raw.begin() + std::ptrdiff_t(pixels), raw.end());
+    return out;
+}
+
+shader::Reloaded LocalTerm::reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    shader::Reloaded out;
+    auto again = [&](shader::Record& rec, gl::Program& prog,
+                     const std::vector<std::pair<GLenum, std::string>>& stages) {
+        if (!rec.dependencies.containsAny(changed)) return;
+        try {
+            prog = shader::build(m_src, stages, rec);
+            ++out.rebuilt;
+        } catch (const core::Error& e) {
+            if (out.problem.empty()) out.problem = e.what();
+        }
+    };
+    again(m_mapRecord, m_mapProgram,
+          {{GL_VERTEX_SHADER, "render_gbuffer.vert"}, {GL_FRAGMENT_SHADER, "render_gbuffer.frag"}});
+    again(m_localRecord, m_localProgram, {{GL_COMPUTE_SHADER, "hybrid_local.comp"}});
+    return out;
+}
+
+shader::Records LocalTerm::records() const {
+    return {{"render_gbuffer (light view)", m_mapRecord}, {"hybrid_local.comp", m_localRecord}};
+}
+
+} // namespace texspace

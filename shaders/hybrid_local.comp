@@ -1,0 +1,86 @@
+#version 450
+// The local term of the hybrid method (seed 004 §3.3.2, modules/texspace/hybrid.h): per G-buffer
+// pixel x_o (mesh units) the ring filter around its projection on the directional light's plane,
+//   B_l(x_o) = Σ_taps E0 · Ft(η, n_i·L) · R_d(d_i) · W_l(d_i) · A_tap,   d_i = Scale·|x_i − x_o|,
+// x_i and n_i the first surface the light sees at the tap (the light-view map; a tap where the
+// light sees nothing, or a back-facing normal, adds 0), R_d from the model's profile table,
+// W_l(r) = 1 − ½e^{(r−R_p)K} (r <= R_p), ½e^{−(r−R_p)K} (r > R_p) per channel, A_tap in mm².
+// Light plane coordinates: ((p − c)·u, (p − c)·v) in mesh units, texel = floor((0.5 + 0.5·q/e)·M)
+// (irradiance/light_frame.h; the map is not flipped: row 0 at v = 0).
+// Output per pixel p = y·width + x (row 0 the top, as the G-buffer): LocalResult[p] = (B_l, hit),
+// LocalResult[W·H + p] = (Ft(η, cos θo)/π · B_l, hit), cos θo = min(1, |n_o·ω_o|).
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "common/octree_profile.glsl"
+
+layout(rgba32f, binding = 0) readonly uniform image2D GPosition;
+layout(rgba32f, binding = 1) readonly uniform image2D GNormal;
+layout(rgba32f, binding = 2) readonly uniform image2D LightPosition;
+layout(rgba32f, binding = 3) readonly uniform image2D LightNormal;
+layout(std430, binding = 5) readonly buffer LocalTaps { vec4 localTaps[]; }; // offset mm, area mm²
+layout(std430, binding = 6) writeonly buffer LocalResult { vec4 localResult[]; };
+
+uniform ivec2 LocalSize;
+uniform int LocalTapCount;
+uniform int LightMapSize;
+uniform vec3 LightCentre, LightU, LightV, LightW;
+uniform float LightExtent;
+uniform vec3 LightIrradiance; // E0, RGB
+uniform float LocalIor;       // η
+uniform float LocalScale;     // mm per mesh unit
+uniform vec3 LocalRp;         // R_p per channel, mm
+uniform float LocalK;         // 1/mm
+uniform vec3 LocalCamera;     // mesh units
+
+float localFresnelTransmittance(float cosI, float eta) {
+    if (eta == 1.0) return 1.0;
+    if (cosI <= 0.0) return 0.0;
+    float sin2T = (1.0 - cosI * cosI) / (eta * eta);
+    if (sin2T >= 1.0) return 0.0;
+    float cosT = sqrt(1.0 - sin2T);
+    float rs = (cosI - eta * cosT) / (cosI + eta * cosT);
+    float rp = (eta * cosI - cosT) / (eta * cosI + cosT);
+    return 1.0 - 0.5 * (rs * rs + rp * rp);
+}
+
+vec3 localWeight(float r) {
+    vec3 d = vec3(r) - LocalRp;
+    vec3 below = 1.0 - 0.5 * exp(d * LocalK);
+    vec3 above = 0.5 * exp(-d * LocalK);
+    return mix(below, above, greaterThan(d, vec3(0.0)));
+}
+
+void main() {
+    ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
+    if (pix.x >= LocalSize.x || pix.y >= LocalSize.y) return;
+    uint p = uint(pix.y * LocalSize.x + pix.x);
+    uint pixels = uint(LocalSize.x * LocalSize.y);
+    vec4 pos = imageLoad(GPosition, pix);
+    if (pos.w == 0.0) {
+        localResult[p] = vec4(0.0);
+        localResult[pixels + p] = vec4(0.0);
+        return;
+    }
+    vec3 xo = pos.xyz;
+    vec3 no = imageLoad(GNormal, pix).xyz;
+    vec2 q = vec2(dot(xo - LightCentre, LightU), dot(xo - LightCentre, LightV));
+    vec3 M = vec3(0.0);
+    for (int t = 0; t < LocalTapCount; ++t) {
+        vec4 tap = localTaps[t];
+        vec2 qt = q + tap.xy / LocalScale;
+        vec2 uv = 0.5 + 0.5 * qt / LightExtent;
+        if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) continue;
+        ivec2 texel = ivec2(uv * float(LightMapSize));
+        vec4 xi = imageLoad(LightPosition, texel);
+        if (xi.w == 0.0) continue;
+        vec3 ni = imageLoad(LightNormal, texel).xyz;
+        float ft = localFresnelTransmittance(dot(ni, LightW), LocalIor);
+        if (ft <= 0.0) continue;
+        float d = LocalScale * length(xi.xyz - xo);
+        M += (LightIrradiance * ft) * profileLookup(d) * localWeight(d) * tap.z;
+    }
+    vec3 wo = normalize(LocalCamera - xo);
+    float cosO = min(1.0, abs(dot(no, wo)));
+    localResult[p] = vec4(M, 1.0);
+    localResult[pixels + p] = vec4(localFresnelTransmittance(cosO, LocalIor) / 3.14159265358979 * M, 1.0);
+}
