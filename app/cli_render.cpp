@@ -45,6 +45,7 @@ int writeTextureSpace(Workbench& wb, const RenderArgs& a, core::Stopwatch& clock
                       const Progress& progress) {
     progress("texture space", -1);
     wb.textureSpaceSettings() = a.textureSpace;
+    wb.textureSpaceSettings().sampling.hybrid = a.renderer == "hybrid";
     wb.finishTextureSpace();
     std::fprintf(stderr, "\n");
     const TextureSpaceStage& ts = wb.textureSpace();
@@ -74,13 +75,18 @@ int writeTextureSpace(Workbench& wb, const RenderArgs& a, core::Stopwatch& clock
         var += img.variance[i];
         sum2 += double(img.mean[i]) * img.mean[i];
     }
-    std::printf("%s with %s: texture space, %s, K = %d (%zu covered texels standing for %.4g of "
+    std::printf("%s with %s: %s, %s, K = %d (%zu covered texels standing for %.4g of "
                 "%.4g mesh units²), N = %d, %d sets, %dx%d\n",
                 a.mesh.c_str(), wb.sceneModelInput().entry->displayPath.c_str(),
+                a.renderer == "hybrid" ? "hybrid" : "texture space",
                 p.parameterization().fromMesh ? "the mesh's UVs" : "atlas", p.texels().size,
                 p.texels().covered, p.representedArea(), pointcloud::meshArea(wb.scene().mesh()),
                 a.textureSpace.sampling.samples, p.setsDone(), img.width, img.height);
     if (!ts.note().empty()) std::printf("note: %s\n", ts.note().c_str());
+    if (a.renderer == "hybrid")
+        std::printf("hybrid: R_p %.4g, %.4g, %.4g mm, %zu taps, local term %.1f ms\n",
+                    double(p.hybridRp().x), double(p.hybridRp().y), double(p.hybridRp().z),
+                    p.hybridTaps().size(), p.localMs());
     std::printf("relative standard error %.3g; last set drawn in %.1f ms, rendered in %.1f ms; "
                 "total %.1f s\n",
                 sum2 > 0 ? std::sqrt(var / sum2) : 0.0, p.lastSampleMs(), p.lastRenderMs(),
@@ -128,11 +134,19 @@ void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
     cmd->add_option("--renderer", a.renderer,
                     "hierarchical | bruteforce (the point cloud, thesis 3.3) | texture-space "
                     "(Chang 2007: N texels by the irradiance-weighted mip CDF, averaged over sets; "
-                    "the EXR gains varR, varG, varB) (default hierarchical)")
-        ->check(CLI::IsMember({"hierarchical", "bruteforce", "texture-space"}));
-    addSettingOptions(
-        cmd, a.textureSpace.sampling,
-        {{"texture_size", "--texture-size"}, {"samples", "--samples"}, {"sample_sets", "--sets"}});
+                    "the EXR gains varR, varG, varB) | hybrid (texture space for the global part "
+                    "of R_d, a light-view ring filter for the local part; directional light, "
+                    "radial models) (default hierarchical)")
+        ->check(CLI::IsMember({"hierarchical", "bruteforce", "texture-space", "hybrid"}));
+    addSettingOptions(cmd, a.textureSpace.sampling,
+                      {{"texture_size", "--texture-size"},
+                       {"samples", "--samples"},
+                       {"sample_sets", "--sets"},
+                       {"seed", "--draw-seed"},
+                       {"local.rings", "--rings"},
+                       {"local.per_ring", "--per-ring"},
+                       {"local.k", "--hybrid-k"},
+                       {"local.lower_bound", "--rp-bound"}});
     cmd->add_option("--stage-images", a.stageImages,
                     "texture-space: write the stage images (E', CDF levels, samples, atlas) as "
                     "PNG into this folder");
@@ -154,19 +168,26 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     const int occludedSamples = a.scene.light.occludedTotalSamples;
     if (occludedSamples < 1 || occludedSamples > (1 << 20))
         throw core::Error("--env-samples", 0, "must lie in [1, 1048576]");
-    const bool textureSpace = a.renderer == "texture-space";
+    const bool textureSpace = a.renderer == "texture-space" || a.renderer == "hybrid";
     if (textureSpace) {
+        texspace::Settings ts = a.textureSpace.sampling;
+        ts.hybrid = a.renderer == "hybrid";
         try {
-            texspace::validateSettings(a.textureSpace.sampling);
+            texspace::validateSettings(ts);
         } catch (const core::Error& e) {
             const std::string m = e.what();
-            throw core::Error(m.find("texture_size") != std::string::npos ? "--texture-size"
-                              : m.find("samples") != std::string::npos    ? "--samples"
-                                                                          : "--sets",
+            throw core::Error(m.find("texture_size") != std::string::npos  ? "--texture-size"
+                              : m.find("samples") != std::string::npos     ? "--samples"
+                              : m.find("sample_sets") != std::string::npos ? "--sets"
+                              : m.find("taps") != std::string::npos        ? "--rings"
+                              : m.find("per_ring") != std::string::npos    ? "--per-ring"
+                              : m.find("rings") != std::string::npos       ? "--rings"
+                              : m.find("lower_bound") != std::string::npos ? "--rp-bound"
+                                                                           : "--hybrid-k",
                               0, m);
         }
     } else if (!a.stageImages.empty()) {
-        throw core::Error("--stage-images", 0, "needs --renderer texture-space");
+        throw core::Error("--stage-images", 0, "needs --renderer texture-space or hybrid");
     }
     if (!std::ifstream(a.mesh)) throw core::Error(a.mesh, 0, "--mesh: cannot open the file");
     const fs::path model = resolveModel(root, a.model);

@@ -148,7 +148,7 @@ struct IrradiancePanelState {
 enum class RenderMode { PointCloud, MonteCarlo, TextureSpace };
 
 // What the texture-space view shows: the render, or one of its stages.
-enum class TextureSpaceView { Render, Irradiance, CdfLevel, Samples, Atlas };
+enum class TextureSpaceView { Render, Irradiance, CdfLevel, Samples, Atlas, Local, Global };
 
 struct RenderPanelState {
     RenderMode mode = RenderMode::PointCloud;

@@ -211,23 +211,28 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     sameLineIfFits(checkboxWidth("bounding-box criterion"));
     ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
     sameLineIfFits(220);
+    bool& hybrid = wb.textureSpaceSettings().sampling.hybrid;
     int renderer = ps.mode == RenderMode::MonteCarlo     ? 2
-                   : ps.mode == RenderMode::TextureSpace ? 3
+                   : ps.mode == RenderMode::TextureSpace ? (hybrid ? 4 : 3)
                                                          : (r.bruteForce ? 1 : 0);
     ImGui::SetNextItemWidth(220);
     if (ImGui::Combo("renderer", &renderer,
-                     "hierarchical\0brute force\0Monte Carlo (probe rays)\0texture space\0")) {
+                     "hierarchical\0brute force\0Monte Carlo (probe rays)\0texture space\0hybrid "
+                     "(local + global)\0")) {
         r.bruteForce = renderer == 1;
         ps.mode = renderer == 2   ? RenderMode::MonteCarlo
-                  : renderer == 3 ? RenderMode::TextureSpace
+                  : renderer >= 3 ? RenderMode::TextureSpace
                                   : RenderMode::PointCloud;
+        hybrid = renderer == 4;
     }
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("hierarchical / brute force: the point cloud (thesis 3.3)\nMonte "
                           "Carlo: entry points by probe rays (King et al. 2013) with shadow rays, "
                           "on the finished frame's view, progressive\ntexture space: N texels "
                           "drawn by the irradiance-weighted mip CDF (Chang 2007), one set shared "
-                          "by every pixel, progressive over sets");
+                          "by every pixel, progressive over sets\nhybrid: R_d split at R_p into "
+                          "a local part (light-view map, ring filter) and a global part (texture "
+                          "space)");
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("exposure", &r.exposure, -10.0f, 10.0f, "%.1f EV");
     sameLineIfFits(100 + ImGui::CalcTextSize("gamma").x + 8);

@@ -43,6 +43,28 @@ void showSquare(RenderPanelState& ps, const Rgba8Image& im, const texspace::Samp
     }
 }
 
+// The hybrid's weighting and local filter (texspace/hybrid.h).
+void hybridControls(texspace::HybridSettings& h) {
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::InputFloat("K", &h.k, 0, 0, "%.3g", ImGuiInputTextFlags_EnterReturnsTrue))
+        h.k = std::clamp(h.k, 1e-3f, 1e3f);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("K of the weighting function W_l, 1/mm");
+    sameLineIfFits(itemWidth(90, "bound"));
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::InputFloat("bound", &h.lowerBound, 0, 0, "%.3g",
+                          ImGuiInputTextFlags_EnterReturnsTrue))
+        h.lowerBound = std::clamp(h.lowerBound, 1e-9f, 1e3f);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("importance lower bound: R_p is the largest r with R(r)·2πr at or "
+                          "above it, 1/mm (thesis: 0.1)");
+    sameLineIfFits(itemWidth(100, "rings"));
+    ImGui::SetNextItemWidth(100);
+    if (inputIntCommitted("rings", &h.rings, 1)) h.rings = std::clamp(h.rings, 1, 64);
+    sameLineIfFits(itemWidth(100, "taps/ring"));
+    ImGui::SetNextItemWidth(100);
+    if (inputIntCommitted("taps/ring", &h.perRing, 1)) h.perRing = std::clamp(h.perRing, 1, 64);
+}
+
 } // namespace
 
 bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Frame& f,
@@ -65,11 +87,17 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
     if (inputIntCommitted("sets", &s.sampleSets, 16))
         s.sampleSets = std::clamp(s.sampleSets, 1, 1000000);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("independent sample sets averaged");
-    static const char* const kViews[] = {"render", "E' (texture)", "CDF level", "samples",
-                                         "atlas / distortion"};
+    static const char* const kViews[] = {"render",        "E' (texture)",       "CDF level",
+                                         "samples",       "atlas / distortion", "hybrid: local",
+                                         "hybrid: global"};
     sameLineIfFits(itemWidth(150, "view"));
     ImGui::SetNextItemWidth(150);
     comboEnum("view", ps.tsView, kViews);
+    if (s.hybrid) {
+        hybridControls(s.local);
+    } else if (ps.tsView == TextureSpaceView::Local || ps.tsView == TextureSpaceView::Global) {
+        ps.tsView = TextureSpaceView::Render;
+    }
     sameLineIfFits(checkboxWidth("samples on mesh"));
     ImGui::Checkbox("samples on mesh", &ps.tsSamplesOnMesh);
     if (ImGui::IsItemHovered())
@@ -103,19 +131,30 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
                           p->lastRenderMs(),
                           p->parameterization().fromMesh ? "the mesh's own UVs" : "atlas");
     if (!stage.note().empty()) hintText("atlas: %s", stage.note().c_str());
+    if (s.hybrid && !p->hybridTaps().empty())
+        hintText("hybrid: R_p %.3g, %.3g, %.3g mm (R·2πr meets %.3g/mm), K %.3g/mm, %zu taps, "
+                 "local term %.1f ms",
+                 p->hybridRp().x, p->hybridRp().y, p->hybridRp().z, double(s.local.lowerBound),
+                 double(s.local.k), p->hybridTaps().size(), p->localMs());
     if (p->layoutSize() > p->texels().size)
         hintText("atlas laid out for %d² (gutters between %zu triangles), sampled at %d²",
                  p->layoutSize(), p->parameterization().uv.size(), p->texels().size);
     switch (ps.tsView) {
     case TextureSpaceView::Render:
-        if (img.width == f.width && img.height == f.height && img.width > 0) {
-            const std::vector<uint8_t> rgba = tonemap(img, r.exposure, r.gamma);
-            gl::uploadRGBA8(ps.tsTex, img.width, img.height, rgba.data());
+    case TextureSpaceView::Local:
+    case TextureSpaceView::Global: {
+        const litsphere::Image part = ps.tsView == TextureSpaceView::Local    ? p->localRadiance()
+                                      : ps.tsView == TextureSpaceView::Global ? p->globalRadiance()
+                                                                              : img;
+        if (part.width == f.width && part.height == f.height && part.width > 0) {
+            const std::vector<uint8_t> rgba = tonemap(part, r.exposure, r.gamma);
+            gl::uploadRGBA8(ps.tsTex, part.width, part.height, rgba.data());
             tex = ps.tsTex.id();
         } else {
             hintText("texture-space image of the full-resolution view in progress ...");
         }
         return false;
+    }
     case TextureSpaceView::Irradiance:
         showSquare(ps, eprimeImage(*p), nullptr);
         return true;

@@ -23,6 +23,7 @@ void validateSettings(const Settings& s, int maxTextureSize) {
     if (s.samples < 1 || s.samples > (1 << 20))
         fail("samples N must lie in [1, 1048576] (got " + std::to_string(s.samples) + ")");
     if (s.sampleSets < 1) fail("sample_sets must be at least 1");
+    if (s.hybrid) validateHybrid(s.local);
 }
 
 Pipeline::Pipeline(const std::filesystem::path& root)

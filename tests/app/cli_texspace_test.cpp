@@ -55,6 +55,21 @@ TEST_F(TextureSpaceCli, WritesTheImageWithVariancesAndTwoSeedsAgree) {
     EXPECT_LT(g.maxZ, g.threshold);
 }
 
+TEST_F(TextureSpaceCli, HybridWritesItsImageAndItsRp) {
+    std::vector<std::string> a =
+        renderArgs({"--renderer", "hybrid", "--texture-size", "256", "--samples", "400", "--sets",
+                    "8", "--rings", "8", "--per-ring", "6", "--out", "h.exr"});
+    RunResult r = run(a);
+    ASSERT_EQ(r.code, 0) << describe(a, r);
+    EXPECT_NE(r.output.find("hybrid, atlas, K = 256"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("49 taps"), std::string::npos) << r.output;
+    const pathtrace::Image h = pathtrace::readExr(dir() / "h.exr");
+    size_t lit = 0;
+    for (size_t i = 0; i < h.mean.size(); ++i)
+        lit += h.mean[i] > 0;
+    EXPECT_GT(lit, 1000u);
+}
+
 TEST_F(TextureSpaceCli, BadInputsAreNamed) {
     expectFailure(renderArgs({"--renderer", "texture-space", "--samples", "0", "--out", "a.exr"}),
                   {"--samples"});
@@ -69,4 +84,14 @@ TEST_F(TextureSpaceCli, BadInputsAreNamed) {
     expectFailure(renderArgs({"--renderer", "photon-map", "--out", "a.exr"}), {"--renderer"});
     expectFailure(renderArgs({"--stage-images", "x", "--out", "a.exr"}),
                   {"--stage-images", "texture-space"});
+    expectFailure(renderArgs({"--renderer", "hybrid", "--rings", "0", "--out", "a.exr"}),
+                  {"--rings"});
+    expectFailure(
+        renderArgs({"--renderer", "hybrid", "--rings", "64", "--per-ring", "64", "--out", "a.exr"}),
+        {"--rings", "1024 taps"});
+    expectFailure(renderArgs({"--renderer", "hybrid", "--hybrid-k", "nan", "--out", "a.exr"}),
+                  {"--hybrid-k"});
+    const std::string sky = (testsupport::sourceRoot() / "materials/env/default_sky.exr").string();
+    expectFailure(renderArgs({"--renderer", "hybrid", "--light", "ibl:" + sky, "--out", "a.exr"}),
+                  {"directional light"});
 }

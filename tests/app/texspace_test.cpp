@@ -70,6 +70,40 @@ TEST(TextureSpaceRender, HasThePointCloudRadianceAndKeepsTheLastImageOnBadInput)
     EXPECT_LT(ratio, 1.07);
     EXPECT_TRUE(wb.textureSpace().problems().empty());
 
+    // the hybrid: the same radiance (local part by the light-view filter, global by the sets),
+    // with a smaller standard error than texture space alone at the same N and sets
+    double seTs = 0, seHy = 0;
+    for (size_t i = 0; i < img.variance.size(); ++i)
+        seTs += img.variance[i];
+    ts.sampling.hybrid = true;
+    wb.finishTextureSpace();
+    const litsphere::Image hy = wb.textureSpace().radiance();
+    double sumHy = 0;
+    for (size_t i = 0; i < hy.mean.size(); ++i) {
+        seHy += hy.variance[i];
+        if (rb.position[i / 3].w > 0.5f) sumHy += hy.mean[i];
+    }
+    std::printf("hybrid / point-cloud brute force: %.4f; summed variance hybrid / texture space "
+                "%.3f; R_p %.3f %.3f %.3f mm\n",
+                sumHy / sumPc, seHy / seTs, wb.textureSpace().pipeline()->hybridRp().x,
+                wb.textureSpace().pipeline()->hybridRp().y,
+                wb.textureSpace().pipeline()->hybridRp().z);
+    EXPECT_GT(sumHy / sumPc, 0.93);
+    EXPECT_LT(sumHy / sumPc, 1.07);
+    EXPECT_LT(seHy, 0.5 * seTs);
+    EXPECT_FALSE(wb.textureSpace().pipeline()->localRadiance().mean.empty());
+    // the hybrid's local term needs the directional light: another mode is a problem
+    s.light.mode = irradiance::LightMode::Ibl;
+    wb.update();
+    wb.finishScene();
+    EXPECT_THROW(wb.finishTextureSpace(), core::Error);
+    EXPECT_TRUE(listed(wb, "directional light"));
+    s.light.mode = irradiance::LightMode::Directional;
+    ts.sampling.hybrid = false;
+    wb.update();
+    wb.finishScene();
+    wb.finishTextureSpace();
+
     // bad settings: a problem naming the setting, the last good image stays
     ts.sampling.samples = 0;
     EXPECT_THROW(wb.finishTextureSpace(), core::Error);
