@@ -316,6 +316,10 @@ render::Readback Pipeline::renderSet(const SampleSet& set, const render::Setting
 
 void Pipeline::accumulate(const render::Readback& rb) {
     const size_t n = rb.hdr.size();
+    m_lastL = rb.hdr;
+    if (m_localL.size() == n)
+        for (size_t p = 0; p < n; ++p)
+            m_lastL[p] += glm::vec4(glm::vec3(m_localL[p]), 0.0f);
     if (m_setsDone == 0) {
         m_width = rb.width, m_height = rb.height;
         m_sumL.assign(3 * n, 0.0), m_sumL2.assign(3 * n, 0.0);

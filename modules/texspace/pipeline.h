@@ -155,6 +155,8 @@ class Pipeline {
     double lastSampleMs() const { return m_sampleMs; }
     double lastRenderMs() const { return m_renderMs; }
     double localMs() const { return m_localMs; } // the hybrid's local term (once per view)
+    // L_o (rgb, w = hit) of the last set alone (with the hybrid's local term): one frame's image.
+    const std::vector<glm::vec4>& lastSetRadiance() const { return m_lastL; }
     render::Renderer& renderer() { return *m_renderer; }
 
     // Hot reload of the irradiance, sampling and render programs whose files include one of
@@ -199,6 +201,7 @@ class Pipeline {
     glm::vec3 m_rp{0.0f};
     std::vector<RingTap> m_taps;
     std::vector<glm::vec4> m_localM, m_localL; // per pixel, w = hit
+    std::vector<glm::vec4> m_lastL;
     SampleSet m_lastSet;
     double m_sampleMs = 0, m_renderMs = 0, m_localMs = 0;
 };
