@@ -364,6 +364,31 @@ std::string Workbench::normalisationNote() {
     return "Bssrdf(Xi=0, Wi=n, Xo=(r,0,0), Wo=n): R_d per unit power entering the medium [1/mm^2]";
 }
 
+std::vector<Workbench::RpMarker> Workbench::hybridRpMarkers() const {
+    std::vector<RpMarker> out;
+    const std::string shown = !m_plot.solo.empty() ? m_plot.solo : [&] {
+        const SceneModelInput in = sceneModelInput();
+        return in.entry ? in.entry->displayPath : std::string();
+    }();
+    auto it = m_views.find(shown);
+    if (shown.empty() || it == m_views.end() || it->second.profile.r.empty()) return out;
+    const ModelView& v = it->second;
+    if (m_plot.solo.empty() && (!v.visible || m_plot.channel > 2)) return out;
+    const double bound = double(m_ts.sampling.local.lowerBound);
+    const uint32_t colors[3] = {0xff4040ffu, 0xff40ff40u, 0xffff6040u};
+    for (int c = 0; c < 3; ++c) {
+        if (m_plot.solo.empty() && c != m_plot.channel) continue;
+        std::vector<double> r = v.profile.r, R(r.size());
+        for (size_t i = 0; i < r.size(); ++i)
+            R[i] = v.profile.value[i][c];
+        const double rp = texspace::findRp(r, R, bound);
+        if (rp > 0)
+            out.push_back({rp, m_plot.solo.empty() ? 0xffd0d0d0u : colors[c],
+                           std::string("R_p ") + "RGB"[c]});
+    }
+    return out;
+}
+
 std::vector<plot::Series> Workbench::plotSeries() const {
     std::vector<plot::Series> out;
     size_t index = 0, visibleModels = 0;

@@ -163,6 +163,15 @@ class Workbench {
     const MonteCarloStage& monteCarlo() const { return *m_monteCarlo; }
     // Runs it to its target on the current frame (CLI, tests, bench).
     void finishMonteCarlo() { m_monteCarlo->finish({m_mc, m_scene.get(), sceneModelInput(), -1}); }
+    // R_p of the hybrid (texspace/hybrid.h) for the pencil plot's marker: the soloed model's
+    // three channels, else the Render panel's model on the plot's channel (not luminance), from
+    // the plotted profile and texture_space.local.lower_bound.
+    struct RpMarker {
+        double rMm;
+        uint32_t color;
+        std::string label;
+    };
+    std::vector<RpMarker> hybridRpMarkers() const;
     // The Render panel's texture-space renderer (texspace_stage.h) of the scene's view.
     TextureSpaceSettings& textureSpaceSettings() { return m_ts; }
     TextureSpaceStage& textureSpace() { return *m_textureSpace; }

@@ -173,6 +173,23 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
                         std::string(ps.solo.empty() ? chName[ps.channel] : "R, G, B of " + ps.solo);
     plot::PlotState st = plot::drawPlot("pencil", ImVec2(-1, -1), series, x, y, title,
                                         Workbench::normalisationNote());
+    // R_p of the hybrid for the selected model (the soloed one, else the Render panel's): where
+    // its importance R·2πr last meets the lower bound (seed 004 §3.3.1)
+    if (!relative && x.hi > x.lo) {
+        ImDrawList* dl = ImGui::GetWindowDrawList();
+        float line = 0;
+        for (const Workbench::RpMarker& m : wb.hybridRpMarkers()) {
+            const float sx = st.plotMin.x +
+                             float((m.rMm - x.lo) / (x.hi - x.lo)) * (st.plotMax.x - st.plotMin.x);
+            if (sx < st.plotMin.x || sx > st.plotMax.x) continue;
+            for (float y0 = st.plotMin.y; y0 < st.plotMax.y; y0 += 8.0f) // dashed
+                dl->AddLine(ImVec2(sx, y0), ImVec2(sx, std::min(y0 + 4.0f, st.plotMax.y)), m.color,
+                            1.5f);
+            char text[48];
+            std::snprintf(text, sizeof text, "%s %.3g mm", m.label.c_str(), m.rMm);
+            dl->AddText(ImVec2(sx + 3, st.plotMin.y + 2 + 14.0f * line++), m.color, text);
+        }
+    }
     if (!own.plotPngRequest.empty()) {
         ui.pngExportPath = own.plotPngRequest;
         own.plotPngRequest.clear();

@@ -26,27 +26,29 @@ double localWeight(double r, double rp, double k) {
     return r <= rp ? 1.0 - 0.5 * std::exp((r - rp) * k) : 0.5 * std::exp(-(r - rp) * k);
 }
 
+double findRp(const std::vector<double>& r, const std::vector<double>& R, double bound) {
+    const size_t n = std::min(r.size(), R.size());
+    auto imp = [&](size_t k) { return R[k] * 2.0 * M_PI * r[k]; };
+    for (size_t k = n; k-- > 0;) { // the last entry at or above the bound, then the crossing
+        const double a = imp(k);
+        if (!(a >= bound)) continue;
+        if (k + 1 == n) return r[k];
+        const double b = imp(k + 1);
+        return r[k] + (r[k + 1] - r[k]) * (a - bound) / (a - b);
+    }
+    return 0.0;
+}
+
 glm::vec3 findRp(const render::ProfileTable& t, double bound) {
     glm::vec3 rp(0.0f);
     const int n = int(t.values.size());
+    std::vector<double> r(static_cast<size_t>(n)), v(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k)
+        r[size_t(k)] = render::profileRadius(t.rMax, k, n);
     for (int c = 0; c < 3; ++c) {
-        auto imp = [&](int k) {
-            const double r = render::profileRadius(t.rMax, k, n);
-            return double(t.values[size_t(k)][c]) * 2.0 * M_PI * r;
-        };
-        // the last entry at or above the bound, then the crossing to the next
-        for (int k = n - 1; k >= 0; --k) {
-            const double a = imp(k);
-            if (!(a >= bound)) continue;
-            const double r0 = render::profileRadius(t.rMax, k, n);
-            if (k == n - 1) {
-                rp[c] = float(r0);
-            } else {
-                const double r1 = render::profileRadius(t.rMax, k + 1, n), b = imp(k + 1);
-                rp[c] = float(r0 + (r1 - r0) * (a - bound) / (a - b));
-            }
-            break;
-        }
+        for (int k = 0; k < n; ++k)
+            v[size_t(k)] = double(t.values[size_t(k)][c]);
+        rp[c] = float(findRp(r, v, bound));
     }
     return rp;
 }

@@ -69,6 +69,8 @@ void validateHybrid(const HybridSettings& s);
 double localWeight(double r, double rp, double k); // W_l
 // R_p per channel (mm) from the profile table; 0 where R·2πr never reaches `bound`.
 glm::vec3 findRp(const render::ProfileTable& t, double bound);
+// The same for one channel's profile R at ascending radii r (mm): the last crossing, linear.
+double findRp(const std::vector<double>& r, const std::vector<double>& R, double bound);
 
 struct RingTap {
     glm::vec2 offsetMm; // on the light's projection plane

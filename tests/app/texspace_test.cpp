@@ -186,3 +186,39 @@ TEST(TextureSpaceRender, TheRenderPanelShowsItAndEveryStage) {
     EXPECT_TRUE(wb.errors().empty());
     std::filesystem::remove_all(root);
 }
+
+// The pencil plot marks R_p of the hybrid for the selected model: the soloed model's three
+// channels, from the plotted profile; the hybrid renderer finds the same R_p from its own
+// profile table (another grid of radii on another GPU pass).
+TEST(TextureSpaceRender, PencilPlotMarksRpOfTheSelectedModel) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("texspace_rp", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    wb.plotSettings().solo = "materials/dipole.bssrdf";
+    testsupport::useSmallScene(wb.scene().settings());
+    wb.update();
+    wb.finishScene();
+    const std::vector<app::Workbench::RpMarker> marks = wb.hybridRpMarkers();
+    ASSERT_EQ(marks.size(), 3u);
+    app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
+    ts.sampling.textureSize = 64;
+    ts.sampling.samples = 16;
+    ts.sampling.sampleSets = 1;
+    ts.sampling.hybrid = true;
+    wb.finishTextureSpace();
+    const glm::vec3 rp = wb.textureSpace().pipeline()->hybridRp();
+    for (int c = 0; c < 3; ++c) {
+        std::printf("R_p channel %d: pencil plot %.4f mm, render table %.4f mm\n", c,
+                    marks[size_t(c)].rMm, rp[c]);
+        EXPECT_NEAR(marks[size_t(c)].rMm / rp[c], 1.0, 0.01);
+    }
+    app::HeadlessGui gui(wb, 1280, 860);
+    gui.ui().shared.show(app::PanelId::Pencil);
+    gui.frame();
+    gui.frame();
+    EXPECT_NE(testsupport::panelWindow(app::PanelId::Pencil), nullptr);
+    if (const char* png = std::getenv("BW_RP_PNG"))
+        gl::writePng(png, gui.width(), gui.height(), gui.pixels());
+    std::filesystem::remove_all(root);
+}
