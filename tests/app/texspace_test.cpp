@@ -98,8 +98,24 @@ TEST(TextureSpaceRender, HasThePointCloudRadianceAndKeepsTheLastImageOnBadInput)
     wb.finishScene();
     EXPECT_THROW(wb.finishTextureSpace(), core::Error);
     EXPECT_TRUE(listed(wb, "directional light"));
-    s.light.mode = irradiance::LightMode::Directional;
+    // texture space itself sees every light of the point-cloud pipeline: under the IBL its
+    // image sums to the point-cloud render's as under the directional light
     ts.sampling.hybrid = false;
+    wb.finishTextureSpace();
+    {
+        const render::Readback ibl = wb.scene().readback();
+        const litsphere::Image t = wb.textureSpace().radiance();
+        double a = 0, b = 0;
+        for (size_t i = 0; i < t.mean.size(); ++i)
+            if (ibl.position[i / 3].w > 0.5f) {
+                a += t.mean[i];
+                b += ibl.hdr[i / 3][int(i % 3)];
+            }
+        std::printf("IBL: texture space / point-cloud brute force %.4f\n", a / b);
+        EXPECT_GT(a / b, 0.93);
+        EXPECT_LT(a / b, 1.07);
+    }
+    s.light.mode = irradiance::LightMode::Directional;
     wb.update();
     wb.finishScene();
     wb.finishTextureSpace();
