@@ -21,6 +21,7 @@ layout(std430, binding = 5) readonly buffer LocalTaps { vec4 localTaps[]; }; // 
 layout(std430, binding = 6) writeonly buffer LocalResult { vec4 localResult[]; };
 
 uniform ivec2 LocalSize;
+uniform int LocalRowOffset; // first row of this dispatch (the host dispatches bands of rows)
 uniform int LocalTapCount;
 uniform int LightMapSize;
 uniform vec3 LightCentre, LightU, LightV, LightW;
@@ -51,7 +52,7 @@ vec3 localWeight(float r) {
 }
 
 void main() {
-    ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 pix = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, LocalRowOffset);
     if (pix.x >= LocalSize.x || pix.y >= LocalSize.y) return;
     uint p = uint(pix.y * LocalSize.x + pix.x);
     uint pixels = uint(LocalSize.x * LocalSize.y);

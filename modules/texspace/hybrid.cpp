@@ -222,16 +222,13 @@ void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size) {
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 }
 
-LocalTerm::Result LocalTerm::evaluate(GLuint gPosition, GLuint gNormal, int width, int height,
-                                      const glm::vec3& cameraPosition,
-                                      const render::ProfileTable& table,
-                                      const std::vector<RingTap>& taps, const glm::vec3& rp,
-                                      float k, const glm::vec3& irradiance, float ior,
-                                      float scaleMm) {
+void LocalTerm::begin(GLuint gPosition, GLuint gNormal, int width, int height,
+                      const glm::vec3& cameraPosition, const render::ProfileTable& table,
+                      const std::vector<RingTap>& taps, const glm::vec3& rp, float k,
+                      const glm::vec3& irradiance, float ior, float scaleMm) {
     if (m_mapSize == 0) throw core::Error("hybrid", 0, "no light-view map");
     if (taps.size() > 1024) throw core::Error("hybrid", 0, "at most 1024 taps");
     const size_t pixels = size_t(width) * size_t(height);
-    Result out;
     std::vector<float> tableData(table.values.size() * 4);
     for (size_t i = 0; i < table.values.size(); ++i) {
         tableData[4 * i] = table.values[i].x;
@@ -243,15 +240,18 @@ LocalTerm::Result LocalTerm::evaluate(GLuint gPosition, GLuint gNormal, int widt
     for (const RingTap& t : taps)
         tapData.emplace_back(t.offsetMm.x, t.offsetMm.y, t.areaMm2, 0.0f);
     if (tapData.empty()) tapData.emplace_back(0.0f);
-    gl::Buffer tableBuffer = gl::createBuffer(std::max<size_t>(tableData.size(), 4) * sizeof(float),
-                                              tableData.empty() ? nullptr : tableData.data());
-    gl::Buffer tapBuffer = gl::createBuffer(tapData.size() * sizeof(glm::vec4), tapData.data());
-    gl::Buffer result = gl::createBuffer(pixels * 2 * sizeof(glm::vec4), nullptr);
+    if (tableData.empty()) tableData.assign(8, 0.0f);
+    m_tableBuffer = gl::createBuffer(tableData.size() * sizeof(float), tableData.data());
+    m_tapBuffer = gl::createBuffer(tapData.size() * sizeof(glm::vec4), tapData.data());
+    m_result = gl::createBuffer(pixels * 2 * sizeof(glm::vec4), nullptr);
+    m_gPosition = gPosition, m_gNormal = gNormal;
+    m_width = width, m_height = height, m_row = 0;
+    m_tapCount = int(taps.size());
     const GLuint p = m_localProgram.id();
     glUseProgram(p);
     auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
     glUniform2i(loc("LocalSize"), width, height);
-    glUniform1i(loc("LocalTapCount"), GLint(taps.size()));
+    glUniform1i(loc("LocalTapCount"), m_tapCount);
     glUniform1i(loc("LightMapSize"), m_mapSize);
     glUniform3fv(loc("LightCentre"), 1, &m_frame.centre.x);
     glUniform3fv(loc("LightU"), 1, &m_frame.u.x);
@@ -266,20 +266,52 @@ LocalTerm::Result LocalTerm::evaluate(GLuint gPosition, GLuint gNormal, int widt
     glUniform3fv(loc("LocalCamera"), 1, &cameraPosition.x);
     glUniform1f(loc("ProfileRMax"), table.rMax > 0 ? table.rMax : 1.0f);
     glUniform1ui(loc("ProfileCount"), GLuint(std::max<size_t>(table.values.size(), 2)));
-    glBindImageTexture(0, gPosition, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, gNormal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+}
+
+bool LocalTerm::step(int rows) {
+    if (!m_result) throw core::Error("hybrid", 0, "no local evaluation begun");
+    if (m_row >= m_height) return true;
+    const int n = std::clamp(rows, 1, m_height - m_row);
+    const GLuint p = m_localProgram.id();
+    glUseProgram(p); // uniforms set by begin() stay with the program
+    glUniform1i(glGetUniformLocation(p, "LocalRowOffset"), m_row);
+    glBindImageTexture(0, m_gPosition, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, m_gNormal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(2, m_lightPosition.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(3, m_lightNormal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tableBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, tapBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, result.id());
-    glDispatchCompute(GLuint((width + 7) / 8), GLuint((height + 7) / 8), 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_tableBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m_tapBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m_result.id());
+    glDispatchCompute(GLuint((m_width + 7) / 8), GLuint((n + 7) / 8), 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glFinish(); // the band's time is spent here, not in a later call
+    m_row += n;
+    return m_row >= m_height;
+}
+
+LocalTerm::Result LocalTerm::result() const {
+    Result out;
+    if (!m_result || m_row < m_height) throw core::Error("hybrid", 0, "local term not finished");
+    const size_t pixels = size_t(m_width) * size_t(m_height);
     std::vector<glm::vec4> raw(pixels * 2);
-    glGetNamedBufferSubData(result.id(), 0, GLsizeiptr(raw.size() * sizeof(glm::vec4)), raw.data());
+    glGetNamedBufferSubData(m_result.id(), 0, GLsizeiptr(raw.size() * sizeof(glm::vec4)),
+                            raw.data());
     out.exitance.assign(raw.begin(), raw.begin() + std::ptrdiff_t(pixels));
     out.radiance.assign(raw.begin() + std::ptrdiff_t(pixels), raw.end());
     return out;
+}
+
+LocalTerm::Result LocalTerm::evaluate(GLuint gPosition, GLuint gNormal, int width, int height,
+                                      const glm::vec3& cameraPosition,
+                                      const render::ProfileTable& table,
+                                      const std::vector<RingTap>& taps, const glm::vec3& rp,
+                                      float k, const glm::vec3& irradiance, float ior,
+                                      float scaleMm) {
+    begin(gPosition, gNormal, width, height, cameraPosition, table, taps, rp, k, irradiance, ior,
+          scaleMm);
+    while (!step(height)) {
+    }
+    return result();
 }
 
 shader::Reloaded LocalTerm::reloadShaders(const std::vector<std::filesystem::path>& changed) {

@@ -99,6 +99,15 @@ class LocalTerm {
     struct Result {
         std::vector<glm::vec4> exitance, radiance;
     };
+    // begin uploads the inputs, step(rows) evaluates the next `rows` rows of pixels (one
+    // dispatch; true when every row is done), result() reads the whole image back; evaluate
+    // does all three. The G-buffer textures must keep their content until the last step.
+    void begin(GLuint gPosition, GLuint gNormal, int width, int height,
+               const glm::vec3& cameraPosition, const render::ProfileTable& table,
+               const std::vector<RingTap>& taps, const glm::vec3& rp, float k,
+               const glm::vec3& irradiance, float ior, float scaleMm);
+    bool step(int rows);
+    Result result() const;
     Result evaluate(GLuint gPosition, GLuint gNormal, int width, int height,
                     const glm::vec3& cameraPosition, const render::ProfileTable& table,
                     const std::vector<RingTap>& taps, const glm::vec3& rp, float k,
@@ -119,6 +128,10 @@ class LocalTerm {
     gl::Texture m_lightPosition, m_lightNormal, m_lightDepth;
     gl::FramebufferId m_fbo;
     int m_mapSize = 0;
+    // the evaluation in progress (begin / step)
+    gl::Buffer m_tableBuffer, m_tapBuffer, m_result;
+    GLuint m_gPosition = 0, m_gNormal = 0;
+    int m_width = 0, m_height = 0, m_row = 0, m_tapCount = 0;
 };
 
 } // namespace texspace

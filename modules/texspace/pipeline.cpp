@@ -233,6 +233,7 @@ void Pipeline::begin(const Settings& s, const render::Settings& view) {
     m_width = m_height = 0;
     m_sumL.clear(), m_sumL2.clear(), m_sumM.clear(), m_sumM2.clear();
     m_localM.clear(), m_localL.clear();
+    m_localStarted = false;
     m_taps.clear();
     m_rp = glm::vec3(0.0f);
     if (s.hybrid) beginHybrid();
@@ -279,25 +280,39 @@ bool Pipeline::advance(double budgetMs) {
     if (!m_running) return false;
     core::Stopwatch clock;
     while (!done()) {
+        if (localPending() && m_setsDone > 0) {
+            // the local term on the first set's G-buffer (the view's), in bands of rows so a
+            // frame budget holds; the next set starts only when it is done
+            const render::Frame& f = m_renderer->currentFrame();
+            if (!m_localStarted) {
+                render::Camera cam = m_view.camera;
+                cam.aspect = float(f.width) / float(f.height);
+                m_local->begin(f.position, f.normal, f.width, f.height, cam.position(),
+                               m_renderer->profileTable(), m_taps, m_rp, m_run.local.k,
+                               m_light.irradiance, m_light.ior, m_renderer->builtins().scale);
+                m_localStarted = true;
+                m_localMs = 0;
+            }
+            bool finished = false;
+            while (!finished) {
+                core::Stopwatch band;
+                finished = m_local->step(8);
+                m_localMs += band.ms();
+                if (!finished && clock.ms() >= budgetMs) return false;
+            }
+            const LocalTerm::Result r = m_local->result();
+            m_localM = r.exitance;
+            m_localL = r.radiance;
+            gl::recordTiming("texture space: hybrid local term", m_localMs);
+            if (clock.ms() >= budgetMs) break;
+            continue;
+        }
         if (!m_setRendering) startSet();
         const double left = std::max(1.0, budgetMs - clock.ms());
         if (!m_renderer->advance(left)) return false;
         m_setRendering = false;
         const render::Frame& f = m_renderer->currentFrame();
         m_renderMs = f.gbufferMs + f.profileMs + f.traverseMs + f.tonemapMs;
-        if (m_run.hybrid && m_localM.empty()) { // the local term on this view's G-buffer, once
-            core::Stopwatch local;
-            render::Camera cam = m_view.camera;
-            cam.aspect = float(f.width) / float(f.height);
-            const LocalTerm::Result r =
-                m_local->evaluate(f.position, f.normal, f.width, f.height, cam.position(),
-                                  m_renderer->profileTable(), m_taps, m_rp, m_run.local.k,
-                                  m_light.irradiance, m_light.ior, m_renderer->builtins().scale);
-            m_localM = r.exitance;
-            m_localL = r.radiance;
-            m_localMs = local.ms();
-            gl::recordTiming("texture space: hybrid local term", m_localMs);
-        }
         accumulate(m_renderer->readback());
         if (clock.ms() >= budgetMs) break;
     }

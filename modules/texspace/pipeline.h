@@ -134,7 +134,8 @@ class Pipeline {
     // Renders the next sets until about budgetMs passed (at least one dispatch); true once
     // s.sampleSets are accumulated.
     bool advance(double budgetMs);
-    bool done() const { return m_setsDone >= m_run.sampleSets; }
+    // s.sampleSets accumulated and, with the hybrid, its local term computed.
+    bool done() const { return m_setsDone >= m_run.sampleSets && !localPending(); }
     int setsTarget() const { return m_run.sampleSets; }
     // Changes the target of the running accumulation (more sets continue it, fewer end it).
     void setSampleSets(int sets) { m_run.sampleSets = std::max(1, sets); }
@@ -169,6 +170,7 @@ class Pipeline {
   private:
     void finishLight(std::vector<glm::vec3> et);
     void beginHybrid();
+    bool localPending() const { return m_run.hybrid && m_localL.empty(); }
     void startSet();
     void accumulate(const render::Readback& rb);
 
@@ -202,6 +204,7 @@ class Pipeline {
     std::vector<RingTap> m_taps;
     std::vector<glm::vec4> m_localM, m_localL; // per pixel, w = hit
     std::vector<glm::vec4> m_lastL;
+    bool m_localStarted = false;
     SampleSet m_lastSet;
     double m_sampleMs = 0, m_renderMs = 0, m_localMs = 0;
 };

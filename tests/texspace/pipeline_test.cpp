@@ -288,7 +288,8 @@ TEST(TextureSpacePipeline, PlaneOfConstantIrradianceReproducesDiffuseReflectance
 // The hybrid (seed 004 §3.3) on the same plane: local term (ring filter, 48 × 16 + 1 taps: a
 // quadrature within ~2e-3 of its integral) plus the global term (texture-space sets with R·W_g)
 // reproduce E_t·R_dr (z-test on the sets); the local part alone is the plane integral of
-// R·W_l within 1 %, and the parts are each a sizeable share.
+// R·W_l within 1 %, and the parts are each a sizeable share; the local term computed in bands
+// of rows across calls is the same image.
 TEST(TextureSpacePipeline, HybridOnThePlaneReproducesDiffuseReflectance) {
     Fixture& f = fixture();
     mesh::Mesh plane;
@@ -372,6 +373,19 @@ TEST(TextureSpacePipeline, HybridOnThePlaneReproducesDiffuseReflectance) {
         EXPECT_GT(localGot, 0.1 * expected);
         EXPECT_LT(localGot, 0.9 * expected);
     }
+    // the local term in bands of rows (a budget of 0 ms: one band per call) is the same image
+    ts.sampleSets = 1;
+    s.width = s.height = 40;
+    p.begin(ts, s);
+    while (!p.advance(1e9)) {
+    }
+    const litsphere::Image whole = p.localRadiance();
+    p.begin(ts, s);
+    int calls = 0;
+    while (!p.advance(0.0))
+        ++calls;
+    EXPECT_GE(calls, 5); // 40 rows in bands of 8
+    EXPECT_EQ(p.localRadiance().mean, whole.mean);
 }
 
 TEST(TextureSpacePipeline, NoLightRendersZeroAndBadSettingsAreRefused) {
