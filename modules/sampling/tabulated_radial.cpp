@@ -93,18 +93,41 @@ double TabulatedRadial::invert(size_t k, double h, double y) const {
     if (y <= 0) return 0;
     const double a = m_radii[k], ra = m_values[k],
                  s = (m_values[k + 1] - ra) / (m_radii[k + 1] - a);
-    const double whole = partial(k, h);
+    const double rh = ra + s * h; // R at the interval's end (h may stop short of r_{k+1})
+    // partial(k, t) without its division; every term >= 0, as there
+    auto energy = [&](double t) {
+        const double rt = ra + s * t;
+        return t / 6 * (ra * (3 * a + t) + rt * (3 * a + 2 * t));
+    };
+    const double whole = energy(h);
     if (y >= whole) return h;
+    // First guess: r·R(r) taken as linear between q0 = a·R_a and q1 = (a + h)·R(a + h), whose
+    // integral, q0·t + (q1 − q0)·t²/(2h), is inverted in closed form (the quadratic's stable
+    // root) at y scaled to that integral's total. Off by O((h/a)²) of h, so Newton's method
+    // converges in one or two steps on the profile grid.
+    const double q0 = a * ra, q1 = (a + h) * rh;
+    const double ys = y * (0.5 * h * (q0 + q1)) / whole;
+    const double disc = std::max(0.0, q0 * q0 + 2 * (q1 - q0) * ys / h);
     double lo = 0, hi = h;
-    double t = h * (y / whole); // first guess: energy linear in t
+    double t = std::clamp(2 * ys / (q0 + std::sqrt(disc)), 0.0, h);
+    if (!(t >= 0)) t = h * (y / whole); // 0/0 where q0 = 0 and ys underflows
     for (int i = 0; i < 100; ++i) {
-        const double g = partial(k, t) - y;
+        const double g = energy(t) - y;
         if (g == 0) return t;
         (g > 0 ? hi : lo) = t;
-        const double d = (a + t) * (ra + s * t);
+        const double rt = ra + s * t;
+        const double d = (a + t) * rt;
         double next = d > 0 ? t - g / d : 0.5 * (lo + hi);
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (std::fabs(next - t) <= 2e-16 * (a + h) || hi - lo <= 2e-16 * (a + h)) return next;
+        bool newton = d > 0;
+        if (!(next > lo && next < hi)) {
+            next = 0.5 * (lo + hi);
+            newton = false;
+        }
+        const double step = std::fabs(next - t), tol = 2e-16 * (a + h);
+        if (step <= tol || hi - lo <= tol) return next;
+        // Newton's error after this step is about |E''/(2E')|·step² (E'' = R_t + s·(a + t)):
+        // when that is below the tolerance, `next` is already as good as one more step
+        if (newton && std::fabs(rt + s * (a + t)) * step * step <= 2 * d * tol) return next;
         t = next;
     }
     return t;

@@ -10,7 +10,10 @@
 //   default), found by the same inversion as the samples.
 //   Sampling: u·E_m is located among the interval sums, then the cubic is solved for t by
 //   Newton's method safeguarded by bisection (its derivative (a + t)·R_t >= 0, so it is
-//   monotone and the bracket always holds the root), to a few ulps of r.
+//   monotone and the bracket always holds the root), to a few ulps of r. The first guess is
+//   exact for r·R(r) linear over the interval (a quadratic CDF, inverted in closed form at u
+//   scaled to its total), off by O((h/a)²) of the width h, so one or two steps suffice; the
+//   iteration stops once Newton's error estimate |E''/(2E')|·step² is below the tolerance.
 //   Errors (core::Error(name, 0, "channel c: …")): fewer than 2 radii, lengths that differ, a
 //   first radius other than 0, radii not strictly increasing or not finite, eps outside
 //   (0, 1); a value that is NaN, infinite or negative (with its radius and entry); a profile
