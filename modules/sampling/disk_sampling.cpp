@@ -79,6 +79,10 @@ DiskSampler::DiskSampler(std::array<const RadialDistribution*, 3> channels,
         m_rm2[c] = rm * rm;
         m_radiusMax = std::max(m_radiusMax, rm);
     }
+    std::array<const RadialDistribution*, 3> used{};
+    for (int c = 0; c < 3; ++c)
+        if (m_chanP[c] > 0) used[c] = m_channels[c];
+    m_joint = ChannelPdfTable::of(used);
 }
 
 Probe DiskSampler::probe(const Frame& f, double uAxis, double uChannel, double uRadius,
@@ -128,6 +132,23 @@ double DiskSampler::strategyPdf(const Frame& f, int axis, int channel, const glm
 }
 
 double DiskSampler::pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const {
+    if (m_joint) { // strategyPdf's arithmetic, the three channels of an axis in one lookup
+        const glm::dvec3 d = x - f.p;
+        const double d2 = glm::dot(d, d);
+        glm::dvec3 w(0.0); // P_c·[|x − P| <= R_m,c]
+        for (int c = 0; c < 3; ++c)
+            if (m_chanP[c] > 0 && d2 <= m_rm2[c]) w[c] = m_chanP[c];
+        if (w == glm::dvec3(0.0)) return 0;
+        double p = 0;
+        for (int a = 0; a < 3; ++a) {
+            if (m_axisP[a] == 0) continue;
+            const glm::dvec3& v = f.axis(a);
+            const double along = glm::dot(d, v);
+            const double r = std::sqrt(std::max(0.0, d2 - along * along));
+            p += m_axisP[a] * std::fabs(glm::dot(v, nx)) * glm::dot(w, m_joint->pdfArea(r));
+        }
+        return p;
+    }
     double p = 0;
     for (int a = 0; a < 3; ++a) {
         if (m_axisP[a] == 0) continue;

@@ -45,6 +45,7 @@
 // statements.
 #pragma once
 
+#include "sampling/channel_pdf_table.h"
 #include "sampling/frame.h"
 #include "sampling/radial.h"
 #include "sampling/surface.h"
@@ -52,6 +53,7 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -93,7 +95,9 @@ class DiskSampler {
     // p_{a,c}(x) without the selection probabilities (see above).
     double strategyPdf(const Frame& f, int axis, int channel, const glm::dvec3& x,
                        const glm::dvec3& nx) const;
-    // The combined area density p(x).
+    // The combined area density p(x). With tabulated channels on shared radii
+    // (channel_pdf_table.h) the three channels of an axis come from one lookup; the value is
+    // the sum of the strategies' densities up to rounding.
     double pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const;
     // w_{a,c}(x), [axis][channel]; all 0 where p(x) = 0.
     std::array<std::array<double, 3>, 3> misWeights(const Frame& f, const glm::dvec3& x,
@@ -114,6 +118,7 @@ class DiskSampler {
     std::array<double, 3> m_axisP{}, m_chanP{};
     std::array<double, 3> m_rm2{}; // R_m,c², 0 for unused channels
     double m_radiusMax = 0;
+    std::optional<ChannelPdfTable> m_joint; // the used channels' pdfs in one table, if tables
 };
 
 // One sample of the disk estimator F = Σ_{hits x} f(x, N_x)/p(x) (see above) at the frame's
