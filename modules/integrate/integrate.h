@@ -141,6 +141,11 @@ class ImageIntegrator {
     std::vector<char> m_hit;
     std::vector<sampling::SurfacePoint> m_shading;
     std::vector<double> m_sum, m_sumSq;
+    // step()'s round: per pixel its samples' pending model evaluations, and per (pixel, sample)
+    // how many (kept between rounds)
+    struct Pending;
+    std::vector<std::vector<Pending>> m_pending;
+    std::vector<uint32_t> m_pendingCount;
     // the view's conventions (ViewPoints): Wi = n(x), E0, Ft(η, cos θo)/π per pixel
     bool m_view = false;
     glm::dvec3 m_irradiance{1.0};
