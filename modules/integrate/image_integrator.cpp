@@ -155,7 +155,10 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
         core::Stopwatch clock;
         radial = std::make_unique<RadialSource>(
             radialSource(pencilProgram, m, values, b, s.energyLoss, name));
-        disk = std::make_unique<sampling::DiskSampler>(radial->pointers(), s.axes);
+        // channels in proportion to their kept energy (disk_sampling.h)
+        disk = std::make_unique<sampling::DiskSampler>(
+            radial->pointers(), sampling::axisProbabilities(s.axes),
+            sampling::energyChannelProbabilities(radial->pointers()));
         gl::recordTiming("integrate: radial distributions (" + radial->kind + ")", clock.ms());
     }
     m_program = pencilProgram;

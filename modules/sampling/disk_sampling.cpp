@@ -53,6 +53,20 @@ std::array<double, 3> axisProbabilities(AxisScheme s) {
     return {1.0, 0.0, 0.0};
 }
 
+std::array<double, 3>
+energyChannelProbabilities(const std::array<const RadialDistribution*, 3>& channels) {
+    std::array<double, 3> p{0, 0, 0};
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) {
+        if (!channels[c]) continue;
+        const double e = channels[c]->keptEnergy();
+        if (std::isfinite(e) && e > 0) p[c] = e;
+        sum += p[c];
+    }
+    if (!(sum > 0 && std::isfinite(sum))) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    return {p[0] / sum, p[1] / sum, p[2] / sum};
+}
+
 const char* axisSchemeName(AxisScheme s) {
     switch (s) {
     case AxisScheme::Uniform:
