@@ -52,13 +52,13 @@ double fresnelTransmittance(double cosI, double eta) {
 // Model evaluations gathered before one trip to the GPU (a round of whole samples per pixel).
 constexpr size_t kQueriesPerRound = size_t(1) << 15;
 
-// One model evaluation waiting for the GPU: its pixel, query and factor Ft·cos⁺/p (or ·A).
-struct Pending {
+} // namespace
+
+// One model evaluation waiting for the GPU: its query and factor Ft·cos⁺/p (or ·A).
+struct ImageIntegrator::Pending {
     bssrdf::Query q;
     double factor;
 };
-
-} // namespace
 
 ImageIntegrator::ImageIntegrator(const litsphere::Setup& setup)
     : m_setup(setup), m_geo(std::make_unique<Geometry>()) {
@@ -155,7 +155,10 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
         core::Stopwatch clock;
         radial = std::make_unique<RadialSource>(
             radialSource(pencilProgram, m, values, b, s.energyLoss, name));
-        disk = std::make_unique<sampling::DiskSampler>(radial->pointers(), s.axes);
+        // channels in proportion to their kept energy (disk_sampling.h)
+        disk = std::make_unique<sampling::DiskSampler>(
+            radial->pointers(), sampling::axisProbabilities(s.axes),
+            sampling::energyChannelProbabilities(radial->pointers()));
         gl::recordTiming("integrate: radial distributions (" + radial->kind + ")", clock.ms());
     }
     m_program = pencilProgram;
@@ -193,15 +196,20 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
         if (cancel && cancel->load()) break;
         const int n = std::min(batch, samplesPerPixel - done);
         const uint64_t s0 = m_samples;
-        // per pixel and sample of the round: its pending evaluations
-        std::vector<std::vector<Pending>> pending(pixels * size_t(n));
+        // per pixel: the pending evaluations of its n samples, in sample order, and how many
+        // each sample has (storage kept between rounds: no allocation per sample)
+        std::vector<std::vector<Pending>>& pending = m_pending;
+        pending.resize(pixels);
+        m_pendingCount.assign(pixels * size_t(n), 0);
         tbb::parallel_for(size_t(0), pixels, [&](size_t p) {
+            pending[p].clear();
             if (!m_hit[p]) return;
             const sampling::SurfacePoint& at = m_shading[p];
             const sampling::Frame f = sampling::Frame::fromNormal(at.x, at.n);
             std::vector<sampling::SurfaceHit> hits, shadow;
             for (int k = 0; k < n; ++k) {
-                std::vector<Pending>& out = pending[p * size_t(n) + size_t(k)];
+                std::vector<Pending>& out = pending[p];
+                const size_t before = out.size();
                 pathtrace::Pcg32 rng =
                     pathtrace::Pcg32::forPath(seed, (s0 + uint64_t(k)) * pixels + p);
                 // x lit (cos > 0, not shadowed): queue Bssrdf(x → P) with Ft·cos⁺/p(x)
@@ -236,9 +244,14 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                     const double cosL = glm::dot(x.n, m_light);
                     if (cosL > 0) add(x, cosL, m_geo->area().area());
                 }
+                m_pendingCount[p * size_t(n) + size_t(k)] = uint32_t(out.size() - before);
             }
         });
         std::vector<bssrdf::Query> queries;
+        size_t total = 0;
+        for (const auto& v : pending)
+            total += v.size();
+        queries.reserve(total);
         for (const auto& v : pending)
             for (const Pending& q : v)
                 queries.push_back(q.q);
@@ -254,10 +267,11 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                     std::min(1.0, std::abs(glm::dot(m_shading[p].n, m_toCamera[p])));
                 scale = m_irradiance * (fresnelTransmittance(cosO, eta) / std::numbers::pi);
             }
+            const Pending* q = pending[p].data();
             for (int k = 0; k < n; ++k) {
                 glm::dvec3 F(0.0);
-                for (const Pending& q : pending[p * size_t(n) + size_t(k)])
-                    F += values[i++] * q.factor;
+                for (uint32_t j = m_pendingCount[p * size_t(n) + size_t(k)]; j > 0; --j)
+                    F += values[i++] * (q++)->factor;
                 F *= scale;
                 for (int c = 0; c < 3; ++c) {
                     m_sum[3 * p + size_t(c)] += F[c];

@@ -10,12 +10,14 @@
 //   Estimators, per pixel sample:
 //     uniform  F = A · f(x), x uniform on the surface (sampling::AreaSampler);
 //     disk     F = Σ_hits f(x)/p(x), p the balance-heuristic density over the three axes and
-//              the three channels (sampling::DiskSampler); each channel's radial distribution
-//              comes from radial_source.h: the model's analytic sampler section, its Gaussian
-//              lobes, or else its profile R(r) = Bssrdf(0, n, (r, 0, 0), n) tabulated on the GPU
-//              (render::buildProfileTable, no cap), cut at R_m,c keeping all but `energyLoss`
-//              of its energy. The disk estimator integrates over |x − P| <= max_c R_m,c: on a
-//              plane it gives up exactly that fraction, a bias the tests keep below their noise.
+//              the three channels (sampling::DiskSampler; channel c chosen with probability
+//              ∝ its kept energy E_m,c, sampling::energyChannelProbabilities); each channel's
+//              radial distribution comes from radial_source.h: the model's analytic sampler
+//              section, its Gaussian lobes, or else its profile R(r) = Bssrdf(0, n, (r, 0, 0), n)
+//              tabulated on the GPU (render::buildProfileTable, no cap), cut at R_m,c keeping all
+//              but `energyLoss` of its energy. The disk estimator integrates over |x − P| <= max_c
+//              R_m,c: on a plane it gives up exactly that fraction, a bias the tests keep below
+//              their noise.
 //   The model is evaluated on the GPU (bssrdf::evaluateQueries, translation invariance: Xi = 0,
 //   Xo = P − x) with the actual directions, so directional models are integrated as they are.
 //   Geometry: the sphere of radius R mm at the origin, or the mesh normalised to one unit on its
@@ -141,6 +143,11 @@ class ImageIntegrator {
     std::vector<char> m_hit;
     std::vector<sampling::SurfacePoint> m_shading;
     std::vector<double> m_sum, m_sumSq;
+    // step()'s round: per pixel its samples' pending model evaluations, and per (pixel, sample)
+    // how many (kept between rounds)
+    struct Pending;
+    std::vector<std::vector<Pending>> m_pending;
+    std::vector<uint32_t> m_pendingCount;
     // the view's conventions (ViewPoints): Wi = n(x), E0, Ft(η, cos θo)/π per pixel
     bool m_view = false;
     glm::dvec3 m_irradiance{1.0};

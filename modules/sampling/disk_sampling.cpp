@@ -53,6 +53,20 @@ std::array<double, 3> axisProbabilities(AxisScheme s) {
     return {1.0, 0.0, 0.0};
 }
 
+std::array<double, 3>
+energyChannelProbabilities(const std::array<const RadialDistribution*, 3>& channels) {
+    std::array<double, 3> p{0, 0, 0};
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) {
+        if (!channels[c]) continue;
+        const double e = channels[c]->keptEnergy();
+        if (std::isfinite(e) && e > 0) p[c] = e;
+        sum += p[c];
+    }
+    if (!(sum > 0 && std::isfinite(sum))) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    return {p[0] / sum, p[1] / sum, p[2] / sum};
+}
+
 const char* axisSchemeName(AxisScheme s) {
     switch (s) {
     case AxisScheme::Uniform:
@@ -79,6 +93,10 @@ DiskSampler::DiskSampler(std::array<const RadialDistribution*, 3> channels,
         m_rm2[c] = rm * rm;
         m_radiusMax = std::max(m_radiusMax, rm);
     }
+    std::array<const RadialDistribution*, 3> used{};
+    for (int c = 0; c < 3; ++c)
+        if (m_chanP[c] > 0) used[c] = m_channels[c];
+    m_joint = ChannelPdfTable::of(used);
 }
 
 Probe DiskSampler::probe(const Frame& f, double uAxis, double uChannel, double uRadius,
@@ -128,6 +146,23 @@ double DiskSampler::strategyPdf(const Frame& f, int axis, int channel, const glm
 }
 
 double DiskSampler::pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const {
+    if (m_joint) { // strategyPdf's arithmetic, the three channels of an axis in one lookup
+        const glm::dvec3 d = x - f.p;
+        const double d2 = glm::dot(d, d);
+        glm::dvec3 w(0.0); // P_c·[|x − P| <= R_m,c]
+        for (int c = 0; c < 3; ++c)
+            if (m_chanP[c] > 0 && d2 <= m_rm2[c]) w[c] = m_chanP[c];
+        if (w == glm::dvec3(0.0)) return 0;
+        double p = 0;
+        for (int a = 0; a < 3; ++a) {
+            if (m_axisP[a] == 0) continue;
+            const glm::dvec3& v = f.axis(a);
+            const double along = glm::dot(d, v);
+            const double r = std::sqrt(std::max(0.0, d2 - along * along));
+            p += m_axisP[a] * std::fabs(glm::dot(v, nx)) * glm::dot(w, m_joint->pdfArea(r));
+        }
+        return p;
+    }
     double p = 0;
     for (int a = 0; a < 3; ++a) {
         if (m_axisP[a] == 0) continue;

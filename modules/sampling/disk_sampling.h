@@ -3,7 +3,8 @@
 //
 // Sampling (one sample): an axis a ∈ {N, T, B} of the shading frame with probability P_a
 // (AxisScheme: Uniform 1/3 each as in the paper, Pbrt 1/2, 1/4, 1/4 as pbrt-v3, NormalOnly
-// 1, 0, 0); a channel c with probability P_c (1/3 each by default); a point on the disk through
+// 1, 0, 0); a channel c with probability P_c (1/3 each by default, or ∝ E_m,c: see "Channel
+// probabilities" below); a point on the disk through
 // P perpendicular to V_a, at radius r ~ channel c's RadialDistribution and angle 2πu, so of
 // density pdf_c(r) per unit disk area (pdf_area of radial.h); the probe is the segment along
 // V_a through that point, clipped to the sphere of radius R_m,c around P (half-length
@@ -31,6 +32,14 @@
 // Because R is decreasing and r_a(x) <= |x − P|, pdf_c(r_a(x)) >= R_c(|x − P|)/E_c, so with
 // the three axes f/p stays bounded: the 1/|V·N| of eq. 1 cannot blow up.
 //
+// Channel probabilities. Any P_c > 0 for every channel that carries energy keeps the estimator
+// unbiased (the weights above sum to 1 whatever they are). The paper picks channels uniformly;
+// P_c ∝ E_m,c (energyChannelProbabilities: each channel's kept energy, its diffuse reflectance
+// within R_m) makes the combined density on a plane with normal-only probes
+// p(x) = Σ_c R_c(r)/Σ_c E_m,c, so every sample's channel sum Σ_c f_c/p is the constant
+// Σ_c E_m,c there: the channels that carry the most light get the most probes, and no channel's
+// term exceeds Σ_c E_m,c·sup(f_c/R_c) (p >= P_c·pdf_c).
+//
 // "Every hit" and pbrt-v3's first version. pbrt-v3 first kept one of the n hits of its probe,
 // chosen uniformly, and returned the MIS density divided by that n, i.e. as if the probes along
 // the other axes through the kept point also found n hits. They generally do not (near the
@@ -45,6 +54,7 @@
 // statements.
 #pragma once
 
+#include "sampling/channel_pdf_table.h"
 #include "sampling/frame.h"
 #include "sampling/radial.h"
 #include "sampling/surface.h"
@@ -52,6 +62,7 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -66,6 +77,10 @@ constexpr auto enumNames(AxisScheme) {
 }
 // P_a for a = N, T, B.
 std::array<double, 3> axisProbabilities(AxisScheme s);
+// P_c ∝ E_m,c (keptEnergy) of each channel that is not nullptr (0 for nullptr), normalised;
+// the uniform 1/3 each when no channel has finite energy > 0.
+std::array<double, 3>
+energyChannelProbabilities(const std::array<const RadialDistribution*, 3>& channels);
 const char* axisSchemeName(AxisScheme s);
 
 // One probe segment: org + t·dir, t in [0, length], dir = V_axis.
@@ -93,7 +108,9 @@ class DiskSampler {
     // p_{a,c}(x) without the selection probabilities (see above).
     double strategyPdf(const Frame& f, int axis, int channel, const glm::dvec3& x,
                        const glm::dvec3& nx) const;
-    // The combined area density p(x).
+    // The combined area density p(x). With tabulated channels on shared radii
+    // (channel_pdf_table.h) the three channels of an axis come from one lookup; the value is
+    // the sum of the strategies' densities up to rounding.
     double pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const;
     // w_{a,c}(x), [axis][channel]; all 0 where p(x) = 0.
     std::array<std::array<double, 3>, 3> misWeights(const Frame& f, const glm::dvec3& x,
@@ -114,6 +131,7 @@ class DiskSampler {
     std::array<double, 3> m_axisP{}, m_chanP{};
     std::array<double, 3> m_rm2{}; // R_m,c², 0 for unused channels
     double m_radiusMax = 0;
+    std::optional<ChannelPdfTable> m_joint; // the used channels' pdfs in one table, if tables
 };
 
 // One sample of the disk estimator F = Σ_{hits x} f(x, N_x)/p(x) (see above) at the frame's

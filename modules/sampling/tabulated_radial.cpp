@@ -48,6 +48,14 @@ TabulatedRadial::TabulatedRadial(std::vector<double> radii, std::vector<double> 
     m_cumulative.assign(n, 0.0);
     for (size_t k = 0; k + 1 < n; ++k)
         m_cumulative[k + 1] = m_cumulative[k] + partial(k, m_radii[k + 1] - m_radii[k]);
+    m_pieces.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        Piece& pc = m_pieces[k];
+        pc.cumulative = m_cumulative[k];
+        pc.r = m_radii[k];
+        pc.value = m_values[k];
+        pc.slope = k + 1 < n ? (m_values[k + 1] - m_values[k]) / (m_radii[k + 1] - m_radii[k]) : 0;
+    }
     const double total = m_cumulative.back();
     if (!(total > 0)) fail("the profile has no energy (R(r) = 0 over the whole table)");
     if (!std::isfinite(total)) fail("the profile's energy is not finite");
@@ -58,7 +66,7 @@ TabulatedRadial::TabulatedRadial(std::vector<double> radii, std::vector<double> 
     auto it = std::upper_bound(m_cumulative.begin(), m_cumulative.end(), target);
     m_lastInterval = std::min<size_t>(size_t(it - m_cumulative.begin()) - 1, n - 2);
     const size_t m = m_lastInterval;
-    const double t = invert(m, m_radii[m + 1] - m_radii[m], target - m_cumulative[m]);
+    const double t = invert(m_pieces[m], m_radii[m + 1] - m_radii[m], target - m_cumulative[m]);
     m_radiusMax = std::min(m_radii[m] + t, m_radii[m + 1]);
     m_kept = m_cumulative[m] + partial(m, m_radiusMax - m_radii[m]);
     // guide table of sample(): entry j is the last interval k with cumulative[k] <= j/G · kept
@@ -67,7 +75,7 @@ TabulatedRadial::TabulatedRadial(std::vector<double> radii, std::vector<double> 
         const double y = double(j) / double(m_guide.size()) * m_kept;
         while (k < m_lastInterval && m_cumulative[k + 1] <= y)
             ++k;
-        m_guide[j] = k;
+        m_guide[j] = uint32_t(k);
     }
 
     // Convergence: the last 1 % of the radius range must hold at most eps of the energy.
@@ -89,22 +97,44 @@ double TabulatedRadial::partial(size_t k, double t) const {
     return t / 6 * (ra * (3 * a + t) + rt * (3 * a + 2 * t));
 }
 
-double TabulatedRadial::invert(size_t k, double h, double y) const {
+double TabulatedRadial::invert(const Piece& pc, double h, double y) {
     if (y <= 0) return 0;
-    const double a = m_radii[k], ra = m_values[k],
-                 s = (m_values[k + 1] - ra) / (m_radii[k + 1] - a);
-    const double whole = partial(k, h);
+    const double a = pc.r, ra = pc.value, s = pc.slope;
+    const double rh = ra + s * h; // R at the interval's end (h may stop short of r_{k+1})
+    // partial(k, t) without its division; every term >= 0, as there
+    auto energy = [&](double t) {
+        const double rt = ra + s * t;
+        return t / 6 * (ra * (3 * a + t) + rt * (3 * a + 2 * t));
+    };
+    const double whole = energy(h);
     if (y >= whole) return h;
+    // First guess: r·R(r) taken as linear between q0 = a·R_a and q1 = (a + h)·R(a + h), whose
+    // integral, q0·t + (q1 − q0)·t²/(2h), is inverted in closed form (the quadratic's stable
+    // root) at y scaled to that integral's total. Off by O((h/a)²) of h, so Newton's method
+    // converges in one or two steps on the profile grid.
+    const double q0 = a * ra, q1 = (a + h) * rh;
+    const double ys = y * (0.5 * h * (q0 + q1)) / whole;
+    const double disc = std::max(0.0, q0 * q0 + 2 * (q1 - q0) * ys / h);
     double lo = 0, hi = h;
-    double t = h * (y / whole); // first guess: energy linear in t
+    double t = std::clamp(2 * ys / (q0 + std::sqrt(disc)), 0.0, h);
+    if (!(t >= 0)) t = h * (y / whole); // 0/0 where q0 = 0 and ys underflows
     for (int i = 0; i < 100; ++i) {
-        const double g = partial(k, t) - y;
+        const double g = energy(t) - y;
         if (g == 0) return t;
         (g > 0 ? hi : lo) = t;
-        const double d = (a + t) * (ra + s * t);
+        const double rt = ra + s * t;
+        const double d = (a + t) * rt;
         double next = d > 0 ? t - g / d : 0.5 * (lo + hi);
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (std::fabs(next - t) <= 2e-16 * (a + h) || hi - lo <= 2e-16 * (a + h)) return next;
+        bool newton = d > 0;
+        if (!(next > lo && next < hi)) {
+            next = 0.5 * (lo + hi);
+            newton = false;
+        }
+        const double step = std::fabs(next - t), tol = 2e-16 * (a + h);
+        if (step <= tol || hi - lo <= tol) return next;
+        // Newton's error after this step is about |E''/(2E')|·step² (E'' = R_t + s·(a + t)):
+        // when that is below the tolerance, `next` is already as good as one more step
+        if (newton && std::fabs(rt + s * (a + t)) * step * step <= 2 * d * tol) return next;
         t = next;
     }
     return t;
@@ -133,10 +163,11 @@ double TabulatedRadial::sample(double u) const {
     const size_t g =
         std::min(size_t(std::clamp(u, 0.0, 1.0) * double(m_guide.size())), m_guide.size() - 1);
     size_t k = m_guide[g];
-    while (k < m_lastInterval && m_cumulative[k + 1] <= y)
+    while (k < m_lastInterval && m_pieces[k + 1].cumulative <= y)
         ++k;
-    const double h = (k == m_lastInterval ? m_radiusMax : m_radii[k + 1]) - m_radii[k];
-    return std::min(m_radii[k] + invert(k, h, y - m_cumulative[k]), m_radiusMax);
+    const Piece& pc = m_pieces[k];
+    const double h = (k == m_lastInterval ? m_radiusMax : m_pieces[k + 1].r) - pc.r;
+    return std::min(pc.r + invert(pc, h, y - pc.cumulative), m_radiusMax);
 }
 
 double TabulatedRadial::profile(double r) const {

@@ -10,7 +10,10 @@
 //   default), found by the same inversion as the samples.
 //   Sampling: u·E_m is located among the interval sums, then the cubic is solved for t by
 //   Newton's method safeguarded by bisection (its derivative (a + t)·R_t >= 0, so it is
-//   monotone and the bracket always holds the root), to a few ulps of r.
+//   monotone and the bracket always holds the root), to a few ulps of r. The first guess is
+//   exact for r·R(r) linear over the interval (a quadratic CDF, inverted in closed form at u
+//   scaled to its total), off by O((h/a)²) of the width h, so one or two steps suffice; the
+//   iteration stops once Newton's error estimate |E''/(2E')|·step² is below the tolerance.
 //   Errors (core::Error(name, 0, "channel c: …")): fewer than 2 radii, lengths that differ, a
 //   first radius other than 0, radii not strictly increasing or not finite, eps outside
 //   (0, 1); a value that is NaN, infinite or negative (with its radius and entry); a profile
@@ -26,6 +29,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -58,16 +62,22 @@ class TabulatedRadial final : public RadialDistribution {
   private:
     // ∫_{r_k}^{r_k + t} r R(r) dr (no 2π).
     double partial(size_t k, double t) const;
-    // t in [0, h] with partial(k, t) = y.
-    double invert(size_t k, double h, double y) const;
+    // What sample() reads of interval k, in one record: ∫0^{r_k} r R dr, r_k, R_k and the
+    // slope of R over [r_k, r_{k+1}] (the last record: r_{K−1} and its sums only).
+    struct alignas(32) Piece {
+        double cumulative = 0, r = 0, value = 0, slope = 0;
+    };
+    // t in [0, h] with partial(k, t) = y, pc = m_pieces[k].
+    static double invert(const Piece& pc, double h, double y);
     size_t intervalOf(double r) const; // k with r_k <= r < r_{k+1}, clamped to [0, K − 2]
 
     std::vector<double> m_radii, m_values;
     std::vector<double> m_cumulative; // ∫0^{r_k} r R dr (no 2π)
     double m_eps = kDefaultEnergyLoss;
-    size_t m_lastInterval = 0;    // interval holding R_m
-    bool m_quadraticGrid = false; // radii are profileGridRadii(r_{K−1}, K): O(1) intervalOf
-    std::vector<size_t> m_guide;  // sample(): first candidate interval per 1/K of probability
+    size_t m_lastInterval = 0;     // interval holding R_m
+    bool m_quadraticGrid = false;  // radii are profileGridRadii(r_{K−1}, K): O(1) intervalOf
+    std::vector<Piece> m_pieces;   // K records (sample())
+    std::vector<uint32_t> m_guide; // sample(): first candidate interval per 1/K of probability
     double m_radiusMax = 0;
     double m_kept = 0; // ∫0^{R_m} r R dr (no 2π)
 };

@@ -1,8 +1,10 @@
 // sampling/disk_sampling, the parts that need no long runs: the frame, the axis schemes, every
 // hit of a probe (sphere: two; thin box: top and bottom), the MIS weights of random hits on a
 // sphere and a box summing to 1, and the plane: with NormalOnly and one channel every sample is
-// exactly the kept energy (zero variance); with the three axes and channel MIS the mean is the
-// kept energy of each channel within Monte Carlo error (z-test, Bonferroni, family-wise 1e-3).
+// exactly the kept energy (zero variance), and with channels chosen ∝ their kept energy every
+// sample's channel sum is the total kept energy; with the three axes and channel MIS (1/3 each
+// or ∝ energy) the mean is the kept energy of each channel within Monte Carlo error (z-test,
+// Bonferroni, family-wise 1e-3 per test).
 #include "sampling_support.h"
 
 #include "mesh/mesh.h"
@@ -179,6 +181,27 @@ TEST(DiskSampling, PlaneNormalOnlyIsExact) {
             ASSERT_NEAR(e[c] / ch[c].keptEnergy(), 1.0, 1e-9) << "channel " << c;
         }
     }
+    // three channels with P_c ∝ E_m,c (energyChannelProbabilities): every sample's channel sum
+    // is Σ_c E_m,c
+    {
+        const auto cp = energyChannelProbabilities(pointers(ch));
+        double sumE = 0;
+        for (int c = 0; c < 3; ++c) {
+            sumE += ch[c].keptEnergy();
+            EXPECT_NEAR(cp[c],
+                        ch[c].keptEnergy() /
+                            (ch[0].keptEnergy() + ch[1].keptEnergy() + ch[2].keptEnergy()),
+                        1e-15);
+        }
+        const DiskSampler ds(pointers(ch), axisProbabilities(AxisScheme::NormalOnly), cp);
+        pathtrace::Pcg32 rng(3, 7);
+        for (int i = 0; i < 2000; ++i) {
+            const glm::dvec3 e = estimateDisk(ds, plane, f, rng, CutProfile{&ds, f.p});
+            ASSERT_NEAR((e[0] + e[1] + e[2]) / sumE, 1.0, 1e-9);
+        }
+        EXPECT_EQ(energyChannelProbabilities({&ch[0], nullptr, nullptr})[1], 0.0);
+        EXPECT_EQ(energyChannelProbabilities({&ch[0], nullptr, nullptr})[0], 1.0);
+    }
     // three channels of one profile (channel MIS over identical pdfs): exact in all three
     const GaussianLobes g({{0.7, 0.3}, {0.3, 4.0}});
     const DiskSampler ds({&g, &g, &g}, AxisScheme::NormalOnly);
@@ -216,6 +239,40 @@ TEST(DiskSampling, PlaneReproducesTheKeptEnergy) {
                     << axisSchemeName(scheme) << " set " << set << " channel " << c << " mean "
                     << acc.mean[c] << " expected " << dists[c]->keptEnergy();
                 EXPECT_GT(acc.stderrOfMean()[c], 0); // channel MIS over different pdfs: noisy
+            }
+        }
+        ++set;
+    }
+}
+
+// The same with channels chosen in proportion to their kept energy (the integrator's choice):
+// mean = E_m,c per channel (z-test, Bonferroni over these 18 comparisons).
+TEST(DiskSampling, PlaneReproducesTheKeptEnergyWithEnergyChannelProbabilities) {
+    const auto ch = skinChannels();
+    const GaussianLobes g0({{0.233, 0.0064}, {0.1, 0.0484}, {0.118, 0.187}, {0.358, 1.99}});
+    const GaussianLobes g1({{0.455, 0.0064}, {0.336, 0.0484}, {0.198, 0.187}});
+    const GaussianLobes g2({{0.649, 0.0064}, {0.344, 0.0484}, {0.007, 0.567}});
+    const std::array<std::array<const RadialDistribution*, 3>, 2> sets = {
+        pointers(ch), std::array<const RadialDistribution*, 3>{&g0, &g1, &g2}};
+    const PlaneSurface plane({1, 2, 3}, {0.2, 0.3, 1});
+    const Frame f = Frame::fromNormal({1, 2, 3}, {0.2, 0.3, 1});
+    const double zMax = core::bonferroniZ(1e-3, 2 * 3 * 3);
+    int set = 0;
+    for (const auto& dists : sets) {
+        for (AxisScheme scheme : {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly}) {
+            const DiskSampler ds(dists, axisProbabilities(scheme),
+                                 energyChannelProbabilities(dists));
+            pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(22, uint64_t(3 * set + int(scheme)));
+            Accumulator acc;
+            std::vector<SurfaceHit> scratch;
+            for (int i = 0; i < 200000; ++i)
+                acc.add(estimateDisk(ds, plane, f, rng, CutProfile{&ds, f.p}, scratch));
+            for (int c = 0; c < 3; ++c) {
+                const double z = (acc.mean[c] - dists[c]->keptEnergy()) / acc.stderrOfMean()[c];
+                EXPECT_LT(std::fabs(z), zMax)
+                    << axisSchemeName(scheme) << " set " << set << " channel " << c << " mean "
+                    << acc.mean[c] << " expected " << dists[c]->keptEnergy();
+                EXPECT_GT(acc.stderrOfMean()[c], 0);
             }
         }
         ++set;
