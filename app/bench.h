@@ -3,6 +3,7 @@
 #pragma once
 
 #include "pointcloud/generate.h"
+#include "render/render.h"
 
 #include <filesystem>
 #include <string>
@@ -19,6 +20,10 @@ int benchReload(const std::filesystem::path& root, int runs);
 // σa 0.01, σs 1, g 0, 0.15 mm bins), the single-core time to 1 % relative standard error in
 // the bins at r = l_d and 4 l_d for both estimators, against MCML 1.2.2's 44 s and 500 s.
 int benchPathtrace(const std::filesystem::path& root, double secondsPerRun);
+
+// Σ (a − ref)² / Σ ref² of L_o over the pixels `ref` covers and RGB (the renderers' benches:
+// its square root is the relative RMSE they print).
+double relativeMse(const render::Readback& a, const render::Readback& ref);
 
 struct HierarchyBenchOptions {
     size_t points = 100000;

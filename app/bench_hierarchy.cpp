@@ -29,8 +29,9 @@ double timeRender(render::Renderer& r, const render::Settings& s, int frames,
     return median(ms);
 }
 
-// RMS of the difference over RMS of the reference, over covered pixels and RGB.
-double relRmse(const render::Readback& a, const render::Readback& ref) {
+} // namespace
+
+double relativeMse(const render::Readback& a, const render::Readback& ref) {
     double num = 0, den = 0;
     for (size_t p = 0; p < ref.hdr.size(); ++p) {
         if (ref.hdr[p].w < 0.5f) continue;
@@ -40,10 +41,8 @@ double relRmse(const render::Readback& a, const render::Readback& ref) {
             den += double(ref.hdr[p][c]) * double(ref.hdr[p][c]);
         }
     }
-    return den > 0 ? std::sqrt(num / den) : 0.0;
+    return den > 0 ? num / den : 0.0;
 }
-
-} // namespace
 
 int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOptions& o) {
     auto ctx = gl::createHeadlessContext(false);
@@ -110,7 +109,7 @@ int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOption
                 hs.boundingBoxCriterion = box == 1;
                 hs.secondOrder = second == 1;
                 const double hierMs = timeRender(*r, hs, o.frames, hier);
-                const double err = relRmse(hier, brute);
+                const double err = std::sqrt(relativeMse(hier, brute));
                 const double speedup = bruteMs / std::max(hierMs, 1e-6);
                 met |= speedup >= 60.0 && err <= 0.01;
                 std::printf("eps=%g hier_ms=%.2f brute_ms=%.2f speedup=%.1f rel_rmse=%.5f "

@@ -23,20 +23,6 @@ double frameMs(const render::Frame& f) {
     return f.gbufferMs + f.profileMs + f.traverseMs + f.tonemapMs;
 }
 
-// Mean squared difference over the mean square of the reference, over covered pixels and RGB.
-double relMse(const render::Readback& a, const render::Readback& ref) {
-    double num = 0, den = 0;
-    for (size_t p = 0; p < ref.hdr.size(); ++p) {
-        if (ref.hdr[p].w < 0.5f) continue;
-        for (int c = 0; c < 3; ++c) {
-            const double d = double(a.hdr[p][c]) - double(ref.hdr[p][c]);
-            num += d * d;
-            den += double(ref.hdr[p][c]) * double(ref.hdr[p][c]);
-        }
-    }
-    return den > 0 ? num / den : 0.0;
-}
-
 struct HierPoint {
     float eps;
     double ms, err;
@@ -88,7 +74,7 @@ int benchTextureSpace(const std::filesystem::path& root, const TextureSpaceBench
                 for (int i = 0; i < 3; ++i)
                     ms.push_back(frameMs(r->render(hs)));
                 std::sort(ms.begin(), ms.end());
-                hier.push_back({eps, ms[1], std::sqrt(relMse(r->readback(), ref))});
+                hier.push_back({eps, ms[1], std::sqrt(relativeMse(r->readback(), ref))});
                 std::printf("preset=%s scale_mm=%g method=hierarchical eps=%g ms=%.2f "
                             "rel_rmse=%.5f (brute force %.1f ms)\n",
                             preset.c_str(), scale, double(eps), ms[1], hier.back().err, bruteMs);
@@ -129,7 +115,7 @@ int benchTextureSpace(const std::filesystem::path& root, const TextureSpaceBench
                                          (hybrid ? p.localMs() : 0.0));
                             render::Readback one;
                             one.hdr = p.lastSetRadiance();
-                            mse += relMse(one, ref) / o.sets;
+                            mse += relativeMse(one, ref) / o.sets;
                         }
                         std::sort(ms.begin(), ms.end());
                         const double err = std::sqrt(mse), h = atEqualError(err);

@@ -89,6 +89,9 @@ using Program = Handle<deleteProgram>;
 using VertexArray = Handle<deleteVertexArray>;
 
 Buffer createBuffer(size_t bytes, const void* data, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
+// A 2D texture of one level with immutable storage, `filter` for minification and
+// magnification, edges clamped.
+Texture createTexture2D(GLenum internalFormat, int width, int height, GLenum filter = GL_NEAREST);
 
 // RGBA colour target (RGBA8 or RGBA32F) with an FBO around it.
 class RenderTarget {

@@ -33,6 +33,17 @@ Buffer createBuffer(size_t bytes, const void* data, GLbitfield flags) {
     return Buffer(id);
 }
 
+Texture createTexture2D(GLenum internalFormat, int width, int height, GLenum filter) {
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &id);
+    glTextureStorage2D(id, 1, internalFormat, width, height);
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GLint(filter));
+    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GLint(filter));
+    glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return Texture(id);
+}
+
 void RenderTarget::resize(int width, int height, GLenum internalFormat) {
     if (width == m_width && height == m_height && internalFormat == m_format && m_fbo) return;
     m_width = width;

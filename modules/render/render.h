@@ -71,7 +71,7 @@ struct Settings {
     // Loop iterations per pixel and traversal dispatch; 0 = kIterationsPerDispatch (lowered
     // automatically when the driver's loop limit is hit). Results do not depend on it.
     uint32_t iterationsPerDispatch = 0;
-    RadialWeight weight; // set by the hybrid renderer; none by default
+    RadialWeight weight{}; // set by the hybrid renderer; none by default
     // The criterion of the CPU replica that matches these settings.
     octree::Criterion criterion() const;
 };

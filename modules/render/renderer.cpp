@@ -33,17 +33,6 @@ enum : GLuint {
     kControl = 7,
 };
 
-gl::Texture makeTexture(GLenum format, int w, int h, GLenum filter) {
-    GLuint id = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &id);
-    glTextureStorage2D(id, 1, format, w, h);
-    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, filter);
-    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, filter);
-    glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return gl::Texture(id);
-}
-
 void validate(const Settings& s) {
     auto fail = [](const std::string& m) { throw core::Error("render", 0, m); };
     if (s.width < 1 || s.height < 1 || s.width > kMaxSide || s.height > kMaxSide)
@@ -306,11 +295,11 @@ const bssrdf::Builtins& Renderer::builtins() const {
 
 void Renderer::State::resize(int w, int h) {
     if (w == width && h == height && fbo) return;
-    position = makeTexture(GL_RGBA32F, w, h, GL_NEAREST);
-    normal = makeTexture(GL_RGBA32F, w, h, GL_NEAREST);
-    depth = makeTexture(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
-    hdr = makeTexture(GL_RGBA32F, w, h, GL_NEAREST);
-    ldr = makeTexture(GL_RGBA8, w, h, GL_LINEAR);
+    position = gl::createTexture2D(GL_RGBA32F, w, h, GL_NEAREST);
+    normal = gl::createTexture2D(GL_RGBA32F, w, h, GL_NEAREST);
+    depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
+    hdr = gl::createTexture2D(GL_RGBA32F, w, h, GL_NEAREST);
+    ldr = gl::createTexture2D(GL_RGBA8, w, h, GL_LINEAR);
     GLuint id = 0;
     glCreateFramebuffers(1, &id);
     fbo = gl::FramebufferId(id);

@@ -119,21 +119,6 @@ std::vector<RingTap> ringFilter(const render::ProfileTable& t, const glm::vec3& 
     return taps;
 }
 
-namespace {
-
-gl::Texture makeTexture(GLenum format, int size) {
-    GLuint id = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &id);
-    glTextureStorage2D(id, 1, format, size, size);
-    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return gl::Texture(id);
-}
-
-} // namespace
-
 LocalTerm::LocalTerm(const shader::Sources& src)
     : m_src(src), m_mapProgram(shader::build(src,
                                              {{GL_VERTEX_SHADER, "render_gbuffer.vert"},
@@ -174,9 +159,9 @@ void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size) {
     if (!m_vao) throw core::Error("hybrid", 0, "no mesh");
     m_frame = irradiance::makeLightFrame(towardsLight, irradiance::boundingSphere(m_mesh, {}));
     if (size != m_mapSize) {
-        m_lightPosition = makeTexture(GL_RGBA32F, size);
-        m_lightNormal = makeTexture(GL_RGBA32F, size);
-        m_lightDepth = makeTexture(GL_DEPTH_COMPONENT32F, size);
+        m_lightPosition = gl::createTexture2D(GL_RGBA32F, size, size);
+        m_lightNormal = gl::createTexture2D(GL_RGBA32F, size, size);
+        m_lightDepth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, size, size);
         GLuint id = 0;
         glCreateFramebuffers(1, &id);
         m_fbo = gl::FramebufferId(id);

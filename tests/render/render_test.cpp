@@ -7,6 +7,7 @@
 #include "render/frame_analysis.h"
 #include "render/render.h"
 
+#include "../support/dipole_closed_form.h"
 #include "../support/gl_fixture.h"
 #include "bssrdf/bssrdf.h"
 #include "core/core.h"
@@ -610,13 +611,9 @@ TEST(RenderClosedForm, PlateExitanceIsDiffuseReflectance) {
     ASSERT_NEAR(xo.z, 0.5f * thickness, 1e-5f);
 
     const double ior = b.ior;
-    const double fdr = -1.44 / (ior * ior) + 0.71 / ior + 0.668 + 0.0636 * ior;
-    const double A = (1.0 + fdr) / (1.0 - fdr);
     for (int c = 0; c < 3; ++c) {
-        const double alpha = double(b.sigmaS[c]) / (double(b.sigmaS[c]) + double(b.sigmaA[c]));
-        const double t = std::sqrt(3.0 * (1.0 - alpha));
-        const double rdr = alpha * 0.5 * (1.0 + std::exp(-4.0 / 3.0 * A * t)) * std::exp(-t);
-        const double expected = double(e[c]) * rdr;
+        const testsupport::ClassicalDipole d{double(b.sigmaA[c]), double(b.sigmaS[c]), ior};
+        const double expected = double(e[c]) * d.rdr();
         const double got = rb.exitance[centre][c];
         std::printf("plate channel %d: M %.7g, E·R_dr %.7g, rel %.2g (%zu points)\n", c, got,
                     expected, (got - expected) / expected, p.size());

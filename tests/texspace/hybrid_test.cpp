@@ -5,25 +5,15 @@
 // converges to the exact integral as the rings grow.
 #include "texspace/hybrid.h"
 
+#include "../support/dipole_closed_form.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 namespace {
 
-// The classical dipole R_d(r) (Jensen et al. 2001) in 1/mm², double.
-struct Dipole {
-    double sa, ssp, eta;
-    double operator()(double r) const {
-        const double st = sa + ssp, alpha = ssp / st, tr = std::sqrt(3 * sa * st);
-        const double fdr = -1.440 / (eta * eta) + 0.710 / eta + 0.668 + 0.0636 * eta;
-        const double a = (1 + fdr) / (1 - fdr), zr = 1 / st, zv = zr * (1 + 4 * a / 3);
-        const double dr = std::sqrt(r * r + zr * zr), dv = std::sqrt(r * r + zv * zv);
-        return alpha / (4 * M_PI) *
-               (zr * (tr * dr + 1) * std::exp(-tr * dr) / (dr * dr * dr) +
-                zv * (tr * dv + 1) * std::exp(-tr * dv) / (dv * dv * dv));
-    }
-};
+using Dipole = testsupport::ClassicalDipole;
 
 // A profile table of three dipoles on the renderer's grid (render/profile_table.h).
 render::ProfileTable table(const Dipole d[3], float rMax) {

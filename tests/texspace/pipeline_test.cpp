@@ -9,6 +9,7 @@
 //  - W = 0 (no light) renders 0, and bad settings are refused naming the setting.
 #include "texspace/pipeline.h"
 
+#include "../support/dipole_closed_form.h"
 #include "../support/gl_fixture.h"
 #include "../support/image_agreement.h"
 #include "bssrdf/bssrdf.h"
@@ -130,6 +131,57 @@ double relativeRmse(const litsphere::Image& a, const litsphere::Image& ref) {
     return std::sqrt(num / den);
 }
 
+// A plane 8 mm square with its own UVs at K = 256, lit at normal incidence, with the dipole and a
+// dense material (σa 1, 0.5, 2; σs 10, 15, 10 /mm): it holds the profile to 12/σ_tr and the
+// texels are 8/256 mm apart, below 0.6 z_r (both errors < 1e-3, see
+// RenderClosedForm.PlateExitanceIsDiffuseReflectance). Returns E_t at the centre texel.
+glm::vec3 planePipeline(texspace::Pipeline& p, bssrdf::Builtins& b) {
+    Fixture& f = fixture();
+    mesh::Mesh plane;
+    const float h = 4.0f;
+    plane.vertices = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
+    plane.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    plane.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+    b.sigmaA = glm::vec3(1.0f, 0.5f, 2.0f);
+    b.sigmaS = glm::vec3(10.0f, 15.0f, 10.0f);
+    b.ior = 1.3f;
+    b.scale = 1.0f; // mesh units are mm
+    for (int c = 0; c < 3; ++c) {
+        const double st = double(b.sigmaA[c]) + double(b.sigmaS[c]);
+        EXPECT_LT(12.0 / std::sqrt(3.0 * b.sigmaA[c] * st), h - 0.5) << "must hold the profile";
+        EXPECT_LT(2.0 * h / 256.0, 0.6 / st) << "texels must resolve z_r";
+    }
+    p.setMesh(plane, 256);
+    EXPECT_TRUE(p.parameterization().fromMesh);
+    irradiance::Settings l;
+    l.direction = {0.0f, 0.0f, 1.0f};
+    l.irradiance = glm::vec3(1.0f, 2.0f, 0.5f);
+    l.shadowMapSize = 256;
+    l.ior = b.ior;
+    p.beginLight(l);
+    EXPECT_TRUE(p.advanceLight());
+    p.setModel(f.dipole);
+    p.setMaterial(bssrdf::defaultValues(f.dipole), b);
+    return p.transmitted()[size_t(128) * 256 + 128];
+}
+
+// An 8 × 8 view straight down at the plane's centre.
+render::Settings planeView() {
+    render::Settings s;
+    s.width = s.height = 8;
+    s.camera.yaw = 0.0f;
+    s.camera.pitch = 0.0f;
+    s.camera.distance = 20.0f;
+    s.camera.radius = 10.0f;
+    s.camera.fovY = 0.05f;
+    return s;
+}
+
+testsupport::ClassicalDipole dipoleOf(const bssrdf::Builtins& b, int c) {
+    return {double(b.sigmaA[c]), double(b.sigmaS[c]), double(b.ior)};
+}
+
 } // namespace
 
 TEST(TextureSpacePipeline, SetsAverageToTheSumOverEveryTexel) {
@@ -219,44 +271,12 @@ TEST(TextureSpacePipeline, TexelSumConvergesToThePointCloudBruteForce) {
 // 12/σ_tr and the texels are 8/256 mm apart, below 0.6 z_r: both errors < 1e-3, see
 // RenderClosedForm.PlateExitanceIsDiffuseReflectance).
 TEST(TextureSpacePipeline, PlaneOfConstantIrradianceReproducesDiffuseReflectance) {
-    Fixture& f = fixture();
-    mesh::Mesh plane;
-    const float h = 4.0f;
-    plane.vertices = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
-    plane.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-    plane.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+    texspace::Pipeline& p = *fixture().pipe;
     bssrdf::Builtins b;
-    b.sigmaA = glm::vec3(1.0f, 0.5f, 2.0f);
-    b.sigmaS = glm::vec3(10.0f, 15.0f, 10.0f);
-    b.ior = 1.3f;
-    b.scale = 1.0f; // mesh units are mm
-    for (int c = 0; c < 3; ++c) {
-        const double st = double(b.sigmaA[c]) + double(b.sigmaS[c]);
-        ASSERT_LT(12.0 / std::sqrt(3.0 * b.sigmaA[c] * st), h - 0.5) << "must hold the profile";
-        ASSERT_LT(2.0 * h / 256.0, 0.6 / st) << "texels must resolve z_r";
-    }
-    texspace::Pipeline& p = *f.pipe;
-    p.setMesh(plane, 256);
-    ASSERT_TRUE(p.parameterization().fromMesh);
-    irradiance::Settings l;
-    l.direction = {0.0f, 0.0f, 1.0f};
-    l.irradiance = glm::vec3(1.0f, 2.0f, 0.5f);
-    l.shadowMapSize = 256;
-    p.beginLight(l);
-    ASSERT_TRUE(p.advanceLight());
-    p.setModel(f.dipole);
-    p.setMaterial(bssrdf::defaultValues(f.dipole), b);
-    const glm::vec3 et = p.transmitted()[size_t(128) * 256 + 128];
+    const glm::vec3 et = planePipeline(p, b);
     for (size_t t = 0; t < p.transmitted().size(); ++t)
         ASSERT_NEAR(glm::length(p.transmitted()[t] - et), 0.0f, 1e-5f) << "texel " << t;
-    render::Settings s;
-    s.width = s.height = 8;
-    s.camera.yaw = 0.0f;
-    s.camera.pitch = 0.0f;
-    s.camera.distance = 20.0f;
-    s.camera.radius = 10.0f;
-    s.camera.fovY = 0.05f;
+    render::Settings s = planeView();
     s.directBssrdf = true;
     texspace::Settings ts;
     ts.textureSize = 256;
@@ -267,14 +287,8 @@ TEST(TextureSpacePipeline, PlaneOfConstantIrradianceReproducesDiffuseReflectance
     }
     const litsphere::Image m = p.exitance();
     const size_t centre = size_t(4 * 8 + 4);
-    const double ior = b.ior;
-    const double fdr = -1.44 / (ior * ior) + 0.71 / ior + 0.668 + 0.0636 * ior;
-    const double A = (1.0 + fdr) / (1.0 - fdr);
     for (int c = 0; c < 3; ++c) {
-        const double alpha = double(b.sigmaS[c]) / (double(b.sigmaS[c]) + double(b.sigmaA[c]));
-        const double t = std::sqrt(3.0 * (1.0 - alpha));
-        const double rdr = alpha * 0.5 * (1.0 + std::exp(-4.0 / 3.0 * A * t)) * std::exp(-t);
-        const double expected = double(et[c]) * rdr;
+        const double expected = double(et[c]) * dipoleOf(b, c).rdr();
         const double got = m.mean[3 * centre + size_t(c)];
         const double se = std::sqrt(double(m.variance[3 * centre + size_t(c)]));
         const double z = (got - expected) / se;
@@ -291,35 +305,10 @@ TEST(TextureSpacePipeline, PlaneOfConstantIrradianceReproducesDiffuseReflectance
 // R·W_l within 1 %, and the parts are each a sizeable share; the local term computed in bands
 // of rows across calls is the same image.
 TEST(TextureSpacePipeline, HybridOnThePlaneReproducesDiffuseReflectance) {
-    Fixture& f = fixture();
-    mesh::Mesh plane;
-    const float h = 4.0f;
-    plane.vertices = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
-    plane.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-    plane.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+    texspace::Pipeline& p = *fixture().pipe;
     bssrdf::Builtins b;
-    b.sigmaA = glm::vec3(1.0f, 0.5f, 2.0f);
-    b.sigmaS = glm::vec3(10.0f, 15.0f, 10.0f);
-    b.ior = 1.3f;
-    b.scale = 1.0f;
-    texspace::Pipeline& p = *f.pipe;
-    p.setMesh(plane, 256);
-    irradiance::Settings l;
-    l.direction = {0.0f, 0.0f, 1.0f};
-    l.irradiance = glm::vec3(1.0f, 2.0f, 0.5f);
-    l.shadowMapSize = 256;
-    l.ior = b.ior;
-    p.beginLight(l);
-    ASSERT_TRUE(p.advanceLight());
-    p.setModel(f.dipole);
-    p.setMaterial(bssrdf::defaultValues(f.dipole), b);
-    const glm::vec3 et = p.transmitted()[size_t(128) * 256 + 128];
-    render::Settings s;
-    s.width = s.height = 8;
-    s.camera.distance = 20.0f;
-    s.camera.radius = 10.0f;
-    s.camera.fovY = 0.05f;
+    const glm::vec3 et = planePipeline(p, b);
+    render::Settings s = planeView();
     texspace::Settings ts;
     ts.textureSize = 256;
     ts.samples = 4096;
@@ -338,28 +327,17 @@ TEST(TextureSpacePipeline, HybridOnThePlaneReproducesDiffuseReflectance) {
     const litsphere::Image local = p.localRadiance(), global = p.globalRadiance();
     ASSERT_FALSE(local.mean.empty());
     const size_t centre = size_t(4 * 8 + 4);
-    const double ior = b.ior;
-    const double fdr = -1.44 / (ior * ior) + 0.71 / ior + 0.668 + 0.0636 * ior;
-    const double A = (1.0 + fdr) / (1.0 - fdr);
     for (int c = 0; c < 3; ++c) {
-        const double st = double(b.sigmaS[c]) + double(b.sigmaA[c]);
-        const double alpha = double(b.sigmaS[c]) / st;
-        const double t = std::sqrt(3.0 * (1.0 - alpha));
-        const double rdr = alpha * 0.5 * (1.0 + std::exp(-4.0 / 3.0 * A * t)) * std::exp(-t);
-        const double expected = double(et[c]) * rdr;
+        const testsupport::ClassicalDipole d = dipoleOf(b, c);
+        const double expected = double(et[c]) * d.rdr();
         const double got = m.mean[3 * centre + size_t(c)];
         const double se = std::sqrt(double(m.variance[3 * centre + size_t(c)]));
         const double z = (got - expected) / se;
         // the local part alone: E_t · ∫ R W_l dA on the plane (classical dipole, fine quadrature)
-        const double tr = std::sqrt(3 * b.sigmaA[c] * st), zr = 1 / st, zv = zr * (1 + 4 * A / 3);
         double localExact = 0;
         for (int i = 0; i < 400000; ++i) {
-            const double r = 4.0 * (i + 0.5) / 400000, dr = std::hypot(r, zr),
-                         dv = std::hypot(r, zv);
-            const double rd = alpha / (4 * M_PI) *
-                              (zr * (tr * dr + 1) * std::exp(-tr * dr) / (dr * dr * dr) +
-                               zv * (tr * dv + 1) * std::exp(-tr * dv) / (dv * dv * dv));
-            localExact += rd * texspace::localWeight(r, rp[c], 1.5) * 2 * M_PI * r * 4.0 / 400000;
+            const double r = 4.0 * (i + 0.5) / 400000;
+            localExact += d(r) * texspace::localWeight(r, rp[c], 1.5) * 2 * M_PI * r * 4.0 / 400000;
         }
         localExact *= double(et[c]);
         const double localGot =
