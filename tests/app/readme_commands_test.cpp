@@ -94,6 +94,16 @@ std::vector<std::string> smallArgs(std::vector<std::string> w, const fs::path& d
     if (out.size() >= 3 && out[1] == "bench" && out[2] == "pathtrace" &&
         std::find(out.begin(), out.end(), "--seconds") == out.end())
         out.insert(out.end(), {"--seconds", "0.5"});
+    // bench texture-space: one case of each method
+    if (out.size() >= 3 && out[1] == "bench" && out[2] == "texture-space") {
+        const std::vector<std::pair<std::string, std::string>> one = {
+            {"--presets", "Marble"}, {"--scales", "10"}, {"--samples", "49"},
+            {"--textures", "16"},    {"--eps", "64"},    {"--sets", "1"},
+            {"--points", "2000"},    {"--width", "64"},  {"--height", "36"}};
+        for (const auto& [flag, value] : one)
+            if (std::find(out.begin(), out.end(), flag) == out.end())
+                out.insert(out.end(), {flag, value});
+    }
     return out;
 }
 
