@@ -246,10 +246,16 @@ struct NeighbourLists {
         };
         std::vector<Entry> own(n);
         std::vector<uint32_t> bucket(n), bstart(buckets + 1, 0);
+        // Cells clamped to ±2^30 so that a cell ± 1 (the loops below) stays an int32 even for a
+        // point far out (a stray vertex at 1e20): the clamp is monotone, so two points within
+        // `radius` still have cells at most 1 apart and the exact cell filter still holds.
+        constexpr float kCellLimit = 1073741824.0f;
         for (size_t i = 0; i < n; ++i) {
             Entry& e = own[i];
-            for (int a = 0; a < 3; ++a)
-                e.p[a] = pos[i][a], e.c[a] = int32_t(std::floor(pos[i][a] * inv));
+            for (int a = 0; a < 3; ++a) {
+                e.p[a] = pos[i][a];
+                e.c[a] = int32_t(std::clamp(std::floor(pos[i][a] * inv), -kCellLimit, kCellLimit));
+            }
             e.index = uint32_t(i);
             bucket[i] = uint32_t(bucketOf(e.c[0], e.c[1], e.c[2]));
             ++bstart[bucket[i] + 1];

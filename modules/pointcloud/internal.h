@@ -81,9 +81,14 @@ class PointGrid {
     template <class F> void forRing(const V3& p, int ring, F&& f) const;
     // Calls f(j, d) for every j != self with |p_j − p| < radius (radius <= cellSize).
     template <class F> void forNeighbours(const V3& p, size_t self, double radius, F&& f) const;
+    // Clamped to ±2^62 (monotone, so neighbours stay in adjacent cells): a point far out still
+    // has a cell that converts to int64 and survives the ring offsets.
     std::array<int64_t, 3> cellOf(const V3& p) const {
-        return {int64_t(std::floor(p[0] / m_cell)), int64_t(std::floor(p[1] / m_cell)),
-                int64_t(std::floor(p[2] / m_cell))};
+        constexpr double kLimit = 4611686018427387904.0;
+        auto cell = [&](double x) {
+            return int64_t(std::clamp(std::floor(x / m_cell), -kLimit, kLimit));
+        };
+        return {cell(p[0]), cell(p[1]), cell(p[2])};
     }
     const std::vector<V3>& points() const { return *m_points; }
 

@@ -1,7 +1,7 @@
 // Fuzzes the workbench settings JSON (the "settings" object of capture manifests): the input
 // parsed as JSON, then each section read with core::fromJson into its settings struct (plot,
-// reference, slice, lit_spheres, scene), as applySettingsJson does without a workbench, and the
-// struct written back with core::toJson.
+// reference, slice, monte_carlo, lit_spheres, scene), as applySettingsJson does without a
+// workbench, and the struct written back with core::toJson.
 #include "fuzz_common.h"
 
 #include "core/fields.h"
@@ -29,6 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (it.key() == "plot") section<app::PlotSettings>(*it, it.key());
             if (it.key() == "reference") section<app::ReferenceSettings>(*it, it.key());
             if (it.key() == "slice") section<app::SliceSettings>(*it, it.key());
+            if (it.key() == "monte_carlo") section<app::MonteCarloSettings>(*it, it.key());
             if (it.key() == "lit_spheres") section<app::LitSphereSettings>(*it, it.key());
             if (it.key() == "scene") {
                 nlohmann::json scene = *it;

@@ -72,9 +72,10 @@ TEST(PrepareRenderable, NoAreaPointOnlyEmptyAndBinaryAreRefused) {
     EXPECT_NE(e.find("empty.obj"), std::string::npos) << e;
     EXPECT_FALSE(e.empty());
 
-    e = errorOf(writeTemp("binary.obj", std::string("\x7f"
-                                                    "ELF\x02\x01\x01\0\0\0\xff\xfe",
-                                                    14)));
+    // 12 bytes: an ELF header's start with its NULs (the length from the array, not counted)
+    const char elf[] = "\x7f"
+                       "ELF\x02\x01\x01\0\0\0\xff\xfe";
+    e = errorOf(writeTemp("binary.obj", std::string(elf, sizeof elf - 1)));
     EXPECT_NE(e.find("binary.obj"), std::string::npos) << e;
     EXPECT_FALSE(e.empty());
 
