@@ -1,6 +1,7 @@
 // Fuzzes the workbench settings JSON (the "settings" object of capture manifests): the input
 // parsed as JSON, then each section read with core::fromJson into its settings struct (plot,
-// reference, slice, monte_carlo, lit_spheres, scene), as applySettingsJson does without a
+// reference, slice, monte_carlo, texture_space, lit_spheres, scene), as applySettingsJson does
+// without a
 // workbench, and the struct written back with core::toJson.
 #include "fuzz_common.h"
 
@@ -30,6 +31,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (it.key() == "reference") section<app::ReferenceSettings>(*it, it.key());
             if (it.key() == "slice") section<app::SliceSettings>(*it, it.key());
             if (it.key() == "monte_carlo") section<app::MonteCarloSettings>(*it, it.key());
+            if (it.key() == "texture_space") {
+                const auto ts = core::fromJson(*it, "settings.json", "settings.texture_space",
+                                               app::TextureSpaceSettings{});
+                texspace::validateSettings(ts.sampling); // as applySettingsJson does
+                (void)core::toJson(ts).dump();
+            }
             if (it.key() == "lit_spheres") section<app::LitSphereSettings>(*it, it.key());
             if (it.key() == "scene") {
                 nlohmann::json scene = *it;
