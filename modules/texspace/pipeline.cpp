@@ -252,8 +252,9 @@ void Pipeline::beginHybrid() {
                           "the hybrid's local term needs the directional light (the light-view "
                           "map); the light is another mode");
     // R_p and the filter from the profile table (the renderer builds it for the current model,
-    // material and mesh; any octree will do for its bounds)
-    m_renderer->setOctree(setTree(allTexels(), glm::vec3(m_texels.position[m_covered[0]])));
+    // material and mesh; its range comes from the mesh's bounds, so an octree of one point on
+    // the mesh will do)
+    m_renderer->setOctree(setTree(SampleSet{}, glm::vec3(m_texels.position[m_covered[0]])));
     const render::ProfileTable& table = m_renderer->prepareProfileTable();
     m_rp = findRp(table, double(m_run.local.lowerBound));
     m_taps = ringFilter(table, m_rp, double(m_run.local.k), m_run.local.rings, m_run.local.perRing);
@@ -261,8 +262,14 @@ void Pipeline::beginHybrid() {
     if (!m_localMesh) {
         m_local->setMesh(m_meshCopy);
         m_localMesh = true;
+        m_lightMapSize = 0;
     }
-    m_local->renderLightMap(m_light.direction, m_run.local.lightMapSize);
+    // the light-view map depends on the mesh and the light only, not on the view
+    if (m_lightMapSize != m_run.local.lightMapSize || m_lightMapDirection != m_light.direction) {
+        m_local->renderLightMap(m_light.direction, m_run.local.lightMapSize);
+        m_lightMapSize = m_run.local.lightMapSize;
+        m_lightMapDirection = m_light.direction;
+    }
     m_view.weight = {true, m_rp, m_run.local.k};
 }
 

@@ -199,6 +199,8 @@ class Pipeline {
     irradiance::Settings m_light;
     std::unique_ptr<LocalTerm> m_local;
     bool m_localMesh = false;
+    int m_lightMapSize = 0; // of the light-view map rendered last (0: none for this mesh)
+    glm::vec3 m_lightMapDirection{0.0f};
     mesh::Mesh m_meshCopy;
     glm::vec3 m_rp{0.0f};
     std::vector<RingTap> m_taps;
