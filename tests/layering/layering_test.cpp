@@ -42,8 +42,8 @@ const Graph kAllowed = {
     {"irradiance", {"core", "gl", "shader", "mesh", "pointcloud"}},
     {"render", {"core", "gl", "shader", "bssrdf", "octree", "mesh"}},
     {"integrate", {"core", "gl", "litsphere", "mesh", "bssrdf", "sampling", "render", "pathtrace"}},
-    {"texspace", {"core", "mesh", "gl", "shader", "irradiance", "octree", "render", "litsphere",
-                  "bssrdf"}},
+    {"texspace",
+     {"core", "mesh", "gl", "shader", "irradiance", "octree", "render", "litsphere", "bssrdf"}},
 };
 
 std::string readAll(const fs::path& p) {
