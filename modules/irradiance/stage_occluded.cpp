@@ -14,7 +14,6 @@
 
 namespace irradiance {
 namespace {
-constexpr GLuint kGroup = 64;
 
 std::vector<glm::vec4> readVec4(GLuint buffer, size_t count) {
     std::vector<glm::vec4> v(count);
