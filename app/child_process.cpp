@@ -4,8 +4,10 @@
 
 #include "core/core.h"
 
+#include <cerrno>
 #include <csignal>
 #include <fcntl.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,7 +22,8 @@ fs::path selfExecutable() {
     return ec ? fs::path("bssrdf-workbench") : p;
 }
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argsIn, const std::string& what) {
+ChildProcess::ChildProcess(const std::vector<std::string>& argsIn, const std::string& what,
+                           bool input) {
     std::vector<std::string> args = argsIn;
     std::vector<char*> argv;
     for (auto& a : args)
@@ -28,28 +31,57 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argsIn, const std::st
     argv.push_back(nullptr);
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) throw core::Error(what, 0, "cannot start a process (pipe)");
-    m_pid = ::fork();
-    if (m_pid < 0) {
+    // stdin: a socket rather than a pipe, so a write to a child that has gone fails with EPIPE
+    // (MSG_NOSIGNAL) instead of raising SIGPIPE in the workbench
+    int in[2] = {-1, -1};
+    if (input && ::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, in) != 0) {
         ::close(fds[0]);
         ::close(fds[1]);
+        throw core::Error(what, 0, "cannot start a process (socketpair)");
+    }
+    m_pid = ::fork();
+    if (m_pid < 0) {
+        for (int fd : {fds[0], fds[1], in[0], in[1]})
+            if (fd >= 0) ::close(fd);
         throw core::Error(what, 0, "cannot start a process (fork)");
     }
     if (m_pid == 0) {
         ::dup2(fds[1], STDOUT_FILENO);
         ::dup2(fds[1], STDERR_FILENO);
-        ::close(fds[0]);
-        ::close(fds[1]);
+        if (input) ::dup2(in[1], STDIN_FILENO);
+        // (the originals are close-on-exec; the duplicates are not)
         ::execv(argv[0], argv.data());
         ::_exit(127);
     }
     ::close(fds[1]);
     m_fd = fds[0];
+    if (input) {
+        ::close(in[1]);
+        m_in = in[0];
+    }
     ::fcntl(m_fd, F_SETFL, ::fcntl(m_fd, F_GETFL) | O_NONBLOCK);
 }
 
 ChildProcess::~ChildProcess() {
     if (!m_done) cancel();
     if (m_fd >= 0) ::close(m_fd);
+    if (m_in >= 0) ::close(m_in);
+}
+
+void ChildProcess::closeInput() {
+    if (m_in >= 0) ::close(m_in);
+    m_in = -1;
+}
+
+bool ChildProcess::send(const std::string& bytes) {
+    if (m_in < 0 || m_done) return false;
+    for (size_t at = 0; at < bytes.size();) {
+        const ssize_t n = ::send(m_in, bytes.data() + at, bytes.size() - at, MSG_NOSIGNAL);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        at += size_t(n);
+    }
+    return true;
 }
 
 bool ChildProcess::poll() {

@@ -14,9 +14,10 @@ namespace app {
 
 class ChildProcess {
   public:
-    // Starts args[0] with args; stdout and stderr go to one pipe. Throws core::Error(what, 0,
-    // …) when the process cannot be started.
-    ChildProcess(const std::vector<std::string>& args, const std::string& what);
+    // Starts args[0] with args; stdout and stderr go to one pipe; with `input`, its stdin is a
+    // socket that send() writes to (else it inherits this process's). Throws core::Error(what,
+    // 0, …) when the process cannot be started.
+    ChildProcess(const std::vector<std::string>& args, const std::string& what, bool input = false);
     ~ChildProcess(); // kills a child still running
     ChildProcess(const ChildProcess&) = delete;
     ChildProcess& operator=(const ChildProcess&) = delete;
@@ -24,13 +25,20 @@ class ChildProcess {
     // Reads what the child wrote so far; true once it has exited (then exitCode() is valid).
     bool poll();
     void cancel();
+    // Writes `bytes` to the child's stdin (a child made with `input`); false when it cannot
+    // (the child has closed it or ended). Never raises SIGPIPE.
+    bool send(const std::string& bytes);
+    // Ends the child's stdin (it reads end of file).
+    void closeInput();
     const std::string& output() const { return m_output; }
     int exitCode() const { return m_code; } // 128 + signal when killed
     bool done() const { return m_done; }
+    pid_t pid() const { return m_pid; }
 
   private:
     pid_t m_pid = -1;
     int m_fd = -1;
+    int m_in = -1; // our end of the child's stdin, with `input`
     std::string m_output;
     int m_code = -1;
     bool m_done = false;

@@ -3,12 +3,15 @@
 
 #include "bssrdf/model_probe.h"
 #include "cli.h"
+#include "cli_slab.h"
 #include "core/core.h"
 #include "gl/gl.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <memory>
+#include <vector>
 
 namespace app {
 namespace fs = std::filesystem;
@@ -26,16 +29,63 @@ void addProbeModelOptions(CLI::App* cmd, ProbeModelArgs& a) {
     cmd->add_option("--param", a.params, "a parameter's value: NAME=V or NAME=R,G,B");
 }
 
-int runProbeModel(const fs::path& root, const ProbeModelArgs& a) {
-    const fs::path file = fs::absolute(a.file).lexically_normal();
-    const std::string display = core::relativeTo(file, root);
-    std::unique_ptr<gl::Context> ctx;
+namespace {
+std::unique_ptr<gl::Context> probeContext() {
     try {
-        ctx = gl::createHeadlessContext(false);
+        return gl::createHeadlessContext(false);
     } catch (const std::exception& e) {
         std::printf("error: no headless GL context for the check: %s\n", e.what());
-        return kProbeUnavailable;
+        return nullptr;
     }
+}
+} // namespace
+
+int runProbeModel(const fs::path& root, const ProbeModelArgs& a) {
+    const std::unique_ptr<gl::Context> ctx = probeContext();
+    if (!ctx) return kProbeUnavailable;
+    return probeModel(root, a);
+}
+
+int runProbeServer() {
+    const std::unique_ptr<gl::Context> ctx = probeContext();
+    if (!ctx) return kProbeUnavailable;
+    std::printf("%s ready\n", kProbeTag);
+    std::fflush(stdout);
+    for (;;) {
+        std::vector<std::string> fields(1);
+        int c = 0;
+        while ((c = std::getchar()) != EOF && c != kProbeRequestEnd) {
+            if (c == kProbeFieldSeparator)
+                fields.emplace_back();
+            else
+                fields.back() += char(c);
+        }
+        if (c == EOF) return 0;
+        int code = 1;
+        try {
+            if (fields.size() < 2) throw core::Error("probe-server", 0, "a request without a file");
+            const fs::path root = fields.front();
+            ProbeModelArgs a;
+            CLI::App cmd;
+            addProbeModelOptions(&cmd, a);
+            std::vector<std::string> args(fields.rbegin(), fields.rend() - 1); // CLI11: reversed
+            cmd.parse(args);
+            code = probeModel(root, a);
+        } catch (const CLI::ParseError& e) {
+            std::printf("error: %s\n", e.what());
+            code = kUsageError;
+        } catch (const std::exception& e) {
+            std::printf("error: %s\n", e.what());
+            code = 1;
+        }
+        std::printf("%s done %d\n", kProbeTag, code);
+        std::fflush(stdout);
+    }
+}
+
+int probeModel(const fs::path& root, const ProbeModelArgs& a) {
+    const fs::path file = fs::absolute(a.file).lexically_normal();
+    const std::string display = core::relativeTo(file, root);
     const bssrdf::Model m = bssrdf::loadModel(file, display);
     const shader::Sources src(root);
     const gl::Program pencil = bssrdf::buildModelProgram(m, "pencil_profile.comp", src);

@@ -5,6 +5,14 @@
 // parameters (bssrdf::evaluateProbe), and exits 0 when it ended, kProbeLoopCut when a loop in
 // the model was cut short by the driver's iteration limit, kProbeUnavailable without a GL
 // context, 1 for any other error. Killed by its parent when the evaluation takes too long.
+//
+// `bssrdf-workbench probe-server` (hidden): the same check, kept warm. It makes its GL context
+// once, prints `probe-model: ready`, then reads requests from stdin, each the fields
+// ROOT, FILE, options… of one check separated by kProbeFieldSeparator and ended by
+// kProbeRequestEnd, runs the check as `--root ROOT probe-model FILE options…` would (same
+// output), and ends it with `probe-model: done CODE` (CODE: that command's exit status). It
+// exits 0 at the end of its input, kProbeUnavailable without a GL context. A check that hangs
+// hangs the server: its parent kills it and starts another.
 #pragma once
 
 #include <filesystem>
@@ -20,6 +28,8 @@ namespace app {
 inline constexpr const char* kProbeTag = "probe-model:";
 inline constexpr int kProbeLoopCut = 4;
 inline constexpr int kProbeUnavailable = 5;
+inline constexpr char kProbeFieldSeparator = '\x1f'; // ASCII unit separator
+inline constexpr char kProbeRequestEnd = '\x1e';     // ASCII record separator
 
 struct ProbeModelArgs {
     std::string file;
@@ -31,5 +41,9 @@ struct ProbeModelArgs {
 
 void addProbeModelOptions(CLI::App* cmd, ProbeModelArgs& a);
 int runProbeModel(const std::filesystem::path& root, const ProbeModelArgs& a);
+// The check with a GL context already current; throws core::Error for a model that cannot be
+// loaded or built.
+int probeModel(const std::filesystem::path& root, const ProbeModelArgs& a);
+int runProbeServer();
 
 } // namespace app

@@ -409,6 +409,9 @@ int main(int argc, char** argv) {
     auto* probeCmd = cli.add_subcommand("probe-model", "check a model's first evaluation");
     app::ProbeModelArgs pma;
     app::addProbeModelOptions(probeCmd, pma);
+    // The same check kept warm, one request after another on stdin (cli_probe.h); hidden.
+    auto* probeServerCmd = cli.add_subcommand("probe-server", "check models sent on stdin");
+    probeServerCmd->group("");
 
     // Command-line errors in the one form every error takes, `error: <argument>: message`, with
     // exit status 2 (usage); help and version exit 0 as the parser prints them.
@@ -435,6 +438,7 @@ int main(int argc, char** argv) {
     }
     try {
         // Commands that read no project file run anywhere; the rest find the root first.
+        if (*probeServerCmd) return app::runProbeServer();
         if (*pcCmd) return app::runPointCloudCli(pca);
         if (*estimateCmd && !ea.gpu) return app::runEstimateCli(ea);
         if (*mergeCmd) return app::runMergeCli(ma);

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <set>
 #include <thread>
 
@@ -74,6 +75,154 @@ const fs::path& modelProbeExecutable() {
     return probeExe();
 }
 
+namespace {
+// The time limits of a check (model_probe_process.h): "" while within them, else the verdict's
+// message. evalStartMs < 0: the check has not started evaluating yet.
+std::string overTime(double startMs, double evalStartMs, double limit, int evaluations) {
+    const double now = nowMs();
+    if (evalStartMs >= 0 && now - evalStartMs > 1000.0 * limit)
+        return "Bssrdf() did not finish within " + seconds(limit) + " (the pencil profile at " +
+               std::to_string(evaluations) +
+               " radii with the current parameters, run in a separate process): a loop that "
+               "does not end?";
+    if (evalStartMs < 0 && now - startMs > 1000.0 * kModelProbeStartSeconds)
+        return "its check did not get to evaluate the model within " +
+               seconds(kModelProbeStartSeconds) + " (building its programs)";
+    return "";
+}
+
+// The warm server of this process and whether a check is under way in it.
+struct Server {
+    std::shared_ptr<ChildProcess> child;
+    fs::path exe;
+    bool busy = false;
+    bool unavailable = false; // it found no GL context: checks run in their own processes
+    ProbeCounts counts;
+};
+Server& server() {
+    static Server s;
+    return s;
+}
+// (Re)starts the server: the one before, if any, is killed once no check holds it.
+void startServer() {
+    Server& s = server();
+    s.child.reset();
+    s.busy = false;
+    s.exe = probeExe();
+    if (s.exe.empty() || s.unavailable) return;
+    try {
+        s.child = std::make_shared<ChildProcess>(
+            std::vector<std::string>{s.exe.string(), "probe-server"}, "probe-server", true);
+        ++s.counts.serverStarts;
+    } catch (const core::Error& e) {
+        core::logInfo(std::string("no warm model check: ") + e.what());
+    }
+}
+
+// One check under way in the warm server.
+class ServedProbe : public bssrdf::PendingProbe {
+  public:
+    ServedProbe(std::shared_ptr<ChildProcess> child, size_t from, std::string display,
+                std::string key, int evaluations)
+        : m_child(std::move(child)), m_from(from), m_display(std::move(display)),
+          m_key(std::move(key)), m_evaluations(evaluations), m_limit(modelProbeSeconds()),
+          m_startMs(nowMs()) {}
+    // Given up before its verdict: the server may be stuck in it, so a fresh one replaces it.
+    ~ServedProbe() override {
+        if (!m_ended) end(true);
+    }
+    bssrdf::ProbeVerdict poll() override {
+        if (m_ended) return {true, "the check was already decided"}; // not reached by the library
+        m_child->poll();
+        const std::string out = m_child->output().substr(m_from);
+        const std::string tag(kProbeTag);
+        if (m_evalStartMs < 0 && out.find(tag + " evaluating") != std::string::npos)
+            m_evalStartMs = nowMs();
+        const size_t done = out.find(tag + " done ");
+        if (done != std::string::npos && out.find('\n', done) != std::string::npos) {
+            const int code = std::atoi(out.c_str() + done + tag.size() + 6);
+            end(false);
+            return probeVerdict(code, out.substr(0, done), m_display, m_key);
+        }
+        if (m_child->done()) { // the server ended in the middle of the check
+            const int code = m_child->exitCode() == 0 ? 1 : m_child->exitCode();
+            if (code == kProbeUnavailable) server().unavailable = true;
+            end(true);
+            return probeVerdict(code, out, m_display, m_key);
+        }
+        const std::string late = overTime(m_startMs, m_evalStartMs, m_limit, m_evaluations);
+        if (!late.empty()) {
+            m_child->cancel();
+            end(true);
+            return {true, late};
+        }
+        return {};
+    }
+    bssrdf::ProbeVerdict wait() override {
+        for (;;) {
+            bssrdf::ProbeVerdict v = poll();
+            if (v.done) return v;
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+    }
+
+  private:
+    void end(bool restart) {
+        m_ended = true;
+        Server& s = server();
+        if (s.child != m_child) return; // the server was replaced meanwhile
+        s.busy = false;
+        if (restart) {
+            m_child->cancel();
+            startServer(); // warming up for the next check
+        }
+    }
+    std::shared_ptr<ChildProcess> m_child;
+    size_t m_from;
+    std::string m_display, m_key;
+    int m_evaluations;
+    double m_limit, m_startMs, m_evalStartMs = -1;
+    bool m_ended = false;
+};
+
+// The check in the warm server (started here when there is none); nullptr when it is busy with
+// another check or cannot take this one: the caller runs it in its own process.
+std::unique_ptr<bssrdf::PendingProbe> servedProbe(const fs::path& root,
+                                                  const std::vector<std::string>& args,
+                                                  const std::string& display,
+                                                  const std::string& key, int evaluations) {
+    Server& s = server();
+    if (s.unavailable || s.busy) return nullptr;
+    std::string request = root.string();
+    for (const std::string& a : args)
+        request += kProbeFieldSeparator + a;
+    if (request.find(kProbeRequestEnd) != std::string::npos ||
+        root.string().find(kProbeFieldSeparator) != std::string::npos)
+        return nullptr; // a path holding the protocol's separators
+    for (const std::string& a : args)
+        if (a.find(kProbeFieldSeparator) != std::string::npos) return nullptr;
+    request += kProbeRequestEnd;
+    if (!s.child || s.exe != probeExe() || s.child->poll()) startServer();
+    if (!s.child) return nullptr;
+    const size_t from = s.child->output().size();
+    if (!s.child->send(request)) {
+        startServer();
+        return nullptr;
+    }
+    s.busy = true;
+    ++s.counts.served;
+    return std::make_unique<ServedProbe>(s.child, from, display, key, evaluations);
+}
+} // namespace
+
+int probeServerPid() {
+    const Server& s = server();
+    return s.child && !s.child->done() ? int(s.child->pid()) : -1;
+}
+ProbeCounts probeCounts() {
+    return server().counts;
+}
+
 bssrdf::ProbeStarter makeProbeStarter(fs::path root,
                                       std::function<ProbeInputs(const fs::path&)> inputsFor) {
     return [root = std::move(root), inputsFor = std::move(inputsFor)](
@@ -82,11 +231,7 @@ bssrdf::ProbeStarter makeProbeStarter(fs::path root,
         if (probeExe().empty() || passedKeys().count(key)) return nullptr;
         const ProbeInputs in = inputsFor(file);
         const bssrdf::Builtins& b = in.builtins;
-        std::vector<std::string> args = {probeExe().string(),
-                                         "--root",
-                                         root.string(),
-                                         "probe-model",
-                                         file.string(),
+        std::vector<std::string> args = {file.string(),
                                          "--sigma-a",
                                          floats(&b.sigmaA[0], 3),
                                          "--sigma-s",
@@ -104,8 +249,11 @@ bssrdf::ProbeStarter makeProbeStarter(fs::path root,
         for (const auto& [name, v] : values)
             if (m.findParam(name))
                 args.insert(args.end(), {"--param", name + "=" + floats(&v[0], 3)});
-        return std::make_unique<ModelProbeProcess>(args, core::relativeTo(file, root), key,
-                                                   in.samples);
+        const std::string display = core::relativeTo(file, root);
+        if (auto served = servedProbe(root, args, display, key, in.samples)) return served;
+        args.insert(args.begin(), {probeExe().string(), "--root", root.string(), "probe-model"});
+        ++server().counts.ownProcess;
+        return std::make_unique<ModelProbeProcess>(args, display, key, in.samples);
     };
 }
 
@@ -121,19 +269,11 @@ bssrdf::ProbeVerdict ModelProbeProcess::poll() {
             m_child.output().find(std::string(kProbeTag) + " evaluating") != std::string::npos)
             m_evalStartMs = nowMs();
     }
-    if (m_child.done()) return verdict();
-    const double now = nowMs();
-    if (m_evalStartMs >= 0 && now - m_evalStartMs > 1000.0 * m_limit) {
+    if (m_child.done()) return probeVerdict(m_child.exitCode(), m_child.output(), m_display, m_key);
+    const std::string late = overTime(m_startMs, m_evalStartMs, m_limit, m_evaluations);
+    if (!late.empty()) {
         m_child.cancel();
-        return {true, "Bssrdf() did not finish within " + seconds(m_limit) +
-                          " (the pencil profile at " + std::to_string(m_evaluations) +
-                          " radii with the current parameters, run in a separate process): a loop "
-                          "that does not end?"};
-    }
-    if (m_evalStartMs < 0 && now - m_startMs > 1000.0 * kModelProbeStartSeconds) {
-        m_child.cancel();
-        return {true, "its check did not get to evaluate the model within " +
-                          seconds(kModelProbeStartSeconds) + " (building its programs)"};
+        return {true, late};
     }
     return {};
 }
@@ -146,29 +286,28 @@ bssrdf::ProbeVerdict ModelProbeProcess::wait() {
     }
 }
 
-bssrdf::ProbeVerdict ModelProbeProcess::verdict() {
-    const int code = m_child.exitCode();
-    const std::string& out = m_child.output();
+bssrdf::ProbeVerdict probeVerdict(int code, const std::string& out, const std::string& display,
+                                  const std::string& key) {
     if (code == 0) {
-        if (out.find(std::string(kProbeTag) + " key " + m_key) == std::string::npos)
+        if (out.find(std::string(kProbeTag) + " key " + key) == std::string::npos)
             return {true, "the file changed while its first evaluation was checked; it is "
                           "checked again when it is saved"};
-        passedKeys().insert(m_key);
+        passedKeys().insert(key);
         return {true, ""};
     }
-    if (code == kProbeLoopCut) return {true, lastMessage(out, m_display)};
+    if (code == kProbeLoopCut) return {true, lastMessage(out, display)};
     if (code == kProbeUnavailable) {
         // No headless context for the check: the model is adopted unchecked, said once.
         if (!warnedUnavailable)
             core::logError("models are adopted without the check of their first evaluation: " +
-                           lastMessage(out, m_display));
+                           lastMessage(out, display));
         warnedUnavailable = true;
         return {true, ""};
     }
     if (code > 128)
         return {true, "the check of its first evaluation ended with signal " +
-                          std::to_string(code - 128) + " (" + lastMessage(out, m_display) + ")"};
-    return {true, "the check of its first evaluation failed: " + lastMessage(out, m_display)};
+                          std::to_string(code - 128) + " (" + lastMessage(out, display) + ")"};
+    return {true, "the check of its first evaluation failed: " + lastMessage(out, display)};
 }
 
 } // namespace app

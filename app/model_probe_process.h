@@ -4,6 +4,14 @@
 // once with the current parameters at the pencil plot's radii. The model is adopted only when
 // the child finishes that evaluation within the limit; otherwise the child is killed and the
 // model's Errors entry says why. The GUI polls the child once per frame; the CLI waits for it.
+//
+// Kept warm: the first check of a process starts `bssrdf-workbench probe-server` (cli_probe.h),
+// which keeps its GL context and takes one check after another, so a saved model is checked
+// without a process start and a context creation. A check that runs out of time kills that
+// server (its GL call cannot be interrupted) and a new one starts at once, warming up for the
+// next; so does a check given up before its verdict (a newer save replaced it). While the server
+// is busy with a check of another model, a check runs in its own `probe-model` process, as
+// before.
 #pragma once
 
 #include "bssrdf/model_probe.h"
@@ -42,7 +50,20 @@ bssrdf::ProbeStarter
 makeProbeStarter(std::filesystem::path root,
                  std::function<ProbeInputs(const std::filesystem::path&)> inputsFor);
 
-// One check under way.
+// The verdict on a check that ended with exit status `code` (the server's `done CODE`) and
+// printed `output`.
+bssrdf::ProbeVerdict probeVerdict(int code, const std::string& output, const std::string& display,
+                                  const std::string& key);
+
+// The process id of the warm server, -1 when none runs, and counts since the process started:
+// checks the server took, checks run in their own process, servers started (tests, bench).
+int probeServerPid();
+struct ProbeCounts {
+    long served = 0, ownProcess = 0, serverStarts = 0;
+};
+ProbeCounts probeCounts();
+
+// One check under way in its own process.
 class ModelProbeProcess : public bssrdf::PendingProbe {
   public:
     // args: the command line; display: the model's display path; key: bssrdf::probeKey.
@@ -52,7 +73,6 @@ class ModelProbeProcess : public bssrdf::PendingProbe {
     bssrdf::ProbeVerdict wait() override;
 
   private:
-    bssrdf::ProbeVerdict verdict();
     ChildProcess m_child;
     std::string m_display, m_key;
     int m_evaluations;

@@ -64,22 +64,24 @@ void ModelLibrary::load(ModelEntry& e) {
     }
     for (const auto& n : parsed.notes)
         core::logInfo(n);
-    std::map<std::string, gl::Program> programs;
+    PendingModel c;
+    c.model = std::move(parsed);
+    // The check starts first: its process builds and evaluates the model while this one builds
+    // the consumers' programs (on another core), instead of after them.
+    e.pending.reset(); // a newer version replaces one still under its check, which stops
+    if (!startProbe(e, c)) return;
     for (const auto& consumer : m_consumers) {
-        if (consumer == "invert_rdr.comp" && !parsed.diffuseReflectance) continue;
+        if (consumer == "invert_rdr.comp" && !c.model.diffuseReflectance) continue;
         try {
             core::Stopwatch sw;
-            programs[consumer] =
-                buildModelProgram(parsed, consumer, m_sources, e.shaders[consumer]);
+            c.programs[consumer] =
+                buildModelProgram(c.model, consumer, m_sources, e.shaders[consumer]);
             core::logDebug("built " + consumer + " for " + e.displayPath + " in " +
                            std::to_string(sw.ms()) + " ms");
         } catch (const core::Error& err) {
-            return fail(e, err);
+            return fail(e, err); // `c` and its check (if any) end here
         }
     }
-    PendingModel c;
-    c.model = std::move(parsed);
-    c.programs = std::move(programs);
     propose(e, std::move(c));
 }
 
@@ -98,21 +100,26 @@ void ModelLibrary::rebuild(ModelEntry& e, const std::vector<std::string>& consum
     propose(e, std::move(c));
 }
 
+bool ModelLibrary::startProbe(ModelEntry& e, PendingModel& c) {
+    if (!m_probe || c.probe) return true;
+    try {
+        const ParamValues values =
+            e.model ? carryOver(c.model, *e.model, e.values) : defaultValues(c.model);
+        c.probe = m_probe(e.file, c.model, values, probeKey(c.model, m_sources));
+    } catch (const core::Error& err) {
+        fail(e, err);
+        return false;
+    }
+    return true;
+}
+
 void ModelLibrary::propose(ModelEntry& e, PendingModel c) {
     e.pending.reset(); // a newer version replaces one still under its check, which stops
-    if (m_probe) {
-        try {
-            const ParamValues values =
-                e.model ? carryOver(c.model, *e.model, e.values) : defaultValues(c.model);
-            c.probe = m_probe(e.file, c.model, values, probeKey(c.model, m_sources));
-        } catch (const core::Error& err) {
-            return fail(e, err);
-        }
-        if (c.probe) {
-            core::logInfo(e.displayPath + ": checking its first evaluation in a separate process");
-            e.pending = std::make_unique<PendingModel>(std::move(c));
-            return;
-        }
+    if (!startProbe(e, c)) return;
+    if (c.probe) {
+        core::logInfo(e.displayPath + ": checking its first evaluation in a separate process");
+        e.pending = std::make_unique<PendingModel>(std::move(c));
+        return;
     }
     adopt(e, std::move(c));
 }

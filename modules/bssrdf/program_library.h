@@ -88,6 +88,9 @@ class ModelLibrary {
     void load(ModelEntry& e);
     void rebuild(ModelEntry& e, const std::vector<std::string>& consumers);
     // Checks `c` first when a probe is set, else adopts it at once.
+    // Starts the check of c.model unless there is none to make or it runs already; false (and
+    // the entry's problem set) when it cannot be started.
+    bool startProbe(ModelEntry& e, PendingModel& c);
     void propose(ModelEntry& e, PendingModel c);
     void adopt(ModelEntry& e, PendingModel c);
     bool finishProbes(bool block);

@@ -5,6 +5,8 @@
 // is adopted.
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
+#include "child_process.h"
+#include "cli_probe.h"
 #include "core/core.h"
 #include "model_probe_process.h"
 #include "workbench.h"
@@ -144,4 +146,112 @@ TEST_F(ProbeFixture, UnchangedTextIsNotCheckedAgain) {
     EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base); // not yet adopted
     updateUntil(wb, [&] { return !wb.library().checking(); });
     EXPECT_NEAR(valueAt0(wb, path), 3 * base, 1e-5 * base);
+}
+
+// Checks are made by one warm `probe-server` child, save after save; a check that runs out of
+// time kills it and a new one takes the next check.
+TEST_F(ProbeFixture, TheWarmServerChecksSaveAfterSaveAndIsReplacedAfterAHang) {
+    app::Workbench wb(root, true);
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+    auto saveAndWait = [&](double factor) {
+        core::writeFile(file,
+                        replaced(good, "return Multiplier/(4.0*PI)",
+                                 "return " + std::to_string(factor) + "*Multiplier/(4.0*PI)"));
+        updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - factor * base) < 1e-5 * base; });
+        EXPECT_NEAR(valueAt0(wb, path), factor * base, 1e-5 * base) << factor;
+    };
+    const app::ProbeCounts before = app::probeCounts();
+    saveAndWait(1.25);
+    const int server = app::probeServerPid();
+    EXPECT_GT(server, 0);
+    saveAndWait(1.5);
+    saveAndWait(1.75);
+    app::ProbeCounts after = app::probeCounts();
+    EXPECT_EQ(after.served - before.served, 3); // every save checked by the server
+    EXPECT_EQ(after.ownProcess, before.ownProcess);
+    EXPECT_EQ(app::probeServerPid(), server); // the same process throughout
+    EXPECT_TRUE(wb.errors().empty());
+
+    core::writeFile(file, withLoop(good, kSlowLoop));
+    std::string error;
+    updateUntil(wb, [&] {
+        error = errorNaming(wb, path);
+        return !error.empty();
+    });
+    EXPECT_NE(error.find("did not finish within 1 s"), std::string::npos) << error;
+    const int replacement = app::probeServerPid();
+    EXPECT_GT(replacement, 0);
+    EXPECT_NE(replacement, server); // the stuck one was killed, a new one started
+    EXPECT_NEAR(valueAt0(wb, path), 1.75 * base, 1e-5 * base); // the last good version stays
+
+    saveAndWait(2.0);
+    after = app::probeCounts();
+    EXPECT_EQ(after.served - before.served, 5);
+    EXPECT_EQ(app::probeServerPid(), replacement);
+    EXPECT_TRUE(errorNaming(wb, path).empty()) << errorNaming(wb, path);
+}
+
+// A save while the server checks the version before: that check is given up (its server
+// replaced, it may be stuck in it) and the newer version is checked and adopted.
+TEST_F(ProbeFixture, ASaveDuringACheckReplacesItAndTheNewestVersionWins) {
+    app::Workbench wb(root, true);
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+    core::writeFile(file, withLoop(good, kSlowLoop)); // would take about 5 s
+    updateUntil(
+        wb, [&] { return wb.library().checking(); }, 5000);
+    ASSERT_TRUE(wb.library().checking());
+    const int busy = app::probeServerPid();
+    core::writeFile(file,
+                    replaced(good, "return Multiplier/(4.0*PI)", "return 4.0*Multiplier/(4.0*PI)"));
+    const double longest =
+        updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - 4 * base) < 1e-5 * base; });
+    EXPECT_NEAR(valueAt0(wb, path), 4 * base, 1e-5 * base);
+    EXPECT_LT(longest, 2500.0);
+    EXPECT_NE(app::probeServerPid(), busy);
+    EXPECT_TRUE(errorNaming(wb, path).empty()) << errorNaming(wb, path);
+}
+
+// The server's protocol, as the workbench speaks it: each request answered in order with the
+// output of `probe-model` and `done CODE`; bad requests are answered, not fatal; the end of
+// its input ends it with status 0.
+TEST(ProbeServer, AnswersEachRequestInOrderAndEndsWithItsInput) {
+    const fs::path root = BW_SOURCE_ROOT;
+    const std::string sep(1, app::kProbeFieldSeparator), end(1, app::kProbeRequestEnd);
+    app::ChildProcess server({BW_EXE, "probe-server"}, "probe-server", true);
+    const std::string model = (root / "materials/dipole.bssrdf").string();
+    ASSERT_TRUE(server.send(root.string() + sep + model + end));
+    ASSERT_TRUE(server.send(root.string() + sep + "/nonexistent/x.bssrdf" + end));
+    ASSERT_TRUE(server.send(root.string() + sep + model + sep + "--samples" + sep + "0" + end));
+    ASSERT_TRUE(server.send(root.string() + end)); // no file
+    ASSERT_TRUE(server.send(root.string() + sep + model + sep + "--samples" + sep + "7" + end));
+    core::Stopwatch sw;
+    auto count = [&](const std::string& what) {
+        size_t n = 0;
+        for (size_t at = server.output().find(what); at != std::string::npos;
+             at = server.output().find(what, at + 1))
+            ++n;
+        return n;
+    };
+    while (count("probe-model: done") < 5 && sw.ms() < 60000 && !server.poll())
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const std::string& out = server.output();
+    ASSERT_EQ(count("probe-model: done"), 5u) << out;
+    EXPECT_EQ(out.rfind("probe-model: ready\n", 0), 0u) << out;
+    const size_t d[5] = {out.find("done 0"), out.find("done 1"), out.find("done 2"),
+                         out.find("done 1", out.find("done 2")),
+                         out.find("done 0", out.find("done 2"))};
+    for (int i = 0; i < 5; ++i)
+        ASSERT_NE(d[i], std::string::npos) << i << "\n" << out;
+    EXPECT_TRUE(d[0] < d[1] && d[1] < d[2] && d[2] < d[3] && d[3] < d[4]) << out;
+    EXPECT_NE(out.find("/nonexistent/x.bssrdf: cannot open"), std::string::npos) << out;
+    EXPECT_NE(out.find("--samples: Value 0 not in range"), std::string::npos) << out;
+    EXPECT_EQ(count("probe-model: ok"), 2u) << out;
+    // the end of its input: it ends, status 0
+    server.closeInput();
+    while (!server.poll() && sw.ms() < 60000)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_TRUE(server.done());
+    EXPECT_EQ(server.exitCode(), 0) << server.output();
 }
