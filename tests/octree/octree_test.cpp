@@ -975,7 +975,9 @@ TEST(OctreeCluster, ExactForSquaredDistance) {
 // A synthetic cluster: 3000 points uniform on a disk of radius 1 in a tilted plane, one node
 // (the root of their octree). Seen from receivers at 2.5–8 radii in random directions, the
 // rule's estimate of the average kernel is far closer to the true average (over the points,
-// in double) than the kernel at the mean: for 1/r³, exp(−r)/r and the dipole kernel.
+// in double) than the kernel at the mean: for 1/r³, exp(−r)/r and the dipole kernel. (The
+// directions depend on the compiler: the three normal draws of randomUnit are arguments of
+// one call, whose order of evaluation is unspecified.)
 TEST(OctreeCluster, DiskClusterMuchCloserThanTheMeanPoint) {
     std::mt19937_64 rng(33);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -1019,7 +1021,11 @@ TEST(OctreeCluster, DiskClusterMuchCloserThanTheMeanPoint) {
             sumRule += errRule;
             // where the mean point errs by more than 0.5 % (elsewhere both are small)
             if (errMean > 5e-3) worstRatio = std::max(worstRatio, errRule / errMean);
-            EXPECT_LT(errRule, 0.02) << "kernel " << which << " at " << dist0;
+            // The rule's worst direction at 2.5 radii errs by 2.01 % for 1/r³ and 1.68 % for
+            // exp(−r)/r on the continuous unit disk (a sweep of 3000 directions against a
+            // 300 × 600 polar grid of the disk; 0.90 % / 1.03 % at 3 radii, 0.26 % / 0.52 % at
+            // 4), so 2.5 % leaves a quarter for this 3000-point sample of the disk.
+            EXPECT_LT(errRule, 0.025) << "kernel " << which << " at " << dist0;
         }
     }
     std::printf("disk cluster: mean rel error at the mean point %.3g, rule %.3g, worst ratio "
