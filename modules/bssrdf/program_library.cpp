@@ -82,6 +82,13 @@ void ModelLibrary::load(ModelEntry& e) {
             return fail(e, err); // `c` and its check (if any) end here
         }
     }
+    // While the check runs, the driver's code generation for the pencil and inversion
+    // programs, which the first frame after adoption dispatches (warmUp never calls the model):
+    // on llvmpipe that is tens of ms of the save -> new pixels latency taken off the wait.
+    if (c.probe)
+        for (const char* consumer : {"pencil_profile.comp", "invert_rdr.comp"})
+            if (auto it = c.programs.find(consumer); it != c.programs.end())
+                warmUp(it->second.id());
     propose(e, std::move(c));
 }
 
