@@ -138,7 +138,11 @@ class ServedProbe : public bssrdf::PendingProbe {
         const std::string tag(kProbeTag);
         if (m_evalStartMs < 0 && out.find(tag + " evaluating") != std::string::npos)
             m_evalStartMs = nowMs();
-        const size_t done = out.find(tag + " done ");
+        // the answer's last line, `probe-model: done CODE`, at the start of a line (an error
+        // message quoting a path cannot fake it)
+        size_t done = out.rfind("\n" + tag + " done ");
+        done =
+            done == std::string::npos ? (out.rfind(tag + " done ", 0) == 0 ? 0 : done) : done + 1;
         if (done != std::string::npos && out.find('\n', done) != std::string::npos) {
             const int code = std::atoi(out.c_str() + done + tag.size() + 6);
             end(false);
