@@ -308,9 +308,11 @@ bssrdf::ProbeVerdict probeVerdict(int code, const std::string& out, const std::s
         warnedUnavailable = true;
         return {true, ""};
     }
-    if (code > 128)
+    if (code > 128) {
+        const std::string last = lastMessage(out, display);
         return {true, "the check of its first evaluation ended with signal " +
-                          std::to_string(code - 128) + " (" + lastMessage(out, display) + ")"};
+                          std::to_string(code - 128) + (last.empty() ? "" : " (" + last + ")")};
+    }
     return {true, "the check of its first evaluation failed: " + lastMessage(out, display)};
 }
 

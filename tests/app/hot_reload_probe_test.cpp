@@ -12,6 +12,7 @@
 #include "workbench.h"
 
 #include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #include <thread>
 
@@ -254,4 +255,36 @@ TEST(ProbeServer, AnswersEachRequestInOrderAndEndsWithItsInput) {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     ASSERT_TRUE(server.done());
     EXPECT_EQ(server.exitCode(), 0) << server.output();
+}
+
+// The server killed from outside in the middle of a check (a crash of the driver would look the
+// same): the check's verdict names the signal, the last good version stays, and the next save
+// is checked by a new server.
+TEST_F(ProbeFixture, AServerThatDiesMidCheckIsReportedAndReplaced) {
+    app::Workbench wb(root, true);
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+    core::writeFile(file, withLoop(good, kSlowLoop)); // about 5 s of evaluation
+    updateUntil(
+        wb, [&] { return wb.library().checking(); }, 5000);
+    ASSERT_TRUE(wb.library().checking());
+    const int server = app::probeServerPid();
+    ASSERT_GT(server, 0);
+    ASSERT_EQ(::kill(server, SIGKILL), 0);
+    std::string error;
+    updateUntil(wb, [&] {
+        error = errorNaming(wb, path);
+        return !error.empty();
+    });
+    EXPECT_NE(error.find("ended with signal 9"), std::string::npos) << error;
+    EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base);
+    const int replacement = app::probeServerPid();
+    EXPECT_GT(replacement, 0);
+    EXPECT_NE(replacement, server);
+    core::writeFile(file,
+                    replaced(good, "return Multiplier/(4.0*PI)", "return 5.0*Multiplier/(4.0*PI)"));
+    updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - 5 * base) < 1e-5 * base; });
+    EXPECT_NEAR(valueAt0(wb, path), 5 * base, 1e-5 * base);
+    EXPECT_EQ(app::probeServerPid(), replacement);
+    EXPECT_TRUE(errorNaming(wb, path).empty()) << errorNaming(wb, path);
 }
