@@ -324,6 +324,13 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting, bo
     // through reloadShaders); a failure keeps the old.
     const std::string modelKey = core::keyOf(e.displayPath, e.modelGeneration);
     if (modelKey != m_modelKey) {
+        // A changed model reaches the renderer one update later than the rest (not when
+        // finishing): its first dispatch makes the driver generate the traversal program's code
+        // (0.7 s on llvmpipe), and the frame in between shows the pencil plot's new pixels.
+        if (!finishNow && m_deferredModelKey != modelKey) {
+            m_deferredModelKey = modelKey;
+            return false;
+        }
         m_modelKey = modelKey;
         try {
             m_renderer->setModel(*e.model);

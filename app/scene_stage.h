@@ -217,6 +217,7 @@ class SceneStage : public Stage {
     std::map<std::string, std::string> m_problems;
 
     std::string m_meshKey, m_cloudKey, m_irrKey, m_renderKey, m_modelKey;
+    std::string m_deferredModelKey; // a changed model seen once, adopted at the next update
     std::string m_envTried, m_texTried;
     long long m_envLoads = 0, m_texLoads = 0;
     long long m_meshVersion = 0, m_cloudVersion = 0, m_irrVersion = 0;
