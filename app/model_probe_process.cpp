@@ -76,6 +76,16 @@ const fs::path& modelProbeExecutable() {
 }
 
 namespace {
+// wait() of both kinds of check: poll every 2 ms until the verdict (each poll() applies the
+// check's own time limits, so this ends).
+bssrdf::ProbeVerdict pollUntilDone(bssrdf::PendingProbe& p) {
+    for (;;) {
+        bssrdf::ProbeVerdict v = p.poll();
+        if (v.done) return v;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+}
+
 // The time limits of a check (model_probe_process.h): "" while within them, else the verdict's
 // message. evalStartMs < 0: the check has not started evaluating yet.
 std::string overTime(double startMs, double evalStartMs, double limit, int evaluations) {
@@ -162,13 +172,7 @@ class ServedProbe : public bssrdf::PendingProbe {
         }
         return {};
     }
-    bssrdf::ProbeVerdict wait() override {
-        for (;;) {
-            bssrdf::ProbeVerdict v = poll();
-            if (v.done) return v;
-            std::this_thread::sleep_for(std::chrono::milliseconds(2));
-        }
-    }
+    bssrdf::ProbeVerdict wait() override { return pollUntilDone(*this); }
 
   private:
     void end(bool restart) {
@@ -283,11 +287,7 @@ bssrdf::ProbeVerdict ModelProbeProcess::poll() {
 }
 
 bssrdf::ProbeVerdict ModelProbeProcess::wait() {
-    for (;;) {
-        bssrdf::ProbeVerdict v = poll();
-        if (v.done) return v;
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    return pollUntilDone(*this);
 }
 
 bssrdf::ProbeVerdict probeVerdict(int code, const std::string& out, const std::string& display,
