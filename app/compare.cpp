@@ -32,7 +32,6 @@ namespace {
 
 constexpr const char* kSchema = capture::kScoresSchema;
 constexpr int kSchemaVersion = capture::kScoresVersion;
-constexpr double kPi = std::numbers::pi;
 
 // The reference's radial histogram: [0, 4.5 l_d) in 90 bins (0.05 l_d each).
 constexpr double kRangeLd = 4.5;
@@ -156,7 +155,7 @@ double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::B
         const double f = p.value[k][channel] * radii[k] * radii[k];
         sum += (k == 0 || k == n - 1 ? 0.5 : 1.0) * f;
     }
-    return 2 * kPi * sum * h;
+    return 2 * std::numbers::pi * sum * h;
 }
 
 ScoreRow scoreAgainstReference(const std::vector<double>& rMid, const std::vector<double>& rd,

@@ -10,8 +10,6 @@
 namespace app {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // ∫ T₂₁(μ) μ dμ over [mu0, mu1] by a fine midpoint rule (T is smooth: 4096 steps per unit
 // of μ put the error far below float).
 double transmittedMoment(double mu0, double mu1, double eta) {
@@ -30,7 +28,7 @@ struct Ring {
 };
 Ring cellRange(const pathtrace::BssrdfBins& b, int cell) {
     const int ring = cell / b.dirPhiBins, sector = cell % b.dirPhiBins;
-    const double dphi = 2 * kPi / b.dirPhiBins;
+    const double dphi = 2 * std::numbers::pi / b.dirPhiBins;
     return {double(ring) / b.dirCosBins, double(ring + 1) / b.dirCosBins, sector * dphi,
             (sector + 1) * dphi};
 }
@@ -45,7 +43,7 @@ size_t dirSamples(const pathtrace::BssrdfBins& b, bool readsWo, const SliceSampl
 } // namespace
 
 double transmittedProjectedSolidAngle(double eta) {
-    return 2 * kPi * transmittedMoment(0.0, 1.0, eta);
+    return 2 * std::numbers::pi * transmittedMoment(0.0, 1.0, eta);
 }
 
 double cellTransmittedProjectedSolidAngle(const pathtrace::BssrdfBins& b, int cell, double eta) {
@@ -72,9 +70,9 @@ SliceSampling sliceSampling(const pathtrace::BssrdfBins& b, bool readsWo, size_t
 std::vector<bssrdf::Query> sliceQueries(const pathtrace::BssrdfBins& b, double thetaIDeg,
                                         bool readsWo, const SliceSampling& n) {
     const std::vector<double> edges = b.rEdges();
-    const double ti = thetaIDeg * kPi / 180.0;
+    const double ti = thetaIDeg * std::numbers::pi / 180.0;
     const glm::vec3 wi(float(-std::sin(ti)), 0.0f, float(std::cos(ti)));
-    const double dth = kPi / b.thetaSBins;
+    const double dth = std::numbers::pi / b.thetaSBins;
     std::vector<bssrdf::Query> out;
     out.reserve(size_t(b.spatialBins()) * spatialSamples(n) * dirSamples(b, readsWo, n));
     for (int ir = 0; ir < b.rBins; ++ir)
@@ -114,7 +112,7 @@ std::vector<bssrdf::Query> sliceQueries(const pathtrace::BssrdfBins& b, double t
 ModelSlice modelSlice(const pathtrace::BssrdfBins& b, double thetaIDeg, double eta, bool readsWo,
                       const SliceSampling& n, const std::vector<double>& values) {
     const double entering =
-        1.0 - pathtrace::fresnelDielectric(std::cos(thetaIDeg * kPi / 180), eta);
+        1.0 - pathtrace::fresnelDielectric(std::cos(thetaIDeg * std::numbers::pi / 180), eta);
     const double norm = entering / transmittedProjectedSolidAngle(eta);
     const size_t spatial = spatialSamples(n);
     const size_t cells = size_t(b.dirBins()), perCell = size_t(n.mu) * size_t(n.phi);

@@ -7,13 +7,11 @@
 
 namespace app {
 
-namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
-} // namespace
+namespace {} // namespace
 
 // The outline of the annular sector [r0, r1] × [a, e] around c (arcs drawn as polylines).
 void sectorOutline(ImDrawList* dl, ImVec2 c, float r0, float r1, float a, float e) {
-    const int segs = std::max(2, int(std::ceil((e - a) / (kPi / 48))));
+    const int segs = std::max(2, int(std::ceil((e - a) / (std::numbers::pi_v<float> / 48))));
     dl->PathClear();
     for (int k = 0; k <= segs; ++k) {
         const float t = a + (e - a) * float(k) / float(segs);
@@ -37,7 +35,7 @@ int polarHeatmap(const char* id, float side, const pathtrace::BssrdfBins& b,
     const std::vector<double> edges = b.rEdges();
     const float scale = (side * 0.5f - 2.0f) / float(b.rMaxMm);
     dl->AddRectFilled(p0, ImVec2(p0.x + side, p0.y + side), IM_COL32(20, 20, 24, 255));
-    const float dth = kPi / float(b.thetaSBins);
+    const float dth = std::numbers::pi_v<float> / float(b.thetaSBins);
     const ImDrawListFlags flags = dl->Flags;
     dl->Flags &= ~ImDrawListFlags_AntiAliasedFill; // neighbouring bins meet without seams
     for (int ir = 0; ir < b.rBins; ++ir) {
@@ -46,7 +44,7 @@ int polarHeatmap(const char* id, float side, const pathtrace::BssrdfBins& b,
         for (int it = 0; it < b.thetaSBins; ++it) {
             const size_t bin = size_t(ir * b.thetaSBins + it);
             const ImU32 col = values.colour(bin);
-            const int segs = std::max(1, int(std::ceil(dth / (kPi / 48))));
+            const int segs = std::max(1, int(std::ceil(dth / (std::numbers::pi_v<float> / 48))));
             for (int k = 0; k < segs; ++k) {
                 const float a = (float(it) + float(k) / float(segs)) * dth;
                 const float e = (float(it) + float(k + 1) / float(segs)) * dth;

@@ -26,7 +26,6 @@ namespace app {
 
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
 const ImVec4 kProblemColour(1, 0.45f, 0.45f, 1);
 
 ImU32 rgb(const std::array<uint8_t, 3>& c) {
@@ -46,14 +45,14 @@ int directionDisc(const char* id, float side, const pathtrace::BssrdfBins& b,
         const float mu = float(ring) / float(b.dirCosBins);
         return R * std::sqrt(std::max(0.0f, 1.0f - mu * mu));
     };
-    const float dphi = 2 * kPi / float(b.dirPhiBins);
+    const float dphi = 2 * std::numbers::pi_v<float> / float(b.dirPhiBins);
     const ImDrawListFlags flags = dl->Flags;
     dl->Flags &= ~ImDrawListFlags_AntiAliasedFill;
     for (int ring = 0; ring < b.dirCosBins; ++ring)
         for (int sec = 0; sec < b.dirPhiBins; ++sec) {
             const ImU32 col = colour(ring * b.dirPhiBins + sec);
             const float r0 = ringRadius(ring + 1), r1 = ringRadius(ring);
-            const int segs = std::max(1, int(std::ceil(dphi / (kPi / 32))));
+            const int segs = std::max(1, int(std::ceil(dphi / (std::numbers::pi_v<float> / 32))));
             for (int k = 0; k < segs; ++k) {
                 const float a = (float(sec) + float(k) / float(segs)) * dphi;
                 const float e = (float(sec) + float(k + 1) / float(segs)) * dphi;

@@ -22,15 +22,6 @@ using detail::trim;
 constexpr const char* kKnownSections =
     "parameters, initializer, diffuseReflectance, shader, table, sample";
 
-std::string inQuotes(std::string_view s) {
-    std::string out;
-    out.reserve(s.size() + 2);
-    out += '\'';
-    out.append(s);
-    out += '\'';
-    return out;
-}
-
 bool isComment(std::string_view trimmed) {
     return !trimmed.empty() && trimmed.front() == '#';
 }
@@ -90,7 +81,7 @@ void Parser::parseAttributes(std::string_view line, int lineNo, Attributes& attr
     if (tok.front().starts_with("::"))
         fail(lineNo, "missing mandatory attribute 'analytic': the first line must list the "
                      "model's attributes (e.g. 'analytic radial no_wi no_wo'), found " +
-                         inQuotes(line));
+                         detail::inQuotes(line));
     std::map<std::string_view, bool*> known = {{"analytic", &attrs.analytic},
                                                {"radial", &attrs.radial},
                                                {"no_wi", &attrs.noWi},
@@ -98,9 +89,9 @@ void Parser::parseAttributes(std::string_view line, int lineNo, Attributes& attr
     for (std::string_view t : tok) {
         auto it = known.find(t);
         if (it == known.end())
-            fail(lineNo, "unknown attribute " + inQuotes(t) +
+            fail(lineNo, "unknown attribute " + detail::inQuotes(t) +
                              " (expected analytic, radial, no_wi or no_wo)");
-        if (*it->second) fail(lineNo, "duplicate attribute " + inQuotes(t));
+        if (*it->second) fail(lineNo, "duplicate attribute " + detail::inQuotes(t));
         *it->second = true;
     }
     if (!attrs.analytic) fail(lineNo, "missing mandatory attribute 'analytic'");
@@ -112,15 +103,15 @@ void Parser::parseDirectiveOutside(const std::vector<std::string_view>& tok, int
         fail(lineNo, "'::end" + name + "' without a matching '::begin'");
     }
     if (tok[0] != "::begin")
-        fail(lineNo, "unknown directive " + inQuotes(tok[0]) +
+        fail(lineNo, "unknown directive " + detail::inQuotes(tok[0]) +
                          " (expected '::begin NAME' or '::end NAME')");
     if (tok.size() < 2) fail(lineNo, "'::begin' without a section name");
     if (tok.size() > 2)
         fail(lineNo, "'::begin " + std::string(tok[1]) + "' followed by extra text " +
-                         inQuotes(tok[2]) + " (a section has one name)");
+                         detail::inQuotes(tok[2]) + " (a section has one name)");
     const std::string name(tok[1]);
     if (auto it = m_seen.find(name); it != m_seen.end())
-        fail(lineNo, "duplicate section " + inQuotes(name) + " (first opened at line " +
+        fail(lineNo, "duplicate section " + detail::inQuotes(name) + " (first opened at line " +
                          std::to_string(it->second) + ")");
     m_seen.emplace(name, lineNo);
     Section s;
@@ -139,7 +130,7 @@ void Parser::closeSection(const std::vector<std::string_view>& tok, int lineNo) 
         fail(lineNo,
              "'::end " + std::string(tok[1]) + "' does not match '::begin " + name + "'" + opened);
     if (tok.size() > 2)
-        fail(lineNo, "'::end " + name + "' followed by extra text " + inQuotes(tok[2]));
+        fail(lineNo, "'::end " + name + "' followed by extra text " + detail::inQuotes(tok[2]));
     m_sections.push_back(std::move(*m_open));
     m_open.reset();
 }
@@ -147,7 +138,7 @@ void Parser::closeSection(const std::vector<std::string_view>& tok, int lineNo) 
 void Parser::requireDefinition(const Section& s, const char* pattern, const char* what) const {
     const std::regex re(pattern);
     if (!std::regex_search(stripGlslComments(s.code), re))
-        fail(s.beginLine, "section " + inQuotes(s.name) + " does not define " + what);
+        fail(s.beginLine, "section " + detail::inQuotes(s.name) + " does not define " + what);
 }
 
 int Parser::definitionLine(const Section& s, const char* pattern) const {
@@ -199,7 +190,7 @@ void Parser::assign(Model& m) {
         } else {
             std::string note =
                 core::formatLocation(m_path, s.beginLine,
-                                     "unknown section " + inQuotes(s.name) +
+                                     "unknown section " + detail::inQuotes(s.name) +
                                          " ignored (known sections: " + kKnownSections + ")");
             core::logInfo(note);
             m.notes.push_back(std::move(note));
@@ -238,10 +229,11 @@ Model Parser::run() {
                     continue;
                 }
                 if (tok[0] == "::begin")
-                    fail(lineNo, "nested '::begin' inside section " + inQuotes(m_open->name) +
-                                     " (opened at line " + std::to_string(m_open->beginLine) +
+                    fail(lineNo, "nested '::begin' inside section " +
+                                     detail::inQuotes(m_open->name) + " (opened at line " +
+                                     std::to_string(m_open->beginLine) +
                                      "): close it with '::end " + m_open->name + "' first");
-                fail(lineNo, "unknown directive " + inQuotes(tok[0]) +
+                fail(lineNo, "unknown directive " + detail::inQuotes(tok[0]) +
                                  " (expected '::begin NAME' or '::end NAME')");
             }
             m_open->code.append(lines[i]);
@@ -253,11 +245,11 @@ Model Parser::run() {
             parseDirectiveOutside(tokenize(t), lineNo);
             continue;
         }
-        fail(lineNo, "unexpected text outside a section: " + inQuotes(t) +
+        fail(lineNo, "unexpected text outside a section: " + detail::inQuotes(t) +
                          " (expected '::begin NAME', a '#' comment or a blank line)");
     }
     if (m_open)
-        fail(m_open->beginLine, "section " + inQuotes(m_open->name) +
+        fail(m_open->beginLine, "section " + detail::inQuotes(m_open->name) +
                                     " is not terminated (missing '::end " + m_open->name + "')");
 
     assign(m);

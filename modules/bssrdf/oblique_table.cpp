@@ -2,18 +2,19 @@
 // oblique_table.h for the conversion and the interpolation).
 #include "bssrdf/oblique_table.h"
 
+#include "bssrdf/detail/text_lines.h"
 #include "core/core.h"
 #include "core/text.h"
 #include "pathtrace/fresnel.h"
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <sstream>
 
 namespace bssrdf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kQuadratureSteps = 4096; // midpoint steps per ring
 
 // ∫_{mu0}^{mu1} T(μ) μ dμ by the midpoint rule.
@@ -25,14 +26,6 @@ double transmittanceMoment(double eta, double mu0, double mu1) {
         sum += (1.0 - pathtrace::fresnelDielectric(mu, eta)) * mu;
     }
     return sum * h;
-}
-
-std::string glslFloat(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    std::string s = b;
-    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-    return s;
 }
 
 std::string angleList(const std::vector<double>& a) {
@@ -133,7 +126,8 @@ ObliqueTable obliqueTable(const std::vector<pathtrace::BssrdfTable>& tables,
                     for (size_t ic = 0; ic < nC; ++ic) {
                         const size_t bin = ir * nS + is;
                         // One cell: S = R/π, so π·S is R itself (no rounding).
-                        const double piS = nC == 1 ? s.R[bin] : kPi * s.S[bin * nC + ic];
+                        const double piS =
+                            nC == 1 ? s.R[bin] : std::numbers::pi * s.S[bin * nC + ic];
                         const double v = piS * ringRatio[ic / size_t(o.dirPhiBins)] / entering;
                         if (!std::isfinite(v) || v < 0)
                             throw core::Error(
@@ -161,14 +155,14 @@ std::string obliqueTableGlsl(const ObliqueTable& t) {
       << ";\n";
     g << "const float TabThetaI[" << nA << "] = float[](";
     for (size_t i = 0; i < nA; ++i)
-        g << (i ? ", " : "") << glslFloat(t.thetaIDeg[i] * kPi / 180.0);
+        g << (i ? ", " : "") << detail::glslFloat(t.thetaIDeg[i] * std::numbers::pi / 180.0);
     g << ");\nconst float TabRad[" << nR << "] = float[](";
     for (size_t i = 0; i < nR; ++i)
-        g << (i ? ", " : "") << glslFloat(t.r[i]);
+        g << (i ? ", " : "") << detail::glslFloat(t.r[i]);
     g << ");\nconst vec3 TabV[" << t.value.size() << "] = vec3[](";
     for (size_t i = 0; i < t.value.size(); ++i)
-        g << (i ? ",\n" : "") << "vec3(" << glslFloat(t.value[i][0]) << ", "
-          << glslFloat(t.value[i][1]) << ", " << glslFloat(t.value[i][2]) << ")";
+        g << (i ? ",\n" : "") << "vec3(" << detail::glslFloat(t.value[i][0]) << ", "
+          << detail::glslFloat(t.value[i][1]) << ", " << detail::glslFloat(t.value[i][2]) << ")";
     g << ");\n";
     g << R"GLSL(
 // Value at angle index a, radii r0/r1 (weight fr), θs bins s0/s1 (weight fs), cell c.

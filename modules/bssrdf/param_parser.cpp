@@ -43,15 +43,6 @@ constexpr std::string_view kGlslKeywords[] = {
     throw core::Error(path, line, std::move(message));
 }
 
-std::string inQuotes(std::string_view s) {
-    std::string out;
-    out.reserve(s.size() + 2);
-    out += '\'';
-    out.append(s);
-    out += '\'';
-    return out;
-}
-
 // Parses a whole token as a finite float (locale independent); throws otherwise.
 float parseNumber(std::string_view tok, std::string_view what, const std::string& path, int line) {
     std::string_view digits = tok;
@@ -59,11 +50,13 @@ float parseNumber(std::string_view tok, std::string_view what, const std::string
     float v = 0;
     auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
     if (ec == std::errc::result_out_of_range)
-        fail(path, line, std::string(what) + " " + inQuotes(tok) + " is not a finite number");
+        fail(path, line,
+             std::string(what) + " " + detail::inQuotes(tok) + " is not a finite number");
     if (ec != std::errc() || ptr != digits.data() + digits.size() || digits.empty())
-        fail(path, line, std::string(what) + " " + inQuotes(tok) + " is not a number");
+        fail(path, line, std::string(what) + " " + detail::inQuotes(tok) + " is not a number");
     if (!std::isfinite(v))
-        fail(path, line, std::string(what) + " " + inQuotes(tok) + " is not a finite number");
+        fail(path, line,
+             std::string(what) + " " + detail::inQuotes(tok) + " is not a finite number");
     return v;
 }
 
@@ -81,7 +74,7 @@ void checkName(std::string_view name, const std::string& path, int line) {
     if (!isValidIdentifier(name)) {
         std::string why = "must match [A-Za-z_][A-Za-z0-9_]*, not start with 'gl_', not "
                           "contain '__' and not be a GLSL keyword";
-        fail(path, line, "invalid parameter name " + inQuotes(name) + ": " + why);
+        fail(path, line, "invalid parameter name " + detail::inQuotes(name) + ": " + why);
     }
     const auto& builtins = builtinNames();
     if (std::find(builtins.begin(), builtins.end(), name) != builtins.end()) {
@@ -89,7 +82,8 @@ void checkName(std::string_view name, const std::string& path, int line) {
         for (const auto& b : builtins)
             list += (list.empty() ? "" : ", ") + b;
         fail(path, line,
-             "parameter name " + inQuotes(name) + " clashes with a built-in name (" + list + ")");
+             "parameter name " + detail::inQuotes(name) + " clashes with a built-in name (" + list +
+                 ")");
     }
 }
 
@@ -108,7 +102,8 @@ Param parseLine(const std::vector<std::string_view>& tok, const std::string& pat
         checkFieldCount(tok, 5, "color NAME R G B", path, line);
     } else {
         fail(path, line,
-             "unknown parameter type " + inQuotes(type) + " (expected float, bool or color)");
+             "unknown parameter type " + detail::inQuotes(type) +
+                 " (expected float, bool or color)");
     }
     checkName(tok[1], path, line);
     p.name = std::string(tok[1]);
@@ -119,11 +114,12 @@ Param parseLine(const std::vector<std::string_view>& tok, const std::string& pat
         float def = parseNumber(tok[4], "default", path, line);
         if (p.min > p.max)
             fail(path, line,
-                 "minimum " + inQuotes(tok[2]) + " is greater than maximum " + inQuotes(tok[3]));
+                 "minimum " + detail::inQuotes(tok[2]) + " is greater than maximum " +
+                     detail::inQuotes(tok[3]));
         if (def < p.min || def > p.max)
             fail(path, line,
-                 "default " + inQuotes(tok[4]) + " is outside [" + std::string(tok[2]) + ", " +
-                     std::string(tok[3]) + "]");
+                 "default " + detail::inQuotes(tok[4]) + " is outside [" + std::string(tok[2]) +
+                     ", " + std::string(tok[3]) + "]");
         p.value = {def, 0, 0};
     } else if (p.type == ParamType::Bool) {
         const std::string_view d = tok[2];
@@ -133,7 +129,7 @@ Param parseLine(const std::vector<std::string_view>& tok, const std::string& pat
             p.value = {0, 0, 0};
         else
             fail(path, line,
-                 "invalid bool default " + inQuotes(d) + " (expected true, false, 1 or 0)");
+                 "invalid bool default " + detail::inQuotes(d) + " (expected true, false, 1 or 0)");
     } else {
         const char* names[3] = {"red", "green", "blue"};
         float hi = 1;
@@ -191,7 +187,7 @@ std::vector<Param> parseParameters(const Section& section, const std::string& pa
         Param p = parseLine(tok, path, line);
         if (auto it = seen.find(p.name); it != seen.end())
             fail(path, line,
-                 "duplicate parameter " + inQuotes(p.name) + " (first declared at line " +
+                 "duplicate parameter " + detail::inQuotes(p.name) + " (first declared at line " +
                      std::to_string(it->second) + ")");
         seen.emplace(p.name, line);
         params.push_back(std::move(p));

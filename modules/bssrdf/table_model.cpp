@@ -129,14 +129,6 @@ void setObliqueAttributes(Model& m, const ObliqueTable& t) {
                                                    dropped + " ignored"));
 }
 
-std::string glslFloat(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    std::string s = b;
-    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-    return s;
-}
-
 } // namespace
 
 RadialTable readProfileCsv(const fs::path& file, const std::string& displayName) {
@@ -191,11 +183,11 @@ std::string radialTableGlsl(const RadialTable& t) {
     g << "const int TableN = " << n << ";\n";
     g << "const float TableR[" << n << "] = float[](";
     for (size_t i = 0; i < n; ++i)
-        g << (i ? ", " : "") << glslFloat(t.r[i]);
+        g << (i ? ", " : "") << detail::glslFloat(t.r[i]);
     g << ");\nconst vec3 TableV[" << n << "] = vec3[](";
     for (size_t i = 0; i < n; ++i)
-        g << (i ? ", " : "") << "vec3(" << glslFloat(t.rgb[i][0]) << ", " << glslFloat(t.rgb[i][1])
-          << ", " << glslFloat(t.rgb[i][2]) << ")";
+        g << (i ? ", " : "") << "vec3(" << detail::glslFloat(t.rgb[i][0]) << ", "
+          << detail::glslFloat(t.rgb[i][1]) << ", " << detail::glslFloat(t.rgb[i][2]) << ")";
     g << ");\n"
          "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
          "    float r = length(Xo - Xi);\n"

@@ -36,10 +36,6 @@ constexpr double kNormTolerance = 1e-3;
 constexpr double kInverseTolerance = 1e-3;
 constexpr double kBeyondTolerance = 1e-5;
 
-std::string num(double v) {
-    return core::formatNumber(v, 6);
-}
-
 // ∫0^r of the piecewise-linear pdf p on the radii `x` with cumulative sums `cum`.
 double cdfAt(const std::vector<double>& x, const std::vector<double>& p,
              const std::vector<double>& cum, double r) {
@@ -65,12 +61,14 @@ checkChannel(int c, double rMax, const std::vector<double>& r, const std::vector
         return core::Error(m.path, m.sample->beginLine, channelLabel(c) + msg);
     };
     if (!(std::isfinite(rMax) && rMax > 0))
-        throw error("MaxRadius must be finite and > 0 (it returns " + num(rMax) + ")");
+        throw error("MaxRadius must be finite and > 0 (it returns " + core::formatNumber(rMax, 6) +
+                    ")");
     for (size_t i = 0; i < pdf.size(); ++i) {
-        const std::string at = " at r = " + num(r[i]) + " mm";
+        const std::string at = " at r = " + core::formatNumber(r[i], 6) + " mm";
         if (std::isnan(pdf[i])) throw error("PdfRadius is NaN" + at);
         if (std::isinf(pdf[i])) throw error("PdfRadius is infinite" + at);
-        if (pdf[i] < 0) throw error("PdfRadius is negative (" + num(pdf[i]) + ")" + at);
+        if (pdf[i] < 0)
+            throw error("PdfRadius is negative (" + core::formatNumber(pdf[i], 6) + ")" + at);
     }
     std::vector<double> cum(r.size(), 0.0);
     for (size_t i = 0; i + 1 < r.size(); ++i)
@@ -79,17 +77,18 @@ checkChannel(int c, double rMax, const std::vector<double>& r, const std::vector
     if (!(std::abs(integral - 1) <= kNormTolerance))
         throw error(
             "PdfRadius is the density of the radius, so its integral over [0, MaxRadius = " +
-            num(rMax) + " mm] must be 1 (within " + num(kNormTolerance) + "); it is " +
-            num(integral));
+            core::formatNumber(rMax, 6) + " mm] must be 1 (within " +
+            core::formatNumber(kNormTolerance, 6) + "); it is " + core::formatNumber(integral, 6));
     for (size_t j = 0; j < samples.size(); ++j) {
         const double xi = double(j) / double(samples.size() - 1), s = samples[j];
-        const std::string at = " at xi = " + num(xi);
+        const std::string at = " at xi = " + core::formatNumber(xi, 6);
         if (std::isnan(s)) throw error("SampleRadius is NaN" + at);
         if (std::isinf(s)) throw error("SampleRadius is infinite" + at);
-        if (s < 0) throw error("SampleRadius is negative (" + num(s) + " mm)" + at);
+        if (s < 0)
+            throw error("SampleRadius is negative (" + core::formatNumber(s, 6) + " mm)" + at);
         if (s > rMax * (1 + kBeyondTolerance))
-            throw error("SampleRadius returns " + num(s) + " mm" + at +
-                        ", beyond MaxRadius = " + num(rMax) + " mm");
+            throw error("SampleRadius returns " + core::formatNumber(s, 6) + " mm" + at +
+                        ", beyond MaxRadius = " + core::formatNumber(rMax, 6) + " mm");
         samples[j] = std::min(s, rMax);
     }
     double worst = -1;
@@ -104,10 +103,11 @@ checkChannel(int c, double rMax, const std::vector<double>& r, const std::vector
     }
     if (worst > kInverseTolerance) {
         const double xi = double(worstAt) / double(samples.size() - 1);
-        throw error("SampleRadius is not the inverse of the CDF of PdfRadius: at xi = " + num(xi) +
-                    " it returns r = " + num(samples[worstAt]) + " mm, where the CDF is " +
-                    num(cdfAt(r, pdf, cum, samples[worstAt]) / integral) + " (tolerance " +
-                    num(kInverseTolerance) + ")");
+        throw error("SampleRadius is not the inverse of the CDF of PdfRadius: at xi = " +
+                    core::formatNumber(xi, 6) + " it returns r = " +
+                    core::formatNumber(samples[worstAt], 6) + " mm, where the CDF is " +
+                    core::formatNumber(cdfAt(r, pdf, cum, samples[worstAt]) / integral, 6) +
+                    " (tolerance " + core::formatNumber(kInverseTolerance, 6) + ")");
     }
     std::vector<double> area(r.size(), 0.0);
     for (size_t i = 0; i < r.size(); ++i)

@@ -24,9 +24,6 @@ namespace {
 constexpr double kCoverageFactor = 2.0;
 constexpr double kShapeTolerance = 1e-2;
 constexpr double kBulkLow = 0.01, kBulkHigh = 0.99;
-std::string num(double v) {
-    return core::formatNumber(v, 4);
-}
 } // namespace
 
 std::string agreementProblem(const sampling::TabulatedRadial& table, double radiusMax,
@@ -35,10 +32,12 @@ std::string agreementProblem(const sampling::TabulatedRadial& table, double radi
     const double total = table.totalEnergy(), kept = table.energyWithin(radiusMax);
     const double beyond = (total - kept) / total;
     if (beyond > kCoverageFactor * energyLoss)
-        return "the sampler's radius " + num(radiusMax) + " mm leaves " + num(beyond) +
-               " of the profile's energy beyond it, more than " + num(kCoverageFactor) +
-               " x the energy loss " + num(energyLoss) + " (the profile keeps 1 - " +
-               num(energyLoss) + " within " + num(table.radiusMax()) + " mm)";
+        return "the sampler's radius " + core::formatNumber(radiusMax, 4) + " mm leaves " +
+               core::formatNumber(beyond, 4) + " of the profile's energy beyond it, more than " +
+               core::formatNumber(kCoverageFactor, 4) + " x the energy loss " +
+               core::formatNumber(energyLoss, 4) + " (the profile keeps 1 - " +
+               core::formatNumber(energyLoss, 4) + " within " +
+               core::formatNumber(table.radiusMax(), 4) + " mm)";
     double worst = 0, at = 0, got = 0, want = 0, rLow = -1, rHigh = 0;
     for (size_t i = 0; i < r.size() && i < pdfArea.size(); ++i) {
         if (!(r[i] > 0 && r[i] <= radiusMax)) continue;
@@ -57,10 +56,13 @@ std::string agreementProblem(const sampling::TabulatedRadial& table, double radi
     }
     if (worst <= kShapeTolerance) return "";
     return "its pdf_area differs from the profile's (R(r)/E within the same radius) by " +
-           (worst < 1e299 ? num(100 * worst) + " %" : std::string("an unbounded factor")) +
-           " at r = " + num(at) + " mm (" + num(got) + " against " + num(want) +
-           " 1/mm^2), where the profile holds 98 % of its energy (r " + num(rLow) + " to " +
-           num(rHigh) + " mm); tolerance " + num(100 * kShapeTolerance) + " %";
+           (worst < 1e299 ? core::formatNumber(100 * worst, 4) + " %"
+                          : std::string("an unbounded factor")) +
+           " at r = " + core::formatNumber(at, 4) + " mm (" + core::formatNumber(got, 4) +
+           " against " + core::formatNumber(want, 4) +
+           " 1/mm^2), where the profile holds 98 % of its energy (r " +
+           core::formatNumber(rLow, 4) + " to " + core::formatNumber(rHigh, 4) +
+           " mm); tolerance " + core::formatNumber(100 * kShapeTolerance, 4) + " %";
 }
 
 } // namespace integrate::detail

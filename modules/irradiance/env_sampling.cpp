@@ -12,7 +12,6 @@
 
 namespace irradiance {
 namespace {
-constexpr double kPi = std::numbers::pi;
 
 uint64_t splitMix64(uint64_t x) {
     x += 0x9e3779b97f4a7c15ull;
@@ -43,7 +42,7 @@ std::vector<EnvSample> sampleEnvironment(const EnvironmentMap& env, int count, u
             total += omega[y] * lum[i];
         }
     }
-    const double delta = total > 0 ? 0.05 * total / (4.0 * kPi) : 1.0;
+    const double delta = total > 0 ? 0.05 * total / (4.0 * std::numbers::pi) : 1.0;
     std::vector<double> cdf(n + 1, 0.0);
     for (size_t i = 0; i < n; ++i)
         cdf[i + 1] = cdf[i] + omega[i / W] * (lum[i] + delta);
@@ -59,9 +58,10 @@ std::vector<EnvSample> sampleEnvironment(const EnvironmentMap& env, int count, u
         while (cdf[i + 1] == cdf[i] && i + 1 < n) // zero-probability texel (cannot happen, δ > 0)
             ++i;
         const int x = static_cast<int>(i % W), y = static_cast<int>(i / W);
-        const double mu0 = std::cos(kPi * y / H), mu1 = std::cos(kPi * (y + 1) / H);
+        const double mu0 = std::cos(std::numbers::pi * y / H),
+                     mu1 = std::cos(std::numbers::pi * (y + 1) / H);
         const double mu = mu0 + (mu1 - mu0) * uniform(seed, k, 1);
-        const double phi = 2.0 * kPi * (x + uniform(seed, k, 2)) / W;
+        const double phi = 2.0 * std::numbers::pi * (x + uniform(seed, k, 2)) / W;
         const double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
         const double p = (cdf[i + 1] - cdf[i]) / sum; // P_i
         const double pdf = p / omega[y];

@@ -24,7 +24,6 @@
 
 namespace irradiance {
 namespace {
-constexpr double kPi = std::numbers::pi;
 const char* kChannels[3] = {"R", "G", "B"};
 
 std::string texelText(size_t i, int width) {
@@ -107,8 +106,8 @@ glm::mat3 worldFromEnvironment(float a) {
 }
 
 double texelSolidAngle(int y, int width, int height) {
-    const double t0 = kPi * y / height, t1 = kPi * (y + 1) / height;
-    return 2.0 * kPi / width * (std::cos(t0) - std::cos(t1));
+    const double t0 = std::numbers::pi * y / height, t1 = std::numbers::pi * (y + 1) / height;
+    return 2.0 * std::numbers::pi / width * (std::cos(t0) - std::cos(t1));
 }
 
 void validateEnvironment(const EnvironmentMap& env, const std::string& name) {
@@ -209,11 +208,13 @@ EnvironmentMap makeDefaultSky(int width, int height) {
     env.rgb.resize(3 * static_cast<size_t>(width) * height);
     const glm::dvec3 zenith(0.20, 0.35, 0.85), horizon(0.85, 0.90, 1.00), ground(0.10, 0.08, 0.06);
     const glm::dvec3 sunColour(1.0, 0.85, 0.6);
-    const double sunPeak = 30.0, sigma = 4.0 * kPi / 180.0;
-    const glm::dvec3 sun(latLongDirection(kPi / 2 - 35.0 * kPi / 180.0, 30.0 * kPi / 180.0));
+    const double sunPeak = 30.0, sigma = 4.0 * std::numbers::pi / 180.0;
+    const glm::dvec3 sun(latLongDirection(std::numbers::pi / 2 - 35.0 * std::numbers::pi / 180.0,
+                                          30.0 * std::numbers::pi / 180.0));
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const double theta = kPi * (y + 0.5) / height, phi = 2.0 * kPi * (x + 0.5) / width;
+            const double theta = std::numbers::pi * (y + 0.5) / height,
+                         phi = 2.0 * std::numbers::pi * (x + 0.5) / width;
             const glm::dvec3 w(latLongDirection(theta, phi));
             glm::dvec3 L;
             if (w.y > 0) {
@@ -246,7 +247,8 @@ std::vector<QuadratureNode> quadratureNodes(const EnvironmentMap& input, int sub
     std::vector<QuadratureNode> nodes;
     const int W = env->width, H = env->height;
     for (int y = 0; y < H; ++y) {
-        const double mu0 = std::cos(kPi * y / H), mu1 = std::cos(kPi * (y + 1) / H);
+        const double mu0 = std::cos(std::numbers::pi * y / H),
+                     mu1 = std::cos(std::numbers::pi * (y + 1) / H);
         for (int x = 0; x < W; ++x) {
             const glm::vec3 L = env->texel(x, y);
             if (L == glm::vec3(0.0f)) continue;
@@ -254,9 +256,10 @@ std::vector<QuadratureNode> quadratureNodes(const EnvironmentMap& input, int sub
                 const double a = mu0 + (mu1 - mu0) * sy / sub,
                              b = mu0 + (mu1 - mu0) * (sy + 1) / sub;
                 const double mu = 0.5 * (a + b);
-                const double omega = 2.0 * kPi / (static_cast<double>(W) * sub) * (a - b);
+                const double omega =
+                    2.0 * std::numbers::pi / (static_cast<double>(W) * sub) * (a - b);
                 for (int sx = 0; sx < sub; ++sx) {
-                    const double phi = 2.0 * kPi * (x + (sx + 0.5) / sub) / W;
+                    const double phi = 2.0 * std::numbers::pi * (x + (sx + 0.5) / sub) / W;
                     const double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
                     QuadratureNode n;
                     n.direction =

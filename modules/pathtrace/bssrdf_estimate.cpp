@@ -17,9 +17,7 @@
 #include <numbers>
 
 namespace pathtrace {
-namespace {
-constexpr double kPi = std::numbers::pi;
-} // namespace
+namespace {} // namespace
 
 std::vector<double> BssrdfBins::rEdges() const {
     std::vector<double> e(size_t(rBins) + 1, rStartMm);
@@ -42,7 +40,7 @@ std::vector<double> BssrdfBins::rEdges() const {
 namespace {
 double areaBetween(const std::vector<double>& e, int ir, int thetaSBins) {
     const double r0 = e[size_t(ir)], r1 = e[size_t(ir) + 1];
-    return (r1 * r1 - r0 * r0) * (kPi / thetaSBins);
+    return (r1 * r1 - r0 * r0) * (std::numbers::pi / thetaSBins);
 }
 } // namespace
 
@@ -53,13 +51,14 @@ double binArea(const BssrdfBins& b, int ir) {
 double cellProjectedSolidAngle(const BssrdfBins& b, int ic) {
     const int ring = ic / b.dirPhiBins;
     const double mu0 = double(ring) / b.dirCosBins, mu1 = double(ring + 1) / b.dirCosBins;
-    return (2 * kPi / b.dirPhiBins) * 0.5 * (mu1 * mu1 - mu0 * mu0);
+    return (2 * std::numbers::pi / b.dirPhiBins) * 0.5 * (mu1 * mu1 - mu0 * mu0);
 }
 
 int cellOf(const BssrdfBins& b, double cosThetaO, double phiO) {
     const int ring = std::clamp(int(cosThetaO * b.dirCosBins), 0, b.dirCosBins - 1);
-    double phi = phiO < 0 ? phiO + 2 * kPi : phiO;
-    const int sector = std::clamp(int(phi / (2 * kPi) * b.dirPhiBins), 0, b.dirPhiBins - 1);
+    double phi = phiO < 0 ? phiO + 2 * std::numbers::pi : phiO;
+    const int sector =
+        std::clamp(int(phi / (2 * std::numbers::pi) * b.dirPhiBins), 0, b.dirPhiBins - 1);
     return ring * b.dirPhiBins + sector;
 }
 
@@ -140,7 +139,8 @@ void BssrdfTally::merge(const BssrdfTally& o) {
 BssrdfSlice finalize(const BssrdfTally& t, const BssrdfBins& b, double thetaIDeg, const Medium& m) {
     BssrdfSlice r;
     r.thetaIDeg = thetaIDeg;
-    r.specular = fresnelDielectric(std::max(std::cos(thetaIDeg * kPi / 180), 1e-300), m.eta);
+    r.specular =
+        fresnelDielectric(std::max(std::cos(thetaIDeg * std::numbers::pi / 180), 1e-300), m.eta);
     r.paths = t.paths;
     const int nS = b.spatialBins(), nD = b.dirBins();
     const std::vector<double> edges = b.rEdges();

@@ -19,7 +19,6 @@ namespace pathtrace {
 namespace {
 
 constexpr const char* kMagic = "bssrdf-workbench table";
-constexpr double kPi = std::numbers::pi;
 
 // The exact sums of a tally in file order.
 template <class T, class F> void forEachSum(T& t, F&& f) {
@@ -304,7 +303,7 @@ SlabResult slabResultOf(const BssrdfTable& t, SlabSettings& s, const std::string
 
 namespace {
 double deg(double rad) {
-    return rad * 180.0 / kPi;
+    return rad * 180.0 / std::numbers::pi;
 }
 } // namespace
 
@@ -345,9 +344,10 @@ std::string tableDirCsv(const BssrdfTable& t) {
                     const int ring = c / b.dirPhiBins, sector = c % b.dirPhiBins;
                     const double mu = (ring + 0.5) / b.dirCosBins;
                     // With one cell, S is R over the hemisphere's projected solid angle π.
-                    const double v = nD > 1 ? s.S[bin * size_t(nD) + size_t(c)] : s.R[bin] / kPi;
-                    const double ev =
-                        nD > 1 ? s.SStderr[bin * size_t(nD) + size_t(c)] : s.RStderr[bin] / kPi;
+                    const double v =
+                        nD > 1 ? s.S[bin * size_t(nD) + size_t(c)] : s.R[bin] / std::numbers::pi;
+                    const double ev = nD > 1 ? s.SStderr[bin * size_t(nD) + size_t(c)]
+                                             : s.RStderr[bin] / std::numbers::pi;
                     out << core::formatNumber(s.thetaIDeg) << ','
                         << core::formatNumber(e[size_t(ir)]) << ','
                         << core::formatNumber(e[size_t(ir) + 1]) << ','
@@ -355,8 +355,8 @@ std::string tableDirCsv(const BssrdfTable& t) {
                         << core::formatNumber(180.0 * (it + 1) / b.thetaSBins) << ','
                         << core::formatNumber(deg(std::acos(mu))) << ','
                         << core::formatNumber(360.0 * (sector + 0.5) / b.dirPhiBins) << ','
-                        << core::formatNumber(2 * kPi / nD) << ',' << core::formatNumber(v) << ','
-                        << core::formatNumber(ev) << '\n';
+                        << core::formatNumber(2 * std::numbers::pi / nD) << ','
+                        << core::formatNumber(v) << ',' << core::formatNumber(ev) << '\n';
                 }
     }
     return out.str();

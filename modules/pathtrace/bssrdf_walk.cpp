@@ -71,7 +71,6 @@ namespace pathtrace {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // Connection roulette distance d₀ in mean free paths (connectVertex).
 constexpr double kRouletteMfp = 2.0;
 
@@ -111,8 +110,8 @@ class Walker {
         m_g = m.g;
         m_eta = m.eta;
         m_etaOut = 1.0 / m.eta;
-        const double cosI = std::cos(thetaIDeg * kPi / 180.0);
-        const double sinI = std::sin(thetaIDeg * kPi / 180.0);
+        const double cosI = std::cos(thetaIDeg * std::numbers::pi / 180.0);
+        const double sinI = std::sin(thetaIDeg * std::numbers::pi / 180.0);
         m_specular = fresnelDielectric(std::max(cosI, 1e-300), m.eta);
         m_w0 = 1.0 - m_specular;
         const double sinT = sinI / m.eta;
@@ -122,7 +121,7 @@ class Walker {
         rouletteSurvival = s.termination.rouletteSurvival;
         m_edges = m_bins.rEdges();
         m_nT = m_bins.thetaSBins;
-        m_dTheta = kPi / m_nT;
+        m_dTheta = std::numbers::pi / m_nT;
         m_nD = m_bins.dirBins();
         m_binAcc.resize(size_t(m_bins.spatialBins()));
         if (m_nD > 1) m_dirAcc.resize(size_t(m_bins.spatialBins()) * size_t(m_nD));
@@ -252,7 +251,8 @@ class Walker {
         dir = {dx * inv, dy * inv, dz * inv};
         const double t21 = 1.0 - fresnelDielectric(dir.z, m_etaOut);
         if (t21 <= 0.0) return 0.0;
-        const double phase = hgPdfCos(m_g, u.x * dir.x + u.y * dir.y + u.z * dir.z) / (2 * kPi);
+        const double phase =
+            hgPdfCos(m_g, u.x * dir.x + u.y * dir.y + u.z * dir.z) / (2 * std::numbers::pi);
         const double qp = phase * dir.z / d2;
         const double f = aw * qp * std::exp(-m_sigmaT * d) * t21;
         return f / (qa + qp);
@@ -314,7 +314,7 @@ class Walker {
     Dir m_entry{0, 0, -1};
     std::vector<double> m_edges;
     int m_nT = 1, m_nD = 1;
-    double m_dTheta = kPi;
+    double m_dTheta = std::numbers::pi;
     PathAcc m_binAcc, m_dirAcc;
 };
 

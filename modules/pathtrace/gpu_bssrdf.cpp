@@ -22,13 +22,14 @@ using detail::kFixedOne;
 using detail::u128;
 using detail::wordThreshold;
 
-constexpr double kPi = std::numbers::pi;
 // Must match shaders/bssrdf_walk.comp.
 constexpr uint64_t kExtraSlots = 8;   // exit, absorbed, loss±, truncated, truncated paths, D±
 constexpr uint64_t kHeavyPerPath = 8; // every per-path value a path may tally when it ends
 constexpr double kTallyMax = 8.0;     // largest value the scaled walk tallies mid-path
 constexpr double kRouletteMfp = 2.0;  // connection roulette distance (bssrdf_walk.cpp)
 
+// The program's uniforms, by name (a namespace of their own: each tracer has its table).
+namespace bssrdf_uniforms {
 enum Uniform {
     uSeed,
     uFirstPath,
@@ -94,6 +95,7 @@ constexpr const char* kUniformNames[uCount] = {"Seed",
                                                "ExtraBase",
                                                "TallyScale",
                                                "RouletteDistance"};
+} // namespace bssrdf_uniforms
 
 // The fixed-point sum `units`·2^−fracBits as an exact sum (fracBits in [−32, 127]).
 ExactSum exactOf(u128 units, int fracBits) {
@@ -132,6 +134,7 @@ GpuBssrdfEstimator::GpuBssrdfEstimator(std::filesystem::path shaderFile)
 GpuBssrdfEstimator::~GpuBssrdfEstimator() = default;
 
 void GpuBssrdfEstimator::reload() {
+    using namespace bssrdf_uniforms;
     detail::buildTracerProgram(m_shaderFile, m_shader, kUniformNames, m_program, m_loc);
     clearSums();
 }
@@ -159,7 +162,7 @@ void GpuBssrdfEstimator::reset(const Medium& m, const EstimateSettings& s, size_
                               std::to_string(kMaxSlots) +
                               "); use fewer cells or run on the CPU (leave out --gpu)");
     // The largest weight of the walk and the tally scale that keeps it at most kTallyMax.
-    const double cosI = std::cos(s.thetaIDeg[angleIndex] * kPi / 180.0);
+    const double cosI = std::cos(s.thetaIDeg[angleIndex] * std::numbers::pi / 180.0);
     const double w0 = 1.0 - fresnelDielectric(std::max(cosI, 1e-300), m.eta);
     const Termination& term = s.termination;
     const double wMax = s.estimator == BssrdfEstimator::Analog
@@ -199,6 +202,7 @@ void GpuBssrdfEstimator::setEventBudget(uint32_t iterations) {
 }
 
 void GpuBssrdfEstimator::setUniforms() {
+    using namespace bssrdf_uniforms;
     const Medium& m = m_medium;
     const EstimateSettings& s = m_settings;
     const BssrdfBins& b = s.bins;
@@ -206,7 +210,7 @@ void GpuBssrdfEstimator::setUniforms() {
     const auto at = [&](Uniform u) { return m_loc[static_cast<size_t>(u)]; };
     const double sigmaT = m.sigmaA + m.sigmaS;
     const double albedo = m.sigmaS / sigmaT;
-    const double thetaI = s.thetaIDeg[m_angle] * kPi / 180.0;
+    const double thetaI = s.thetaIDeg[m_angle] * std::numbers::pi / 180.0;
     const double w0 = 1.0 - fresnelDielectric(std::max(std::cos(thetaI), 1e-300), m.eta);
     const double sinT = std::sin(thetaI) / m.eta;
     const Termination& term = s.termination;
@@ -266,6 +270,7 @@ void GpuBssrdfEstimator::setUniforms() {
 }
 
 uint64_t GpuBssrdfEstimator::step(uint64_t maxPaths) {
+    using namespace bssrdf_uniforms;
     const uint64_t todo =
         std::min(maxPaths, m_settings.paths - std::min(m_settings.paths, m_tally.paths));
     if (todo == 0) return m_tally.paths;

@@ -22,6 +22,8 @@ using detail::wordThreshold;
 constexpr uint64_t kExtraSlots = 6;   // beyond rMax, absorbed, loss+, loss−, truncated (w, count)
 constexpr uint64_t kHeavyPerPath = 3; // exit, absorbed, loss
 
+// The program's uniforms, by name (a namespace of their own: each tracer has its table).
+namespace slab_uniforms {
 enum Uniform {
     uSeed,
     uFirstPath,
@@ -63,6 +65,7 @@ constexpr const char* kUniformNames[uCount] = {"Seed",
                                                "RouletteWeight",
                                                "SurviveWeight",
                                                "WeightGain"};
+} // namespace slab_uniforms
 
 } // namespace
 
@@ -75,6 +78,7 @@ GpuSlabTracer::GpuSlabTracer(std::filesystem::path shaderFile)
 GpuSlabTracer::~GpuSlabTracer() = default;
 
 void GpuSlabTracer::reload() {
+    using namespace slab_uniforms;
     detail::buildTracerProgram(m_shaderFile, m_shader, kUniformNames, m_program, m_loc);
     clearSums();
 }
@@ -126,6 +130,7 @@ void GpuSlabTracer::setEventBudget(uint32_t events) {
 }
 
 void GpuSlabTracer::setMediumUniforms() {
+    using namespace slab_uniforms;
     const Medium& m = m_medium;
     const SlabSettings& s = m_settings;
     const GLuint p = m_program.id();
@@ -157,6 +162,7 @@ void GpuSlabTracer::setMediumUniforms() {
 }
 
 void GpuSlabTracer::runRound(uint64_t first, uint64_t count) {
+    using namespace slab_uniforms;
     const GLuint p = m_program.id();
     const auto at = [&](Uniform u) { return m_loc[static_cast<size_t>(u)]; };
     glProgramUniform2ui(p, at(uFirstPath), static_cast<GLuint>(first),

@@ -25,6 +25,8 @@ using detail::wordThreshold;
 constexpr uint64_t kHeavyPerItem = 2; // pixel, exited
 constexpr uint64_t kMaxItemsPerRound = 3 * GpuSphereTracer::kMaxPathsPerRound;
 
+// The program's uniforms, by name (a namespace of their own: each tracer has its table).
+namespace sphere_uniforms {
 enum Uniform {
     uSeed,
     uFirstPath,
@@ -54,6 +56,7 @@ constexpr const char* kUniformNames[uCount] = {
     "Eta",         "Radius",         "Light",          "E1",
     "E2",          "Extent",         "PixelSize",      "ImageSize",
     "MaxEvents",   "RouletteWeight", "SurviveWeight",  "WeightGain"};
+} // namespace sphere_uniforms
 
 } // namespace
 
@@ -66,6 +69,7 @@ GpuSphereTracer::GpuSphereTracer(std::filesystem::path shaderFile)
 GpuSphereTracer::~GpuSphereTracer() = default;
 
 void GpuSphereTracer::reload() {
+    using namespace sphere_uniforms;
     detail::buildTracerProgram(m_shaderFile, m_shader, kUniformNames, m_program, m_loc);
     clearSums();
 }
@@ -120,6 +124,7 @@ uint64_t GpuSphereTracer::step(uint64_t maxPathsPerChannel) {
 }
 
 void GpuSphereTracer::setUniforms() {
+    using namespace sphere_uniforms;
     const GLuint p = m_program.id();
     const auto at = [&](Uniform u) { return m_loc[static_cast<size_t>(u)]; };
     float sigmaT[3], absorb[3], g[3], eta[3];
@@ -169,6 +174,7 @@ void GpuSphereTracer::setUniforms() {
 }
 
 void GpuSphereTracer::runRound(uint64_t first, uint64_t paths) {
+    using namespace sphere_uniforms;
     const GLuint p = m_program.id();
     const auto at = [&](Uniform u) { return m_loc[static_cast<size_t>(u)]; };
     const uint64_t count = 3 * paths; // work items: every channel of every path

@@ -8,12 +8,11 @@
 namespace plot {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kMissing = std::numeric_limits<double>::quiet_NaN(); // no value here
 
 // Value of v at position (i, t) between samples i and i+1; NaN when v is too short.
 double lerpAt(const std::vector<double>& v, size_t i, double t) {
-    if (i + 1 >= v.size()) return i < v.size() && t == 0 ? v[i] : kNaN;
+    if (i + 1 >= v.size()) return i < v.size() && t == 0 ? v[i] : kMissing;
     if (t == 0) return v[i];
     if (t == 1) return v[i + 1];
     return v[i] + t * (v[i + 1] - v[i]);
@@ -25,7 +24,7 @@ std::vector<HoverRow> sampleAt(const std::vector<Series>& series, double x) {
     std::vector<HoverRow> rows;
     rows.reserve(series.size());
     for (const Series& s : series) {
-        HoverRow row{s.label, x, kNaN, kNaN, kNaN, s.color};
+        HoverRow row{s.label, x, kMissing, kMissing, kMissing, s.color};
         const size_t n = std::min(s.x.size(), s.y.size());
         if (n == 0 || !std::isfinite(x) || x < s.x[0] || x > s.x[n - 1]) {
             rows.push_back(row);

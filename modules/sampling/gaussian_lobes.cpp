@@ -9,12 +9,6 @@
 #include <numbers>
 
 namespace sampling {
-namespace {
-std::string num(double v) {
-    return core::formatNumber(v, 6);
-}
-} // namespace
-
 double gaussian2d(double variance, double r) {
     return std::exp(-r * r / (2 * variance)) / (2 * std::numbers::pi * variance);
 }
@@ -24,7 +18,8 @@ GaussianLobes::GaussianLobes(std::vector<GaussianLobe> lobes, double eps, int ch
     : m_lobes(std::move(lobes)) {
     const std::string ch = "channel " + std::to_string(channel) + ": ";
     auto fail = [&](const std::string& msg) { throw core::Error(name, 0, ch + msg); };
-    if (!(eps > 0 && eps < 1)) fail("eps must be in (0, 1) (it is " + num(eps) + ")");
+    if (!(eps > 0 && eps < 1))
+        fail("eps must be in (0, 1) (it is " + core::formatNumber(eps, 6) + ")");
     if (m_lobes.empty()) fail("no lobes");
     double vMax = 0;
     for (size_t k = 0; k < m_lobes.size(); ++k) {
@@ -32,9 +27,11 @@ GaussianLobes::GaussianLobes(std::vector<GaussianLobe> lobes, double eps, int ch
         const std::string which = "lobe " + std::to_string(k) + ": ";
         if (std::isnan(l.weight)) fail(which + "weight is NaN");
         if (std::isinf(l.weight)) fail(which + "weight is infinite");
-        if (l.weight < 0) fail(which + "weight is negative (" + num(l.weight) + ")");
+        if (l.weight < 0)
+            fail(which + "weight is negative (" + core::formatNumber(l.weight, 6) + ")");
         if (!(std::isfinite(l.variance) && l.variance > 0))
-            fail(which + "variance must be finite and > 0 (it is " + num(l.variance) + ")");
+            fail(which + "variance must be finite and > 0 (it is " +
+                 core::formatNumber(l.variance, 6) + ")");
         m_total += l.weight;
         if (l.weight > 0) vMax = std::max(vMax, l.variance);
     }

@@ -9,38 +9,36 @@
 #include <numbers>
 
 namespace sampling {
-namespace {
-std::string num(double v) {
-    return core::formatNumber(v, 6);
-}
-} // namespace
-
 TabulatedRadial::TabulatedRadial(std::vector<double> radii, std::vector<double> values, double eps,
                                  int channel, const std::string& name)
     : m_radii(std::move(radii)), m_values(std::move(values)), m_eps(eps) {
     const std::string ch = "channel " + std::to_string(channel) + ": ";
     auto fail = [&](const std::string& msg) { throw core::Error(name, 0, ch + msg); };
-    if (!(eps > 0 && eps < 1)) fail("eps must be in (0, 1) (it is " + num(eps) + ")");
+    if (!(eps > 0 && eps < 1))
+        fail("eps must be in (0, 1) (it is " + core::formatNumber(eps, 6) + ")");
     if (m_radii.size() < 2)
         fail("the table needs at least 2 radii (it has " + std::to_string(m_radii.size()) + ")");
     if (m_radii.size() != m_values.size())
         fail("radii and values differ in length (" + std::to_string(m_radii.size()) + " and " +
              std::to_string(m_values.size()) + ")");
-    if (m_radii[0] != 0) fail("the first radius must be 0 (it is " + num(m_radii[0]) + ")");
+    if (m_radii[0] != 0)
+        fail("the first radius must be 0 (it is " + core::formatNumber(m_radii[0], 6) + ")");
     for (size_t k = 1; k < m_radii.size(); ++k) {
         if (!std::isfinite(m_radii[k]))
-            fail("radius " + std::to_string(k) + " is not finite (" + num(m_radii[k]) + ")");
+            fail("radius " + std::to_string(k) + " is not finite (" +
+                 core::formatNumber(m_radii[k], 6) + ")");
         if (!(m_radii[k] > m_radii[k - 1]))
             fail("radii must increase strictly (entry " + std::to_string(k) + ": " +
-                 num(m_radii[k]) + " after " + num(m_radii[k - 1]) + ")");
+                 core::formatNumber(m_radii[k], 6) + " after " +
+                 core::formatNumber(m_radii[k - 1], 6) + ")");
     }
     for (size_t k = 0; k < m_values.size(); ++k) {
         const double v = m_values[k];
-        const std::string at =
-            " at r = " + num(m_radii[k]) + " mm (entry " + std::to_string(k) + ")";
+        const std::string at = " at r = " + core::formatNumber(m_radii[k], 6) + " mm (entry " +
+                               std::to_string(k) + ")";
         if (std::isnan(v)) fail("R(r) is NaN" + at);
         if (std::isinf(v)) fail("R(r) is infinite" + at);
-        if (v < 0) fail("R(r) is negative (" + num(v) + ")" + at);
+        if (v < 0) fail("R(r) is negative (" + core::formatNumber(v, 6) + ")" + at);
     }
 
     const size_t n = m_radii.size();
@@ -83,11 +81,12 @@ TabulatedRadial::TabulatedRadial(std::vector<double> radii, std::vector<double> 
     const size_t ke = intervalOf(rEdge);
     const double beyond = (total - (m_cumulative[ke] + partial(ke, rEdge - m_radii[ke]))) / total;
     if (beyond > eps)
-        fail("the energy does not converge within the tabulated range: " + num(beyond) +
-             " of it lies in the last 1 % of the radii (r > " + num(rEdge) +
-             " mm), more than eps = " + num(eps) +
-             "; 1 - eps of the energy is reached only at r = " + num(m_radiusMax) +
-             " mm of the table's " + num(rLast) + " mm");
+        fail(
+            "the energy does not converge within the tabulated range: " +
+            core::formatNumber(beyond, 6) + " of it lies in the last 1 % of the radii (r > " +
+            core::formatNumber(rEdge, 6) + " mm), more than eps = " + core::formatNumber(eps, 6) +
+            "; 1 - eps of the energy is reached only at r = " + core::formatNumber(m_radiusMax, 6) +
+            " mm of the table's " + core::formatNumber(rLast, 6) + " mm");
 }
 
 double TabulatedRadial::partial(size_t k, double t) const {

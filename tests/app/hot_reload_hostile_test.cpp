@@ -16,15 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using testsupport::valueAt0;
 
-template <class F> bool waitFor(app::Workbench& wb, F done, double ms = 8000) {
-    core::Stopwatch sw;
-    while (sw.ms() < ms) {
-        wb.update();
-        if (done()) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
-}
+using testsupport::waitFor;
 
 void renameSave(const fs::path& file, const std::string& text) {
     const fs::path tmp = file.parent_path() / ("." + file.filename().string() + ".swp");

@@ -16,16 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using testsupport::valueAt0;
 
-// Runs wb.update() until `done` holds (5 s limit: the debounce is 40 ms, a rebuild ~100 ms).
-template <class F> bool waitFor(app::Workbench& wb, F done) {
-    core::Stopwatch sw;
-    while (sw.ms() < 5000) {
-        wb.update();
-        if (done()) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
-}
+using testsupport::waitFor;
 
 // Editor-style save: write a temporary next to the file and rename it over the original.
 void saveLikeAnEditor(const fs::path& file, const std::string& text) {

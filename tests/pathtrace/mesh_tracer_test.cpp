@@ -10,6 +10,8 @@
 #include "pathtrace/mesh_tracer.h"
 #include "pathtrace/sphere_tracer.h"
 
+#include "lit_sphere_media.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,19 +24,10 @@ namespace {
 
 using core::bonferroniZ;
 
-Medium med(double sa, double ss, double g, double eta) {
-    Medium m;
-    m.sigmaA = sa;
-    m.sigmaS = ss;
-    m.g = g;
-    m.eta = eta;
-    return m;
-}
+using pathtrace_test::kMedia;
+using pathtrace_test::med;
 
-const std::array<Medium, 3> kMedia = {med(0.05, 1.0, 0.0, 1.3), med(0.2, 2.0, 0.5, 1.3),
-                                      med(0.5, 0.5, 0.0, 1.5)};
-
-LitSphereSetup setup(int size, uint64_t spp, double lx, double ly, double lz) {
+LitSphereSetup meshSetup(int size, uint64_t spp, double lx, double ly, double lz) {
     LitSphereSetup s;
     s.radiusMm = 2.0;
     s.width = s.height = size;
@@ -72,7 +65,7 @@ const LitMesh& fineSphere() {
 
 // Footprint areas of the tessellated sphere against the exact sphere's, inside the silhouette.
 TEST(MeshTracer, FootprintsMatchTheSphere) {
-    const LitSphereSetup s = setup(24, 1, 0, 0, 1);
+    const LitSphereSetup s = meshSetup(24, 1, 0, 0, 1);
     TraceOptions o;
     o.footprintSubsamples = 8;
     const PixelGeometry mesh = fineSphere().footprints(s, o);
@@ -97,7 +90,7 @@ TEST(MeshTracer, FootprintsMatchTheSphere) {
 // (d2) The tessellated sphere's image equals the analytic sphere's: per-pixel z-tests on
 // pixels within 0.8 R (the silhouette differs by the tessellation), per channel, Bonferroni.
 TEST(MeshTracer, TessellatedSphereMatchesAnalyticSphere) {
-    LitSphereSetup s = setup(28, 400, 1, 1, 2);
+    LitSphereSetup s = meshSetup(28, 400, 1, 1, 2);
     ImageStats ms, ss;
     const Image mesh = fineSphere().trace(kMedia, s, {}, nullptr, {}, &ms);
     s.seed = 12; // independent of the mesh run (the same seed would correlate the two images)
@@ -154,7 +147,7 @@ TEST(MeshTracer, EnergyConservedAndNoLeaks) {
     const std::array<Medium, 3> media = {med(0.0, 1.5, 0.3, 1.0), med(0.0, 3.0, 0.0, 1.0),
                                          med(0.0, 0.7, -0.4, 1.0)};
     const LitMesh ball(makeUvSphere(16, 32), "coarse sphere");
-    LitSphereSetup s = setup(16, 40, 0.2, 0.5, 0.7);
+    LitSphereSetup s = meshSetup(16, 40, 0.2, 0.5, 0.7);
     ImageStats st;
     ball.trace(media, s, {}, nullptr, {}, &st);
     for (int c = 0; c < 3; ++c) {
@@ -187,7 +180,7 @@ TEST(MeshTracer, HiddenExitsDoNotReachTheImage) {
     const Mesh upper = sphereAt(24, 48, 0.24f, 0, 0, 0.26f);
     const LitMesh both(combine(upper, sphereAt(24, 48, 0.24f, 0, 0, -0.26f)), "two spheres");
     const LitMesh alone(combine(upper, sphereAt(6, 12, 0.01f, 0, 0, -0.49f)), "one sphere");
-    LitSphereSetup s = setup(20, 150, 1, 0, 0.3);
+    LitSphereSetup s = meshSetup(20, 150, 1, 0, 0.3);
     const Image a = both.trace(kMedia, s);
     s.seed = 12; // independent runs
     const Image b = alone.trace(kMedia, s);
@@ -209,7 +202,7 @@ TEST(MeshTracer, HiddenExitsDoNotReachTheImage) {
 
 TEST(MeshTracer, DeterministicAcrossThreadCounts) {
     const LitMesh m(makeUvSphere(12, 24), "sphere");
-    LitSphereSetup s = setup(16, 40, 0.3, 0.1, 1);
+    LitSphereSetup s = meshSetup(16, 40, 0.3, 0.1, 1);
     s.threads = 1;
     const Image a = m.trace(kMedia, s);
     s.threads = 3;

@@ -11,6 +11,8 @@
 #include "pathtrace/pathtrace.h"
 #include "pathtrace/sphere_tracer.h"
 
+#include "lit_sphere_media.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,19 +30,10 @@ namespace {
 
 using core::bonferroniZ;
 
-Medium med(double sa, double ss, double g, double eta) {
-    Medium m;
-    m.sigmaA = sa;
-    m.sigmaS = ss;
-    m.g = g;
-    m.eta = eta;
-    return m;
-}
+using pathtrace_test::kMedia;
+using pathtrace_test::med;
 
-const std::array<Medium, 3> kMedia = {med(0.05, 1.0, 0.0, 1.3), med(0.2, 2.0, 0.5, 1.3),
-                                      med(0.5, 0.5, 0.0, 1.5)};
-
-LitSphereSetup setup(int size, uint64_t spp, double lx, double ly, double lz) {
+LitSphereSetup sphereSetup(int size, uint64_t spp, double lx, double ly, double lz) {
     LitSphereSetup s;
     s.radiusMm = 2.0;
     s.width = s.height = size;
@@ -131,7 +124,7 @@ TEST(SphereFootprint, ColumnsSumToArchimedes) {
 }
 
 TEST(SphereTracer, PathCountAndFootprints) {
-    const LitSphereSetup s = setup(16, 3, 0, 0, 1);
+    const LitSphereSetup s = sphereSetup(16, 3, 0, 0, 1);
     const PixelGeometry g = sphereFootprints(s);
     const OrthoCamera cam(s, s.radiusMm);
     uint64_t covered = 0;
@@ -154,7 +147,7 @@ TEST(SphereTracer, PathCountAndFootprints) {
 // channel's own energy check passes, with a limit of 3 events much is truncated and the check
 // says so.
 TEST(SphereTracer, EnergyAccounting) {
-    LitSphereSetup s = setup(12, 50, 0.3, -0.2, 1);
+    LitSphereSetup s = sphereSetup(12, 50, 0.3, -0.2, 1);
     for (uint32_t limit : {TraceOptions{}.termination.maxEvents, 3u}) {
         ImageStats st;
         TraceOptions o;
@@ -197,7 +190,7 @@ TEST(SphereTracer, EnergyConservedWithoutAbsorption) {
     for (double eta : {1.0, 1.3}) {
         const std::array<Medium, 3> media = {med(0.0, 1.5, 0.3, eta), med(0.0, 3.0, 0.0, eta),
                                              med(0.0, 0.7, -0.4, eta)};
-        LitSphereSetup s = setup(16, 400, 0.2, 0.5, 0.7);
+        LitSphereSetup s = sphereSetup(16, 400, 0.2, 0.5, 0.7);
         s.radiusMm = 1.5;
         const double incident = std::numbers::pi * s.radiusMm * s.radiusMm;
         ImageStats st;
@@ -227,7 +220,7 @@ TEST(SphereTracer, EnergyConservedWithoutAbsorption) {
 // (d1) Light along the view axis: the image is rotationally symmetric about the image centre;
 // compare every pixel with its mirrors (−x, y), (x, −y) and (y, x).
 TEST(SphereTracer, SymmetricUnderAxialLight) {
-    const LitSphereSetup s = setup(24, 300, 0, 0, 1);
+    const LitSphereSetup s = sphereSetup(24, 300, 0, 0, 1);
     const Image img = traceLitSphere(kMedia, s);
     const int n = s.width;
     const MirrorStats mx = mirrorTest(img, s, 0.95, [n](int i, int j, int& i2, int& j2) {
@@ -256,7 +249,7 @@ TEST(SphereTracer, SymmetricUnderAxialLight) {
 // Light along +x: mirror symmetry y ↔ −y only; the +x side (right) is the bright one. Light
 // along +y: the top rows (y > 0, row 0 at the top) are the bright ones.
 TEST(SphereTracer, MirrorSymmetryAndOrientationUnderSideLight) {
-    const LitSphereSetup s = setup(24, 300, 1, 0, 0);
+    const LitSphereSetup s = sphereSetup(24, 300, 1, 0, 0);
     const Image img = traceLitSphere(kMedia, s);
     const int n = s.width;
     const MirrorStats my = mirrorTest(img, s, 0.95, [n](int i, int j, int& i2, int& j2) {
@@ -276,7 +269,7 @@ TEST(SphereTracer, MirrorSymmetryAndOrientationUnderSideLight) {
     };
     for (int c = 0; c < 3; ++c)
         EXPECT_GT(half(img, true, false, c), 1.5 * half(img, true, true, c)) << c;
-    const Image top = traceLitSphere(kMedia, setup(16, 50, 0, 1, 0));
+    const Image top = traceLitSphere(kMedia, sphereSetup(16, 50, 0, 1, 0));
     for (int c = 0; c < 3; ++c) {
         double upper = 0, lower = 0;
         for (int j = 0; j < 16; ++j)
@@ -287,7 +280,7 @@ TEST(SphereTracer, MirrorSymmetryAndOrientationUnderSideLight) {
 }
 
 TEST(SphereTracer, DeterministicAcrossThreadCounts) {
-    LitSphereSetup s = setup(20, 50, 0.5, 0.5, 0.7);
+    LitSphereSetup s = sphereSetup(20, 50, 0.5, 0.5, 0.7);
     s.threads = 1;
     const Image a = traceLitSphere(kMedia, s);
     s.threads = 2;
@@ -305,7 +298,8 @@ TEST(SphereTracer, DeterministicAcrossThreadCounts) {
 }
 
 TEST(SphereTracer, CancelKeepsACompletedPrefix) {
-    LitSphereSetup s = setup(32, 3000, 0, 0, 1); // ~2.4M paths: seconds, cancelled after 50 ms
+    LitSphereSetup s =
+        sphereSetup(32, 3000, 0, 0, 1); // ~2.4M paths: seconds, cancelled after 50 ms
     s.threads = 2;
     std::atomic<bool> cancel{false};
     const Image img = traceLitSphere(
@@ -327,16 +321,16 @@ TEST(SphereTracer, ValidatesInputs) {
             EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
         }
     };
-    LitSphereSetup s = setup(8, 1, 0, 0, 1);
+    LitSphereSetup s = sphereSetup(8, 1, 0, 0, 1);
     s.radiusMm = 0;
     expectError([&] { traceLitSphere(kMedia, s); }, "radius");
-    s = setup(8, 1, 0, 0, 0);
+    s = sphereSetup(8, 1, 0, 0, 0);
     expectError([&] { traceLitSphere(kMedia, s); }, "light");
-    s = setup(0, 1, 0, 0, 1);
+    s = sphereSetup(0, 1, 0, 0, 1);
     expectError([&] { traceLitSphere(kMedia, s); }, "size");
-    s = setup(8, 0, 0, 0, 1);
+    s = sphereSetup(8, 0, 0, 0, 1);
     expectError([&] { traceLitSphere(kMedia, s); }, "samples");
-    s = setup(8, 1, 0, 0, 1);
+    s = sphereSetup(8, 1, 0, 0, 1);
     auto bad = kMedia;
     bad[1].g = 1.0;
     expectError([&] { traceLitSphere(bad, s); }, "green");
@@ -353,7 +347,7 @@ TEST(SphereTracer, ValidatesInputs) {
 // at 960 mm); allowance 0.5 %.
 TEST(SphereTracer, CentreOfLargeSphereMatchesSlabTotalReflectance) {
     const Medium m = med(0.1, 1.0, 0.0, 1.3);
-    LitSphereSetup s = setup(16, 6000, 0, 0, 1);
+    LitSphereSetup s = sphereSetup(16, 6000, 0, 0, 1);
     s.radiusMm = 960.0;
     ImageStats st;
     const Image img = traceLitSphere({m, m, m}, s, {}, nullptr, {}, &st);

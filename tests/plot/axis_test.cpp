@@ -1,6 +1,8 @@
 // plot: axis mapping, sanitising, automatic ranges and hover sampling.
 #include "plot/plot.h"
 
+#include "plot_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,20 +13,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-plot::Axis axis(double lo, double hi, plot::Scale s) {
-    plot::Axis a;
-    a.lo = lo;
-    a.hi = hi;
-    a.scale = s;
-    return a;
-}
-
-plot::Series series(std::vector<double> x, std::vector<double> y) {
-    plot::Series s;
-    s.x = std::move(x);
-    s.y = std::move(y);
-    return s;
-}
+using plot_test::axis;
+using plot_test::series;
 
 TEST(PlotAxis, EndsMapToZeroAndOne) {
     for (plot::Scale s : {plot::Scale::Linear, plot::Scale::Log, plot::Scale::Sqrt}) {

@@ -2,6 +2,8 @@
 // font atlas is enough to run frames and inspect the vertices).
 #include "plot/plot_draw.h"
 
+#include "plot_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <cfloat>
@@ -67,14 +69,7 @@ class PlotDraw : public testing::Test {
     }
 };
 
-plot::Axis axis(double lo, double hi, plot::Scale s, std::string label = "") {
-    plot::Axis a;
-    a.lo = lo;
-    a.hi = hi;
-    a.scale = s;
-    a.label = std::move(label);
-    return a;
-}
+using plot_test::axis;
 
 // Every vertex of the plot window is finite and near the widget rect.
 void expectSaneVertices(const plot::PlotState& st) {

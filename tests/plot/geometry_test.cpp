@@ -1,6 +1,8 @@
 // plot::detail: clipping, series polylines with breaks, band polygons, dashes, label thinning.
 #include "plot/detail/geometry.h"
 
+#include "plot_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,20 +12,8 @@ namespace {
 using plot::detail::Polyline;
 using plot::detail::Vec2d;
 
-plot::Axis axis(double lo, double hi, plot::Scale s) {
-    plot::Axis a;
-    a.lo = lo;
-    a.hi = hi;
-    a.scale = s;
-    return a;
-}
-
-plot::Series series(std::vector<double> x, std::vector<double> y) {
-    plot::Series s;
-    s.x = std::move(x);
-    s.y = std::move(y);
-    return s;
-}
+using plot_test::axis;
+using plot_test::series;
 
 TEST(PlotGeometry, ClipSegment) {
     Vec2d a{0.5, 0.5}, b{0.25, 0.75};

@@ -1,6 +1,8 @@
 // plot: tick placement (linear 1-2-5, log decades, sqrt) and number formatting.
 #include "plot/plot.h"
 
+#include "plot_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,13 +10,7 @@
 
 namespace {
 
-plot::Axis axis(double lo, double hi, plot::Scale s) {
-    plot::Axis a;
-    a.lo = lo;
-    a.hi = hi;
-    a.scale = s;
-    return a;
-}
+using plot_test::axis;
 
 std::vector<plot::Tick> labelled(const std::vector<plot::Tick>& t) {
     std::vector<plot::Tick> out;

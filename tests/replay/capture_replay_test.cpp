@@ -360,7 +360,9 @@ TEST(CaptureReplay, HostileInputPathsStayInsideTheCaptureAndTheProject) {
         {"point_cloud_file", "/etc/hostname"},
         {"projected_texture", "captures/rec/link/secret.obj"},
     };
-    for (const auto& [key, value] : cases) {
+    for (const auto& c : cases) {
+        const std::string& key = c.first; // (not a structured binding: clang 15 cannot capture one)
+        const std::string& value = c.second;
         SCOPED_TRACE(key + " = " + value);
         editManifest(r, [&](nlohmann::json& j) {
             j = original;
@@ -468,7 +470,9 @@ TEST(CaptureReplay, WrongJsonTypesNameTheirPathNotTheLibrary) {
         {[](nlohmann::json& j) { j["settings"]["reference"] = nlohmann::json::array(); },
          "settings.reference: expected an object"},
     };
-    for (const auto& [edit, message] : cases) {
+    for (const auto& c : cases) {
+        const auto& edit = c.first; // (not a structured binding: clang 15 cannot capture one)
+        const auto& message = c.second;
         SCOPED_TRACE(message);
         editManifest(r, [&](nlohmann::json& j) {
             j = original;

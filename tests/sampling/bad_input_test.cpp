@@ -19,15 +19,6 @@ using namespace sampling;
 using namespace samplingtest;
 
 namespace {
-// The message of the core::Error thrown by f ("" if none).
-template <class F> std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const core::Error& e) {
-        return e.what();
-    }
-    return "";
-}
 #define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << text
 } // namespace
 

@@ -22,9 +22,6 @@ using namespace sampling;
 using namespace samplingtest;
 
 namespace {
-std::array<const RadialDistribution*, 3> pointers(const std::array<TabulatedRadial, 3>& ch) {
-    return {&ch[0], &ch[1], &ch[2]};
-}
 
 void expectSameAsEachChannel(const std::array<TabulatedRadial, 3>& ch, const char* what) {
     const auto joint = ChannelPdfTable::of(pointers(ch));

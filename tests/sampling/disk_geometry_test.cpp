@@ -51,10 +51,6 @@ struct Integrand {
     }
 };
 
-std::array<const RadialDistribution*, 3> pointers(const std::array<TabulatedRadial, 3>& ch) {
-    return {&ch[0], &ch[1], &ch[2]};
-}
-
 Accumulator runDisk(const DiskSampler& ds, const Surface& s, const Frame& f, const Integrand& fn,
                     uint64_t seed, int n = kDiskSamples, std::vector<double>* batchVar = nullptr) {
     pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(seed, 0);

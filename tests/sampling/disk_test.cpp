@@ -22,9 +22,6 @@ using namespace sampling;
 using namespace samplingtest;
 
 namespace {
-std::array<const RadialDistribution*, 3> pointers(const std::array<TabulatedRadial, 3>& ch) {
-    return {&ch[0], &ch[1], &ch[2]};
-}
 // f_c(x) = R_c(|x − P|) for |x − P| <= R_m,c, else 0: on the plane its integral is E_m,c.
 struct CutProfile {
     const DiskSampler* ds;

@@ -42,14 +42,6 @@ TabulatedRadial gaussianTable() {
         v.push_back(gaussian2d(kV, r));
     return TabulatedRadial(radii, v);
 }
-template <class F> std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const core::Error& e) {
-        return e.what();
-    }
-    return "";
-}
 } // namespace
 
 TEST(InverseCdfRadial, SamplePdfAndCdfAreOneDistribution) {

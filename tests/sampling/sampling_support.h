@@ -6,6 +6,7 @@
 #pragma once
 
 #include "../pathtrace/stats.h"
+#include "core/core.h"
 #include "core/statistics.h"
 #include "sampling/tabulated_radial.h"
 
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <string>
 #include <vector>
 
 namespace samplingtest {
@@ -111,6 +113,22 @@ struct Accumulator {
 inline double zDiff(double a, double sa, double b, double sb) {
     const double s = std::sqrt(sa * sa + sb * sb);
     return s > 0 ? (a - b) / s : (a == b ? 0.0 : INFINITY);
+}
+
+// The three channels' distributions as the samplers take them.
+inline std::array<const sampling::RadialDistribution*, 3>
+pointers(const std::array<sampling::TabulatedRadial, 3>& ch) {
+    return {&ch[0], &ch[1], &ch[2]};
+}
+
+// The message of the core::Error thrown by f ("" if none).
+template <class F> std::string errorOf(F&& f) {
+    try {
+        f();
+    } catch (const core::Error& e) {
+        return e.what();
+    }
+    return "";
 }
 
 } // namespace samplingtest

@@ -3,6 +3,7 @@
 
 #include "shader/assembly.h"
 
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,6 +39,26 @@ inline std::vector<std::string_view> tokenize(std::string_view s) {
         i = j;
     }
     return out;
+}
+
+// 'text' in single quotes, as messages quote what they name.
+inline std::string inQuotes(std::string_view s) {
+    std::string out;
+    out.reserve(s.size() + 2);
+    out += '\'';
+    out.append(s);
+    out += '\'';
+    return out;
+}
+
+// A GLSL float literal of v: 9 significant digits (every float exactly), always with a '.' or
+// an exponent so that GLSL reads it as a float.
+inline std::string glslFloat(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.9g", v);
+    std::string s = b;
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+    return s;
 }
 
 } // namespace bssrdf::detail
