@@ -38,8 +38,12 @@ std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float 
     for (size_t p = 0; p < n; ++p) {
         bool invalid = false;
         for (int c = 0; c < 3; ++c) {
-            invalid |= !std::isfinite(img.mean[3 * p + c]);
-            const float v = std::pow(std::max(img.mean[3 * p + c] * k, 0.0f), inv);
+            const float m = img.mean[3 * p + c];
+            if (!std::isfinite(m)) { // (a NaN would pass std::max and std::clamp unchanged)
+                invalid = true;
+                continue;
+            }
+            const float v = std::pow(std::max(m * k, 0.0f), inv);
             out[4 * p + c] = uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
         }
         if (invalid) out[4 * p] = 255, out[4 * p + 1] = 0, out[4 * p + 2] = 255;
@@ -48,6 +52,7 @@ std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float 
 }
 
 std::array<uint8_t, 3> divergingColor(float t) {
+    if (std::isnan(t)) return {255, 0, 255}; // magenta, as the images show a NaN
     t = std::clamp(t, -1.0f, 1.0f);
     const float a = std::abs(t);
     if (t >= 0) return {uint8_t(255 * a), uint8_t(60 * a), uint8_t(40 * a)};

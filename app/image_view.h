@@ -22,7 +22,7 @@ std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float 
 // (positive) with |a − b| = range at full saturation.
 std::vector<uint8_t> differenceMap(const pathtrace::Image& a, const pathtrace::Image& b,
                                    float range);
-std::array<uint8_t, 3> divergingColor(float t); // t in [−1, 1]
+std::array<uint8_t, 3> divergingColor(float t); // t in [−1, 1]; NaN: magenta
 // A sequential colour map (dark violet → yellow, lightness increasing) for t in [0, 1].
 std::array<uint8_t, 3> sequentialColor(float t);
 

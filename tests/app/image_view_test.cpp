@@ -58,6 +58,12 @@ TEST(ImageView, DifferenceIsSignedAndReadoutHasStderr) {
     EXPECT_LT(d[2], 60);
     auto e = app::differenceMap(b, a, 0.5f);
     EXPECT_EQ(e[2], 255); // negative: blue
+    auto withNaN = a;
+    withNaN.mean[0] = std::nanf(""); // a NaN difference shows magenta, like a NaN pixel
+    auto m = app::differenceMap(withNaN, b, 0.5f);
+    EXPECT_EQ(m[0], 255);
+    EXPECT_EQ(m[1], 0);
+    EXPECT_EQ(m[2], 255);
     auto v = app::pixelAt(a, 3, 1);
     ASSERT_TRUE(v.valid);
     EXPECT_FLOAT_EQ(v.mean[0], 1.0f);
