@@ -28,6 +28,10 @@ namespace app {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+std::string formatScore(double v, int digits) {
+    return std::isfinite(v) ? core::formatNumber(v, digits) : "—";
+}
+
 namespace {
 
 constexpr const char* kSchema = capture::kScoresSchema;
@@ -111,10 +115,6 @@ pathtrace::SlabResult reference(const pathtrace::Medium& m, const pathtrace::Sla
         }
     }
     return r;
-}
-
-std::string fmt(double v, int digits = 4) {
-    return std::isfinite(v) ? core::formatNumber(v, digits) : "—";
 }
 
 json rowJson(const ScoreRow& r) {
@@ -291,7 +291,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     for (double t : a.thetaI)
         if (!(std::isfinite(t) && t >= 0 && t < 90))
             throw core::Error("--theta-i", 0,
-                              "incidence angles must be degrees in [0, 90), got " + fmt(t));
+                              "incidence angles must be degrees in [0, 90), got " + formatScore(t));
     if (a.thetaI.empty()) throw core::Error("--theta-i", 0, "give at least one angle");
 
     CompareReport report;
@@ -362,7 +362,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                 const pathtrace::EstimateSettings es = obliqueSettings(ld, thetaI, a.paths);
                 bool fromCache = false;
                 const pathtrace::BssrdfSlice ref = obliqueReference(
-                    m, es, preset + " " + ch + " at " + fmt(thetaI, 3) + " deg", fromCache);
+                    m, es, preset + " " + ch + " at " + formatScore(thetaI, 3) + " deg", fromCache);
                 (fromCache ? cached : traced)++;
                 SliceMaps maps{preset, c, thetaI, ld, es.bins, ref.R, ref.RStderr, {}};
                 for (auto& e : wb.library().entries()) {
@@ -385,8 +385,9 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                                 preset +
                                     ": Bssrdf() is negative or not finite on "
                                     "the slice at theta_i " +
-                                    fmt(thetaI, 3) + " deg, r = " +
-                                    fmt(es.bins.rEdges()[i / size_t(es.bins.thetaSBins)], 4) +
+                                    formatScore(thetaI, 3) + " deg, r = " +
+                                    formatScore(es.bins.rEdges()[i / size_t(es.bins.thetaSBins)],
+                                                4) +
                                     " mm");
                     ScoreRow row = scoreSlice(es.bins, ref, ms, ld);
                     row.model = stem(e.displayPath);
@@ -423,14 +424,14 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
             const double noise = 3 * std::sqrt(r.relL2Se * r.relL2Se + b.relL2Se * b.relL2Se);
             if (r.relL2 > b.relL2 * (1 + *a.failIfWorse / 100) && r.relL2 - b.relL2 > noise) {
                 std::fprintf(stderr, "worse: %s %s %s rel_l2 %s -> %s\n", r.model.c_str(),
-                             r.preset.c_str(), r.channel.c_str(), fmt(b.relL2).c_str(),
-                             fmt(r.relL2).c_str());
+                             r.preset.c_str(), r.channel.c_str(), formatScore(b.relL2).c_str(),
+                             formatScore(r.relL2).c_str());
                 ++worse;
             }
         }
     if (worse) {
         std::fprintf(stderr, "error: %d rows worse than the baseline by more than %s %%\n", worse,
-                     fmt(*a.failIfWorse).c_str());
+                     formatScore(*a.failIfWorse).c_str());
         return 1;
     }
     return 0;

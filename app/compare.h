@@ -48,6 +48,9 @@
 
 namespace app {
 
+// A score as the reports print it: `digits` significant digits, "—" when not finite.
+std::string formatScore(double v, int digits = 4);
+
 struct CompareArgs {
     std::vector<std::string> models;   // default: every materials/*.bssrdf
     std::vector<std::string> presets;  // default: every preset of presets.json

@@ -23,10 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string fmt(double v, int digits = 4) {
-    return std::isfinite(v) ? core::formatNumber(v, digits) : "—";
-}
-
 // rel_l2 → a cell colour from green (0) through yellow (10 %) to red (>= 30 %).
 std::string cellColour(double rel) {
     const double t = std::clamp(rel / 0.3, 0.0, 1.0);
@@ -95,7 +91,8 @@ std::vector<Picture> profilePictures(const ProfileCurves& p) {
     }
     const std::string ch(1, "RGB"[p.channel]);
     const std::string base = slug(p.preset) + "_" + ch;
-    const std::string sub = "l_d = " + fmt(p.ld, 3) + " mm, R_d/(1 - R_sp) per unit power entering";
+    const std::string sub =
+        "l_d = " + formatScore(p.ld, 3) + " mm, R_d/(1 - R_sp) per unit power entering";
     plot::Axis x{0, 4.5 * p.ld, plot::Scale::Linear, "r [mm]"};
     plot::Axis y = plot::autoRange(series, plot::Scale::Log, true, 6);
     y.label = "R(r) [1/mm^2]";
@@ -118,7 +115,7 @@ std::vector<Picture> profilePictures(const ProfileCurves& p) {
 // Reference R and each model's signed relative difference over the plane, one disc each.
 Picture slicePicture(const SliceMaps& s) {
     const std::string ch(1, "RGB"[s.channel]);
-    const std::string angle = fmt(s.thetaI, 3);
+    const std::string angle = formatScore(s.thetaI, 3);
     const int n = int(s.models.size()) + 1;
     const int w = std::max(kPlotW, n * (kDisc + 12) + 12), h = kDisc + 64;
     double lo = INFINITY, hi = 0;
@@ -168,7 +165,7 @@ Picture slicePicture(const SliceMaps& s) {
 std::string angleList(const std::vector<double>& a) {
     std::string s;
     for (double v : a)
-        s += (s.empty() ? "" : ", ") + fmt(v, 3) + "°";
+        s += (s.empty() ? "" : ", ") + formatScore(v, 3) + "°";
     return s;
 }
 
@@ -214,24 +211,27 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
             "(l<sub>d</sub>)</th></tr>\n";
     for (const ScoreRow& s : r.rows) {
         const std::string rank = (s.tie ? "=" : "") + std::to_string(s.rank);
-        const std::string rel = fmt(100 * s.relL2, 3) + " % ± " + fmt(100 * s.relL2Se, 2) + " %";
-        const std::string dir2 = s.relL2Dir ? fmt(100 * *s.relL2Dir, 3) + " % ± " +
-                                                  fmt(100 * s.relL2DirSe.value_or(0), 2) + " %"
-                                            : "—";
-        const std::string err5 = s.rErr5Ld ? fmt(*s.rErr5Ld, 3) : "none";
-        const std::string th = fmt(s.thetaI, 3);
+        const std::string rel =
+            formatScore(100 * s.relL2, 3) + " % ± " + formatScore(100 * s.relL2Se, 2) + " %";
+        const std::string dir2 = s.relL2Dir
+                                     ? formatScore(100 * *s.relL2Dir, 3) + " % ± " +
+                                           formatScore(100 * s.relL2DirSe.value_or(0), 2) + " %"
+                                     : "—";
+        const std::string err5 = s.rErr5Ld ? formatScore(*s.rErr5Ld, 3) : "none";
+        const std::string th = formatScore(s.thetaI, 3);
         md << "| " << s.preset << " | " << s.channel << " | " << th << " | " << s.model << " | "
-           << rank << " | " << rel << " | " << dir2 << " | " << fmt(s.ratio1) << " | "
-           << fmt(s.ratio4) << " | " << fmt(s.totalRatio) << " | " << err5 << " |\n";
+           << rank << " | " << rel << " | " << dir2 << " | " << formatScore(s.ratio1) << " | "
+           << formatScore(s.ratio4) << " | " << formatScore(s.totalRatio) << " | " << err5
+           << " |\n";
         html << "<tr><td class=l>" << htmlEscape(s.preset) << "</td><td>" << s.channel
              << "</td><td>" << th << "</td><td class=l>" << htmlEscape(s.model) << "</td><td>"
              << rank << "</td><td style=\"background:" << cellColour(s.relL2) << ";color:#000\">"
              << htmlEscape(rel) << "</td><td"
              << (s.relL2Dir ? " style=\"background:" + cellColour(*s.relL2Dir) + ";color:#000\""
                             : std::string())
-             << ">" << htmlEscape(dir2) << "</td><td>" << fmt(s.ratio1) << "</td><td>"
-             << fmt(s.ratio4) << "</td><td>" << fmt(s.totalRatio) << "</td><td>" << err5
-             << "</td></tr>\n";
+             << ">" << htmlEscape(dir2) << "</td><td>" << formatScore(s.ratio1) << "</td><td>"
+             << formatScore(s.ratio4) << "</td><td>" << formatScore(s.totalRatio) << "</td><td>"
+             << err5 << "</td></tr>\n";
     }
     html << "</table>\n";
     if (!pics.empty()) {

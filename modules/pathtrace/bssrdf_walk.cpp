@@ -71,8 +71,7 @@ namespace pathtrace {
 
 namespace {
 
-// Connection roulette distance d₀ in mean free paths (connectVertex).
-constexpr double kRouletteMfp = 2.0;
+using detail::kRouletteMfp;
 
 // Per-path accumulators of a sparse set of indices (values added are > 0).
 struct PathAcc {

@@ -23,10 +23,10 @@ using detail::u128;
 using detail::wordThreshold;
 
 // Must match shaders/bssrdf_walk.comp.
-constexpr uint64_t kExtraSlots = 8;   // exit, absorbed, loss±, truncated, truncated paths, D±
-constexpr uint64_t kHeavyPerPath = 8; // every per-path value a path may tally when it ends
-constexpr double kTallyMax = 8.0;     // largest value the scaled walk tallies mid-path
-constexpr double kRouletteMfp = 2.0;  // connection roulette distance (bssrdf_walk.cpp)
+constexpr uint64_t kWalkExtraSlots = 8; // exit, absorbed, loss±, truncated, truncated paths, D±
+constexpr uint64_t kHeavyPerWalk = 8;   // every per-path value a path may tally when it ends
+constexpr double kTallyMax = 8.0;       // largest value the scaled walk tallies mid-path
+using detail::kRouletteMfp;
 
 // The program's uniforms, by name (a namespace of their own: each tracer has its table).
 namespace bssrdf_uniforms {
@@ -126,7 +126,7 @@ uint64_t batchPaths(uint64_t n, uint64_t b, uint64_t batches) {
 } // namespace
 
 GpuBssrdfEstimator::GpuBssrdfEstimator(std::filesystem::path shaderFile)
-    : m_shaderFile(std::move(shaderFile)), m_work(kHeavyPerPath, kMaxPathsPerRound) {
+    : m_shaderFile(std::move(shaderFile)), m_work(kHeavyPerWalk, kMaxPathsPerRound) {
     reload();
     reset(Medium{}, EstimateSettings{});
 }
@@ -151,10 +151,10 @@ void GpuBssrdfEstimator::reset(const Medium& m, const EstimateSettings& s, size_
     uint32_t batches = 1;
     if (s.estimator == BssrdfEstimator::Connections) {
         batches = kMaxBatches;
-        while (batches > kMinBatches && cells * batches + kExtraSlots > kMaxSlots)
+        while (batches > kMinBatches && cells * batches + kWalkExtraSlots > kMaxSlots)
             batches /= 2;
     }
-    if (cells * batches + kExtraSlots > kMaxSlots)
+    if (cells * batches + kWalkExtraSlots > kMaxSlots)
         throw core::Error("bins", 0,
                           core::formatNumber(double(cells)) + " bins and cells x " +
                               std::to_string(batches) +
@@ -181,7 +181,7 @@ void GpuBssrdfEstimator::reset(const Medium& m, const EstimateSettings& s, size_
     m_angle = angleIndex;
     m_batches = batches;
     m_scaleExp = k;
-    m_work.allocate(static_cast<size_t>(cells * batches + kExtraSlots));
+    m_work.allocate(static_cast<size_t>(cells * batches + kWalkExtraSlots));
     std::vector<float> edges;
     for (double e : b.rEdges())
         edges.push_back(static_cast<float>(e));
@@ -192,7 +192,7 @@ void GpuBssrdfEstimator::reset(const Medium& m, const EstimateSettings& s, size_
 void GpuBssrdfEstimator::clearSums() {
     const BssrdfBins& b = m_settings.bins;
     const uint64_t cells = uint64_t(b.spatialBins()) * (b.dirBins() > 1 ? 1 + b.dirBins() : 1);
-    m_work.clear(static_cast<size_t>(cells * m_batches + kExtraSlots));
+    m_work.clear(static_cast<size_t>(cells * m_batches + kWalkExtraSlots));
     m_seconds = 0;
     m_tally = makeTally(b);
 }

@@ -23,14 +23,7 @@ namespace fs = std::filesystem;
 using testsupport::errorNaming;
 using testsupport::valueAt0;
 
-template <class F> void updateUntil(app::Workbench& wb, F done, double ms) {
-    core::Stopwatch sw;
-    while (sw.ms() < ms) {
-        wb.update();
-        if (done()) return;
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-}
+using testsupport::waitFor;
 } // namespace
 
 namespace {
@@ -77,7 +70,7 @@ TEST(HotReloadUnreadable, AnErrorNamingTheFileTheLastGoodVersionStays) {
     }
     // the mode change (IN_ATTRIB) reads the model again, which fails
     std::string error;
-    updateUntil(
+    waitFor(
         wb,
         [&] {
             error = errorNaming(wb, path);
@@ -95,13 +88,13 @@ TEST(HotReloadUnreadable, AnErrorNamingTheFileTheLastGoodVersionStays) {
         ASSERT_EQ(::chmod(tmp.c_str(), 0), 0);
         fs::rename(tmp, file);
     }
-    updateUntil(
+    waitFor(
         wb, [&] { return false; }, 500);
     EXPECT_NE(errorNaming(wb, path).find("Permission denied"), std::string::npos);
     EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base);
     // readable again: that version is adopted
     ASSERT_EQ(::chmod(file.c_str(), 0644), 0);
-    updateUntil(
+    waitFor(
         wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-5 * base; }, 8000);
     EXPECT_NEAR(valueAt0(wb, path), 2 * base, 1e-5 * base);
     EXPECT_TRUE(errorNaming(wb, path).empty()) << errorNaming(wb, path);

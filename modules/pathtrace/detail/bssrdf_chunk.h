@@ -12,6 +12,10 @@
 
 namespace pathtrace::detail {
 
+// Connection roulette distance d₀ in mean free paths (connectVertex in bssrdf_walk.cpp; the GL
+// walk gets it as a uniform).
+inline constexpr double kRouletteMfp = 2.0;
+
 // The seed of the path streams of incidence angle `angleIndex` (the CPU walk's PCG32 streams and
 // the GL walk's Philox streams are both keyed by it and the path index).
 inline uint64_t bssrdfStreamSeed(uint64_t seed, size_t angleIndex) {
