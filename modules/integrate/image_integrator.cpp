@@ -8,6 +8,7 @@
 #include "sampling/analytic_surfaces.h"
 #include "sampling/frame.h"
 #include "sampling/mesh_surface.h"
+#include "sampling/stratified.h"
 
 #include <tbb/parallel_for.h>
 
@@ -170,6 +171,10 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
     m_radial = std::move(radial);
     m_sum.assign(3 * m_hit.size(), 0.0);
     m_sumSq.assign(3 * m_hit.size(), 0.0);
+    m_blockPartial.assign(3 * m_hit.size(), 0.0);
+    m_strata.assign(m_hit.size(), {});
+    m_blockSum.assign(3 * m_hit.size(), 0.0);
+    m_blockSumSq.assign(3 * m_hit.size(), 0.0);
     m_samples = 0;
     m_evaluations = 0;
     m_seconds = 0;
@@ -187,6 +192,8 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
     const size_t pixels = m_hit.size();
     const double eta = m_builtins.ior;
     const uint64_t seed = pathtrace::splitmix64(m_settings.seed ^ 0x494e5447ull); // 'INTG'
+    const uint64_t strataSeed = pathtrace::splitmix64(seed ^ 0x4c485342ull);      // 'LHSB'
+    constexpr uint64_t K = uint64_t(sampling::kBlockSamples);
     const sampling::Surface& surface = m_geo->surface();
     const double eps = 1e-7 * m_geo->sizeMm, far = 10 * m_geo->sizeMm;
     // Rounds of `batch` samples per pixel: the queries of a round go to the GPU together.
@@ -207,11 +214,20 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
             const sampling::SurfacePoint& at = m_shading[p];
             const sampling::Frame f = sampling::Frame::fromNormal(at.x, at.n);
             std::vector<sampling::SurfaceHit> hits, shadow;
+            sampling::BlockStrata<2>& strata = m_strata[p];
             for (int k = 0; k < n; ++k) {
                 std::vector<Pending>& out = pending[p];
                 const size_t before = out.size();
-                pathtrace::Pcg32 rng =
-                    pathtrace::Pcg32::forPath(seed, (s0 + uint64_t(k)) * pixels + p);
+                const uint64_t sample = s0 + uint64_t(k);
+                pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(seed, sample * pixels + p);
+                // the Latin-hypercube block of this sample (stratified.h), drawn at its first
+                // sample and kept between rounds
+                if (m_disk && sample % K == 0) {
+                    pathtrace::Pcg32 prng =
+                        pathtrace::Pcg32::forPath(strataSeed, (sample / K) * pixels + p);
+                    strata = sampling::BlockStrata<2>::draw(prng);
+                }
+                const int stratum = int(sample % K);
                 // x lit (cos > 0, not shadowed): queue Bssrdf(x → P) with Ft·cos⁺/p(x)
                 auto add = [&](const sampling::SurfacePoint& x, double cosL, double inversePdf) {
                     if (!m_geo->convex()) { // a shadow ray toward the light
@@ -227,9 +243,10 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                     out.push_back(q);
                 };
                 if (m_disk) {
-                    const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(),
-                                 u3 = rng.uniform();
-                    const sampling::Probe probe = m_disk->probe(f, u0, u1, u2, u3);
+                    // stratified: the strategy with the radius, and the angle
+                    const double u0 = strata.u(0, stratum, rng.uniform());
+                    const double u1 = strata.u(1, stratum, rng.uniform());
+                    const sampling::Probe probe = m_disk->probe(f, u0, u1);
                     hits.clear();
                     m_disk->probeHits(surface, f, probe, hits);
                     for (const sampling::SurfaceHit& h : hits) {
@@ -239,6 +256,7 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                         if (pdf > 0) add(h.point, cosL, 1.0 / pdf);
                     }
                 } else {
+                    // independent samples (stratified.h says why this one is not stratified)
                     const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
                     const sampling::SurfacePoint x = m_geo->area().sampleArea(u0, u1, u2);
                     const double cosL = glm::dot(x.n, m_light);
@@ -273,9 +291,17 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                 for (uint32_t j = m_pendingCount[p * size_t(n) + size_t(k)]; j > 0; --j)
                     F += values[i++] * (q++)->factor;
                 F *= scale;
+                const bool blockEnds = (s0 + uint64_t(k) + 1) % K == 0;
                 for (int c = 0; c < 3; ++c) {
-                    m_sum[3 * p + size_t(c)] += F[c];
-                    m_sumSq[3 * p + size_t(c)] += F[c] * F[c];
+                    const size_t at = 3 * p + size_t(c);
+                    m_sum[at] += F[c];
+                    m_sumSq[at] += F[c] * F[c];
+                    m_blockPartial[at] += F[c];
+                    if (blockEnds) {
+                        m_blockSum[at] += m_blockPartial[at];
+                        m_blockSumSq[at] += m_blockPartial[at] * m_blockPartial[at];
+                        m_blockPartial[at] = 0;
+                    }
                 }
             }
         }
@@ -297,14 +323,12 @@ litsphere::Image ImageIntegrator::image() const {
     if (m_samples == 0 || m_sum.size() != 3 * pixels) return img;
     const double n = double(m_samples);
     for (size_t i = 0; i < 3 * pixels; ++i) {
-        const double mean = m_sum[i] / n;
-        img.mean[i] = float(mean);
-        if (m_samples < 2) {
-            img.variance[i] = m_sum[i] == 0 ? 0.0f : std::numeric_limits<float>::infinity();
-            continue;
-        }
-        const double var = std::max(0.0, (m_sumSq[i] / n - mean * mean) / (n - 1));
-        img.variance[i] = float(var);
+        img.mean[i] = float(m_sum[i] / n);
+        // stratified blocks (disk) or independent samples (uniform): stratified.h
+        img.variance[i] =
+            float(m_disk ? sampling::blockVarianceOfMean(m_samples, m_sum[i], m_sumSq[i],
+                                                         m_blockSum[i], m_blockSumSq[i])
+                         : sampling::independentVarianceOfMean(m_samples, m_sum[i], m_sumSq[i]));
     }
     return img;
 }

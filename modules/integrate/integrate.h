@@ -25,9 +25,14 @@
 //   orthographic camera along −z over ±1.1 R, pixel (0, 0) top left.
 //   Random numbers: sample s of pixel p draws from Pcg32::forPath(seed', s·P + p), P the pixel
 //   count, so an image depends only on (setup, model, seed, samples done), not on threads or on
-//   how steps were sized.
-//   Accumulation: Σ F and Σ F² per pixel in double; the image is the mean and the variance of
-//   the mean, as litsphere::Image.
+//   how steps were sized. The disk estimator's samples come in Latin-hypercube blocks of 16
+//   (sampling/stratified.h: the strategy-with-radius uniform of DiskSampler::probe and the
+//   angle are stratified, block b of pixel p permuted by Pcg32::forPath(seed'', b·P + p)), so
+//   each block takes the axes and channels in proportion to their probabilities; uniform area
+//   sampling draws independent samples.
+//   Accumulation: Σ F and Σ F² per pixel in double, and for the disk estimator Σ B and Σ B² of
+//   its whole blocks' sums; the image is the mean and the variance of the mean (from the blocks
+//   once there are two, sampling::blockVarianceOfMean), as litsphere::Image.
 #pragma once
 
 #include "bssrdf/program.h"
@@ -37,6 +42,7 @@
 #include "litsphere/litsphere.h"
 #include "mesh/mesh.h"
 #include "sampling/disk_sampling.h"
+#include "sampling/stratified.h"
 #include "sampling/tabulated_radial.h"
 #include <glm/vec4.hpp>
 
@@ -143,6 +149,10 @@ class ImageIntegrator {
     std::vector<char> m_hit;
     std::vector<sampling::SurfacePoint> m_shading;
     std::vector<double> m_sum, m_sumSq;
+    // per pixel and channel, over the Latin-hypercube blocks (sampling/stratified.h): the
+    // current block's partial sum, and the whole blocks' Σ B and Σ B²
+    std::vector<double> m_blockPartial, m_blockSum, m_blockSumSq;
+    std::vector<sampling::BlockStrata<2>> m_strata; // per pixel: its current block's strata
     // step()'s round: per pixel its samples' pending model evaluations, and per (pixel, sample)
     // how many (kept between rounds)
     struct Pending;

@@ -99,11 +99,36 @@ DiskSampler::DiskSampler(std::array<const RadialDistribution*, 3> channels,
     m_joint = ChannelPdfTable::of(used);
 }
 
+Probe DiskSampler::probe(const Frame& f, double uStrategy, double uAngle) const {
+    // Walk the nine strategies' cumulative probabilities; the remainder of uStrategy within the
+    // chosen interval, rescaled, is uniform on [0, 1) and independent of the choice. The last
+    // strategy of probability > 0 takes a u within rounding of 1.
+    double cum = 0, lo = 0, width = 1;
+    int axis = 0, channel = 0;
+    for (int j = 0; j < 9; ++j) {
+        const double w = m_axisP[j / 3] * m_chanP[j % 3];
+        if (!(w > 0)) continue;
+        axis = j / 3;
+        channel = j % 3;
+        lo = cum;
+        width = w;
+        cum += w;
+        if (uStrategy < cum) break;
+    }
+    const double uRadius = std::clamp((uStrategy - lo) / width, 0.0, std::nextafter(1.0, 0.0));
+    return diskProbe(f, axis, channel, uRadius, uAngle);
+}
+
 Probe DiskSampler::probe(const Frame& f, double uAxis, double uChannel, double uRadius,
                          double uAngle) const {
+    return diskProbe(f, choose(m_axisP, uAxis), choose(m_chanP, uChannel), uRadius, uAngle);
+}
+
+Probe DiskSampler::diskProbe(const Frame& f, int axis, int channel, double uRadius,
+                             double uAngle) const {
     Probe p;
-    p.axis = choose(m_axisP, uAxis);
-    p.channel = choose(m_chanP, uChannel);
+    p.axis = axis;
+    p.channel = channel;
     const RadialDistribution& d = *m_channels[p.channel];
     p.radius = d.sample(uRadius);
     // The disk's own axes: the other two of (N, T, B), in cyclic order.

@@ -105,6 +105,11 @@ class DiskSampler {
 
     // The probe of axis uAxis, channel uChannel, radius uRadius, angle uAngle (each in [0, 1)).
     Probe probe(const Frame& f, double uAxis, double uChannel, double uRadius, double uAngle) const;
+    // The same distribution from two uniforms: uStrategy picks the strategy (a, c) with
+    // probability P_a·P_c (the nine in the order N, T, B × channel 0, 1, 2) and, rescaled to
+    // [0, 1) within that strategy's interval, the radius. A stratified uStrategy (stratified.h)
+    // thus stratifies the strategies' counts and each strategy's radii at once.
+    Probe probe(const Frame& f, double uStrategy, double uAngle) const;
     // p_{a,c}(x) without the selection probabilities (see above).
     double strategyPdf(const Frame& f, int axis, int channel, const glm::dvec3& x,
                        const glm::dvec3& nx) const;
@@ -127,6 +132,8 @@ class DiskSampler {
                    std::vector<SurfaceHit>& out) const;
 
   private:
+    Probe diskProbe(const Frame& f, int axis, int channel, double uRadius, double uAngle) const;
+
     std::array<const RadialDistribution*, 3> m_channels;
     std::array<double, 3> m_axisP{}, m_chanP{};
     std::array<double, 3> m_rm2{}; // R_m,c², 0 for unused channels

@@ -13,6 +13,7 @@
 #include "sampling/disk_sampling.h"
 #include "sampling/gaussian_lobes.h"
 #include "sampling/mesh_surface.h"
+#include "sampling/stratified.h"
 
 #include <gtest/gtest.h>
 
@@ -71,6 +72,56 @@ TEST(DiskSampling, AxisSchemes) {
     EXPECT_EQ(chan[0], 750);
     EXPECT_EQ(chan[2], 0);
     EXPECT_EQ(ds.probe(f, 1 - 0x1p-53, 1 - 0x1p-53, 0, 0).channel, 1);
+}
+
+// probe(f, uStrategy, uAngle), fed as the integrator feeds it (Latin-hypercube blocks): the
+// nine strategies in proportion P_a·P_c and each strategy's radii from its channel's
+// distribution, one Pearson chi-square over (strategy, radius bin) cells, the expected counts
+// from the channels' cdf.
+TEST(DiskSampling, TwoUniformProbeFollowsStrategiesAndRadii) {
+    const auto ch = skinChannels();
+    const DiskSampler ds(pointers(ch), axisProbabilities(AxisScheme::Pbrt),
+                         energyChannelProbabilities(pointers(ch)));
+    const Frame f = Frame::fromNormal({1, 2, 3}, {0.3, -0.2, 0.9});
+    constexpr int kBins = 20, kN = 400000;
+    std::vector<double> obs(9 * kBins, 0), exp(9 * kBins, 0);
+    BlockStrata<2> strata;
+    for (int s = 0; s < kN; ++s) {
+        if (s % kBlockSamples == 0) {
+            pathtrace::Pcg32 prng = pathtrace::Pcg32::forPath(31, uint64_t(s / kBlockSamples));
+            strata = BlockStrata<2>::draw(prng);
+        }
+        pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(32, uint64_t(s));
+        const int k = s % kBlockSamples;
+        const Probe p = ds.probe(f, strata.u(0, k, rng.uniform()), strata.u(1, k, rng.uniform()));
+        const double rm = ch[p.channel].radiusMax();
+        ASSERT_LE(p.radius, rm);
+        const int bin = std::min(kBins - 1, int(std::sqrt(p.radius / rm) * kBins));
+        obs[size_t((3 * p.axis + p.channel) * kBins + bin)] += 1;
+        // the disk point at radius r, perpendicular to the axis
+        const glm::dvec3 mid = p.org + 0.5 * p.length * p.dir;
+        ASSERT_NEAR(glm::length(mid - f.p), p.radius, 1e-9);
+        ASSERT_EQ(p.dir, f.axis(p.axis));
+    }
+    for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) {
+            const double rm = ch[c].radiusMax();
+            for (int b = 0; b < kBins; ++b) {
+                const double lo = rm * std::pow(double(b) / kBins, 2),
+                             hi = rm * std::pow((b + 1.0) / kBins, 2);
+                exp[size_t((3 * a + c) * kBins + b)] = kN * ds.axisProbability(a) *
+                                                       ds.channelProbability(c) *
+                                                       (ch[c].cdf(hi) - ch[c].cdf(lo));
+            }
+        }
+    const auto chi = pttest::chiSquare(obs, exp);
+    EXPECT_GT(chi.pValue, 1e-3) << "chi2 " << chi.stat << " dof " << chi.dof;
+    EXPECT_GE(chi.dof, 150);
+    // a channel of probability 0 is never chosen, u within rounding of 1 takes the last one
+    const GaussianLobes g({{1, 1}});
+    const DiskSampler two({&g, &g, nullptr}, {0.5, 0.25, 0.25}, {0.75, 0.25, 0});
+    EXPECT_EQ(two.probe(f, 1 - 0x1p-53, 0.5).axis, 2);
+    EXPECT_EQ(two.probe(f, 1 - 0x1p-53, 0.5).channel, 1);
 }
 
 TEST(DiskSampling, ProbeGeometry) {
