@@ -171,10 +171,16 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
     m_radial = std::move(radial);
     m_sum.assign(3 * m_hit.size(), 0.0);
     m_sumSq.assign(3 * m_hit.size(), 0.0);
-    m_blockPartial.assign(3 * m_hit.size(), 0.0);
-    m_strata.assign(m_hit.size(), {});
-    m_blockSum.assign(3 * m_hit.size(), 0.0);
-    m_blockSumSq.assign(3 * m_hit.size(), 0.0);
+    // the stratified blocks' state: the disk estimator's only (sampling/stratified.h)
+    const size_t blocks = m_disk ? m_hit.size() : 0;
+    m_blockPartial.assign(3 * blocks, 0.0);
+    m_strata.assign(blocks, {});
+    m_blockSum.assign(3 * blocks, 0.0);
+    m_blockSumSq.assign(3 * blocks, 0.0);
+    m_blockPartial.shrink_to_fit();
+    m_strata.shrink_to_fit();
+    m_blockSum.shrink_to_fit();
+    m_blockSumSq.shrink_to_fit();
     m_samples = 0;
     m_evaluations = 0;
     m_seconds = 0;
@@ -214,7 +220,7 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
             const sampling::SurfacePoint& at = m_shading[p];
             const sampling::Frame f = sampling::Frame::fromNormal(at.x, at.n);
             std::vector<sampling::SurfaceHit> hits, shadow;
-            sampling::BlockStrata<2>& strata = m_strata[p];
+            sampling::BlockStrata<2>* strata = m_disk ? &m_strata[p] : nullptr;
             for (int k = 0; k < n; ++k) {
                 std::vector<Pending>& out = pending[p];
                 const size_t before = out.size();
@@ -225,7 +231,7 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                 if (m_disk && sample % K == 0) {
                     pathtrace::Pcg32 prng =
                         pathtrace::Pcg32::forPath(strataSeed, (sample / K) * pixels + p);
-                    strata = sampling::BlockStrata<2>::draw(prng);
+                    *strata = sampling::BlockStrata<2>::draw(prng);
                 }
                 const int stratum = int(sample % K);
                 // x lit (cos > 0, not shadowed): queue Bssrdf(x → P) with Ft·cos⁺/p(x)
@@ -244,8 +250,8 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                 };
                 if (m_disk) {
                     // stratified: the strategy with the radius, and the angle
-                    const double u0 = strata.u(0, stratum, rng.uniform());
-                    const double u1 = strata.u(1, stratum, rng.uniform());
+                    const double u0 = strata->u(0, stratum, rng.uniform());
+                    const double u1 = strata->u(1, stratum, rng.uniform());
                     const sampling::Probe probe = m_disk->probe(f, u0, u1);
                     hits.clear();
                     m_disk->probeHits(surface, f, probe, hits);
@@ -296,6 +302,7 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                     const size_t at = 3 * p + size_t(c);
                     m_sum[at] += F[c];
                     m_sumSq[at] += F[c] * F[c];
+                    if (!m_disk) continue;
                     m_blockPartial[at] += F[c];
                     if (blockEnds) {
                         m_blockSum[at] += m_blockPartial[at];
