@@ -175,11 +175,9 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
     const size_t blocks = m_disk ? m_hit.size() : 0;
     m_blockPartial.assign(3 * blocks, 0.0);
     m_strata.assign(blocks, {});
-    m_blockSum.assign(3 * blocks, 0.0);
     m_blockSumSq.assign(3 * blocks, 0.0);
     m_blockPartial.shrink_to_fit();
     m_strata.shrink_to_fit();
-    m_blockSum.shrink_to_fit();
     m_blockSumSq.shrink_to_fit();
     m_samples = 0;
     m_evaluations = 0;
@@ -305,7 +303,6 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                     if (!m_disk) continue;
                     m_blockPartial[at] += F[c];
                     if (blockEnds) {
-                        m_blockSum[at] += m_blockPartial[at];
                         m_blockSumSq[at] += m_blockPartial[at] * m_blockPartial[at];
                         m_blockPartial[at] = 0;
                     }
@@ -331,11 +328,12 @@ litsphere::Image ImageIntegrator::image() const {
     const double n = double(m_samples);
     for (size_t i = 0; i < 3 * pixels; ++i) {
         img.mean[i] = float(m_sum[i] / n);
-        // stratified blocks (disk) or independent samples (uniform): stratified.h
-        img.variance[i] =
-            float(m_disk ? sampling::blockVarianceOfMean(m_samples, m_sum[i], m_sumSq[i],
-                                                         m_blockSum[i], m_blockSumSq[i])
-                         : sampling::independentVarianceOfMean(m_samples, m_sum[i], m_sumSq[i]));
+        // stratified blocks (disk; the whole blocks' Σ B is Σ F less the current block's) or
+        // independent samples (uniform): stratified.h
+        img.variance[i] = float(
+            m_disk ? sampling::blockVarianceOfMean(m_samples, m_sum[i], m_sumSq[i],
+                                                   m_sum[i] - m_blockPartial[i], m_blockSumSq[i])
+                   : sampling::independentVarianceOfMean(m_samples, m_sum[i], m_sumSq[i]));
     }
     return img;
 }

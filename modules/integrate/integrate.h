@@ -30,9 +30,10 @@
 //   angle are stratified, block b of pixel p permuted by Pcg32::forPath(seed'', b·P + p)), so
 //   each block takes the axes and channels in proportion to their probabilities; uniform area
 //   sampling draws independent samples.
-//   Accumulation: Σ F and Σ F² per pixel in double, and for the disk estimator Σ B and Σ B² of
-//   its whole blocks' sums; the image is the mean and the variance of the mean (from the blocks
-//   once there are two, sampling::blockVarianceOfMean), as litsphere::Image.
+//   Accumulation: Σ F and Σ F² per pixel in double, and for the disk estimator Σ B² of its
+//   whole blocks' sums B and the current block's partial sum; the image is the mean and the
+//   variance of the mean (from the blocks once there are two, sampling::blockVarianceOfMean), as
+//   litsphere::Image.
 #pragma once
 
 #include "bssrdf/program.h"
@@ -150,8 +151,8 @@ class ImageIntegrator {
     std::vector<sampling::SurfacePoint> m_shading;
     std::vector<double> m_sum, m_sumSq;
     // per pixel and channel, over the Latin-hypercube blocks (sampling/stratified.h): the
-    // current block's partial sum, and the whole blocks' Σ B and Σ B²
-    std::vector<double> m_blockPartial, m_blockSum, m_blockSumSq;
+    // current block's partial sum and the whole blocks' Σ B² (their Σ B is m_sum − partial)
+    std::vector<double> m_blockPartial, m_blockSumSq;
     std::vector<sampling::BlockStrata<2>> m_strata; // per pixel: its current block's strata
     // step()'s round: per pixel its samples' pending model evaluations, and per (pixel, sample)
     // how many (kept between rounds)
