@@ -3,7 +3,8 @@
 // hierarchical point-cloud render at several ε and brute force (each one deterministic image:
 // one point each), and the Monte Carlo render by uniform area sampling and by disk probe rays
 // with each axis scheme (a point after 1, 2, 4, … samples per pixel).
-//   The converged image: the Monte Carlo render by disk probe rays (three axes, another seed)
+//   The converged image: the Monte Carlo render by disk probe rays (every axis in each sample,
+//   another seed)
 //   with `referenceSpp` samples per pixel; its own relative standard error is printed and each
 //   Monte Carlo error has the reference's variance taken off (as bench sampling). The
 //   point-cloud renders keep a floor: their point discretisation and shadow map against the
@@ -74,9 +75,9 @@ int benchConvergence(const fs::path& root, const ConvergenceBenchOptions& o) {
         return ig;
     };
     std::printf("bench convergence: dipole, %s, bunny %dx%d, %zu points, converged image: disk "
-                "probe rays (three axes) with %d spp\n",
+                "probe rays (every axis in each sample) with %d spp\n",
                 o.preset.c_str(), o.width, o.height, o.points, o.referenceSpp);
-    auto ref = integrator(integrate::Sampling::Disk, sampling::AxisScheme::Uniform, 777);
+    auto ref = integrator(integrate::Sampling::Disk, sampling::AxisScheme::All, 777);
     ref->step(o.referenceSpp);
     const litsphere::Image refImg = ref->image();
     {
@@ -145,7 +146,8 @@ int benchConvergence(const fs::path& root, const ConvergenceBenchOptions& o) {
          {Mc{"uniform area", integrate::Sampling::Uniform, sampling::AxisScheme::Uniform},
           Mc{"disk, axes 1/3 each", integrate::Sampling::Disk, sampling::AxisScheme::Uniform},
           Mc{"disk, axes pbrt", integrate::Sampling::Disk, sampling::AxisScheme::Pbrt},
-          Mc{"disk, normal only", integrate::Sampling::Disk, sampling::AxisScheme::NormalOnly}}) {
+          Mc{"disk, normal only", integrate::Sampling::Disk, sampling::AxisScheme::NormalOnly},
+          Mc{"disk, every axis", integrate::Sampling::Disk, sampling::AxisScheme::All}}) {
         auto ig = integrator(m.sampling, m.axes, 1);
         Curve c{m.name, {}, {}};
         for (int spp = 1; spp <= o.maxSpp; spp *= 2) {

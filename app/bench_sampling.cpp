@@ -1,9 +1,9 @@
 // bench sampling (bench.h): equal-time relative RMSE of the BSSRDF-integrated lit picture by
 // disk importance sampling against uniform area sampling (integrate/integrate.h), on the lit
 // sphere and on the bunny, Marble and Skin1, for each probe-axis scheme.
-//   Reference: the disk estimator (three axes, another seed) run for `referenceFactor` × the
-//   budget; its own relative standard error is printed beside, so a reader can tell how much of
-//   a measured error is the reference's.
+//   Reference: the disk estimator (every axis in each sample, another seed) run for
+//   `referenceFactor` × the budget; its own relative standard error is printed beside, so a
+//   reader can tell how much of a measured error is the reference's.
 //   rel_rmse = √((Σ_p,c (x − ref)² − Σ_p,c var_ref) / Σ_p,c ref²) over the pixels (the
 //   reference's own variance of the mean taken off: the error against the truth).
 //   Each method runs whole samples per pixel until `seconds` have passed (at least one), in one
@@ -74,7 +74,7 @@ int benchSampling(const fs::path& root, double seconds, int size, double referen
     const bssrdf::ModelEntry& e = wb.library().entries().at(0);
     if (e.problem) throw core::Error(e.problem->file, e.problem->line, e.problem->message);
     std::printf("bench sampling: dipole, %dx%d pixels, light (0.5, 0.5, 0.71), %.3g s per method "
-                "and case, reference %.3g s of three-axis disk sampling (another seed)\n",
+                "and case, reference %.3g s of disk sampling along every axis (another seed)\n",
                 size, size, seconds, seconds * referenceFactor);
     litsphere::Setup setup;
     setup.width = setup.height = size;
@@ -98,6 +98,7 @@ int benchSampling(const fs::path& root, double seconds, int size, double referen
             const bssrdf::Builtins b = builtinsOf(effectiveParams(e, m));
             integrate::Settings ref;
             ref.sampling = integrate::Sampling::Disk;
+            ref.axes = sampling::AxisScheme::All;
             ref.seed = 12345;
             const Run r = runFor(*ig, e, b, ref, seconds * referenceFactor);
             integrate::Settings uni;
@@ -106,7 +107,7 @@ int benchSampling(const fs::path& root, double seconds, int size, double referen
             const double ue = relRmse(u.image, r.image);
             for (sampling::AxisScheme axes :
                  {sampling::AxisScheme::Uniform, sampling::AxisScheme::Pbrt,
-                  sampling::AxisScheme::NormalOnly}) {
+                  sampling::AxisScheme::NormalOnly, sampling::AxisScheme::All}) {
                 integrate::Settings d;
                 d.sampling = integrate::Sampling::Disk;
                 d.axes = axes;

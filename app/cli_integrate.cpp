@@ -67,7 +67,7 @@ void addIntegrateOptions(CLI::App* cmd, IntegrateArgs& a) {
     addNumberOption(cmd, "--eta", a.eta, "relative index of refraction");
     cmd->add_option("--sampling", a.sampling, "uniform (area) or disk (probe rays)")->required();
     cmd->add_option("--axes", a.axes,
-                    "disk: probe axes uniform, pbrt or normal" +
+                    "disk: probe axes uniform, pbrt, normal or all (every axis in each sample)" +
                         dflt(std::string(core::nameOf(kIntegrate.axes))));
     addCountOption(cmd, "--spp", a.spp, "samples per pixel", core::Limits{1, 1e7})->required();
     cmd->add_option("--light", a.light, "direction towards the light x,y,z" + dflt(a.light));

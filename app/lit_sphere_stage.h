@@ -60,7 +60,7 @@ template <class V> void fields(V& v, LitSphereSettings& s) {
     v("gpu", s.gpu, "GL compute path tracer instead of the CPU");
     v("mesh", s.mesh, "OBJ to path trace and integrate instead of the sphere (empty: sphere)");
     v("sampling", s.sampling, "BSSRDF integration: uniform area sampling or disk probe rays");
-    v("axes", s.axes, "disk sampling: probe axes uniform (1/3 each), pbrt (N 1/2) or normal");
+    v("axes", s.axes, integrate::kAxesHelp);
 }
 
 // The path-traced sphere: CPU passes in a background thread, or the GL compute tracer

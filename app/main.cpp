@@ -193,7 +193,7 @@ int main(int argc, char** argv) {
                     "with --lit-spheres: BSSRDF integration uniform or disk (default " +
                         std::string(core::nameOf(app::LitSphereSettings{}.sampling)) + ")");
     rec->add_option("--lit-axes", ra.litAxes,
-                    "with --lit-sampling disk: probe axes uniform, pbrt or normal (default " +
+                    "with --lit-sampling disk: probe axes uniform, pbrt, normal or all (default " +
                         std::string(core::nameOf(app::LitSphereSettings{}.axes)) + ")");
     rec->add_option("--reference-bins", ra.referenceBins,
                     "radial bins of the reference (default " +

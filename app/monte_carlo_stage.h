@@ -22,14 +22,14 @@ namespace app {
 struct MonteCarloSettings {
     bool enabled = false; // the GUI sets it while the Render panel shows this renderer
     integrate::Sampling sampling = integrate::Sampling::Disk;
-    sampling::AxisScheme axes = sampling::AxisScheme::Uniform;
+    sampling::AxisScheme axes = integrate::Settings{}.axes;
     int spp = 256; // target samples per pixel
     uint64_t seed = 1;
 };
 template <class V> void fields(V& v, MonteCarloSettings& s) {
     v("enabled", s.enabled, "Monte Carlo render of the Render panel's view");
     v("sampling", s.sampling, "entry points by disk probe rays or uniform area sampling");
-    v("axes", s.axes, "disk sampling: probe axes uniform (1/3 each), pbrt (N 1/2) or normal");
+    v("axes", s.axes, integrate::kAxesHelp);
     v("spp", s.spp, "target samples per pixel", core::Limits{1, 1e7});
     v("seed", s.seed, "random seed");
 }

@@ -158,8 +158,7 @@ void ImageIntegrator::setModel(GLuint pencilProgram, const bssrdf::Model& m,
             radialSource(pencilProgram, m, values, b, s.energyLoss, name));
         // channels in proportion to their kept energy (disk_sampling.h)
         disk = std::make_unique<sampling::DiskSampler>(
-            radial->pointers(), sampling::axisProbabilities(s.axes),
-            sampling::energyChannelProbabilities(radial->pointers()));
+            radial->pointers(), s.axes, sampling::energyChannelProbabilities(radial->pointers()));
         gl::recordTiming("integrate: radial distributions (" + radial->kind + ")", clock.ms());
     }
     m_program = pencilProgram;
@@ -232,8 +231,9 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                     *strata = sampling::BlockStrata<2>::draw(prng);
                 }
                 const int stratum = int(sample % K);
-                // x lit (cos > 0, not shadowed): queue Bssrdf(x → P) with Ft·cos⁺/p(x)
-                auto add = [&](const sampling::SurfacePoint& x, double cosL, double inversePdf) {
+                // x lit (cos > 0, not shadowed): queue Bssrdf(x → P) with Ft·cos⁺·k, k the
+                // estimator's factor of f(x): the MIS weight over the density, or the area
+                auto add = [&](const sampling::SurfacePoint& x, double cosL, double k) {
                     if (!m_geo->convex()) { // a shadow ray toward the light
                         shadow.clear();
                         surface.intersectAll(x.x + eps * x.n, m_light, eps, far, shadow);
@@ -243,21 +243,27 @@ void ImageIntegrator::step(int samplesPerPixel, const std::atomic<bool>* cancel)
                     q.q.xo = glm::vec3(at.x - x.x);
                     q.q.wi = glm::vec3(m_view ? x.n : m_light);
                     q.q.wo = glm::vec3(at.n);
-                    q.factor = fresnelTransmittance(cosL, eta) * cosL * inversePdf;
+                    q.factor = fresnelTransmittance(cosL, eta) * cosL * k;
                     out.push_back(q);
                 };
                 if (m_disk) {
-                    // stratified: the strategy with the radius, and the angle
+                    // stratified: the strategy with the radius, and the angle; one probe, or
+                    // four along every axis (AxisScheme::All), each hit weighted by
+                    // weightOverPdf (disk_sampling.h)
                     const double u0 = strata->u(0, stratum, rng.uniform());
                     const double u1 = strata->u(1, stratum, rng.uniform());
-                    const sampling::Probe probe = m_disk->probe(f, u0, u1);
-                    hits.clear();
-                    m_disk->probeHits(surface, f, probe, hits);
-                    for (const sampling::SurfaceHit& h : hits) {
-                        const double cosL = glm::dot(h.point.n, m_light);
-                        if (!(cosL > 0)) continue; // unlit: no contribution, no pdf needed
-                        const double pdf = m_disk->pdf(f, h.point.x, h.point.n);
-                        if (pdf > 0) add(h.point, cosL, 1.0 / pdf);
+                    std::array<sampling::Probe, 4> probes;
+                    const int np = m_disk->probes(f, u0, u1, probes);
+                    for (int i = 0; i < np; ++i) {
+                        const sampling::Probe& probe = probes[size_t(i)];
+                        hits.clear();
+                        m_disk->probeHits(surface, f, probe, hits);
+                        for (const sampling::SurfaceHit& h : hits) {
+                            const double cosL = glm::dot(h.point.n, m_light);
+                            if (!(cosL > 0)) continue; // unlit: no contribution, no pdf needed
+                            const double k = m_disk->weightOverPdf(f, probe, h.point.x, h.point.n);
+                            if (k > 0) add(h.point, cosL, k);
+                        }
                     }
                 } else {
                     // independent samples (stratified.h says why this one is not stratified)

@@ -46,6 +46,7 @@ std::array<double, 3> axisProbabilities(AxisScheme s) {
     case AxisScheme::Uniform:
         return {1.0 / 3, 1.0 / 3, 1.0 / 3};
     case AxisScheme::Pbrt:
+    case AxisScheme::All: // n_a/n of n = (2, 1, 1)
         return {0.5, 0.25, 0.25};
     case AxisScheme::NormalOnly:
         return {1.0, 0.0, 0.0};
@@ -75,6 +76,8 @@ const char* axisSchemeName(AxisScheme s) {
         return "pbrt";
     case AxisScheme::NormalOnly:
         return "normal";
+    case AxisScheme::All:
+        return "all";
     }
     return "?";
 }
@@ -99,6 +102,78 @@ DiskSampler::DiskSampler(std::array<const RadialDistribution*, 3> channels,
     m_joint = ChannelPdfTable::of(used);
 }
 
+DiskSampler::DiskSampler(std::array<const RadialDistribution*, 3> channels, AxisScheme scheme,
+                         std::array<double, 3> channelP)
+    : DiskSampler(channels, axisProbabilities(scheme), channelP) {
+    if (scheme == AxisScheme::All) {
+        m_everyAxis = true;
+        m_axisN = {2, 1, 1}; // ∝ axisProbabilities(All)
+    }
+}
+
+int DiskSampler::probes(const Frame& f, double uStrategy, double uAngle,
+                        std::array<Probe, 4>& out) const {
+    if (!m_everyAxis) {
+        out[0] = probe(f, uStrategy, uAngle);
+        return 1;
+    }
+    // One draw: the channel by P_c, and the remainder of uStrategy within its interval,
+    // rescaled, the radius (the last channel of probability > 0 takes a u within rounding of 1).
+    auto draw = [&](double u, int& channel) {
+        double cum = 0, lo = 0, width = 1;
+        for (int c = 0; c < 3; ++c) {
+            if (!(m_chanP[c] > 0)) continue;
+            channel = c;
+            lo = cum;
+            width = m_chanP[c];
+            cum += width;
+            if (u < cum) break;
+        }
+        return m_channels[channel]->sample(
+            std::clamp((u - lo) / width, 0.0, std::nextafter(1.0, 0.0)));
+    };
+    int channel = 0;
+    const double radius = draw(uStrategy, channel);
+    for (int a = 0; a < 3; ++a)
+        out[size_t(a)] = diskProbe(f, a, channel, radius, uAngle);
+    // the second N probe: the uniforms shifted by 1/2 (uniform, and within a Latin-hypercube
+    // block the shifted strata are again one per stratum)
+    const double uStrategy2 = std::fmod(uStrategy + 0.5, 1.0),
+                 uAngle2 = std::fmod(uAngle + 0.5, 1.0);
+    int channel2 = 0;
+    const double radius2 = draw(uStrategy2, channel2);
+    out[3] = diskProbe(f, 0, channel2, radius2, uAngle2);
+    return 4;
+}
+
+std::array<double, 3> DiskSampler::multiSampleWeights(const Frame& f, const glm::dvec3& x,
+                                                      const glm::dvec3& nx) const {
+    const std::array<double, 3> pa = axisPdfs(f, x, nx);
+    std::array<double, 3> w{};
+    double sum = 0;
+    for (int a = 0; a < 3; ++a) {
+        w[size_t(a)] = (m_axisN[a] * pa[a]) * (m_axisN[a] * pa[a]);
+        sum += w[size_t(a)];
+    }
+    if (!(sum > 0)) return {0, 0, 0};
+    for (double& v : w)
+        v /= sum;
+    return w;
+}
+
+double DiskSampler::weightOverPdf(const Frame& f, const Probe& p, const glm::dvec3& x,
+                                  const glm::dvec3& nx) const {
+    if (!m_everyAxis) {
+        const double pdf = this->pdf(f, x, nx);
+        return pdf > 0 ? 1 / pdf : 0;
+    }
+    const std::array<double, 3> pa = axisPdfs(f, x, nx);
+    double sum2 = 0;
+    for (int a = 0; a < 3; ++a)
+        sum2 += (m_axisN[a] * pa[a]) * (m_axisN[a] * pa[a]);
+    return sum2 > 0 ? m_axisN[p.axis] * pa[p.axis] / sum2 : 0;
+}
+
 Probe DiskSampler::probe(const Frame& f, double uStrategy, double uAngle) const {
     // Walk the nine strategies' cumulative probabilities; the remainder of uStrategy within the
     // chosen interval, rescaled, is uniform on [0, 1) and independent of the choice. The last
@@ -116,21 +191,23 @@ Probe DiskSampler::probe(const Frame& f, double uStrategy, double uAngle) const 
         if (uStrategy < cum) break;
     }
     const double uRadius = std::clamp((uStrategy - lo) / width, 0.0, std::nextafter(1.0, 0.0));
-    return diskProbe(f, axis, channel, uRadius, uAngle);
+    return diskProbe(f, axis, channel, m_channels[channel]->sample(uRadius), uAngle);
 }
 
 Probe DiskSampler::probe(const Frame& f, double uAxis, double uChannel, double uRadius,
                          double uAngle) const {
-    return diskProbe(f, choose(m_axisP, uAxis), choose(m_chanP, uChannel), uRadius, uAngle);
+    const int channel = choose(m_chanP, uChannel);
+    return diskProbe(f, choose(m_axisP, uAxis), channel, m_channels[channel]->sample(uRadius),
+                     uAngle);
 }
 
-Probe DiskSampler::diskProbe(const Frame& f, int axis, int channel, double uRadius,
+Probe DiskSampler::diskProbe(const Frame& f, int axis, int channel, double radius,
                              double uAngle) const {
     Probe p;
     p.axis = axis;
     p.channel = channel;
     const RadialDistribution& d = *m_channels[p.channel];
-    p.radius = d.sample(uRadius);
+    p.radius = radius;
     // The disk's own axes: the other two of (N, T, B), in cyclic order.
     const glm::dvec3& v = f.axis(p.axis);
     const glm::dvec3& e1 = f.axis((p.axis + 1) % 3);
@@ -170,31 +247,36 @@ double DiskSampler::strategyPdf(const Frame& f, int axis, int channel, const glm
     return m_channels[channel]->pdfArea(r) * std::fabs(glm::dot(v, nx));
 }
 
-double DiskSampler::pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const {
+std::array<double, 3> DiskSampler::axisPdfs(const Frame& f, const glm::dvec3& x,
+                                            const glm::dvec3& nx) const {
+    std::array<double, 3> pa{0, 0, 0};
     if (m_joint) { // strategyPdf's arithmetic, the three channels of an axis in one lookup
         const glm::dvec3 d = x - f.p;
         const double d2 = glm::dot(d, d);
         glm::dvec3 w(0.0); // P_c·[|x − P| <= R_m,c]
         for (int c = 0; c < 3; ++c)
             if (m_chanP[c] > 0 && d2 <= m_rm2[c]) w[c] = m_chanP[c];
-        if (w == glm::dvec3(0.0)) return 0;
-        double p = 0;
+        if (w == glm::dvec3(0.0)) return pa;
         for (int a = 0; a < 3; ++a) {
             if (m_axisP[a] == 0) continue;
             const glm::dvec3& v = f.axis(a);
             const double along = glm::dot(d, v);
             const double r = std::sqrt(std::max(0.0, d2 - along * along));
-            p += m_axisP[a] * std::fabs(glm::dot(v, nx)) * glm::dot(w, m_joint->pdfArea(r));
+            pa[a] = std::fabs(glm::dot(v, nx)) * glm::dot(w, m_joint->pdfArea(r));
         }
-        return p;
+        return pa;
     }
-    double p = 0;
     for (int a = 0; a < 3; ++a) {
         if (m_axisP[a] == 0) continue;
         for (int c = 0; c < 3; ++c)
-            if (m_chanP[c] > 0) p += m_axisP[a] * m_chanP[c] * strategyPdf(f, a, c, x, nx);
+            if (m_chanP[c] > 0) pa[a] += m_chanP[c] * strategyPdf(f, a, c, x, nx);
     }
-    return p;
+    return pa;
+}
+
+double DiskSampler::pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const {
+    const std::array<double, 3> pa = axisPdfs(f, x, nx);
+    return m_axisP[0] * pa[0] + m_axisP[1] * pa[1] + m_axisP[2] * pa[2];
 }
 
 std::array<std::array<double, 3>, 3> DiskSampler::misWeights(const Frame& f, const glm::dvec3& x,

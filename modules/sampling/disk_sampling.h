@@ -52,6 +52,28 @@
 // against another technique, density-based weights). Counting every hit needs no count, and
 // each hit carries its true density p(x). tests/sampling/disk_geometry_test.cpp measures both
 // statements.
+//
+// Every axis in each sample (AxisScheme::All): Veach's multi-sample MIS (thesis ch. 9.2) with
+// n_a probes along axis a, n = (2, 1, 1) for (N, T, B) (pbrt's 1/2, 1/4, 1/4 as counts), and
+// his power heuristic. One draw of (c, r, φ) (c with P_c, r ~ channel c, φ = 2πu) gives the
+// first N probe and the T and B probes, each through the point (r cos φ, r sin φ) of its own
+// disk (axes e1 = V_{a+1}, e2 = V_{a+2}); the second N probe takes the draw of the uniforms
+// shifted by 1/2 (mod 1), so it has another channel or radius and the opposite angle. Each
+// probe on its own is distributed exactly as a one-sample probe with its axis fixed, so it finds
+// x with density p_a(x) = Σ_c P_c p_{a,c}(x) (the channel MIS inside). With weights
+// w_a(x) = (n_a p_a(x))² / Σ_b (n_b p_b(x))², which sum to 1 wherever some p_b > 0, the
+// multi-sample estimator and its expectation are
+//     F = Σ_a (1/n_a) Σ_{j <= n_a} Σ_{hits x of probe (a, j)} w_a(x) f(x)/p_a(x)
+//       = Σ_probes Σ_hits f(x) · n_a p_a(x) / Σ_b (n_b p_b(x))²,
+//     E[F] = Σ_a n_a (1/n_a) ∫ p_a w_a f/p_a dA = ∫_{p > 0} f(x) dA(x),
+// with p(x) = Σ_a (n_a/n) p_a(x) the density a hit is reported with (pdf()). The probes of a
+// sample share their uniforms, so they are correlated; that changes the variance, not the
+// expectation (the expectation of a sum is the sum of each probe's own). Each term is at most
+// f/max_b(n_b p_b) <= 3f/(n p), so the bound of the balance heuristic holds here too.
+// Why this scheme (bench sampling, README): on the sphere the N probes estimate the
+// neighbourhood of P best, and the power heuristic gives the T and B probes the regions only
+// they find well (the bands around their tangent great circles, the faces near an edge)
+// instead of a share everywhere; the radius inversion is done twice for four probes.
 #pragma once
 
 #include "sampling/channel_pdf_table.h"
@@ -68,14 +90,15 @@
 
 namespace sampling {
 
-enum class AxisScheme { Uniform, Pbrt, NormalOnly };
+// One axis per sample (Uniform, Pbrt, NormalOnly) or every axis in each sample (All).
+enum class AxisScheme { Uniform, Pbrt, NormalOnly, All };
 // Names of the schemes (settings, command line).
 constexpr auto enumNames(AxisScheme) {
-    return std::array{std::pair{AxisScheme::Uniform, "uniform"},
-                      std::pair{AxisScheme::Pbrt, "pbrt"},
-                      std::pair{AxisScheme::NormalOnly, "normal"}};
+    return std::array{
+        std::pair{AxisScheme::Uniform, "uniform"}, std::pair{AxisScheme::Pbrt, "pbrt"},
+        std::pair{AxisScheme::NormalOnly, "normal"}, std::pair{AxisScheme::All, "all"}};
 }
-// P_a for a = N, T, B.
+// P_a for a = N, T, B (All: n_a/n, its share of the probes, 1/2, 1/4, 1/4).
 std::array<double, 3> axisProbabilities(AxisScheme s);
 // P_c ∝ E_m,c (keptEnergy) of each channel that is not nullptr (0 for nullptr), normalised;
 // the uniform 1/3 each when no channel has finite energy > 0.
@@ -100,8 +123,9 @@ class DiskSampler {
     DiskSampler(std::array<const RadialDistribution*, 3> channels,
                 std::array<double, 3> axisProbabilities,
                 std::array<double, 3> channelProbabilities = {1.0 / 3, 1.0 / 3, 1.0 / 3});
-    DiskSampler(std::array<const RadialDistribution*, 3> channels, AxisScheme scheme)
-        : DiskSampler(channels, axisProbabilities(scheme)) {}
+    // The scheme's axes (All: every axis per sample, probes()) and the given channels'.
+    DiskSampler(std::array<const RadialDistribution*, 3> channels, AxisScheme scheme,
+                std::array<double, 3> channelProbabilities = {1.0 / 3, 1.0 / 3, 1.0 / 3});
 
     // The probe of axis uAxis, channel uChannel, radius uRadius, angle uAngle (each in [0, 1)).
     Probe probe(const Frame& f, double uAxis, double uChannel, double uRadius, double uAngle) const;
@@ -110,14 +134,32 @@ class DiskSampler {
     // [0, 1) within that strategy's interval, the radius. A stratified uStrategy (stratified.h)
     // thus stratifies the strategies' counts and each strategy's radii at once.
     Probe probe(const Frame& f, double uStrategy, double uAngle) const;
+    // The probes of one sample, written to out[0 … n−1], n = probesPerSample(): the one probe
+    // of probe(f, uStrategy, uAngle), or with AxisScheme::All the N, T, B probes of the draw
+    // (uStrategy, uAngle) and the N probe of the draw shifted by 1/2 (see "Every axis in each
+    // sample" above; uStrategy picks the channel with P_c and, rescaled, the radius).
+    int probes(const Frame& f, double uStrategy, double uAngle, std::array<Probe, 4>& out) const;
+    int probesPerSample() const { return m_everyAxis ? 4 : 1; }
+    // What a hit x of probe `p` of one sample adds to the estimator, per unit f(x):
+    // 1/p(x) with one axis per sample (balance heuristic), n_a p_a(x)/Σ_b (n_b p_b(x))² with
+    // every axis (power heuristic); 0 where p(x) = 0.
+    double weightOverPdf(const Frame& f, const Probe& p, const glm::dvec3& x,
+                         const glm::dvec3& nx) const;
+    // With every axis in each sample: the power-heuristic weights w_a(x), a = N, T, B (summing
+    // to 1; all 0 where p(x) = 0).
+    std::array<double, 3> multiSampleWeights(const Frame& f, const glm::dvec3& x,
+                                             const glm::dvec3& nx) const;
     // p_{a,c}(x) without the selection probabilities (see above).
     double strategyPdf(const Frame& f, int axis, int channel, const glm::dvec3& x,
                        const glm::dvec3& nx) const;
-    // The combined area density p(x). With tabulated channels on shared radii
+    // p_a(x) = Σ_c P_c p_{a,c}(x) for a = N, T, B: the density of a probe along axis a (0 for
+    // an axis of probability 0).
+    std::array<double, 3> axisPdfs(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const;
+    // The combined area density p(x) = Σ_a P_a p_a(x). With tabulated channels on shared radii
     // (channel_pdf_table.h) the three channels of an axis come from one lookup; the value is
     // the sum of the strategies' densities up to rounding.
     double pdf(const Frame& f, const glm::dvec3& x, const glm::dvec3& nx) const;
-    // w_{a,c}(x), [axis][channel]; all 0 where p(x) = 0.
+    // w_{a,c}(x) of the one-sample balance heuristic, [axis][channel]; all 0 where p(x) = 0.
     std::array<std::array<double, 3>, 3> misWeights(const Frame& f, const glm::dvec3& x,
                                                     const glm::dvec3& nx) const;
     // max_c R_m,c over channels of probability > 0: the integration domain's radius.
@@ -132,29 +174,39 @@ class DiskSampler {
                    std::vector<SurfaceHit>& out) const;
 
   private:
-    Probe diskProbe(const Frame& f, int axis, int channel, double uRadius, double uAngle) const;
+    Probe diskProbe(const Frame& f, int axis, int channel, double radius, double uAngle) const;
 
     std::array<const RadialDistribution*, 3> m_channels;
     std::array<double, 3> m_axisP{}, m_chanP{};
     std::array<double, 3> m_rm2{}; // R_m,c², 0 for unused channels
     double m_radiusMax = 0;
+    bool m_everyAxis = false;               // AxisScheme::All
+    std::array<double, 3> m_axisN{1, 1, 1}; // n_a of AxisScheme::All
     std::optional<ChannelPdfTable> m_joint; // the used channels' pdfs in one table, if tables
 };
 
-// One sample of the disk estimator F = Σ_{hits x} f(x, N_x)/p(x) (see above) at the frame's
-// point: four uniforms from rng.uniform(), `scratch` reused between calls (no allocation once
-// it has grown). f(const glm::dvec3& x, const glm::dvec3& nx) -> glm::dvec3.
+// One sample of the disk estimator F = Σ_{probes} Σ_{hits x} f(x, N_x)·weightOverPdf (see
+// above) at the frame's point: four uniforms from rng.uniform() (one axis per sample: axis,
+// channel, radius, angle; every axis: the first and last), `scratch` reused between calls (no
+// allocation once it has grown). f(const glm::dvec3& x, const glm::dvec3& nx) -> glm::dvec3.
 template <class Rng, class F>
 glm::dvec3 estimateDisk(const DiskSampler& ds, const Surface& s, const Frame& f, Rng& rng,
                         F&& integrand, std::vector<SurfaceHit>& scratch) {
     const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-    const Probe p = ds.probe(f, u0, u1, u2, u3);
-    scratch.clear();
-    ds.probeHits(s, f, p, scratch);
+    std::array<Probe, 4> probes;
+    int n = 1;
+    if (ds.probesPerSample() == 1)
+        probes[0] = ds.probe(f, u0, u1, u2, u3);
+    else
+        n = ds.probes(f, u0, u3, probes);
     glm::dvec3 sum(0.0);
-    for (const SurfaceHit& h : scratch) {
-        const double pdf = ds.pdf(f, h.point.x, h.point.n);
-        if (pdf > 0) sum += integrand(h.point.x, h.point.n) / pdf;
+    for (int i = 0; i < n; ++i) {
+        scratch.clear();
+        ds.probeHits(s, f, probes[size_t(i)], scratch);
+        for (const SurfaceHit& h : scratch) {
+            const double k = ds.weightOverPdf(f, probes[size_t(i)], h.point.x, h.point.n);
+            if (k > 0) sum += integrand(h.point.x, h.point.n) * k;
+        }
     }
     return sum;
 }

@@ -1,9 +1,10 @@
-// sampling/disk_sampling, the parts that need no long runs: the frame, the axis schemes, every
-// hit of a probe (sphere: two; thin box: top and bottom), the MIS weights of random hits on a
-// sphere and a box summing to 1, and the plane: with NormalOnly and one channel every sample is
-// exactly the kept energy (zero variance), and with channels chosen ∝ their kept energy every
-// sample's channel sum is the total kept energy; with the three axes and channel MIS (1/3 each
-// or ∝ energy) the mean is the kept energy of each channel within Monte Carlo error (z-test,
+// sampling/disk_sampling, the parts that need no long runs: the frame, the axis schemes, the
+// four probes of every axis in each sample, every hit of a probe (sphere: two; thin box: top
+// and bottom), the MIS weights of random hits on a sphere and a box summing to 1 (one-sample
+// balance and multi-sample power heuristic), and the plane: with NormalOnly and one channel every
+// sample is exactly the kept energy (zero variance), and with channels chosen ∝ their kept energy
+// every sample's channel sum is the total kept energy; with the three axes and channel MIS (1/3
+// each or ∝ energy) the mean is the kept energy of each channel within Monte Carlo error (z-test,
 // Bonferroni, family-wise 1e-3 per test).
 #include "sampling_support.h"
 
@@ -57,6 +58,7 @@ TEST(DiskSampling, AxisSchemes) {
     EXPECT_EQ(axisProbabilities(AxisScheme::Uniform), (A{1.0 / 3, 1.0 / 3, 1.0 / 3}));
     EXPECT_EQ(axisProbabilities(AxisScheme::Pbrt), (A{0.5, 0.25, 0.25}));
     EXPECT_EQ(axisProbabilities(AxisScheme::NormalOnly), (A{1, 0, 0}));
+    EXPECT_EQ(axisProbabilities(AxisScheme::All), (A{0.5, 0.25, 0.25})); // n_a/n
     // the probe picks axes and channels in proportion (and never one of probability 0)
     const GaussianLobes g({{1, 1}});
     const DiskSampler ds({&g, &g, nullptr}, {0.5, 0.25, 0.25}, {0.75, 0.25, 0});
@@ -124,6 +126,81 @@ TEST(DiskSampling, TwoUniformProbeFollowsStrategiesAndRadii) {
     EXPECT_EQ(two.probe(f, 1 - 0x1p-53, 0.5).channel, 1);
 }
 
+// probes() of AxisScheme::All, fed as the integrator feeds it: four probes per sample, N, T,
+// B sharing channel and radius, each through the point (r cos φ, r sin φ) of its own disk, and
+// a second N probe of the uniforms shifted by 1/2; for each of the two draws, the channels in
+// proportion P_c and each channel's radii from its distribution (Pearson chi-square over
+// (channel, radius bin), one per draw); the one-sample schemes give the one probe of probe().
+TEST(DiskSampling, EveryAxisProbesShareOneDraw) {
+    const auto ch = skinChannels();
+    const auto cp = energyChannelProbabilities(pointers(ch));
+    const DiskSampler ds(pointers(ch), AxisScheme::All, cp);
+    EXPECT_EQ(ds.probesPerSample(), 4);
+    EXPECT_EQ(ds.axisProbability(0), 0.5);
+    EXPECT_EQ(ds.axisProbability(1), 0.25);
+    EXPECT_EQ(ds.axisProbability(2), 0.25);
+    const Frame f = Frame::fromNormal({1, 2, 3}, {0.3, -0.2, 0.9});
+    constexpr int kBins = 20, kN = 200000;
+    std::array<std::vector<double>, 2> obs{std::vector<double>(3 * kBins, 0),
+                                           std::vector<double>(3 * kBins, 0)};
+    BlockStrata<2> strata;
+    std::array<Probe, 4> ps;
+    for (int s = 0; s < kN; ++s) {
+        if (s % kBlockSamples == 0) {
+            pathtrace::Pcg32 prng = pathtrace::Pcg32::forPath(41, uint64_t(s / kBlockSamples));
+            strata = BlockStrata<2>::draw(prng);
+        }
+        pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(42, uint64_t(s));
+        const int k = s % kBlockSamples;
+        const double u0 = strata.u(0, k, rng.uniform()), u1 = strata.u(1, k, rng.uniform());
+        ASSERT_EQ(ds.probes(f, u0, u1, ps), 4);
+        for (int i = 0; i < 4; ++i) {
+            const Probe& p = ps[size_t(i)];
+            const int a = i == 3 ? 0 : i;
+            const double phi = 2 * std::numbers::pi * (i == 3 ? std::fmod(u1 + 0.5, 1.0) : u1);
+            ASSERT_EQ(p.axis, a);
+            ASSERT_EQ(p.dir, f.axis(a));
+            if (i < 3) {
+                ASSERT_EQ(p.channel, ps[0].channel);
+                ASSERT_EQ(p.radius, ps[0].radius);
+            }
+            const glm::dvec3 mid = p.org + 0.5 * p.length * p.dir;
+            const glm::dvec3 want = f.p + p.radius * (std::cos(phi) * f.axis((a + 1) % 3) +
+                                                      std::sin(phi) * f.axis((a + 2) % 3));
+            ASSERT_NEAR(glm::length(mid - want), 0, 1e-9);
+            const double rm = ch[p.channel].radiusMax();
+            ASSERT_LE(p.radius, rm);
+            ASSERT_NEAR(p.length, 2 * std::sqrt(rm * rm - p.radius * p.radius), 1e-9);
+            if (i == 0 || i == 3) {
+                const int bin = std::min(kBins - 1, int(std::sqrt(p.radius / rm) * kBins));
+                obs[i == 0 ? 0 : 1][size_t(p.channel * kBins + bin)] += 1;
+            }
+        }
+    }
+    std::vector<double> exp(3 * kBins, 0);
+    for (int c = 0; c < 3; ++c) {
+        const double rm = ch[c].radiusMax();
+        for (int b = 0; b < kBins; ++b) {
+            const double lo = rm * std::pow(double(b) / kBins, 2),
+                         hi = rm * std::pow((b + 1.0) / kBins, 2);
+            exp[size_t(c * kBins + b)] = kN * cp[size_t(c)] * (ch[c].cdf(hi) - ch[c].cdf(lo));
+        }
+    }
+    for (int d = 0; d < 2; ++d) {
+        const auto chi = pttest::chiSquare(obs[size_t(d)], exp);
+        EXPECT_GT(chi.pValue, 1e-3) << "draw " << d << " chi2 " << chi.stat << " dof " << chi.dof;
+        EXPECT_GE(chi.dof, 50);
+    }
+    // the one-sample schemes: one probe, probe()'s
+    const DiskSampler one(pointers(ch), AxisScheme::Pbrt, cp);
+    EXPECT_EQ(one.probesPerSample(), 1);
+    ASSERT_EQ(one.probes(f, 0.7, 0.2, ps), 1);
+    const Probe q = one.probe(f, 0.7, 0.2);
+    EXPECT_EQ(ps[0].axis, q.axis);
+    EXPECT_EQ(ps[0].channel, q.channel);
+    EXPECT_EQ(ps[0].org, q.org);
+}
+
 TEST(DiskSampling, ProbeGeometry) {
     const GaussianLobes g({{1, 2}});
     const DiskSampler ds({&g, &g, &g}, AxisScheme::Uniform);
@@ -184,7 +261,8 @@ TEST(DiskSampling, MisWeightsOfAHitSumToOne) {
     const std::pair<const Surface*, Frame> cases[] = {
         {&sphere, Frame::fromNormal(glm::dvec3(0, 0.6, 0.8) * 6.0, {0, 0.6, 0.8})},
         {&box, Frame::fromNormal({19, 18.5, 2}, {0, 0, 1})}};
-    for (AxisScheme scheme : {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly}) {
+    for (AxisScheme scheme :
+         {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly, AxisScheme::All}) {
         const DiskSampler ds(pointers(ch), scheme);
         for (const auto& [surface, f] : cases) {
             pathtrace::Pcg32 rng(9, 10);
@@ -206,6 +284,24 @@ TEST(DiskSampling, MisWeightsOfAHitSumToOne) {
                     ASSERT_NEAR(sum, 1.0, 1e-12) << axisSchemeName(scheme);
                     // the strategy that found the hit could have found it
                     EXPECT_GT(w[p.axis][p.channel], 0) << axisSchemeName(scheme);
+                    // the multi-sample power weights (AxisScheme::All's), and the factor of f:
+                    // n_a p_a/Σ_b (n_b p_b)², with n ∝ P_a; 1/p(x) with one axis per sample
+                    const auto wm = ds.multiSampleWeights(f, h.point.x, h.point.n);
+                    ASSERT_NEAR(wm[0] + wm[1] + wm[2], 1.0, 1e-12) << axisSchemeName(scheme);
+                    EXPECT_GT(wm[size_t(p.axis)], 0) << axisSchemeName(scheme);
+                    const auto pa = ds.axisPdfs(f, h.point.x, h.point.n);
+                    const double pdf = ds.pdf(f, h.point.x, h.point.n);
+                    EXPECT_NEAR(ds.axisProbability(0) * pa[0] + ds.axisProbability(1) * pa[1] +
+                                    ds.axisProbability(2) * pa[2],
+                                pdf, 1e-12 * pdf);
+                    const double k = ds.weightOverPdf(f, p, h.point.x, h.point.n);
+                    if (scheme == AxisScheme::All) {
+                        // (1/n_a)·w_a/p_a: the multi-sample estimator's term
+                        const double na = p.axis == 0 ? 2 : 1;
+                        EXPECT_NEAR(k, wm[size_t(p.axis)] / (na * pa[size_t(p.axis)]), 1e-12 * k);
+                    } else {
+                        EXPECT_NEAR(k, 1 / pdf, 1e-12 * k);
+                    }
                     ++checked;
                 }
             }
@@ -261,7 +357,7 @@ TEST(DiskSampling, PlaneNormalOnlyIsExact) {
     }
 }
 
-// The three-axis schemes on a plane, tables and lobes: mean = E_m,c per channel (z-test).
+// The four axis schemes on a plane, tables and lobes: mean = E_m,c per channel (z-test).
 TEST(DiskSampling, PlaneReproducesTheKeptEnergy) {
     const auto ch = skinChannels();
     const GaussianLobes g0({{0.233, 0.0064}, {0.1, 0.0484}, {0.118, 0.187}, {0.358, 1.99}});
@@ -271,12 +367,13 @@ TEST(DiskSampling, PlaneReproducesTheKeptEnergy) {
         pointers(ch), std::array<const RadialDistribution*, 3>{&g0, &g1, &g2}};
     const PlaneSurface plane({1, 2, 3}, {0.2, 0.3, 1});
     const Frame f = Frame::fromNormal({1, 2, 3}, {0.2, 0.3, 1});
-    const double zMax = core::bonferroniZ(1e-3, 2 * 3 * 3);
+    const double zMax = core::bonferroniZ(1e-3, 2 * 4 * 3);
     int set = 0;
     for (const auto& dists : sets) {
-        for (AxisScheme scheme : {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly}) {
+        for (AxisScheme scheme :
+             {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly, AxisScheme::All}) {
             const DiskSampler ds(dists, scheme);
-            pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(21, uint64_t(3 * set + int(scheme)));
+            pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(21, uint64_t(4 * set + int(scheme)));
             Accumulator acc;
             std::vector<SurfaceHit> scratch;
             for (int i = 0; i < 200000; ++i)
@@ -294,7 +391,7 @@ TEST(DiskSampling, PlaneReproducesTheKeptEnergy) {
 }
 
 // The same with channels chosen in proportion to their kept energy (the integrator's choice):
-// mean = E_m,c per channel (z-test, Bonferroni over these 18 comparisons).
+// mean = E_m,c per channel (z-test, Bonferroni over these 24 comparisons).
 TEST(DiskSampling, PlaneReproducesTheKeptEnergyWithEnergyChannelProbabilities) {
     const auto ch = skinChannels();
     const GaussianLobes g0({{0.233, 0.0064}, {0.1, 0.0484}, {0.118, 0.187}, {0.358, 1.99}});
@@ -304,13 +401,13 @@ TEST(DiskSampling, PlaneReproducesTheKeptEnergyWithEnergyChannelProbabilities) {
         pointers(ch), std::array<const RadialDistribution*, 3>{&g0, &g1, &g2}};
     const PlaneSurface plane({1, 2, 3}, {0.2, 0.3, 1});
     const Frame f = Frame::fromNormal({1, 2, 3}, {0.2, 0.3, 1});
-    const double zMax = core::bonferroniZ(1e-3, 2 * 3 * 3);
+    const double zMax = core::bonferroniZ(1e-3, 2 * 4 * 3);
     int set = 0;
     for (const auto& dists : sets) {
-        for (AxisScheme scheme : {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly}) {
-            const DiskSampler ds(dists, axisProbabilities(scheme),
-                                 energyChannelProbabilities(dists));
-            pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(22, uint64_t(3 * set + int(scheme)));
+        for (AxisScheme scheme :
+             {AxisScheme::Uniform, AxisScheme::Pbrt, AxisScheme::NormalOnly, AxisScheme::All}) {
+            const DiskSampler ds(dists, scheme, energyChannelProbabilities(dists));
+            pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(22, uint64_t(4 * set + int(scheme)));
             Accumulator acc;
             std::vector<SurfaceHit> scratch;
             for (int i = 0; i < 200000; ++i)
