@@ -39,6 +39,24 @@ int choose(const std::array<double, 3>& p, double u) {
     return last; // u within rounding of 1
 }
 
+// The index i of weight > 0 whose interval [Σ_{j<i} w_j, Σ_{j<=i} w_j) holds u (weights summing
+// to 1; the last of weight > 0 takes a u within rounding of 1), and in `rest` the remainder of u
+// within that interval rescaled to [0, 1): uniform, and independent of the choice.
+template <size_t N> int pickRescaled(const std::array<double, N>& w, double u, double& rest) {
+    double cum = 0, lo = 0, width = 1;
+    int pick = 0;
+    for (size_t j = 0; j < N; ++j) {
+        if (!(w[j] > 0)) continue;
+        pick = int(j);
+        lo = cum;
+        width = w[j];
+        cum += w[j];
+        if (u < cum) break;
+    }
+    rest = std::clamp((u - lo) / width, 0.0, std::nextafter(1.0, 0.0));
+    return pick;
+}
+
 } // namespace
 
 std::array<double, 3> axisProbabilities(AxisScheme s) {
@@ -117,32 +135,18 @@ int DiskSampler::probes(const Frame& f, double uStrategy, double uAngle,
         out[0] = probe(f, uStrategy, uAngle);
         return 1;
     }
-    // One draw: the channel by P_c, and the remainder of uStrategy within its interval,
-    // rescaled, the radius (the last channel of probability > 0 takes a u within rounding of 1).
-    auto draw = [&](double u, int& channel) {
-        double cum = 0, lo = 0, width = 1;
-        for (int c = 0; c < 3; ++c) {
-            if (!(m_chanP[c] > 0)) continue;
-            channel = c;
-            lo = cum;
-            width = m_chanP[c];
-            cum += width;
-            if (u < cum) break;
-        }
-        return m_channels[channel]->sample(
-            std::clamp((u - lo) / width, 0.0, std::nextafter(1.0, 0.0)));
-    };
-    int channel = 0;
-    const double radius = draw(uStrategy, channel);
+    // One draw: the channel by P_c, the remainder of uStrategy, rescaled, the radius.
+    double uRadius = 0;
+    const int channel = pickRescaled(m_chanP, uStrategy, uRadius);
+    const double radius = m_channels[channel]->sample(uRadius);
     for (int a = 0; a < 3; ++a)
         out[size_t(a)] = diskProbe(f, a, channel, radius, uAngle);
     // the second N probe: the uniforms shifted by 1/2 (uniform, and within a Latin-hypercube
     // block the shifted strata are again one per stratum)
     const double uStrategy2 = std::fmod(uStrategy + 0.5, 1.0),
                  uAngle2 = std::fmod(uAngle + 0.5, 1.0);
-    int channel2 = 0;
-    const double radius2 = draw(uStrategy2, channel2);
-    out[3] = diskProbe(f, 0, channel2, radius2, uAngle2);
+    const int channel2 = pickRescaled(m_chanP, uStrategy2, uRadius);
+    out[3] = diskProbe(f, 0, channel2, m_channels[channel2]->sample(uRadius), uAngle2);
     return 4;
 }
 
@@ -175,22 +179,13 @@ double DiskSampler::weightOverPdf(const Frame& f, const Probe& p, const glm::dve
 }
 
 Probe DiskSampler::probe(const Frame& f, double uStrategy, double uAngle) const {
-    // Walk the nine strategies' cumulative probabilities; the remainder of uStrategy within the
-    // chosen interval, rescaled, is uniform on [0, 1) and independent of the choice. The last
-    // strategy of probability > 0 takes a u within rounding of 1.
-    double cum = 0, lo = 0, width = 1;
-    int axis = 0, channel = 0;
-    for (int j = 0; j < 9; ++j) {
-        const double w = m_axisP[j / 3] * m_chanP[j % 3];
-        if (!(w > 0)) continue;
-        axis = j / 3;
-        channel = j % 3;
-        lo = cum;
-        width = w;
-        cum += w;
-        if (uStrategy < cum) break;
-    }
-    const double uRadius = std::clamp((uStrategy - lo) / width, 0.0, std::nextafter(1.0, 0.0));
+    // the nine strategies (a, c) in the order N, T, B × channel 0, 1, 2
+    std::array<double, 9> w{};
+    for (size_t j = 0; j < 9; ++j)
+        w[j] = m_axisP[j / 3] * m_chanP[j % 3];
+    double uRadius = 0;
+    const int j = pickRescaled(w, uStrategy, uRadius);
+    const int axis = j / 3, channel = j % 3;
     return diskProbe(f, axis, channel, m_channels[channel]->sample(uRadius), uAngle);
 }
 
