@@ -9,7 +9,7 @@
 //     bias (disk against the GPU integrator), and so do quantized diffusion's 40 lobes (against
 //     its own profile table);
 //   - on a thin box and on the bunny, three-axis disk sampling (one axis per sample, and every
-//     axis per sample) agrees with uniform sampling;
+//     axis in each sample) agrees with uniform sampling;
 //   - the image does not depend on how the samples are split into steps;
 //   - bad input: an open mesh, a profile that cannot be sampled.
 #include "../support/gl_fixture.h"
