@@ -29,6 +29,7 @@ void samplingChoice(const char* label, integrate::Sampling& s, sampling::AxisSch
     if (ImGui::Combo("axes", &a,
                      "N, T, B: 1/3 each\0N 1/2, T, B 1/4\0N only\0N 2, T 1, B 1 per sample\0"))
         axes = static_cast<sampling::AxisScheme>(a);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", integrate::kAxesHelp);
 }
 
 void ensureInspectCamera(Workbench& wb, UiShared& ui) {
