@@ -69,7 +69,8 @@
 // with p(x) = Σ_a (n_a/n) p_a(x) the density a hit is reported with (pdf()). The probes of a
 // sample share their uniforms, so they are correlated; that changes the variance, not the
 // expectation (the expectation of a sum is the sum of each probe's own). Each term is at most
-// f/max_b(n_b p_b) <= 3f/(n p), so the bound of the balance heuristic holds here too.
+// f/max_b(n_b p_b) <= 3f/(n p), three times the balance heuristic's term f/(n p), so it stays
+// bounded wherever f/p is (see the bound above).
 // Why this scheme (bench sampling, README): on the sphere the N probes estimate the
 // neighbourhood of P best, and the power heuristic gives the T and B probes the regions only
 // they find well (the bands around their tangent great circles, the faces near an edge)
