@@ -37,6 +37,20 @@ struct CutProfile {
         return f;
     }
 };
+// The two stratified uniforms of sample s as the integrator draws them (stratified.h): its
+// Latin-hypercube block from stream `blockSeed` at the block's first sample (kept in `strata`),
+// the jitter from stream `jitterSeed`.
+std::pair<double, double> integratorUniforms(int s, uint64_t blockSeed, uint64_t jitterSeed,
+                                             BlockStrata<2>& strata) {
+    if (s % kBlockSamples == 0) {
+        pathtrace::Pcg32 prng = pathtrace::Pcg32::forPath(blockSeed, uint64_t(s / kBlockSamples));
+        strata = BlockStrata<2>::draw(prng);
+    }
+    pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(jitterSeed, uint64_t(s));
+    const int k = s % kBlockSamples;
+    const double u0 = strata.u(0, k, rng.uniform());
+    return {u0, strata.u(1, k, rng.uniform())};
+}
 } // namespace
 
 TEST(DiskSampling, FrameIsOrthonormal) {
@@ -89,13 +103,8 @@ TEST(DiskSampling, TwoUniformProbeFollowsStrategiesAndRadii) {
     std::vector<double> obs(9 * kBins, 0), exp(9 * kBins, 0);
     BlockStrata<2> strata;
     for (int s = 0; s < kN; ++s) {
-        if (s % kBlockSamples == 0) {
-            pathtrace::Pcg32 prng = pathtrace::Pcg32::forPath(31, uint64_t(s / kBlockSamples));
-            strata = BlockStrata<2>::draw(prng);
-        }
-        pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(32, uint64_t(s));
-        const int k = s % kBlockSamples;
-        const Probe p = ds.probe(f, strata.u(0, k, rng.uniform()), strata.u(1, k, rng.uniform()));
+        const auto [u0, u1] = integratorUniforms(s, 31, 32, strata);
+        const Probe p = ds.probe(f, u0, u1);
         const double rm = ch[p.channel].radiusMax();
         ASSERT_LE(p.radius, rm);
         const int bin = std::min(kBins - 1, int(std::sqrt(p.radius / rm) * kBins));
@@ -146,13 +155,7 @@ TEST(DiskSampling, EveryAxisProbesShareOneDraw) {
     BlockStrata<2> strata;
     std::array<Probe, 4> ps;
     for (int s = 0; s < kN; ++s) {
-        if (s % kBlockSamples == 0) {
-            pathtrace::Pcg32 prng = pathtrace::Pcg32::forPath(41, uint64_t(s / kBlockSamples));
-            strata = BlockStrata<2>::draw(prng);
-        }
-        pathtrace::Pcg32 rng = pathtrace::Pcg32::forPath(42, uint64_t(s));
-        const int k = s % kBlockSamples;
-        const double u0 = strata.u(0, k, rng.uniform()), u1 = strata.u(1, k, rng.uniform());
+        const auto [u0, u1] = integratorUniforms(s, 41, 42, strata);
         ASSERT_EQ(ds.probes(f, u0, u1, ps), 4);
         for (int i = 0; i < 4; ++i) {
             const Probe& p = ps[size_t(i)];
