@@ -26,19 +26,6 @@ std::array<double, 3> normalised(const std::array<double, 3>& p, const char* wha
     return {p[0] / sum, p[1] / sum, p[2] / sum};
 }
 
-// Index i with u in [Σ_{j<i} p_j, Σ_{j<=i} p_j), never one of probability 0.
-int choose(const std::array<double, 3>& p, double u) {
-    double cum = 0;
-    int last = 0;
-    for (int i = 0; i < 3; ++i) {
-        if (p[i] <= 0) continue;
-        last = i;
-        cum += p[i];
-        if (u < cum) return i;
-    }
-    return last; // u within rounding of 1
-}
-
 // The index i of weight > 0 whose interval [Σ_{j<i} w_j, Σ_{j<=i} w_j) holds u (weights summing
 // to 1; the last of weight > 0 takes a u within rounding of 1), and in `rest` the remainder of u
 // within that interval rescaled to [0, 1): uniform, and independent of the choice.
@@ -55,6 +42,20 @@ template <size_t N> int pickRescaled(const std::array<double, N>& w, double u, d
     }
     rest = std::clamp((u - lo) / width, 0.0, std::nextafter(1.0, 0.0));
     return pick;
+}
+
+// pickRescaled without the remainder.
+int choose(const std::array<double, 3>& p, double u) {
+    double rest = 0;
+    return pickRescaled(p, u, rest);
+}
+
+// Σ_b (n_b p_b)², the power heuristic's denominator.
+double powerSum(const std::array<double, 3>& n, const std::array<double, 3>& pa) {
+    double sum = 0;
+    for (size_t b = 0; b < 3; ++b)
+        sum += (n[b] * pa[b]) * (n[b] * pa[b]);
+    return sum;
 }
 
 } // namespace
@@ -153,15 +154,11 @@ int DiskSampler::probes(const Frame& f, double uStrategy, double uAngle,
 std::array<double, 3> DiskSampler::multiSampleWeights(const Frame& f, const glm::dvec3& x,
                                                       const glm::dvec3& nx) const {
     const std::array<double, 3> pa = axisPdfs(f, x, nx);
-    std::array<double, 3> w{};
-    double sum = 0;
-    for (int a = 0; a < 3; ++a) {
-        w[size_t(a)] = (m_axisN[a] * pa[a]) * (m_axisN[a] * pa[a]);
-        sum += w[size_t(a)];
-    }
+    const double sum = powerSum(m_axisN, pa);
     if (!(sum > 0)) return {0, 0, 0};
-    for (double& v : w)
-        v /= sum;
+    std::array<double, 3> w{};
+    for (size_t a = 0; a < 3; ++a)
+        w[a] = (m_axisN[a] * pa[a]) * (m_axisN[a] * pa[a]) / sum;
     return w;
 }
 
@@ -171,11 +168,10 @@ double DiskSampler::weightOverPdf(const Frame& f, const Probe& p, const glm::dve
         const double pdf = this->pdf(f, x, nx);
         return pdf > 0 ? 1 / pdf : 0;
     }
+    // (1/n_a)·w_a/p_a = n_a p_a / Σ_b (n_b p_b)²
     const std::array<double, 3> pa = axisPdfs(f, x, nx);
-    double sum2 = 0;
-    for (int a = 0; a < 3; ++a)
-        sum2 += (m_axisN[a] * pa[a]) * (m_axisN[a] * pa[a]);
-    return sum2 > 0 ? m_axisN[p.axis] * pa[p.axis] / sum2 : 0;
+    const double sum = powerSum(m_axisN, pa);
+    return sum > 0 ? m_axisN[size_t(p.axis)] * pa[size_t(p.axis)] / sum : 0;
 }
 
 Probe DiskSampler::probe(const Frame& f, double uStrategy, double uAngle) const {
