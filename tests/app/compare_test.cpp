@@ -3,9 +3,9 @@
 // command end to end: scores.json schema, reports, the reference cache, --fail-if-worse and bad
 // inputs.
 #include "../support/cli_fixture.h"
-#include "compare.h"
-#include "compare_oblique.h"
-#include "report_png.h"
+#include "pipeline/scoring.h"
+#include "pipeline/scoring_oblique.h"
+#include "gui/report_png.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

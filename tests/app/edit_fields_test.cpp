@@ -2,7 +2,7 @@
 // with real ImGui input (mouse, characters, keys) and no GL: typing "42" into an integer field
 // changes nothing until Enter; typing and clicking elsewhere commits; the step buttons commit
 // at once; a text field commits on focus loss, and Enter on an unchanged name commits too.
-#include "panels/scene_panel_util.h"
+#include "gui/widgets.h"
 
 #include <gtest/gtest.h>
 

@@ -3,10 +3,10 @@
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "core/core.h"
-#include "gui.h"
-#include "panels/file_dialog.h"
-#include "panels/panels.h"
-#include "panels/registry.h"
+#include "gui/gui.h"
+#include "gui/file_dialog.h"
+#include "gui/panels/panels.h"
+#include "gui/panels/registry.h"
 #include "pathtrace/image_io.h"
 
 #include <imgui.h>

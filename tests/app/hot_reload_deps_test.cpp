@@ -3,7 +3,7 @@
 // program through Workbench::shaderPrograms(). Adding an include makes the new file a
 // dependency; renaming an include leaves the old name out.
 #include "../support/gl_fixture.h"
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include <fstream>
 #include <thread>

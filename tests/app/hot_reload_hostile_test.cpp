@@ -5,7 +5,7 @@
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
 #include "core/core.h"
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include <fstream>
 #include <thread>

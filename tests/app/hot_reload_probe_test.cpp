@@ -5,11 +5,11 @@
 // is adopted.
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
-#include "child_process.h"
-#include "cli_probe.h"
+#include "probe/child_process.h"
+#include "cli/probe.h"
 #include "core/core.h"
-#include "model_probe_process.h"
-#include "workbench.h"
+#include "probe/model_probe_process.h"
+#include "pipeline/workbench.h"
 
 #include <algorithm>
 #include <csignal>

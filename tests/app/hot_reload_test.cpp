@@ -3,7 +3,7 @@
 // values survive; models appear and disappear with their files; shaders reload too.
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include <algorithm>
 #include <fstream>

@@ -6,7 +6,7 @@
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
 #include "core/core.h"
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include <cstdio>
 #include <thread>

@@ -1,5 +1,5 @@
 // Lit-sphere image helpers: merging passes, display mapping, difference view, readouts.
-#include "image_view.h"
+#include "pipeline/image_display.h"
 
 #include <gtest/gtest.h>
 

@@ -5,8 +5,8 @@
 // pixel probe and export.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
-#include "gui.h"
-#include "panels/panels.h"
+#include "gui/gui.h"
+#include "gui/panels/panels.h"
 #include "pathtrace/image_io.h"
 
 namespace {

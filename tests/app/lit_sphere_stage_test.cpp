@@ -5,8 +5,8 @@
 #include "../support/image_agreement.h"
 #include "capture/capture.h"
 #include "core/statistics.h"
-#include "gui.h"
-#include "image_view.h"
+#include "gui/gui.h"
+#include "pipeline/image_display.h"
 
 #include <cmath>
 

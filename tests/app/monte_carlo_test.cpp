@@ -8,8 +8,8 @@
 #include "../support/gui_windows.h"
 #include "../support/image_agreement.h"
 #include "core/statistics.h"
-#include "gui.h"
-#include "workbench.h"
+#include "gui/gui.h"
+#include "pipeline/workbench.h"
 
 #include <gtest/gtest.h>
 

@@ -3,12 +3,12 @@
 // (R_d / (1 − R_sp)), and gives every model that shares its σ error figures.
 #include "../support/gl_fixture.h"
 #include "capture/capture.h"
-#include "capture_io.h"
+#include "captures/capture_io.h"
 #include "core/color.h"
 #include "core/statistics.h"
 #include "pathtrace/bssrdf_table.h"
-#include "reference_plot.h"
-#include "workbench.h"
+#include "pipeline/pencil_series.h"
+#include "pipeline/workbench.h"
 
 #include <algorithm>
 #include <cmath>

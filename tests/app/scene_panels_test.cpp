@@ -4,7 +4,7 @@
 // screen.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
-#include "gui.h"
+#include "gui/gui.h"
 
 #include <cstdlib>
 

@@ -13,7 +13,7 @@
 #include "core/core.h"
 #include "mesh/mesh.h"
 #include "pointcloud/pointcloud.h"
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>

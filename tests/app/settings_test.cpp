@@ -2,12 +2,13 @@
 // described (or skipped on purpose), JSON round-trips every described member, the cache key
 // covers every member, bad JSON names its path, the CLI's defaults are the GUI's, and the
 // README's defaults table is the program's.
-#include "cli_options.h"
-#include "cli_pointcloud.h"
-#include "cli_render.h"
-#include "cli_slab.h"
-#include "settings_json.h"
-#include "workbench.h"
+#include "cli/options.h"
+#include "cli/pointcloud.h"
+#include "cli/render.h"
+#include "cli/slab.h"
+#include "captures/settings_json.h"
+#include "cli/defaults.h"
+#include "pipeline/workbench.h"
 
 #include "core/fields.h"
 

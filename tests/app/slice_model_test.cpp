@@ -3,7 +3,7 @@
 // the midpoint rule is exact, and the directional average within the midpoint rule's error
 // bound.
 #include "pathtrace/fresnel.h"
-#include "slice_model.h"
+#include "pipeline/slice_model.h"
 
 #include <gtest/gtest.h>
 

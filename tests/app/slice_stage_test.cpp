@@ -4,11 +4,11 @@
 // model values are Errors entries while the last table stays.
 #include "../support/gl_fixture.h"
 #include "bssrdf/program.h"
-#include "gui.h"
+#include "gui/gui.h"
 #include "pathtrace/bssrdf_table.h"
 #include "pathtrace/fresnel.h"
-#include "slice_model.h"
-#include "workbench.h"
+#include "pipeline/slice_model.h"
+#include "pipeline/workbench.h"
 
 #include <chrono>
 #include <cmath>

@@ -6,9 +6,9 @@
 // draws.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
-#include "gui.h"
-#include "texspace_images.h"
-#include "workbench.h"
+#include "gui/gui.h"
+#include "pipeline/texspace_images.h"
+#include "pipeline/workbench.h"
 
 #include <gtest/gtest.h>
 

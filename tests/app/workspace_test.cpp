@@ -7,10 +7,10 @@
 // BW_PANEL_PNG_DIR=DIR one per panel and size, to look at.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
-#include "gui.h"
-#include "panels/panels.h"
-#include "panels/registry.h"
-#include "workspace.h"
+#include "gui/gui.h"
+#include "gui/panels/panels.h"
+#include "gui/panels/registry.h"
+#include "gui/workspace_layout.h"
 
 #include <imgui.h>
 #include <imgui_internal.h>
@@ -22,10 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using app::Area;
 using app::Rect;
-
-size_t idx(Area a) {
-    return static_cast<size_t>(a);
-}
+using app::idx;
 
 // Every present area lies in the view, no two present areas overlap, splitters sit between.
 void expectTiled(const app::WorkspaceRects& t, const Rect& view) {

@@ -6,7 +6,7 @@
 #include "fuzz_common.h"
 
 #include "core/fields.h"
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,6 +3,8 @@
 // render, …; app, on top, may use all). A module missing from the table, an include or link of
 // a module it may not use, or a cycle in the table fails; the synthetic trees show each check
 // failing on a violation.
+#include "layering_support.h"
+
 #include "core/core.h"
 
 #include <gtest/gtest.h>
@@ -20,8 +22,7 @@
 #include <vector>
 
 namespace {
-namespace fs = std::filesystem;
-using Graph = std::map<std::string, std::set<std::string>>;
+using namespace layering;
 
 // Allowed direct dependencies of each module (modules/<m>/). Add a new module here, below
 // everything it uses.
@@ -45,11 +46,6 @@ const Graph kAllowed = {
     {"texspace",
      {"core", "mesh", "gl", "shader", "irradiance", "octree", "render", "litsphere", "bssrdf"}},
 };
-
-std::string readAll(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // "modules/a/x.cpp:3: includes b/y.h" for each use of a module `a` may not use.
 std::vector<std::string> violations(const fs::path& modulesDir, const Graph& allowed) {
@@ -95,35 +91,6 @@ std::vector<std::string> violations(const fs::path& modulesDir, const Graph& all
     }
     return out;
 }
-
-// True when the graph has no cycle (so an order exists in which every arrow points down).
-bool acyclic(const Graph& g) {
-    std::map<std::string, int> state; // 0 new, 1 on the stack, 2 done
-    std::function<bool(const std::string&)> visit = [&](const std::string& n) {
-        if (state[n] == 1) return false;
-        if (state[n] == 2) return true;
-        state[n] = 1;
-        auto it = g.find(n);
-        if (it != g.end())
-            for (const auto& d : it->second)
-                if (!visit(d)) return false;
-        state[n] = 2;
-        return true;
-    };
-    for (const auto& [n, deps] : g)
-        if (!visit(n)) return false;
-    return true;
-}
-
-struct TempTree {
-    fs::path root = fs::temp_directory_path() / ("bw_layering_" + std::to_string(::getpid()));
-    TempTree() { fs::remove_all(root); }
-    ~TempTree() { fs::remove_all(root); }
-    void write(const std::string& rel, const std::string& text) const {
-        fs::create_directories((root / rel).parent_path());
-        std::ofstream(root / rel, std::ios::binary) << text;
-    }
-};
 
 } // namespace
 

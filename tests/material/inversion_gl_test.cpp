@@ -6,7 +6,7 @@
 #include "../support/gl_fixture.h"
 #include "bssrdf/program.h"
 #include "material/material.h"
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include <cmath>
 

@@ -3,7 +3,7 @@
 //   - both models: 2π∫R_d(r) r dr (numerical) vs their total diffuse reflectance in closed
 //     form (thesis eq. 3.2 for the dipole; the model's own DiffuseReflectance otherwise).
 #include "../support/gl_fixture.h"
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include <cmath>
 

@@ -2,7 +2,7 @@
 // model and a corrupt manifest all FAIL with a message naming the stage or file.
 #include "../support/gl_fixture.h"
 #include "capture/capture.h"
-#include "capture_io.h"
+#include "captures/capture_io.h"
 #include "core/core.h"
 #include "mesh/mesh.h"
 #include "pathtrace/image_io.h"

@@ -1,9 +1,9 @@
 // Shared by GUI tests: what ImGui drew in the last frame, read from its window list.
 #pragma once
 
-#include "panels/registry.h"
-#include "scene_stage.h"
-#include "workspace.h"
+#include "gui/panels/registry.h"
+#include "pipeline/scene_stage.h"
+#include "gui/workspace_layout.h"
 
 #include <imgui.h>
 #include <imgui_internal.h>

@@ -2,7 +2,7 @@
 // and the loop that updates it until something holds.
 #pragma once
 
-#include "workbench.h"
+#include "pipeline/workbench.h"
 
 #include "core/core.h"
 

@@ -1,0 +1,29 @@
+// Record and replay captures of the workbench state (format: modules/capture, README in
+// captures/). Stages recorded now: per model, the effective material (σ after inversion) and
+// the pencil-beam profile; path-traced references and images; the mesh pipeline's stages.
+#pragma once
+
+#include "pipeline/workbench.h"
+
+#include <filesystem>
+#include <string>
+
+namespace app {
+
+// Writes <dir>/manifest.json + stage outputs for the current state. Throws core::Error.
+// With the scene on (wb.scene().settings().enabled), its stages are recorded too
+// (capture_scene.h), with the traversal of pixel (traceX, traceY) when both are >= 0.
+void recordCaptureTo(Workbench& wb, const std::filesystem::path& dir, const std::string& name,
+                     int traceX = -1, int traceY = -1);
+
+// Records the current state as <root>/captures/<name> (File → Record capture); returns that
+// folder relative to the root.
+std::string recordCapture(Workbench& wb, const std::string& name);
+// Replays a capture headless (needs a current GL context): recomputes every stage from the
+// recorded inputs and compares with the recorded outputs. Prints one line per stage to
+// `out`. Returns 0 when everything passes, 1 on any failure, 2 when the capture is unreadable.
+// update: rewrite the outputs (and their hashes) from this run instead of comparing.
+int replayCapture(const std::filesystem::path& captureDir, const std::filesystem::path& root,
+                  bool update, std::string& out);
+
+} // namespace app

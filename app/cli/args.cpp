@@ -1,0 +1,80 @@
+// Arguments shared by the commands: R,G,B triples, model files, materials, shards.
+#include "cli/args.h"
+
+#include "core/core.h"
+#include "material/material.h"
+#include "pipeline/workbench.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace app {
+namespace fs = std::filesystem;
+
+glm::dvec3 parseRgb(const std::string& text, const std::string& argName) {
+    std::vector<double> v;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        char* end = nullptr;
+        double d = std::strtod(item.c_str(), &end);
+        if (item.empty() || end == item.c_str() || *end != '\0')
+            throw core::Error(argName, 0, "'" + item + "' is not a number (expected R,G,B)");
+        v.push_back(d);
+    }
+    if (v.size() == 1) return glm::dvec3(v[0]);
+    if (v.size() != 3)
+        throw core::Error(argName, 0,
+                          "expected 3 comma-separated values R,G,B (or one for all), got " +
+                              std::to_string(v.size()));
+    return {v[0], v[1], v[2]};
+}
+
+fs::path resolveModel(const fs::path& root, const std::string& model) {
+    fs::path p = model;
+    if (!fs::exists(p) && fs::exists(root / p)) p = root / p;
+    if (!fs::exists(p)) throw core::Error(model, 0, "--model: no such file");
+    return p;
+}
+
+MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,
+                                  const std::string& sigmaA, const std::string& sigmaS,
+                                  std::optional<double> g, std::optional<double> eta) {
+    MaterialSettings s;
+    if (g) s.params.g = *g;
+    if (!preset.empty()) {
+        if (!sigmaA.empty() || !sigmaS.empty())
+            throw core::Error("--preset", 0, "give either --preset or --sigma-a/--sigma-s");
+        wb.applyPreset(s, preset); // σs = σ′s/(1−g), η from the preset
+    } else {
+        if (sigmaA.empty() || sigmaS.empty())
+            throw core::Error("--sigma-a", 0, "give --preset NAME or both --sigma-a and --sigma-s");
+        s.params.sigmaA = parseRgb(sigmaA, "--sigma-a");
+        s.params.sigmaS = parseRgb(sigmaS, "--sigma-s");
+        s.preset.clear();
+        s.params.eta = 1.3;
+    }
+    if (eta) s.params.eta = *eta;
+    material::validate(s.params, "arguments");
+    return s;
+}
+
+bool parseSize(const std::string& s, int& w, int& h, int minSide) {
+    char tail = 0;
+    return std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &tail) == 2 && w >= minSide && h >= minSide &&
+           w <= 8192 && h <= 8192;
+}
+
+std::pair<uint64_t, uint64_t> parseShard(const std::string& text, const std::string& flag) {
+    const size_t slash = text.find('/');
+    unsigned long long k = 0, n = 0;
+    char tail = 0;
+    if (slash == std::string::npos ||
+        std::sscanf(text.c_str(), "%llu/%llu%c", &k, &n, &tail) != 2 || n < 1 || k < 1 || k > n ||
+        n > 1000000)
+        throw core::Error(
+            flag, 0, "expected K/N with 1 <= K <= N <= 1000000 (shard K of N), got '" + text + "'");
+    return {k - 1, n};
+}
+
+} // namespace app

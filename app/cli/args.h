@@ -1,0 +1,33 @@
+// Arguments shared by the commands: R,G,B triples, model files, materials from --preset or σ,
+// shards. Each parser throws core::Error naming the argument.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include <glm/vec3.hpp>
+
+namespace app {
+
+// "R,G,B" or a single number for all three channels; throws core::Error naming `argName`.
+glm::dvec3 parseRgb(const std::string& text, const std::string& argName);
+
+class Workbench;
+struct MaterialSettings;
+// A model file as given or relative to the root; throws core::Error("--model") when missing.
+std::filesystem::path resolveModel(const std::filesystem::path& root, const std::string& model);
+// Material settings from --preset or --sigma-a/--sigma-s (+ --g, --eta), validated.
+MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,
+                                  const std::string& sigmaA, const std::string& sigmaS,
+                                  std::optional<double> g, std::optional<double> eta);
+
+// "WxH" with both sides in [minSide, 8192]: false when malformed or out of range.
+bool parseSize(const std::string& text, int& w, int& h, int minSide = 64);
+
+// "K/N" → (K − 1, N); core::Error naming `flag` when malformed or K not in [1, N].
+std::pair<uint64_t, uint64_t> parseShard(const std::string& text, const std::string& flag);
+
+} // namespace app

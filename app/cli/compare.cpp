@@ -1,0 +1,356 @@
+// `bssrdf-workbench compare`: the scoreboard (pipeline/scoring.h has the definitions of every
+// number).
+#include "cli/compare.h"
+#include "cli/args.h"
+#include "cli/command.h"
+#include "cli/options.h"
+
+#include "capture/scores.h"
+#include "cli/capture_commands.h"
+#include "cli/output.h"
+#include "core/core.h"
+#include "core/fields.h"
+#include "core/text.h"
+#include "gl/gl.h"
+#include "material/material.h"
+#include "pathtrace/pathtrace.h"
+#include "pipeline/model_stages.h"
+#include "pipeline/scoring_oblique.h"
+#include "pipeline/workbench.h"
+
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+namespace app {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kSchema = capture::kScoresSchema;
+constexpr int kSchemaVersion = capture::kScoresVersion;
+
+// The reference's radial histogram: [0, 4.5 l_d) in 90 bins (0.05 l_d each).
+constexpr double kRangeLd = 4.5;
+constexpr int kBins = 90;
+
+} // namespace
+
+namespace {
+
+json resultJson(const pathtrace::SlabResult& r) {
+    return {{"r_mid", r.rMid},
+            {"rd", r.rd},
+            {"rd_se", r.rdStderr},
+            {"total_rd", r.totalRd},
+            {"total_rd_se", r.totalRdStderr},
+            {"specular", r.specular},
+            {"paths", r.paths}};
+}
+
+std::optional<pathtrace::SlabResult> cachedResult(const fs::path& file) {
+    std::error_code ec;
+    if (file.empty() || !fs::exists(file, ec)) return std::nullopt;
+    try {
+        const json j = json::parse(core::readFile(file));
+        pathtrace::SlabResult r;
+        r.rMid = j.at("r_mid").get<std::vector<double>>();
+        r.rd = j.at("rd").get<std::vector<double>>();
+        r.rdStderr = j.at("rd_se").get<std::vector<double>>();
+        r.totalRd = j.at("total_rd").get<double>();
+        r.totalRdStderr = j.at("total_rd_se").get<double>();
+        r.specular = j.at("specular").get<double>();
+        r.paths = j.at("paths").get<uint64_t>();
+        if (r.rd.size() != r.rMid.size() || r.rdStderr.size() != r.rMid.size()) return std::nullopt;
+        return r;
+    } catch (const std::exception&) { // a damaged cache entry is traced again
+        return std::nullopt;
+    }
+}
+
+// The path-traced reference of one medium, from the cache or traced (and cached).
+pathtrace::SlabResult reference(const pathtrace::Medium& m, const pathtrace::SlabSettings& s,
+                                const std::string& what, bool& fromCache) {
+    const fs::path dir = compareCacheDir();
+    const fs::path file = dir.empty() ? fs::path() : dir / (core::keyOf(m, s) + ".json");
+    if (auto r = cachedResult(file)) {
+        fromCache = true;
+        return *r;
+    }
+    fromCache = false;
+    core::Stopwatch clock;
+    pathtrace::SlabResult r = pathtrace::runSlab(m, s, [&](uint64_t done) {
+        if (clock.ms() < 1000) return;
+        std::fprintf(stderr, "\rcompare: reference %s  %5.1f%%   ", what.c_str(),
+                     100.0 * double(done) / double(s.paths));
+        std::fflush(stderr);
+    });
+    if (clock.ms() >= 1000) std::fprintf(stderr, "\n");
+    if (std::string p = pathtrace::energyProblem(r); !p.empty())
+        throw core::Error("reference", 0, what + ": " + p);
+    if (!file.empty()) {
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        try {
+            core::writeFile(file, resultJson(r).dump());
+        } catch (const core::Error& e) {
+            core::logWarn(std::string("reference cache not written: ") + e.what());
+        }
+    }
+    return r;
+}
+
+json rowJson(const ScoreRow& r) {
+    return {{"model", r.model},
+            {"preset", r.preset},
+            {"channel", r.channel},
+            {"theta_i", r.thetaI},
+            {"ld_mm", r.ldMm},
+            {"rel_l2", r.relL2},
+            {"rel_l2_se", r.relL2Se},
+            {"ratio_1ld", r.ratio1},
+            {"ratio_1ld_se", r.ratio1Se},
+            {"ratio_4ld", r.ratio4},
+            {"ratio_4ld_se", r.ratio4Se},
+            {"total_ratio", r.totalRatio},
+            {"total_ratio_se", r.totalRatioSe},
+            {"r_err5_ld", r.rErr5Ld ? json(*r.rErr5Ld) : json(nullptr)},
+            {"rel_l2_dir", r.relL2Dir ? json(*r.relL2Dir) : json(nullptr)},
+            {"rel_l2_dir_se", r.relL2DirSe ? json(*r.relL2DirSe) : json(nullptr)},
+            {"rank", r.rank},
+            {"tie", r.tie}};
+}
+
+} // namespace
+
+int runCompareCli(const fs::path& root, const CompareArgs& a) {
+    if (a.out.empty()) throw core::Error("--out", 0, "give the folder to write");
+    if (a.failIfWorse && a.baseline.empty())
+        throw core::Error("--fail-if-worse", 0, "needs --baseline FILE");
+    if (a.failIfWorse && !(*a.failIfWorse >= 0))
+        throw core::Error("--fail-if-worse", 0, "must be a percentage >= 0");
+    const std::vector<ScoreRow> baseline =
+        a.baseline.empty() ? std::vector<ScoreRow>{} : capture::readScores(a.baseline);
+    // the output folder must be writable before any work is done
+    std::error_code ec;
+    fs::create_directories(a.out, ec);
+    if (ec || !fs::is_directory(a.out))
+        throw core::Error("--out", 0,
+                          "cannot create the folder '" + a.out + "'" +
+                              (ec ? ": " + ec.message() : std::string()));
+    checkWritable((fs::path(a.out) / "scores.json").string(), "--out");
+
+    std::vector<fs::path> models;
+    if (a.models.empty()) {
+        for (const auto& e : fs::directory_iterator(root / "materials", ec))
+            if (e.path().extension() == ".bssrdf") models.push_back(e.path());
+        std::sort(models.begin(), models.end());
+    } else {
+        for (const auto& m : a.models)
+            models.push_back(resolveModel(root, m));
+    }
+    if (models.empty()) throw core::Error("--models", 0, "no model files");
+
+    auto ctx = gl::createHeadlessContext(false);
+    Workbench wb(root, false, models);
+    for (const auto& e : wb.library().entries())
+        if (e.problem) throw core::Error(e.problem->file, e.problem->line, e.problem->message);
+    std::vector<std::string> presets = a.presets;
+    if (presets.empty())
+        for (const auto& p : wb.presets())
+            presets.push_back(p.name);
+    for (const auto& name : presets)
+        if (!material::findPreset(wb.presets(), name)) {
+            std::string known;
+            for (const auto& p : wb.presets())
+                known += (known.empty() ? "" : ", ") + p.name;
+            throw core::Error("--presets", 0,
+                              "unknown preset '" + name + "' (known: " + known + ")");
+        }
+
+    for (double t : a.thetaI)
+        if (!(std::isfinite(t) && t >= 0 && t < 90))
+            throw core::Error("--theta-i", 0,
+                              "incidence angles must be degrees in [0, 90), got " + formatScore(t));
+    if (a.thetaI.empty()) throw core::Error("--theta-i", 0, "give at least one angle");
+
+    CompareReport report;
+    report.paths = a.paths;
+    report.thetaI = a.thetaI;
+    std::vector<ScoreRow>& rows = report.rows;
+    json skipped = json::array();
+    size_t cached = 0, traced = 0;
+    auto stem = [](const std::string& displayPath) {
+        std::string m = displayPath.substr(displayPath.rfind('/') + 1);
+        return m.substr(0, m.rfind('.'));
+    };
+    for (const std::string& preset : presets) {
+        MaterialSettings s;
+        wb.applyPreset(s, preset);
+        const material::MaterialParams& p = s.params;
+        for (int c = 0; c < 3; ++c) {
+            const std::string ch(1, "RGB"[c]);
+            const pathtrace::Medium m{p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
+            const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
+            if (!(std::isfinite(ld) && ld > 0)) { // σa = 0 (Spectralon): no l_d to score over
+                skipped.push_back({{"preset", preset},
+                                   {"channel", ch},
+                                   {"reason", "sigma_a = 0: no diffuse mean free path l_d"}});
+                std::fprintf(stderr, "compare: %s %c not scored (sigma_a = 0: no l_d)\n",
+                             preset.c_str(), "RGB"[c]);
+                continue;
+            }
+            for (double thetaI : a.thetaI) {
+                if (thetaI == 0) {
+                    pathtrace::SlabSettings ss;
+                    ss.rMaxMm = kRangeLd * ld;
+                    ss.bins = kBins;
+                    ss.paths = a.paths;
+                    bool fromCache = false;
+                    const pathtrace::SlabResult ref =
+                        reference(m, ss, preset + " " + ch, fromCache);
+                    (fromCache ? cached : traced)++;
+                    ProfileCurves curves{preset, c, ld, ref.rMid, {}, {}, {}};
+                    for (size_t i = 0; i < ref.rMid.size(); ++i) {
+                        curves.ref.push_back(ref.rd[i] / (1 - ref.specular));
+                        curves.refSe.push_back(ref.rdStderr[i] / (1 - ref.specular));
+                    }
+                    for (auto& e : wb.library().entries()) {
+                        if (!e.usable()) continue;
+                        const material::MaterialParams eff = effectiveParams(e, s);
+                        const bssrdf::Builtins b = builtinsOf(eff);
+                        const GLuint program = e.programs.at("pencil_profile.comp").id();
+                        const bssrdf::Profile prof =
+                            bssrdf::evaluateProfile(program, *e.model, e.values, b, ref.rMid);
+                        if (std::string bad = bssrdf::profileProblem(prof); !bad.empty())
+                            throw core::Error(e.displayPath, 0, preset + ": " + bad);
+                        std::vector<double> mv(prof.value.size());
+                        for (size_t i = 0; i < mv.size(); ++i)
+                            mv[i] = prof.value[i][c];
+                        ScoreRow row = scoreAgainstReference(
+                            ref.rMid, ref.rd, ref.rdStderr, ref.specular, ref.totalRd,
+                            ref.totalRdStderr, ld, mv, modelTotalRd(program, e, b, ld, c));
+                        row.model = stem(e.displayPath);
+                        row.preset = preset;
+                        row.channel = ch;
+                        rows.push_back(row);
+                        curves.models.emplace_back(row.model, std::move(mv));
+                    }
+                    report.profiles.push_back(std::move(curves));
+                    continue;
+                }
+                const pathtrace::EstimateSettings es = obliqueSettings(ld, thetaI, a.paths);
+                bool fromCache = false;
+                const pathtrace::BssrdfSlice ref = obliqueReference(
+                    m, es, preset + " " + ch + " at " + formatScore(thetaI, 3) + " deg", fromCache);
+                (fromCache ? cached : traced)++;
+                SliceMaps maps{preset, c, thetaI, ld, es.bins, ref.R, ref.RStderr, {}};
+                for (auto& e : wb.library().entries()) {
+                    if (!e.usable()) continue;
+                    const material::MaterialParams eff = effectiveParams(e, s);
+                    const bool readsWo = !e.model->attrs.noWo;
+                    const SliceSampling n = sliceSampling(es.bins, readsWo);
+                    const std::vector<bssrdf::Query> q = sliceQueries(es.bins, thetaI, readsWo, n);
+                    const std::vector<glm::dvec3> rgb =
+                        bssrdf::evaluateQueries(e.programs.at("pencil_profile.comp").id(), *e.model,
+                                                e.values, builtinsOf(eff), q);
+                    std::vector<double> values(rgb.size());
+                    for (size_t i = 0; i < rgb.size(); ++i)
+                        values[i] = rgb[i][c];
+                    const ModelSlice ms = modelSlice(es.bins, thetaI, eff.eta, readsWo, n, values);
+                    for (size_t i = 0; i < ms.R.size(); ++i)
+                        if (!std::isfinite(ms.R[i]) || ms.R[i] < 0)
+                            throw core::Error(
+                                e.displayPath, 0,
+                                preset +
+                                    ": Bssrdf() is negative or not finite on "
+                                    "the slice at theta_i " +
+                                    formatScore(thetaI, 3) + " deg, r = " +
+                                    formatScore(es.bins.rEdges()[i / size_t(es.bins.thetaSBins)],
+                                                4) +
+                                    " mm");
+                    ScoreRow row = scoreSlice(es.bins, ref, ms, ld);
+                    row.model = stem(e.displayPath);
+                    row.preset = preset;
+                    row.channel = ch;
+                    rows.push_back(row);
+                    maps.models.emplace_back(row.model, ms.R);
+                }
+                report.slices.push_back(std::move(maps));
+            }
+        }
+    }
+    rankRows(rows);
+
+    json angles = json::array();
+    for (double t : a.thetaI)
+        angles.push_back(t);
+    json j = {{"schema", kSchema}, {"version", kSchemaVersion}, {"theta_i", angles},
+              {"paths", a.paths},  {"rows", json::array()},     {"skipped", skipped}};
+    for (const ScoreRow& r : rows)
+        j["rows"].push_back(rowJson(r));
+    writeReports(a.out, report, a.plots);
+    core::writeFile(fs::path(a.out) / "scores.json", j.dump(2) + "\n");
+    std::printf("%zu rows (%zu references traced, %zu from the cache): %s\n", rows.size(), traced,
+                cached, (fs::path(a.out) / "scores.json").c_str());
+
+    if (!a.failIfWorse) return 0;
+    int worse = 0;
+    for (const ScoreRow& r : rows)
+        for (const ScoreRow& b : baseline) {
+            if (b.model != r.model || b.preset != r.preset || b.channel != r.channel ||
+                b.thetaI != r.thetaI)
+                continue;
+            const double noise = 3 * std::sqrt(r.relL2Se * r.relL2Se + b.relL2Se * b.relL2Se);
+            if (r.relL2 > b.relL2 * (1 + *a.failIfWorse / 100) && r.relL2 - b.relL2 > noise) {
+                std::fprintf(stderr, "worse: %s %s %s rel_l2 %s -> %s\n", r.model.c_str(),
+                             r.preset.c_str(), r.channel.c_str(), formatScore(b.relL2).c_str(),
+                             formatScore(r.relL2).c_str());
+                ++worse;
+            }
+        }
+    if (worse) {
+        std::fprintf(stderr, "error: %d rows worse than the baseline by more than %s %%\n", worse,
+                     formatScore(*a.failIfWorse).c_str());
+        return 1;
+    }
+    return 0;
+}
+
+Command compareCommand() {
+    return {"compare", "score every model against the path-traced reference (scoreboard)", false,
+            [](CLI::App& cmd) -> CommandRun {
+                auto a = std::make_shared<CompareArgs>();
+                cmd.add_option("--models", a->models,
+                               "model files (default: every materials/*.bssrdf)");
+                cmd.add_option("--presets", a->presets, "preset names (default: all)");
+                addCountOption(&cmd, "--paths", a->paths,
+                               "reference paths per preset and channel (default " +
+                                   std::to_string(a->paths) + ")",
+                               core::Limits{1000, 1e12});
+                cmd.add_option(
+                       "--theta-i", a->thetaI,
+                       "incidence angles in degrees, [0, 90): DEG[,DEG...]; 0 scores the radial "
+                       "profile, others the whole BSSRDF (default 0)")
+                    ->delimiter(',');
+                cmd.add_flag("!--no-plots", a->plots, "reports without the PNG plots");
+                cmd.add_option("--baseline", a->baseline, "an earlier scores.json to compare with");
+                addNumberOption(&cmd, "--fail-if-worse", a->failIfWorse,
+                                "with --baseline: exit 1 when a rel_l2 grew by more than PCT %",
+                                core::Limits{0, 1e6});
+                cmd.add_option("--out", a->out,
+                               "output folder: scores.json, report.md, report.html")
+                    ->required();
+                return [a](CommandContext& ctx) { return runCompareCli(ctx.root(), *a); };
+            }};
+}
+
+} // namespace app

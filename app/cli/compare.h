@@ -1,0 +1,75 @@
+// `bssrdf-workbench compare`: every model × preset × channel scored against the path-traced
+// reference (the scoreboard), with the scores of pipeline/scoring.h. The reference is cached on
+// disk by medium and settings (BSSRDF_WORKBENCH_CACHE, else ~/.cache/bssrdf-workbench/reference,
+// pipeline/scoring.h: compareCacheDir), so a second run costs only the models. Outputs:
+// DIR/scores.json (schema below), DIR/report.md and DIR/report.html (one self-contained page, cells
+// coloured by rel_l2).
+//
+// scores.json = {"schema": "bssrdf-workbench-scores", "version": 1, "theta_i": [0],
+//   "paths": P, "rows": [{"model", "preset", "channel": "R"|"G"|"B", "theta_i", "ld_mm",
+//   "rel_l2", "rel_l2_se", "ratio_1ld", "ratio_1ld_se", "ratio_4ld", "ratio_4ld_se",
+//   "total_ratio", "total_ratio_se", "r_err5_ld" (or null), "rank", "tie"}],
+//   "skipped": [{"preset", "channel", "reason"}]}   (channels with σa = 0 have no l_d)
+//
+// At θi > 0 (--theta-i) the rows are scored against the seed 001 estimate of the whole BSSRDF,
+// over the plane and the exit directions (pipeline/scoring_oblique.h); such rows add
+// "rel_l2_dir" and "rel_l2_dir_se" (null at θi = 0). The report adds per preset and channel the
+// pencil plot of every model with the reference band, the ratio to the reference against r, and at
+// θi > 0 polar heatmaps of the relative difference (compare_report.cpp), drawn headless by the
+// panels' own plot code.
+//
+// --baseline FILE --fail-if-worse PCT: exit 1 when a row's rel_l2 grew by more than PCT % over
+// the baseline's same (model, preset, channel, theta_i) and by more than 3 standard errors of
+#pragma once
+
+#include "pathtrace/bssrdf_estimate.h"
+#include "pipeline/scoring.h"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace app {
+
+struct CompareArgs {
+    std::vector<std::string> models;   // default: every materials/*.bssrdf
+    std::vector<std::string> presets;  // default: every preset of presets.json
+    std::vector<double> thetaI{0.0};   // incidence angles, degrees in [0, 90)
+    bool plots = true;                 // PNG plots in the reports
+    uint64_t paths = 200000;           // per preset and channel
+    std::string baseline;              // an earlier scores.json
+    std::optional<double> failIfWorse; // percent
+    std::string out;                   // output folder
+};
+
+// What the report draws besides the table (compare_report.cpp).
+struct ProfileCurves { // θi = 0, one preset and channel
+    std::string preset;
+    int channel = 0;
+    double ld = 0;
+    std::vector<double> r, ref, refSe; // R_d/(1 − R_sp) and its standard error at bin centres
+    std::vector<std::pair<std::string, std::vector<double>>> models; // name, R at r
+};
+struct SliceMaps { // θi > 0, one preset, channel and angle
+    std::string preset;
+    int channel = 0;
+    double thetaI = 0, ld = 0;
+    pathtrace::BssrdfBins bins;
+    std::vector<double> refR, refSe;                                 // per spatial bin
+    std::vector<std::pair<std::string, std::vector<double>>> models; // name, R per bin
+};
+struct CompareReport {
+    uint64_t paths = 0;
+    std::vector<double> thetaI;
+    std::vector<ScoreRow> rows;
+    std::vector<ProfileCurves> profiles;
+    std::vector<SliceMaps> slices;
+};
+// report.md and report.html in `dir` (and the pictures in dir/plots when `pictures`).
+void writeReports(const std::filesystem::path& dir, const CompareReport& r, bool pictures);
+
+int runCompareCli(const std::filesystem::path& root, const CompareArgs& a);
+
+} // namespace app

@@ -1,0 +1,280 @@
+// ImGui frame loop, windowed or headless, with layout + panel visibility persistence
+// (ImGui's ini file plus a custom settings section for the View menu toggles).
+#include "gui/gui.h"
+
+#include "core/core.h"
+#include "gui/panels/panels.h"
+#include "gui/panels/registry.h"
+
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <imgui_internal.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace app {
+namespace fs = std::filesystem;
+
+namespace {
+UiState* g_ui = nullptr; // the settings handler needs to reach the panel toggles
+
+void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
+    return std::strcmp(name, "Panels") == 0 ? static_cast<void*>(g_ui) : nullptr;
+}
+// The saved layout, one "key=value" line each: Models=1 (open), Splits=l,r,b,c (splitter
+// fractions), Float.Render=x0,y0,x1,y1 (a floating panel's window), Tab.centre=Render (the tab
+// an area shows). Unknown or malformed lines are ignored: the defaults stand.
+void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
+    auto* ui = static_cast<UiState*>(entry);
+    WorkspaceState& ws = ui->shared.workspace;
+    auto fraction = [](float f, float fallback) {
+        return std::isfinite(f) && f >= 0.05f && f <= 0.95f ? f : fallback;
+    };
+    if (std::strncmp(line, "Recent=", 7) == 0 && line[7] && ui->shared.recent.size() < 8) {
+        ui->shared.recent.push_back(line + 7);
+        return;
+    }
+    float v[4];
+    if (std::sscanf(line, "Splits=%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3]) == 4) {
+        const WorkspaceSplits d;
+        ws.splits = {fraction(v[0], d.left), fraction(v[1], d.right), fraction(v[2], d.bottom),
+                     fraction(v[3], d.leftColumn)};
+        return;
+    }
+    for (const PanelEntry& p : panelRegistry()) {
+        const size_t i = static_cast<size_t>(p.id);
+        const std::string key = p.iniKey;
+        if (std::strncmp(line, (key + "=").c_str(), key.size() + 1) == 0)
+            ui->shared.isOpen(p.id) = line[key.size() + 1] == '1';
+        const std::string fl = "Float." + key + "=";
+        if (std::strncmp(line, fl.c_str(), fl.size()) == 0 &&
+            std::sscanf(line + fl.size(), "%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3]) == 4 &&
+            std::isfinite(v[0] + v[1] + v[2] + v[3]) && v[2] > v[0] && v[3] > v[1]) {
+            ws.floating[i] = true;
+            ws.floatRect[i] = {v[0], v[1], v[2], v[3]};
+        }
+        const std::string tab = std::string("Tab.") + areaName(p.area) + "=" + key;
+        if (tab == line) ws.selected[static_cast<size_t>(p.area)] = static_cast<int>(p.id);
+    }
+}
+void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffer* buf) {
+    if (!g_ui) return;
+    const WorkspaceState& ws = g_ui->shared.workspace;
+    buf->appendf("[%s][Panels]\n", handler->TypeName);
+    for (const PanelEntry& p : panelRegistry())
+        buf->appendf("%s=%d\n", p.iniKey, g_ui->shared.isOpen(p.id) ? 1 : 0);
+    buf->appendf("Splits=%.4f,%.4f,%.4f,%.4f\n", ws.splits.left, ws.splits.right, ws.splits.bottom,
+                 ws.splits.leftColumn);
+    for (const PanelEntry& p : panelRegistry()) {
+        const size_t i = static_cast<size_t>(p.id);
+        const Rect& r = ws.floatRect[i];
+        if (ws.floating[i])
+            buf->appendf("Float.%s=%.0f,%.0f,%.0f,%.0f\n", p.iniKey, r.x0, r.y0, r.x1, r.y1);
+        if (ws.selected[static_cast<size_t>(p.area)] == static_cast<int>(p.id))
+            buf->appendf("Tab.%s=%s\n", areaName(p.area), p.iniKey);
+    }
+    for (const std::string& r : g_ui->shared.recent)
+        buf->appendf("Recent=%s\n", r.c_str());
+    buf->append("\n");
+}
+
+std::string iniPath() {
+    const char* xdg = std::getenv("XDG_CONFIG_HOME");
+    const char* home = std::getenv("HOME");
+    fs::path dir = xdg && *xdg ? fs::path(xdg) : fs::path(home ? home : ".") / ".config";
+    dir /= "bssrdf-workbench";
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    return (dir / "imgui.ini").string();
+}
+
+void drawPanels(Workbench& wb, UiState& ui) {
+    drawMenuBar(wb, ui);
+    // The scene pipeline runs while one of its panels is shown (its tab or floating window).
+    bool scene = false;
+    const auto shown = shownPanels(ui.shared);
+    for (const PanelEntry& p : panelRegistry())
+        scene |= p.needsScene && shown[static_cast<size_t>(p.id)];
+    wb.scene().settings().enabled = scene;
+    wb.sliceSettings().enabled = shown[static_cast<size_t>(PanelId::Slice)];
+    wb.setScoreboardEnabled(shown[static_cast<size_t>(PanelId::Scoreboard)]);
+    wb.monteCarloSettings().enabled =
+        shown[static_cast<size_t>(PanelId::Render)] && ui.render.mode == RenderMode::MonteCarlo;
+    wb.textureSpaceSettings().enabled =
+        shown[static_cast<size_t>(PanelId::Render)] && ui.render.mode == RenderMode::TextureSpace;
+    wb.setInteracting(false); // the Render panel sets it while the user drags
+    drawWorkspace(wb, ui);
+}
+
+// Opaque windows (text never shows through), the same look headless and windowed.
+void applyStyle() {
+    ImGui::StyleColorsDark();
+    ImGuiStyle& style = ImGui::GetStyle();
+    style.WindowRounding = 0.0f;
+    style.Colors[ImGuiCol_WindowBg].w = 1.0f;
+    style.Colors[ImGuiCol_ChildBg].w = 0.0f; // children show their window's opaque background
+    style.Colors[ImGuiCol_PopupBg].w = 1.0f;
+}
+
+// Reads back the region a panel asked for (PNG export) from `fbo` after rendering.
+void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight) {
+    if (ui.shared.pngExportPath.empty()) return;
+    int x0 = int(ui.shared.pngRect[0]), y0 = int(ui.shared.pngRect[1]);
+    int w = int(ui.shared.pngRect[2]) - x0, h = int(ui.shared.pngRect[3]) - y0;
+    std::string path = ui.shared.pngExportPath;
+    ui.shared.pngExportPath.clear();
+    if (w <= 0 || h <= 0) return;
+    try {
+        auto px = gl::readPixelsRGBA8(fbo, x0, fbHeight - (y0 + h), w, h);
+        gl::writePng(path, w, h, px);
+        ui.shared.status = "wrote " + path;
+    } catch (const core::Error& e) {
+        wb.reportActionError(std::string("export PNG: ") + e.what());
+    }
+}
+} // namespace
+
+HeadlessGui::HeadlessGui(Workbench& wb, int width, int height)
+    : m_wb(wb), m_width(width), m_height(height) {
+    if (!ImGui::GetCurrentContext()) {
+        static UiState ownUi;
+        ownUi = UiState{};
+        g_ui = &ownUi;
+        ImGui::CreateContext();
+        ImGui::GetIO().IniFilename = nullptr;
+        applyStyle();
+        m_ownsContext = true;
+    }
+    m_target.resize(width, height);
+    ImGui_ImplOpenGL3_Init("#version 450");
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(float(width), float(height));
+    io.DisplayFramebufferScale = ImVec2(1, 1);
+}
+
+HeadlessGui::~HeadlessGui() {
+    if (!m_ownsContext) return;
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui::DestroyContext();
+    g_ui = nullptr;
+}
+
+bool HeadlessGui::frame() {
+    ImGuiIO& io = ImGui::GetIO();
+    io.DeltaTime = 1.0f / 60.0f;
+    io.MousePos = m_hasMouse ? ImVec2(m_mouseX, m_mouseY) : ImVec2(-FLT_MAX, -FLT_MAX);
+    io.MouseDown[0] = m_hasMouse && m_mouseDown;
+    const bool changed = m_wb.update();
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui::NewFrame();
+    drawPanels(m_wb, *g_ui);
+    ImGui::Render();
+    m_target.bind();
+    glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    servicePngExport(m_wb, *g_ui, m_target.framebuffer(), m_height);
+    // A headless frame is "presented" when its pixels exist: finish like a swap would, so
+    // software rasterisers (llvmpipe) do not pile frames up until the next readback.
+    glFinish();
+    if (changed) m_wb.framePresented();
+    gl::collectTimings(true);
+    return changed;
+}
+
+void HeadlessGui::mouse(float x, float y, bool down) {
+    m_hasMouse = true;
+    m_mouseX = x;
+    m_mouseY = y;
+    m_mouseDown = down;
+}
+
+UiState& HeadlessGui::ui() {
+    return *g_ui;
+}
+
+std::vector<unsigned char> HeadlessGui::pixels() const {
+    auto px = gl::readPixelsRGBA8(m_target.framebuffer(), 0, 0, m_width, m_height);
+    for (size_t i = 3; i < px.size(); i += 4)
+        px[i] = 255; // the UI has no meaningful alpha
+    return px;
+}
+
+int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
+    UiState ui;
+    g_ui = &ui;
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    applyStyle();
+    static std::string ini; // must outlive the context
+    ini = iniPath();
+    io.IniFilename = opt.persistLayout ? ini.c_str() : nullptr;
+    ImGuiSettingsHandler handler;
+    handler.TypeName = "BssrdfWorkbench";
+    handler.TypeHash = ImHashStr("BssrdfWorkbench");
+    handler.ReadOpenFn = panelsReadOpen;
+    handler.ReadLineFn = panelsReadLine;
+    handler.WriteAllFn = panelsWriteAll;
+    ImGui::GetCurrentContext()->SettingsHandlers.push_back(handler);
+    if (opt.persistLayout) ImGui::LoadIniSettingsFromDisk(ini.c_str());
+
+    int rc = 0;
+    if (!ctx.headless()) {
+        GLFWwindow* win = ctx.window();
+        ImGui_ImplGlfw_InitForOpenGL(win, true);
+        ImGui_ImplOpenGL3_Init("#version 450");
+        while (!glfwWindowShouldClose(win) && !ui.shared.quit) {
+            glfwWaitEventsTimeout(0.03); // idle without spinning; the watcher is polled below
+            bool changed = wb.update();
+            ImGui_ImplOpenGL3_NewFrame();
+            ImGui_ImplGlfw_NewFrame();
+            ImGui::NewFrame();
+            drawPanels(wb, ui);
+            ImGui::Render();
+            int w = 0, h = 0;
+            glfwGetFramebufferSize(win, &w, &h);
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            glViewport(0, 0, w, h);
+            glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            servicePngExport(wb, ui, 0, h);
+            glfwSwapBuffers(win);
+            if (changed) wb.framePresented();
+            gl::collectTimings();
+        }
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+    } else {
+        {
+            HeadlessGui gui(wb, opt.width, opt.height);
+            for (int f = 0; f < std::max(1, opt.frames) && !ui.shared.quit; ++f) {
+                gui.frame();
+                // The first frame enables the scene when its panels are open; headless runs
+                // wait for it (point cloud, occluded IBL) so the image shows the result.
+                if (f == 0 && wb.scene().settings().enabled) wb.finishScene();
+            }
+            if (!opt.screenshotPath.empty()) {
+                try {
+                    gl::writePng(opt.screenshotPath, opt.width, opt.height, gui.pixels());
+                } catch (const core::Error& e) {
+                    core::logError(e.what());
+                    rc = 1;
+                }
+            }
+        }
+        ImGui_ImplOpenGL3_Shutdown();
+    }
+    if (opt.persistLayout) ImGui::SaveIniSettingsToDisk(ini.c_str());
+    ImGui::DestroyContext();
+    g_ui = nullptr;
+    return rc;
+}
+
+} // namespace app

@@ -1,0 +1,52 @@
+// The ImGui frame loop: windowed (GLFW backend, real window) or headless (EGL context, the
+// whole UI rendered into an FBO, io.DisplaySize set by hand) — same panels, same pixels.
+#pragma once
+
+#include "gl/gl.h"
+#include "gui/ui_state.h"
+#include "pipeline/workbench.h"
+
+#include <string>
+#include <vector>
+
+namespace app {
+
+struct GuiOptions {
+    int width = 1600, height = 1000;
+    int frames = 3;             // headless: frames to run before the screenshot
+    std::string screenshotPath; // headless: PNG of what a user would see
+    bool persistLayout = true;  // load/save window layout and panel visibility
+};
+
+// The whole UI rendered into an FBO on the current (headless) context, one frame per call.
+class HeadlessGui {
+  public:
+    HeadlessGui(Workbench& wb, int width, int height);
+    ~HeadlessGui();
+    HeadlessGui(const HeadlessGui&) = delete;
+    HeadlessGui& operator=(const HeadlessGui&) = delete;
+    // Updates the workbench, draws every open panel, renders; returns whether stages re-ran.
+    bool frame();
+    std::vector<unsigned char> pixels() const; // RGBA8, top row first, opaque
+    UiState& ui();                             // panel toggles and pending requests
+    // Input for the next frames (tests): the mouse at (x, y) in pixels from the top left,
+    // the left button held or not; noMouse() takes it away again.
+    void mouse(float x, float y, bool down);
+    void noMouse() { m_hasMouse = false; }
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+  private:
+    Workbench& m_wb;
+    int m_width, m_height;
+    gl::RenderTarget m_target;
+    bool m_ownsContext = false; // created its own ImGui context (used outside runGui)
+    bool m_hasMouse = false, m_mouseDown = false;
+    float m_mouseX = 0, m_mouseY = 0;
+};
+
+// Runs until the window closes (windowed) or for `frames` frames (headless). Returns 0 on
+// success, 1 when the screenshot could not be written.
+int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& options);
+
+} // namespace app

@@ -1,0 +1,122 @@
+// Menu bar: File (open model, reload all, record capture, quit) and View (toggle panels).
+#include "captures/capture_io.h"
+#include "gui/file_dialog.h"
+#include "gui/panels/panels.h"
+#include "gui/panels/registry.h"
+
+#include "core/core.h"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+namespace app {
+
+void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file) {
+    std::filesystem::path p = file;
+    if (p.is_relative() && !std::filesystem::exists(p)) p = wb.root() / p;
+    try {
+        wb.openModel(p);
+        rememberRecent(ui.recent, std::filesystem::absolute(p).lexically_normal().string());
+        ui.status = "opened " + p.filename().string();
+    } catch (const core::Error& e) {
+        wb.reportActionError(std::string("open model: ") + e.what());
+    }
+}
+
+void drawMenuBar(Workbench& wb, UiState& ui) {
+    if (ImGui::BeginMainMenuBar()) {
+        if (ImGui::BeginMenu("File")) {
+            if (ImGui::MenuItem("Open model...", "Ctrl+O")) ui.menu.openModelPopup = true;
+            if (ImGui::BeginMenu("Open recent", !ui.shared.recent.empty())) {
+                std::string pick;
+                for (const std::string& r : ui.shared.recent)
+                    if (ImGui::MenuItem(r.c_str())) pick = r;
+                ImGui::EndMenu();
+                if (!pick.empty()) openModelFile(wb, ui.shared, pick);
+            }
+            if (ImGui::MenuItem("Reload all", "F5")) wb.reloadAll();
+            if (ImGui::MenuItem("Record capture...", "Ctrl+R")) ui.menu.recordPopup = true;
+            ImGui::Separator();
+            if (ImGui::MenuItem("Quit", "Ctrl+Q")) ui.shared.quit = true;
+            ImGui::EndMenu();
+        }
+        if (ImGui::BeginMenu("View")) {
+            int group = 0;
+            for (const PanelEntry& p : panelRegistry()) {
+                if (p.menuGroup != group) ImGui::Separator();
+                group = p.menuGroup;
+                ImGui::MenuItem(p.title, nullptr, &ui.shared.isOpen(p.id));
+            }
+            ImGui::Separator();
+            if (ImGui::BeginMenu("Float")) {
+                for (const PanelEntry& p : panelRegistry()) {
+                    bool& floating = ui.shared.workspace.floating[static_cast<size_t>(p.id)];
+                    if (ImGui::MenuItem(p.title, nullptr, &floating)) ui.shared.show(p.id);
+                }
+                ImGui::EndMenu();
+            }
+            if (ImGui::MenuItem("Reset layout")) {
+                ui.shared.workspace = WorkspaceState{};
+                for (const PanelEntry& p : panelRegistry())
+                    ui.shared.isOpen(p.id) = p.defaultOpen;
+            }
+            ImGui::EndMenu();
+        }
+        const size_t n = wb.errors().size();
+        ImGui::SameLine(ImGui::GetWindowWidth() - 360);
+        if (n > 0)
+            ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%zu problem%s", n, n == 1 ? "" : "s");
+        else
+            ImGui::TextDisabled("no problems");
+        ImGui::SameLine();
+        ImGui::TextDisabled("| %s", wb.watching() ? "hot reload on" : "hot reload off");
+        if (!ui.shared.status.empty()) {
+            ImGui::SameLine();
+            ImGui::TextDisabled("| %s", ui.shared.status.c_str());
+        }
+        ImGui::EndMainMenuBar();
+    }
+    // ImGui 1.86 indexes io.KeysDown by the platform key code (GLFW_KEY_* here).
+    ImGuiIO& io = ImGui::GetIO();
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_O)) ui.menu.openModelPopup = true;
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_R)) ui.menu.recordPopup = true;
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q)) ui.shared.quit = true;
+    if (ImGui::IsKeyPressed(GLFW_KEY_F5)) wb.reloadAll();
+
+    if (ui.menu.openModelPopup) {
+        ImGui::OpenPopup("Open model");
+        ui.menu.openModelPopup = false;
+    }
+    if (ImGui::BeginPopupModal("Open model", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        FileDialogState& d = ui.menu.openDialog;
+        if (d.dir.empty()) d.dir = wb.root() / "materials";
+        if (auto chosen = drawFileDialog(d, ".bssrdf")) {
+            openModelFile(wb, ui.shared, *chosen);
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+    if (ui.menu.recordPopup) {
+        ImGui::OpenPopup("Record capture");
+        ui.menu.recordPopup = false;
+    }
+    if (ImGui::BeginPopupModal("Record capture", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::TextUnformatted("Capture name (folder under captures/):");
+        ImGui::InputText("##name", ui.menu.nameBuffer, sizeof ui.menu.nameBuffer);
+        if (ImGui::Button("Record")) {
+            try {
+                ui.shared.status = "recorded " + recordCapture(wb, ui.menu.nameBuffer);
+            } catch (const core::Error& e) {
+                wb.reportActionError(std::string("record capture: ") + e.what());
+            }
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+}
+
+} // namespace app

@@ -1,0 +1,49 @@
+// One function per panel: each only shows and edits its stage's settings and its own state
+// (ui_state.h); no algorithms. The registry (registry.h) lists them for the menu and the frame.
+// A panel draws its contents only: the workspace (workspace.cpp) gives it a tab in its area
+// or a floating window.
+#pragma once
+
+#include "gui/ui_state.h"
+#include "pipeline/workbench.h"
+
+namespace app {
+
+void drawMenuBar(Workbench& wb, UiState& ui);
+// Opens a model file (relative: to the current folder, else to the root) and remembers it
+// among the recent files; a failure is an Errors entry.
+void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file);
+// Every open panel: docked as tabs in the workspace's areas, or floating (workspace.h).
+void drawWorkspace(Workbench& wb, UiState& ui);
+// The panels drawn this frame: the shown tab of each area (a pending UiShared::show request
+// first) and every floating panel.
+std::array<bool, kPanelCount> shownPanels(const UiShared& ui);
+void drawModelsPanel(Workbench& wb, UiShared& ui);
+void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui);
+void drawPencilPanel(Workbench& wb, PencilPanelState& ps, UiShared& ui);
+void drawErrorsPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui);
+void drawLogPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui);
+void drawTimingsPanel(Workbench& wb, UiShared& ui);
+void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared& ui);
+void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui);
+void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui);
+void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui);
+void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui);
+// The Render panel's texture-space controls and status (texspace_view.cpp). Sets `tex` to the
+// texture-space image of the frame's size when it shows the render and returns false; draws a
+// stage's image (E′, a CDF level, the samples, the atlas) itself and returns true.
+bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Frame& f, GLuint& tex);
+// The last sample set's texels as dots over the render image drawn at ps.imageRect.
+void drawSamplesOnMesh(Workbench& wb, RenderPanelState& ps, const render::Settings& r,
+                       float pixelScale);
+// Writes the Render panel's shown frame: .exr (HDR L_o, linear) or .png (tone-mapped, as
+// shown). Throws core::Error naming the path (no finished frame, other extension, I/O).
+void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem::path& path);
+void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
+// Starts replaying captures/NAME in a child process (core::Error when it cannot start).
+void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name);
+void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared& ui);
+void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui);
+void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui);
+
+} // namespace app

@@ -1,0 +1,203 @@
+// Pencil plot panel (thesis 3.6.3): radial profiles of every loaded model on the semi-infinite
+// slab under a normally incident pencil beam; y axis linear/log/sqrt, optional r·R(r),
+// channel R/G/B/luminance, solo mode, hover readout, CSV and PNG export.
+#include "gui/panels/panels.h"
+#include "gui/widgets.h"
+
+#include "core/core.h"
+#include "core/fields.h"
+#include "gl/gl.h"
+#include "plot/plot_draw.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace app {
+
+namespace {
+// Path-traced reference: on/off, path budget, bins, seed, progress, paths/s, cancel.
+void drawReferenceControls(Workbench& wb) {
+    ReferenceSettings& rs = wb.referenceSettings();
+    ImGui::Checkbox("path-traced reference", &rs.enabled);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "Volumetric path tracer on the slab (MCML convention), renormalised\n"
+            "to unit power entering: R_d(r) / (1 - R_sp). Band: +-2 standard errors.");
+    if (!rs.enabled) return;
+    sameLineIfFits(itemWidth(110, "x1e5 paths/ch"));
+    int millions = int(rs.paths / 100000);
+    ImGui::SetNextItemWidth(110);
+    if (inputIntCommitted("x1e5 paths/ch", &millions, 5))
+        rs.paths = uint64_t(std::clamp(millions, 1, 100000)) * 100000;
+    sameLineIfFits(itemWidth(90, "bins"));
+    ImGui::SetNextItemWidth(90);
+    if (inputIntCommitted("bins", &rs.bins, 25)) rs.bins = std::clamp(rs.bins, 10, 5000);
+    sameLineIfFits(itemWidth(80, "seed"));
+    int seed = int(rs.seed);
+    ImGui::SetNextItemWidth(80);
+    if (inputIntCommitted("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
+    sameLineIfFits(itemWidth(110, "estimator"));
+    ImGui::SetNextItemWidth(110);
+    if (ImGui::BeginCombo("estimator", core::nameOf(rs.estimator))) {
+        for (const auto& [e, name] : enumNames(pathtrace::Estimator{}))
+            if (ImGui::Selectable(name, rs.estimator == e)) rs.estimator = e;
+        ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("implicit: absorption by weight (default)\nanalog: thesis Algorithm 1 "
+                          "as printed\nconnections: every collision connected to every bin "
+                          "(seed 001; CPU only)");
+    sameLineIfFits(checkboxWidth("GPU"));
+    ImGui::Checkbox("GPU", &rs.gpu);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_slab.comp, hot-reloaded), a slice "
+                          "per frame;\noff: CPU tracer in a background thread");
+    ReferenceSnapshot snap = wb.referenceSnapshot();
+    if (!snap.problem.empty()) {
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
+        return;
+    }
+    const float frac =
+        snap.pathsTarget ? float(double(snap.pathsDone) / double(snap.pathsTarget)) : 0.0f;
+    char overlay[96];
+    std::snprintf(overlay, sizeof overlay, "%llu / %llu paths per channel",
+                  (unsigned long long)snap.pathsDone, (unsigned long long)snap.pathsTarget);
+    if (!snap.energy.empty())
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "reference %s", snap.energy.c_str());
+    ImGui::SetNextItemWidth(320);
+    ImGui::ProgressBar(frac, ImVec2(320, 0), overlay);
+    ImGui::SameLine();
+    hintText("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
+             wb.referenceModel().c_str());
+    ImGui::SameLine();
+    if (snap.running) {
+        if (ImGui::SmallButton("cancel")) wb.cancelReference();
+    } else if (ImGui::SmallButton("restart")) {
+        wb.restartReference();
+    }
+}
+} // namespace
+
+void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
+    PlotSettings& ps = wb.plotSettings();
+    int scale = static_cast<int>(ps.yScale);
+    ImGui::SetNextItemWidth(90);
+    ImGui::Combo("y axis", &scale, "linear\0log\0sqrt\0");
+    ps.yScale = static_cast<plot::Scale>(scale);
+    sameLineIfFits(checkboxWidth("r * R(r)"));
+    ImGui::Checkbox("r * R(r)", &ps.rTimesR);
+    sameLineIfFits(itemWidth(100, "channel"));
+    ImGui::SetNextItemWidth(100);
+    ImGui::Combo("channel", &ps.channel, "red\0green\0blue\0luminance\0");
+    sameLineIfFits(itemWidth(160, "solo"));
+    ImGui::SetNextItemWidth(160);
+    if (ImGui::BeginCombo("solo", ps.solo.empty() ? "(all models)" : ps.solo.c_str())) {
+        if (ImGui::Selectable("(all models)", ps.solo.empty())) ps.solo.clear();
+        for (auto& e : wb.library().entries())
+            if (ImGui::Selectable(e.displayPath.c_str(), ps.solo == e.displayPath))
+                ps.solo = e.displayPath;
+        ImGui::EndCombo();
+    }
+    ImGui::SetNextItemWidth(90);
+    // The ranges are the settings' own (PlotSettings' description), as on the CLI and in captures.
+    static const core::Limits samplesLim = core::limitsOf<PlotSettings>("samples"),
+                              rMaxLim = core::limitsOf<PlotSettings>("r_max_mm"),
+                              rangeLim = core::limitsOf<PlotSettings>("range_ld");
+    if (inputIntCommitted("samples", &ps.samples, 256))
+        ps.samples = std::clamp(ps.samples, int(samplesLim.lo), int(samplesLim.hi));
+    sameLineIfFits(checkboxWidth("fixed range"));
+    ImGui::Checkbox("fixed range", &ps.fixedRange);
+    sameLineIfFits(itemWidth(120, "r max [mm]"));
+    ImGui::SetNextItemWidth(120);
+    if (ps.fixedRange) {
+        float r = float(ps.rMaxMm);
+        if (ImGui::DragFloat("r max [mm]", &r, 0.1f, float(rMaxLim.lo), float(rMaxLim.hi), "%.3g",
+                             ImGuiSliderFlags_AlwaysClamp))
+            ps.rMaxMm = r;
+    } else {
+        float k = float(ps.rangeLd);
+        if (ImGui::DragFloat("x largest l_d", &k, 0.05f, float(rangeLim.lo), float(rangeLim.hi),
+                             "%.2f", ImGuiSliderFlags_AlwaysClamp))
+            ps.rangeLd = k;
+    }
+    ImGui::SameLine();
+    ImGui::TextDisabled("r in [0, %.3g] mm", wb.rMaxMm());
+
+    // Values, or each model relative to the path-traced reference.
+    ImGui::SetNextItemWidth(200);
+    const char* relNames[] = {"values", "ratio to reference", "difference to reference"};
+    comboEnum("show", ps.relation, relNames);
+    auto series = wb.plotSeries();
+    const bool hasReference = std::any_of(series.begin(), series.end(),
+                                          [](const plot::Series& s) { return s.compareTo >= 0; });
+    const bool relative = ps.relation != plot::Relation::Values && hasReference;
+    if (ps.relation != plot::Relation::Values && !hasReference) {
+        ImGui::SameLine();
+        hintText("needs the path-traced reference (below)");
+    }
+    if (relative) series = plot::relativeTo(series, ps.relation);
+
+    char* exportPath = own.exportName;
+    ImGui::SetNextItemWidth(160);
+    ImGui::InputText("##export", exportPath, sizeof own.exportName);
+    ImGui::SameLine();
+    if (ImGui::Button("Export CSV")) {
+        std::string path = std::string(exportPath) + ".csv";
+        try {
+            plot::writeCsv(path, series, "r_mm");
+            ui.status = "wrote " + path;
+        } catch (const core::Error& e) {
+            wb.reportActionError(std::string("export CSV: ") + e.what());
+        }
+    }
+    sameLineIfFits(buttonWidth("Export PNG"));
+    if (ImGui::Button("Export PNG")) own.plotPngRequest = std::string(exportPath) + ".png";
+
+    drawReferenceControls(wb);
+
+    plot::Axis x{0.0, wb.rMaxMm(), plot::Scale::Linear, "r [mm]"};
+    const bool difference = relative && ps.relation == plot::Relation::Difference;
+    // a difference changes sign: always a linear axis
+    plot::Axis y =
+        plot::autoRange(series, difference ? plot::Scale::Linear : ps.yScale, true, 12.0);
+    y.label = ps.rTimesR ? "r * R(r) [1/mm]" : "R(r) [1/mm^2]";
+    if (relative) {
+        const std::string q = ps.rTimesR ? "r R" : "R";
+        y.label = difference ? q + " - " + q + "_ref" + (ps.rTimesR ? " [1/mm]" : " [1/mm^2]")
+                             : q + " / " + q + "_ref";
+    }
+    const char* chName[4] = {"red", "green", "blue", "luminance"};
+    std::string title = "Pencil beam on a semi-infinite slab - " +
+                        std::string(ps.solo.empty() ? chName[ps.channel] : "R, G, B of " + ps.solo);
+    plot::PlotState st = plot::drawPlot("pencil", ImVec2(-1, -1), series, x, y, title,
+                                        Workbench::normalisationNote());
+    // R_p of the hybrid for the selected model (the soloed one, else the Render panel's): where
+    // its importance R·2πr last meets the lower bound (seed 004 §3.3.1)
+    if (!relative && x.hi > x.lo) {
+        ImDrawList* dl = ImGui::GetWindowDrawList();
+        float line = 0;
+        for (const Workbench::RpMarker& m : wb.hybridRpMarkers()) {
+            const float sx = st.plotMin.x +
+                             float((m.rMm - x.lo) / (x.hi - x.lo)) * (st.plotMax.x - st.plotMin.x);
+            if (sx < st.plotMin.x || sx > st.plotMax.x) continue;
+            for (float y0 = st.plotMin.y; y0 < st.plotMax.y; y0 += 8.0f) // dashed
+                dl->AddLine(ImVec2(sx, y0), ImVec2(sx, std::min(y0 + 4.0f, st.plotMax.y)), m.color,
+                            1.5f);
+            char text[48];
+            std::snprintf(text, sizeof text, "%s %.3g mm", m.label.c_str(), m.rMm);
+            dl->AddText(ImVec2(sx + 3, st.plotMin.y + 2 + 14.0f * line++), m.color, text);
+        }
+    }
+    if (!own.plotPngRequest.empty()) {
+        ui.pngExportPath = own.plotPngRequest;
+        own.plotPngRequest.clear();
+        ui.pngRect[0] = st.min.x;
+        ui.pngRect[1] = st.min.y;
+        ui.pngRect[2] = st.max.x;
+        ui.pngRect[3] = st.max.y;
+    }
+}
+
+} // namespace app

@@ -1,0 +1,114 @@
+// Scoreboard panel: the table of `compare` for the current parameters (scoreboard_stage.h),
+// every model ranked against the pencil plot's path-traced reference per channel, ties within
+// the noise marked "=", rel_l2 cells coloured from green (0) to red (>= 30 %). A click on a
+// row solos that model in the pencil plot on that channel and brings the plot to the front;
+// the preset combo applies a preset to the shared parameters (the table follows).
+#include "gui/panels/panels.h"
+#include "gui/widgets.h"
+
+#include "core/text.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace app {
+
+namespace {
+
+std::string num(double v, int digits = 3) {
+    return std::isfinite(v) ? core::formatNumber(v, digits) : "-";
+}
+
+ImU32 relColour(double rel) {
+    const double t = std::clamp(rel / 0.3, 0.0, 1.0);
+    const int red = int(std::lround(255 * std::min(1.0, 2 * t)));
+    const int green = int(std::lround(200 * std::min(1.0, 2 * (1 - t))));
+    return IM_COL32(red, green, 96, 160);
+}
+
+} // namespace
+
+void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
+    MaterialSettings& s = wb.shared();
+    ImGui::SetNextItemWidth(160);
+    if (ImGui::BeginCombo("preset", s.preset.empty() ? "(custom)" : s.preset.c_str())) {
+        for (const auto& p : wb.presets())
+            if (ImGui::Selectable(p.name.c_str(), p.name == s.preset)) wb.applyPreset(s, p.name);
+        ImGui::EndCombo();
+    }
+    sameLineIfFits(200);
+    ImGui::SetNextItemWidth(100);
+    ImGui::Combo("channels", &ps.channel, "R\0G\0B\0all\0");
+    ReferenceSettings& rs = wb.referenceSettings();
+    if (!rs.enabled) {
+        hintText("The scoreboard scores every model against the path-traced reference of the "
+                 "pencil plot, which is off.");
+        if (ImGui::Button("Start the reference")) rs.enabled = true;
+        return;
+    }
+    const ScoreboardStage& sb = wb.scoreboard();
+    const ReferenceSnapshot snap = wb.referenceSnapshot();
+    hintText("Against the reference of %s's medium: %s paths per channel%s. rel_l2 over [0.1, 4] "
+             "l_d (+- standard error), ratios at 1 and 4 l_d, \"=\" ties within the noise. Click "
+             "a row to open the model in the pencil plot.",
+             wb.referenceModel().c_str(),
+             core::formatNumber(double(sb.referencePaths()), 3).c_str(),
+             snap.running ? " (running)" : "");
+    for (const std::string& n : sb.notes())
+        hintText("%s", n.c_str());
+    const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
+                                  ImGuiTableFlags_ScrollX | ImGuiTableFlags_ScrollY |
+                                  ImGuiTableFlags_SizingFixedFit;
+    if (!ImGui::BeginTable("scores", 8, flags)) return;
+    ImGui::TableSetupScrollFreeze(2, 1);
+    for (const char* h : {"ch", "model", "rank", "rel_l2", "ratio 1 l_d", "ratio 4 l_d",
+                          "total ratio", "> 5 % from (l_d)"})
+        ImGui::TableSetupColumn(h);
+    ImGui::TableHeadersRow();
+    int id = 0;
+    ps.rowRects.clear();
+    for (const ScoreboardRow& r : sb.rows()) {
+        if (ps.channel < 3 && r.channel != ps.channel) continue;
+        const capture::ScoreRow& s2 = r.score;
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::PushID(id++);
+        const bool solo =
+            wb.plotSettings().solo == r.displayPath && wb.plotSettings().channel == r.channel;
+        if (ImGui::Selectable(s2.channel.c_str(), solo, ImGuiSelectableFlags_SpanAllColumns)) {
+            wb.plotSettings().solo = r.displayPath;
+            wb.plotSettings().channel = r.channel;
+            ui.show(PanelId::Pencil);
+        }
+        const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+        ps.rowRects.push_back({lo.x, lo.y, hi.x, hi.y});
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("open %s in the pencil plot, channel %s", r.displayPath.c_str(),
+                              s2.channel.c_str());
+        ImGui::PopID();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(s2.model.c_str());
+        ImGui::TableNextColumn();
+        ImGui::Text("%s%d", s2.tie ? "=" : "", s2.rank);
+        ImGui::TableNextColumn();
+        ImGui::TableSetBgColor(ImGuiTableBgTarget_CellBg, relColour(s2.relL2));
+        ImGui::Text("%s %% +- %s %%", num(100 * s2.relL2).c_str(),
+                    num(100 * s2.relL2Se, 2).c_str());
+        if (r.coveredLd < 4 && ImGui::IsItemHovered())
+            ImGui::SetTooltip("the reference reaches %s l_d: scored up to there",
+                              num(r.coveredLd).c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(num(s2.ratio1).c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(num(s2.ratio4).c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(num(s2.totalRatio).c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(s2.rErr5Ld ? num(*s2.rErr5Ld).c_str() : "none");
+    }
+    ImGui::EndTable();
+}
+
+} // namespace app

@@ -1,0 +1,139 @@
+// Traversal debugger panel (thesis Algorithm 2): for the pixel clicked in the Render panel, the
+// CPU replica's every step — node, depth, decision (recurse / evaluate node / evaluate leaf
+// points), the solid angle, the whole packed stack after the step, the contribution and the
+// running sum — in a scrollable, filterable table; the pixel's radiant exitance from the GPU
+// readback, the CPU replica and brute force side by side; stack overflow and iteration-cap
+// flags shown, never hidden. The Octree panel draws the visited nodes coloured by decision.
+#include "gui/panels/panels.h"
+#include "gui/widgets.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace app {
+namespace {
+
+std::string stackText(const std::vector<uint32_t>& stack) {
+    std::string s;
+    char b[32];
+    for (uint32_t e : stack) {
+        std::snprintf(b, sizeof b, "%s%u:%u", s.empty() ? "" : " ", octree::stackNode(e),
+                      octree::stackChildnum(e));
+        s += b;
+    }
+    return s.empty() ? "(empty)" : s;
+}
+
+std::string flagText(uint32_t flags) {
+    std::string s;
+    if (flags & octree::kFlagStackOverflow) s += "STACK OVERFLOW ";
+    if (flags & octree::kFlagIterationCap) s += "ITERATION CAP ";
+    if (flags & render::kFlagLoopLimit) s += "DRIVER LOOP LIMIT ";
+    return s.empty() ? "none" : s;
+}
+
+float relDiff(const glm::vec3& a, const glm::vec3& b) {
+    const float den = std::max({std::abs(b.x), std::abs(b.y), std::abs(b.z), 1e-30f});
+    return std::max({std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.z - b.z)}) / den;
+}
+
+} // namespace
+
+void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
+    (void)wb;
+    if (!ui.inspect.debug) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+        ImGui::TextWrapped("click a pixel in the Render panel to trace its octree traversal");
+        ImGui::PopStyleColor();
+        return;
+    }
+    const PixelDebug& d = *ui.inspect.debug;
+    if (!d.hit) {
+        ImGui::Text("pixel (%d, %d) shows the background (no surface)", d.x, d.y);
+        return;
+    }
+    const octree::Trace& t = d.trace;
+    ImGui::Text("pixel (%d, %d)  xo (%.4f, %.4f, %.4f)  no (%.3f, %.3f, %.3f)", d.x, d.y, t.xo.x,
+                t.xo.y, t.xo.z, t.no.x, t.no.y, t.no.z);
+    ImGui::Text("radiant exitance M       R            G            B");
+    ImGui::Text("  GPU readback      %12.6g %12.6g %12.6g", d.gpuExitance.x, d.gpuExitance.y,
+                d.gpuExitance.z);
+    ImGui::Text("  CPU replica       %12.6g %12.6g %12.6g   (rel. diff to GPU %.2e)",
+                t.radiantExitance.x, t.radiantExitance.y, t.radiantExitance.z,
+                relDiff(t.radiantExitance, d.gpuExitance));
+    ImGui::Text("  brute force       %12.6g %12.6g %12.6g   (hierarchy error %.2e)",
+                d.bruteExitance.x, d.bruteExitance.y, d.bruteExitance.z,
+                relDiff(t.radiantExitance, d.bruteExitance));
+    ImGui::Text("steps: GPU %u, CPU %zu | max stack depth: GPU %u, CPU %u | evaluations: GPU %u, "
+                "CPU %zu",
+                d.gpuStats.x, t.steps.size(), d.gpuStats.y, t.maxStackDepth, d.gpuStats.w,
+                t.evaluations.size());
+    const bool flagged = t.flags != 0 || d.gpuStats.z != 0;
+    ImGui::TextColored(flagged ? ImVec4(1, 0.3f, 1, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1),
+                       "flags: GPU %s | CPU %s", flagText(d.gpuStats.z).c_str(),
+                       flagText(t.flags).c_str());
+    if (t.closestMargin < 1e-5f)
+        ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1),
+                           "a criterion test was within %.1e of its threshold: CPU and GPU "
+                           "rounding may decide it differently",
+                           t.closestMargin);
+    if (ImGui::SmallButton("show the visited nodes in 3D (Octree panel)")) {
+        ui.show(PanelId::Octree);
+        ui.inspect.highlightTrace = true;
+    }
+    ImGui::Checkbox("recurse", &ps.showRecurse);
+    sameLineIfFits(checkboxWidth("node"));
+    ImGui::Checkbox("node", &ps.showNodeEval);
+    sameLineIfFits(checkboxWidth("points"));
+    ImGui::Checkbox("points", &ps.showPointEval);
+    sameLineIfFits(itemWidth(140, "node # filter"));
+    ImGui::SetNextItemWidth(140);
+    ImGui::InputText("node # filter", ps.filter, sizeof ps.filter);
+    std::vector<int> rows;
+    for (size_t i = 0; i < t.steps.size(); ++i) {
+        const octree::Step& s = t.steps[i];
+        if (s.decision == octree::Decision::Recurse && !ps.showRecurse) continue;
+        if (s.decision == octree::Decision::EvaluateNode && !ps.showNodeEval) continue;
+        if (s.decision == octree::Decision::EvaluatePoints && !ps.showPointEval) continue;
+        if (ps.filter[0] && std::to_string(s.node).find(ps.filter) == std::string::npos) continue;
+        rows.push_back(int(i));
+    }
+    ImGui::Text("%zu of %zu steps", rows.size(), t.steps.size());
+    if (ImGui::BeginTable("trace", 8,
+                          ImGuiTableFlags_ScrollY | ImGuiTableFlags_RowBg |
+                              ImGuiTableFlags_Resizable | ImGuiTableFlags_BordersInnerV)) {
+        ImGui::TableSetupScrollFreeze(0, 1);
+        for (const char* h : {"step", "node", "depth", "decision", "solid angle", "stack after",
+                              "contribution (lum)", "running sum (lum)"})
+            ImGui::TableSetupColumn(h);
+        ImGui::TableHeadersRow();
+        ImGuiListClipper clip;
+        clip.Begin(int(rows.size()));
+        while (clip.Step())
+            for (int r = clip.DisplayStart; r < clip.DisplayEnd; ++r) {
+                const octree::Step& s = t.steps[size_t(rows[size_t(r)])];
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::Text("%d", rows[size_t(r)]);
+                ImGui::TableNextColumn();
+                ImGui::Text("%u", s.node);
+                ImGui::TableNextColumn();
+                ImGui::Text("%u", s.depth);
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(octree::decisionName(s.decision));
+                ImGui::TableNextColumn();
+                ImGui::Text("%.4g", s.solidAngle);
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(stackText(s.stack).c_str());
+                ImGui::TableNextColumn();
+                const glm::vec3 c = s.contribution, sum = s.runningSum;
+                ImGui::Text("%.4g", luminance(c));
+                ImGui::TableNextColumn();
+                ImGui::Text("%.6g", luminance(sum));
+            }
+        ImGui::EndTable();
+    }
+}
+
+} // namespace app

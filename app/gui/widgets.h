@@ -1,0 +1,69 @@
+// Helpers shared by the scene panels: the 3D inspector view with orbit/zoom by mouse, colour
+// bars, and a pixel-picking image widget. No algorithms.
+#pragma once
+
+#include "gui/scene_view.h"
+#include "gui/ui_state.h"
+#include "pipeline/workbench.h"
+#include "render/frame_analysis.h"
+
+#include "core/color.h"
+
+#include <imgui.h>
+
+#include <glm/vec3.hpp>
+
+#include <string>
+#include <vector>
+
+namespace app {
+
+// Shows a SceneView texture (drawn with ui.inspect.camera) filling `size`; dragging orbits,
+// the wheel zooms. Returns true and sets (px, py) (pixels from the top left) on a click.
+bool inspectorImage(Workbench& wb, UiShared& ui, SceneView& view, ImVec2 size, float pointSize,
+                    float& px, float& py);
+using core::luminance; // the scalar the scalar views and heatmaps show
+// A horizontal colour bar of colorRamp with its end labels.
+void rampBar(float lo, float hi, const char* unit);
+// Shows an RGBA texture (row 0 at the top) of w × h scaled to `width`; returns true and the
+// pixel on a click (uv: the same as a fraction of the image, when non-null). Dragging reports
+// the mouse delta through `drag` (pixels) when non-null. `id` names the widget: it must not
+// change while the image does (a new texture or size while the button is held).
+bool pickImage(const char* id, GLuint tex, int w, int h, float width, int& px, int& py,
+               bool flipY = false, ImVec2* drag = nullptr, float* wheel = nullptr,
+               ImVec2* uv = nullptr);
+// An ImGui combo over the values 0 .. N-1 of enum E, labelled by `names`.
+template <class E, size_t N>
+bool comboEnum(const char* label, E& value, const char* const (&names)[N]) {
+    int i = static_cast<int>(value);
+    if (!ImGui::Combo(label, &i, names, static_cast<int>(N))) return false;
+    value = static_cast<E>(i);
+    return true;
+}
+// ImGui::SameLine() when an item of `width` pixels still fits on the current line, so rows of
+// controls wrap in narrow areas instead of running off the edge.
+void sameLineIfFits(float width);
+// Edit fields that commit when the edit is done — Enter or focus loss — not on every key
+// (a setting that restarts work would restart per keystroke). The +/- step buttons of the
+// integer fields commit at once. Each returns true when the value was committed.
+bool inputIntCommitted(const char* label, int* v, int step = 1, int stepFast = 100);
+bool inputInt2Committed(const char* label, int v[2]);
+bool inputTextCommitted(const char* label, char* buffer, size_t size);
+// A bar chart with axes: the y name and maximum above, the first and last x values and the x
+// name below (ImGui's histogram has none); hovering a bar shows its value.
+void histogram(const char* id, const std::vector<float>& values, ImVec2 size, const char* xName,
+               int xFirst, const char* yName);
+// A hint or status line: the disabled text colour, wrapped at the panel's edge.
+void hintText(const char* fmt, ...) IM_FMTARGS(1);
+// Widths of widgets, for sameLineIfFits: a checkbox (or radio button) with `label`, a button,
+// and a framed item of `frame` pixels with its label.
+float checkboxWidth(const char* label);
+float buttonWidth(const char* label);
+float itemWidth(float frame, const char* label);
+// The BSSRDF integration's sampling (uniform area | disk probe rays) and, for disk sampling, its
+// probe-axis scheme, as the Lit spheres and Render panels offer them.
+void samplingChoice(const char* label, integrate::Sampling& sampling, sampling::AxisScheme& axes);
+// Makes ui.inspect.camera frame the scene mesh (once).
+void ensureInspectCamera(Workbench& wb, UiShared& ui);
+
+} // namespace app

@@ -1,0 +1,163 @@
+// The material and pencil stages (model_stages.h).
+#include "pipeline/model_stages.h"
+
+#include "core/text.h"
+
+#include "core/core.h"
+#include "gl/gl.h"
+
+#include "core/fields.h"
+
+namespace app {
+namespace {
+// The preset's name is no input of the material (the values it set are).
+std::string keyOf(MaterialSettings s, long long generation) {
+    s.preset.clear();
+    return core::keyOf(generation, s);
+}
+
+// A table model path-traced for one medium per channel describes that medium only: a material
+// that differs is named (the curve is still drawn, so nothing the user sees disappears).
+std::string tableMediumProblem(const bssrdf::Model& m, const material::MaterialParams& p) {
+    if (m.tableMedia.size() != 3) return {};
+    static const char* kChannel[3] = {"red", "green", "blue"};
+    for (int c = 0; c < 3; ++c) {
+        const auto& t = m.tableMedia[size_t(c)];
+        auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-6 * std::fabs(b); };
+        if (!near(p.sigmaA[c], t.sigmaA) || !near(p.sigmaS[c], t.sigmaS) || !near(p.g, t.g) ||
+            !near(p.eta, t.eta))
+            return std::string("its table was computed for ") + kChannel[c] + " sigma_a " +
+                   core::formatNumber(t.sigmaA) + ", sigma_s " + core::formatNumber(t.sigmaS) +
+                   ", g " + core::formatNumber(t.g) + ", eta " + core::formatNumber(t.eta) +
+                   "; the material has sigma_a " + core::formatNumber(p.sigmaA[c]) + ", sigma_s " +
+                   core::formatNumber(p.sigmaS[c]) + ", g " + core::formatNumber(p.g) + ", eta " +
+                   core::formatNumber(p.eta) + " (its curve describes another medium)";
+    }
+    return {};
+}
+
+void computeMaterial(bssrdf::ModelEntry& e, ModelView& v, const MaterialSettings& shared) {
+    const MaterialSettings& s = v.override ? v.own : shared;
+    std::string key = keyOf(s, e.generation);
+    if (key == v.materialKey) return;
+    v.materialKey = key;
+    try {
+        v.effective = effectiveParams(e, s);
+        v.materialProblem = tableMediumProblem(*e.model, *v.effective);
+    } catch (const core::Error& err) {
+        v.effective.reset();
+        v.materialProblem = err.what();
+    }
+}
+
+void computeProfile(bssrdf::ModelEntry& e, ModelView& v, double rMax, int samples) {
+    if (!v.effective || !e.usable()) return;
+    const std::string key = core::keyOf(v.materialKey, rMax, samples, e.values);
+    if (key == v.profileKey) return;
+    v.profileKey = key;
+    gl::ScopedStageTimer timer("pencil plot");
+    v.profile =
+        bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model, e.values,
+                                builtinsOf(*v.effective), bssrdf::radiusGrid(rMax, samples));
+    v.profileProblem = bssrdf::profileProblem(v.profile);
+}
+
+} // namespace
+
+bssrdf::Builtins builtinsOf(const material::MaterialParams& p) {
+    bssrdf::Builtins b;
+    b.sigmaA = glm::vec3(p.sigmaA);
+    b.sigmaS = glm::vec3(p.sigmaS);
+    b.g = static_cast<float>(p.g);
+    b.ior = static_cast<float>(p.eta);
+    b.scale = static_cast<float>(p.scale);
+    return b;
+}
+
+material::MaterialParams effectiveParams(const bssrdf::ModelEntry& e, const MaterialSettings& s) {
+    material::MaterialParams p = s.params;
+    if (s.mode == ParamMode::Sigma) {
+        material::validate(p, "parameters");
+        return p;
+    }
+    // g, η and scale are validated on their own; σ comes from the inversion.
+    material::MaterialParams probe = p;
+    probe.sigmaA = glm::dvec3(0.01);
+    probe.sigmaS = glm::dvec3(1.0);
+    material::validate(probe, "parameters");
+    gl::ScopedStageTimer timer("inversion");
+    glm::dvec3 alphaPrime;
+    if (e.hasInversion()) {
+        const GLuint program = e.programs.at("invert_rdr.comp").id();
+        auto batch = [&](const std::vector<glm::dvec3>& alpha) {
+            return bssrdf::evaluateDiffuseReflectance(program, *e.model, e.values, builtinsOf(p),
+                                                      alpha);
+        };
+        alphaPrime = material::solveAlphaPrime(s.rdr, batch);
+    } else {
+        // no closed form: R_dr by integrating the model's own profile (one GPU profile per
+        // α′, so a coarse grid per round and more rounds: 16^8 brackets α′ to ~2^-32)
+        const GLuint program = e.programs.at("pencil_profile.comp").id();
+        auto batch = [&](const std::vector<glm::dvec3>& alpha) {
+            return bssrdf::integrateDiffuseReflectance(program, *e.model, e.values, builtinsOf(p),
+                                                       alpha);
+        };
+        try {
+            alphaPrime = material::solveAlphaPrime(s.rdr, batch, 16, 8);
+        } catch (const core::Error& err) {
+            throw core::Error(e.displayPath, 0,
+                              std::string("R_dr / l_d by the numerically integrated profile "
+                                          "(no diffuseReflectance section): ") +
+                                  err.what());
+        }
+    }
+    auto sig = material::sigmaFromAlphaPrime(alphaPrime, s.ld, p.g);
+    p.sigmaA = sig.sigmaA;
+    p.sigmaS = sig.sigmaS;
+    material::validate(p, "inverted parameters");
+    return p;
+}
+
+bool MaterialStage::update(const ModelStageInputs& in) {
+    m_views = in.views;
+    bool changed = false;
+    for (auto& e : in.library->entries()) {
+        if (!e.usable()) continue;
+        ModelView& v = (*in.views)[e.displayPath];
+        const std::string before = v.materialKey;
+        computeMaterial(e, v, *in.shared);
+        changed |= v.materialKey != before;
+    }
+    return changed;
+}
+
+StageStatus MaterialStage::status() const {
+    StageStatus st;
+    if (!m_views) return st;
+    for (const auto& [path, v] : *m_views)
+        if (!v.materialProblem.empty()) st.problems.push_back(path + ": " + v.materialProblem);
+    return st;
+}
+
+StageStatus PencilStage::status() const {
+    StageStatus st;
+    if (!m_views) return st;
+    for (const auto& [path, v] : *m_views)
+        if (!v.profileProblem.empty()) st.problems.push_back(path + ": " + v.profileProblem);
+    return st;
+}
+
+bool PencilStage::update(const PencilInputs& in) {
+    m_views = in.views;
+    bool changed = false;
+    for (auto& e : in.library->entries()) {
+        if (!e.usable()) continue;
+        ModelView& v = (*in.views)[e.displayPath];
+        const std::string before = v.profileKey;
+        computeProfile(e, v, in.rMaxMm, in.samples);
+        changed |= before != v.profileKey;
+    }
+    return changed;
+}
+
+} // namespace app

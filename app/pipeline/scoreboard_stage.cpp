@@ -1,0 +1,129 @@
+// The live scoreboard (scoreboard_stage.h).
+#include "pipeline/scoreboard_stage.h"
+
+#include "pipeline/scoring.h"
+#include "core/core.h"
+#include "core/fields.h"
+#include "core/text.h"
+#include "gl/gl.h"
+#include "pipeline/param_json.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace app {
+
+bool ScoreboardStage::update(const ScoreboardInputs& in) {
+    if (!in.enabled || !in.library || !in.views || !in.reference) return false;
+    if (!in.params) {
+        const bool changed = !m_rows.empty() || m_key != "none";
+        m_rows.clear();
+        m_notes = {"no usable model: no reference"};
+        m_key = "none";
+        return changed;
+    }
+    const ReferenceSnapshot& ref = *in.reference;
+    // what the table depends on: every usable model (generation, values, σ) and the reference
+    std::string key = in.referenceModel + core::keyOf(*in.params) + "|" +
+                      std::to_string(ref.pathsDone) + "|" +
+                      std::to_string(ref.channel[0].rMid.size()) + "|" + ref.energy;
+    for (const bssrdf::ModelEntry& e : in.library->entries()) {
+        auto v = in.views->find(e.displayPath);
+        if (!e.usable() || v == in.views->end() || !v->second.effective) continue;
+        key += e.displayPath + std::to_string(e.generation) + toJson(e.values).dump() +
+               core::keyOf(builtinsOf(*v->second.effective));
+    }
+    if (key == m_key) return false;
+    const double now = core::secondsSinceStart();
+    if (ref.running && now - m_lastScored < kRescoreSeconds) return false; // later, not per frame
+    m_key = key;
+    m_lastScored = now;
+    core::Stopwatch clock;
+    m_rows.clear();
+    m_notes.clear();
+    m_problems.clear();
+    m_paths = ref.pathsDone;
+    if (ref.pathsDone == 0 || ref.channel[0].rMid.empty()) {
+        m_notes.push_back("the reference has no paths yet");
+        return true;
+    }
+    std::vector<capture::ScoreRow> scores;
+    std::vector<ScoreboardRow> rows;
+    std::map<std::string, double> totals; // the ones used now (the rest are dropped)
+    for (int c = 0; c < 3; ++c) {
+        const pathtrace::SlabResult& r = ref.channel[size_t(c)];
+        const pathtrace::Medium m = mediaOf(*in.params)[size_t(c)];
+        const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
+        const char* ch = c == 0 ? "R" : c == 1 ? "G" : "B";
+        if (!(std::isfinite(ld) && ld > 0)) {
+            m_notes.push_back(std::string(ch) + ": sigma_a = 0, no l_d to score over");
+            continue;
+        }
+        if (r.rMid.size() < 2 || r.rMid.front() > 0.1 * ld) {
+            m_notes.push_back(std::string(ch) + ": the reference's bins are too coarse for l_d = " +
+                              core::formatNumber(ld, 3) + " mm (narrow the plot range)");
+            continue;
+        }
+        const double covered = (r.rMid.back() + 0.5 * (r.rMid[1] - r.rMid[0])) / ld;
+        for (const bssrdf::ModelEntry& e : in.library->entries()) {
+            auto v = in.views->find(e.displayPath);
+            if (!e.usable() || v == in.views->end() || !v->second.effective) continue;
+            try {
+                const bssrdf::Builtins b = builtinsOf(*v->second.effective);
+                const GLuint program = e.programs.at("pencil_profile.comp").id();
+                const bssrdf::Profile prof =
+                    bssrdf::evaluateProfile(program, *e.model, e.values, b, r.rMid);
+                if (std::string bad = bssrdf::profileProblem(prof); !bad.empty()) {
+                    m_problems.push_back(e.displayPath + ": " + bad);
+                    continue;
+                }
+                std::vector<double> mv(prof.value.size());
+                for (size_t i = 0; i < mv.size(); ++i)
+                    mv[i] = prof.value[i][c];
+                ScoreboardRow row;
+                const std::string totalKey = e.displayPath + std::to_string(e.generation) +
+                                             toJson(e.values).dump() + core::keyOf(b, ld, c);
+                auto cached = m_totals.find(totalKey);
+                const double total =
+                    cached != m_totals.end() ? cached->second : modelTotalRd(program, e, b, ld, c);
+                totals[totalKey] = total;
+                row.score = scoreAgainstReference(r.rMid, r.rd, r.rdStderr, r.specular, r.totalRd,
+                                                  r.totalRdStderr, ld, mv, total);
+                std::string stem = e.displayPath.substr(e.displayPath.rfind('/') + 1);
+                row.score.model = stem.substr(0, stem.rfind('.'));
+                row.score.preset = "current";
+                row.score.channel = ch;
+                row.displayPath = e.displayPath;
+                row.channel = c;
+                row.coveredLd = std::min(4.0, covered);
+                rows.push_back(row);
+            } catch (const std::exception& err) {
+                m_problems.push_back(e.displayPath + ": " + err.what());
+            }
+        }
+    }
+    m_totals = std::move(totals);
+    // rank as `compare` does, then keep each row's model and channel with its score
+    for (const ScoreboardRow& r : rows)
+        scores.push_back(r.score);
+    rankRows(scores);
+    for (const capture::ScoreRow& s : scores)
+        for (const ScoreboardRow& r : rows)
+            if (r.score.model == s.model && r.score.channel == s.channel) {
+                ScoreboardRow out = r;
+                out.score = s;
+                m_rows.push_back(out);
+                break;
+            }
+    gl::recordTiming("scoreboard", clock.ms());
+    return true;
+}
+
+StageStatus ScoreboardStage::status() const {
+    StageStatus st;
+    st.problems = m_problems;
+    st.stats.emplace_back("rows", std::to_string(m_rows.size()));
+    return st;
+}
+
+} // namespace app

@@ -1,0 +1,196 @@
+// The scoreboard at oblique incidence (compare_oblique.h has the definitions).
+#include "pipeline/scoring_oblique.h"
+
+#include "pipeline/scoring.h"
+#include "core/core.h"
+#include "core/fields.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace app {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+pathtrace::EstimateSettings obliqueSettings(double ldMm, double thetaIDeg, uint64_t paths) {
+    pathtrace::EstimateSettings s;
+    s.thetaIDeg = {thetaIDeg};
+    s.bins.rBins = kObliqueRBins;
+    s.bins.rStartMm = 0.1 * ldMm;
+    s.bins.rMaxMm = 4.0 * ldMm;
+    s.bins.thetaSBins = kObliqueThetaSBins;
+    s.bins.dirCosBins = kObliqueDirCos;
+    s.bins.dirPhiBins = kObliquePhi;
+    s.paths = paths;
+    s.seed = 1;
+    s.estimator = pathtrace::BssrdfEstimator::Connections;
+    return s;
+}
+
+namespace {
+
+json sliceJson(const pathtrace::BssrdfSlice& s) {
+    return {{"theta_i", s.thetaIDeg},
+            {"specular", s.specular},
+            {"paths", s.paths},
+            {"R", s.R},
+            {"R_se", s.RStderr},
+            {"S", s.S},
+            {"S_se", s.SStderr},
+            {"total_rd", s.totalRd},
+            {"total_rd_se", s.totalRdStderr}};
+}
+
+std::optional<pathtrace::BssrdfSlice> cachedSlice(const fs::path& file,
+                                                  const pathtrace::BssrdfBins& b) {
+    std::error_code ec;
+    if (file.empty() || !fs::exists(file, ec)) return std::nullopt;
+    try {
+        const json j = json::parse(core::readFile(file));
+        pathtrace::BssrdfSlice s;
+        s.thetaIDeg = j.at("theta_i").get<double>();
+        s.specular = j.at("specular").get<double>();
+        s.paths = j.at("paths").get<uint64_t>();
+        s.R = j.at("R").get<std::vector<double>>();
+        s.RStderr = j.at("R_se").get<std::vector<double>>();
+        s.S = j.at("S").get<std::vector<double>>();
+        s.SStderr = j.at("S_se").get<std::vector<double>>();
+        s.totalRd = j.at("total_rd").get<double>();
+        s.totalRdStderr = j.at("total_rd_se").get<double>();
+        const size_t bins = size_t(b.spatialBins()), cells = bins * size_t(b.dirBins());
+        if (s.R.size() != bins || s.RStderr.size() != bins || s.S.size() != cells ||
+            s.SStderr.size() != cells)
+            return std::nullopt;
+        return s;
+    } catch (const std::exception&) { // a damaged cache entry is estimated again
+        return std::nullopt;
+    }
+}
+
+// Relative L2 of `model` against `ref` with weights w, and its delta-method standard error.
+std::pair<double, double> relL2(const std::vector<double>& model, const std::vector<double>& ref,
+                                const std::vector<double>& se, const std::vector<double>& w) {
+    double num = 0, den = 0;
+    for (size_t i = 0; i < ref.size(); ++i) {
+        const double d = model[i] - ref[i];
+        num += d * d * w[i];
+        den += ref[i] * ref[i] * w[i];
+    }
+    if (!(den > 0)) return {std::numeric_limits<double>::infinity(), 0.0};
+    const double rel = std::sqrt(num / den);
+    double var = 0;
+    if (num > 0)
+        for (size_t i = 0; i < ref.size(); ++i) {
+            const double d = model[i] - ref[i];
+            const double grad = rel / 2 * (-2 * d * w[i] / num - 2 * ref[i] * w[i] / den);
+            var += grad * grad * se[i] * se[i];
+        }
+    return {rel, std::sqrt(var)};
+}
+
+} // namespace
+
+pathtrace::BssrdfSlice obliqueReference(const pathtrace::Medium& m,
+                                        const pathtrace::EstimateSettings& s,
+                                        const std::string& what, bool& fromCache) {
+    pathtrace::validate(s);
+    const fs::path dir = compareCacheDir();
+    const fs::path file = dir.empty() ? fs::path() : dir / (core::keyOf(m, s) + ".slice.json");
+    if (auto r = cachedSlice(file, s.bins)) {
+        fromCache = true;
+        return *r;
+    }
+    fromCache = false;
+    core::Stopwatch clock;
+    const pathtrace::BssrdfTally t =
+        pathtrace::estimateChunks(m, s, 0, 0, pathtrace::chunkCount(s), [&](uint64_t done) {
+            if (clock.ms() < 1000) return;
+            std::fprintf(stderr, "\rcompare: reference %s  %5.1f%%   ", what.c_str(),
+                         100.0 * double(done) / double(s.paths));
+            std::fflush(stderr);
+        });
+    if (clock.ms() >= 1000) std::fprintf(stderr, "\n");
+    const pathtrace::BssrdfSlice slice = pathtrace::finalize(t, s.bins, s.thetaIDeg.at(0), m);
+    if (std::string p = pathtrace::energyProblem(slice, s.orders); !p.empty())
+        throw core::Error("reference", 0, what + ": " + p);
+    if (!file.empty()) {
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        try {
+            core::writeFile(file, sliceJson(slice).dump());
+        } catch (const core::Error& e) {
+            core::logWarn(std::string("reference cache not written: ") + e.what());
+        }
+    }
+    return slice;
+}
+
+capture::ScoreRow scoreSlice(const pathtrace::BssrdfBins& b, const pathtrace::BssrdfSlice& ref,
+                             const ModelSlice& model, double ldMm) {
+    capture::ScoreRow row;
+    row.ldMm = ldMm;
+    row.thetaI = ref.thetaIDeg;
+    const int nb = b.spatialBins(), nc = b.dirBins();
+    std::vector<double> area(size_t(nb), 0.0);
+    for (int ib = 0; ib < nb; ++ib)
+        area[size_t(ib)] = pathtrace::binArea(b, ib / b.thetaSBins);
+    std::tie(row.relL2, row.relL2Se) = relL2(model.R, ref.R, ref.RStderr, area);
+    if (nc > 1 && ref.S.size() == size_t(nb * nc) && model.S.size() == ref.S.size()) {
+        std::vector<double> w(ref.S.size());
+        for (int ib = 0; ib < nb; ++ib)
+            for (int ic = 0; ic < nc; ++ic)
+                w[size_t(ib * nc + ic)] =
+                    area[size_t(ib)] * pathtrace::cellProjectedSolidAngle(b, ic);
+        auto [rel, se] = relL2(model.S, ref.S, ref.SStderr, w);
+        row.relL2Dir = rel;
+        row.relL2DirSe = se;
+    }
+    // ring powers (Σ over θs of R·A) and their standard errors
+    std::vector<double> ringM(size_t(b.rBins), 0.0), ringR(size_t(b.rBins), 0.0),
+        ringVar(size_t(b.rBins), 0.0);
+    double totM = 0, totR = 0, totVar = 0;
+    for (int ib = 0; ib < nb; ++ib) {
+        const size_t ir = size_t(ib / b.thetaSBins), i = size_t(ib);
+        ringM[ir] += model.R[i] * area[i];
+        ringR[ir] += ref.R[i] * area[i];
+        ringVar[ir] += ref.RStderr[i] * ref.RStderr[i] * area[i] * area[i];
+    }
+    for (int ir = 0; ir < b.rBins; ++ir) {
+        totM += ringM[size_t(ir)];
+        totR += ringR[size_t(ir)];
+        totVar += ringVar[size_t(ir)];
+    }
+    const std::vector<double> edges = b.rEdges();
+    auto ringAt = [&](double r) {
+        int best = 0;
+        for (int ir = 0; ir < b.rBins; ++ir) {
+            const double c = 0.5 * (edges[size_t(ir)] + edges[size_t(ir) + 1]);
+            const double cb = 0.5 * (edges[size_t(best)] + edges[size_t(best) + 1]);
+            if (std::abs(c - r) < std::abs(cb - r)) best = ir;
+        }
+        return size_t(best);
+    };
+    auto ratio = [&](size_t ir, double& se) {
+        const double q = ringM[ir] / ringR[ir];
+        se = std::abs(q) * std::sqrt(ringVar[ir]) / std::abs(ringR[ir]);
+        return q;
+    };
+    row.ratio1 = ratio(ringAt(ldMm), row.ratio1Se);
+    row.ratio4 = ratio(ringAt(4 * ldMm), row.ratio4Se);
+    row.totalRatio = totM / totR;
+    row.totalRatioSe = std::abs(row.totalRatio) * std::sqrt(totVar) / std::abs(totR);
+    for (int ir = 0; ir < b.rBins; ++ir) {
+        const size_t i = size_t(ir);
+        const double d = std::abs(ringM[i] - ringR[i]);
+        if (d > 0.05 * std::abs(ringR[i]) && d > 2 * std::sqrt(ringVar[i])) {
+            row.rErr5Ld = 0.5 * (edges[i] + edges[i + 1]) / ldMm;
+            break;
+        }
+    }
+    return row;
+}
+
+} // namespace app

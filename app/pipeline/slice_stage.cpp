@@ -1,0 +1,263 @@
+// The BSSRDF slice stage (slice_stage.h).
+#include "pipeline/slice_stage.h"
+
+#include "core/core.h"
+#include "core/fields.h"
+#include "core/text.h"
+#include "gl/gl.h"
+#include "pipeline/reference_stage.h"
+#include "pipeline/param_json.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace app {
+
+pathtrace::EstimateSettings estimateSettings(const SliceSettings& s, const pathtrace::Medium& m) {
+    pathtrace::EstimateSettings e;
+    e.thetaIDeg = {s.thetaIDeg};
+    const double sigmaTr = m.sigmaA + m.sigmaS * (1 - m.g); // σ′t
+    const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * sigmaTr);
+    e.bins.rMaxMm = s.rangeLd * (std::isfinite(ld) ? ld : 10.0 / sigmaTr);
+    e.bins.rBins = s.rBins;
+    e.bins.spacing = s.logR ? pathtrace::RadialSpacing::Log : pathtrace::RadialSpacing::Uniform;
+    e.bins.thetaSBins = s.thetaSBins;
+    e.bins.dirCosBins = s.dirCosBins;
+    e.bins.dirPhiBins = s.dirPhiBins;
+    e.paths = s.paths;
+    e.seed = s.seed;
+    e.estimator = s.estimator;
+    e.orders = s.orders;
+    return e;
+}
+
+SliceRunner::~SliceRunner() {
+    cancel();
+}
+
+void SliceRunner::cancel() {
+    m_cancel = true;
+    if (m_thread.joinable()) m_thread.join();
+    m_cancel = false;
+    std::lock_guard lock(m_mutex);
+    m_snapshot.running = false;
+}
+
+void SliceRunner::wait() {
+    if (m_thread.joinable()) m_thread.join();
+}
+
+void SliceRunner::start(const pathtrace::Medium& m, const pathtrace::EstimateSettings& s) {
+    cancel();
+    {
+        std::lock_guard lock(m_mutex);
+        try {
+            pathtrace::validate(m, "slice medium");
+            pathtrace::validate(s);
+            if (s.thetaIDeg.size() != 1)
+                throw core::Error("slice", 0, "one incidence angle at a time");
+        } catch (const core::Error& e) {
+            m_snapshot.problem = e.what(); // the last table stays
+            m_snapshot.running = false;
+            ++m_version;
+            return;
+        }
+        const std::string key = core::keyOf(m, s);
+        if (key == m_runKey && m_doneChunk >= pathtrace::chunkCount(s)) {
+            m_snapshot.problem.clear(); // the same run, finished: nothing to do
+            ++m_version;
+            return;
+        }
+        if (key != m_runKey) { // a new run; the same one resumes where it was cancelled
+            m_runKey = key;
+            m_doneTally = pathtrace::makeTally(s.bins);
+            m_doneChunk = 0;
+            m_snapshot = SliceSnapshot{};
+            m_snapshot.medium = m;
+            m_snapshot.settings = s;
+            m_snapshot.settings.paths = 0;
+            m_snapshot.pathsTarget = s.paths;
+        }
+        m_snapshot.problem.clear();
+        m_snapshot.running = true;
+    }
+    ++m_version;
+    m_thread = std::thread(&SliceRunner::run, this, m, s);
+}
+
+void SliceRunner::run(pathtrace::Medium m, pathtrace::EstimateSettings s) {
+    pathtrace::BssrdfTally tally;
+    uint64_t chunk = 0;
+    {
+        std::lock_guard lock(m_mutex);
+        tally = m_doneTally;
+        chunk = m_doneChunk;
+    }
+    const uint64_t chunks = pathtrace::chunkCount(s);
+    const uint64_t resumedPaths = tally.paths;
+    uint64_t batch = 1;
+    core::Stopwatch clock;
+    while (chunk < chunks && !m_cancel) {
+        const uint64_t last = std::min(chunks, chunk + batch);
+        const uint64_t before = tally.paths;
+        pathtrace::BssrdfTally part = pathtrace::estimateChunks(
+            m, s, 0, chunk, last,
+            [&](uint64_t done) {
+                std::lock_guard lock(m_mutex);
+                m_snapshot.pathsDone = before + done;
+            },
+            &m_cancel);
+        if (m_cancel) break; // a partial batch is dropped: the table stays a prefix of paths
+        tally.merge(part);
+        chunk = last;
+        SliceSnapshot snap;
+        snap.running = chunk < chunks;
+        snap.medium = m;
+        snap.settings = s;
+        snap.settings.paths = tally.paths;
+        snap.pathsDone = tally.paths;
+        snap.pathsTarget = s.paths;
+        snap.pathsPerSecond =
+            double(tally.paths - resumedPaths) / std::max(1e-9, clock.ms() * 1e-3);
+        snap.slice = pathtrace::finalize(tally, s.bins, s.thetaIDeg[0], m);
+        snap.energy = pathtrace::energyProblem(*snap.slice, s.orders);
+        {
+            std::lock_guard lock(m_mutex);
+            m_snapshot = std::move(snap);
+            m_doneTally = tally;
+            m_doneChunk = chunk;
+        }
+        ++m_version;
+        batch = std::min<uint64_t>(batch * 2, 16); // snapshots every few seconds at most
+    }
+    std::lock_guard lock(m_mutex);
+    m_snapshot.pathsDone = tally.paths;
+    m_snapshot.running = false;
+}
+
+SliceSnapshot SliceRunner::snapshot() const {
+    std::lock_guard lock(m_mutex);
+    return m_snapshot;
+}
+
+bool SliceStage::update(const SliceInputs& in) {
+    if (!in.settings.enabled || !in.params) {
+        if (!m_key.empty()) m_runner.cancel();
+        m_key.clear(); // shown again with the same inputs: the run resumes where it stopped
+        return false;
+    }
+    bool changed = false;
+    const int c = in.settings.channel;
+    if (c < 0 || c > 2) {
+        const std::string p =
+            "slice: channel must be 0 (R), 1 (G) or 2 (B), got " + std::to_string(c);
+        changed = p != m_problem;
+        m_problem = p;
+        return changed;
+    }
+    const pathtrace::Medium medium = mediaOf(*in.params)[size_t(c)];
+    const pathtrace::EstimateSettings est = estimateSettings(in.settings, medium);
+    const std::string key = core::keyOf(medium, est);
+    if (!m_problem.empty()) changed = true;
+    m_problem.clear();
+    if (key != m_key) {
+        m_key = key;
+        m_model = in.model;
+        m_runner.start(medium, est);
+        changed = true;
+    }
+    if (const uint64_t v = m_runner.version(); v != m_seen) {
+        m_seen = v;
+        changed = true;
+    }
+    return evaluateModels(in) || changed;
+}
+
+bool SliceStage::evaluateModels(const SliceInputs& in) {
+    if (!in.library || !in.views) return false;
+    const int c = in.settings.channel;
+    // the bins are the reference's (its medium's l_d), the σ each model's own
+    const pathtrace::EstimateSettings est =
+        estimateSettings(in.settings, mediaOf(*in.params)[size_t(c)]);
+    try {
+        pathtrace::validate(est);
+    } catch (const core::Error&) {
+        return false; // the reference names the bad setting; the models keep their last slices
+    }
+    bool changed = false;
+    std::map<std::string, ModelSliceResult> next;
+    for (const bssrdf::ModelEntry& e : in.library->entries()) {
+        auto v = in.views->find(e.displayPath);
+        if (!e.usable() || v == in.views->end() || !v->second.effective) continue;
+        const material::MaterialParams& p = *v->second.effective;
+        const pathtrace::Medium medium = mediaOf(p)[size_t(c)];
+        const bool readsWo = !e.model->attrs.noWo;
+        const std::string key =
+            std::to_string(e.generation) + toJson(e.values).dump() +
+            core::keyOf(builtinsOf(p), est.bins, c, in.settings.thetaIDeg, readsWo);
+        ModelSliceResult& r = next[e.displayPath];
+        if (auto old = m_models.find(e.displayPath);
+            old != m_models.end() && old->second.key == key) {
+            r = std::move(old->second);
+            continue;
+        }
+        changed = true;
+        r.key = key;
+        r.medium = medium;
+        try {
+            const SliceSampling n = sliceSampling(est.bins, readsWo);
+            const std::vector<bssrdf::Query> q =
+                sliceQueries(est.bins, in.settings.thetaIDeg, readsWo, n);
+            core::Stopwatch clock;
+            const std::vector<glm::dvec3> rgb = bssrdf::evaluateQueries(
+                e.programs.at("pencil_profile.comp").id(), *e.model, e.values, builtinsOf(p), q);
+            std::vector<double> values(rgb.size());
+            for (size_t i = 0; i < rgb.size(); ++i)
+                values[i] = rgb[i][c];
+            r.slice = modelSlice(est.bins, in.settings.thetaIDeg, medium.eta, readsWo, n, values);
+            gl::recordTiming("slice: model " + (e.model ? e.model->name : e.displayPath),
+                             clock.ms());
+            r.problem.clear();
+            for (double x : r.slice->R)
+                if (!std::isfinite(x) || x < 0) {
+                    r.problem = e.displayPath + ": Bssrdf() is negative or not finite on the slice";
+                    break;
+                }
+        } catch (const core::Error& err) {
+            r.slice.reset();
+            r.problem = err.what();
+        } catch (const std::exception& err) {
+            r.slice.reset();
+            r.problem = e.displayPath + ": " + err.what();
+        }
+    }
+    changed |= next.size() != m_models.size(); // a model gone
+    m_models = std::move(next);
+    return changed;
+}
+
+StageStatus SliceStage::status() const {
+    StageStatus st;
+    const SliceSnapshot snap = m_runner.snapshot();
+    st.running = snap.running;
+    st.progress = snap.pathsTarget ? double(snap.pathsDone) / double(snap.pathsTarget) : 1.0;
+    if (!m_problem.empty()) st.problems.push_back(m_problem);
+    if (!snap.problem.empty()) st.problems.push_back(snap.problem);
+    if (!snap.energy.empty())
+        st.problems.push_back("the estimate failed its own energy check: " + snap.energy);
+    for (const auto& [path, r] : m_models)
+        if (!r.problem.empty()) st.problems.push_back(r.problem);
+    st.stats.emplace_back("paths/s", core::formatNumber(snap.pathsPerSecond, 3));
+    return st;
+}
+
+SliceSnapshot SliceStage::finish(const SliceInputs& in) {
+    SliceInputs on = in;
+    on.settings.enabled = true;
+    update(on);
+    m_runner.wait();
+    update(on);
+    return m_runner.snapshot();
+}
+
+} // namespace app

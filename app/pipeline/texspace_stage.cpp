@@ -1,0 +1,224 @@
+// The Render panel's texture-space renderer (texspace_stage.h).
+#include "pipeline/texspace_stage.h"
+
+#include "core/fields.h"
+#include "gl/gl.h"
+#include "pipeline/param_json.h"
+
+#include <algorithm>
+
+namespace app {
+
+namespace fs = std::filesystem;
+
+bool TextureSpaceStage::update(const TextureSpaceInputs& in) {
+    const TextureSpaceSettings& s = in.settings;
+    if (!s.enabled || !in.scene) return false;
+    SceneStage& scene = *in.scene;
+    const bssrdf::ModelEntry* e = in.model.entry;
+    if (!e || !e->usable() || !scene.hasMesh()) return false;
+    core::Stopwatch clock;
+    try {
+        texspace::validateSettings(s.sampling);
+        if (!m_pipe) m_pipe = std::make_unique<texspace::Pipeline>(m_root);
+        clearProblem("settings");
+    } catch (const std::exception& err) {
+        setProblem("settings", err.what());
+        return false;
+    }
+    texspace::Pipeline& p = *m_pipe;
+    bool changed = false;
+
+    // Stage 0: parameterisation and texels.
+    const std::string meshKey = scene.meshHash() + "/" + std::to_string(s.sampling.textureSize);
+    if (meshKey != m_meshKey) {
+        m_meshKey = meshKey;
+        m_lightKey.clear();
+        try {
+            p.setMesh(scene.mesh(), s.sampling.textureSize);
+            m_note = p.parameterization().note;
+            clearProblem("mesh");
+        } catch (const std::exception& err) {
+            setProblem("mesh", err.what()); // not retried until the mesh or K change
+        }
+    }
+    if (!p.hasMesh()) return false;
+
+    // Stage 1: the scene's light with the rendered model's η.
+    irradiance::Settings light = scene.settings().light;
+    light.ior = in.model.builtins.ior;
+    const bool ibl = light.mode == irradiance::LightMode::Ibl ||
+                     light.mode == irradiance::LightMode::OccludedIbl;
+    const std::string& envFile = scene.settings().environmentFile;
+    if (ibl && envFile != m_envTried) {
+        m_envTried = envFile;
+        try {
+            const fs::path f =
+                fs::path(envFile).is_absolute() ? fs::path(envFile) : m_root / envFile;
+            p.irradianceStage().loadEnvironment(f);
+            ++m_envLoads;
+            clearProblem("environment");
+        } catch (const std::exception& err) {
+            setProblem("environment", err.what());
+        }
+    }
+    const std::string& texFile = scene.settings().projectedTextureFile;
+    if (light.mode == irradiance::LightMode::Filtered && texFile != m_texTried) {
+        m_texTried = texFile;
+        try {
+            if (texFile.empty())
+                p.irradianceStage().useCheckerTexture();
+            else
+                p.irradianceStage().loadProjectedTexture(
+                    fs::path(texFile).is_absolute() ? fs::path(texFile) : m_root / texFile);
+            ++m_texLoads;
+            clearProblem("projected texture");
+        } catch (const std::exception& err) {
+            setProblem("projected texture", err.what());
+        }
+    }
+    const std::string lightKey =
+        m_meshKey + core::keyOf(light, ibl ? m_envLoads : 0,
+                                light.mode == irradiance::LightMode::Filtered ? m_texLoads : 0);
+    if (lightKey != m_lightKey) {
+        m_lightKey = lightKey;
+        m_runKey.clear();
+        m_lightRunning = false;
+        try {
+            if (ibl && !p.irradianceStage().hasEnvironment())
+                throw core::Error(envFile, 0, "no environment map loaded");
+            gl::ScopedStageTimer t("texture space: irradiance");
+            p.beginLight(light);
+            m_lightRunning = true;
+            clearProblem("irradiance");
+        } catch (const std::exception& err) {
+            setProblem("irradiance", err.what());
+        }
+    }
+    if (m_lightRunning) {
+        try {
+            do {
+                gl::ScopedStageTimer t("texture space: irradiance");
+                if (p.advanceLight()) m_lightRunning = false;
+            } while (m_lightRunning && in.budgetMs < 0);
+        } catch (const std::exception& err) {
+            m_lightRunning = false;
+            setProblem("irradiance", err.what());
+        }
+        changed = true;
+    }
+    if (!p.lightReady()) return changed;
+
+    // Stage 3's model and material.
+    const std::string modelKey = core::keyOf(e->displayPath, e->modelGeneration);
+    if (modelKey != m_modelKey) {
+        m_modelKey = modelKey;
+        m_runKey.clear();
+        try {
+            p.setModel(*e->model);
+            clearProblem("model");
+        } catch (const std::exception& err) {
+            setProblem("model", err.what());
+        }
+    }
+    const render::Settings& view = scene.settings().render;
+    texspace::Settings run = s.sampling;
+    const int sets = run.sampleSets;
+    run.sampleSets = 0; // a target the accumulation runs to, not an input
+    const std::string runKey = m_lightKey + m_modelKey + core::keyOf(view, run) +
+                               toJson(e->values).dump() + in.model.materialKey +
+                               std::to_string(e->generation);
+    if (runKey != m_runKey) {
+        m_runKey = runKey;
+        m_runOk = false;
+        try {
+            p.setMaterial(e->values, in.model.builtins);
+            run.sampleSets = sets;
+            p.begin(run, view);
+            m_runOk = true;
+            m_seconds = 0;
+            clearProblem("render");
+        } catch (const std::exception& err) {
+            setProblem("render", err.what());
+        }
+        changed = true;
+    } else if (m_runOk) {
+        p.setSampleSets(sets); // only the target changed: carry on (or stop) from here
+    }
+    if (m_runOk && !p.done()) {
+        try {
+            p.advance(in.budgetMs < 0 ? 1e30 : std::max(1.0, in.budgetMs - clock.ms()));
+            changed = true;
+            m_seconds += clock.ms() / 1000.0;
+        } catch (const std::exception& err) {
+            m_runOk = false;
+            setProblem("render", err.what());
+        }
+    }
+    return changed;
+}
+
+void TextureSpaceStage::finish(TextureSpaceInputs in) {
+    in.budgetMs = -1;
+    in.settings.enabled = true;
+    update(in);
+    const std::vector<std::string> p = problems();
+    if (!p.empty()) throw core::Error("texture space", 0, p.front());
+    if (!m_pipe || !m_pipe->done())
+        throw core::Error("texture space", 0,
+                          "nothing rendered (needs a usable model and the scene's mesh)");
+}
+
+litsphere::Image TextureSpaceStage::radiance() const {
+    return m_pipe ? m_pipe->radiance() : litsphere::Image{};
+}
+
+bool TextureSpaceStage::reloadShaders(const std::vector<fs::path>& changed) {
+    if (!m_pipe) return false;
+    const shader::Reloaded r = m_pipe->reloadShaders(changed);
+    if (!r.problem.empty())
+        setProblem("shaders", r.problem);
+    else
+        clearProblem("shaders");
+    if (r.rebuilt > 0) {
+        m_lightKey.clear();
+        m_runKey.clear();
+    }
+    return r.rebuilt > 0;
+}
+
+shader::Records TextureSpaceStage::shaderRecords() const {
+    shader::Records out;
+    if (m_pipe)
+        for (const auto& [name, r] : m_pipe->shaderRecords())
+            out["texture space:" + name] = r;
+    return out;
+}
+
+void TextureSpaceStage::setProblem(const std::string& stage, const std::string& text) {
+    m_problems[stage] = text;
+}
+void TextureSpaceStage::clearProblem(const std::string& stage) {
+    m_problems.erase(stage);
+}
+std::vector<std::string> TextureSpaceStage::problems() const {
+    std::vector<std::string> out;
+    for (const auto& [stage, text] : m_problems)
+        out.push_back(stage + ": " + text);
+    return out;
+}
+
+StageStatus TextureSpaceStage::status() const {
+    StageStatus st;
+    st.problems = problems();
+    if (m_pipe) {
+        st.running = m_lightRunning || (m_runOk && !m_pipe->done());
+        st.progress = m_lightRunning
+                          ? m_pipe->lightProgress()
+                          : double(m_pipe->setsDone()) / double(std::max(1, m_pipe->setsTarget()));
+        st.stats.emplace_back("sets", std::to_string(m_pipe->setsDone()));
+    }
+    return st;
+}
+
+} // namespace app

@@ -1,0 +1,487 @@
+// Workbench state and stage graph: reload → material (inversion) → pencil profile.
+#include "pipeline/workbench.h"
+
+#include "probe/model_probe_process.h"
+#include "pipeline/pencil_series.h"
+
+#include "core/color.h"
+#include "core/core.h"
+#include "core/fields.h"
+#include "gl/gl.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <sys/stat.h>
+
+namespace app {
+namespace fs = std::filesystem;
+
+namespace {
+double epochSeconds() {
+    return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
+} // namespace
+
+Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& models)
+    : m_root(fs::absolute(root).lexically_normal()) {
+    try {
+        m_presets = material::loadPresets(m_root / "materials" / "presets.json");
+    } catch (const core::Error& e) {
+        m_actionErrors.push_back(e.what());
+    }
+    if (const auto* p = material::findPreset(m_presets, m_shared.preset))
+        m_shared.params = material::applyPreset(*p, m_shared.params);
+    m_reference = std::make_unique<ReferenceStage>(m_root / "shaders" / "pathtrace_slab.comp");
+    m_slice = std::make_unique<SliceStage>();
+    m_scoreboard = std::make_unique<ScoreboardStage>();
+    m_monteCarlo = std::make_unique<MonteCarloStage>();
+    m_textureSpace = std::make_unique<TextureSpaceStage>(m_root);
+    m_litSpheres = std::make_unique<LitSphereStage>(m_root / "shaders" / "pathtrace_sphere.comp");
+    m_scene = std::make_unique<SceneStage>(m_root);
+    m_scene->settings().enabled = false;
+    m_library = std::make_unique<bssrdf::ModelLibrary>(
+        m_root,
+        std::vector<std::string>{"pencil_profile.comp", "invert_rdr.comp", "sphere_bssrdf.comp"});
+    // A new or changed model is first evaluated in a child process with a time limit, so a
+    // Bssrdf() that does not end never reaches this process's GL (model_probe_process.h).
+    if (!modelProbeExecutable().empty())
+        m_library->setProbe(
+            makeProbeStarter(m_root, [this](const fs::path& file) { return probeInputs(file); }));
+    if (models.empty()) m_library->scanAll();
+    for (const auto& m : models) {
+        if (!fs::exists(m)) throw core::Error(m.string(), 0, "no such model file");
+        m_library->reload(m);
+    }
+    m_library->waitForProbes(); // all at once: as long as the slowest, within the limit
+    core::logInfo("resources: " + m_root.string());
+    if (watch)
+        m_watcher = std::make_unique<core::FileWatcher>(
+            std::vector<fs::path>{m_root / "materials", m_root / "shaders"});
+    // The stages in data-flow order; each gathers its inputs from the ones before it.
+    m_pipeline = {
+        {&m_material,
+         [this] {
+             return m_material.update({m_library.get(), &m_views, &m_shared});
+         }},
+        {&m_pencil,
+         [this] {
+             double rMax = m_plot.fixedRange ? m_plot.rMaxMm : autoRMax();
+             if (!(rMax > 0) || !std::isfinite(rMax)) rMax = 20.0;
+             const bool changed = rMax != m_rMax;
+             m_rMax = rMax;
+             return m_pencil.update({m_library.get(), &m_views, m_rMax, m_plot.samples}) || changed;
+         }},
+        {m_reference.get(), [this] { return m_reference->update(referenceInputs()); }},
+        {m_slice.get(), [this] { return m_slice->update(sliceInputs()); }},
+        {m_scoreboard.get(),
+         [this] {
+             const ReferenceSnapshot snap = m_reference->snapshot();
+             const ReferenceInputs ri = referenceInputs();
+             ScoreboardInputs in{
+                 m_scoreboardEnabled, m_library.get(), &m_views, &snap, ri.model, ri.params};
+             return m_scoreboard->update(in);
+         }},
+        {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
+        {m_scene.get(), [this] { return m_scene->update(sceneModelInput(), m_interacting); }},
+        {m_monteCarlo.get(),
+         [this] {
+             return m_monteCarlo->update({m_mc, m_scene.get(), sceneModelInput(), 20.0});
+         }},
+        {m_textureSpace.get(),
+         [this] {
+             return m_textureSpace->update({m_ts, m_scene.get(), sceneModelInput(), 20.0});
+         }},
+    };
+    update();
+}
+
+void Workbench::reloadAll() {
+    std::vector<fs::path> files;
+    for (const auto& e : m_library->entries())
+        files.push_back(e.file);
+    std::error_code ec;
+    for (auto& d : fs::directory_iterator(m_root / "materials", ec))
+        if (d.path().extension() == ".bssrdf") {
+            fs::path f = fs::absolute(d.path()).lexically_normal();
+            if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+        }
+    for (const auto& f : files)
+        m_library->reload(f);
+    for (auto& [k, v] : m_views)
+        v.materialKey.clear(), v.profileKey.clear();
+    update();
+}
+
+void Workbench::openModel(const fs::path& file) {
+    if (!fs::exists(file)) throw core::Error(file.string(), 0, "no such file");
+    if (file.extension() != ".bssrdf")
+        throw core::Error(file.string(), 0, "not a .bssrdf model file");
+    m_library->open(file);
+    // A model from anywhere is hot-reloaded like those in materials/.
+    if (m_watcher) m_watcher->watch(fs::absolute(file).lexically_normal().parent_path());
+    update();
+}
+
+void Workbench::applyPreset(MaterialSettings& s, const std::string& name) {
+    const auto* p = material::findPreset(m_presets, name);
+    if (!p) throw core::Error("preset", 0, "unknown preset '" + name + "'");
+    s.params = material::applyPreset(*p, s.params);
+    s.preset = name;
+    s.mode = ParamMode::Sigma;
+}
+
+MaterialSettings& Workbench::settingsFor(const std::string& displayPath) {
+    auto& v = m_views[displayPath];
+    return v.override ? v.own : m_shared;
+}
+
+double Workbench::autoRMax() const {
+    double ld = 0;
+    for (const auto& e : m_library->entries()) {
+        auto it = m_views.find(e.displayPath);
+        if (it == m_views.end() || !it->second.effective || !it->second.visible) continue;
+        glm::dvec3 l = material::diffuseMeanFreePath(*it->second.effective);
+        for (int c = 0; c < 3; ++c)
+            if (std::isfinite(l[c])) ld = std::max(ld, l[c]);
+    }
+    return ld > 0 ? m_plot.rangeLd * ld : 20.0;
+}
+
+ProbeInputs Workbench::probeInputs(const fs::path& file) const {
+    ProbeInputs in;
+    const std::string path = core::relativeTo(file, m_root);
+    const auto it = m_views.find(path);
+    material::MaterialParams p =
+        (it != m_views.end() && it->second.override ? it->second.own : m_shared).params;
+    if (it != m_views.end() && it->second.effective) p = *it->second.effective;
+    in.builtins = builtinsOf(p);
+    in.rMaxMm = m_rMax;
+    in.samples = m_plot.samples;
+    return in;
+}
+
+bool Workbench::update() {
+    bool changed = m_library->pollProbes();
+    if (m_watcher) {
+        auto paths = m_watcher->poll();
+        if (!paths.empty()) {
+            for (const auto& p : paths) {
+                struct stat st {};
+                if (::stat(p.c_str(), &st) == 0) {
+                    double s = double(st.st_mtim.tv_sec) + 1e-9 * double(st.st_mtim.tv_nsec);
+                    if (!m_pendingSaveTime || s < *m_pendingSaveTime) m_pendingSaveTime = s;
+                }
+            }
+            // Each owner rebuilds exactly its programs whose recorded files include a changed
+            // path (templates, #include'd files, shaders/common/*); model files reload models.
+            changed |= m_library->onFilesChanged(paths);
+            changed |= m_scene->reloadShaders(paths);
+            changed |= m_textureSpace->reloadShaders(paths);
+            changed |= m_reference->reloadShaders(paths);
+            changed |= m_litSpheres->pathTracer().reloadShaders(paths);
+        }
+    }
+    // drop views of models that disappeared
+    for (auto it = m_views.begin(); it != m_views.end();) {
+        bool alive = false;
+        for (auto& e : m_library->entries())
+            alive |= e.displayPath == it->first;
+        it = alive ? std::next(it) : m_views.erase(it);
+    }
+    for (const PipelineStep& step : m_pipeline)
+        changed |= step.run();
+    return changed;
+}
+
+shader::Records Workbench::shaderPrograms() const {
+    shader::Records out = m_scene->shaderRecords();
+    for (const auto& [name, record] : m_textureSpace->shaderRecords())
+        out[name] = record;
+    for (const auto& e : m_library->entries())
+        for (const auto& [consumer, record] : e.shaders)
+            out["model:" + e.displayPath + ":" + consumer] = record;
+    for (const auto& [name, record] : m_reference->shaderRecords())
+        out["reference:" + name] = record;
+    for (const auto& [name, record] : m_litSpheres->pathTracer().shaderRecords())
+        out["lit sphere:" + name] = record;
+    return out;
+}
+
+SceneModelInput Workbench::sceneModelInput() const {
+    SceneModelInput in;
+    const ModelView* view = nullptr;
+    // The Render panel's choice when it names a usable model, else the first visible one.
+    if (const std::string& chosen = m_scene->settings().model; !chosen.empty())
+        if (const bssrdf::ModelEntry* e = m_library->find(chosen); e && e->usable())
+            if (auto it = m_views.find(e->displayPath);
+                it != m_views.end() && it->second.effective) {
+                in.entry = e;
+                view = &it->second;
+            }
+    if (!in.entry) in.entry = sourceModel(&view);
+    if (in.entry) {
+        in.builtins = builtinsOf(*view->effective);
+        in.materialKey = view->materialKey;
+    }
+    return in;
+}
+
+void Workbench::requestSceneComparison(const std::string& model) {
+    if (model.empty()) return m_scene->requestBruteForce();
+    const bssrdf::ModelEntry* e = m_library->find(model);
+    auto it = e ? m_views.find(e->displayPath) : m_views.end();
+    if (!e || !e->usable() || it == m_views.end() || !it->second.effective)
+        throw core::Error(model, 0, "not a usable model to compare with");
+    m_scene->requestComparison(
+        {&*e->model, e->values, builtinsOf(*it->second.effective), e->model->name});
+}
+
+const bssrdf::ModelEntry* Workbench::sourceModel(const ModelView** view) const {
+    for (const auto& e : m_library->entries()) {
+        auto it = m_views.find(e.displayPath);
+        if (it == m_views.end() || !it->second.effective || !e.usable()) continue;
+        if (!m_plot.solo.empty() ? m_plot.solo == e.displayPath : it->second.visible) {
+            if (view) *view = &it->second;
+            return &e;
+        }
+    }
+    return nullptr;
+}
+
+ReferenceInputs Workbench::referenceInputs() const {
+    ReferenceInputs in;
+    in.settings = m_refSettings;
+    in.rMaxMm = m_rMax;
+    const ModelView* view = nullptr;
+    if (const bssrdf::ModelEntry* e = sourceModel(&view)) {
+        in.params = view->effective;
+        in.model = e->displayPath;
+    }
+    return in;
+}
+
+SliceInputs Workbench::sliceInputs() {
+    SliceInputs in;
+    in.library = m_library.get();
+    in.views = &m_views;
+    in.settings = m_sliceSettings;
+    const ModelView* view = nullptr;
+    if (const bssrdf::ModelEntry* e = sourceModel(&view)) {
+        in.params = view->effective;
+        in.model = e->displayPath;
+    }
+    return in;
+}
+
+LitSphereInputs Workbench::litSphereInputs(double budgetMs) const {
+    LitSphereInputs in;
+    in.settings = m_sphere;
+    in.root = m_root;
+    in.budgetMs = budgetMs;
+    const ModelView* view = nullptr;
+    if ((in.entry = sourceModel(&view))) {
+        in.params = view->effective;
+        in.builtins = builtinsOf(*view->effective);
+        in.materialKey = view->materialKey;
+    }
+    return in;
+}
+
+void Workbench::finishLitSpheres() {
+    m_litSpheres->finish(litSphereInputs(-1));
+}
+
+ReferenceSnapshot Workbench::finishReference() {
+    return m_reference->finish(referenceInputs());
+}
+
+void Workbench::framePresented() {
+    if (!m_pendingSaveTime) return;
+    glFinish();
+    double latencyMs = (epochSeconds() - *m_pendingSaveTime) * 1000.0;
+    m_pendingSaveTime.reset();
+    if (latencyMs >= 0 && latencyMs < 60000) {
+        gl::recordTiming("hot reload: save -> new pixels", latencyMs);
+        core::logInfo("hot reload: save to new pixels " + std::to_string(latencyMs) + " ms");
+    }
+}
+
+std::vector<ErrorItem> Workbench::errors() const {
+    std::vector<ErrorItem> out;
+    // One entry per problem: a shader file every model includes fails for each model with the
+    // same message; that is one entry naming the models it affects.
+    std::vector<std::vector<std::string>> affected;
+    for (const auto& e : m_library->entries()) {
+        if (!e.problem) continue;
+        const bool shader = e.problem->file.rfind("shaders/", 0) == 0;
+        const ErrorItem item{shader ? "shader" : "model", e.problem->text()};
+        auto same = std::find_if(out.begin(), out.end(), [&](const ErrorItem& o) {
+            return o.source == item.source && o.text == item.text;
+        });
+        if (same == out.end()) {
+            out.push_back(item);
+            affected.emplace_back();
+            same = out.end() - 1;
+        }
+        if (shader)
+            affected[size_t(same - out.begin())].push_back(e.model ? e.model->name
+                                                                   : e.file.stem().string());
+    }
+    for (size_t i = 0; i < out.size(); ++i)
+        if (!affected[i].empty()) {
+            std::string names;
+            for (const std::string& n : affected[i])
+                names += (names.empty() ? "" : ", ") + n;
+            out[i].text += " (affects " + names + ")";
+        }
+    for (const auto& p : m_library->problems())
+        out.push_back({"shader", p.text()});
+    for (const PipelineStep& step : m_pipeline)
+        for (const std::string& p : step.stage->status().problems)
+            out.push_back({step.stage->name(), p});
+    for (const auto& a : m_actionErrors)
+        out.push_back({"action", a});
+    for (const gl::DebugProblem& p : gl::debugProblems())
+        out.push_back({"GL", p.first + (p.count > 1 ? " (" + std::to_string(p.count) + " times)"
+                                                    : std::string())});
+    return out;
+}
+
+void Workbench::clearActionErrors() {
+    m_actionErrors.clear();
+    gl::clearDebugProblems();
+}
+
+void Workbench::reportActionError(const std::string& text) {
+    core::logError(text);
+    m_actionErrors.push_back(text);
+}
+
+std::string Workbench::normalisationNote() {
+    return "Bssrdf(Xi=0, Wi=n, Xo=(r,0,0), Wo=n): R_d per unit power entering the medium [1/mm^2]";
+}
+
+std::vector<Workbench::RpMarker> Workbench::hybridRpMarkers() const {
+    std::vector<RpMarker> out;
+    const std::string shown = !m_plot.solo.empty() ? m_plot.solo : [&] {
+        const SceneModelInput in = sceneModelInput();
+        return in.entry ? in.entry->displayPath : std::string();
+    }();
+    auto it = m_views.find(shown);
+    if (shown.empty() || it == m_views.end() || it->second.profile.r.empty()) return out;
+    const ModelView& v = it->second;
+    if (m_plot.solo.empty() && (!v.visible || m_plot.channel > 2)) return out;
+    const double bound = double(m_ts.sampling.local.lowerBound);
+    const uint32_t colors[3] = {0xff4040ffu, 0xff40ff40u, 0xffff6040u};
+    for (int c = 0; c < 3; ++c) {
+        if (m_plot.solo.empty() && c != m_plot.channel) continue;
+        std::vector<double> r = v.profile.r, R(r.size());
+        for (size_t i = 0; i < r.size(); ++i)
+            R[i] = v.profile.value[i][c];
+        const double rp = texspace::findRp(r, R, bound);
+        if (rp > 0)
+            out.push_back({rp, m_plot.solo.empty() ? 0xffd0d0d0u : colors[c],
+                           std::string("R_p ") + "RGB"[c]});
+    }
+    return out;
+}
+
+std::vector<plot::Series> Workbench::plotSeries() const {
+    std::vector<plot::Series> out;
+    size_t index = 0, visibleModels = 0;
+    auto valueOf = [&](const glm::dvec3& v, int channel) {
+        return channel < 3 ? v[channel] : core::luminance(v);
+    };
+    for (const auto& e : m_library->entries()) {
+        auto it = m_views.find(e.displayPath);
+        size_t colorIndex = index++;
+        if (it == m_views.end() || it->second.profile.r.empty()) continue;
+        const ModelView& v = it->second;
+        if (!m_plot.solo.empty() && m_plot.solo != e.displayPath) continue;
+        if (m_plot.solo.empty() && !v.visible) continue;
+        const std::string name = e.model ? e.model->name : e.displayPath;
+        auto make = [&](int channel, const std::string& label, uint32_t color) {
+            plot::Series s;
+            s.label = label;
+            s.color = color;
+            s.x = v.profile.r;
+            s.y.resize(s.x.size());
+            for (size_t i = 0; i < s.x.size(); ++i) {
+                double y = valueOf(v.profile.value[i], channel);
+                s.y[i] = m_plot.rTimesR ? y * s.x[i] : y;
+            }
+            out.push_back(std::move(s));
+        };
+        if (!m_plot.solo.empty()) {
+            make(0, name + " R", 0xff4040ffu);
+            make(1, name + " G", 0xff40ff40u);
+            make(2, name + " B", 0xffff6040u);
+        } else {
+            make(m_plot.channel, name, plot::defaultColor(colorIndex));
+            // Line styles alternate (thick solid, thin dashed), so curves that coincide, as
+            // dipole and better dipole do on Marble, both stay visible.
+            const bool odd = (visibleModels++ % 2) == 1;
+            out.back().dashed = odd;
+            out.back().thickness = odd ? 1.5f : 3.0f;
+        }
+    }
+    if (!m_refSettings.enabled) return out;
+    ReferenceSnapshot snap = referenceSnapshot();
+    if (snap.pathsDone == 0) return out;
+    if (!m_plot.solo.empty()) {
+        const int first = int(out.size()); // each model channel is compared with its own
+        for (size_t i = 0; i < out.size(); ++i)
+            out[i].compareTo = first + int(i % 3);
+        for (int c = 0; c < 3; ++c) {
+            plot::Series ref = referenceSeries(snap, c, m_plot.rTimesR);
+            ref.label = std::string("path traced ") + "RGB"[c];
+            ref.compareTo = first + c;
+            out.push_back(std::move(ref));
+        }
+        return out;
+    }
+    plot::Series ref = referenceSeries(snap, m_plot.channel, m_plot.rTimesR);
+    // error figures of each model that uses the reference's σ, at the plotted channel's l_d
+    const ModelView* src = nullptr;
+    if (auto it = m_views.find(m_reference->model()); it != m_views.end()) src = &it->second;
+    for (auto& s : out) {
+        for (const auto& e : m_library->entries()) {
+            auto it = m_views.find(e.displayPath);
+            if (!e.model || s.label != e.model->name || it == m_views.end()) continue;
+            const auto& mine = it->second.effective;
+            const bool sameMedium =
+                src && mine && src->effective && mine->sigmaA == src->effective->sigmaA &&
+                mine->sigmaS == src->effective->sigmaS && mine->g == src->effective->g &&
+                mine->eta == src->effective->eta;
+            if (!sameMedium) {
+                s.label += "  (other sigma: no error figures)";
+                continue;
+            }
+            if (!it->second.profileProblem.empty()) {
+                s.label += "  (NaN, Inf or negative values, see Errors: no error figures)";
+                continue;
+            }
+            glm::dvec3 ld = material::diffuseMeanFreePath(*it->second.effective);
+            if (snap.energyFails(m_plot.channel)) {
+                s.label += "  (reference failed its energy check: no error figures)";
+                continue;
+            }
+            ModelError err = modelError(s, ref, ld[m_plot.channel < 3 ? m_plot.channel : 1]);
+            if (!err.valid) continue;
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "  rel.L2 %.1f%%  ratio@1ld %.3f  @4ld %.3f",
+                          100 * err.relL2, err.ratioAt1, err.ratioAt4);
+            s.label += buf;
+        }
+    }
+    for (auto& s : out)
+        s.compareTo = int(out.size());
+    ref.compareTo = int(out.size());
+    out.push_back(std::move(ref));
+    return out;
+}
+
+} // namespace app

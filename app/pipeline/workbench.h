@@ -1,0 +1,234 @@
+// The workbench state and its stage graph (no ImGui here; panels only show and edit it).
+// The models (.bssrdf files, hot-reloaded, last good kept: bssrdf::ModelLibrary) feed an
+// ordered list of stages (stage.h), each with explicit inputs gathered from the ones before:
+//   material    — σ per model: as given, or inverted from R_dr / l_d   (model_stages.h)
+//   pencil      — pencil-beam profile per model on the GPU             (model_stages.h)
+//   reference   — path-traced R_d(r) for the source model's σ          (reference_stage.h)
+//   slice       — the whole BSSRDF at oblique incidence: path traced
+//                 (seed 001) and every model on the same bins             (slice_stage.h)
+//   lit sphere  — path-traced and BSSRDF-integrated lit spheres        (lit_sphere_stage.h)
+//   scene       — mesh → point cloud → octree → irradiance → render    (scene_stage.h)
+// The source model of the last three is one choice: the soloed model, else the first
+// visible one whose material is usable (sourceModel). Each stage re-runs only when its
+// inputs' key changes.
+#pragma once
+
+#include "bssrdf/program_library.h"
+#include "core/file_watcher.h"
+#include "core/limits.h"
+#include "pipeline/lit_sphere_stage.h"
+#include "material/material.h"
+#include "probe/model_probe_process.h"
+#include "pipeline/model_stages.h"
+#include "pipeline/monte_carlo_stage.h"
+#include "plot/plot.h"
+#include "pipeline/reference_stage.h"
+#include "pipeline/scene_stage.h"
+#include "pipeline/scoreboard_stage.h"
+#include "pipeline/slice_stage.h"
+#include "pipeline/texspace_stage.h"
+
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace app {
+
+// Pencil plot settings (thesis 3.6.3).
+struct PlotSettings {
+    plot::Scale yScale = plot::Scale::Log;
+    bool rTimesR = false;
+    int channel = 3;  // 0 R, 1 G, 2 B, 3 luminance
+    std::string solo; // display path of the soloed model, empty = all models
+    int samples = 512;
+    bool fixedRange = false;
+    double rMaxMm = 20.0; // used when fixedRange
+    double rangeLd = 5.0; // otherwise: this many diffuse mean free paths (largest l_d)
+    plot::Relation relation = plot::Relation::Values; // or ratio / difference to the reference
+};
+// The description of PlotSettings' members (core/fields.h).
+template <class V> void fields(V& v, PlotSettings& s) {
+    v("y_scale", s.yScale, "y axis scale");
+    v("r_times_r", s.rTimesR, "plot r·R(r)");
+    v("channel", s.channel, "0 R, 1 G, 2 B, 3 luminance", core::Limits{0, 3});
+    v("solo", s.solo, "display path of the soloed model (empty: all)");
+    v("samples", s.samples, "radii evaluated", core::Limits{2, 16384});
+    v("fixed_range", s.fixedRange, "use r_max_mm instead of range_ld");
+    v("r_max_mm", s.rMaxMm, "plot radius with fixed_range, mm", core::Limits{0.01, 1000});
+    v("range_ld", s.rangeLd, "plot radius in largest l_d otherwise", core::Limits{0.1, 50});
+    v("relation", s.relation, "values, or each model's ratio / difference to the reference");
+}
+
+struct ErrorItem {
+    std::string source; // "model", "shader", "material", "action"
+    std::string text;   // "file:line: message"
+};
+
+class Workbench {
+  public:
+    // root: project root holding materials/ and shaders/. watch: enable hot reload.
+    // models: load exactly these files instead of every materials/*.bssrdf (CLI, replay).
+    Workbench(std::filesystem::path root, bool watch,
+              const std::vector<std::filesystem::path>& models = {});
+
+    // Polls the file watcher and re-runs stale stages. Returns true when anything changed.
+    bool update();
+    // Called after a frame with the new results is on screen: closes the save→pixels clock.
+    void framePresented();
+
+    void reloadAll();
+    void openModel(const std::filesystem::path& file);
+    void applyPreset(MaterialSettings& s, const std::string& name);
+    MaterialSettings& settingsFor(const std::string& displayPath); // own or shared
+
+    bssrdf::ModelLibrary& library() { return *m_library; }
+    ModelView& view(const std::string& displayPath) { return m_views[displayPath]; }
+    const std::vector<material::Preset>& presets() const { return m_presets; }
+    MaterialSettings& shared() { return m_shared; }
+    PlotSettings& plotSettings() { return m_plot; }
+    const std::filesystem::path& root() const { return m_root; }
+    double rMaxMm() const { return m_rMax; }
+    bool watching() const { return m_watcher != nullptr; }
+
+    // Every current problem (Errors panel): broken models/shaders, bad parameters, failed
+    // user actions (which stay until dismissed).
+    std::vector<ErrorItem> errors() const;
+    void reportActionError(const std::string& text);
+    // Forgets the action errors and the GL debug problems (Errors panel: Dismiss).
+    void clearActionErrors();
+
+    // Plot series for the current settings (one per visible model, or R/G/B when soloed),
+    // then the path-traced reference when enabled; model labels carry their error against it.
+    std::vector<plot::Series> plotSeries() const;
+
+    // Path-traced reference (pencil plot): settings, the model whose σ it uses, its state.
+    ReferenceSettings& referenceSettings() { return m_refSettings; }
+    const std::string& referenceModel() const { return m_reference->model(); }
+    ReferenceSnapshot referenceSnapshot() const { return m_reference->snapshot(); }
+    void restartReference() { m_reference->restart(); }
+    void cancelReference() { m_reference->cancel(); }
+    // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
+    ReferenceSnapshot finishReference();
+
+    // BSSRDF slice (seed 001): settings, the stage (reference snapshot, model slices).
+    SliceSettings& sliceSettings() { return m_sliceSettings; }
+    SliceStage& slice() { return *m_slice; }
+
+    // The scoreboard of the current parameters (scoreboard_stage.h): every model against the
+    // pencil plot's reference. Runs while enabled (the GUI: while its panel shows).
+    void setScoreboardEnabled(bool on) { m_scoreboardEnabled = on; }
+    const ScoreboardStage& scoreboard() const { return *m_scoreboard; }
+    // Runs the slice's estimate to its target and evaluates every model (captures, tests).
+    SliceSnapshot finishSlice() {
+        update(); // the stages before it (the models' σ) first
+        return m_slice->finish(sliceInputs());
+    }
+
+    // Lit spheres (thesis 3.5, 3.6.2): path traced and BSSRDF integrated, same setup.
+    LitSphereSettings& litSphereSettings() { return m_sphere; }
+    const std::string& litSphereModel() const { return m_litSpheres->model(); }
+    pathtrace::Image pathTracedSphere() const { return m_litSpheres->pathTracer().image(); }
+    pathtrace::Image integratedSphere() const { return m_litSpheres->integratedImage(); }
+    const PathTracedSphere& pathTracer() const { return m_litSpheres->pathTracer(); }
+    uint64_t integratedSppDone() const { return m_litSpheres->integratedSppDone(); }
+    std::string litSphereProblem() const { return m_litSpheres->problem(); }
+    void restartLitSpheres() { m_litSpheres->restart(); }
+    // Stops the path tracer where it is (the image keeps the passes completed so far).
+    void cancelLitSpheres() { m_litSpheres->cancel(); }
+    // Runs both renderings to their targets (tests, captures).
+    void finishLitSpheres();
+    static std::string normalisationNote();
+
+    // Mesh rendering pipeline (thesis 3.3): mesh → point cloud → octree → irradiance → render.
+    // Off until enabled (the GUI enables it while a scene panel is open; captures and the CLI
+    // enable it when they need it).
+    SceneStage& scene() { return *m_scene; }
+    // The model and material the scene renders with (the same source model as the lit spheres).
+    SceneModelInput sceneModelInput() const;
+    // Runs every scene stage to completion (CLI, captures, tests).
+    // Starts the B side of the Render panel's A/B view: "" brute force of the shown frame,
+    // else the model with this display path, with its own parameters and material.
+    void requestSceneComparison(const std::string& model);
+    void finishScene(const SceneStage::FinishProgress& progress = {}) {
+        m_scene->finish(sceneModelInput(), progress);
+    }
+    // The Render panel's Monte Carlo renderer (monte_carlo_stage.h) of the shown frame's view.
+    MonteCarloSettings& monteCarloSettings() { return m_mc; }
+    const MonteCarloStage& monteCarlo() const { return *m_monteCarlo; }
+    // Runs it to its target on the current frame (CLI, tests, bench).
+    void finishMonteCarlo() { m_monteCarlo->finish({m_mc, m_scene.get(), sceneModelInput(), -1}); }
+    // R_p of the hybrid (texspace/hybrid.h) for the pencil plot's marker: the soloed model's
+    // three channels, else the Render panel's model on the plot's channel (not luminance), from
+    // the plotted profile and texture_space.local.lower_bound.
+    struct RpMarker {
+        double rMm;
+        uint32_t color;
+        std::string label;
+    };
+    std::vector<RpMarker> hybridRpMarkers() const;
+    // The Render panel's texture-space renderer (texspace_stage.h) of the scene's view.
+    TextureSpaceSettings& textureSpaceSettings() { return m_ts; }
+    TextureSpaceStage& textureSpace() { return *m_textureSpace; }
+    // Runs it to its target (CLI, tests, bench); throws core::Error with its problem.
+    void finishTextureSpace() {
+        m_textureSpace->finish({m_ts, m_scene.get(), sceneModelInput(), -1});
+    }
+    void setInteracting(bool v) { m_interacting = v; }
+    // Every GL program with the shader files it was built from and its build count, by
+    // "owner:program" (model:<model file>:<template>, scene's render:/irradiance:,
+    // reference:<channel>, lit sphere:). A changed file rebuilds exactly the programs listing it.
+    shader::Records shaderPrograms() const;
+
+  private:
+    double autoRMax() const;
+    // What the check of a new version of `file` evaluates: its current σ, the plot's radii.
+    ProbeInputs probeInputs(const std::filesystem::path& file) const;
+    // The model whose σ the reference, the lit spheres and the scene use (solo, else first
+    // visible), with a usable material.
+    const bssrdf::ModelEntry* sourceModel(const ModelView** view) const;
+    ReferenceInputs referenceInputs() const;
+    SliceInputs sliceInputs();
+    // budgetMs < 0: fixed slices (deterministic), else adaptive.
+    LitSphereInputs litSphereInputs(double budgetMs) const;
+
+    std::filesystem::path m_root;
+    std::unique_ptr<bssrdf::ModelLibrary> m_library;
+    std::unique_ptr<core::FileWatcher> m_watcher;
+    std::vector<material::Preset> m_presets;
+    MaterialSettings m_shared;
+    PlotSettings m_plot;
+    std::map<std::string, ModelView> m_views;
+    std::vector<std::string> m_actionErrors;
+    double m_rMax = 20.0;
+    std::optional<double> m_pendingSaveTime; // seconds since epoch of the save being timed
+    ReferenceSettings m_refSettings;
+    LitSphereSettings m_sphere;
+    MaterialStage m_material;
+    PencilStage m_pencil;
+    std::unique_ptr<ReferenceStage> m_reference;
+    SliceSettings m_sliceSettings;
+    std::unique_ptr<SliceStage> m_slice;
+    std::unique_ptr<ScoreboardStage> m_scoreboard;
+    bool m_scoreboardEnabled = false;
+    std::unique_ptr<LitSphereStage> m_litSpheres;
+    std::unique_ptr<SceneStage> m_scene;
+    MonteCarloSettings m_mc;
+    std::unique_ptr<MonteCarloStage> m_monteCarlo;
+    TextureSpaceSettings m_ts;
+    std::unique_ptr<TextureSpaceStage> m_textureSpace;
+    // The stages in data-flow order: run() gathers the stage's inputs and updates it.
+    struct PipelineStep {
+        Stage* stage;
+        std::function<bool()> run;
+    };
+    std::vector<PipelineStep> m_pipeline;
+    bool m_interacting = false;
+};
+
+} // namespace app
