@@ -56,7 +56,7 @@ std::optional<capture::Table> referenceTable(Workbench& wb) {
     if (!snap.problem.empty()) throw core::Error("reference", 0, snap.problem);
     if (snap.pathsDone == 0) return std::nullopt;
     capture::Table t;
-    t.comments = {"path-traced reference, sigma of " + wb.referenceModel(),
+    t.comments = {"path-traced reference, sigma of " + wb.reference().model(),
                   "R_d per unit area per incident photon (MCML convention), 1/mm^2",
                   "paths per channel " + std::to_string(snap.pathsDone),
                   "last row (r_mm = -1): total diffuse reflectance per channel"};
@@ -224,14 +224,14 @@ std::vector<ImageStage> imageStages(Workbench& wb) {
         wb.finishLitSpheres();
         // The real cause (a refused mesh, a bad setup), never a consequence such as an empty
         // image.
-        if (const std::string problem = wb.litSphereProblem(); !problem.empty())
+        if (const std::string problem = wb.litSpheres().problem(); !problem.empty())
             throw core::Error("lit spheres", 0, problem);
         if (!wb.litSphereSettings().mesh.empty()) // both renderings cover the mesh
-            out = {{"lit_mesh.path_traced", "lit_mesh_path_traced.exr", wb.pathTracedSphere()},
-                   {"lit_mesh.integrated", "lit_mesh_integrated.exr", wb.integratedSphere()}};
+            out = {{"lit_mesh.path_traced", "lit_mesh_path_traced.exr", wb.litSpheres().pathTracer().image()},
+                   {"lit_mesh.integrated", "lit_mesh_integrated.exr", wb.litSpheres().integratedImage()}};
         else
-            out = {{"lit_sphere.path_traced", "lit_sphere_path_traced.exr", wb.pathTracedSphere()},
-                   {"lit_sphere.integrated", "lit_sphere_integrated.exr", wb.integratedSphere()}};
+            out = {{"lit_sphere.path_traced", "lit_sphere_path_traced.exr", wb.litSpheres().pathTracer().image()},
+                   {"lit_sphere.integrated", "lit_sphere_integrated.exr", wb.litSpheres().integratedImage()}};
     }
     // The texture-space render (seed 004): the mean over its sample sets with the variance of
     // the mean per pixel.

@@ -11,6 +11,7 @@
 #include "core/fields.h"
 #include "core/text.h"
 #include "gl/gl.h"
+#include "pipeline/pencil_series.h"
 #include "pipeline/workbench.h"
 
 #include <cmath>
@@ -60,7 +61,7 @@ int runProfile(const fs::path& root, const ProfileArgs& a) {
     for (const auto& [k, val] : e.values)
         out << "# param " << k << " " << core::formatNumber(val[0]) << " "
             << core::formatNumber(val[1]) << " " << core::formatNumber(val[2]) << "\n";
-    out << "# " << Workbench::normalisationNote() << "\n";
+    out << "# " << normalisationNote() << "\n";
     if (!v.profileProblem.empty()) out << "# invalid " << v.profileProblem << "\n";
     out << "r_mm,R,G,B\n";
     for (size_t i = 0; i < v.profile.r.size(); ++i)

@@ -2,8 +2,8 @@
 #include "pipeline/lit_sphere_stage.h"
 
 #include "core/core.h"
-#include "pipeline/image_display.h"
 #include "pathtrace/sphere_tracer.h"
+#include "pipeline/image_display.h"
 #include "pipeline/reference_stage.h"
 
 #include "core/fields.h"
@@ -289,6 +289,13 @@ StageStatus LitSphereStage::status() const {
     st.stats.push_back({"path traced spp", std::to_string(m_pathTraced.sppDone())});
     st.stats.push_back({"integrated spp", std::to_string(integratedSppDone())});
     return st;
+}
+
+shader::Records LitSphereStage::shaderRecords() const {
+    shader::Records out;
+    for (const auto& [name, record] : m_pathTraced.shaderRecords())
+        out["lit sphere:" + name] = record;
+    return out;
 }
 
 } // namespace app

@@ -131,6 +131,11 @@ class LitSphereStage : public StageOf<LitSphereInputs> {
     // Restarts and runs both renderings to their targets (tests, captures).
     void finish(LitSphereInputs in);
     void restart() { m_key.clear(); }
+    // The GPU path tracer's program ("lit sphere:PROGRAM").
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed) override {
+        return m_pathTraced.reloadShaders(changed);
+    }
+    shader::Records shaderRecords() const override;
 
     const PathTracedSphere& pathTracer() const { return m_pathTraced; }
     PathTracedSphere& pathTracer() { return m_pathTraced; }

@@ -1,9 +1,16 @@
-// The path-traced reference as a plot series (with a ±2σ band) and the error figures of a
-// model curve against it (shown per model in the pencil plot legend).
+// What the pencil plot (thesis 3.6.3) draws, made from the workbench's state and no ImGui: one
+// series per visible model (or R, G, B of the soloed one) with its colour and line style, the
+// path-traced reference as a series with a ±2σ band, the error figures of a model curve against
+// it (shown per model in the legend), and the hybrid's R_p markers.
 #pragma once
 
-#include "plot/plot.h"
 #include "pipeline/reference_stage.h"
+#include "pipeline/workbench.h"
+#include "plot/plot.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
 
 namespace app {
 
@@ -19,5 +26,22 @@ struct ModelError {
     double ratioAt4 = 0; // ... at r = 4 l_d
 };
 ModelError modelError(const plot::Series& model, const plot::Series& reference, double ld);
+
+// The plot's series for the current settings (one per visible model, or R/G/B when soloed),
+// then the path-traced reference when enabled; model labels carry their error against it.
+std::vector<plot::Series> plotSeries(const Workbench& wb);
+
+// R_p of the hybrid (texspace/hybrid.h) for the pencil plot's marker: the soloed model's three
+// channels, else the Render panel's model on the plot's channel (not luminance), from the
+// plotted profile and texture_space.local.lower_bound.
+struct RpMarker {
+    double rMm;
+    uint32_t color;
+    std::string label;
+};
+std::vector<RpMarker> hybridRpMarkers(const Workbench& wb);
+
+// The units of the plotted profile (the plot's axis note, the `profile` CSV's header).
+std::string normalisationNote();
 
 } // namespace app

@@ -266,4 +266,11 @@ StageStatus ReferenceStage::status() const {
     return st;
 }
 
+shader::Records ReferenceStage::shaderRecords() const {
+    shader::Records out;
+    for (const auto& [name, record] : m_gpu.shaderRecords())
+        out["reference:" + name] = record;
+    return out;
+}
+
 } // namespace app

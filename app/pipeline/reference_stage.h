@@ -144,10 +144,10 @@ class ReferenceStage : public StageOf<ReferenceInputs> {
     ReferenceSnapshot snapshot() const { return m_gpuMode ? m_gpu.snapshot() : m_cpu.snapshot(); }
     void restart() { m_key.clear(); }
     // Hot reload of the GL tracer when one of `changed` is a file its program was built from.
-    bool reloadShaders(const std::vector<std::filesystem::path>& changed) {
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed) override {
         return m_gpu.reloadShaders(changed);
     }
-    shader::Records shaderRecords() const { return m_gpu.shaderRecords(); }
+    shader::Records shaderRecords() const override; // "reference:PROGRAM"
     const std::string& model() const { return m_model; }
 
   private:

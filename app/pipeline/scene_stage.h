@@ -122,9 +122,9 @@ class SceneStage : public Stage {
     // Hot reload: rebuilds exactly the render and irradiance programs whose shader files
     // include one of `changed` (a failure keeps the old program and is a "shaders" problem);
     // what they computed is computed again. Returns true when a program was rebuilt.
-    bool reloadShaders(const std::vector<std::filesystem::path>& changed);
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed) override;
     // The scene's programs ("render:NAME", "irradiance:NAME", "brute force:NAME").
-    shader::Records shaderRecords() const;
+    shader::Records shaderRecords() const override;
     void cancelPointCloud(); // the running generation's result will be dropped
     // Reads the mesh, point-cloud, environment and texture files again (after the user fixed
     // one on disk); stages re-run only where the content changed.

@@ -6,6 +6,9 @@
 // under its name. How to add one: docs/ARCHITECTURE.md, "How to add a stage".
 #pragma once
 
+#include "shader/program.h"
+
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,6 +28,16 @@ class Stage {
     virtual const char* name() const = 0; // the Errors panel's source, e.g. "reference"
     virtual StageStatus status() const = 0;
     virtual void cancel() {}
+    // Hot reload: rebuilds exactly this stage's GL programs whose recorded shader files include
+    // one of `changed` (a failure keeps the old program and is one of its problems). Returns true
+    // when a program was rebuilt. Stages without programs keep the default.
+    virtual bool reloadShaders(const std::vector<std::filesystem::path>& changed) {
+        (void)changed;
+        return false;
+    }
+    // This stage's GL programs, each by "owner:program" (the owner: the stage or its sub-stage,
+    // e.g. "reference:…", "render:…"), with the files it was built from and its build count.
+    virtual shader::Records shaderRecords() const { return {}; }
 };
 
 // A stage with its inputs' type: update(inputs) returns true when an output changed.

@@ -47,8 +47,8 @@ class TextureSpaceStage : public StageOf<TextureSpaceInputs> {
     StageStatus status() const override;
     // Runs every stage to the end (CLI, tests, bench); throws core::Error with the problem.
     void finish(TextureSpaceInputs in);
-    bool reloadShaders(const std::vector<std::filesystem::path>& changed);
-    shader::Records shaderRecords() const;
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed) override;
+    shader::Records shaderRecords() const override;
 
     bool active() const { return m_pipe && m_pipe->setsDone() > 0; }
     texspace::Pipeline* pipeline() { return m_pipe.get(); }

@@ -2,7 +2,6 @@
 #include "pipeline/workbench.h"
 
 #include "probe/model_probe_process.h"
-#include "pipeline/pencil_series.h"
 
 #include "core/color.h"
 #include "core/core.h"
@@ -178,10 +177,8 @@ bool Workbench::update() {
             // Each owner rebuilds exactly its programs whose recorded files include a changed
             // path (templates, #include'd files, shaders/common/*); model files reload models.
             changed |= m_library->onFilesChanged(paths);
-            changed |= m_scene->reloadShaders(paths);
-            changed |= m_textureSpace->reloadShaders(paths);
-            changed |= m_reference->reloadShaders(paths);
-            changed |= m_litSpheres->pathTracer().reloadShaders(paths);
+            for (const PipelineStep& step : m_pipeline)
+                changed |= step.stage->reloadShaders(paths);
         }
     }
     // drop views of models that disappeared
@@ -197,16 +194,13 @@ bool Workbench::update() {
 }
 
 shader::Records Workbench::shaderPrograms() const {
-    shader::Records out = m_scene->shaderRecords();
-    for (const auto& [name, record] : m_textureSpace->shaderRecords())
-        out[name] = record;
+    shader::Records out;
     for (const auto& e : m_library->entries())
         for (const auto& [consumer, record] : e.shaders)
             out["model:" + e.displayPath + ":" + consumer] = record;
-    for (const auto& [name, record] : m_reference->shaderRecords())
-        out["reference:" + name] = record;
-    for (const auto& [name, record] : m_litSpheres->pathTracer().shaderRecords())
-        out["lit sphere:" + name] = record;
+    for (const PipelineStep& step : m_pipeline)
+        for (const auto& [name, record] : step.stage->shaderRecords())
+            out[name] = record;
     return out;
 }
 
@@ -358,130 +352,6 @@ void Workbench::clearActionErrors() {
 void Workbench::reportActionError(const std::string& text) {
     core::logError(text);
     m_actionErrors.push_back(text);
-}
-
-std::string Workbench::normalisationNote() {
-    return "Bssrdf(Xi=0, Wi=n, Xo=(r,0,0), Wo=n): R_d per unit power entering the medium [1/mm^2]";
-}
-
-std::vector<Workbench::RpMarker> Workbench::hybridRpMarkers() const {
-    std::vector<RpMarker> out;
-    const std::string shown = !m_plot.solo.empty() ? m_plot.solo : [&] {
-        const SceneModelInput in = sceneModelInput();
-        return in.entry ? in.entry->displayPath : std::string();
-    }();
-    auto it = m_views.find(shown);
-    if (shown.empty() || it == m_views.end() || it->second.profile.r.empty()) return out;
-    const ModelView& v = it->second;
-    if (m_plot.solo.empty() && (!v.visible || m_plot.channel > 2)) return out;
-    const double bound = double(m_ts.sampling.local.lowerBound);
-    const uint32_t colors[3] = {0xff4040ffu, 0xff40ff40u, 0xffff6040u};
-    for (int c = 0; c < 3; ++c) {
-        if (m_plot.solo.empty() && c != m_plot.channel) continue;
-        std::vector<double> r = v.profile.r, R(r.size());
-        for (size_t i = 0; i < r.size(); ++i)
-            R[i] = v.profile.value[i][c];
-        const double rp = texspace::findRp(r, R, bound);
-        if (rp > 0)
-            out.push_back({rp, m_plot.solo.empty() ? 0xffd0d0d0u : colors[c],
-                           std::string("R_p ") + "RGB"[c]});
-    }
-    return out;
-}
-
-std::vector<plot::Series> Workbench::plotSeries() const {
-    std::vector<plot::Series> out;
-    size_t index = 0, visibleModels = 0;
-    auto valueOf = [&](const glm::dvec3& v, int channel) {
-        return channel < 3 ? v[channel] : core::luminance(v);
-    };
-    for (const auto& e : m_library->entries()) {
-        auto it = m_views.find(e.displayPath);
-        size_t colorIndex = index++;
-        if (it == m_views.end() || it->second.profile.r.empty()) continue;
-        const ModelView& v = it->second;
-        if (!m_plot.solo.empty() && m_plot.solo != e.displayPath) continue;
-        if (m_plot.solo.empty() && !v.visible) continue;
-        const std::string name = e.model ? e.model->name : e.displayPath;
-        auto make = [&](int channel, const std::string& label, uint32_t color) {
-            plot::Series s;
-            s.label = label;
-            s.color = color;
-            s.x = v.profile.r;
-            s.y.resize(s.x.size());
-            for (size_t i = 0; i < s.x.size(); ++i) {
-                double y = valueOf(v.profile.value[i], channel);
-                s.y[i] = m_plot.rTimesR ? y * s.x[i] : y;
-            }
-            out.push_back(std::move(s));
-        };
-        if (!m_plot.solo.empty()) {
-            make(0, name + " R", 0xff4040ffu);
-            make(1, name + " G", 0xff40ff40u);
-            make(2, name + " B", 0xffff6040u);
-        } else {
-            make(m_plot.channel, name, plot::defaultColor(colorIndex));
-            // Line styles alternate (thick solid, thin dashed), so curves that coincide, as
-            // dipole and better dipole do on Marble, both stay visible.
-            const bool odd = (visibleModels++ % 2) == 1;
-            out.back().dashed = odd;
-            out.back().thickness = odd ? 1.5f : 3.0f;
-        }
-    }
-    if (!m_refSettings.enabled) return out;
-    ReferenceSnapshot snap = referenceSnapshot();
-    if (snap.pathsDone == 0) return out;
-    if (!m_plot.solo.empty()) {
-        const int first = int(out.size()); // each model channel is compared with its own
-        for (size_t i = 0; i < out.size(); ++i)
-            out[i].compareTo = first + int(i % 3);
-        for (int c = 0; c < 3; ++c) {
-            plot::Series ref = referenceSeries(snap, c, m_plot.rTimesR);
-            ref.label = std::string("path traced ") + "RGB"[c];
-            ref.compareTo = first + c;
-            out.push_back(std::move(ref));
-        }
-        return out;
-    }
-    plot::Series ref = referenceSeries(snap, m_plot.channel, m_plot.rTimesR);
-    // error figures of each model that uses the reference's σ, at the plotted channel's l_d
-    const ModelView* src = nullptr;
-    if (auto it = m_views.find(m_reference->model()); it != m_views.end()) src = &it->second;
-    for (auto& s : out) {
-        for (const auto& e : m_library->entries()) {
-            auto it = m_views.find(e.displayPath);
-            if (!e.model || s.label != e.model->name || it == m_views.end()) continue;
-            const auto& mine = it->second.effective;
-            const bool sameMedium =
-                src && mine && src->effective && mine->sigmaA == src->effective->sigmaA &&
-                mine->sigmaS == src->effective->sigmaS && mine->g == src->effective->g &&
-                mine->eta == src->effective->eta;
-            if (!sameMedium) {
-                s.label += "  (other sigma: no error figures)";
-                continue;
-            }
-            if (!it->second.profileProblem.empty()) {
-                s.label += "  (NaN, Inf or negative values, see Errors: no error figures)";
-                continue;
-            }
-            glm::dvec3 ld = material::diffuseMeanFreePath(*it->second.effective);
-            if (snap.energyFails(m_plot.channel)) {
-                s.label += "  (reference failed its energy check: no error figures)";
-                continue;
-            }
-            ModelError err = modelError(s, ref, ld[m_plot.channel < 3 ? m_plot.channel : 1]);
-            if (!err.valid) continue;
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "  rel.L2 %.1f%%  ratio@1ld %.3f  @4ld %.3f",
-                          100 * err.relL2, err.ratioAt1, err.ratioAt4);
-            s.label += buf;
-        }
-    }
-    for (auto& s : out)
-        s.compareTo = int(out.size());
-    ref.compareTo = int(out.size());
-    out.push_back(std::move(ref));
-    return out;
 }
 
 } // namespace app

@@ -16,17 +16,17 @@
 #include "bssrdf/program_library.h"
 #include "core/file_watcher.h"
 #include "core/limits.h"
-#include "pipeline/lit_sphere_stage.h"
 #include "material/material.h"
-#include "probe/model_probe_process.h"
+#include "pipeline/lit_sphere_stage.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/monte_carlo_stage.h"
-#include "plot/plot.h"
 #include "pipeline/reference_stage.h"
 #include "pipeline/scene_stage.h"
 #include "pipeline/scoreboard_stage.h"
 #include "pipeline/slice_stage.h"
 #include "pipeline/texspace_stage.h"
+#include "plot/plot.h"
+#include "probe/model_probe_process.h"
 
 #include <array>
 #include <filesystem>
@@ -88,10 +88,13 @@ class Workbench {
     MaterialSettings& settingsFor(const std::string& displayPath); // own or shared
 
     bssrdf::ModelLibrary& library() { return *m_library; }
+    const bssrdf::ModelLibrary& library() const { return *m_library; }
     ModelView& view(const std::string& displayPath) { return m_views[displayPath]; }
+    const std::map<std::string, ModelView>& views() const { return m_views; }
     const std::vector<material::Preset>& presets() const { return m_presets; }
     MaterialSettings& shared() { return m_shared; }
     PlotSettings& plotSettings() { return m_plot; }
+    const PlotSettings& plotSettings() const { return m_plot; }
     const std::filesystem::path& root() const { return m_root; }
     double rMaxMm() const { return m_rMax; }
     bool watching() const { return m_watcher != nullptr; }
@@ -103,16 +106,11 @@ class Workbench {
     // Forgets the action errors and the GL debug problems (Errors panel: Dismiss).
     void clearActionErrors();
 
-    // Plot series for the current settings (one per visible model, or R/G/B when soloed),
-    // then the path-traced reference when enabled; model labels carry their error against it.
-    std::vector<plot::Series> plotSeries() const;
-
     // Path-traced reference (pencil plot): settings, the model whose σ it uses, its state.
     ReferenceSettings& referenceSettings() { return m_refSettings; }
-    const std::string& referenceModel() const { return m_reference->model(); }
-    ReferenceSnapshot referenceSnapshot() const { return m_reference->snapshot(); }
-    void restartReference() { m_reference->restart(); }
-    void cancelReference() { m_reference->cancel(); }
+    const ReferenceSettings& referenceSettings() const { return m_refSettings; }
+    ReferenceStage& reference() { return *m_reference; }
+    const ReferenceStage& reference() const { return *m_reference; }
     // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
     ReferenceSnapshot finishReference();
 
@@ -132,18 +130,11 @@ class Workbench {
 
     // Lit spheres (thesis 3.5, 3.6.2): path traced and BSSRDF integrated, same setup.
     LitSphereSettings& litSphereSettings() { return m_sphere; }
-    const std::string& litSphereModel() const { return m_litSpheres->model(); }
-    pathtrace::Image pathTracedSphere() const { return m_litSpheres->pathTracer().image(); }
-    pathtrace::Image integratedSphere() const { return m_litSpheres->integratedImage(); }
-    const PathTracedSphere& pathTracer() const { return m_litSpheres->pathTracer(); }
-    uint64_t integratedSppDone() const { return m_litSpheres->integratedSppDone(); }
-    std::string litSphereProblem() const { return m_litSpheres->problem(); }
-    void restartLitSpheres() { m_litSpheres->restart(); }
-    // Stops the path tracer where it is (the image keeps the passes completed so far).
-    void cancelLitSpheres() { m_litSpheres->cancel(); }
+    const LitSphereSettings& litSphereSettings() const { return m_sphere; }
+    LitSphereStage& litSpheres() { return *m_litSpheres; }
+    const LitSphereStage& litSpheres() const { return *m_litSpheres; }
     // Runs both renderings to their targets (tests, captures).
     void finishLitSpheres();
-    static std::string normalisationNote();
 
     // Mesh rendering pipeline (thesis 3.3): mesh → point cloud → octree → irradiance → render.
     // Off until enabled (the GUI enables it while a scene panel is open; captures and the CLI
@@ -163,17 +154,9 @@ class Workbench {
     const MonteCarloStage& monteCarlo() const { return *m_monteCarlo; }
     // Runs it to its target on the current frame (CLI, tests, bench).
     void finishMonteCarlo() { m_monteCarlo->finish({m_mc, m_scene.get(), sceneModelInput(), -1}); }
-    // R_p of the hybrid (texspace/hybrid.h) for the pencil plot's marker: the soloed model's
-    // three channels, else the Render panel's model on the plot's channel (not luminance), from
-    // the plotted profile and texture_space.local.lower_bound.
-    struct RpMarker {
-        double rMm;
-        uint32_t color;
-        std::string label;
-    };
-    std::vector<RpMarker> hybridRpMarkers() const;
     // The Render panel's texture-space renderer (texspace_stage.h) of the scene's view.
     TextureSpaceSettings& textureSpaceSettings() { return m_ts; }
+    const TextureSpaceSettings& textureSpaceSettings() const { return m_ts; }
     TextureSpaceStage& textureSpace() { return *m_textureSpace; }
     // Runs it to its target (CLI, tests, bench); throws core::Error with its problem.
     void finishTextureSpace() {

@@ -3,6 +3,7 @@
 // values survive; models appear and disappear with their files; shaders reload too.
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
+#include "pipeline/pencil_series.h"
 #include "pipeline/workbench.h"
 
 #include <algorithm>
@@ -95,7 +96,7 @@ TEST(HotReload, ModelsAppearAndDisappearWithTheirFiles) {
     fs::remove(root / "materials/dipole.bssrdf"); // deleted while watched
     ASSERT_TRUE(waitFor(wb, [&] { return wb.library().entries().size() == 1; }));
     EXPECT_EQ(wb.library().entries()[0].displayPath, "materials/better_dipole.bssrdf");
-    EXPECT_EQ(wb.plotSeries().size(), 1u);
+    EXPECT_EQ(plotSeries(wb).size(), 1u);
     EXPECT_TRUE(wb.errors().empty());
     fs::remove_all(root);
 }

@@ -23,12 +23,12 @@ TEST(LitSphereStage, PathTracedAndIntegratedImagesOfTheSameSetup) {
     s.integratedSpp = 512;
     wb.update();
     wb.finishLitSpheres();
-    EXPECT_TRUE(wb.litSphereProblem().empty()) << wb.litSphereProblem();
-    auto a = wb.pathTracedSphere(), b = wb.integratedSphere();
+    EXPECT_TRUE(wb.litSpheres().problem().empty()) << wb.litSpheres().problem();
+    auto a = wb.litSpheres().pathTracer().image(), b = wb.litSpheres().integratedImage();
     ASSERT_EQ(a.width, 24);
     ASSERT_EQ(b.width, 24);
-    EXPECT_EQ(wb.pathTracer().sppDone(), 4);
-    EXPECT_EQ(wb.integratedSppDone(), 512u);
+    EXPECT_EQ(wb.litSpheres().pathTracer().sppDone(), 4);
+    EXPECT_EQ(wb.litSpheres().integratedSppDone(), 512u);
     // the centre pixel is lit in both, a corner (off the sphere) is 0 in both
     auto pa = app::pixelAt(a, 12, 12), pb = app::pixelAt(b, 12, 12);
     EXPECT_GT(pa.mean[0], 0.0f);
@@ -42,8 +42,8 @@ TEST(LitSphereStage, PathTracedAndIntegratedImagesOfTheSameSetup) {
     wb.applyPreset(wb.shared(), "Marble");
     wb.update();
     wb.finishLitSpheres();
-    EXPECT_EQ(wb.integratedSppDone(), 512u);
-    EXPECT_NE(app::pixelAt(wb.integratedSphere(), 12, 12).mean[0], pb.mean[0]);
+    EXPECT_EQ(wb.litSpheres().integratedSppDone(), 512u);
+    EXPECT_NE(app::pixelAt(wb.litSpheres().integratedImage(), 12, 12).mean[0], pb.mean[0]);
 
     // the panel draws every view without errors
     app::HeadlessGui gui(wb, 1280, 860);
@@ -75,11 +75,11 @@ TEST(LitSphereStage, GpuPathTracerAgreesWithTheCpuOne) {
     wb.update(); // one frame: a slice
     wb.finishLitSpheres();
     EXPECT_TRUE(wb.errors().empty());
-    const auto gpu = wb.pathTracedSphere();
-    EXPECT_EQ(wb.pathTracer().sppDone(), 64);
+    const auto gpu = wb.litSpheres().pathTracer().image();
+    EXPECT_EQ(wb.litSpheres().pathTracer().sppDone(), 64);
     s.gpu = false;
     wb.finishLitSpheres();
-    const auto cpu = wb.pathTracedSphere();
+    const auto cpu = wb.litSpheres().pathTracer().image();
     ASSERT_EQ(gpu.width, cpu.width);
     // per-pixel z-test with a Bonferroni limit over the covered pixels and channels
     int tested = 0;
@@ -112,15 +112,15 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
     s.integratedSpp = 32768;
     wb.update();
     wb.finishLitSpheres();
-    const pathtrace::Image uni = wb.integratedSphere();
+    const pathtrace::Image uni = wb.litSpheres().integratedImage();
     s.sampling = integrate::Sampling::Disk;
     s.axes = sampling::AxisScheme::Pbrt;
     s.integratedSpp = 2048;
     wb.update();
     wb.finishLitSpheres();
-    EXPECT_TRUE(wb.litSphereProblem().empty()) << wb.litSphereProblem();
-    EXPECT_EQ(wb.integratedSppDone(), 2048u);
-    const pathtrace::Image disk = wb.integratedSphere();
+    EXPECT_TRUE(wb.litSpheres().problem().empty()) << wb.litSpheres().problem();
+    EXPECT_EQ(wb.litSpheres().integratedSppDone(), 2048u);
+    const pathtrace::Image disk = wb.litSpheres().integratedImage();
     ASSERT_EQ(disk.mean.size(), uni.mean.size());
     const testsupport::Agreement g = testsupport::agreePerPixel(disk, uni);
     ASSERT_GT(g.tested, 300u);
@@ -139,8 +139,8 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
         s.sampling = m;
         wb.update();
         wb.finishLitSpheres();
-        EXPECT_TRUE(wb.litSphereProblem().empty()) << wb.litSphereProblem();
-        const pathtrace::Image b = wb.integratedSphere();
+        EXPECT_TRUE(wb.litSpheres().problem().empty()) << wb.litSpheres().problem();
+        const pathtrace::Image b = wb.litSpheres().integratedImage();
         EXPECT_EQ(app::pixelAt(b, 0, 0).mean[0], 0.0f);
         double sum = 0;
         for (float v : b.mean)
@@ -149,8 +149,8 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
     }
     // a model whose own sampler fails its checks: an Errors entry naming the file and the
     // section's line, and the last good integration stays (same image, no more samples)
-    const pathtrace::Image good = wb.integratedSphere();
-    const uint64_t goodSpp = wb.integratedSppDone();
+    const pathtrace::Image good = wb.litSpheres().integratedImage();
+    const uint64_t goodSpp = wb.litSpheres().integratedSppDone();
     const std::string dipole = testsupport::readText(root / "materials" / "dipole.bssrdf");
     const std::string withSampler = dipole +
                                     "\n::begin sample\n"
@@ -164,16 +164,16 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
     wb.update();
     const std::string where = "materials/dipole.bssrdf:" +
                               std::to_string(testsupport::lineOf(withSampler, "::begin sample"));
-    EXPECT_NE(wb.litSphereProblem().find(where + ": channel R: PdfRadius is the density of the "
+    EXPECT_NE(wb.litSpheres().problem().find(where + ": channel R: PdfRadius is the density of the "
                                                  "radius"),
               std::string::npos)
-        << wb.litSphereProblem();
+        << wb.litSpheres().problem();
     bool listed = false;
     for (const app::ErrorItem& e : wb.errors())
         listed |= e.text.find(where) != std::string::npos;
     EXPECT_TRUE(listed);
-    EXPECT_EQ(wb.integratedSppDone(), goodSpp);
-    EXPECT_EQ(wb.integratedSphere().mean, good.mean);
+    EXPECT_EQ(wb.litSpheres().integratedSppDone(), goodSpp);
+    EXPECT_EQ(wb.litSpheres().integratedImage().mean, good.mean);
     // a model whose profile cannot be sampled is a problem of the stage, not a crash
     core::writeFile(root / "materials" / "dipole.bssrdf",
                     "analytic radial no_wi no_wo\n::begin shader\n"
@@ -181,6 +181,6 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
                     "::end shader\n");
     wb.reloadAll();
     wb.update();
-    EXPECT_NE(wb.litSphereProblem().find("converge"), std::string::npos) << wb.litSphereProblem();
+    EXPECT_NE(wb.litSpheres().problem().find("converge"), std::string::npos) << wb.litSpheres().problem();
     std::filesystem::remove_all(root);
 }

@@ -31,7 +31,7 @@ TEST(Reference, SeriesBandAndModelErrors) {
     EXPECT_EQ(snap.pathsDone, 20000u);
     EXPECT_FALSE(snap.running);
     wb.update();
-    auto series = wb.plotSeries();
+    auto series = plotSeries(wb);
     ASSERT_EQ(series.size(), 2u);
     const auto& ref = series[1];
     ASSERT_EQ(ref.x.size(), 40u);
@@ -169,7 +169,7 @@ TEST(Reference, TableModelNamesAMediumMismatch) {
         return false;
     };
     EXPECT_TRUE(mismatch()); // the default material is Marble
-    EXPECT_EQ(wb.plotSeries().size(), 1u) << "the table model is still drawn";
+    EXPECT_EQ(plotSeries(wb).size(), 1u) << "the table model is still drawn";
     auto& p = wb.shared().params;
     p.sigmaA = glm::dvec3(0.1);
     p.sigmaS = glm::dvec3(1.0);
@@ -207,7 +207,7 @@ TEST(Reference, FailedEnergyCheckIsAnErrorAndDrawsNoBand) {
         if (e.source == "reference") listed += e.text;
     EXPECT_NE(listed.find("truncated"), std::string::npos) << listed;
     wb.update();
-    auto series = wb.plotSeries();
+    auto series = plotSeries(wb);
     ASSERT_EQ(series.size(), 2u);
     EXPECT_TRUE(series[1].bandLo.empty());
     EXPECT_NE(series[1].label.find("energy check FAILED"), std::string::npos);
@@ -257,14 +257,14 @@ TEST(Reference, GpuTracerIsSlicedPerFrameAndHotReloads) {
     wb.referenceSettings() = {true, 30000, 30, 3, true};
     // one update = one frame: a slice of the run, not all of it
     wb.update();
-    auto first = wb.referenceSnapshot();
+    auto first = wb.reference().snapshot();
     EXPECT_TRUE(first.problem.empty()) << first.problem;
     EXPECT_EQ(first.device, "GPU");
     EXPECT_LT(first.pathsDone, 30000u);
     auto snap = wb.finishReference();
     ASSERT_EQ(snap.pathsDone, 30000u);
     EXPECT_FALSE(snap.running);
-    EXPECT_EQ(wb.plotSeries().size(), 2u);
+    EXPECT_EQ(plotSeries(wb).size(), 2u);
 
     // the same run on the CPU estimates the same profile: z-test per bin, Bonferroni over 30
     wb.referenceSettings().gpu = false;
@@ -290,20 +290,20 @@ TEST(Reference, GpuTracerIsSlicedPerFrameAndHotReloads) {
     core::writeFile(
         file, testsupport::replaced(good, marker, "void main() { brokenCall(); }\nvoid main2()"));
     core::Stopwatch sw;
-    while (wb.referenceSnapshot().problem.empty() && sw.ms() < 5000)
+    while (wb.reference().snapshot().problem.empty() && sw.ms() < 5000)
         wb.update();
-    const std::string problem = wb.referenceSnapshot().problem;
+    const std::string problem = wb.reference().snapshot().problem;
     EXPECT_NE(problem.find("shaders/pathtrace_slab.comp:" + std::to_string(line)),
               std::string::npos)
         << problem;
-    const uint64_t before = wb.referenceSnapshot().pathsDone;
+    const uint64_t before = wb.reference().snapshot().pathsDone;
     for (int i = 0; i < 3; ++i)
         wb.update();
-    EXPECT_GE(wb.referenceSnapshot().pathsDone, before); // still running on the old program
+    EXPECT_GE(wb.reference().snapshot().pathsDone, before); // still running on the old program
     core::writeFile(file, good);
     sw.reset();
-    while (!wb.referenceSnapshot().problem.empty() && sw.ms() < 5000)
+    while (!wb.reference().snapshot().problem.empty() && sw.ms() < 5000)
         wb.update();
-    EXPECT_TRUE(wb.referenceSnapshot().problem.empty()) << wb.referenceSnapshot().problem;
+    EXPECT_TRUE(wb.reference().snapshot().problem.empty()) << wb.reference().snapshot().problem;
     std::filesystem::remove_all(root);
 }

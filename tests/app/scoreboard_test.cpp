@@ -50,7 +50,7 @@ TEST(ScoreboardPanel, ScoresEveryModelFollowsHotReloadAndAClickOpensThePencilPlo
     EXPECT_EQ(wb.scoreboard().referencePaths(), 20000u);
 
     // the numbers are compare's: scoreAgainstReference on the same reference and profile
-    const app::ReferenceSnapshot snap = wb.referenceSnapshot();
+    const app::ReferenceSnapshot snap = wb.reference().snapshot();
     const std::string dipole = "materials/dipole.bssrdf";
     const bssrdf::ModelEntry* e = wb.library().find(dipole);
     ASSERT_NE(e, nullptr);

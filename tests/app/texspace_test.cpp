@@ -8,6 +8,7 @@
 #include "../support/gui_windows.h"
 #include "gui/gui.h"
 #include "pipeline/texspace_images.h"
+#include "pipeline/pencil_series.h"
 #include "pipeline/workbench.h"
 
 #include <gtest/gtest.h>
@@ -215,7 +216,7 @@ TEST(TextureSpaceRender, PencilPlotMarksRpOfTheSelectedModel) {
     testsupport::useSmallScene(wb.scene().settings());
     wb.update();
     wb.finishScene();
-    const std::vector<app::Workbench::RpMarker> marks = wb.hybridRpMarkers();
+    const std::vector<app::RpMarker> marks = hybridRpMarkers(wb);
     ASSERT_EQ(marks.size(), 3u);
     app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
     ts.sampling.textureSize = 64;

@@ -109,18 +109,18 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
         hintText("Renders the first visible (or soloed) model's material both ways.");
         return;
     }
-    const auto& pt = wb.pathTracer();
+    const auto& pt = wb.litSpheres().pathTracer();
     ImGui::Text("model %s | path traced %d / %d spp (%.3g paths/s) | integrated %llu / %d spp",
-                wb.litSphereModel().c_str(), pt.sppDone(), pt.sppTarget(), pt.pathsPerSecond(),
-                (unsigned long long)wb.integratedSppDone(), s.integratedSpp);
+                wb.litSpheres().model().c_str(), pt.sppDone(), pt.sppTarget(), pt.pathsPerSecond(),
+                (unsigned long long)wb.litSpheres().integratedSppDone(), s.integratedSpp);
     if (pt.sppDone() < pt.sppTarget()) {
         sameLineIfFits(buttonWidth("cancel path tracing"));
-        if (ImGui::SmallButton("cancel path tracing")) wb.cancelLitSpheres();
+        if (ImGui::SmallButton("cancel path tracing")) wb.litSpheres().cancel();
     }
-    if (const std::string problem = wb.litSphereProblem(); !problem.empty())
+    if (const std::string problem = wb.litSpheres().problem(); !problem.empty())
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", problem.c_str());
 
-    const pathtrace::Image a = wb.pathTracedSphere(), b = wb.integratedSphere();
+    const pathtrace::Image a = wb.litSpheres().pathTracer().image(), b = wb.litSpheres().integratedImage();
     const float avail = ImGui::GetContentRegionAvail().x;
     if (ImGui::BeginTabBar("views")) {
         const char* names[4] = {"Path traced", "BSSRDF integrated", "Side by side", "Difference"};

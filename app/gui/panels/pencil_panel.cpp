@@ -3,6 +3,7 @@
 // channel R/G/B/luminance, solo mode, hover readout, CSV and PNG export.
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
+#include "pipeline/pencil_series.h"
 
 #include "core/core.h"
 #include "core/fields.h"
@@ -54,7 +55,7 @@ void drawReferenceControls(Workbench& wb) {
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_slab.comp, hot-reloaded), a slice "
                           "per frame;\noff: CPU tracer in a background thread");
-    ReferenceSnapshot snap = wb.referenceSnapshot();
+    ReferenceSnapshot snap = wb.reference().snapshot();
     if (!snap.problem.empty()) {
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
         return;
@@ -70,12 +71,12 @@ void drawReferenceControls(Workbench& wb) {
     ImGui::ProgressBar(frac, ImVec2(320, 0), overlay);
     ImGui::SameLine();
     hintText("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
-             wb.referenceModel().c_str());
+             wb.reference().model().c_str());
     ImGui::SameLine();
     if (snap.running) {
-        if (ImGui::SmallButton("cancel")) wb.cancelReference();
+        if (ImGui::SmallButton("cancel")) wb.reference().cancel();
     } else if (ImGui::SmallButton("restart")) {
-        wb.restartReference();
+        wb.reference().restart();
     }
 }
 } // namespace
@@ -129,7 +130,7 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     ImGui::SetNextItemWidth(200);
     const char* relNames[] = {"values", "ratio to reference", "difference to reference"};
     comboEnum("show", ps.relation, relNames);
-    auto series = wb.plotSeries();
+    auto series = plotSeries(wb);
     const bool hasReference = std::any_of(series.begin(), series.end(),
                                           [](const plot::Series& s) { return s.compareTo >= 0; });
     const bool relative = ps.relation != plot::Relation::Values && hasReference;
@@ -172,13 +173,13 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     std::string title = "Pencil beam on a semi-infinite slab - " +
                         std::string(ps.solo.empty() ? chName[ps.channel] : "R, G, B of " + ps.solo);
     plot::PlotState st = plot::drawPlot("pencil", ImVec2(-1, -1), series, x, y, title,
-                                        Workbench::normalisationNote());
+                                        normalisationNote());
     // R_p of the hybrid for the selected model (the soloed one, else the Render panel's): where
     // its importance R·2πr last meets the lower bound (seed 004 §3.3.1)
     if (!relative && x.hi > x.lo) {
         ImDrawList* dl = ImGui::GetWindowDrawList();
         float line = 0;
-        for (const Workbench::RpMarker& m : wb.hybridRpMarkers()) {
+        for (const RpMarker& m : hybridRpMarkers(wb)) {
             const float sx = st.plotMin.x +
                              float((m.rMm - x.lo) / (x.hi - x.lo)) * (st.plotMax.x - st.plotMin.x);
             if (sx < st.plotMin.x || sx > st.plotMax.x) continue;

@@ -49,11 +49,11 @@ void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) 
         return;
     }
     const ScoreboardStage& sb = wb.scoreboard();
-    const ReferenceSnapshot snap = wb.referenceSnapshot();
+    const ReferenceSnapshot snap = wb.reference().snapshot();
     hintText("Against the reference of %s's medium: %s paths per channel%s. rel_l2 over [0.1, 4] "
              "l_d (+- standard error), ratios at 1 and 4 l_d, \"=\" ties within the noise. Click "
              "a row to open the model in the pencil plot.",
-             wb.referenceModel().c_str(),
+             wb.reference().model().c_str(),
              core::formatNumber(double(sb.referencePaths()), 3).c_str(),
              snap.running ? " (running)" : "");
     for (const std::string& n : sb.notes())
