@@ -1,6 +1,9 @@
-// Record and replay captures of the workbench state (format: modules/capture, README in
-// captures/). Stages recorded now: per model, the effective material (σ after inversion) and
-// the pencil-beam profile; path-traced references and images; the mesh pipeline's stages.
+// Record and replay captures of the workbench state (format v1: modules/capture, README in
+// captures/): record.cpp writes the manifest and every stage's outputs, replay.cpp makes them
+// again and compares. What each stage records is its own (its capture(), listed in
+// pipeline/capture_entries.h's users): per model the effective material and the pencil-beam
+// profile; the path-traced reference and slice; the lit-sphere images; the mesh pipeline's
+// stages and the texture-space stages.
 #pragma once
 
 #include "pipeline/workbench.h"
@@ -10,9 +13,13 @@
 
 namespace app {
 
+// Writes one stage output into the capture folder `dir` as its kind says and describes it for
+// the manifest (file, kind, tolerance, content hash).
+capture::StageOutput writeCaptureEntry(const std::filesystem::path& dir, const CaptureEntry& e);
+
 // Writes <dir>/manifest.json + stage outputs for the current state. Throws core::Error.
 // With the scene on (wb.scene().settings().enabled), its stages are recorded too
-// (capture_scene.h), with the traversal of pixel (traceX, traceY) when both are >= 0.
+// (pipeline/scene_capture.cpp), with the traversal of pixel (traceX, traceY) when both are >= 0.
 void recordCaptureTo(Workbench& wb, const std::filesystem::path& dir, const std::string& name,
                      int traceX = -1, int traceY = -1);
 

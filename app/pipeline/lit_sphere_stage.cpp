@@ -298,4 +298,29 @@ shader::Records LitSphereStage::shaderRecords() const {
     return out;
 }
 
+void LitSphereStage::capture(const LitSphereInputs& in, CaptureEntries& out) {
+    if (!in.settings.enabled) return;
+    if (const std::string& mesh = in.settings.mesh; !mesh.empty()) {
+        // the mesh is an input like the models: path (relative to the root) and content hash
+        const std::string text = core::readFile(in.root / mesh);
+        out.inputs.push_back({mesh, core::hashHex(text),
+                              text.size() < (1u << 20)
+                                  ? text
+                                  : "(mesh, " + std::to_string(text.size()) + " bytes)"});
+    }
+    finish(in);
+    if (const std::string p = problem(); !p.empty()) throw core::Error("lit spheres", 0, p);
+    const std::string what = in.settings.mesh.empty() ? "lit_sphere" : "lit_mesh";
+    for (const bool traced : {true, false}) {
+        CaptureEntry e;
+        e.kind = CaptureEntry::Kind::ExrStat;
+        e.stage = what + (traced ? ".path_traced" : ".integrated");
+        e.file = what + (traced ? "_path_traced.exr" : "_integrated.exr");
+        e.image = traced ? m_pathTraced.image() : integratedImage();
+        e.alpha = kMonteCarloAlpha;
+        e.note = "Monte Carlo image: per-pixel z-test, Bonferroni over all pixels and channels";
+        out.entries.push_back(std::move(e));
+    }
+}
+
 } // namespace app

@@ -130,6 +130,11 @@ class LitSphereStage : public StageOf<LitSphereInputs> {
     void cancel() override { m_pathTraced.cancel(); }
     // Restarts and runs both renderings to their targets (tests, captures).
     void finish(LitSphereInputs in);
+    // Captures (when enabled): the mesh as an input when one is traced, then both renderings
+    // run to their targets, lit_sphere.* (or lit_mesh.*) .path_traced and .integrated, EXR with
+    // a variance per pixel (per-pixel z-tests on replay). core::Error with the stage's problem
+    // (a refused mesh, a bad setup), never a consequence such as an empty image.
+    void capture(const LitSphereInputs& in, CaptureEntries& out);
     void restart() { m_key.clear(); }
     // The GPU path tracer's program ("lit sphere:PROGRAM").
     bool reloadShaders(const std::vector<std::filesystem::path>& changed) override {

@@ -160,4 +160,75 @@ bool PencilStage::update(const PencilInputs& in) {
     return changed;
 }
 
+namespace {
+
+// σ from R_dr/l_d: the bisection brackets α′ to 2^-27; float32 DiffuseReflectance moves the
+// root by ~1 ulp of α′ ≈ 6e-8, amplified by 1/(1−α′) in σa (≤ ~1e3 for the presets).
+constexpr double kInvertedRelTol = 1e-4;
+
+// The model's view when it has an effective σ, else null.
+const ModelView* capturedView(const bssrdf::ModelEntry& e,
+                              const std::map<std::string, ModelView>& views) {
+    auto it = views.find(e.displayPath);
+    return e.usable() && it != views.end() && it->second.effective ? &it->second : nullptr;
+}
+
+std::string captureName(const bssrdf::ModelEntry& e) {
+    return e.model ? e.model->name : e.file.stem().string();
+}
+
+} // namespace
+
+void MaterialStage::capture(const ModelStageInputs& in, CaptureEntries& out) const {
+    for (const auto& e : in.library->entries()) {
+        const std::string name = captureName(e);
+        const ModelView* v = capturedView(e, *in.views);
+        if (!v) {
+            auto it = in.views->find(e.displayPath);
+            const std::string why = it == in.views->end() || it->second.materialProblem.empty()
+                                        ? "not computed"
+                                        : it->second.materialProblem;
+            out.missing.push_back(name + ": " + (e.problem ? e.problem->text() : why));
+            continue;
+        }
+        const MaterialSettings& s = v->override ? v->own : *in.shared;
+        CaptureEntry m;
+        m.stage = "material." + name;
+        m.file = "material_" + name + ".csv";
+        m.key = "channel";
+        m.table.comments = {"model " + e.displayPath, "effective sigma in 1/mm"};
+        m.table.columns = {"channel", "sigma_a", "sigma_s"};
+        for (int c = 0; c < 3; ++c)
+            m.table.rows.push_back({double(c), v->effective->sigmaA[c], v->effective->sigmaS[c]});
+        if (s.mode == ParamMode::RdrLd) {
+            m.relTol = kInvertedRelTol;
+            m.note = "inverted from R_dr/l_d with float32 GPU DiffuseReflectance";
+        } else {
+            m.note = "copied from the inputs (exact)";
+        }
+        out.entries.push_back(std::move(m));
+    }
+}
+
+void PencilStage::capture(const PencilInputs& in, CaptureEntries& out) const {
+    for (const auto& e : in.library->entries()) {
+        const ModelView* v = capturedView(e, *in.views);
+        if (!v) continue; // listed as missing by the material stage
+        const std::string name = captureName(e);
+        CaptureEntry p;
+        p.stage = "pencil_plot." + name;
+        p.file = "pencil_plot_" + name + ".csv";
+        p.key = "r_mm";
+        p.relTol = kProfileRelTol;
+        p.note = "float32 GPU evaluation of Bssrdf(); GLSL exp <= (3+2|x|) ulp";
+        p.table.comments = {"model " + e.displayPath,
+                            "Bssrdf(Xi=0, Wi=n, Xo=(r,0,0), Wo=n) in 1/mm^2"};
+        p.table.columns = {"r_mm", "R", "G", "B"};
+        for (size_t i = 0; i < v->profile.r.size(); ++i)
+            p.table.rows.push_back({v->profile.r[i], v->profile.value[i].x, v->profile.value[i].y,
+                                    v->profile.value[i].z});
+        out.entries.push_back(std::move(p));
+    }
+}
+
 } // namespace app

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/limits.h"
+#include "pipeline/capture_entries.h"
 #include "pipeline/stage.h"
 
 #include "bssrdf/program_library.h"
@@ -69,6 +70,9 @@ class MaterialStage : public StageOf<ModelStageInputs> {
     const char* name() const override { return "material"; }
     bool update(const ModelStageInputs& in) override;
     StageStatus status() const override; // "<model>: <why it has no σ>" per model
+    // Captures: material.<model>, the effective σ per channel (exact when copied, within the
+    // inversion's tolerance when inverted); a model without σ is listed as missing.
+    void capture(const ModelStageInputs& in, CaptureEntries& out) const;
 
   private:
     const std::map<std::string, ModelView>* m_views = nullptr;
@@ -86,6 +90,8 @@ class PencilStage : public StageOf<PencilInputs> {
     const char* name() const override { return "pencil"; }
     bool update(const PencilInputs& in) override;
     StageStatus status() const override; // "<model>: R(r) is NaN at …" per model
+    // Captures: pencil_plot.<model>, the profile R(r) of every model with σ (GPU float32).
+    void capture(const PencilInputs& in, CaptureEntries& out) const;
 
   private:
     const std::map<std::string, ModelView>* m_views = nullptr;

@@ -273,4 +273,39 @@ shader::Records ReferenceStage::shaderRecords() const {
     return out;
 }
 
+void ReferenceStage::capture(const ReferenceInputs& in, CaptureEntries& out) {
+    if (!in.settings.enabled) return;
+    const ReferenceSnapshot snap = finish(in);
+    if (!snap.problem.empty()) throw core::Error("reference", 0, snap.problem);
+    if (snap.pathsDone == 0) return;
+    CaptureEntry e;
+    e.kind = CaptureEntry::Kind::CsvStat;
+    e.stage = "reference";
+    e.file = "reference.csv";
+    e.key = "r_mm";
+    e.alpha = kMonteCarloAlpha;
+    e.note = "Monte Carlo: per-value z-test, Bonferroni over all bins and channels";
+    capture::Table& t = e.table;
+    t.comments = {"path-traced reference, sigma of " + m_model,
+                  "R_d per unit area per incident photon (MCML convention), 1/mm^2",
+                  "paths per channel " + std::to_string(snap.pathsDone),
+                  "last row (r_mm = -1): total diffuse reflectance per channel"};
+    t.columns = {"r_mm", "R", "R_stderr", "G", "G_stderr", "B", "B_stderr"};
+    for (size_t i = 0; i < snap.channel[0].rMid.size(); ++i) {
+        std::vector<double> row{snap.channel[0].rMid[i]};
+        for (int c = 0; c < 3; ++c) {
+            row.push_back(snap.channel[c].rd[i]);
+            row.push_back(snap.channel[c].rdStderr[i]);
+        }
+        t.rows.push_back(std::move(row));
+    }
+    std::vector<double> totals{-1};
+    for (int c = 0; c < 3; ++c) {
+        totals.push_back(snap.channel[c].totalRd);
+        totals.push_back(snap.channel[c].totalRdStderr);
+    }
+    t.rows.push_back(std::move(totals));
+    out.entries.push_back(std::move(e));
+}
+
 } // namespace app

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/limits.h"
+#include "pipeline/capture_entries.h"
 #include "pipeline/stage.h"
 
 #include "material/material.h"
@@ -141,6 +142,10 @@ class ReferenceStage : public StageOf<ReferenceInputs> {
     void cancel() override;
     // Runs to the target (captures, CLI, tests).
     ReferenceSnapshot finish(const ReferenceInputs& in);
+    // Captures (when enabled): runs to the target, then `reference`, the raw MCML-convention R_d
+    // per channel with its standard errors (z-tested on replay); the last row (r_mm = -1) holds
+    // the total diffuse reflectance per channel. core::Error with the run's problem.
+    void capture(const ReferenceInputs& in, CaptureEntries& out);
     ReferenceSnapshot snapshot() const { return m_gpuMode ? m_gpu.snapshot() : m_cpu.snapshot(); }
     void restart() { m_key.clear(); }
     // Hot reload of the GL tracer when one of `changed` is a file its program was built from.

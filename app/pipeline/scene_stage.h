@@ -119,6 +119,10 @@ class SceneStage : public Stage {
     // point cloud is generated, its fraction done about every 200 ms.
     using FinishProgress = std::function<void(const char* step, double fraction)>;
     void finish(const SceneModelInput& model, const FinishProgress& progress = {});
+    // Captures (when enabled): the mesh as an input, then every sub-stage run to completion and
+    // its outputs, with the traversal of pixel (out.traceX, out.traceY) when both are >= 0
+    // (scene_capture.cpp lists them). core::Error with the first problem.
+    void capture(const SceneModelInput& model, CaptureEntries& out);
     // Hot reload: rebuilds exactly the render and irradiance programs whose shader files
     // include one of `changed` (a failure keeps the old program and is a "shaders" problem);
     // what they computed is computed again. Returns true when a program was rebuilt.

@@ -5,8 +5,8 @@
 #include "core/fields.h"
 #include "core/text.h"
 #include "gl/gl.h"
-#include "pipeline/reference_stage.h"
 #include "pipeline/param_json.h"
+#include "pipeline/reference_stage.h"
 
 #include <algorithm>
 #include <cmath>
@@ -258,6 +258,79 @@ SliceSnapshot SliceStage::finish(const SliceInputs& in) {
     m_runner.wait();
     update(on);
     return m_runner.snapshot();
+}
+
+void SliceStage::capture(const SliceInputs& in, CaptureEntries& out) {
+    if (!in.settings.enabled) return;
+    const SliceSnapshot snap = finish(in);
+    if (!snap.problem.empty()) throw core::Error("slice", 0, snap.problem);
+    if (!snap.slice) return;
+    const pathtrace::BssrdfBins& b = snap.settings.bins;
+    const pathtrace::BssrdfSlice& s = *snap.slice;
+    const std::vector<double> edges = b.rEdges();
+    const size_t cells = b.dirBins() > 1 ? size_t(b.dirBins()) : 0;
+    auto geometry = [&](size_t bin) {
+        const int ir = int(bin) / b.thetaSBins, it = int(bin) % b.thetaSBins;
+        const double dth = 180.0 / b.thetaSBins;
+        return std::vector<double>{double(bin), edges[size_t(ir)], edges[size_t(ir) + 1], it * dth,
+                                   (it + 1) * dth};
+    };
+    const std::vector<std::string> geomColumns{"bin", "r_lo_mm", "r_hi_mm", "theta_s_lo_deg",
+                                               "theta_s_hi_deg"};
+    CaptureEntry ref;
+    ref.kind = CaptureEntry::Kind::CsvStat;
+    ref.stage = "slice";
+    ref.file = "slice.csv";
+    ref.key = "bin";
+    ref.alpha = kMonteCarloAlpha;
+    ref.note = "Monte Carlo: per-value z-test, Bonferroni over all bins and cells";
+    ref.table.comments = {"BSSRDF slice (seed 001), sigma of " + m_model + ", channel " +
+                              std::string(1, "RGB"[std::clamp(in.settings.channel, 0, 2)]) +
+                              ", theta_i " + core::formatNumber(s.thetaIDeg, 6) + " deg, " +
+                              std::to_string(snap.pathsDone) + " paths",
+                          "R per incident photon (MCML), 1/mm^2; S_k in exit cell k, 1/(mm^2 sr)",
+                          "last row (bin -1): total diffuse reflectance"};
+    ref.table.columns = geomColumns;
+    ref.table.columns.insert(ref.table.columns.end(), {"R", "R_stderr"});
+    for (size_t k = 0; k < cells; ++k) {
+        ref.table.columns.push_back("S" + std::to_string(k));
+        ref.table.columns.push_back("S" + std::to_string(k) + "_stderr");
+    }
+    for (size_t bin = 0; bin < s.R.size(); ++bin) {
+        std::vector<double> row = geometry(bin);
+        row.insert(row.end(), {s.R[bin], s.RStderr[bin]});
+        for (size_t k = 0; k < cells; ++k)
+            row.insert(row.end(), {s.S[bin * cells + k], s.SStderr[bin * cells + k]});
+        ref.table.rows.push_back(std::move(row));
+    }
+    std::vector<double> total{-1, 0, 0, 0, 0, s.totalRd, s.totalRdStderr};
+    total.resize(ref.table.columns.size(), 0.0);
+    ref.table.rows.push_back(std::move(total));
+    out.entries.push_back(std::move(ref));
+    for (const auto& [path, r] : m_models) {
+        if (!r.slice) continue;
+        const std::string name = std::filesystem::path(path).stem().string();
+        CaptureEntry m;
+        m.stage = "slice_model." + name;
+        m.file = "slice_model_" + name + ".csv";
+        m.key = "bin";
+        m.relTol = kProfileRelTol;
+        m.note = "float32 GPU evaluation of Bssrdf(), averaged in double";
+        m.table.comments = {"model " + path + " on the slice's bins, own sigma",
+                            "R per incident photon, 1/mm^2; S_k in exit cell k, 1/(mm^2 sr)"};
+        m.table.columns = geomColumns;
+        m.table.columns.push_back("R");
+        for (size_t k = 0; k < cells; ++k)
+            m.table.columns.push_back("S" + std::to_string(k));
+        for (size_t bin = 0; bin < r.slice->R.size(); ++bin) {
+            std::vector<double> row = geometry(bin);
+            row.push_back(r.slice->R[bin]);
+            for (size_t k = 0; k < cells; ++k)
+                row.push_back(r.slice->S[bin * cells + k]);
+            m.table.rows.push_back(std::move(row));
+        }
+        out.entries.push_back(std::move(m));
+    }
 }
 
 } // namespace app

@@ -14,8 +14,8 @@
 
 #include "bssrdf/program_library.h"
 #include "material/material.h"
-#include "pipeline/model_stages.h"
 #include "pathtrace/bssrdf_estimate.h"
+#include "pipeline/model_stages.h"
 #include "pipeline/slice_model.h"
 
 #include <atomic>
@@ -129,6 +129,11 @@ class SliceStage : public StageOf<SliceInputs> {
     void restart() { m_key.clear(); }
     // Runs to the target and evaluates the models (captures, CLI, tests).
     SliceSnapshot finish(const SliceInputs& in);
+    // Captures (when enabled): runs to the target, then `slice`, the path-traced table with its
+    // standard errors (z-tested on replay; the last row, bin -1, holds the total diffuse
+    // reflectance), and slice_model.<model>, every model on its bins (float32 GPU evaluations
+    // summed in double). core::Error with the run's problem.
+    void capture(const SliceInputs& in, CaptureEntries& out);
     SliceSnapshot snapshot() const { return m_runner.snapshot(); }
     const std::map<std::string, ModelSliceResult>& models() const { return m_models; }
     const std::string& model() const { return m_model; }

@@ -6,6 +6,7 @@
 // under its name. How to add one: docs/ARCHITECTURE.md, "How to add a stage".
 #pragma once
 
+#include "pipeline/capture_entries.h"
 #include "shader/program.h"
 
 #include <filesystem>

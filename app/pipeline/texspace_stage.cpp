@@ -221,4 +221,82 @@ StageStatus TextureSpaceStage::status() const {
     return st;
 }
 
+namespace {
+
+// E′ = E_t · A_S/A_T: the irradiance's float32 roundings and one more product.
+constexpr double kEprimeRel = 2e-5, kEprimeAbs = 1e-7;
+
+} // namespace
+
+// Captures (format v1, captures/README.md):
+//   texture_space.texels   csv, exact   K, layout size, UVs or atlas, covered texels, triangles
+//                                       with texels, largest stretch
+//   texture_space.eprime   csv, tol     E′ (RGB) of every 8th covered texel (GPU irradiance)
+//   texture_space.samples  csv, exact   the first 256 texels of sample set 0 (the GPU descent)
+//   texture_space.render   exr_stat     the render averaged over its sample sets
+void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& out) {
+    if (!in.scene || !in.scene->settings().enabled || !in.settings.enabled) return;
+    finish(in);
+    const texspace::Pipeline& p = *pipeline();
+    const texspace::Texels& t = p.texels();
+    const texspace::Parameterization& param = p.parameterization();
+    CaptureEntry tx;
+    tx.stage = "texture_space.texels";
+    tx.file = "texture_space_texels.csv";
+    tx.note = "CPU (parameterisation and rasterisation in double): exact";
+    tx.table.comments = {"texture side K, atlas layout side, 1 = the mesh's UVs, covered texels, "
+                         "triangles with a texel, largest stretch sigma1/sigma2"};
+    tx.table.columns = {"K", "layout", "from_mesh", "covered", "triangles", "max_stretch"};
+    std::vector<char> hasTexel(param.uv.size(), 0);
+    for (int32_t f : t.triangle)
+        if (f >= 0) hasTexel[size_t(f)] = 1;
+    double worst = 1;
+    for (double x : param.stretch)
+        worst = std::max(worst, x);
+    tx.table.rows.push_back({double(t.size), double(p.layoutSize()), param.fromMesh ? 1.0 : 0.0,
+                             double(t.covered),
+                             double(std::count(hasTexel.begin(), hasTexel.end(), 1)), worst});
+    out.entries.push_back(std::move(tx));
+
+    CaptureEntry ep;
+    ep.stage = "texture_space.eprime";
+    ep.file = "texture_space_eprime.csv";
+    ep.key = "texel";
+    ep.absTol = kEprimeAbs;
+    ep.relTol = kEprimeRel;
+    ep.note = "GPU irradiance (float32) times the area ratio: 2e-5 relative + 1e-7";
+    ep.table.columns = {"texel", "R", "G", "B"};
+    const std::vector<glm::vec3> e = p.eprime();
+    size_t k = 0;
+    for (size_t texel = 0; texel < e.size(); ++texel)
+        if (t.triangle[texel] >= 0 && k++ % 8 == 0)
+            ep.table.rows.push_back({double(texel), e[texel].x, e[texel].y, e[texel].z});
+    out.entries.push_back(std::move(ep));
+
+    CaptureEntry sm;
+    sm.stage = "texture_space.samples";
+    sm.file = "texture_space_samples.csv";
+    sm.key = "draw";
+    sm.note = "the GPU descent of Algorithm 3.1 over the float CDF: exact on one "
+              "driver (a float/double boundary may move a draw on another)";
+    sm.table.columns = {"draw", "texel"};
+    const texspace::SampleSet first =
+        p.drawSet(std::min(256, in.settings.sampling.samples), in.settings.sampling.seed, 0);
+    for (size_t d = 0; d < first.draws.size(); ++d)
+        sm.table.rows.push_back({double(d), double(first.draws[d])});
+    if (sm.table.rows.empty()) sm.table.rows.push_back({-1, 0}); // no light: no draws
+    out.entries.push_back(std::move(sm));
+
+    // The render (seed 004): the mean over its sample sets with the variance of the mean per
+    // pixel.
+    CaptureEntry render;
+    render.kind = CaptureEntry::Kind::ExrStat;
+    render.stage = "texture_space.render";
+    render.file = "texture_space_render.exr";
+    render.image = radiance();
+    render.alpha = kMonteCarloAlpha;
+    render.note = "Monte Carlo image: per-pixel z-test, Bonferroni over all pixels and channels";
+    out.entries.push_back(std::move(render));
+}
+
 } // namespace app

@@ -47,6 +47,9 @@ class TextureSpaceStage : public StageOf<TextureSpaceInputs> {
     StageStatus status() const override;
     // Runs every stage to the end (CLI, tests, bench); throws core::Error with the problem.
     void finish(TextureSpaceInputs in);
+    // Captures (when the scene and this stage are on): runs to the target, then its texels, E′,
+    // the first draws and the render (texspace_stage.cpp lists them).
+    void capture(const TextureSpaceInputs& in, CaptureEntries& out);
     bool reloadShaders(const std::vector<std::filesystem::path>& changed) override;
     shader::Records shaderRecords() const override;
 

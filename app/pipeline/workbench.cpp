@@ -64,6 +64,9 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         {&m_material,
          [this] {
              return m_material.update({m_library.get(), &m_views, &m_shared});
+         },
+         [this](CaptureEntries& out) {
+             m_material.capture({m_library.get(), &m_views, &m_shared}, out);
          }},
         {&m_pencil,
          [this] {
@@ -72,9 +75,14 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
              const bool changed = rMax != m_rMax;
              m_rMax = rMax;
              return m_pencil.update({m_library.get(), &m_views, m_rMax, m_plot.samples}) || changed;
+         },
+         [this](CaptureEntries& out) {
+             m_pencil.capture({m_library.get(), &m_views, m_rMax, m_plot.samples}, out);
          }},
-        {m_reference.get(), [this] { return m_reference->update(referenceInputs()); }},
-        {m_slice.get(), [this] { return m_slice->update(sliceInputs()); }},
+        {m_reference.get(), [this] { return m_reference->update(referenceInputs()); },
+         [this](CaptureEntries& out) { m_reference->capture(referenceInputs(), out); }},
+        {m_slice.get(), [this] { return m_slice->update(sliceInputs()); },
+         [this](CaptureEntries& out) { m_slice->capture(sliceInputs(), out); }},
         {m_scoreboard.get(),
          [this] {
              const ReferenceSnapshot snap = m_reference->snapshot();
@@ -83,8 +91,10 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
                  m_scoreboardEnabled, m_library.get(), &m_views, &snap, ri.model, ri.params};
              return m_scoreboard->update(in);
          }},
-        {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); }},
-        {m_scene.get(), [this] { return m_scene->update(sceneModelInput(), m_interacting); }},
+        {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); },
+         [this](CaptureEntries& out) { m_litSpheres->capture(litSphereInputs(-1), out); }},
+        {m_scene.get(), [this] { return m_scene->update(sceneModelInput(), m_interacting); },
+         [this](CaptureEntries& out) { m_scene->capture(sceneModelInput(), out); }},
         {m_monteCarlo.get(),
          [this] {
              return m_monteCarlo->update({m_mc, m_scene.get(), sceneModelInput(), 20.0});
@@ -92,6 +102,9 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         {m_textureSpace.get(),
          [this] {
              return m_textureSpace->update({m_ts, m_scene.get(), sceneModelInput(), 20.0});
+         },
+         [this](CaptureEntries& out) {
+             m_textureSpace->capture({m_ts, m_scene.get(), sceneModelInput(), -1}, out);
          }},
     };
     update();
@@ -286,6 +299,12 @@ LitSphereInputs Workbench::litSphereInputs(double budgetMs) const {
 
 void Workbench::finishLitSpheres() {
     m_litSpheres->finish(litSphereInputs(-1));
+}
+
+void Workbench::capture(CaptureEntries& out) {
+    update();
+    for (const PipelineStep& step : m_pipeline)
+        if (step.capture) step.capture(out);
 }
 
 ReferenceSnapshot Workbench::finishReference() {

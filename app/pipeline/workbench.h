@@ -99,6 +99,11 @@ class Workbench {
     double rMaxMm() const { return m_rMax; }
     bool watching() const { return m_watcher != nullptr; }
 
+    // Captures: updates, then runs every stage with outputs to record to completion in pipeline
+    // order and collects its entries (pipeline/capture_entries.h; captures/ writes and
+    // compares them). core::Error from the first stage that cannot produce its outputs.
+    void capture(CaptureEntries& out);
+
     // Every current problem (Errors panel): broken models/shaders, bad parameters, failed
     // user actions (which stay until dismissed).
     std::vector<ErrorItem> errors() const;
@@ -205,10 +210,13 @@ class Workbench {
     std::unique_ptr<MonteCarloStage> m_monteCarlo;
     TextureSpaceSettings m_ts;
     std::unique_ptr<TextureSpaceStage> m_textureSpace;
-    // The stages in data-flow order: run() gathers the stage's inputs and updates it.
+    // The stages in data-flow order: run() gathers the stage's inputs and updates it;
+    // capture(), for stages with outputs to record, gathers the inputs of a run to completion
+    // (no time budgets) and adds the stage's capture entries.
     struct PipelineStep {
         Stage* stage;
         std::function<bool()> run;
+        std::function<void(CaptureEntries&)> capture = {};
     };
     std::vector<PipelineStep> m_pipeline;
     bool m_interacting = false;

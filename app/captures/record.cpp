@@ -1,0 +1,81 @@
+// Recording a capture (capture_io.h): the manifest (models with their text, params, settings,
+// the GL driver) and every stage's outputs as the stages give them (Workbench::capture), each
+// written as its kind says.
+#include "captures/capture_io.h"
+
+#include "capture/capture.h"
+#include "captures/manifest.h"
+#include "captures/settings_json.h"
+#include "core/core.h"
+#include "pathtrace/image_io.h"
+
+namespace app {
+namespace fs = std::filesystem;
+
+capture::StageOutput writeCaptureEntry(const fs::path& dir, const CaptureEntry& e) {
+    switch (e.kind) {
+    case CaptureEntry::Kind::Csv:
+        return capture::writeCsvStage(dir, e.stage, e.file, e.table, e.absTol, e.relTol, e.note);
+    case CaptureEntry::Kind::CsvStat:
+        return capture::writeCsvStatStage(dir, e.stage, e.file, e.table, e.alpha, e.note);
+    case CaptureEntry::Kind::Exr: {
+        pathtrace::writeExr(dir / e.file, e.image);
+        capture::StageOutput o = capture::describeFileStage(dir, e.stage, e.file, "exr", 0, e.note);
+        o.absTol = e.absTol;
+        o.relTol = e.relTol;
+        return o;
+    }
+    case CaptureEntry::Kind::ExrStat:
+        pathtrace::writeExr(dir / e.file, e.image);
+        return capture::describeFileStage(dir, e.stage, e.file, "exr_stat", e.alpha, e.note);
+    }
+    throw core::Error(e.stage, 0, "unknown capture entry kind");
+}
+
+void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name, int traceX,
+                     int traceY) {
+    if (!capture::isValidName(name))
+        throw core::Error(name, 0, "invalid capture name (letters, digits, '_', '-', '.' only)");
+    CaptureEntries captured;
+    captured.traceX = traceX;
+    captured.traceY = traceY;
+    wb.capture(captured);
+    if (captured.entries.empty())
+        throw core::Error(dir.string(), 0, "nothing to record: no model produced output");
+    capture::Manifest m;
+    m.name = name;
+    m.createdUtc = capture::utcNow();
+    m.programVersion = BW_VERSION;
+    m.glRenderer = glRendererString();
+    m.glVersion = glVersionString();
+    for (auto& e : wb.library().entries()) {
+        std::string text = core::readFile(e.file);
+        const std::string path = capturePathOf(e);
+        for (const capture::ModelFile& other : m.models)
+            if (other.path == path)
+                throw core::Error(e.displayPath, 0,
+                                  "two models opened from outside the project are both named " +
+                                      e.file.filename().string() + "; rename one to record");
+        m.models.push_back({path, core::hashHex(text), text});
+    }
+    for (auto& input : captured.inputs) // meshes: path and content hash
+        m.models.push_back(std::move(input));
+    m.params = paramsJson(wb);
+    m.settings = settingsJson(wb, traceX, traceY);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
+    for (const CaptureEntry& e : captured.entries)
+        m.outputs.push_back(writeCaptureEntry(dir, e));
+    capture::writeManifest(dir, m);
+    for (const auto& s : captured.missing)
+        core::logWarn("capture " + name + ": not recorded: " + s);
+}
+
+std::string recordCapture(Workbench& wb, const std::string& name) {
+    fs::path dir = wb.root() / "captures" / name;
+    recordCaptureTo(wb, dir, name);
+    return core::relativeTo(dir, wb.root());
+}
+
+} // namespace app

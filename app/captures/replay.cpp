@@ -1,0 +1,179 @@
+// Replaying a capture (capture_io.h): the recorded inputs (models, params, settings) loaded into
+// a fresh workbench, every stage's outputs made again (Workbench::capture) and each recorded
+// output compared with the new one as its kind says: tables value by value or by z-tests,
+// images pixel by pixel (with pictures of a failure) or by per-pixel z-tests. --update rewrites
+// the recorded outputs instead.
+#include "captures/capture_io.h"
+
+#include "capture/capture.h"
+#include "captures/image_difference.h"
+#include "captures/manifest.h"
+#include "captures/settings_json.h"
+#include "core/core.h"
+#include "core/text.h"
+#include "pathtrace/image_io.h"
+
+#include <algorithm>
+
+#include <unistd.h>
+
+namespace app {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The input files a replayed capture's settings name resolve inside the capture folder or the
+// project (the root holding materials/ and shaders/), never elsewhere ("../../etc/passwd", an
+// absolute path outside, a symlink out): checked before anything is read.
+void checkCaptureInputs(Workbench& wb, const fs::path& captureDir, const std::string& where) {
+    const std::vector<fs::path> folders = {captureDir, wb.root()};
+    const SceneSettings& sc = wb.scene().settings();
+    const std::pair<const char*, const std::string*> inputs[] = {
+        {"settings.scene.mesh", &sc.meshFile},
+        {"settings.scene.point_cloud_file", &sc.pointCloudFile},
+        {"settings.scene.environment", &sc.environmentFile},
+        {"settings.scene.projected_texture", &sc.projectedTextureFile},
+        {"settings.lit_spheres.mesh", &wb.litSphereSettings().mesh}};
+    for (const auto& [key, value] : inputs)
+        if (std::string bad = capture::confinedInputProblem(*value, wb.root(), folders);
+            !bad.empty())
+            throw core::Error(where, 0,
+                              std::string(key) + ": '" + core::printableText(*value) + "' " + bad);
+}
+
+bool isImage(CaptureEntry::Kind k) {
+    return k == CaptureEntry::Kind::Exr || k == CaptureEntry::Kind::ExrStat;
+}
+
+// One recorded output against this run's: compared, or with `update` rewritten from it.
+capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captureDir,
+                                const CaptureEntries& captured, bool update) {
+    const bool recordedImage = rec.kind == "exr" || rec.kind == "exr_stat";
+    auto it =
+        std::find_if(captured.entries.begin(), captured.entries.end(), [&](const CaptureEntry& e) {
+            return e.stage == rec.stage && isImage(e.kind) == recordedImage;
+        });
+    capture::Comparison c;
+    c.stage = rec.stage;
+    if (it == captured.entries.end()) {
+        c.message = "stage not produced by this run";
+        if (rec.kind == "exr")
+            c.message += " (scene off?)";
+        else if (rec.kind == "exr_stat")
+            c.message += " (lit spheres off?)";
+        else
+            for (const auto& s : captured.missing)
+                c.message += "; " + s;
+        return c;
+    }
+    if (update) {
+        if (rec.kind == "exr") {
+            pathtrace::writeExr(captureDir / rec.file, it->image);
+            rec = capture::describeFileStage(captureDir, rec.stage, rec.file, rec.kind, 0,
+                                             rec.tolNote);
+            rec.absTol = it->absTol;
+            rec.relTol = it->relTol;
+        } else if (rec.kind == "exr_stat") {
+            pathtrace::writeExr(captureDir / rec.file, it->image);
+            rec = capture::describeFileStage(captureDir, rec.stage, rec.file, rec.kind, rec.alpha,
+                                             rec.tolNote);
+        } else {
+            rec = writeCaptureEntry(captureDir, *it);
+        }
+        c.pass = true;
+        c.message = "updated";
+        return c;
+    }
+    if (!recordedImage) return capture::compareCsvStage(rec, captureDir, it->table, it->key);
+    try {
+        const pathtrace::Image recorded = pathtrace::readExr(captureDir / rec.file);
+        if (rec.kind == "exr_stat")
+            return capture::compareStatTables(rec.stage, imageTable(recorded),
+                                              imageTable(it->image), rec.alpha);
+        c = capture::compareTables(rec.stage, renderTable(recorded), renderTable(it->image),
+                                   rec.absTol, rec.relTol);
+        if (!c.pass && c.message.empty())
+            c.artifacts = writeImageDifference(captureDir, rec.stage, recorded, it->image,
+                                               rec.absTol, rec.relTol);
+    } catch (const core::Error& e) {
+        c.message = std::string("cannot read the recorded image: ") + e.what();
+    }
+    return c;
+}
+
+} // namespace
+
+int replayCapture(const fs::path& captureDir, const fs::path& root, bool update, std::string& out) {
+    capture::Manifest m;
+    try {
+        m = capture::readManifest(captureDir);
+    } catch (const core::Error& e) {
+        out = std::string("ERROR ") + e.what() + "\n";
+        return 2;
+    }
+    // A capture may come from someone else: its outputs stay plain files inside its folder
+    // (read on replay, written by --update).
+    for (size_t i = 0; i < m.outputs.size(); ++i)
+        if (std::string bad = capture::outputPathProblem(captureDir, m.outputs[i].file);
+            !bad.empty()) {
+            out = "ERROR " + (captureDir / capture::kManifestFileName).string() + ": outputs[" +
+                  std::to_string(i) + "].file '" + core::printableText(m.outputs[i].file) +
+                  "': " + bad + "\n";
+            return 2;
+        }
+    capture::ReplayReport report;
+    if (!update)
+        report.inputProblems = capture::checkInputs(m, captureDir, root, &report.inputNotes);
+    std::vector<fs::path> models;
+    // Models recorded from outside the project are replayed from their recorded text, written
+    // to a temporary folder (removed when the replay ends).
+    const fs::path external =
+        fs::temp_directory_path() / ("bw_replay_external_" + std::to_string(::getpid()));
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            fs::remove_all(dir, ec);
+        }
+    } cleanup{external};
+    for (const auto& mf : m.models) {
+        if (fs::path(mf.path).extension() != ".bssrdf") continue;
+        if (mf.path.rfind(kExternalPrefix, 0) == 0) {
+            const fs::path file = external / fs::path(mf.path).filename();
+            fs::create_directories(external);
+            core::writeFile(file, mf.source);
+            models.push_back(file);
+        } else if (fs::exists(root / mf.path)) {
+            models.push_back(root / mf.path);
+        }
+    }
+    const std::string where = (captureDir / capture::kManifestFileName).string();
+    try {
+        Workbench wb(root, false, models);
+        applyParams(wb, m.params, where);
+        if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
+        int traceX = -1, traceY = -1;
+        applySettingsJson(wb, m.settings, where, traceX, traceY);
+        checkCaptureInputs(wb, captureDir, where);
+        CaptureEntries captured;
+        captured.traceX = traceX;
+        captured.traceY = traceY;
+        wb.capture(captured);
+        for (auto& rec : m.outputs)
+            report.stages.push_back(replayStage(rec, captureDir, captured, update));
+        if (update) {
+            m.glRenderer = glRendererString();
+            m.glVersion = glVersionString();
+            for (auto& mf : m.models)
+                if (fs::exists(root / mf.path)) mf.hash = capture::hashFile(root / mf.path);
+            capture::writeManifest(captureDir, m);
+        }
+    } catch (const core::Error& e) {
+        out = std::string("ERROR ") + e.what() + "\n";
+        return 2;
+    }
+    out = report.text();
+    return report.pass() ? 0 : 1;
+}
+
+} // namespace app

@@ -1,0 +1,49 @@
+// What a stage contributes to a capture (format v1: captures/README.md): its outputs, each a
+// table or an image with the kind and tolerance replay compares it by, and the input files it
+// read besides the models. Each stage makes its own entries (its capture(), wired in
+// Workbench::capture in pipeline order); captures/ writes and compares them without knowing any
+// stage. The tolerances' reasons are stated in each entry's note (written into the manifest).
+#pragma once
+
+#include "capture/capture.h"
+#include "pathtrace/lit_sphere.h"
+
+#include <string>
+#include <vector>
+
+namespace app {
+
+struct CaptureEntry {
+    enum class Kind {
+        Csv,     // a table, compared value by value within absTol + relTol·|recorded|
+        CsvStat, // a Monte Carlo table (values with standard errors): z-tests at alpha
+        Exr,     // an image (EXR), compared pixel by pixel within absTol + relTol·|recorded|
+        ExrStat, // a Monte Carlo image with a variance per pixel: per-pixel z-tests at alpha
+    };
+    Kind kind = Kind::Csv;
+    std::string stage, file; // "pencil_plot.dipole", "pencil_plot_dipole.csv"
+    std::string key;         // tables: the column rows are matched by ("" = row order)
+    capture::Table table;    // Csv, CsvStat
+    pathtrace::Image image;  // Exr, ExrStat
+    double absTol = 0, relTol = 0;
+    double alpha = 0; // the statistical kinds' false-alarm rate, Bonferroni over all values
+    std::string note; // why this tolerance
+};
+
+struct CaptureEntries {
+    int traceX = -1, traceY = -1;           // the scene's traced pixel (-1: none is recorded)
+    std::vector<CaptureEntry> entries;      // in pipeline order
+    std::vector<capture::ModelFile> inputs; // input files besides the models (meshes)
+    std::vector<std::string> missing;       // "model: why" for outputs a stage could not make
+};
+
+// GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in
+// the profile's tail that is ~63 ulp, i.e. 63 · 2^-24 ≈ 3.8e-6 relative, plus the same again
+// for the arithmetic around it. 1e-5 relative covers a different driver; on the same driver
+// replays are bit-exact.
+inline constexpr double kProfileRelTol = 1e-5;
+// Monte Carlo outputs (path-traced reference, slice, images): per-value z-tests, Bonferroni over
+// every value of the output.
+inline constexpr double kMonteCarloAlpha = 1e-3;
+
+} // namespace app

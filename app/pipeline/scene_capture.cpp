@@ -1,0 +1,188 @@
+// Captures of the mesh pipeline (thesis 3.3; format v1, captures/README.md): SceneStage's
+// entries —
+//   scene.mesh         csv, exact   vertices, triangles, area, hash of the prepared mesh
+//   scene.pointcloud   csv, exact   count, nearest-neighbour metrics, content hash
+//   scene.octree       csv, exact   node/leaf counts, depth, bytes, hash, nodes per depth
+//   scene.irradiance   csv, tol     per-point E_t (GPU)
+//   scene.render       exr, tol     the rendered HDR radiance (GPU)
+//   scene.trace_steps  csv, exact   one pixel's traversal steps (CPU replica): node, decision,
+//                                   depth, stack after each step
+//   scene.trace_values csv, tol     that trace's contributions and running sums
+// and the mesh file as an input. Hashes are split into four 16-bit integers so that they
+// compare exactly as numbers. The texture-space stages' entries: texspace_stage.cpp.
+#include "pipeline/scene_stage.h"
+
+#include "core/core.h"
+#include "pointcloud/pointcloud.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace app {
+
+namespace {
+
+// Float tolerances (stated in the manifest):
+// per-point irradiance: Ft, cos and the PCF average in float32, a handful of roundings of
+// 2^-24 each; 1e-5 relative, plus 1e-7 absolute for values that are ~0 in shadow.
+constexpr double kIrradianceRel = 1e-5, kIrradianceAbs = 1e-7;
+// render: a float32 sum of up to ~10^4 contributions (each Bssrdf() within a few ulp: GLSL
+// exp is (3 + 2|x|) ulp) — worst case n·2^-24 ≈ 6e-4 relative for the longest sums, typically
+// √n·2^-24; 1e-4 relative plus an absolute floor of 1e-6 of the image maximum.
+constexpr double kRenderRel = 1e-4;
+constexpr double kTraceRel = 1e-4;
+
+// Appends a content hash as four 16-bit integers.
+void pushHash(std::vector<double>& row, const std::string& hash) {
+    const std::string hex = hash.substr(hash.find(':') + 1);
+    for (int k = 0; k < 4; ++k)
+        row.push_back(double(std::stoul(hex.substr(size_t(4 * k), 4), nullptr, 16)));
+}
+
+} // namespace
+
+void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
+    if (!m_settings.enabled) return;
+    { // the mesh is an input: path and content hash
+        const std::filesystem::path meshPath =
+            std::filesystem::path(m_settings.meshFile).is_absolute()
+                ? std::filesystem::path(m_settings.meshFile)
+                : m_root / m_settings.meshFile;
+        const std::string text = core::readFile(meshPath);
+        out.inputs.push_back({m_settings.meshFile, core::hashHex(text),
+                              "(mesh, " + std::to_string(text.size()) + " bytes)"});
+    }
+    finish(model);
+    for (const auto& p : problems())
+        throw core::Error(p);
+    if (!hasFrame() || !tree()) throw core::Error("scene", 0, "nothing was rendered");
+    const int traceX = out.traceX, traceY = out.traceY;
+
+    const mesh::Mesh& m = mesh();
+    CaptureEntry mt;
+    mt.stage = "scene.mesh";
+    mt.file = "scene_mesh.csv";
+    mt.note = "CPU (OBJ parse + normalisation): exact";
+    mt.table.comments = {"mesh " + m_settings.meshFile + " after preparation",
+                         "hash " + meshHash()};
+    mt.table.columns = {"vertices", "triangles", "area", "h0", "h1", "h2", "h3"};
+    std::vector<double> row{double(m.vertices.size()), double(m.triangles.size()),
+                            pointcloud::meshArea(m)};
+    pushHash(row, meshHash());
+    mt.table.rows.push_back(row);
+    out.entries.push_back(std::move(mt));
+
+    const pointcloud::PointCloud& pc = m_cloud;
+    std::string bytes(reinterpret_cast<const char*>(pc.points.data()),
+                      pc.points.size() * sizeof(pc.points[0]));
+    const std::string cloudHash = core::hashHex(bytes);
+    const auto& u = uniformity();
+    CaptureEntry pt;
+    pt.stage = "scene.pointcloud";
+    pt.file = "scene_pointcloud.csv";
+    pt.note = "CPU, deterministic for any thread count: exact";
+    pt.table.comments = {"hash " + cloudHash};
+    pt.table.columns = {"count",  "area", "mean_nn", "cv_nn", "min_nn",
+                        "max_nn", "h0",   "h1",      "h2",    "h3"};
+    row = {double(pc.points.size()), pc.totalArea, u.meanNN, u.cvNN, u.minNN, u.maxNN};
+    pushHash(row, cloudHash);
+    pt.table.rows.push_back(row);
+    out.entries.push_back(std::move(pt));
+
+    const octree::Octree& t = *tree();
+    // The tree's hash covers the node records, which hold irradiance sums (GPU): hash the
+    // CPU-built structure only (descriptors and point order).
+    std::string tb(reinterpret_cast<const char*>(t.descriptors.data()),
+                   t.descriptors.size() * sizeof(uint32_t));
+    tb.append(reinterpret_cast<const char*>(t.order.data()), t.order.size() * sizeof(uint32_t));
+    const std::string treeHash = core::hashHex(tb);
+    CaptureEntry ot;
+    ot.stage = "scene.octree";
+    ot.file = "scene_octree.csv";
+    ot.key = "depth";
+    ot.note = "CPU build: exact (structure hash: descriptors + point order)";
+    ot.table.comments = {"hash " + treeHash,
+                         "first row: depth -1 = totals (nodes, leaves, max depth, bytes)"};
+    ot.table.columns = {"depth", "nodes", "leaves_or_maxdepth", "bytes", "h0", "h1", "h2", "h3"};
+    row = {-1, double(t.stats.nodes), double(t.stats.leaves), double(t.stats.bytes)};
+    pushHash(row, treeHash);
+    ot.table.rows.push_back(row);
+    for (size_t d = 0; d < t.stats.nodesPerDepth.size(); ++d)
+        ot.table.rows.push_back({double(d), double(t.stats.nodesPerDepth[d]), 0, 0, 0, 0, 0, 0});
+    out.entries.push_back(std::move(ot));
+
+    CaptureEntry it;
+    it.stage = "scene.irradiance";
+    it.file = "scene_irradiance.csv";
+    it.key = "point";
+    it.absTol = kIrradianceAbs;
+    it.relTol = kIrradianceRel;
+    it.note = "GPU float32 Ft*cos*visibility per point: 1e-5 relative + 1e-7";
+    it.table.comments = {"transmitted irradiance E_t per point (input order)"};
+    it.table.columns = {"point", "R", "G", "B"};
+    const auto& e = irradiance();
+    for (size_t i = 0; i < e.size(); ++i)
+        it.table.rows.push_back({double(i), e[i].x, e[i].y, e[i].z});
+    out.entries.push_back(std::move(it));
+
+    const render::Readback rb = readback();
+    CaptureEntry img;
+    img.kind = CaptureEntry::Kind::Exr;
+    img.stage = "scene.render";
+    img.file = "scene_render.exr";
+    img.image.width = rb.width;
+    img.image.height = rb.height;
+    img.image.samples = 1;
+    double maxV = 0;
+    for (size_t p = 0; p < rb.hdr.size(); ++p)
+        for (int c = 0; c < 3; ++c) {
+            img.image.mean.push_back(rb.hdr[p][c]);
+            maxV = std::max(maxV, double(rb.hdr[p][c]));
+        }
+    img.image.variance.assign(img.image.mean.size(), 0.0f);
+    img.relTol = kRenderRel;
+    img.absTol = 1e-6 * maxV;
+    img.note = "GPU float32 sums of up to ~1e4 Bssrdf() terms: 1e-4 relative + 1e-6 of the max";
+    out.entries.push_back(std::move(img));
+
+    if (traceX >= 0 && traceY >= 0) {
+        PixelDebug d = debugPixel(traceX, traceY);
+        CaptureEntry ts;
+        ts.stage = "scene.trace_steps";
+        ts.file = "scene_trace_steps.csv";
+        ts.key = "step";
+        ts.note = "CPU replica of Algorithm 2: exact";
+        ts.table.comments = {
+            "pixel " + std::to_string(traceX) + "," + std::to_string(traceY) +
+                (d.hit ? "" : " (background)"),
+            "decision 0 recurse, 1 node, 2 points; stack entries node<<8|childnum"};
+        ts.table.columns = {"step",        "node",       "decision",  "depth",
+                            "solid_angle", "stack_size", "stack_top", "evaluations"};
+        for (size_t k = 0; k < d.trace.steps.size(); ++k) {
+            const octree::Step& s = d.trace.steps[k];
+            ts.table.rows.push_back({double(k), double(s.node), double(int(s.decision)),
+                                     double(s.depth), double(s.solidAngle), double(s.stack.size()),
+                                     s.stack.empty() ? -1.0 : double(s.stack.back()),
+                                     double(s.evaluationCount)});
+        }
+        if (ts.table.rows.empty()) ts.table.rows.push_back({-1, 0, 0, 0, 0, 0, 0, 0});
+        out.entries.push_back(std::move(ts));
+        CaptureEntry tv;
+        tv.stage = "scene.trace_values";
+        tv.file = "scene_trace_values.csv";
+        tv.key = "step";
+        tv.relTol = kTraceRel;
+        tv.note = "GPU-evaluated Bssrdf() summed in float: 1e-4 relative";
+        tv.table.columns = {"step", "R", "G", "B", "sum_R", "sum_G", "sum_B"};
+        for (size_t k = 0; k < d.trace.steps.size(); ++k) {
+            const octree::Step& s = d.trace.steps[k];
+            tv.table.rows.push_back({double(k), s.contribution.x, s.contribution.y,
+                                     s.contribution.z, s.runningSum.x, s.runningSum.y,
+                                     s.runningSum.z});
+        }
+        if (tv.table.rows.empty()) tv.table.rows.push_back({-1, 0, 0, 0, 0, 0, 0});
+        out.entries.push_back(std::move(tv));
+    }
+}
+
+} // namespace app
