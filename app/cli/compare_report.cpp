@@ -188,7 +188,7 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
        << " reference paths per preset, channel and angle. At θi = 0: rel_l2 of the radial "
           "profile over [0.1, 4] l_d against the slab tracer; at θi > 0: rel_l2 over the plane "
           "(r, θs) and rel_l2_dir over the plane and the exit directions against the connections "
-          "estimate (definitions: app/compare.h, app/compare_oblique.h). ± is the standard error "
+          "estimate (definitions: cli/compare.h, pipeline/scoring_oblique.h). ± is the standard error "
           "from the reference; `=` marks a tie with the best of its preset, channel and angle.\n\n"
        << "| preset | ch | θi | model | rank | rel_l2 | rel_l2_dir | ratio at 1 l_d | ratio at 4 "
           "l_d | total ratio | error > 5 % from (l_d) |\n|---|---|---|---|---|---|---|---|---|---|"

@@ -1,4 +1,4 @@
-// `bssrdf-workbench estimate` / `merge` (see cli_estimate.h).
+// `bssrdf-workbench estimate` / `merge` (see estimate.h).
 #include "cli/estimate.h"
 #include "cli/args.h"
 #include "cli/command.h"

@@ -29,7 +29,7 @@ struct EstimateArgs {
     std::string out, csv, csvDir;
 };
 void addEstimateOptions(CLI::App* cmd, EstimateArgs& a);
-// Returns 0, or kEnergyCheckFailed (cli_slab.h) when a slice fails its energy check (the
+// Returns 0, or kEnergyCheckFailed (common/exit_codes.h) when a slice fails its energy check (the
 // files are still written). `root` (the project root, for shaders/) is needed with --gpu only.
 int runEstimateCli(EstimateArgs a, const std::filesystem::path& root = {});
 

@@ -1,4 +1,4 @@
-// `bssrdf-workbench sphere` / `mesh`: lit sphere / lit mesh images as EXR (see cli_image.h).
+// `bssrdf-workbench sphere` / `mesh`: lit sphere / lit mesh images as EXR (see image.h).
 #include "cli/image.h"
 #include "cli/args.h"
 #include "cli/command.h"

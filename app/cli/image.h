@@ -28,7 +28,7 @@ struct ImageArgs {
 // channel; 1 <= width, height <= 16384; 1 <= spp <= 10^7; light finite and non-zero; radius
 // finite > 0; threads >= 0; --out given; the mesh missing, malformed, open, inconsistently wound
 // or inward), trace, write the EXR, print the summary. Return 0, or kEnergyCheckFailed
-// (cli_slab.h) when a channel fails its energy check (pathtrace::energyProblem).
+// (common/exit_codes.h) when a channel fails its energy check (pathtrace::energyProblem).
 int runSphereCli(const ImageArgs& a);
 int runMeshCli(const ImageArgs& a);
 

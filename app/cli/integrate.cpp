@@ -1,4 +1,4 @@
-// `bssrdf-workbench integrate` (cli_integrate.h).
+// `bssrdf-workbench integrate` (integrate.h).
 #include "cli/integrate.h"
 #include "cli/args.h"
 #include "cli/command.h"

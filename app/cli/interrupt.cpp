@@ -1,4 +1,4 @@
-// SIGINT → a cancel flag (cli_interrupt.h). The handler only stores to a lock-free atomic and,
+// SIGINT → a cancel flag (interrupt.h). The handler only stores to a lock-free atomic and,
 // the second time, restores the default action and re-raises: both async-signal-safe.
 #include "cli/interrupt.h"
 

@@ -1,4 +1,4 @@
-// Output checks of the command line (cli_output.h).
+// Output checks of the command line (output.h).
 #include "cli/output.h"
 
 #include "core/core.h"

@@ -1,4 +1,4 @@
-// `bssrdf-workbench pointcloud` (cli_pointcloud.h).
+// `bssrdf-workbench pointcloud` (pointcloud.h).
 #include "cli/pointcloud.h"
 #include "cli/command.h"
 #include "cli/output.h"

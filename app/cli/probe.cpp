@@ -1,4 +1,4 @@
-// The hidden `probe-model` subcommand (cli_probe.h).
+// The hidden `probe-model` subcommand (probe.h).
 #include "cli/probe.h"
 #include "cli/args.h"
 #include "cli/command.h"

@@ -1,4 +1,4 @@
-// `bssrdf-workbench render` (cli_render.h): the SceneStage pipeline run to completion headless.
+// `bssrdf-workbench render` (render.h): the SceneStage pipeline run to completion headless.
 #include "cli/render.h"
 #include "cli/args.h"
 #include "cli/command.h"

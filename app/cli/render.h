@@ -2,7 +2,7 @@
 // method (thesis 3.3) headless, written as an OpenEXR HDR image (R, G, B = radiance L_o, A =
 // coverage), with the stage times and traversal statistics on stdout. Its scene settings start
 // from the GUI's defaults (SceneSettings); the options that set them are generated from their
-// descriptions (cli_options.h).
+// descriptions (options.h).
 #pragma once
 
 #include "pipeline/scene_stage.h"

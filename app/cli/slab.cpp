@@ -1,4 +1,4 @@
-// `bssrdf-workbench slab`: runs pathtrace::runSlab and writes R_d(r) as CSV (see cli_slab.h).
+// `bssrdf-workbench slab`: runs pathtrace::runSlab and writes R_d(r) as CSV (see slab.h).
 #include "cli/slab.h"
 #include "cli/args.h"
 #include "cli/command.h"

@@ -33,7 +33,7 @@ struct SlabArgs {
 // --sigma-a --sigma-s --g --eta, generated from pathtrace::Medium's description (its defaults).
 void addMediumOptions(CLI::App* cmd, pathtrace::Medium& m);
 // The options of `slab`: medium and settings options generated from their descriptions
-// (cli_options.h), so their flags' defaults are the structs' own.
+// (options.h), so their flags' defaults are the structs' own.
 void addSlabOptions(CLI::App* cmd, SlabArgs& a);
 
 // 10 diffuse mean free paths l_d = 1/σtr, σtr = √(3σa(σa + σs(1 − g))); with σa = 0 (no

@@ -1,7 +1,7 @@
 // The polar heatmap of a BSSRDF slice's spatial bins (pathtrace/bssrdf_estimate.h): a disc of
 // polar bins r × θs over the surface plane, both mirror halves, the beam arriving from the left
 // and travelling toward +x. Drawn into the current ImGui window, so the slice panel and the
-// headless scoreboard report (app/report_png.h) show the same picture.
+// headless scoreboard report (gui/report_png.h) show the same picture.
 #pragma once
 
 #include "pathtrace/bssrdf_estimate.h"

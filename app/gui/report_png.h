@@ -1,7 +1,7 @@
 // Pictures for reports written headless (the scoreboard, `compare`): ImGui drawing calls
 // rendered into an offscreen framebuffer by Dear ImGui's OpenGL3 backend and encoded as PNG, so
 // the report shows the same plots and heatmaps as the panels (plot/plot_draw.h,
-// panels/polar_heatmap.h), drawn by the same code.
+// gui/polar_heatmap.h), drawn by the same code.
 #pragma once
 
 #include "plot/plot.h"

@@ -1,4 +1,4 @@
-// Helpers shared by the scene panels (scene_panel_util.h).
+// Helpers shared by the scene panels (widgets.h).
 #include "gui/widgets.h"
 
 #include <imgui_internal.h>

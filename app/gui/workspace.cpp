@@ -1,4 +1,4 @@
-// The workspace (workspace.h) drawn with ImGui: one opaque, fixed host window per area with a
+// The workspace (workspace_layout.h) drawn with ImGui: one opaque, fixed host window per area with a
 // tab bar of its docked panels, splitter strips between areas, and a window per floating panel.
 // A tab's context menu (right click) and the "float" button float a panel out; a floating
 // window's "Dock" button (or View → Float) docks it back. Closing a tab closes the panel (the
@@ -126,7 +126,7 @@ void drawArea(Workbench& wb, UiState& ui, Area area, const Rect& r, int want) {
     if (floatRequest) floatOut(sh, *floatRequest);
 }
 
-// A splitter strip: dragging moves the boundary (workspace.h, dragSplitter).
+// A splitter strip: dragging moves the boundary (workspace_layout.h, dragSplitter).
 void drawSplitter(WorkspaceState& ws, Splitter s, const WorkspaceRects& rects, const Rect& view) {
     const Rect& r = rects.splitter[static_cast<size_t>(s)];
     const bool vertical = s == Splitter::Left || s == Splitter::Right;

@@ -1,4 +1,4 @@
-// Workspace geometry (workspace.h): the tiling of the window into areas and splitters.
+// Workspace geometry (workspace_layout.h): the tiling of the window into areas and splitters.
 #include "gui/workspace_layout.h"
 
 #include <algorithm>

@@ -3,7 +3,7 @@
 // bottom strip — separated by draggable splitters; any panel may float out as its own window
 // and dock back. ImGui 1.86 (Debian 12) has no docking branch, so the tiling is written here:
 // this file is its geometry and saved state only (no ImGui), so it is tested on its own; the
-// panels/workspace.cpp draws it.
+// drawing is gui/workspace.cpp.
 #pragma once
 
 #include <array>

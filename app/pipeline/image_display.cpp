@@ -1,4 +1,4 @@
-// Lit-sphere image helpers (see image_view.h).
+// Lit-sphere image helpers (see image_display.h).
 #include "pipeline/image_display.h"
 
 #include "core/color.h"

@@ -1,4 +1,4 @@
-// The scoreboard at oblique incidence (compare_oblique.h has the definitions).
+// The scoreboard at oblique incidence (scoring_oblique.h has the definitions).
 #include "pipeline/scoring_oblique.h"
 
 #include "pipeline/scoring.h"

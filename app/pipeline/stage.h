@@ -1,9 +1,12 @@
-// The one interface of every pipeline stage of the workbench (DESIGN.md, "Data flow"): a
-// stage has explicit inputs (its own Inputs struct, gathered by the Workbench from the
-// outputs of the stages before it), update(inputs) → whether its output changed (it re-runs
-// only what the inputs' change requires), progress, cancel, problems and stats. The Workbench
-// is an ordered list of stages (workbench.cpp); the Errors panel lists every stage's problems
-// under its name. How to add one: docs/ARCHITECTURE.md, "How to add a stage".
+// The one interface of every pipeline stage of the workbench (docs/ARCHITECTURE.md, "Modules
+// and stages"): a stage has explicit inputs (its own Inputs struct, gathered by the Workbench
+// from the outputs of the stages before it), update(inputs) → whether its output changed (it
+// re-runs only what the inputs' change requires), progress, cancel, problems and stats; it
+// rebuilds its own GL programs on hot reload and lists them (reloadShaders, shaderRecords), and
+// a stage with outputs to record gives its capture entries (capture(inputs, entries), wired by
+// the Workbench's PipelineStep). The Workbench is an ordered list of stages (workbench.cpp);
+// the Errors panel lists every stage's problems under its name. How to add one:
+// docs/ARCHITECTURE.md, "How to add a stage".
 #pragma once
 
 #include "pipeline/capture_entries.h"

@@ -1,4 +1,5 @@
-// Workbench state and stage graph: reload → material (inversion) → pencil profile.
+// The workbench (workbench.h): models, the file watcher, the stages in data-flow order, the
+// Errors list and the save → pixels clock of hot reload.
 #include "pipeline/workbench.h"
 
 #include "probe/model_probe_process.h"

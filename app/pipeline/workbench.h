@@ -1,16 +1,20 @@
-// The workbench state and its stage graph (no ImGui here; panels only show and edit it).
+// The workbench: its state and its stage graph (no ImGui here; panels only show and edit it).
 // The models (.bssrdf files, hot-reloaded, last good kept: bssrdf::ModelLibrary) feed an
 // ordered list of stages (stage.h), each with explicit inputs gathered from the ones before:
-//   material    — σ per model: as given, or inverted from R_dr / l_d   (model_stages.h)
-//   pencil      — pencil-beam profile per model on the GPU             (model_stages.h)
-//   reference   — path-traced R_d(r) for the source model's σ          (reference_stage.h)
-//   slice       — the whole BSSRDF at oblique incidence: path traced
-//                 (seed 001) and every model on the same bins             (slice_stage.h)
-//   lit sphere  — path-traced and BSSRDF-integrated lit spheres        (lit_sphere_stage.h)
-//   scene       — mesh → point cloud → octree → irradiance → render    (scene_stage.h)
-// The source model of the last three is one choice: the soloed model, else the first
-// visible one whose material is usable (sourceModel). Each stage re-runs only when its
-// inputs' key changes.
+//   material      — σ per model: as given, or inverted from R_dr / l_d      (model_stages.h)
+//   pencil        — pencil-beam profile per model on the GPU                (model_stages.h)
+//   reference     — path-traced R_d(r) for the source model's σ             (reference_stage.h)
+//   slice         — the whole BSSRDF at oblique incidence: path traced
+//                   (seed 001) and every model on the same bins             (slice_stage.h)
+//   scoreboard    — every model scored against the reference                (scoreboard_stage.h)
+//   lit sphere    — path-traced and BSSRDF-integrated lit spheres           (lit_sphere_stage.h)
+//   scene         — mesh → point cloud → octree → irradiance → render       (scene_stage.h)
+//   monte carlo   — the scene's view integrated by probe rays               (monte_carlo_stage.h)
+//   texture space — the scene's view by texture-space sampling or hybrid    (texspace_stage.h)
+// The source model of the reference, slice, lit spheres and scene is one choice: the soloed
+// model, else the first visible one whose material is usable (sourceModel). Each stage re-runs
+// only when its inputs' key changes. Hot reload, the programs' records and captures loop over
+// the stages (their reloadShaders, shaderRecords and capture hooks).
 #pragma once
 
 #include "bssrdf/program_library.h"

@@ -1,4 +1,4 @@
-// `compare` (app/compare.h): the scores of a model against a synthetic reference (exact values,
+// `compare` (app/cli/compare.h): the scores of a model against a synthetic reference (exact values,
 // the delta-method standard error against finite differences, ties within the noise), and the
 // command end to end: scores.json schema, reports, the reference cache, --fail-if-worse and bad
 // inputs.

@@ -1,6 +1,6 @@
 // A model whose Bssrdf() does not end, or runs for very long, saved while the workbench runs:
 // its first evaluation runs in a child process (the workbench executable,
-// app/model_probe_process.h) with a short limit, update() keeps returning at once while it runs,
+// app/probe/model_probe_process.h) with a short limit, update() keeps returning at once while it runs,
 // the Errors panel names the file and why, the last good version stays in use, and the fixed file
 // is adopted.
 #include "../support/gl_fixture.h"

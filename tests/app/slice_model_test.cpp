@@ -1,4 +1,4 @@
-// A model on an estimate's bins (app/slice_model.h), without GL: the queries' geometry, the
+// A model on an estimate's bins (app/pipeline/slice_model.h), without GL: the queries' geometry, the
 // Fresnel normalisation against an independent quadrature, exactness of the bin averages where
 // the midpoint rule is exact, and the directional average within the midpoint rule's error
 // bound.

@@ -13,7 +13,7 @@ void drawMenuBar(Workbench& wb, UiState& ui);
 // Opens a model file (relative: to the current folder, else to the root) and remembers it
 // among the recent files; a failure is an Errors entry.
 void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file);
-// Every open panel: docked as tabs in the workspace's areas, or floating (workspace.h).
+// Every open panel: docked as tabs in the workspace's areas, or floating (workspace_layout.h).
 void drawWorkspace(Workbench& wb, UiState& ui);
 // The panels drawn this frame: the shown tab of each area (a pending UiShared::show request
 // first) and every floating panel.
