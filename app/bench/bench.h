@@ -42,7 +42,7 @@ int benchHierarchy(const std::filesystem::path& root, const HierarchyBenchOption
 
 // bench sampling: equal-time relative RMSE of the BSSRDF-integrated lit sphere and bunny
 // (Marble, Skin1) by disk importance sampling (each axis scheme) against uniform area sampling,
-// against a long disk-sampled reference; one line per case (sampling.cpp).
+// against a long disk-sampled reference; one line per case (sampling_bench.cpp).
 int benchSampling(const std::filesystem::path& root, double seconds, int size,
                   double referenceFactor);
 
@@ -57,7 +57,7 @@ struct ConvergenceBenchOptions {
 };
 // bench convergence: relative RMSE against time of the Render panel's renderers (hierarchical
 // at several eps, brute force, Monte Carlo uniform and disk with each axis scheme) on the
-// default scene against a converged Monte Carlo image; a log-log plot (convergence.cpp).
+// default scene against a converged Monte Carlo image; a log-log plot (convergence_bench.cpp).
 int benchConvergence(const std::filesystem::path& root, const ConvergenceBenchOptions& o);
 
 struct TextureSpaceBenchOptions {
@@ -72,7 +72,7 @@ struct TextureSpaceBenchOptions {
 };
 // bench texture-space: ms per frame and relative RMSE against the brute-force point-cloud render
 // of texture-space sampling for each N and texture size, beside the hierarchical renderer's time
-// at equal error, per material and model size (texspace.cpp).
+// at equal error, per material and model size (texspace_bench.cpp).
 int benchTextureSpace(const std::filesystem::path& root, const TextureSpaceBenchOptions& o);
 
 } // namespace app

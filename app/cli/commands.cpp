@@ -9,17 +9,17 @@ Command screenshotCommand();        // gui_commands.cpp
 Command profileCommand();           // model_commands.cpp
 Command invertCommand();            // model_commands.cpp
 Command recordCommand();            // capture_commands.cpp
-Command defaultsCommand();          // defaults.cpp
+Command defaultsCommand();          // defaults_command.cpp
 Command replayCommand();            // capture_commands.cpp
-Command slabCommand();              // slab.cpp
-Command estimateCommand();          // estimate.cpp
-Command compareCommand();           // compare.cpp
-Command mergeCommand();             // estimate.cpp
-Command sphereCommand();            // image.cpp
-Command meshCommand();              // image.cpp
-Command integrateCommand();         // integrate.cpp
-Command pointcloudCommand();        // pointcloud.cpp
-Command renderCommand();            // render.cpp
+Command slabCommand();              // slab_command.cpp
+Command estimateCommand();          // estimate_commands.cpp
+Command compareCommand();           // compare_command.cpp
+Command mergeCommand();             // estimate_commands.cpp
+Command sphereCommand();            // image_commands.cpp
+Command meshCommand();              // image_commands.cpp
+Command integrateCommand();         // integrate_command.cpp
+Command pointcloudCommand();        // pointcloud_command.cpp
+Command renderCommand();            // render_command.cpp
 Command benchGroup();               // bench_commands.cpp
 Command benchReloadCommand();       // bench_commands.cpp
 Command benchPathtraceCommand();    // bench_commands.cpp
@@ -27,8 +27,8 @@ Command benchSamplingCommand();     // bench_commands.cpp
 Command benchConvergenceCommand();  // bench_commands.cpp
 Command benchTextureSpaceCommand(); // bench_commands.cpp
 Command benchHierarchyCommand();    // bench_commands.cpp
-Command probeModelCommand();        // probe.cpp
-Command probeServerCommand();       // probe.cpp
+Command probeModelCommand();        // probe_commands.cpp
+Command probeServerCommand();       // probe_commands.cpp
 
 const std::vector<Command>& commands() {
     static const std::vector<Command> table = {

@@ -1,9 +1,9 @@
-// The scoreboard's reports (compare.h): report.md and one self-contained report.html (a table
-// with cells coloured by rel_l2, and per preset and channel the pencil plot of every model with
-// the reference's ±2σ band, the ratio model/reference against r, and at θi > 0 polar heatmaps of
-// the relative difference over the plane), the pictures drawn headless by the panels' own code
+// The scoreboard's reports (compare_command.h): report.md and one self-contained report.html (a
+// table with cells coloured by rel_l2, and per preset and channel the pencil plot of every model
+// with the reference's ±2σ band, the ratio model/reference against r, and at θi > 0 polar heatmaps
+// of the relative difference over the plane), the pictures drawn headless by the panels' own code
 // (report_png.h) and also written to DIR/plots/ for report.md.
-#include "cli/compare.h"
+#include "cli/compare_command.h"
 
 #include "core/core.h"
 #include "core/text.h"
@@ -188,7 +188,8 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
        << " reference paths per preset, channel and angle. At θi = 0: rel_l2 of the radial "
           "profile over [0.1, 4] l_d against the slab tracer; at θi > 0: rel_l2 over the plane "
           "(r, θs) and rel_l2_dir over the plane and the exit directions against the connections "
-          "estimate (definitions: cli/compare.h, pipeline/scoring_oblique.h). ± is the standard error "
+          "estimate (definitions: cli/compare_command.h, pipeline/scoring_oblique.h). ± is the "
+          "standard error "
           "from the reference; `=` marks a tie with the best of its preset, channel and angle.\n\n"
        << "| preset | ch | θi | model | rank | rel_l2 | rel_l2_dir | ratio at 1 l_d | ratio at 4 "
           "l_d | total ratio | error > 5 % from (l_d) |\n|---|---|---|---|---|---|---|---|---|---|"

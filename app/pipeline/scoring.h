@@ -1,5 +1,5 @@
 // The scores of a model's pencil-beam profile against the path-traced reference, shared by
-// `compare` (cli/compare.h) and the Scoreboard stage (scoreboard_stage.h). At normal incidence
+// `compare` (cli/compare_command.h) and the Scoreboard stage (scoreboard_stage.h). At normal incidence
 // (θi = 0) for every number below:
 //   l_d       = 1/√(3σa(σa + σs(1 − g)))                 (the channel's diffuse mean free path)
 //   R_ref(r)  = R_d(r)/(1 − R_sp)                         (per unit power entering, as plotted)

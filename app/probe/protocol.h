@@ -1,4 +1,4 @@
-// What the model check's child process (`probe-model`, `probe-server`: cli/probe.h) and its
+// What the model check's child process (`probe-model`, `probe-server`: cli/probe_commands.h) and its
 // parent (model_probe_process.h) say to each other: the tag that starts each line the child
 // prints, the separators of a request to the warm server, and the exit statuses that mean
 // something to the parent (common/exit_codes.h).

@@ -1,6 +1,6 @@
-// `compare` (app/cli/compare.h): the scores of a model against a synthetic reference (exact values,
-// the delta-method standard error against finite differences, ties within the noise), and the
-// command end to end: scores.json schema, reports, the reference cache, --fail-if-worse and bad
+// `compare` (app/cli/compare_command.h, app/pipeline/scoring.h): the scores of a model against
+// a synthetic reference (exact values, the delta-method standard error against finite
+// differences, ties within the noise), and the command end to end: scores.json schema, reports, the reference cache, --fail-if-worse and bad
 // inputs.
 #include "../support/cli_fixture.h"
 #include "pipeline/scoring.h"

@@ -6,7 +6,7 @@
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
 #include "probe/child_process.h"
-#include "cli/probe.h"
+#include "cli/probe_commands.h"
 #include "core/core.h"
 #include "probe/model_probe_process.h"
 #include "pipeline/workbench.h"

@@ -1,6 +1,6 @@
 // `bssrdf-workbench defaults`: every workbench setting with its default and meaning, from the
 // settings descriptions (core/fields.h), as the README's "Defaults" section shows it.
-#include "cli/defaults.h"
+#include "cli/defaults_command.h"
 
 #include "cli/command.h"
 #include "cli/options.h"

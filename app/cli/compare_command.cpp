@@ -1,6 +1,6 @@
 // `bssrdf-workbench compare`: the scoreboard (pipeline/scoring.h has the definitions of every
 // number).
-#include "cli/compare.h"
+#include "cli/compare_command.h"
 #include "cli/args.h"
 #include "cli/command.h"
 #include "cli/options.h"

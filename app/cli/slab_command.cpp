@@ -1,5 +1,5 @@
-// `bssrdf-workbench slab`: runs pathtrace::runSlab and writes R_d(r) as CSV (see slab.h).
-#include "cli/slab.h"
+// `bssrdf-workbench slab`: runs pathtrace::runSlab and writes R_d(r) as CSV (see slab_command.h).
+#include "cli/slab_command.h"
 #include "cli/args.h"
 #include "cli/command.h"
 

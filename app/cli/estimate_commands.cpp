@@ -1,5 +1,5 @@
-// `bssrdf-workbench estimate` / `merge` (see estimate.h).
-#include "cli/estimate.h"
+// `bssrdf-workbench estimate` / `merge` (see estimate_commands.h).
+#include "cli/estimate_commands.h"
 #include "cli/args.h"
 #include "cli/command.h"
 
@@ -7,7 +7,7 @@
 
 #include "cli/options.h"
 #include "cli/output.h"
-#include "cli/slab.h"
+#include "cli/slab_command.h"
 
 #include "core/core.h"
 #include "core/text.h"

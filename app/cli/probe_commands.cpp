@@ -1,11 +1,11 @@
-// The hidden `probe-model` subcommand (probe.h).
-#include "cli/probe.h"
+// The hidden `probe-model` subcommand (probe_commands.h).
+#include "cli/probe_commands.h"
 #include "cli/args.h"
 #include "cli/command.h"
 
 #include "bssrdf/model_probe.h"
 #include "cli/capture_commands.h"
-#include "cli/slab.h"
+#include "cli/slab_command.h"
 #include "core/core.h"
 #include "gl/gl.h"
 

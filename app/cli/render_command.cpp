@@ -1,5 +1,5 @@
-// `bssrdf-workbench render` (render.h): the SceneStage pipeline run to completion headless.
-#include "cli/render.h"
+// `bssrdf-workbench render` (render_command.h): the SceneStage pipeline run to completion headless.
+#include "cli/render_command.h"
 #include "cli/args.h"
 #include "cli/command.h"
 #include "cli/output.h"

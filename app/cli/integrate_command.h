@@ -1,5 +1,5 @@
 // `bssrdf-workbench integrate`: the BSSRDF-integrated lit sphere or lit mesh (integrate/
-// integrate.h) by uniform area sampling or disk probe-ray importance sampling (King et al.
+// integrate_command.h) by uniform area sampling or disk probe-ray importance sampling (King et al.
 // 2013), written as an OpenEXR file with channels R, G, B (radiant exitance per unit irradiance)
 // and varR, varG, varB (variance of the mean), as `sphere` and `mesh` write the path-traced
 // ones, so the two compare pixel by pixel.

@@ -1,10 +1,10 @@
-// `bssrdf-workbench sphere` / `mesh`: lit sphere / lit mesh images as EXR (see image.h).
-#include "cli/image.h"
+// `bssrdf-workbench sphere` / `mesh`: lit sphere / lit mesh images as EXR (see image_commands.h).
+#include "cli/image_commands.h"
 #include "cli/args.h"
 #include "cli/command.h"
 #include "cli/options.h"
 #include "cli/output.h"
-#include "cli/slab.h"
+#include "cli/slab_command.h"
 #include "core/text.h"
 #include "pipeline/lit_sphere_stage.h"
 

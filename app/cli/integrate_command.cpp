@@ -1,5 +1,5 @@
-// `bssrdf-workbench integrate` (integrate.h).
-#include "cli/integrate.h"
+// `bssrdf-workbench integrate` (integrate_command.h).
+#include "cli/integrate_command.h"
 #include "cli/args.h"
 #include "cli/command.h"
 

@@ -1,5 +1,5 @@
-// `bssrdf-workbench pointcloud` (pointcloud.h).
-#include "cli/pointcloud.h"
+// `bssrdf-workbench pointcloud` (pointcloud_command.h).
+#include "cli/pointcloud_command.h"
 #include "cli/command.h"
 #include "cli/output.h"
 
