@@ -39,8 +39,10 @@ void SceneStage::clearProblem(const std::string& stage) {
 }
 
 std::vector<std::string> SceneStage::problems() const {
+    std::map<std::string, std::string> all = m_problems;
+    if (!m_comparison.problem().empty()) all["brute force"] = m_comparison.problem();
     std::vector<std::string> out;
-    for (const auto& [stage, text] : m_problems)
+    for (const auto& [stage, text] : all)
         out.push_back(stage + ": " + text);
     return out;
 }
@@ -352,13 +354,11 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting, bo
         if (key != m_renderKey) {
             m_renderKey = key;
             m_renderer->setMaterial(e.values, model.builtins);
-            m_frameModel = *e.model;
-            m_frameValues = e.values;
-            m_frameBuiltins = model.builtins;
+            m_comparison.setFrameModel(*e.model, e.values, model.builtins);
             // Interactive frames are sliced into short dispatches so the UI keeps running.
             if (!finishNow) rs.iterationsPerDispatch = kInteractiveIterations;
             m_renderer->begin(rs);
-            m_frameSettings = rs;
+            m_comparison.setFrameSettings(rs);
             m_renderClock.reset();
             clearProblem("render settings");
         }
@@ -378,7 +378,7 @@ bool SceneStage::update(const SceneModelInput& model, bool interacting) {
     changed |= updatePointCloud(false);
     changed |= updateIrradiance(lightIor(model), false);
     changed |= updateRender(model, interacting, false);
-    changed |= advanceBruteForce(kFrameBudgetMs);
+    changed |= m_comparison.advance(kFrameBudgetMs);
     return changed;
 }
 
@@ -415,7 +415,7 @@ bool SceneStage::reloadShaders(const std::vector<std::filesystem::path>& changed
         attempted |= note(r);
         m_renderBuilds += r.rebuilt;
     }
-    if (m_bruteRenderer) attempted |= note(m_bruteRenderer->reloadShaders(changed));
+    attempted |= note(m_comparison.reloadShaders(changed));
     if (!attempted) return false;
     if (problem.empty())
         clearProblem("shaders");
@@ -432,7 +432,7 @@ shader::Records SceneStage::shaderRecords() const {
     };
     if (m_renderer) add("render", m_renderer->shaderRecords());
     if (m_irradiance_stage) add("irradiance", m_irradiance_stage->shaderRecords());
-    if (m_bruteRenderer) add("brute force", m_bruteRenderer->shaderRecords());
+    add("brute force", m_comparison.shaderRecords());
     return out;
 }
 
@@ -505,7 +505,8 @@ void SceneStage::adoptFrame() {
     m_frame.ldr = m_displayLdr.id();
     // NaN, Inf or negative radiance is counted, named after the model, never passed off as black
     const std::string bad = render::invalidPixelsProblem(m_frame.invalid);
-    const std::string text = (m_frameModel ? m_frameModel->path + ": " : std::string()) + bad;
+    const bssrdf::Model* model = m_comparison.frameModel();
+    const std::string text = (model ? model->path + ": " : std::string()) + bad;
     if (bad.empty())
         clearProblem("render values");
     else if (auto it = m_problems.find("render values");
@@ -514,6 +515,7 @@ void SceneStage::adoptFrame() {
     StageStat& st = m_stats["scene.render"];
     st.ms = m_renderClock.ms();
     ++st.runs;
+    m_comparison.frameShown(m_frame.width, m_frame.height);
 }
 
 glm::vec3 SceneStage::exitanceAt(const glm::vec3& xo, const glm::vec3& no) {
@@ -525,70 +527,14 @@ glm::vec3 SceneStage::exitanceAt(const glm::vec3& xo, const glm::vec3& no) {
     return t.radiantExitance;
 }
 
-void SceneStage::requestBruteForce() {
-    requestComparison({});
-}
-
-void SceneStage::requestComparison(const Comparison& c) {
-    if (!hasFrame() || !m_tree || !m_mesh || !m_frameModel)
-        throw core::Error("render", 0, "no rendered frame to compare with yet");
-    // A second renderer with its own buffers, so the displayed frame stays as it is.
-    if (!m_bruteRenderer)
-        m_bruteRenderer = std::make_unique<render::Renderer>(shader::Sources{m_root});
-    m_bruteRenderer->setMesh(*m_mesh);
-    m_bruteRenderer->setOctree(*m_tree);
-    m_compareIsBrute = c.model == nullptr;
-    m_compareName = m_compareIsBrute ? "brute force" : c.name;
-    m_bruteRenderer->setModel(m_compareIsBrute ? *m_frameModel : *c.model);
-    m_bruteRenderer->setMaterial(m_compareIsBrute ? m_frameValues : c.values,
-                                 m_compareIsBrute ? m_frameBuiltins : c.builtins);
-    render::Settings bs = m_frameSettings;
-    bs.width = m_frame.width;
-    bs.height = m_frame.height;
-    bs.bruteForce = m_compareIsBrute || m_frameSettings.bruteForce;
-    bs.iterationsPerDispatch = kInteractiveIterations;
-    m_bruteRenderer->begin(bs);
-    m_bruteFor = m_stats["scene.render"].runs;
-    m_bruteFrame = -1; // the previous comparison no longer stands
-    m_bruteRunning = true;
-}
-
-bool SceneStage::advanceBruteForce(double budgetMs) {
-    if (!m_bruteRunning) return false;
-    try {
-        if (!m_bruteRenderer->advance(budgetMs)) return false;
-        render::Readback rb = m_bruteRenderer->readback();
-        m_bruteResult = std::move(rb.exitance);
-        m_bruteLdr = std::move(rb.ldr);
-        m_bruteFrame = m_bruteFor;
-    } catch (const std::exception& ex) {
-        setProblem("brute force", ex.what());
-    }
-    m_bruteRunning = false;
-    return true;
-}
-
-const std::vector<glm::vec4>* SceneStage::bruteForceResult() const {
-    auto it = m_stats.find("scene.render");
-    const long long runs = it == m_stats.end() ? 0 : it->second.runs;
-    return m_compareIsBrute && m_bruteFrame == runs && !m_bruteResult.empty() ? &m_bruteResult
-                                                                              : nullptr;
-}
-
-const std::vector<unsigned char>* SceneStage::comparisonImage() const {
-    auto it = m_stats.find("scene.render");
-    const long long runs = it == m_stats.end() ? 0 : it->second.runs;
-    return m_bruteFrame == runs && !m_bruteLdr.empty() ? &m_bruteLdr : nullptr;
-}
-
 std::vector<glm::vec4> SceneStage::bruteForceExitance() {
     if (m_renderer && m_renderer->inProgress()) {
         m_renderer->advance(1e30);
         adoptFrame();
     }
-    requestBruteForce();
-    advanceBruteForce(1e30);
-    if (const auto* r = bruteForceResult()) return *r;
+    m_comparison.requestBruteForce();
+    m_comparison.advance(1e30);
+    if (const auto* r = m_comparison.bruteForceResult()) return *r;
     throw core::Error("render", 0, "the brute-force pass failed (see Errors)");
 }
 

@@ -9,9 +9,11 @@
 // the new one is ready; a new request supersedes a running one); occluded IBL advances a few
 // environment samples per update. Renders use half resolution while the user interacts and
 // full resolution at rest. The traversal debugger (debugPixel) replays one pixel with the CPU
-// replica (octree::traverse) on the G-buffer of the last frame.
+// replica (octree::traverse) on the G-buffer of the last frame. A second renderer
+// (scene_comparison.h) renders the brute-force pass and the A/B view's B side of the shown frame.
 #pragma once
 
+#include "pipeline/scene_comparison.h"
 #include "pipeline/stage.h"
 
 #include "bssrdf/program_library.h"
@@ -170,28 +172,10 @@ class SceneStage : public Stage {
     // cloud panel's readout for a clicked point). Throws core::Error before the first frame.
     glm::vec3 exitanceAt(const glm::vec3& xo, const glm::vec3& no);
 
-    // Full-frame brute force of the last frame's view (same size and settings) for the
-    // relative-error heatmap, on a second renderer so the displayed frame stays. Progressive:
-    // requestBruteForce starts it, update() advances it within the frame budget; the result
-    // (M per pixel, rgb, and hit in a) belongs to the frame it was started for and is
-    // returned by bruteForceResult() only while that frame is the current one.
-    void requestBruteForce();
-    bool bruteForceRunning() const { return m_bruteRunning; }
-    const std::vector<glm::vec4>* bruteForceResult() const;
-    // The same second renderer as the B side of the Render panel's A/B view: brute force of
-    // the shown frame's model (`model` null), or another model rendered hierarchically with its
-    // own parameters and material, same view, size and settings.
-    struct Comparison {
-        const bssrdf::Model* model = nullptr;
-        bssrdf::ParamValues values;
-        bssrdf::Builtins builtins;
-        std::string name; // what the B side shows (for the label)
-    };
-    void requestComparison(const Comparison& c);
-    // The comparison frame's tone-mapped image (RGBA8, row 0 at the top) and what it is,
-    // while the frame it was started for is the current one.
-    const std::vector<unsigned char>* comparisonImage() const;
-    const std::string& comparisonName() const { return m_compareName; }
+    // The second renderer: brute force of the last frame's view (the relative-error heatmap) and
+    // the B side of the Render panel's A/B view; update() advances its pass.
+    SceneComparison& comparison() { return m_comparison; }
+    const SceneComparison& comparison() const { return m_comparison; }
     // Finishes the current frame, then runs the brute-force pass to the end (tests, CLI).
     std::vector<glm::vec4> bruteForceExitance();
 
@@ -246,21 +230,9 @@ class SceneStage : public Stage {
     FinishProgress m_finishProgress; // set during finish()
     gl::Texture m_displayLdr;
     int m_displayW = 0, m_displayH = 0;
-    // What the last frame was rendered with (for the brute-force comparison pass).
-    render::Settings m_frameSettings;
-    std::optional<bssrdf::Model> m_frameModel;
-    bssrdf::ParamValues m_frameValues;
-    bssrdf::Builtins m_frameBuiltins;
-    std::unique_ptr<render::Renderer> m_bruteRenderer;
-    std::vector<glm::vec4> m_bruteResult;
-    std::vector<unsigned char> m_bruteLdr;
-    bool m_compareIsBrute = true; // the second renderer's pass is brute force of the frame
-    std::string m_compareName;
-    long long m_bruteFor = -1, m_bruteFrame = -1;
-    bool m_bruteRunning = false;
-    bool advanceBruteForce(double budgetMs);
     void adoptFrame(); // the renderer's finished frame becomes the displayed one (one run)
     bool m_cameraFitted = false;
+    SceneComparison m_comparison{m_root, m_mesh, m_tree, kInteractiveIterations};
 };
 
 } // namespace app

@@ -238,12 +238,12 @@ SceneModelInput Workbench::sceneModelInput() const {
 }
 
 void Workbench::requestSceneComparison(const std::string& model) {
-    if (model.empty()) return m_scene->requestBruteForce();
+    if (model.empty()) return m_scene->comparison().requestBruteForce();
     const bssrdf::ModelEntry* e = m_library->find(model);
     auto it = e ? m_views.find(e->displayPath) : m_views.end();
     if (!e || !e->usable() || it == m_views.end() || !it->second.effective)
         throw core::Error(model, 0, "not a usable model to compare with");
-    m_scene->requestComparison(
+    m_scene->comparison().request(
         {&*e->model, e->values, builtinsOf(*it->second.effective), e->model->name});
 }
 

@@ -233,12 +233,12 @@ TEST(Interactions, RenderPanelAbSplitShowsBruteForceOrAnotherModel) {
     RenderFixture fx;
     app::UiState& ui = fx.gui->ui();
     ui.render.abSplit = true;
-    for (int i = 0; i < 60 && !fx.wb.scene().comparisonImage(); ++i)
+    for (int i = 0; i < 60 && !fx.wb.scene().comparison().image(); ++i)
         fx.gui->frame(); // the view requests the brute-force pass; update() advances it
-    ASSERT_NE(fx.wb.scene().comparisonImage(), nullptr);
+    ASSERT_NE(fx.wb.scene().comparison().image(), nullptr);
     fx.gui->frame();
     EXPECT_NE(ui.render.abTex.id(), 0u);
-    EXPECT_EQ(fx.wb.scene().comparisonImage()->size(), size_t(96 * 54 * 4));
+    EXPECT_EQ(fx.wb.scene().comparison().image()->size(), size_t(96 * 54 * 4));
     // drag the divider from the middle to a quarter of the image
     const app::Rect r = ui.render.imageRect;
     const float y = r.y1 + 6;
@@ -250,9 +250,9 @@ TEST(Interactions, RenderPanelAbSplitShowsBruteForceOrAnotherModel) {
     fx.release(r.x0 + 0.25f * r.width(), y);
     EXPECT_NEAR(ui.render.split, 0.25f, 0.02f);
     // moving the divider rendered nothing new: the brute-force image is still the current one
-    EXPECT_NE(fx.wb.scene().comparisonImage(), nullptr);
+    EXPECT_NE(fx.wb.scene().comparison().image(), nullptr);
     EXPECT_EQ(fx.wb.scene().frame().width, 96);
-    EXPECT_EQ(fx.wb.scene().comparisonName(), "brute force");
+    EXPECT_EQ(fx.wb.scene().comparison().name(), "brute force");
 
     // B: another model (a copy of the dipole at twice the Multiplier), same view
     std::string text = testsupport::readText(fx.root / "materials/dipole.bssrdf");
@@ -262,17 +262,17 @@ TEST(Interactions, RenderPanelAbSplitShowsBruteForceOrAnotherModel) {
     fx.wb.update();
     fx.wb.finishScene();
     ui.render.abWith = "materials/twice.bssrdf";
-    for (int i = 0; i < 60 && fx.wb.scene().comparisonName() != "twice"; ++i)
+    for (int i = 0; i < 60 && fx.wb.scene().comparison().name() != "twice"; ++i)
         fx.gui->frame();
-    for (int i = 0; i < 60 && !fx.wb.scene().comparisonImage(); ++i)
+    for (int i = 0; i < 60 && !fx.wb.scene().comparison().image(); ++i)
         fx.gui->frame();
-    ASSERT_NE(fx.wb.scene().comparisonImage(), nullptr);
-    EXPECT_EQ(fx.wb.scene().comparisonName(), "twice");
+    ASSERT_NE(fx.wb.scene().comparison().image(), nullptr);
+    EXPECT_EQ(fx.wb.scene().comparison().name(), "twice");
     // not brute force: the relative-error heatmap does not take it for brute force
-    EXPECT_EQ(fx.wb.scene().bruteForceResult(), nullptr);
+    EXPECT_EQ(fx.wb.scene().comparison().bruteForceResult(), nullptr);
     // twice the exitance: B is brighter than A wherever the surface is lit
     const render::Readback a = fx.wb.scene().readback();
-    const std::vector<unsigned char>& b = *fx.wb.scene().comparisonImage();
+    const std::vector<unsigned char>& b = *fx.wb.scene().comparison().image();
     long brighter = 0, compared = 0;
     for (size_t p = 0; p < a.ldr.size() / 4; ++p) {
         if (a.position[p].w < 0.5f || a.ldr[4 * p] < 20 || a.ldr[4 * p] > 235) continue;

@@ -55,7 +55,8 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
         EXPECT_NE(testsupport::panelWindow(app::PanelId::PointCloud), nullptr);
     }
     const std::vector<glm::vec4> brute = wb.scene().bruteForceExitance();
-    ASSERT_NE(wb.scene().bruteForceResult(), nullptr); // belongs to the displayed frame
+    // the pass belongs to the displayed frame
+    ASSERT_NE(wb.scene().comparison().bruteForceResult(), nullptr);
     EXPECT_EQ(brute.size(), size_t(96 * 54));
     ui.shared.show(app::PanelId::Render);
     for (int h = 0; h < 4; ++h) {

@@ -12,8 +12,8 @@
 #include "../support/raw_exr.h"
 #include "core/core.h"
 #include "mesh/mesh.h"
-#include "pointcloud/pointcloud.h"
 #include "pipeline/workbench.h"
+#include "pointcloud/pointcloud.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -713,14 +713,14 @@ TEST(SceneStage, BruteForcePassRunsBesideTheDisplayedFrame) {
     wb.finishScene();
     ASSERT_TRUE(b.scene().hasFrame()) << allErrors(wb);
     const render::Readback frame = b.scene().readback();
-    b.scene().requestBruteForce();
+    b.scene().comparison().requestBruteForce();
     int updates = 0;
-    while (b.scene().bruteForceRunning() && updates < 100000) {
+    while (b.scene().comparison().running() && updates < 100000) {
         wb.update();
         ++updates;
     }
     EXPECT_GT(updates, 1) << "the pass should be spread over several updates";
-    const std::vector<glm::vec4>* brute = b.scene().bruteForceResult();
+    const std::vector<glm::vec4>* brute = b.scene().comparison().bruteForceResult();
     ASSERT_NE(brute, nullptr) << allErrors(wb);
     ASSERT_EQ(brute->size(), frame.exitance.size());
     EXPECT_TRUE(sameFrame(frame, b.scene().readback())) << "the displayed frame changed";
@@ -737,7 +737,7 @@ TEST(SceneStage, BruteForcePassRunsBesideTheDisplayedFrame) {
     EXPECT_LT(std::sqrt(num / den), 0.02);
     b.settings().render.camera.yaw += 0.2f;
     wb.finishScene();
-    EXPECT_EQ(b.scene().bruteForceResult(), nullptr);
+    EXPECT_EQ(b.scene().comparison().bruteForceResult(), nullptr);
 }
 
 // A point cloud loaded directly from a PLY file replaces the generated one (same points in, same

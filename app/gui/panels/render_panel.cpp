@@ -6,8 +6,8 @@
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 
-#include "pipeline/image_display.h"
 #include "pathtrace/image_io.h"
+#include "pipeline/image_display.h"
 #include "render/frame_analysis.h"
 
 #include <algorithm>
@@ -23,7 +23,8 @@ std::vector<unsigned char> heatImage(const render::Readback& rb, const std::vect
                                      float maxValue) {
     std::vector<unsigned char> rgba(v.size() * 4, 0);
     for (size_t p = 0; p < v.size(); ++p) {
-        glm::vec3 c = v[p] < 0 ? glm::vec3(0.12f) : core::colorRamp(maxValue > 0 ? v[p] / maxValue : 0);
+        glm::vec3 c =
+            v[p] < 0 ? glm::vec3(0.12f) : core::colorRamp(maxValue > 0 ? v[p] / maxValue : 0);
         if (rb.stats[p].z != 0) c = {1.0f, 0.0f, 1.0f};
         rgba[4 * p] = (unsigned char)(c.x * 255);
         rgba[4 * p + 1] = (unsigned char)(c.y * 255);
@@ -37,6 +38,7 @@ std::vector<unsigned char> heatImage(const render::Readback& rb, const std::vect
 // divider, and a strip under the image to drag the divider.
 bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
     SceneStage& scene = wb.scene();
+    const SceneComparison& comparison = scene.comparison();
     // the B side: current, and of the kind chosen (else asked for again)
     const std::string wantName =
         ps.abWith.empty() ? "brute force"
@@ -44,7 +46,7 @@ bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
                                  ? wb.library().find(ps.abWith)->model->name
                                  : ps.abWith);
     const std::vector<unsigned char>* brute =
-        scene.comparisonName() == wantName ? scene.comparisonImage() : nullptr;
+        comparison.name() == wantName ? comparison.image() : nullptr;
     const Rect r = ps.imageRect;
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const float xs = r.x0 + ps.split * r.width();
@@ -60,9 +62,9 @@ bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
                      ImVec2(xs, r.y0), ImVec2(r.x1, r.y1), ImVec2(ps.split, 0), ImVec2(1, 1));
         dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255),
                     ("B: " + wantName).c_str());
-    } else if (scene.bruteForceRunning()) {
+    } else if (comparison.running()) {
         dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 200, 80, 255),
-                    ("B: " + scene.comparisonName() + " ...").c_str());
+                    ("B: " + comparison.name() + " ...").c_str());
     } else if (!scene.rendering()) {
         try {
             wb.requestSceneComparison(ps.abWith); // the B side of this view
@@ -329,15 +331,15 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     if (ps.mode == RenderMode::TextureSpace && drawTextureSpaceView(wb, ps, f, tex)) return;
     if (ps.heatmap != Heatmap::Image) {
         render::Readback rb = scene.readback();
-        const std::vector<glm::vec4>* brute = scene.bruteForceResult();
+        const std::vector<glm::vec4>* brute = scene.comparison().bruteForceResult();
         if (ps.heatmap == Heatmap::RelativeError && !brute) {
-            if (scene.bruteForceRunning()) {
+            if (scene.comparison().running()) {
                 ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "brute force running ...");
             } else if (scene.rendering()) {
                 ImGui::TextDisabled("waiting for the frame to finish");
             } else if (ImGui::Button("compute brute force for this view")) {
                 try {
-                    scene.requestBruteForce();
+                    scene.comparison().requestBruteForce();
                 } catch (const std::exception& e) {
                     wb.reportActionError(e.what());
                 }
