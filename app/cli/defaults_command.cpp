@@ -3,9 +3,7 @@
 #include "cli/defaults_command.h"
 
 #include "cli/command.h"
-#include "cli/options.h"
-#include "core/fields.h"
-#include "pipeline/workbench.h"
+#include "pipeline/settings_sections.h"
 
 #include <cstdio>
 
@@ -13,22 +11,10 @@ namespace app {
 
 std::string defaultsTable() {
     std::string out = "| setting | default | meaning |\n|---|---|---|\n";
-    auto rows = [&](auto s, const std::string& prefix) {
-        core::forEachField(
-            s,
-            [&](const std::string& path, const auto& m, const char* doc) {
-                out += "| `" + path + "` | " + defaultText(m) + " | " + doc + " |\n";
-            },
-            prefix);
-    };
-    rows(MaterialSettings{}, "material.");
-    rows(PlotSettings{}, "plot.");
-    rows(ReferenceSettings{}, "reference.");
-    rows(SliceSettings{}, "slice.");
-    rows(LitSphereSettings{}, "lit_spheres.");
-    rows(SceneSettings{}, "scene.");
-    rows(MonteCarloSettings{}, "monte_carlo.");
-    rows(TextureSpaceSettings{}, "texture_space.");
+    for (const SettingsSection& s : settingsSections(nullptr))
+        s.forEachDefault([&](const std::string& path, const std::string& value, const char* doc) {
+            out += "| `" + path + "` | " + value + " | " + doc + " |\n";
+        });
     return out;
 }
 

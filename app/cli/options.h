@@ -24,32 +24,8 @@
 
 namespace app {
 
-// A setting's value as the help text and the README's defaults table show it.
-template <class M> std::string defaultText(const M& m) {
-    if constexpr (std::is_same_v<M, bool>) {
-        return m ? "on" : "off";
-    } else if constexpr (core::NamedEnum<M>) {
-        return core::nameOf(m);
-    } else if constexpr (std::is_floating_point_v<M>) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%g", double(m));
-        return b;
-    } else if constexpr (std::is_arithmetic_v<M>) {
-        return std::to_string(m);
-    } else if constexpr (std::is_same_v<M, std::string>) {
-        return m.empty() ? "(none)" : m;
-    } else if constexpr (requires {
-                             m.size();
-                             m.begin();
-                         }) { // a list: "a,b,c"
-        std::string out;
-        for (const auto& v : m)
-            out += (out.empty() ? "" : ",") + defaultText(v);
-        return out;
-    } else {
-        return defaultText(m.x) + "," + defaultText(m.y) + "," + defaultText(m.z);
-    }
-}
+// A setting's value as the help text shows it (core/fields.h).
+using core::defaultText;
 
 // An option taking one of the names of enum E.
 template <core::NamedEnum E>

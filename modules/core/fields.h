@@ -29,6 +29,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <set>
 #include <string>
@@ -68,6 +69,34 @@ E enumFromName(std::string_view name, const std::string& file, const std::string
 
 // ---- limits -------------------------------------------------------------------------------
 // core::Limits (core/limits.h): the range a description gives a numeric member.
+
+// A setting's value as help texts and the README's defaults table show it: on/off, an enum's
+// name, %g, a list or vector as "a,b,c", an empty string as "(none)".
+template <class M> std::string defaultText(const M& m) {
+    if constexpr (std::is_same_v<M, bool>) {
+        return m ? "on" : "off";
+    } else if constexpr (core::NamedEnum<M>) {
+        return core::nameOf(m);
+    } else if constexpr (std::is_floating_point_v<M>) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%g", double(m));
+        return b;
+    } else if constexpr (std::is_arithmetic_v<M>) {
+        return std::to_string(m);
+    } else if constexpr (std::is_same_v<M, std::string>) {
+        return m.empty() ? "(none)" : m;
+    } else if constexpr (requires {
+                             m.size();
+                             m.begin();
+                         }) { // a list: "a,b,c"
+        std::string out;
+        for (const auto& v : m)
+            out += (out.empty() ? "" : ",") + defaultText(v);
+        return out;
+    } else {
+        return defaultText(m.x) + "," + defaultText(m.y) + "," + defaultText(m.z);
+    }
+}
 
 // An empty string when `value` is acceptable, else why not ("must be between 1 and 10, got 0").
 template <class M> std::string limitProblem(const M& value, Limits lim) {
