@@ -17,10 +17,10 @@
 #include "core/core.h"
 #include "core/fields.h"
 #include "gl/gl.h"
+#include "gui/report_png.h"
 #include "integrate/integrate.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/monte_carlo_stage.h"
-#include "gui/report_png.h"
 #include "pipeline/workbench.h"
 
 #include <algorithm>

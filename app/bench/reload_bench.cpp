@@ -13,9 +13,9 @@
 #include "core/core.h"
 #include "gl/gl.h"
 #include "gui/gui.h"
-#include "probe/model_probe_process.h"
 #include "gui/panels/registry.h"
 #include "pipeline/workbench.h"
+#include "probe/model_probe_process.h"
 
 #include <algorithm>
 #include <chrono>

@@ -4,12 +4,12 @@
 // Modes are enums. The panels themselves are listed once, in panels/registry.h.
 #pragma once
 
-#include "probe/child_process.h"
 #include "gl/gl.h"
 #include "gui/file_dialog.h"
-#include "pipeline/scene_stage.h"
 #include "gui/scene_view.h"
 #include "gui/workspace_layout.h"
+#include "pipeline/scene_stage.h"
+#include "probe/child_process.h"
 
 #include <array>
 #include <memory>

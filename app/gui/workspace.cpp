@@ -1,5 +1,5 @@
-// The workspace (workspace_layout.h) drawn with ImGui: one opaque, fixed host window per area with a
-// tab bar of its docked panels, splitter strips between areas, and a window per floating panel.
+// The workspace (workspace_layout.h) drawn with ImGui: one opaque, fixed host window per area with
+// a tab bar of its docked panels, splitter strips between areas, and a window per floating panel.
 // A tab's context menu (right click) and the "float" button float a panel out; a floating
 // window's "Dock" button (or View → Float) docks it back. Closing a tab closes the panel (the
 // View menu reopens it).

@@ -1,12 +1,12 @@
 // The live scoreboard (scoreboard_stage.h).
 #include "pipeline/scoreboard_stage.h"
 
-#include "pipeline/scoring.h"
 #include "core/core.h"
 #include "core/fields.h"
 #include "core/text.h"
 #include "gl/gl.h"
 #include "pipeline/param_json.h"
+#include "pipeline/scoring.h"
 
 #include <chrono>
 #include <cmath>

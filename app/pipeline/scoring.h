@@ -1,6 +1,6 @@
 // The scores of a model's pencil-beam profile against the path-traced reference, shared by
-// `compare` (cli/compare_command.h) and the Scoreboard stage (scoreboard_stage.h). At normal incidence
-// (θi = 0) for every number below:
+// `compare` (cli/compare_command.h) and the Scoreboard stage (scoreboard_stage.h). At normal
+// incidence (θi = 0) for every number below:
 //   l_d       = 1/√(3σa(σa + σs(1 − g)))                 (the channel's diffuse mean free path)
 //   R_ref(r)  = R_d(r)/(1 − R_sp)                         (per unit power entering, as plotted)
 //   rel_l2    = √(∫(R_m − R_ref)² r dr / ∫R_ref² r dr) over r ∈ [0.1 l_d, 4 l_d], the integrals

@@ -1,9 +1,9 @@
 // The scoreboard at oblique incidence (scoring_oblique.h has the definitions).
 #include "pipeline/scoring_oblique.h"
 
-#include "pipeline/scoring.h"
 #include "core/core.h"
 #include "core/fields.h"
+#include "pipeline/scoring.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,9 +1,9 @@
 // Model checks in a child process (model_probe_process.h).
 #include "probe/model_probe_process.h"
 
-#include "probe/protocol.h"
 #include "core/core.h"
 #include "core/text.h"
+#include "probe/protocol.h"
 
 #include <chrono>
 #include <cstdio>

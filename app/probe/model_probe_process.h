@@ -1,16 +1,16 @@
 // The check of a new or changed model in a child process (bssrdf/model_probe.h): the workbench
-// executable re-run as `bssrdf-workbench --root ROOT probe-model FILE …` (cli/probe_commands.h) makes its
-// own headless GL context, builds the model's pencil (and inversion) program and evaluates it
-// once with the current parameters at the pencil plot's radii. The model is adopted only when
-// the child finishes that evaluation within the limit; otherwise the child is killed and the
-// model's Errors entry says why. The GUI polls the child once per frame; the CLI waits for it.
+// executable re-run as `bssrdf-workbench --root ROOT probe-model FILE …` (cli/probe_commands.h)
+// makes its own headless GL context, builds the model's pencil (and inversion) program and
+// evaluates it once with the current parameters at the pencil plot's radii. The model is adopted
+// only when the child finishes that evaluation within the limit; otherwise the child is killed and
+// the model's Errors entry says why. The GUI polls the child once per frame; the CLI waits for it.
 //
-// Kept warm: the first check of a process starts `bssrdf-workbench probe-server` (cli/probe_commands.h),
-// which keeps its GL context and takes one check after another, so a saved model is checked
-// without a process start and a context creation. A check that runs out of time kills that
-// server (its GL call cannot be interrupted) and a new one starts at once, warming up for the
-// next; so does a check given up before its verdict (a newer save replaced it). While the server
-// is busy with a check of another model, a check runs in its own `probe-model` process, as
+// Kept warm: the first check of a process starts `bssrdf-workbench probe-server`
+// (cli/probe_commands.h), which keeps its GL context and takes one check after another, so a saved
+// model is checked without a process start and a context creation. A check that runs out of time
+// kills that server (its GL call cannot be interrupted) and a new one starts at once, warming up
+// for the next; so does a check given up before its verdict (a newer save replaced it). While the
+// server is busy with a check of another model, a check runs in its own `probe-model` process, as
 // before.
 #pragma once
 

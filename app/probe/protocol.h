@@ -1,5 +1,5 @@
-// What the model check's child process (`probe-model`, `probe-server`: cli/probe_commands.h) and its
-// parent (model_probe_process.h) say to each other: the tag that starts each line the child
+// What the model check's child process (`probe-model`, `probe-server`: cli/probe_commands.h) and
+// its parent (model_probe_process.h) say to each other: the tag that starts each line the child
 // prints, the separators of a request to the warm server, and the exit statuses that mean
 // something to the parent (common/exit_codes.h).
 #pragma once

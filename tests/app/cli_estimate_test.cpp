@@ -1,5 +1,5 @@
-// End-to-end tests of `estimate` and `merge` (app/cli/estimate_commands.h) on the real executable: the
-// table and its CSVs, shards merged into bitwise the file of one run, and every bad input the
+// End-to-end tests of `estimate` and `merge` (app/cli/estimate_commands.h) on the real executable:
+// the table and its CSVs, shards merged into bitwise the file of one run, and every bad input the
 // reference issue lists — incidence angles, bin counts, shard specs, unwritable outputs, and
 // table files that are truncated, of another version, not tables, with a NaN in the header or
 // a negative value, or of another medium — each failing with a message naming the argument or

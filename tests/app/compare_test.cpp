@@ -1,11 +1,11 @@
 // `compare` (app/cli/compare_command.h, app/pipeline/scoring.h): the scores of a model against
 // a synthetic reference (exact values, the delta-method standard error against finite
-// differences, ties within the noise), and the command end to end: scores.json schema, reports, the reference cache, --fail-if-worse and bad
-// inputs.
+// differences, ties within the noise), and the command end to end: scores.json schema, reports, the
+// reference cache, --fail-if-worse and bad inputs.
 #include "../support/cli_fixture.h"
+#include "gui/report_png.h"
 #include "pipeline/scoring.h"
 #include "pipeline/scoring_oblique.h"
-#include "gui/report_png.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,15 +1,15 @@
 // A model whose Bssrdf() does not end, or runs for very long, saved while the workbench runs:
 // its first evaluation runs in a child process (the workbench executable,
-// app/probe/model_probe_process.h) with a short limit, update() keeps returning at once while it runs,
-// the Errors panel names the file and why, the last good version stays in use, and the fixed file
-// is adopted.
+// app/probe/model_probe_process.h) with a short limit, update() keeps returning at once while it
+// runs, the Errors panel names the file and why, the last good version stays in use, and the fixed
+// file is adopted.
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
-#include "probe/child_process.h"
 #include "cli/probe_commands.h"
 #include "core/core.h"
-#include "probe/model_probe_process.h"
 #include "pipeline/workbench.h"
+#include "probe/child_process.h"
+#include "probe/model_probe_process.h"
 
 #include <algorithm>
 #include <csignal>

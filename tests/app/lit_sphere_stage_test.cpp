@@ -165,7 +165,7 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
     const std::string where = "materials/dipole.bssrdf:" +
                               std::to_string(testsupport::lineOf(withSampler, "::begin sample"));
     EXPECT_NE(wb.litSpheres().problem().find(where + ": channel R: PdfRadius is the density of the "
-                                                 "radius"),
+                                                     "radius"),
               std::string::npos)
         << wb.litSpheres().problem();
     bool listed = false;
@@ -181,6 +181,7 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
                     "::end shader\n");
     wb.reloadAll();
     wb.update();
-    EXPECT_NE(wb.litSpheres().problem().find("converge"), std::string::npos) << wb.litSpheres().problem();
+    EXPECT_NE(wb.litSpheres().problem().find("converge"), std::string::npos)
+        << wb.litSpheres().problem();
     std::filesystem::remove_all(root);
 }

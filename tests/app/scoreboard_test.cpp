@@ -3,10 +3,10 @@
 // hot reload, and a click on a row solos that model in the pencil plot on that channel.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
-#include "pipeline/scoring.h"
 #include "core/core.h"
 #include "gl/gl.h"
 #include "gui/gui.h"
+#include "pipeline/scoring.h"
 
 #include <gtest/gtest.h>
 

@@ -2,12 +2,12 @@
 // described (or skipped on purpose), JSON round-trips every described member, the cache key
 // covers every member, bad JSON names its path, the CLI's defaults are the GUI's, and the
 // README's defaults table is the program's.
+#include "captures/settings_json.h"
+#include "cli/defaults_command.h"
 #include "cli/options.h"
 #include "cli/pointcloud_command.h"
 #include "cli/render_command.h"
 #include "cli/slab_command.h"
-#include "captures/settings_json.h"
-#include "cli/defaults_command.h"
 #include "pipeline/workbench.h"
 
 #include "core/fields.h"

@@ -1,5 +1,5 @@
-// A model on an estimate's bins (app/pipeline/slice_model.h), without GL: the queries' geometry, the
-// Fresnel normalisation against an independent quadrature, exactness of the bin averages where
+// A model on an estimate's bins (app/pipeline/slice_model.h), without GL: the queries' geometry,
+// the Fresnel normalisation against an independent quadrature, exactness of the bin averages where
 // the midpoint rule is exact, and the directional average within the midpoint rule's error
 // bound.
 #include "pathtrace/fresnel.h"

@@ -7,8 +7,8 @@
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "gui/gui.h"
-#include "pipeline/texspace_images.h"
 #include "pipeline/pencil_series.h"
+#include "pipeline/texspace_images.h"
 #include "pipeline/workbench.h"
 
 #include <gtest/gtest.h>

@@ -21,8 +21,8 @@
 namespace {
 namespace fs = std::filesystem;
 using app::Area;
-using app::Rect;
 using app::idx;
+using app::Rect;
 
 // Every present area lies in the view, no two present areas overlap, splitters sit between.
 void expectTiled(const app::WorkspaceRects& t, const Rect& view) {

@@ -4,8 +4,8 @@
 // Every include of an app header names its folder ("pipeline/workbench.h"), so each arrow is
 // checked. ImGui (and the plot widgets drawn with it), GLFW and CLI11 are used only where the
 // table of external libraries allows. No two files of app/ include each other, directly or
-// through others (a header and its source counted as one file). The synthetic trees show each
-// check failing on a violation.
+// through others (a header and its source counted as one file), and no file of app/ is longer
+// than kMaxLines. The synthetic trees show each check failing on a violation.
 #include "layering_support.h"
 
 #include <gtest/gtest.h>
@@ -45,6 +45,9 @@ const std::vector<External> kExternal = {
     {"GLFW", {"GLFW/"}, {"glfw"}, {"gui", "bench", "cli"}},
     {"CLI11", {"CLI/"}, {"CLI11::CLI11"}, {"cli"}},
 };
+
+// A file longer than this does several jobs: split it by job.
+constexpr int kMaxLines = 600;
 
 bool isSource(const fs::path& p) {
     return p.extension() == ".h" || p.extension() == ".cpp";
@@ -120,7 +123,8 @@ std::vector<std::string> appViolations(const fs::path& appDir, const Graph& allo
             }
             if (!folders.count(first)) continue; // a module's header
             if (!mayUse(first)) out.push_back(at + folder + " includes " + first);
-            std::string target = path.substr(0, path.size() - fs::path(path).extension().string().size());
+            std::string target =
+                path.substr(0, path.size() - fs::path(path).extension().string().size());
             if (target != node) files[node].insert(target);
         }
     }
@@ -149,6 +153,20 @@ std::vector<std::string> appViolations(const fs::path& appDir, const Graph& allo
     return out;
 }
 
+// "app/x.cpp: 612 lines" for every source of app/ over `maxLines`.
+std::vector<std::string> longFiles(const fs::path& appDir, int maxLines) {
+    std::vector<std::string> out;
+    for (const auto& entry : fs::recursive_directory_iterator(appDir)) {
+        if (!entry.is_regular_file() || !isSource(entry.path())) continue;
+        const std::string text = readAll(entry.path());
+        const auto lines = std::count(text.begin(), text.end(), '\n');
+        if (lines > maxLines)
+            out.push_back("app/" + fs::relative(entry.path(), appDir).generic_string() + ": " +
+                          std::to_string(lines) + " lines");
+    }
+    return out;
+}
+
 bool contains(const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();
 }
@@ -166,6 +184,20 @@ TEST(AppLayering, NoFolderUsesAFolderAboveItAndNoFilesIncludeEachOther) {
     ASSERT_TRUE(acyclic(kAppAllowed));
     const auto v = appViolations(fs::path(BW_SOURCE_ROOT) / "app", kAppAllowed, kExternal);
     EXPECT_TRUE(v.empty()) << joined(v);
+}
+
+TEST(AppLayering, NoFileIsLongerThanItsLimit) {
+    const auto v = longFiles(fs::path(BW_SOURCE_ROOT) / "app", kMaxLines);
+    EXPECT_TRUE(v.empty()) << joined(v);
+
+    TempTree t;
+    std::string text;
+    for (int i = 0; i < 12; ++i)
+        text += "// line\n";
+    t.write("app/pipeline/short.cpp", text.substr(0, 10 * 8));
+    t.write("app/pipeline/long.cpp", text);
+    EXPECT_EQ(longFiles(t.root / "app", 10),
+              std::vector<std::string>{"app/pipeline/long.cpp: 12 lines"});
 }
 
 TEST(AppLayering, ABackArrowALibraryOutOfPlaceAndALoopAreReported) {
@@ -190,8 +222,7 @@ TEST(AppLayering, ABackArrowALibraryOutOfPlaceAndALoopAreReported) {
     EXPECT_TRUE(appViolations(app, g, ext).empty()) << joined(appViolations(app, g, ext));
 
     // the pipeline reaching up into the GUI, by #include and by link, and using ImGui
-    t.write("app/pipeline/scene.cpp",
-            "// x\n#include \"gui/gui.h\"\n#include <imgui.h>\n");
+    t.write("app/pipeline/scene.cpp", "// x\n#include \"gui/gui.h\"\n#include <imgui.h>\n");
     t.write("app/pipeline/CMakeLists.txt",
             "target_link_libraries(bw_app_pipeline PUBLIC bw_core bw_app_gui glfw)\n");
     auto v = appViolations(app, g, ext);
@@ -201,7 +232,8 @@ TEST(AppLayering, ABackArrowALibraryOutOfPlaceAndALoopAreReported) {
     EXPECT_TRUE(contains(v, "app/pipeline/CMakeLists.txt:1: pipeline links gui")) << joined(v);
     EXPECT_TRUE(contains(v, "app/pipeline/CMakeLists.txt:1: pipeline links GLFW")) << joined(v);
     fs::remove(app / "pipeline/scene.cpp");
-    t.write("app/pipeline/CMakeLists.txt", "target_link_libraries(bw_app_pipeline PUBLIC bw_core)\n");
+    t.write("app/pipeline/CMakeLists.txt",
+            "target_link_libraries(bw_app_pipeline PUBLIC bw_core)\n");
 
     // an include without its folder, a folder nobody placed, and two files including each other
     t.write("app/gui/panel.cpp", "#include \"gui.h\"\n");

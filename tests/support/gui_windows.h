@@ -2,8 +2,8 @@
 #pragma once
 
 #include "gui/panels/registry.h"
-#include "pipeline/scene_stage.h"
 #include "gui/workspace_layout.h"
+#include "pipeline/scene_stage.h"
 
 #include <imgui.h>
 #include <imgui_internal.h>

@@ -120,7 +120,8 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     if (const std::string problem = wb.litSpheres().problem(); !problem.empty())
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", problem.c_str());
 
-    const pathtrace::Image a = wb.litSpheres().pathTracer().image(), b = wb.litSpheres().integratedImage();
+    const pathtrace::Image a = wb.litSpheres().pathTracer().image(),
+                           b = wb.litSpheres().integratedImage();
     const float avail = ImGui::GetContentRegionAvail().x;
     if (ImGui::BeginTabBar("views")) {
         const char* names[4] = {"Path traced", "BSSRDF integrated", "Side by side", "Difference"};

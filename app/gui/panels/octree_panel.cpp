@@ -48,8 +48,8 @@ void updateBoxes(Workbench& wb, OctreePanelState& ps, const UiShared& ui, const 
     } else {
         for (uint32_t n = 0; n < t.descriptors.size() && boxes.size() < 60000; ++n)
             if (int(t.depth[n]) == ps.level)
-                boxes.push_back(
-                    boxOf(n, core::colorRamp(float(ps.level) / float(std::max(1, t.stats.maxDepth)))));
+                boxes.push_back(boxOf(
+                    n, core::colorRamp(float(ps.level) / float(std::max(1, t.stats.maxDepth)))));
     }
     if (ps.selectedNode >= 0 && size_t(ps.selectedNode) < t.nodes.size())
         boxes.push_back(boxOf(uint32_t(ps.selectedNode), {1.0f, 1.0f, 1.0f}));

@@ -172,8 +172,8 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     const char* chName[4] = {"red", "green", "blue", "luminance"};
     std::string title = "Pencil beam on a semi-infinite slab - " +
                         std::string(ps.solo.empty() ? chName[ps.channel] : "R, G, B of " + ps.solo);
-    plot::PlotState st = plot::drawPlot("pencil", ImVec2(-1, -1), series, x, y, title,
-                                        normalisationNote());
+    plot::PlotState st =
+        plot::drawPlot("pencil", ImVec2(-1, -1), series, x, y, title, normalisationNote());
     // R_p of the hybrid for the selected model (the soloed one, else the Render panel's): where
     // its importance R·2πr last meets the lower bound (seed 004 §3.3.1)
     if (!relative && x.hi > x.lo) {

@@ -9,10 +9,10 @@
 #include "gui/polar_heatmap.h"
 #include "gui/widgets.h"
 
-#include "pipeline/image_display.h"
 #include "core/core.h"
 #include "core/fields.h"
 #include "pathtrace/fresnel.h"
+#include "pipeline/image_display.h"
 
 #include <imgui.h>
 

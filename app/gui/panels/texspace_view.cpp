@@ -2,10 +2,10 @@
 // of its stages — E′ in the texture, the mip CDF's levels, the drawn texels on the texture and
 // on the mesh, the atlas with its distortion. Shows and edits only; texspace_stage.h does the
 // work, texspace_images.h makes the stage images.
-#include "pipeline/image_display.h"
-#include "pipeline/texspace_images.h"
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
+#include "pipeline/image_display.h"
+#include "pipeline/texspace_images.h"
 
 #include <glm/glm.hpp>
 #include <imgui.h>
