@@ -8,6 +8,7 @@
 #include "capture/capture.h"
 #include "pathtrace/lit_sphere.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,22 @@ struct CaptureEntry {
     double alpha = 0; // the statistical kinds' false-alarm rate, Bonferroni over all values
     std::string note; // why this tolerance
 };
+
+// An entry of `kind` for `stage`: its file is the stage's name with '.' → '_' and the kind's
+// extension ("scene.render" → scene_render.exr), its rows matched by the column `key` ("": by
+// row order).
+inline CaptureEntry captureEntry(CaptureEntry::Kind kind, const std::string& stage,
+                                 const std::string& key = "") {
+    CaptureEntry e;
+    e.kind = kind;
+    e.stage = stage;
+    e.file = stage;
+    std::replace(e.file.begin(), e.file.end(), '.', '_');
+    const bool image = kind == CaptureEntry::Kind::Exr || kind == CaptureEntry::Kind::ExrStat;
+    e.file += image ? ".exr" : ".csv";
+    e.key = key;
+    return e;
+}
 
 struct CaptureEntries {
     int traceX = -1, traceY = -1;           // the scene's traced pixel (-1: none is recorded)

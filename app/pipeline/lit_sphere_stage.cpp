@@ -312,10 +312,8 @@ void LitSphereStage::capture(const LitSphereInputs& in, CaptureEntries& out) {
     if (const std::string p = problem(); !p.empty()) throw core::Error("lit spheres", 0, p);
     const std::string what = in.settings.mesh.empty() ? "lit_sphere" : "lit_mesh";
     for (const bool traced : {true, false}) {
-        CaptureEntry e;
-        e.kind = CaptureEntry::Kind::ExrStat;
-        e.stage = what + (traced ? ".path_traced" : ".integrated");
-        e.file = what + (traced ? "_path_traced.exr" : "_integrated.exr");
+        CaptureEntry e = captureEntry(CaptureEntry::Kind::ExrStat,
+                                      what + (traced ? ".path_traced" : ".integrated"));
         e.image = traced ? m_pathTraced.image() : integratedImage();
         e.alpha = kMonteCarloAlpha;
         e.note = "Monte Carlo image: per-pixel z-test, Bonferroni over all pixels and channels";

@@ -192,10 +192,7 @@ void MaterialStage::capture(const ModelStageInputs& in, CaptureEntries& out) con
             continue;
         }
         const MaterialSettings& s = v->override ? v->own : *in.shared;
-        CaptureEntry m;
-        m.stage = "material." + name;
-        m.file = "material_" + name + ".csv";
-        m.key = "channel";
+        CaptureEntry m = captureEntry(CaptureEntry::Kind::Csv, "material." + name, "channel");
         m.table.comments = {"model " + e.displayPath, "effective sigma in 1/mm"};
         m.table.columns = {"channel", "sigma_a", "sigma_s"};
         for (int c = 0; c < 3; ++c)
@@ -215,10 +212,7 @@ void PencilStage::capture(const PencilInputs& in, CaptureEntries& out) const {
         const ModelView* v = capturedView(e, *in.views);
         if (!v) continue; // listed as missing by the material stage
         const std::string name = captureName(e);
-        CaptureEntry p;
-        p.stage = "pencil_plot." + name;
-        p.file = "pencil_plot_" + name + ".csv";
-        p.key = "r_mm";
+        CaptureEntry p = captureEntry(CaptureEntry::Kind::Csv, "pencil_plot." + name, "r_mm");
         p.relTol = kProfileRelTol;
         p.note = "float32 GPU evaluation of Bssrdf(); GLSL exp <= (3+2|x|) ulp";
         p.table.comments = {"model " + e.displayPath,

@@ -278,11 +278,7 @@ void ReferenceStage::capture(const ReferenceInputs& in, CaptureEntries& out) {
     const ReferenceSnapshot snap = finish(in);
     if (!snap.problem.empty()) throw core::Error("reference", 0, snap.problem);
     if (snap.pathsDone == 0) return;
-    CaptureEntry e;
-    e.kind = CaptureEntry::Kind::CsvStat;
-    e.stage = "reference";
-    e.file = "reference.csv";
-    e.key = "r_mm";
+    CaptureEntry e = captureEntry(CaptureEntry::Kind::CsvStat, "reference", "r_mm");
     e.alpha = kMonteCarloAlpha;
     e.note = "Monte Carlo: per-value z-test, Bonferroni over all bins and channels";
     capture::Table& t = e.table;

@@ -59,9 +59,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
     const int traceX = out.traceX, traceY = out.traceY;
 
     const mesh::Mesh& m = mesh();
-    CaptureEntry mt;
-    mt.stage = "scene.mesh";
-    mt.file = "scene_mesh.csv";
+    CaptureEntry mt = captureEntry(CaptureEntry::Kind::Csv, "scene.mesh");
     mt.note = "CPU (OBJ parse + normalisation): exact";
     mt.table.comments = {"mesh " + m_settings.meshFile + " after preparation",
                          "hash " + meshHash()};
@@ -77,9 +75,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
                       pc.points.size() * sizeof(pc.points[0]));
     const std::string cloudHash = core::hashHex(bytes);
     const auto& u = uniformity();
-    CaptureEntry pt;
-    pt.stage = "scene.pointcloud";
-    pt.file = "scene_pointcloud.csv";
+    CaptureEntry pt = captureEntry(CaptureEntry::Kind::Csv, "scene.pointcloud");
     pt.note = "CPU, deterministic for any thread count: exact";
     pt.table.comments = {"hash " + cloudHash};
     pt.table.columns = {"count",  "area", "mean_nn", "cv_nn", "min_nn",
@@ -96,10 +92,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
                    t.descriptors.size() * sizeof(uint32_t));
     tb.append(reinterpret_cast<const char*>(t.order.data()), t.order.size() * sizeof(uint32_t));
     const std::string treeHash = core::hashHex(tb);
-    CaptureEntry ot;
-    ot.stage = "scene.octree";
-    ot.file = "scene_octree.csv";
-    ot.key = "depth";
+    CaptureEntry ot = captureEntry(CaptureEntry::Kind::Csv, "scene.octree", "depth");
     ot.note = "CPU build: exact (structure hash: descriptors + point order)";
     ot.table.comments = {"hash " + treeHash,
                          "first row: depth -1 = totals (nodes, leaves, max depth, bytes)"};
@@ -111,10 +104,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
         ot.table.rows.push_back({double(d), double(t.stats.nodesPerDepth[d]), 0, 0, 0, 0, 0, 0});
     out.entries.push_back(std::move(ot));
 
-    CaptureEntry it;
-    it.stage = "scene.irradiance";
-    it.file = "scene_irradiance.csv";
-    it.key = "point";
+    CaptureEntry it = captureEntry(CaptureEntry::Kind::Csv, "scene.irradiance", "point");
     it.absTol = kIrradianceAbs;
     it.relTol = kIrradianceRel;
     it.note = "GPU float32 Ft*cos*visibility per point: 1e-5 relative + 1e-7";
@@ -126,10 +116,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
     out.entries.push_back(std::move(it));
 
     const render::Readback rb = readback();
-    CaptureEntry img;
-    img.kind = CaptureEntry::Kind::Exr;
-    img.stage = "scene.render";
-    img.file = "scene_render.exr";
+    CaptureEntry img = captureEntry(CaptureEntry::Kind::Exr, "scene.render");
     img.image.width = rb.width;
     img.image.height = rb.height;
     img.image.samples = 1;
@@ -147,10 +134,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
 
     if (traceX >= 0 && traceY >= 0) {
         PixelDebug d = debugPixel(traceX, traceY);
-        CaptureEntry ts;
-        ts.stage = "scene.trace_steps";
-        ts.file = "scene_trace_steps.csv";
-        ts.key = "step";
+        CaptureEntry ts = captureEntry(CaptureEntry::Kind::Csv, "scene.trace_steps", "step");
         ts.note = "CPU replica of Algorithm 2: exact";
         ts.table.comments = {
             "pixel " + std::to_string(traceX) + "," + std::to_string(traceY) +
@@ -167,10 +151,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
         }
         if (ts.table.rows.empty()) ts.table.rows.push_back({-1, 0, 0, 0, 0, 0, 0, 0});
         out.entries.push_back(std::move(ts));
-        CaptureEntry tv;
-        tv.stage = "scene.trace_values";
-        tv.file = "scene_trace_values.csv";
-        tv.key = "step";
+        CaptureEntry tv = captureEntry(CaptureEntry::Kind::Csv, "scene.trace_values", "step");
         tv.relTol = kTraceRel;
         tv.note = "GPU-evaluated Bssrdf() summed in float: 1e-4 relative";
         tv.table.columns = {"step", "R", "G", "B", "sum_R", "sum_G", "sum_B"};

@@ -277,11 +277,7 @@ void SliceStage::capture(const SliceInputs& in, CaptureEntries& out) {
     };
     const std::vector<std::string> geomColumns{"bin", "r_lo_mm", "r_hi_mm", "theta_s_lo_deg",
                                                "theta_s_hi_deg"};
-    CaptureEntry ref;
-    ref.kind = CaptureEntry::Kind::CsvStat;
-    ref.stage = "slice";
-    ref.file = "slice.csv";
-    ref.key = "bin";
+    CaptureEntry ref = captureEntry(CaptureEntry::Kind::CsvStat, "slice", "bin");
     ref.alpha = kMonteCarloAlpha;
     ref.note = "Monte Carlo: per-value z-test, Bonferroni over all bins and cells";
     ref.table.comments = {"BSSRDF slice (seed 001), sigma of " + m_model + ", channel " +
@@ -310,10 +306,7 @@ void SliceStage::capture(const SliceInputs& in, CaptureEntries& out) {
     for (const auto& [path, r] : m_models) {
         if (!r.slice) continue;
         const std::string name = std::filesystem::path(path).stem().string();
-        CaptureEntry m;
-        m.stage = "slice_model." + name;
-        m.file = "slice_model_" + name + ".csv";
-        m.key = "bin";
+        CaptureEntry m = captureEntry(CaptureEntry::Kind::Csv, "slice_model." + name, "bin");
         m.relTol = kProfileRelTol;
         m.note = "float32 GPU evaluation of Bssrdf(), averaged in double";
         m.table.comments = {"model " + path + " on the slice's bins, own sigma",

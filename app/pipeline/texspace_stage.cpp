@@ -240,9 +240,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     const texspace::Pipeline& p = *pipeline();
     const texspace::Texels& t = p.texels();
     const texspace::Parameterization& param = p.parameterization();
-    CaptureEntry tx;
-    tx.stage = "texture_space.texels";
-    tx.file = "texture_space_texels.csv";
+    CaptureEntry tx = captureEntry(CaptureEntry::Kind::Csv, "texture_space.texels");
     tx.note = "CPU (parameterisation and rasterisation in double): exact";
     tx.table.comments = {"texture side K, atlas layout side, 1 = the mesh's UVs, covered texels, "
                          "triangles with a texel, largest stretch sigma1/sigma2"};
@@ -258,10 +256,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
                              double(std::count(hasTexel.begin(), hasTexel.end(), 1)), worst});
     out.entries.push_back(std::move(tx));
 
-    CaptureEntry ep;
-    ep.stage = "texture_space.eprime";
-    ep.file = "texture_space_eprime.csv";
-    ep.key = "texel";
+    CaptureEntry ep = captureEntry(CaptureEntry::Kind::Csv, "texture_space.eprime", "texel");
     ep.absTol = kEprimeAbs;
     ep.relTol = kEprimeRel;
     ep.note = "GPU irradiance (float32) times the area ratio: 2e-5 relative + 1e-7";
@@ -273,10 +268,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
             ep.table.rows.push_back({double(texel), e[texel].x, e[texel].y, e[texel].z});
     out.entries.push_back(std::move(ep));
 
-    CaptureEntry sm;
-    sm.stage = "texture_space.samples";
-    sm.file = "texture_space_samples.csv";
-    sm.key = "draw";
+    CaptureEntry sm = captureEntry(CaptureEntry::Kind::Csv, "texture_space.samples", "draw");
     sm.note = "the GPU descent of Algorithm 3.1 over the float CDF: exact on one "
               "driver (a float/double boundary may move a draw on another)";
     sm.table.columns = {"draw", "texel"};
@@ -289,10 +281,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
 
     // The render (seed 004): the mean over its sample sets with the variance of the mean per
     // pixel.
-    CaptureEntry render;
-    render.kind = CaptureEntry::Kind::ExrStat;
-    render.stage = "texture_space.render";
-    render.file = "texture_space_render.exr";
+    CaptureEntry render = captureEntry(CaptureEntry::Kind::ExrStat, "texture_space.render");
     render.image = radiance();
     render.alpha = kMonteCarloAlpha;
     render.note = "Monte Carlo image: per-pixel z-test, Bonferroni over all pixels and channels";
