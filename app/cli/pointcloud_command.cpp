@@ -27,7 +27,8 @@ void addPointCloudOptions(CLI::App* cmd, PointCloudArgs& a) {
     addCountOption(cmd, "--threads", a.options.threads,
                    "worker threads, 0 … 1024 (default 0: all cores)", kThreadLimits);
     cmd->add_flag("--no-cache{false}", a.useCache, "neither read nor write the point-cloud cache");
-    cmd->add_option("--out", a.out, "PLY file (x y z nx ny nz area, float32)")->required();
+    cmd->add_option("--out", a.out, "PLY file (x y z nx ny nz area float32, triangle uint32)")
+        ->required();
 }
 
 int runPointCloudCli(const PointCloudArgs& a) {

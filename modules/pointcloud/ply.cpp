@@ -1,6 +1,7 @@
-// Point-cloud cache: binary little-endian PLY (x y z nx ny nz area as float32, total area in a
-// comment printed with %.17g so it round-trips exactly), strict header validation, and the
-// cache key (FNV-1a 64 via core::hashHex over the mesh bytes and the parameters).
+// Point-cloud cache: binary little-endian PLY (x y z nx ny nz area as float32, the triangle as
+// uint32, total area in a comment printed with %.17g so it round-trips exactly), strict header
+// validation, and the cache key (FNV-1a 64 via core::hashHex over the mesh bytes, the parameters
+// and the cache format).
 #include "pointcloud/pointcloud.h"
 
 #include "core/core.h"
@@ -18,7 +19,10 @@ static_assert(std::endian::native == std::endian::little, "PLY I/O assumes a lit
 
 namespace {
 const char* const kProps[7] = {"x", "y", "z", "nx", "ny", "nz", "area"};
-}
+// The optional eighth property: the triangle each point lies on (written always, so a cloud read
+// back is the cloud written; a file without it, e.g. from another program, reads kNoTriangle).
+const char* const kTriangleProp = "triangle";
+} // namespace
 
 void writePly(const std::filesystem::path& path, const PointCloud& cloud) {
     std::string out = "ply\nformat binary_little_endian 1.0\ncomment bw_pointcloud\n";
@@ -26,14 +30,17 @@ void writePly(const std::filesystem::path& path, const PointCloud& cloud) {
     out += "element vertex " + std::to_string(cloud.points.size()) + "\n";
     for (const char* p : kProps)
         out += std::string("property float ") + p + "\n";
+    out += std::string("property uint ") + kTriangleProp + "\n";
     out += "end_header\n";
     size_t header = out.size();
-    out.resize(header + cloud.points.size() * 7 * sizeof(float));
+    out.resize(header + cloud.points.size() * (7 * sizeof(float) + sizeof(uint32_t)));
     char* dst = out.data() + header;
     for (const Point& p : cloud.points) {
         float v[7] = {p.p[0], p.p[1], p.p[2], p.n[0], p.n[1], p.n[2], p.area};
         std::memcpy(dst, v, sizeof v);
         dst += sizeof v;
+        std::memcpy(dst, &p.triangle, sizeof p.triangle);
+        dst += sizeof p.triangle;
     }
     core::writeFile(path, out);
 }
@@ -61,6 +68,7 @@ PointCloud readPly(const std::filesystem::path& path) {
     double total = 0;
     uint64_t count = 0;
     int prop = 0;
+    bool haveTriangle = false;
     for (;;) {
         nextLine(line);
         if (line == "end_header") break;
@@ -91,6 +99,11 @@ PointCloud readPly(const std::filesystem::path& path) {
         } else if (word == "property") {
             std::string type, pname, extra;
             ss >> type >> pname >> extra;
+            if (haveElement && prop == 7 && !haveTriangle && type == "uint" &&
+                pname == kTriangleProp && extra.empty()) {
+                haveTriangle = true;
+                continue;
+            }
             if (!haveElement || prop >= 7 || type != "float" || pname != kProps[prop] ||
                 !extra.empty())
                 fail("unexpected property line '" + line + "' (expected 'property float " +
@@ -102,7 +115,7 @@ PointCloud readPly(const std::filesystem::path& path) {
     }
     if (!haveElement) fail("no 'element vertex' line");
     if (prop != 7) fail("expected 7 float properties x y z nx ny nz area");
-    const uint64_t stride = 7 * sizeof(float);
+    const uint64_t stride = 7 * sizeof(float) + (haveTriangle ? sizeof(uint32_t) : 0);
     const uint64_t avail = bytes.size() - pos;
     if (count > avail / stride || avail != count * stride)
         fail("data size " + std::to_string(avail) + " bytes does not match " +
@@ -119,6 +132,10 @@ PointCloud readPly(const std::filesystem::path& path) {
             p.p[k] = v[k], p.n[k] = v[3 + k];
         p.area = v[6];
         p.triangle = kNoTriangle;
+        if (haveTriangle) {
+            std::memcpy(&p.triangle, src, sizeof p.triangle);
+            src += sizeof p.triangle;
+        }
         sum += v[6];
     }
     cloud.totalArea = haveTotal ? total : sum;
@@ -131,7 +148,8 @@ std::string cacheKey(const mesh::Mesh& m, size_t n, const std::string& method, u
                  m.vertices.size() * sizeof(m.vertices[0]));
     bytes.append(reinterpret_cast<const char*>(m.triangles.data()),
                  m.triangles.size() * sizeof(m.triangles[0]));
-    for (const std::string& part : {std::to_string(n), method, std::to_string(seed)}) {
+    for (const std::string& part :
+         {std::to_string(n), method, std::to_string(seed), std::string(kCacheFormat)}) {
         bytes.push_back('|');
         bytes.append(part);
     }

@@ -17,8 +17,9 @@
 //     triangles, triangular van der Corput points) relaxed by a fast Turk repulsion (compact
 //     cubic kernel, heavy-ball momentum, Verlet lists, local re-projection; fast_relaxation.cpp).
 //   measureUniformity: nearest-neighbour distance statistics (hash grid).
-//   writePly / readPly: binary little-endian PLY (x y z nx ny nz area, float32), the cache
-//     format; cacheKey names a cache entry from the mesh bytes and the parameters.
+//   writePly / readPly: binary little-endian PLY (x y z nx ny nz area float32, triangle
+//     uint32), the cache format; cacheKey names a cache entry from the mesh bytes, the
+//     parameters and the cache format.
 // Errors are core::Error(file, 0, message).
 #pragma once
 
@@ -118,17 +119,21 @@ struct Uniformity {
 // Euclidean nearest-neighbour distances (hash grid); all zero for fewer than two points.
 Uniformity measureUniformity(const PointCloud& cloud, int threads = 0);
 
-// Binary little-endian PLY: "element vertex N" with float properties x y z nx ny nz area, and
-// a "comment total_area <%.17g>" line (so totalArea round-trips exactly). Atomic write
-// (core::writeFile). Triangle indices are not stored: readPly sets kNoTriangle, and
-// totalArea to the comment's value (the sum of the areas when it is missing). readPly accepts
-// exactly that layout and throws core::Error(path, 0, ...) otherwise (bad magic, format,
+// Binary little-endian PLY: "element vertex N" with float properties x y z nx ny nz area, the
+// uint property triangle, and a "comment total_area <%.17g>" line, so a cloud read back is
+// bitwise the cloud written (a capture hashes the points; the cache must not change them).
+// Atomic write (core::writeFile). readPly also accepts the layout without triangle (files of
+// other programs: kNoTriangle), sets totalArea to the comment's value (the sum of the areas when
+// it is missing), and throws core::Error(path, 0, ...) for anything else (bad magic, format,
 // element, property list, missing end_header, truncated or oversized data).
 void writePly(const std::filesystem::path& path, const PointCloud& cloud);
 PointCloud readPly(const std::filesystem::path& path);
 
 // Cache key: the 16 hex digits of core::hashHex over the mesh's vertex and triangle bytes
-// followed by "|n|method|seed" (the "fnv1a64:" prefix dropped so the key is a safe file name).
+// followed by "|n|method|seed|kCacheFormat" (the "fnv1a64:" prefix dropped so the key is a safe
+// file name). kCacheFormat changes whenever a cache file written before could differ from what
+// this build generates (layout or generation), so no earlier version's cache file is read.
+inline constexpr const char* kCacheFormat = "cache2"; // 2: triangles stored
 std::string cacheKey(const mesh::Mesh& m, size_t n, const std::string& method, uint64_t seed);
 
 } // namespace pointcloud

@@ -187,8 +187,29 @@ TEST(PointCloudPly, RoundTripBitExact) {
         EXPECT_EQ(std::memcmp(r.points[i].p, c.points[i].p, sizeof c.points[i].p), 0);
         EXPECT_EQ(std::memcmp(r.points[i].n, c.points[i].n, sizeof c.points[i].n), 0);
         EXPECT_EQ(std::memcmp(&r.points[i].area, &c.points[i].area, sizeof(float)), 0);
-        EXPECT_EQ(r.points[i].triangle, pointcloud::kNoTriangle);
+        EXPECT_EQ(r.points[i].triangle, c.points[i].triangle);
     }
+    // bitwise: what a capture hashes of a cloud read from the cache is what it hashes of the
+    // cloud generated
+    EXPECT_EQ(std::memcmp(r.points.data(), c.points.data(), c.points.size() * sizeof(c.points[0])),
+              0);
+}
+
+// A PLY without the triangle property (another program's) still reads, with kNoTriangle.
+TEST(PointCloudPly, WithoutTrianglesReadsAsUnknown) {
+    const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 1\n"
+                               "property float x\nproperty float y\nproperty float z\n"
+                               "property float nx\nproperty float ny\nproperty float nz\n"
+                               "property float area\nend_header\n";
+    const float v[7] = {1, 2, 3, 0, 0, 1, 0.5f};
+    const auto path = tempDir() / "no_triangles.ply";
+    core::writeFile(path, header + std::string(reinterpret_cast<const char*>(v), sizeof v));
+    const PointCloud r = pointcloud::readPly(path);
+    ASSERT_EQ(r.points.size(), 1u);
+    EXPECT_EQ(r.points[0].p[1], 2.0f);
+    EXPECT_EQ(r.points[0].area, 0.5f);
+    EXPECT_EQ(r.points[0].triangle, pointcloud::kNoTriangle);
+    EXPECT_EQ(r.totalArea, 0.5);
 }
 
 void expectPlyError(const std::string& fileName, const std::string& bytes,

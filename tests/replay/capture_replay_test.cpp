@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 
 #include <nlohmann/json.hpp>
@@ -484,4 +485,43 @@ TEST(CaptureReplay, WrongJsonTypesNameTheirPathNotTheLibrary) {
         EXPECT_EQ(out.find("json.exception"), std::string::npos) << out;
     }
     fs::remove_all(r.root);
+}
+
+// A capture recorded with the point cloud read from the cache (the GUI's default, useCache on)
+// replays PASS: a cloud read back from the cache is bitwise the cloud generated (triangles
+// included), and replay generates its own instead of reading the cache.
+TEST(CaptureReplay, SceneRecordedFromTheCacheReplays) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("cached_cloud", {"dipole.bssrdf"});
+    const char* before = std::getenv("BSSRDF_WORKBENCH_CACHE");
+    const std::string saved = before ? before : "";
+    ::setenv("BSSRDF_WORKBENCH_CACHE", (root / "cache").c_str(), 1);
+    auto sceneOn = [](app::Workbench& wb) {
+        app::SceneSettings& s = wb.scene().settings();
+        s.enabled = true;
+        s.useCache = true;
+        s.points.points = 3000;
+        s.render.width = 64;
+        s.render.height = 36;
+    };
+    {
+        app::Workbench first(root, false);
+        sceneOn(first);
+        first.finishScene();
+        EXPECT_FALSE(first.scene().cloudFromCache()); // generated, and written to the cache
+    }
+    app::Workbench wb(root, false);
+    sceneOn(wb);
+    wb.finishScene();
+    EXPECT_TRUE(wb.scene().cloudFromCache());
+    const fs::path dir = root / "captures" / "cached";
+    app::recordCaptureTo(wb, dir, "cached", 32, 18);
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    EXPECT_NE(out.find("PASS scene.pointcloud"), std::string::npos) << out;
+    if (before)
+        ::setenv("BSSRDF_WORKBENCH_CACHE", saved.c_str(), 1);
+    else
+        ::unsetenv("BSSRDF_WORKBENCH_CACHE");
+    fs::remove_all(root);
 }
