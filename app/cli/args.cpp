@@ -34,6 +34,9 @@ fs::path resolveModel(const fs::path& root, const std::string& model) {
     fs::path p = model;
     if (!fs::exists(p) && fs::exists(root / p)) p = root / p;
     if (!fs::exists(p)) throw core::Error(model, 0, "--model: no such file");
+    if (fs::is_directory(p))
+        throw core::Error(fs::absolute(p).lexically_normal().string(), 0,
+                          "--model: a folder, expected a .bssrdf file");
     return p;
 }
 

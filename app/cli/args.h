@@ -17,7 +17,8 @@ glm::dvec3 parseRgb(const std::string& text, const std::string& argName);
 
 class Workbench;
 struct MaterialSettings;
-// A model file as given or relative to the root; throws core::Error("--model") when missing.
+// A model file as given or relative to the root; throws core::Error("--model") when missing or
+// a folder (naming its full path).
 std::filesystem::path resolveModel(const std::filesystem::path& root, const std::string& model);
 // Material settings from --preset or --sigma-a/--sigma-s (+ --g, --eta), validated.
 MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,

@@ -168,13 +168,8 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
         for (const auto& p : wb.presets())
             presets.push_back(p.name);
     for (const auto& name : presets)
-        if (!material::findPreset(wb.presets(), name)) {
-            std::string known;
-            for (const auto& p : wb.presets())
-                known += (known.empty() ? "" : ", ") + p.name;
-            throw core::Error("--presets", 0,
-                              "unknown preset '" + name + "' (known: " + known + ")");
-        }
+        if (!material::findPreset(wb.presets(), name))
+            throw core::Error("--presets", 0, material::unknownPresetMessage(wb.presets(), name));
 
     for (double t : a.thetaI)
         if (!(std::isfinite(t) && t >= 0 && t < 90))

@@ -169,10 +169,10 @@ int runEstimateCli(EstimateArgs a, const std::filesystem::path& root) {
     }();
     const auto progress = [&](uint64_t done) {
         const double sec = clock.ms() / 1000.0;
-        std::fprintf(stderr, "\restimate: %5.1f%%  %llu / %llu paths  %.0f paths/s   ",
+        std::fprintf(stderr, "\restimate: %5.1f%%  %llu / %llu paths  %s   ",
                      total ? 100.0 * double(done) / double(total) : 100.0,
                      static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
-                     sec > 0 ? double(done) / sec : 0.0);
+                     pathRate(done, sec).c_str());
         std::fflush(stderr);
     };
     std::string device = "CPU";

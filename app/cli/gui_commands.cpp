@@ -54,7 +54,7 @@ Command guiCommand() {
         "gui", "interactive workbench (default)", false, [](CLI::App& cmd) -> CommandRun {
             struct Args {
                 bool headless = false;
-                std::string out;
+                std::string out, size;
             };
             auto a = std::make_shared<Args>();
             // also the program's own options, since `gui` is what runs without a command
@@ -63,7 +63,13 @@ Command guiCommand() {
                          "no window: record + replay the default capture and save a screenshot");
             top.add_option("--out-dir", a->out, "where --headless writes (default out/default)");
             cmd.add_flag("--headless", a->headless, "same as the top-level --headless");
+            cmd.add_option("--size", a->size,
+                           "window WxH (default 1600x1000, shrunk to fit the screen's work area)");
             return [a](CommandContext& ctx) {
+                int width = 1600, height = 1000;
+                if (!a->size.empty() && !parseSize(a->size, width, height, 320))
+                    throw core::Error("--size", 0,
+                                      "expected WxH between 320 and 8192, got '" + a->size + "'");
                 const fs::path& root = ctx.root();
                 bool headless = a->headless;
                 if (!headless && !gl::displayAvailable()) {
@@ -73,7 +79,7 @@ Command guiCommand() {
                 }
                 if (headless) return runHeadlessDefault(root, a->out);
                 std::fprintf(stderr, "resources: %s\n", root.c_str());
-                auto window = gl::createWindowContext(1600, 1000, "BSSRDF Workbench");
+                auto window = gl::createWindowContext(width, height, "BSSRDF Workbench");
                 Workbench wb(root, true);
                 GuiOptions opt;
                 return runGui(wb, *window, opt);

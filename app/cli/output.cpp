@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -41,6 +42,13 @@ void checkOutput(const std::string& path, const std::string& flag, const std::st
                           "'" + path + "' must end in " + extension + ": the file is written in " +
                               "that format");
     checkWritable(path, flag);
+}
+
+std::string pathRate(uint64_t done, double seconds) {
+    if (done == 0 || !(seconds >= 0.1)) return "-- paths/s";
+    char b[48];
+    std::snprintf(b, sizeof b, "%.0f paths/s", double(done) / seconds);
+    return b;
 }
 
 } // namespace app

@@ -2,6 +2,8 @@
 // (ImGui's ini file plus a custom settings section for the View menu toggles).
 #include "gui/gui.h"
 
+#include "gui/fonts.h"
+
 #include "core/core.h"
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
@@ -148,6 +150,7 @@ HeadlessGui::HeadlessGui(Workbench& wb, int width, int height)
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;
         applyStyle();
+        loadFonts();
         m_ownsContext = true;
     }
     m_target.resize(width, height);
@@ -212,6 +215,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
     applyStyle();
+    loadFonts();
     static std::string ini; // must outlive the context
     ini = iniPath();
     io.IniFilename = opt.persistLayout ? ini.c_str() : nullptr;

@@ -3,6 +3,7 @@
 
 #include "core/core.h"
 #include "gl/gl.h"
+#include "gui/fonts.h"
 #include "plot/plot_draw.h"
 
 #include <backends/imgui_impl_opengl3.h>
@@ -26,6 +27,7 @@ std::string renderImGuiPng(int width, int height, const std::function<void()>& d
         ImGui::StyleColorsDark();
         ImGui::GetStyle().WindowRounding = 0.0f;
         ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 1.0f;
+        loadFonts();
         ImGui_ImplOpenGL3_Init("#version 450");
         gl::RenderTarget target;
         target.resize(width, height);

@@ -25,6 +25,7 @@ void PathTracedSphere::start(const std::array<pathtrace::Medium, 3>& media,
                              const pathtrace::LitSphereSetup& s, int targetSpp, bool gpu,
                              const std::filesystem::path& mesh) {
     cancel();
+    ++m_runs;
     {
         std::lock_guard lock(m_mutex);
         m_image = pathtrace::Image{};
@@ -171,7 +172,7 @@ bool LitSphereStage::update(const LitSphereInputs& in) {
     const LitSphereSettings& ls = in.settings;
     if (!ls.enabled) {
         if (!m_key.empty()) m_pathTraced.cancel();
-        m_key.clear();
+        restart();
         return false;
     }
     const bssrdf::ModelEntry* e = in.entry;
@@ -187,12 +188,15 @@ bool LitSphereStage::update(const LitSphereInputs& in) {
     keyed.integratedSpp = 0;
     const std::string key =
         core::keyOf(e->displayPath, e->generation, in.materialKey, keyed, e->values);
+    // the path tracer sees the medium and the scene only: a change of the model, its values or
+    // the integration's sampling leaves its image running
+    const std::string pathKey = core::keyOf(in.materialKey, ls.radiusMm, ls.lightDir, ls.size,
+                                            ls.seed, ls.pathSpp, ls.gpu, ls.mesh);
     bool changed = false;
     if (key != m_key) {
         m_key = key;
         m_model = e->displayPath;
         m_problem.clear();
-        m_ptSppSeen = 0;
         try {
             std::filesystem::path mesh;
             if (!ls.mesh.empty()) {
@@ -219,10 +223,15 @@ bool LitSphereStage::update(const LitSphereInputs& in) {
                 m_integrator.reset(setup);
             }
             m_probe = std::move(probe);
-            m_pathTraced.start(mediaOf(*in.params), setup, ls.pathSpp, ls.gpu, mesh);
+            if (pathKey != m_pathKey) {
+                m_pathKey = pathKey;
+                m_ptSppSeen = 0;
+                m_pathTraced.start(mediaOf(*in.params), setup, ls.pathSpp, ls.gpu, mesh);
+            }
         } catch (const core::Error& err) {
             m_problem = err.what();
             m_pathTraced.cancel();
+            m_pathKey.clear();
         }
         changed = true;
     }
@@ -268,7 +277,7 @@ void LitSphereStage::finish(LitSphereInputs in) {
     // restart and take fixed slices: the GPU sums then do not depend on frame timings, so the
     // same build and seed give bitwise the same images (captures rely on it)
     in.budgetMs = -1;
-    m_key.clear();
+    restart();
     m_integratedSlice = kFixedSlice;
     update(in);
     while (in.settings.enabled && m_problem.empty() &&

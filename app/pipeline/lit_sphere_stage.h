@@ -86,8 +86,11 @@ class PathTracedSphere {
     int sppTarget() const { return m_target; }
     double pathsPerSecond() const { return m_rate.load(); }
     std::string problem() const;
+    // How many runs start() began (a run restarts the image from no paths).
+    long long runs() const { return m_runs; }
 
   private:
+    long long m_runs = 0;
     std::thread m_thread;
     std::atomic<bool> m_cancel{false};
     std::atomic<int> m_sppDone{0};
@@ -135,7 +138,11 @@ class LitSphereStage : public StageOf<LitSphereInputs> {
     // a variance per pixel (per-pixel z-tests on replay). core::Error with the stage's problem
     // (a refused mesh, a bad setup), never a consequence such as an empty image.
     void capture(const LitSphereInputs& in, CaptureEntries& out);
-    void restart() { m_key.clear(); }
+    // Both renderings start again at the next update.
+    void restart() {
+        m_key.clear();
+        m_pathKey.clear();
+    }
     // The GPU path tracer's program ("lit sphere:PROGRAM").
     bool reloadShaders(const std::vector<std::filesystem::path>& changed) override {
         return m_pathTraced.reloadShaders(changed);
@@ -161,6 +168,7 @@ class LitSphereStage : public StageOf<LitSphereInputs> {
     // One integration step within the budget; true when samples were added.
     bool stepIntegration(const LitSphereInputs& in);
     std::string m_key, m_model, m_problem;
+    std::string m_pathKey; // the path tracer's inputs: the medium and the scene
     int m_ptSppSeen = 0;
     int m_integratedSlice = 16;
     static constexpr int kFixedSlice = 256;

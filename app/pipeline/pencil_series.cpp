@@ -101,13 +101,12 @@ std::vector<RpMarker> hybridRpMarkers(const Workbench& wb) {
 std::vector<plot::Series> plotSeries(const Workbench& wb) {
     const PlotSettings& ps = wb.plotSettings();
     std::vector<plot::Series> out;
-    size_t index = 0, visibleModels = 0;
     auto valueOf = [&](const glm::dvec3& v, int channel) {
         return channel < 3 ? v[channel] : core::luminance(v);
     };
     for (const auto& e : wb.library().entries()) {
         auto it = wb.views().find(e.displayPath);
-        size_t colorIndex = index++;
+        const size_t slot = wb.plotSlot(e.displayPath);
         if (it == wb.views().end() || it->second.profile.r.empty()) continue;
         const ModelView& v = it->second;
         if (!ps.solo.empty() && ps.solo != e.displayPath) continue;
@@ -130,10 +129,11 @@ std::vector<plot::Series> plotSeries(const Workbench& wb) {
             make(1, name + " G", 0xff40ff40u);
             make(2, name + " B", 0xffff6040u);
         } else {
-            make(ps.channel, name, plot::defaultColor(colorIndex));
-            // Line styles alternate (thick solid, thin dashed), so curves that coincide, as
-            // dipole and better dipole do on Marble, both stay visible.
-            const bool odd = (visibleModels++ % 2) == 1;
+            make(ps.channel, name, plot::defaultColor(slot));
+            // Line styles alternate by slot (thick solid, thin dashed), so curves that coincide,
+            // as dipole and better dipole do on Marble, both stay visible; like the colour, a
+            // model's style does not change when others are added, removed or hidden.
+            const bool odd = slot % 2 == 1;
             out.back().dashed = odd;
             out.back().thickness = odd ? 1.5f : 3.0f;
         }

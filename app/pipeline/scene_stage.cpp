@@ -30,9 +30,11 @@ fs::path SceneStage::resolve(const std::string& file) const {
     return p.is_absolute() ? p : m_root / p;
 }
 
+// A problem is reported once, by whoever shows the stage's problems (the Errors panel, or the
+// command that fails on it); the log keeps it at info level.
 void SceneStage::setProblem(const std::string& stage, const std::string& text) {
     m_problems[stage] = text;
-    core::logError(stage + ": " + text);
+    core::logInfo(stage + ": " + text);
 }
 void SceneStage::clearProblem(const std::string& stage) {
     m_problems.erase(stage);
@@ -387,14 +389,19 @@ void SceneStage::finish(const SceneModelInput& model, const FinishProgress& prog
     auto step = [&](const char* name) {
         if (progress) progress(name, -1.0);
     };
+    // a step without its input (no mesh ever loaded, no cloud) has nothing to run: not announced
     step("mesh");
     updateMesh();
-    step("point cloud");
-    updatePointCloud(true);
-    step("irradiance");
-    updateIrradiance(lightIor(model), true);
-    step("render");
-    updateRender(model, false, true);
+    if (m_mesh) {
+        step("point cloud");
+        updatePointCloud(true);
+    }
+    if (!m_cloud.points.empty()) {
+        step("irradiance");
+        updateIrradiance(lightIor(model), true);
+        step("render");
+        updateRender(model, false, true);
+    }
     m_finishProgress = {};
 }
 

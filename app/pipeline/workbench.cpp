@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 
 #include <sys/stat.h>
 
@@ -140,7 +141,7 @@ void Workbench::openModel(const fs::path& file) {
 
 void Workbench::applyPreset(MaterialSettings& s, const std::string& name) {
     const auto* p = material::findPreset(m_presets, name);
-    if (!p) throw core::Error("preset", 0, "unknown preset '" + name + "'");
+    if (!p) throw core::Error("preset", 0, material::unknownPresetMessage(m_presets, name));
     s.params = material::applyPreset(*p, s.params);
     s.preset = name;
     s.mode = ParamMode::Sigma;
@@ -178,6 +179,7 @@ ProbeInputs Workbench::probeInputs(const fs::path& file) const {
 
 bool Workbench::update() {
     bool changed = m_library->pollProbes();
+    gl::expireDebugProblems(kGlProblemSeconds);
     if (m_watcher) {
         auto paths = m_watcher->poll();
         if (!paths.empty()) {
@@ -202,9 +204,32 @@ bool Workbench::update() {
             alive |= e.displayPath == it->first;
         it = alive ? std::next(it) : m_views.erase(it);
     }
+    assignPlotSlots();
     for (const PipelineStep& step : m_pipeline)
         changed |= step.run();
     return changed;
+}
+
+void Workbench::assignPlotSlots() {
+    std::set<size_t> held;
+    for (auto it = m_plotSlots.begin(); it != m_plotSlots.end();) {
+        const bool present = m_library->find(it->first) != nullptr;
+        if (present) held.insert(it->second);
+        it = present ? std::next(it) : m_plotSlots.erase(it);
+    }
+    for (const auto& e : m_library->entries()) {
+        if (m_plotSlots.count(e.displayPath)) continue;
+        size_t slot = 0;
+        while (held.count(slot))
+            ++slot;
+        m_plotSlots[e.displayPath] = slot;
+        held.insert(slot);
+    }
+}
+
+size_t Workbench::plotSlot(const std::string& displayPath) const {
+    auto it = m_plotSlots.find(displayPath);
+    return it == m_plotSlots.end() ? 0 : it->second;
 }
 
 shader::Records Workbench::shaderPrograms() const {

@@ -108,8 +108,15 @@ class Workbench {
     // compares them). core::Error from the first stage that cannot produce its outputs.
     void capture(CaptureEntries& out);
 
+    // A model's plot slot (its colour and line style in the pencil plot): given when the model
+    // first loads, the lowest no other present model holds, and kept while it stays loaded, so
+    // adding or removing a model never changes another's colour.
+    size_t plotSlot(const std::string& displayPath) const;
+
     // Every current problem (Errors panel): broken models/shaders, bad parameters, failed
-    // user actions (which stay until dismissed).
+    // user actions (which stay until dismissed), GL debug messages that came in the last
+    // kGlProblemSeconds (a message stops when its cause is gone, and so does its entry).
+    static constexpr double kGlProblemSeconds = 2.0;
     std::vector<ErrorItem> errors() const;
     void reportActionError(const std::string& text);
     // Forgets the action errors and the GL debug problems (Errors panel: Dismiss).
@@ -179,6 +186,7 @@ class Workbench {
 
   private:
     double autoRMax() const;
+    void assignPlotSlots();
     // What the check of a new version of `file` evaluates: its current σ, the plot's radii.
     ProbeInputs probeInputs(const std::filesystem::path& file) const;
     // The model whose σ the reference, the lit spheres and the scene use (solo, else first
@@ -196,6 +204,7 @@ class Workbench {
     MaterialSettings m_shared;
     PlotSettings m_plot;
     std::map<std::string, ModelView> m_views;
+    std::map<std::string, size_t> m_plotSlots; // by display path (plotSlot)
     std::vector<std::string> m_actionErrors;
     double m_rMax = 20.0;
     std::optional<double> m_pendingSaveTime; // seconds since epoch of the save being timed

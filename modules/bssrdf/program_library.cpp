@@ -46,12 +46,14 @@ ModelEntry& ModelLibrary::open(const fs::path& file) {
 
 namespace {
 // Records why a (re)load failed; the entry keeps its last good model and programs.
-// A version under its check is dropped: it is older than what failed.
+// A version under its check is dropped: it is older than what failed. The problem is reported by
+// whoever lists the library's problems (the Errors panel, or the command that fails on it): the
+// log keeps it at info level, so it is not printed twice.
 void fail(ModelEntry& e, const core::Error& err) {
     e.pending.reset();
     e.problem = Problem{err.file().empty() ? e.displayPath : err.file(), err.line(), err.message()};
-    core::logError(e.displayPath + ": " + (e.model ? "keeping the last good version: " : "") +
-                   e.problem->text());
+    core::logInfo(e.displayPath + ": " + (e.model ? "keeping the last good version: " : "") +
+                  e.problem->text());
 }
 } // namespace
 

@@ -3,6 +3,7 @@
 #include "text.h"
 #include "core.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace core {
 
@@ -188,6 +190,37 @@ std::string relativeTo(const std::filesystem::path& p, const std::filesystem::pa
     auto rel = ap.lexically_relative(ab);
     if (!rel.empty() && *rel.begin() != "..") return rel.generic_string();
     return p.generic_string();
+}
+
+// Levenshtein distance by the two-row dynamic programme, written here because no Debian package
+// the project uses offers one for plain strings.
+std::string nearestName(const std::string& name, const std::vector<std::string>& candidates) {
+    auto lower = [](std::string t) {
+        for (char& c : t)
+            if (c >= 'A' && c <= 'Z') c = char(c - 'A' + 'a');
+        return t;
+    };
+    const std::string a = lower(name);
+    size_t best = std::max<size_t>(2, a.size() / 3) + 1;
+    std::string out;
+    for (const std::string& candidate : candidates) {
+        const std::string b = lower(candidate);
+        std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+        for (size_t j = 0; j <= b.size(); ++j)
+            prev[j] = j;
+        for (size_t i = 1; i <= a.size(); ++i) {
+            cur[0] = i;
+            for (size_t j = 1; j <= b.size(); ++j)
+                cur[j] = std::min(
+                    {prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            std::swap(prev, cur);
+        }
+        if (prev[b.size()] < best) {
+            best = prev[b.size()];
+            out = candidate;
+        }
+    }
+    return out;
 }
 
 } // namespace core

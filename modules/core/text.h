@@ -5,9 +5,12 @@
 //   - formatShortest(v): the shortest text that reads back to the same double
 //     (std::to_chars, independent of the locale); "nan", "inf", "-inf" for non-finite values.
 //     Tables that must read back bit-exactly (capture CSV, plot CSV export) use it.
+//   - nearestName(name, candidates): the candidate a mistyped name most likely meant (edit
+//     distance), for "did you mean …?" in error messages.
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace core {
 
@@ -22,5 +25,9 @@ inline std::string formatShortest(double v) {
     appendShortest(s, v);
     return s;
 }
+
+// The candidate closest to `name` by Levenshtein distance, ignoring ASCII case, when at most
+// max(2, |name|/3) edits away; "" otherwise (no suggestion is better than a wrong one).
+std::string nearestName(const std::string& name, const std::vector<std::string>& candidates);
 
 } // namespace core

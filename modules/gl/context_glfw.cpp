@@ -5,6 +5,8 @@
 
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 namespace gl {
@@ -24,11 +26,26 @@ class GlfwContext final : public Context {
         glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
         glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
         glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, debug ? GLFW_TRUE : GLFW_FALSE);
-        m_window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
+        // fit the primary monitor's work area (decorations are known once the window exists)
+        int ax = 0, ay = 0, aw = 0, ah = 0;
+        GLFWmonitor* monitor = glfwGetPrimaryMonitor();
+        if (monitor) glfwGetMonitorWorkarea(monitor, &ax, &ay, &aw, &ah);
+        WindowSize size =
+            aw > 0 && ah > 0 ? fitWindowSize(width, height, aw, ah) : WindowSize{width, height};
+        glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+        m_window = glfwCreateWindow(size.width, size.height, title.c_str(), nullptr, nullptr);
         if (!m_window) {
             glfwTerminate();
             throw core::Error("GLFW: cannot open an OpenGL 4.5 core window");
         }
+        if (aw > 0 && ah > 0) {
+            int left = 0, top = 0, right = 0, bottom = 0;
+            glfwGetWindowFrameSize(m_window, &left, &top, &right, &bottom);
+            size = fitWindowSize(width, height, aw, ah, left + right, top + bottom);
+            glfwSetWindowSize(m_window, size.width, size.height);
+            glfwSetWindowPos(m_window, ax + left, ay + top);
+        }
+        glfwShowWindow(m_window);
         makeCurrent();
         glfwSwapInterval(1);
         if (debug) installDebugOutput();
@@ -45,6 +62,16 @@ class GlfwContext final : public Context {
 };
 
 } // namespace
+
+WindowSize fitWindowSize(int wantW, int wantH, int areaW, int areaH, int frameW, int frameH) {
+    const double availW = std::max(1, areaW - frameW), availH = std::max(1, areaH - frameH);
+    double scale = std::min({1.0, availW / std::max(1, wantW), availH / std::max(1, wantH)});
+    WindowSize s{int(std::lround(wantW * scale)), int(std::lround(wantH * scale))};
+    // a floor for usability, unless the screen is smaller still
+    s.width = std::min(std::max(s.width, 640), int(availW));
+    s.height = std::min(std::max(s.height, 400), int(availH));
+    return s;
+}
 
 std::unique_ptr<Context> createWindowContext(int width, int height, const std::string& title,
                                              bool debug) {

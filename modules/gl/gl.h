@@ -38,18 +38,33 @@ std::unique_ptr<Context> createWindowContext(int width, int height, const std::s
 // True when a display server is reachable (DISPLAY / WAYLAND_DISPLAY set and GLFW starts).
 bool displayAvailable();
 
+// The size a window opens at: `want` shrunk, keeping its aspect, until it and its decorations
+// (`frameW` × `frameH` in all) fit the monitor's work area (`areaW` × `areaH`: the screen less
+// panels and docks); never below 640 × 400 unless the work area itself is smaller. The window
+// context opens at this size on the primary monitor.
+struct WindowSize {
+    int width = 0, height = 0;
+};
+WindowSize fitWindowSize(int wantW, int wantH, int areaW, int areaH, int frameW = 0,
+                         int frameH = 0);
+
 // Routes KHR_debug messages to the core log (called by both context constructors).
 void installDebugOutput();
 
 // GL debug messages of medium or high severity (and every GL_DEBUG_TYPE_ERROR), grouped by
-// their text with numbers masked: the first message of each group and how often it came.
-// The workbench lists them under Errors; clearDebugProblems() forgets them.
+// their text with numbers masked: the first message of each group, how often it came and when
+// it last came (core::secondsSinceStart). The workbench lists them under Errors while they keep
+// coming (expireDebugProblems); clearDebugProblems() forgets them all.
 struct DebugProblem {
     std::string first;
     long long count = 0;
+    double lastSeconds = 0;
 };
 std::vector<DebugProblem> debugProblems();
 void clearDebugProblems();
+// Forgets the groups whose message has not come for `seconds`: a message is an event, and once
+// the call that raised it stops (the program was fixed), its entry leaves.
+void expireDebugProblems(double seconds);
 
 // ---- RAII objects -------------------------------------------------------------------------------
 template <void (*Deleter)(GLuint)> class Handle {

@@ -158,12 +158,14 @@ void recordProblem(const std::string& text) {
         if (c >= '0' && c <= '9') c = '#';
     DebugProblems& st = debugStore();
     std::lock_guard<std::mutex> lock(st.mutex);
+    const double now = core::secondsSinceStart();
     for (auto& [k, p] : st.groups)
         if (k == key) {
             ++p.count;
+            p.lastSeconds = now;
             return;
         }
-    if (st.groups.size() < 64) st.groups.push_back({key, DebugProblem{text, 1}});
+    if (st.groups.size() < 64) st.groups.push_back({key, DebugProblem{text, 1, now}});
 }
 
 void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei,
@@ -195,6 +197,13 @@ void clearDebugProblems() {
     DebugProblems& st = debugStore();
     std::lock_guard<std::mutex> lock(st.mutex);
     st.groups.clear();
+}
+
+void expireDebugProblems(double seconds) {
+    const double now = core::secondsSinceStart();
+    DebugProblems& st = debugStore();
+    std::lock_guard<std::mutex> lock(st.mutex);
+    std::erase_if(st.groups, [&](const auto& g) { return now - g.second.lastSeconds > seconds; });
 }
 
 void installDebugOutput() {

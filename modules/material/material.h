@@ -50,6 +50,9 @@ struct Preset {
 // Parses presets.json; throws core::Error(path, line, msg) on bad JSON or fields.
 std::vector<Preset> loadPresets(const std::filesystem::path& file);
 const Preset* findPreset(const std::vector<Preset>& presets, const std::string& name);
+// "unknown preset 'Marbel' (did you mean 'Marble'? known: Apple, …)": the message for a name
+// findPreset did not find, with the nearest name when one is close (core::nearestName).
+std::string unknownPresetMessage(const std::vector<Preset>& presets, const std::string& name);
 // σs = σ′s/(1−g), σa and η from the preset; g and scale kept.
 MaterialParams applyPreset(const Preset& preset, MaterialParams base);
 

@@ -2,6 +2,7 @@
 #include "material.h"
 
 #include "core/core.h"
+#include "core/text.h"
 
 #include <nlohmann/json.hpp>
 
@@ -46,6 +47,18 @@ const Preset* findPreset(const std::vector<Preset>& presets, const std::string& 
     for (const auto& p : presets)
         if (p.name == name) return &p;
     return nullptr;
+}
+
+std::string unknownPresetMessage(const std::vector<Preset>& presets, const std::string& name) {
+    std::vector<std::string> names;
+    std::string known;
+    for (const auto& p : presets) {
+        names.push_back(p.name);
+        known += (known.empty() ? "" : ", ") + p.name;
+    }
+    const std::string nearest = core::nearestName(name, names);
+    return "unknown preset '" + name + "' (" +
+           (nearest.empty() ? "" : "did you mean '" + nearest + "'? ") + "known: " + known + ")";
 }
 
 MaterialParams applyPreset(const Preset& preset, MaterialParams base) {

@@ -65,6 +65,43 @@ AssembledShader Sources::assemble(const std::string& name, Dependencies& deps,
     return shader::assemble(text, display, resolve, extension);
 }
 
+namespace {
+
+// The first error's message, then the compiler's other messages, which mostly follow from it
+// (an undeclared name makes every expression using it fail): each distinct line once, with how
+// often it came, under a line saying how many there are. The first error's own repeats (the same
+// line and message) are counted on it.
+std::string firstErrorWithItsCascade(const std::vector<Diagnostic>& all, size_t first) {
+    const Diagnostic& f = all[first];
+    auto same = [&](const Diagnostic& d) {
+        return d.file == f.file && d.line == f.line && d.message == f.message;
+    };
+    const long repeats = std::count_if(all.begin(), all.end(), same);
+    std::string out = f.message + (repeats > 1 ? " (" + std::to_string(repeats) + " times)" : "");
+    std::vector<std::pair<std::string, int>> lines; // distinct, in order
+    size_t more = 0;
+    for (const Diagnostic& d : all) {
+        if (same(d)) continue;
+        ++more;
+        const std::string text =
+            core::formatLocation(d.file, d.line, d.severity + ": " + d.message);
+        auto it = std::find_if(lines.begin(), lines.end(),
+                               [&](const auto& l) { return l.first == text; });
+        if (it == lines.end())
+            lines.push_back({text, 1});
+        else
+            ++it->second;
+    }
+    if (more == 0) return out;
+    out += "\n" + std::to_string(more) + " more compiler message" + (more == 1 ? "" : "s") +
+           " (most follow from the first):";
+    for (const auto& [text, count] : lines)
+        out += "\n" + text + (count > 1 ? " (" + std::to_string(count) + " times)" : "");
+    return out;
+}
+
+} // namespace
+
 gl::Program link(const std::vector<StageSource>& stages, const std::string& blame) {
     std::vector<gl::ShaderStage> glStages;
     for (const auto& s : stages)
@@ -77,8 +114,11 @@ gl::Program link(const std::vector<StageSource>& stages, const std::string& blam
             if (stages[i].type == e.stage()) which = i;
         const SourceMap& map = stages.at(which).source.map;
         const std::string all = formatDiagnostics(e.log(), map);
-        for (const auto& d : parseDriverLog(e.log(), map))
-            if (d.severity == "error") throw core::Error(d.file, d.line, d.message + "\n" + all);
+        const std::vector<Diagnostic> diagnostics = parseDriverLog(e.log(), map);
+        for (size_t i = 0; i < diagnostics.size(); ++i)
+            if (diagnostics[i].severity == "error")
+                throw core::Error(diagnostics[i].file, diagnostics[i].line,
+                                  firstErrorWithItsCascade(diagnostics, i));
         const std::string file = !blame.empty()      ? blame
                                  : map.files.empty() ? std::string("<shader>")
                                                      : map.files.front();

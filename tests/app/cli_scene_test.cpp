@@ -236,6 +236,21 @@ TEST_F(CliScene, RenderRejectsBadMeshes) {
     EXPECT_FALSE(fs::exists(dir() / "out.exr"));
 }
 
+// A mesh that fails to load is one error, and the steps after it are not announced: a model
+// file given as --mesh used to print the error twice and the progress of every later step.
+TEST_F(CliScene, AFailedMeshIsOneErrorAndTheRunStopsThere) {
+    const RunResult r = run(renderArgs(std::string(BW_SOURCE_ROOT) + "/" + kDipole));
+    EXPECT_EQ(r.code, 1) << r.output;
+    size_t errors = 0;
+    for (size_t at = r.output.find("error"); at != std::string::npos;
+         at = r.output.find("error", at + 1))
+        ++errors;
+    EXPECT_EQ(errors, 1u) << r.output;
+    EXPECT_NE(r.output.find("no triangles"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("point cloud"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("render: render"), std::string::npos) << r.output;
+}
+
 TEST_F(CliScene, RenderRejectsBadArguments) {
     expectFailure(with(renderArgs(kBunny), "--points", "0"),
                   {"--points", "between 1 and 16777216, got 0"});

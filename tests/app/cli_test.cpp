@@ -251,6 +251,36 @@ TEST_F(Cli, ProfileRejectsBadPresetModelAndOutput) {
     EXPECT_FALSE(fs::exists(dir() / "x.csv"));
 }
 
+// `gui --size WxH` chooses the window's size (fitted to the screen); a bad size is refused
+// before anything starts.
+TEST_F(Cli, GuiSizeIsCheckedBeforeAnythingStarts) {
+    for (const char* bad : {"garbage", "100x100", "1600x", "9000x800"}) {
+        const RunResult r = run({"gui", "--size", bad});
+        EXPECT_EQ(r.code, 1) << bad << "\n" << r.output;
+        EXPECT_TRUE(contains(r.output, "error: --size")) << r.output;
+        EXPECT_FALSE(contains(r.output, "running the default capture")) << r.output;
+    }
+}
+
+// A folder given as --model is one error naming its full path (the model library's own message
+// came first, shortened, then the same again); a mistyped preset suggests the nearest name.
+TEST_F(Cli, AFolderAsModelAndAMistypedPresetAreOneClearError) {
+    const std::string folder = (fs::path(BW_SOURCE_ROOT) / "materials").string();
+    RunResult r = run({"profile", "--model", folder, "--preset", "Marble", "--out", "x.csv"});
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_EQ(splitLines(r.output).size(), 1u) << r.output;
+    EXPECT_TRUE(contains(r.output, "error: " + folder + ": --model: a folder")) << r.output;
+
+    r = run({"profile", "--model", kDipole, "--preset", "Marbel", "--out", "x.csv"});
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "unknown preset 'Marbel' (did you mean 'Marble'? known: "))
+        << r.output;
+    EXPECT_TRUE(contains(r.output, "Skin1")) << r.output;
+    r = run({"profile", "--model", kDipole, "--preset", "Quartz", "--out", "x.csv"});
+    EXPECT_TRUE(contains(r.output, "unknown preset 'Quartz' (known: ")) << r.output;
+    EXPECT_FALSE(fs::exists(dir() / "x.csv"));
+}
+
 // A GLSL error inside the shader section is reported against the user's file and line.
 // A model whose profile is NaN near the origin and negative farther out: the CSV is written
 // (saying so), the error names the model, the kinds, the radii and the channels, status 3.

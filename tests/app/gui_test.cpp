@@ -4,6 +4,7 @@
 #include "../support/gui_windows.h"
 #include "core/core.h"
 #include "gui/file_dialog.h"
+#include "gui/fonts.h"
 #include "gui/gui.h"
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
@@ -14,6 +15,7 @@
 
 #include <set>
 
+#include <cstdio>
 #include <cstdlib>
 
 namespace {
@@ -124,6 +126,8 @@ TEST(PanelRegistry, EveryPanelOnceAndTheSceneFollowsItsPanels) {
     app::UiState fresh;
     for (const auto& p : reg)
         EXPECT_EQ(fresh.shared.isOpen(p.id), p.defaultOpen) << p.title;
+    // the README's layout: the right inspector holds the Traversal debugger from the start
+    EXPECT_TRUE(fresh.shared.isOpen(app::PanelId::Traversal));
 
     testsupport::context();
     auto root = testsupport::makeProjectRoot("registry", {"dipole.bssrdf"});
@@ -308,5 +312,73 @@ TEST(HeadlessGui, ModelNanValuesAreAnErrorEntryWithTheRadii) {
     wb.update();
     for (const auto& e : wb.errors())
         ADD_FAILURE() << e.text;
+    fs::remove_all(root);
+}
+
+namespace {
+
+// The code points of every string literal in the C++ sources under `dir` (comments skipped).
+std::set<uint32_t> codePointsInStringLiterals(const fs::path& dir) {
+    std::set<uint32_t> out;
+    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+        const fs::path& p = entry.path();
+        if (!entry.is_regular_file() || (p.extension() != ".cpp" && p.extension() != ".h"))
+            continue;
+        const std::string s = core::readFile(p);
+        for (size_t i = 0; i < s.size(); ++i) {
+            if (s.compare(i, 2, "//") == 0) {
+                i = s.find('\n', i);
+                if (i == std::string::npos) break;
+            } else if (s.compare(i, 2, "/*") == 0) {
+                i = s.find("*/", i + 2);
+                if (i == std::string::npos) break;
+                ++i;
+            } else if (s[i] == '\'') { // a character literal: '"' is not a string
+                for (++i; i < s.size() && s[i] != '\''; ++i)
+                    if (s[i] == '\\') ++i;
+            } else if (s[i] == '"') {
+                for (++i; i < s.size() && s[i] != '"' && s[i] != '\n'; ++i) {
+                    const auto b = uint8_t(s[i]);
+                    if (b == '\\') {
+                        ++i;
+                    } else if (b >= 0xC0) { // UTF-8 lead byte: decode the sequence
+                        const int n = b >= 0xF0 ? 3 : b >= 0xE0 ? 2 : 1;
+                        uint32_t c = b & (0x3F >> n);
+                        for (int k = 0; k < n && i + 1 < s.size(); ++k)
+                            c = (c << 6) | (uint8_t(s[++i]) & 0x3F);
+                        out.insert(c);
+                    }
+                }
+            }
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+// Every character the program prints beyond Latin-1 (its string literals in app/ and modules/:
+// Greek letters, dashes, ellipses, primes, arrows) has a glyph in the GUI's font; ImGui's
+// built-in font alone drew π, Σ, ′, →, … and — as '?'.
+TEST(HeadlessGui, EveryCharacterTheProgramPrintsHasAGlyph) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("glyphs", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 800, 600);
+    gui.frame();
+    std::set<uint32_t> used = codePointsInStringLiterals(fs::path(BW_SOURCE_ROOT) / "app");
+    for (uint32_t c : codePointsInStringLiterals(fs::path(BW_SOURCE_ROOT) / "modules"))
+        used.insert(c);
+    ASSERT_TRUE(used.count(0x03C0)) << "π is printed by the texture-space view";
+    ASSERT_FALSE(ImGui::GetIO().Fonts->Fonts.empty());
+    const ImFont* font = ImGui::GetIO().Fonts->Fonts[0];
+    std::string missing;
+    for (uint32_t c : used)
+        if (c > 0xFF && (c > 0xFFFF || !font->FindGlyphNoFallback(ImWchar(c)))) {
+            char hex[16];
+            std::snprintf(hex, sizeof hex, " U+%04X", unsigned(c));
+            missing += hex;
+        }
+    EXPECT_EQ(missing, "") << "no glyph in " << app::symbolFontFile();
     fs::remove_all(root);
 }

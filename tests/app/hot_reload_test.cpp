@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
+#include <set>
 #include <thread>
 
 using testsupport::lineOf;
@@ -98,6 +100,40 @@ TEST(HotReload, ModelsAppearAndDisappearWithTheirFiles) {
     EXPECT_EQ(wb.library().entries()[0].displayPath, "materials/better_dipole.bssrdf");
     EXPECT_EQ(plotSeries(wb).size(), 1u);
     EXPECT_TRUE(wb.errors().empty());
+    fs::remove_all(root);
+}
+
+// Each model keeps its colour and line style in the pencil plot while it stays loaded: adding a
+// model that sorts before the others, or removing one, changes no other model's curve.
+TEST(HotReload, AModelKeepsItsColourWhenOthersComeAndGo) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("colours", {"dipole.bssrdf", "multipole.bssrdf"});
+    app::Workbench wb(root, true);
+    wb.referenceSettings().enabled = false;
+    auto styles = [&] { // model name → (colour, dashed)
+        std::map<std::string, std::pair<uint32_t, bool>> out;
+        for (const plot::Series& s : plotSeries(wb))
+            out[s.label.substr(0, s.label.find("  "))] = {s.color, s.dashed};
+        return out;
+    };
+    ASSERT_TRUE(waitFor(wb, [&] { return styles().size() == 2; }));
+    const auto before = styles();
+    fs::copy_file(testsupport::sourceRoot() / "materials/better_dipole.bssrdf",
+                  root / "materials/better_dipole.bssrdf");
+    ASSERT_TRUE(waitFor(wb, [&] { return styles().size() == 3; }));
+    auto after = styles();
+    for (const auto& [name, style] : before)
+        EXPECT_EQ(after.at(name), style) << name << " changed when a model was added";
+    std::set<uint32_t> colours;
+    for (const auto& [name, style] : after)
+        colours.insert(style.first);
+    EXPECT_EQ(colours.size(), 3u) << "every present model has its own colour";
+
+    const std::string removed = wb.library().find("materials/dipole.bssrdf")->model->name;
+    fs::remove(root / "materials/dipole.bssrdf");
+    ASSERT_TRUE(waitFor(wb, [&] { return styles().size() == 2; }));
+    for (const auto& [name, style] : styles())
+        EXPECT_EQ(after.at(name), style) << name << " changed when " << removed << " was removed";
     fs::remove_all(root);
 }
 

@@ -9,6 +9,9 @@
 #include "gui/panels/panels.h"
 #include "pathtrace/image_io.h"
 
+#include <chrono>
+#include <thread>
+
 namespace {
 
 struct RenderFixture {
@@ -121,6 +124,36 @@ TEST(Interactions, GlDebugMessagesAreOneErrorsEntryPerProblem) {
     EXPECT_NE(errors[0].text.find("glBindTexture"), std::string::npos) << errors[0].text;
     wb.clearActionErrors();
     EXPECT_TRUE(wb.errors().empty());
+    std::filesystem::remove_all(root);
+}
+
+// A GL debug message describes the moment it came, not the state: its Errors entry (and the
+// status bar's count) stays while the message keeps coming and leaves kGlProblemSeconds after
+// its cause is gone; before, a message from a rejected model stayed after the fix.
+TEST(Interactions, AGlErrorEntryLeavesWhenItsCauseIsGone) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("glstale", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.clearActionErrors();
+    const auto wait = [](double fraction) {
+        std::this_thread::sleep_for(
+            std::chrono::duration<double>(fraction * app::Workbench::kGlProblemSeconds));
+    };
+    glUseProgram(987654u); // never generated: GL_INVALID_VALUE
+    glUseProgram(0);
+    wb.update();
+    ASSERT_EQ(wb.errors().size(), 1u);
+    EXPECT_EQ(wb.errors()[0].source, "GL");
+    for (int i = 0; i < 3; ++i) { // the cause keeps coming: the entry stays
+        wait(0.4);
+        glUseProgram(987654u);
+        glUseProgram(0);
+        wb.update();
+        EXPECT_EQ(wb.errors().size(), 1u) << "while the message keeps coming";
+    }
+    wait(1.2); // the cause is gone: the entry leaves
+    wb.update();
+    EXPECT_TRUE(wb.errors().empty()) << wb.errors()[0].text;
     std::filesystem::remove_all(root);
 }
 

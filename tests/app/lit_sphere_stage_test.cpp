@@ -185,3 +185,35 @@ TEST(LitSphereStage, DiskImportanceSamplingIsSwitchableAndAgreesWithUniform) {
         << wb.litSpheres().problem();
     std::filesystem::remove_all(root);
 }
+
+// The integration's sampling, or the model's own parameter values, change only the integrated
+// image: the path tracer sees the medium and the scene, and keeps its run (it restarted, and
+// its paths/s changed, on a switch from uniform to disk sampling). The medium restarts both.
+TEST(LitSphereStage, TheIntegrationsSettingsLeaveThePathTracerRunning) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("sphere_keys", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    auto& s = wb.litSphereSettings();
+    s.enabled = true;
+    s.size = 16;
+    s.pathSpp = 2;
+    s.integratedSpp = 64;
+    s.sampling = integrate::Sampling::Uniform;
+    wb.update();
+    const long long runs = wb.litSpheres().pathTracer().runs();
+    ASSERT_GE(runs, 1);
+    s.sampling = integrate::Sampling::Disk;
+    wb.update();
+    EXPECT_EQ(wb.litSpheres().pathTracer().runs(), runs) << "sampling restarted the path tracer";
+    wb.library().find("materials/dipole.bssrdf")->values["Multiplier"] = {2.0f, 0, 0};
+    wb.update();
+    EXPECT_EQ(wb.litSpheres().pathTracer().runs(), runs) << "a model value restarted it";
+    wb.finishLitSpheres(); // a capture's deterministic run: both restart
+    EXPECT_EQ(wb.litSpheres().pathTracer().runs(), runs + 1);
+    EXPECT_EQ(wb.litSpheres().integratedSppDone(), 64u);
+    wb.applyPreset(wb.shared(), "Marble"); // the medium: the path tracer restarts
+    wb.update();
+    EXPECT_EQ(wb.litSpheres().pathTracer().runs(), runs + 2);
+    std::filesystem::remove_all(root);
+}

@@ -3,6 +3,8 @@
 #include "../support/gl_fixture.h"
 #include "bssrdf/program_library.h"
 
+#include <set>
+
 using testsupport::lineOf;
 using testsupport::replaced;
 
@@ -56,6 +58,37 @@ TEST(GlslMapping, TypeErrorsAndUndeclaredNamesLandOnTheirLines) {
     ASSERT_TRUE(f.problem.has_value());
     EXPECT_EQ(f.problem->file, "materials/typed.bssrdf");
     EXPECT_EQ(f.problem->line, lineOf(typed, "vec2(1.0, Fdr)")) << f.problem->text();
+}
+
+// A syntax error is one line (it was listed twice: the mapped message and the driver's line
+// again); an undeclared name is one headline with its cascade after it, each distinct message
+// once with its count (it was six and more lines, repeats included).
+TEST(GlslMapping, AnErrorIsOneHeadlineAndItsCascadeIsFoldedBelowIt) {
+    std::string text = replaced(dipole(), "    vec3 Zr = Lu;", "    vec3 Zr = Lu +* ;");
+    auto p = loadModelText("syntax_once", "broken.bssrdf", text);
+    const std::string syntax = p.lib->entries().at(0).problem->text();
+    EXPECT_EQ(syntax.find('\n'), std::string::npos) << syntax;
+
+    text = replaced(dipole(), "    vec3 Dr = sqrt(R + Zr*Zr);",
+                    "    vec3 Dr = sqrt(R + UndeclaredThing*UndeclaredThing);");
+    auto q = loadModelText("cascade", "undeclared.bssrdf", text);
+    const std::string all = q.lib->entries().at(0).problem->text();
+    const std::string headline = all.substr(0, all.find('\n'));
+    EXPECT_NE(headline.find("UndeclaredThing"), std::string::npos) << all;
+    std::vector<std::string> rest;
+    for (size_t at = all.find('\n'); at != std::string::npos;) {
+        const size_t next = all.find('\n', at + 1);
+        rest.push_back(all.substr(at + 1, next == std::string::npos ? next : next - at - 1));
+        at = next;
+    }
+    ASSERT_FALSE(rest.empty()) << all; // Mesa follows an undeclared name with more errors
+    EXPECT_NE(rest[0].find("more compiler message"), std::string::npos) << all;
+    std::set<std::string> distinct(rest.begin(), rest.end());
+    EXPECT_EQ(distinct.size(), rest.size()) << "a message repeated instead of counted:\n" << all;
+    for (const std::string& line : rest)
+        EXPECT_EQ(line.find(headline.substr(headline.find(": ") + 2)), std::string::npos)
+            << "the headline again:\n"
+            << all;
 }
 
 TEST(GlslMapping, ErrorInDiffuseReflectanceSectionLandsOnItsLine) {

@@ -78,3 +78,18 @@ TEST(HeadlessContext, NestedStageTimersDoNotNestGlQueries) {
     EXPECT_TRUE(outerHasGpu);
     EXPECT_TRUE(innerSeen);
 }
+
+// The window opens fitting the monitor's work area (it opened at 1600 × 1000 whatever the screen,
+// so at 1280 × 720 the inspector and the bottom strip were off-screen), keeping its aspect.
+TEST(WindowSize, FitsTheWorkAreaWithItsDecorations) {
+    const auto fit = [](int w, int h, int aw, int ah, int fw = 0, int fh = 0) {
+        const gl::WindowSize s = gl::fitWindowSize(w, h, aw, ah, fw, fh);
+        return std::make_pair(s.width, s.height);
+    };
+    EXPECT_EQ(fit(1600, 1000, 1920, 1050), std::make_pair(1600, 1000));      // fits as asked
+    EXPECT_EQ(fit(1600, 1000, 1280, 720), std::make_pair(1152, 720));        // height decides
+    EXPECT_EQ(fit(1600, 1000, 1280, 720, 0, 30), std::make_pair(1104, 690)); // title bar
+    EXPECT_EQ(fit(1600, 1000, 800, 600), std::make_pair(800, 500));          // width decides
+    EXPECT_EQ(fit(1600, 1000, 1366, 768, 2, 32), std::make_pair(1178, 736));
+    EXPECT_EQ(fit(1600, 1000, 600, 380), std::make_pair(600, 380)); // smaller than the floor
+}

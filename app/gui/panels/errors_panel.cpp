@@ -6,15 +6,29 @@
 
 #include <imgui.h>
 
+#include <algorithm>
+
 namespace app {
 
 void drawErrorsPanel(Workbench& wb, ErrorsPanelState&, UiShared&) {
     auto errors = wb.errors();
     if (errors.empty()) ImGui::TextDisabled("No problems.");
-    for (const auto& e : errors) {
+    for (size_t i = 0; i < errors.size(); ++i) {
+        const ErrorItem& e = errors[i];
+        // the first line is the problem; what follows (a compiler's cascade) is folded
+        const size_t newline = e.text.find('\n');
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "[%s]", e.source.c_str());
         ImGui::SameLine();
-        ImGui::TextWrapped("%s", e.text.c_str());
+        ImGui::TextWrapped("%s", e.text.substr(0, newline).c_str());
+        if (newline == std::string::npos) continue;
+        const std::string rest = e.text.substr(newline + 1);
+        const long lines = 1 + std::count(rest.begin(), rest.end(), '\n');
+        ImGui::PushID(int(i));
+        if (ImGui::TreeNode("details", "%ld more line%s", lines, lines == 1 ? "" : "s")) {
+            ImGui::TextWrapped("%s", rest.c_str());
+            ImGui::TreePop();
+        }
+        ImGui::PopID();
     }
     if (!errors.empty() && ImGui::Button("Dismiss action errors")) wb.clearActionErrors();
 }

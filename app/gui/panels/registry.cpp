@@ -23,7 +23,7 @@ const std::array<PanelEntry, kPanelCount>& panelRegistry() {
          [](Workbench& wb, UiState& ui) { drawOctreePanel(wb, ui.octree, ui.shared); }},
         {PanelId::Irradiance, "Irradiance", "Irradiance", 1, Area::Centre, true, true,
          [](Workbench& wb, UiState& ui) { drawIrradiancePanel(wb, ui.irradiance, ui.shared); }},
-        {PanelId::Traversal, "Traversal debugger", "Traversal", 2, Area::Right, false, true,
+        {PanelId::Traversal, "Traversal debugger", "Traversal", 2, Area::Right, true, false,
          [](Workbench& wb, UiState& ui) { drawTraversalPanel(wb, ui.traversal, ui.shared); }},
         {PanelId::Captures, "Captures", "Captures", 1, Area::Centre, true, false,
          [](Workbench& wb, UiState& ui) { drawCapturesPanel(wb, ui.captures, ui.shared); }},

@@ -19,7 +19,9 @@ struct PanelEntry {
     int menuGroup;      // View menu: a separator between groups
     Area area;          // where it docks in the workspace
     bool defaultOpen;
-    bool needsScene; // the scene pipeline runs while a panel with this flag is open
+    bool needsScene; // the scene pipeline runs while a panel with this flag is open (the
+                     // Traversal debugger has none: it shows the trace of a pixel clicked in
+                     // the Render panel, so it can stay open without keeping the scene running)
     void (*draw)(Workbench& wb, UiState& ui);
 };
 
