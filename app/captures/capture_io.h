@@ -17,7 +17,9 @@ namespace app {
 // the manifest (file, kind, tolerance, content hash).
 capture::StageOutput writeCaptureEntry(const std::filesystem::path& dir, const CaptureEntry& e);
 
-// Writes <dir>/manifest.json + stage outputs for the current state. Throws core::Error.
+// Writes <dir>/manifest.json + stage outputs for the current state, into a temporary folder
+// beside <dir> renamed over it when complete (an existing <dir> is replaced whole; a failure
+// leaves nothing). Throws core::Error.
 // With the scene on (wb.scene().settings().enabled), its stages are recorded too
 // (pipeline/scene_capture.cpp), with the traversal of pixel (traceX, traceY) when both are >= 0.
 void recordCaptureTo(Workbench& wb, const std::filesystem::path& dir, const std::string& name,

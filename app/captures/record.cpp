@@ -9,6 +9,8 @@
 #include "core/core.h"
 #include "pathtrace/image_io.h"
 
+#include <unistd.h>
+
 namespace app {
 namespace fs = std::filesystem;
 
@@ -62,12 +64,26 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
         m.models.push_back(std::move(input));
     m.params = paramsJson(wb);
     m.settings = settingsJson(wb, traceX, traceY);
+    // Written into a temporary folder beside `dir` and renamed over it when complete: a capture
+    // folder never exists without its manifest, a failed record leaves nothing behind, and a
+    // capture recorded again holds none of the previous recording's files.
+    const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
+    const fs::path tmp =
+        parent / ("." + dir.filename().string() + ".recording-" + std::to_string(::getpid()));
     std::error_code ec;
-    fs::create_directories(dir, ec);
+    fs::remove_all(tmp, ec);
+    fs::create_directories(tmp, ec);
     if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
-    for (const CaptureEntry& e : captured.entries)
-        m.outputs.push_back(writeCaptureEntry(dir, e));
-    capture::writeManifest(dir, m);
+    try {
+        for (const CaptureEntry& e : captured.entries)
+            m.outputs.push_back(writeCaptureEntry(tmp, e));
+        capture::writeManifest(tmp, m);
+        if (fs::exists(dir, ec)) fs::remove_all(dir);
+        fs::rename(tmp, dir);
+    } catch (...) {
+        fs::remove_all(tmp, ec);
+        throw;
+    }
     for (const auto& s : captured.missing)
         core::logWarn("capture " + name + ": not recorded: " + s);
 }

@@ -94,19 +94,8 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         }
     }
     wb.update();
-    // Recorded into a temporary folder beside the target and renamed when complete, so a
-    // failed record leaves nothing behind and a replaced capture is never half old, half new.
-    const fs::path tmp = dir.parent_path() / ("." + dir.filename().string() + ".recording-" +
-                                              std::to_string(::getpid()));
-    fs::remove_all(tmp, ec);
-    try {
-        recordCaptureTo(wb, tmp, a.name, traceX, traceY);
-        if (fs::exists(dir, ec)) fs::remove_all(dir);
-        fs::rename(tmp, dir);
-    } catch (...) {
-        fs::remove_all(tmp, ec);
-        throw;
-    }
+    // recorded into a temporary folder and renamed when complete (recordCaptureTo)
+    recordCaptureTo(wb, dir, a.name, traceX, traceY);
     std::printf("recorded %s\n", dir.string().c_str());
     return 0;
 }

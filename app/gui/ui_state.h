@@ -173,6 +173,8 @@ struct RenderPanelState {
 
 // The Captures panel: the captures found, the selected one, a replay running in a child
 // process and what it reported, the difference pictures of failing image stages.
+// How often the Captures panel lists the captures folder again while it shows.
+inline constexpr double kCapturesListSeconds = 1.0;
 struct CapturesPanelState {
     std::vector<std::string> names;
     double listedAt = -1e9; // when `names` was read

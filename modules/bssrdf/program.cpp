@@ -19,6 +19,19 @@ ParamValues defaultValues(const Model& m) {
     return v;
 }
 
+std::vector<std::string> valuesOffTheDefaults(const Model& m, const ParamValues& v) {
+    std::vector<std::string> out;
+    for (const auto& p : m.params) {
+        auto it = v.find(p.name);
+        const int n = p.type == ParamType::Color ? 3 : 1;
+        bool differs = false;
+        for (int c = 0; it != v.end() && c < n; ++c)
+            differs |= it->second[size_t(c)] != p.value[size_t(c)];
+        if (differs) out.push_back(p.name);
+    }
+    return out;
+}
+
 ParamValues carryOver(const Model& newModel, const Model& oldModel, const ParamValues& old) {
     ParamValues v = defaultValues(newModel);
     for (const auto& p : newModel.params) {

@@ -31,6 +31,9 @@ using ParamValues = std::map<std::string, std::array<float, 3>>;
 ParamValues defaultValues(const Model& m);
 // Values that survive a reload: same name and same type; everything else takes the default.
 ParamValues carryOver(const Model& newModel, const Model& oldModel, const ParamValues& old);
+// The parameters whose value in use differs from the model file's default (a default edited in
+// the file does not change a value that survived the reload): "Name" each, in file order.
+std::vector<std::string> valuesOffTheDefaults(const Model& m, const ParamValues& v);
 
 // Built-in uniforms every model sees (materials/README.md): σ in 1/mm, scale in mm/unit.
 struct Builtins {

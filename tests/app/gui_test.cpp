@@ -2,6 +2,7 @@
 // window layout and panel visibility persist between runs.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
+#include "captures/capture_io.h"
 #include "core/core.h"
 #include "gui/file_dialog.h"
 #include "gui/fonts.h"
@@ -285,6 +286,37 @@ TEST(CapturesPanel, ReplaysInAChildProcessAndShowsTheDifference) {
 
 // A model that evaluates to NaN somewhere is an entry in the Errors panel naming the model and
 // where in r; the plot legend gives no error figures for it; a fixed model clears the entry.
+// A capture just recorded shows in the Captures panel without Refresh (it was listed only when
+// the panel first showed), and a capture recorded again holds only its new files (it was written
+// over the old folder, keeping the previous recording's extra files; now it is written aside and
+// renamed over it whole).
+TEST(CapturesPanel, ACaptureJustRecordedIsListedAndReplacesTheOldWhole) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("capslist", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui.shared.show(app::PanelId::Captures);
+    gui.frame();
+    gui.frame();
+    ASSERT_TRUE(ui.captures.names.empty());
+    app::recordCapture(wb, "first");
+    core::Stopwatch clock;
+    while (ui.captures.names.empty() && clock.ms() < 1000 * (app::kCapturesListSeconds + 2))
+        gui.frame();
+    EXPECT_EQ(ui.captures.names, std::vector<std::string>{"first"});
+
+    const fs::path dir = root / "captures" / "first";
+    core::writeFile(dir / "stale_output.csv", "x\n1\n"); // as a larger earlier recording left
+    app::recordCapture(wb, "first");
+    EXPECT_FALSE(fs::exists(dir / "stale_output.csv"));
+    EXPECT_TRUE(fs::exists(dir / "manifest.json"));
+    for (const auto& entry : fs::directory_iterator(root / "captures"))
+        EXPECT_EQ(entry.path().filename().string().find(".recording-"), std::string::npos)
+            << "a temporary folder was left: " << entry.path();
+    fs::remove_all(root);
+}
+
 TEST(HeadlessGui, ModelNanValuesAreAnErrorEntryWithTheRadii) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("nanmodel", {"dipole.bssrdf"});

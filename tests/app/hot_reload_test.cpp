@@ -137,6 +137,39 @@ TEST(HotReload, AModelKeepsItsColourWhenOthersComeAndGo) {
     fs::remove_all(root);
 }
 
+// A parameter's value survives a reload, so a default edited in the file changes nothing on
+// screen by itself: the model says which values are off the file's defaults, and resetting to
+// them brings the edited default into the profile.
+TEST(HotReload, AnEditedDefaultIsReportedAndResetBringsIt) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("defaults", {"dipole.bssrdf"});
+    const fs::path file = root / "materials/dipole.bssrdf";
+    const std::string path = "materials/dipole.bssrdf";
+    app::Workbench wb(root, true);
+    const double before = valueAt0(wb, path);
+    ASSERT_GT(before, 0);
+    EXPECT_TRUE(bssrdf::valuesOffTheDefaults(*wb.library().find(path)->model,
+                                             wb.library().find(path)->values)
+                    .empty());
+    const std::string text = testsupport::readText(file);
+    saveLikeAnEditor(
+        file, replaced(text, "float Multiplier 0.0 10.0 1.0", "float Multiplier 0.0 10.0 2.0"));
+    ASSERT_TRUE(waitFor(wb, [&] {
+        const auto* e = wb.library().find(path);
+        return e && e->model && e->model->findParam("Multiplier") &&
+               e->model->findParam("Multiplier")->value[0] == 2.0f;
+    }));
+    const auto* e = wb.library().find(path);
+    EXPECT_EQ(e->values.at("Multiplier")[0], 1.0f) << "the value in use survived the reload";
+    EXPECT_EQ(bssrdf::valuesOffTheDefaults(*e->model, e->values),
+              std::vector<std::string>{"Multiplier"});
+    wb.library().find(path)->values = bssrdf::defaultValues(*e->model); // the panel's button
+    ASSERT_TRUE(waitFor(wb, [&] { return valueAt0(wb, path) > 1.5 * before; }));
+    EXPECT_NEAR(valueAt0(wb, path), 2.0 * before, 1e-3 * before);
+    EXPECT_TRUE(bssrdf::valuesOffTheDefaults(*e->model, e->values).empty());
+    fs::remove_all(root);
+}
+
 TEST(HotReload, BrokenShaderTemplateKeepsProgramsAndRecovers) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("shader", {"dipole.bssrdf"});

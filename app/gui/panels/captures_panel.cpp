@@ -22,9 +22,13 @@ namespace {
 std::vector<std::string> listCaptures(const fs::path& dir) {
     std::vector<std::string> out;
     std::error_code ec;
-    for (const auto& e : fs::directory_iterator(dir, ec))
-        if (e.is_directory(ec) && fs::exists(e.path() / capture::kManifestFileName, ec))
-            out.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        const std::string name = e.path().filename().string();
+        // hidden folders: captures being recorded (renamed into place when complete)
+        if (!name.empty() && name[0] != '.' && e.is_directory(ec) &&
+            fs::exists(e.path() / capture::kManifestFileName, ec))
+            out.push_back(name);
+    }
     std::sort(out.begin(), out.end());
     return out;
 }
@@ -80,9 +84,10 @@ void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name)
 }
 
 void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
-    // listed when the panel first shows (and again every few seconds while there are none)
+    // listed when the panel first shows and again every kCapturesListSeconds while it shows, so
+    // a capture just recorded (File → Record capture, or from a shell) appears without Refresh
     const double now = core::secondsSinceStart();
-    if (ImGui::SmallButton("Refresh") || (ps.names.empty() && now - ps.listedAt > 3.0)) {
+    if (ImGui::SmallButton("Refresh") || now - ps.listedAt > kCapturesListSeconds) {
         ps.names = listCaptures(wb.root() / "captures");
         ps.listedAt = now;
     }

@@ -63,6 +63,19 @@ void drawModelsPanel(Workbench& wb, UiShared&) {
                                    e.hasInversion() ? "yes" : "numeric (2 pi int R r dr)");
                 ImGui::PopStyleColor();
                 drawModelParams(e);
+                // a default edited in the file leaves the value in use: say so, and offer it
+                if (const auto off = bssrdf::valuesOffTheDefaults(*e.model, e.values);
+                    !off.empty()) {
+                    std::string names;
+                    for (const auto& n : off)
+                        names += (names.empty() ? "" : ", ") + n;
+                    ImGui::PushStyleColor(ImGuiCol_Text,
+                                          ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+                    ImGui::TextWrapped("not the file's default: %s", names.c_str());
+                    ImGui::PopStyleColor();
+                    if (ImGui::SmallButton("reset to the file's defaults"))
+                        e.values = bssrdf::defaultValues(*e.model);
+                }
                 ImGui::Checkbox("own parameters", &view.override);
                 if (ImGui::IsItemHovered())
                     ImGui::SetTooltip("own material parameters: this model uses its own "
