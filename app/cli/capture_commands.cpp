@@ -15,8 +15,6 @@
 #include <iostream>
 #include <memory>
 
-#include <unistd.h>
-
 namespace app {
 namespace fs = std::filesystem;
 

@@ -168,12 +168,7 @@ int runEstimateCli(EstimateArgs a, const std::filesystem::path& root) {
         return paths * a.settings.thetaIDeg.size();
     }();
     const auto progress = [&](uint64_t done) {
-        const double sec = clock.ms() / 1000.0;
-        std::fprintf(stderr, "\restimate: %5.1f%%  %llu / %llu paths  %s   ",
-                     total ? 100.0 * double(done) / double(total) : 100.0,
-                     static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
-                     pathRate(done, sec).c_str());
-        std::fflush(stderr);
+        printPathProgress("estimate", done, total, clock.ms() / 1000.0);
     };
     std::string device = "CPU";
     const auto table = [&] {

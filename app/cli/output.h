@@ -18,5 +18,8 @@ void checkOutput(const std::string& path, const std::string& flag, const std::st
 // "123456 paths/s" for `done` paths in `seconds`; "-- paths/s" until there is a rate to show
 // (nothing done yet, or under a tenth of a second: no "0 paths/s" at the start of a run).
 std::string pathRate(uint64_t done, double seconds);
+// The progress line of a path-traced run on stderr, rewritten in place:
+// "\r<what>: 12.5%  1000 / 8000 paths  123456 paths/s" (100 % when total is 0).
+void printPathProgress(const char* what, uint64_t done, uint64_t total, double seconds);
 
 } // namespace app

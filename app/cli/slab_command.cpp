@@ -53,11 +53,7 @@ SlabSetup prepare(const SlabArgs& a) {
 std::function<void(uint64_t)> progressLine(const pathtrace::SlabSettings& s,
                                            core::Stopwatch& clock) {
     return [&s, &clock](uint64_t done) {
-        const double sec = clock.ms() / 1000.0;
-        std::fprintf(stderr, "\rslab: %5.1f%%  %llu / %llu paths  %s   ",
-                     100.0 * double(done) / double(s.paths), static_cast<unsigned long long>(done),
-                     static_cast<unsigned long long>(s.paths), pathRate(done, sec).c_str());
-        std::fflush(stderr);
+        printPathProgress("slab", done, s.paths, clock.ms() / 1000.0);
     };
 }
 
