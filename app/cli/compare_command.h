@@ -3,22 +3,23 @@
 // disk by medium and settings (BSSRDF_WORKBENCH_CACHE, else ~/.cache/bssrdf-workbench/reference,
 // pipeline/scoring.h: compareCacheDir), so a second run costs only the models. Outputs:
 // DIR/scores.json (schema below), DIR/report.md and DIR/report.html (one self-contained page, cells
-// coloured by rel_l2).
+// coloured by rel_err).
 //
-// scores.json = {"schema": "bssrdf-workbench-scores", "version": 1, "theta_i": [0],
-//   "paths": P, "rows": [{"model", "preset", "channel": "R"|"G"|"B", "theta_i", "ld_mm",
-//   "rel_l2", "rel_l2_se", "ratio_1ld", "ratio_1ld_se", "ratio_4ld", "ratio_4ld_se",
+// scores.json = {"schema": "bssrdf-workbench-scores", "version": 2, "theta_i": [0],
+//   "paths": P, "rel_err": "<its definition>", "rel_err_range_ld": [0.1, 4],
+//   "rows": [{"model", "preset", "channel": "R"|"G"|"B", "theta_i", "ld_mm",
+//   "rel_err", "rel_err_se", "ratio_1ld", "ratio_1ld_se", "ratio_4ld", "ratio_4ld_se",
 //   "total_ratio", "total_ratio_se", "r_err5_ld" (or null), "rank", "tie"}],
 //   "skipped": [{"preset", "channel", "reason"}]}   (channels with σa = 0 have no l_d)
 //
 // At θi > 0 (--theta-i) the rows are scored against the seed 001 estimate of the whole BSSRDF,
 // over the plane and the exit directions (pipeline/scoring_oblique.h); such rows add
-// "rel_l2_dir" and "rel_l2_dir_se" (null at θi = 0). The report adds per preset and channel the
+// "rel_err_dir" and "rel_err_dir_se" (null at θi = 0). The report adds per preset and channel the
 // pencil plot of every model with the reference band, the ratio to the reference against r, and at
 // θi > 0 polar heatmaps of the relative difference (compare_report.cpp), drawn headless by the
 // panels' own plot code.
 //
-// --baseline FILE --fail-if-worse PCT: exit 1 when a row's rel_l2 grew by more than PCT % over
+// --baseline FILE --fail-if-worse PCT: exit 1 when a row's rel_err grew by more than PCT % over
 // the baseline's same (model, preset, channel, theta_i) and by more than 3 standard errors of
 #pragma once
 

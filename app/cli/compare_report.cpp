@@ -1,5 +1,5 @@
 // The scoreboard's reports (compare_command.h): report.md and one self-contained report.html (a
-// table with cells coloured by rel_l2, and per preset and channel the pencil plot of every model
+// table with cells coloured by rel_err, and per preset and channel the pencil plot of every model
 // with the reference's ±2σ band, the ratio model/reference against r, and at θi > 0 polar heatmaps
 // of the relative difference over the plane), the pictures drawn headless by the panels' own code
 // (report_png.h) and also written to DIR/plots/ for report.md.
@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// rel_l2 → a cell colour from green (0) through yellow (10 %) to red (>= 30 %).
+// rel_err → a cell colour from green (0) through yellow (10 %) to red (>= 30 %).
 std::string cellColour(double rel) {
     const double t = std::clamp(rel / 0.3, 0.0, 1.0);
     const int red = int(std::lround(255 * std::min(1.0, 2 * t)));
@@ -185,13 +185,14 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
     }
     std::ostringstream md, html;
     md << "# BSSRDF scoreboard\n\nθi: " << angleList(r.thetaI) << "; " << r.paths
-       << " reference paths per preset, channel and angle. At θi = 0: rel_l2 of the radial "
-          "profile over [0.1, 4] l_d against the slab tracer; at θi > 0: rel_l2 over the plane "
-          "(r, θs) and rel_l2_dir over the plane and the exit directions against the connections "
-          "estimate (definitions: cli/compare_command.h, pipeline/scoring_oblique.h). ± is the "
-          "standard error "
-          "from the reference; `=` marks a tie with the best of its preset, channel and angle.\n\n"
-       << "| preset | ch | θi | model | rank | rel_l2 | rel_l2_dir | ratio at 1 l_d | ratio at 4 "
+       << " reference paths per preset, channel and angle. rel_err is the RMS relative error "
+          "over ln r in [0.1, 4] l_d with the reference's own noise removed "
+          "(modules/core/relative_error.h): at θi = 0 of the radial profile against the slab "
+          "tracer; at θi > 0 over the plane (ln r, θs), and rel_err_dir also over the exit "
+          "directions, against the connections estimate (pipeline/scoring.h, "
+          "pipeline/scoring_oblique.h). ± is the standard error from the reference; `=` marks a "
+          "tie with the best of its preset, channel and angle.\n\n"
+       << "| preset | ch | θi | model | rank | rel_err | rel_err_dir | ratio at 1 l_d | ratio at 4 "
           "l_d | total ratio | error > 5 % from (l_d) |\n|---|---|---|---|---|---|---|---|---|---|"
           "---|\n";
     html << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>BSSRDF scoreboard</title>"
@@ -201,22 +202,23 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
             "figure{display:inline-block;margin:6px}figcaption{font-size:80%}</style></head><body>"
          << "<h1>BSSRDF scoreboard</h1><p>&theta;<sub>i</sub>: " << htmlEscape(angleList(r.thetaI))
          << "; " << r.paths
-         << " reference paths per preset, channel and angle. At &theta;<sub>i</sub> = 0: rel_l2 "
-            "of the radial profile over [0.1, 4] l<sub>d</sub> against the slab tracer; at "
-            "&theta;<sub>i</sub> &gt; 0: rel_l2 over the plane (r, &theta;<sub>s</sub>) and "
-            "rel_l2_dir over the plane and the exit directions against the connections estimate. "
+         << " reference paths per preset, channel and angle. rel_err is the RMS relative error "
+            "over ln r in [0.1, 4] l<sub>d</sub> with the reference's own noise removed: at "
+            "&theta;<sub>i</sub> = 0 of the radial profile against the slab tracer; at "
+            "&theta;<sub>i</sub> &gt; 0 over the plane (ln r, &theta;<sub>s</sub>), and "
+            "rel_err_dir also over the exit directions, against the connections estimate. "
             "&plusmn; is the standard error from the reference; = marks a tie with the best.</p>"
          << "<table><tr><th>preset</th><th>ch</th><th>&theta;<sub>i</sub></th><th>model</th>"
-            "<th>rank</th><th>rel_l2</th><th>rel_l2_dir</th><th>ratio 1 l<sub>d</sub></th>"
+            "<th>rank</th><th>rel_err</th><th>rel_err_dir</th><th>ratio 1 l<sub>d</sub></th>"
             "<th>ratio 4 l<sub>d</sub></th><th>total ratio</th><th>error &gt; 5 % from "
             "(l<sub>d</sub>)</th></tr>\n";
     for (const ScoreRow& s : r.rows) {
         const std::string rank = (s.tie ? "=" : "") + std::to_string(s.rank);
         const std::string rel =
-            formatScore(100 * s.relL2, 3) + " % ± " + formatScore(100 * s.relL2Se, 2) + " %";
-        const std::string dir2 = s.relL2Dir
-                                     ? formatScore(100 * *s.relL2Dir, 3) + " % ± " +
-                                           formatScore(100 * s.relL2DirSe.value_or(0), 2) + " %"
+            formatScore(100 * s.relErr, 3) + " % ± " + formatScore(100 * s.relErrSe, 2) + " %";
+        const std::string dir2 = s.relErrDir
+                                     ? formatScore(100 * *s.relErrDir, 3) + " % ± " +
+                                           formatScore(100 * s.relErrDirSe.value_or(0), 2) + " %"
                                      : "—";
         const std::string err5 = s.rErr5Ld ? formatScore(*s.rErr5Ld, 3) : "none";
         const std::string th = formatScore(s.thetaI, 3);
@@ -226,10 +228,10 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
            << " |\n";
         html << "<tr><td class=l>" << htmlEscape(s.preset) << "</td><td>" << s.channel
              << "</td><td>" << th << "</td><td class=l>" << htmlEscape(s.model) << "</td><td>"
-             << rank << "</td><td style=\"background:" << cellColour(s.relL2) << ";color:#000\">"
+             << rank << "</td><td style=\"background:" << cellColour(s.relErr) << ";color:#000\">"
              << htmlEscape(rel) << "</td><td"
-             << (s.relL2Dir ? " style=\"background:" + cellColour(*s.relL2Dir) + ";color:#000\""
-                            : std::string())
+             << (s.relErrDir ? " style=\"background:" + cellColour(*s.relErrDir) + ";color:#000\""
+                             : std::string())
              << ">" << htmlEscape(dir2) << "</td><td>" << formatScore(s.ratio1) << "</td><td>"
              << formatScore(s.ratio4) << "</td><td>" << formatScore(s.totalRatio) << "</td><td>"
              << err5 << "</td></tr>\n";

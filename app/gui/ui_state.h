@@ -81,7 +81,8 @@ struct UiShared {
     }
     int showRequest = -1; // served by the workspace in the next frame
     WorkspaceState workspace;
-    std::vector<std::string> recent; // recently opened model files, newest first (saved)
+    std::vector<std::string> recent;       // recently opened model files, newest first (saved)
+    int windowWidth = 0, windowHeight = 0; // the window's size, saved to open at it next time
     bool quit = false;
     std::string status; // one-line status shown in the menu bar
     SceneInspect inspect;
@@ -112,6 +113,10 @@ struct PencilPanelState {
 
 struct LitSpherePanelState {
     float exposure = 0.0f, gamma = 2.2f, diffRange = 0.0f; // diffRange 0: automatic
+    bool diffZ = false;       // the difference in standard errors (z) instead of in value
+    float zRange = 4.0f;      // |z| at full colour
+    Rect zRadio;              // the z-score choice last frame (screen px)
+    double relSe[2] = {0, 0}; // each image's relative standard error shown last frame
     SphereView view = SphereView::PathTraced;
     int viewShown = -1; // the tab last shown (to select a tab programmatically once)
     int pickX = -1, pickY = -1;
@@ -162,6 +167,9 @@ struct RenderPanelState {
     render::Readback readback; // of the shown frame, for the pixel probe and export
     long long readbackRuns = -1;
     char exportName[256] = "render"; // export file name without extension
+    FileDialogState exportDialog;    // where to export (Export EXR / PNG ask)
+    std::string exportExt;           // ".exr" or ".png" while the dialog is open
+    Rect exportButtons[2];           // Export EXR, Export PNG last frame (screen px)
     bool abSplit = false;            // A/B: the render left of the divider, B right of it
     std::string abWith;              // B: "" brute force, else a model's display path
     float split = 0.5f;              // the divider, as a fraction of the image width
@@ -208,6 +216,8 @@ struct SlicePanelState {
     float diffRange = 0.5f;                    // relative difference at full colour
     bool greyTies = true;                      // differences within 2 standard errors drawn grey
     Rect refRect;                              // the reference heatmap last frame (screen px)
+    Rect diffRect;                             // the difference heatmap last frame
+    std::string summary;                       // the rel_err line last frame ("": none)
     float thetaEdit = 0, rangeEdit = 0;        // θi and r_max while their fields are edited
     bool editing[2] = {false, false};
 };

@@ -1,7 +1,9 @@
-// Reference series (mean ± 2 standard errors) and model-vs-reference error figures.
+// Reference series (mean ± 2 standard errors) and the models' error figures (pencil_series.h).
 #include "pipeline/pencil_series.h"
 
 #include "core/color.h"
+#include "core/relative_error.h"
+#include "core/text.h"
 
 #include <cmath>
 
@@ -39,33 +41,33 @@ plot::Series referenceSeries(const ReferenceSnapshot& snap, int channel, bool rT
     return s;
 }
 
-ModelError modelError(const plot::Series& model, const plot::Series& ref, double ld) {
-    ModelError e;
-    if (ref.x.empty() || model.x.empty()) return e;
-    double num = 0, den = 0;
-    std::vector<double> ratio(ref.x.size(), NAN);
-    for (size_t i = 0; i < ref.x.size(); ++i) {
-        auto rows = plot::sampleAt({model}, ref.x[i]);
-        const double m = rows.empty() ? NAN : rows[0].y;
-        if (!std::isfinite(m) || !std::isfinite(ref.y[i])) continue;
-        num += (m - ref.y[i]) * (m - ref.y[i]);
-        den += ref.y[i] * ref.y[i];
-        if (ref.y[i] > 0) ratio[i] = m / ref.y[i];
-    }
-    if (!(den > 0)) return e;
-    auto nearest = [&](double r) {
-        size_t best = 0;
-        for (size_t i = 1; i < ref.x.size(); ++i)
-            if (std::abs(ref.x[i] - r) < std::abs(ref.x[best] - r)) best = i;
-        return std::abs(ref.x[best] - r) <= (ref.x.back() - ref.x.front()) / ref.x.size()
-                   ? ratio[best]
-                   : NAN;
-    };
-    e.valid = true;
-    e.relL2 = std::sqrt(num / den);
-    e.ratioAt1 = nearest(ld);
-    e.ratioAt4 = nearest(4 * ld);
-    return e;
+const ScoreboardRow* scoreOf(const Workbench& wb, const std::string& displayPath, int channel) {
+    for (const ScoreboardRow& r : wb.scoreboard().rows())
+        if (r.displayPath == displayPath && r.channel == channel) return &r;
+    return nullptr;
+}
+
+std::string errorFigures(const capture::ScoreRow& r) {
+    if (!std::isfinite(r.relErr)) return "rel_err -";
+    return "rel_err " + core::formatNumber(100 * r.relErr, 3) + " % +- " +
+           core::formatNumber(100 * r.relErrSe, 2) + " %  ratio@1ld " +
+           core::formatNumber(r.ratio1, 3) + "  @4ld " + core::formatNumber(r.ratio4, 3);
+}
+
+std::string errorTooltip(const ScoreboardRow& r) {
+    const capture::ScoreRow& s = r.score;
+    const double to = std::min(core::kRelErrToLd, r.coveredLd);
+    return "rel_err of channel " + s.channel +
+           ": the RMS relative error (model - reference) / reference over ln r in [" +
+           core::formatNumber(core::kRelErrFromLd, 2) + ", " + core::formatNumber(to, 3) +
+           "] l_d = [" + core::formatNumber(core::kRelErrFromLd * s.ldMm, 3) + ", " +
+           core::formatNumber(to * s.ldMm, 3) + "] mm (l_d " + core::formatNumber(s.ldMm, 3) +
+           " mm), the model averaged over each reference bin, the reference's own noise "
+           "removed; +- its standard error. The same number as the Scoreboard and `compare`.\n"
+           "ratio@1ld, @4ld: model / reference over r within 5 % of 1 and of 4 l_d." +
+           (r.coveredLd < core::kRelErrToLd
+                ? "\nThe plot's range reaches only " + core::formatNumber(r.coveredLd, 3) + " l_d."
+                : std::string());
 }
 
 std::string normalisationNote() {
@@ -98,12 +100,63 @@ std::vector<RpMarker> hybridRpMarkers(const Workbench& wb) {
     return out;
 }
 
+namespace {
+
+// Why a model shown against the reference has no error figures, "" when it has them.
+std::string noFiguresReason(const Workbench& wb, const ModelView& mine,
+                            const ReferenceSnapshot& snap, int channel) {
+    const ModelView* src = nullptr;
+    if (auto it = wb.views().find(wb.reference().model()); it != wb.views().end())
+        src = &it->second;
+    const auto& m = mine.effective;
+    const bool sameMedium = src && m && src->effective && m->sigmaA == src->effective->sigmaA &&
+                            m->sigmaS == src->effective->sigmaS && m->g == src->effective->g &&
+                            m->eta == src->effective->eta;
+    if (!sameMedium) return "other sigma: no error figures";
+    if (!mine.profileProblem.empty())
+        return "NaN, Inf or negative values, see Errors: no error figures";
+    if (snap.energyFails(channel)) return "reference failed its energy check: no error figures";
+    return "";
+}
+
+// The legend text and tooltip of a model's error figures on `channel` (3: each of R, G, B).
+void addErrorFigures(const Workbench& wb, const std::string& displayPath, const ModelView& v,
+                     const ReferenceSnapshot& snap, int channel, plot::Series& s) {
+    if (std::string why = noFiguresReason(wb, v, snap, channel); !why.empty()) {
+        s.label += "  (" + why + ")";
+        return;
+    }
+    if (channel < 3) {
+        const ScoreboardRow* r = scoreOf(wb, displayPath, channel);
+        if (!r) return; // not scored yet (or the channel has no l_d: the Scoreboard says why)
+        s.label += "  " + errorFigures(r->score);
+        s.tooltip = errorTooltip(*r);
+        return;
+    }
+    std::string figures;
+    for (int c = 0; c < 3; ++c) {
+        const ScoreboardRow* r = scoreOf(wb, displayPath, c);
+        if (!r) continue;
+        figures +=
+            std::string(figures.empty() ? "" : " ") + "RGB"[c] + " " +
+            (std::isfinite(r->score.relErr) ? core::formatNumber(100 * r->score.relErr, 3) + " %"
+                                            : std::string("-"));
+        s.tooltip += (s.tooltip.empty() ? "" : "\n\n") + errorTooltip(*r);
+    }
+    if (!figures.empty()) s.label += "  rel_err " + figures;
+}
+
+} // namespace
+
 std::vector<plot::Series> plotSeries(const Workbench& wb) {
     const PlotSettings& ps = wb.plotSettings();
     std::vector<plot::Series> out;
     auto valueOf = [&](const glm::dvec3& v, int channel) {
         return channel < 3 ? v[channel] : core::luminance(v);
     };
+    const bool withReference = wb.referenceSettings().enabled;
+    const ReferenceSnapshot snap = withReference ? wb.reference().snapshot() : ReferenceSnapshot{};
+    const bool scored = withReference && snap.pathsDone > 0;
     for (const auto& e : wb.library().entries()) {
         auto it = wb.views().find(e.displayPath);
         const size_t slot = wb.plotSlot(e.displayPath);
@@ -122,6 +175,7 @@ std::vector<plot::Series> plotSeries(const Workbench& wb) {
                 double y = valueOf(v.profile.value[i], channel);
                 s.y[i] = ps.rTimesR ? y * s.x[i] : y;
             }
+            if (scored) addErrorFigures(wb, e.displayPath, v, snap, channel, s);
             out.push_back(std::move(s));
         };
         if (!ps.solo.empty()) {
@@ -138,9 +192,7 @@ std::vector<plot::Series> plotSeries(const Workbench& wb) {
             out.back().thickness = odd ? 1.5f : 3.0f;
         }
     }
-    if (!wb.referenceSettings().enabled) return out;
-    ReferenceSnapshot snap = wb.reference().snapshot();
-    if (snap.pathsDone == 0) return out;
+    if (!scored) return out;
     if (!ps.solo.empty()) {
         const int first = int(out.size()); // each model channel is compared with its own
         for (size_t i = 0; i < out.size(); ++i)
@@ -154,40 +206,6 @@ std::vector<plot::Series> plotSeries(const Workbench& wb) {
         return out;
     }
     plot::Series ref = referenceSeries(snap, ps.channel, ps.rTimesR);
-    // error figures of each model that uses the reference's σ, at the plotted channel's l_d
-    const ModelView* src = nullptr;
-    if (auto it = wb.views().find(wb.reference().model()); it != wb.views().end())
-        src = &it->second;
-    for (auto& s : out) {
-        for (const auto& e : wb.library().entries()) {
-            auto it = wb.views().find(e.displayPath);
-            if (!e.model || s.label != e.model->name || it == wb.views().end()) continue;
-            const auto& mine = it->second.effective;
-            const bool sameMedium =
-                src && mine && src->effective && mine->sigmaA == src->effective->sigmaA &&
-                mine->sigmaS == src->effective->sigmaS && mine->g == src->effective->g &&
-                mine->eta == src->effective->eta;
-            if (!sameMedium) {
-                s.label += "  (other sigma: no error figures)";
-                continue;
-            }
-            if (!it->second.profileProblem.empty()) {
-                s.label += "  (NaN, Inf or negative values, see Errors: no error figures)";
-                continue;
-            }
-            glm::dvec3 ld = material::diffuseMeanFreePath(*it->second.effective);
-            if (snap.energyFails(ps.channel)) {
-                s.label += "  (reference failed its energy check: no error figures)";
-                continue;
-            }
-            ModelError err = modelError(s, ref, ld[ps.channel < 3 ? ps.channel : 1]);
-            if (!err.valid) continue;
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "  rel.L2 %.1f%%  ratio@1ld %.3f  @4ld %.3f",
-                          100 * err.relL2, err.ratioAt1, err.ratioAt4);
-            s.label += buf;
-        }
-    }
     for (auto& s : out)
         s.compareTo = int(out.size());
     ref.compareTo = int(out.size());

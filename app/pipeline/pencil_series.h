@@ -1,7 +1,7 @@
 // What the pencil plot (thesis 3.6.3) draws, made from the workbench's state and no ImGui: one
 // series per visible model (or R, G, B of the soloed one) with its colour and line style, the
 // path-traced reference as a series with a ±2σ band, the error figures of a model curve against
-// it (shown per model in the legend), and the hybrid's R_p markers.
+// it (shown per model in the legend, the Scoreboard's rel_err), and the hybrid's R_p markers.
 #pragma once
 
 #include "pipeline/reference_stage.h"
@@ -19,16 +19,17 @@ namespace app {
 // independent runs, so variances add with the squared weights).
 plot::Series referenceSeries(const ReferenceSnapshot& snap, int channel, bool rTimesR);
 
-struct ModelError {
-    bool valid = false;
-    double relL2 = 0;    // sqrt(Σ(model − ref)²) / sqrt(Σ ref²) over the reference bins
-    double ratioAt1 = 0; // model / reference at r = 1 l_d (nearest bin)
-    double ratioAt4 = 0; // ... at r = 4 l_d
-};
-ModelError modelError(const plot::Series& model, const plot::Series& reference, double ld);
+// The error figures of a model on a channel (0..2) are the Scoreboard stage's row: the same
+// rel_err as the Scoreboard panel and `compare` (pipeline/scoring.h); nullptr while not scored.
+const ScoreboardRow* scoreOf(const Workbench& wb, const std::string& displayPath, int channel);
+// "rel_err 3.1 % ± 0.2 %  ratio@1ld 1.02  @4ld 0.98" of a row, and the tooltip that says what
+// rel_err is, over which radii and of which channel.
+std::string errorFigures(const capture::ScoreRow& r);
+std::string errorTooltip(const ScoreboardRow& r);
 
 // The plot's series for the current settings (one per visible model, or R/G/B when soloed),
-// then the path-traced reference when enabled; model labels carry their error against it.
+// then the path-traced reference when enabled; model labels carry their rel_err against it per
+// channel (on the luminance plot, each of R, G, B), their tooltips its definition.
 std::vector<plot::Series> plotSeries(const Workbench& wb);
 
 // R_p of the hybrid (texspace/hybrid.h) for the pencil plot's marker: the soloed model's three

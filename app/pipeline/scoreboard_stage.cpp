@@ -49,7 +49,8 @@ bool ScoreboardStage::update(const ScoreboardInputs& in) {
     }
     std::vector<capture::ScoreRow> scores;
     std::vector<ScoreboardRow> rows;
-    std::map<std::string, double> totals; // the ones used now (the rest are dropped)
+    std::map<std::string, double> totals;            // the ones used now (the rest are dropped)
+    std::map<std::string, bssrdf::Profile> averages; // per model: its bin averages, all channels
     for (int c = 0; c < 3; ++c) {
         const pathtrace::SlabResult& r = ref.channel[size_t(c)];
         const pathtrace::Medium m = mediaOf(*in.params)[size_t(c)];
@@ -64,22 +65,26 @@ bool ScoreboardStage::update(const ScoreboardInputs& in) {
                               core::formatNumber(ld, 3) + " mm (narrow the plot range)");
             continue;
         }
-        const double covered = (r.rMid.back() + 0.5 * (r.rMid[1] - r.rMid[0])) / ld;
+        const std::vector<double> edges = binEdges(r.rMid);
+        const double covered = edges.back() / ld;
         for (const bssrdf::ModelEntry& e : in.library->entries()) {
             auto v = in.views->find(e.displayPath);
             if (!e.usable() || v == in.views->end() || !v->second.effective) continue;
             try {
                 const bssrdf::Builtins b = builtinsOf(*v->second.effective);
                 const GLuint program = e.programs.at("pencil_profile.comp").id();
-                const bssrdf::Profile prof =
-                    bssrdf::evaluateProfile(program, *e.model, e.values, b, r.rMid);
-                if (std::string bad = bssrdf::profileProblem(prof); !bad.empty()) {
-                    m_problems.push_back(e.displayPath + ": " + bad);
-                    continue;
+                auto avg = averages.find(e.displayPath);
+                if (avg == averages.end()) {
+                    std::string bad;
+                    bssrdf::Profile prof = binAverageProfile(program, e, b, edges, bad);
+                    if (!bad.empty()) m_problems.push_back(e.displayPath + ": " + bad);
+                    avg = averages
+                              .emplace(e.displayPath,
+                                       bad.empty() ? std::move(prof) : bssrdf::Profile{})
+                              .first;
                 }
-                std::vector<double> mv(prof.value.size());
-                for (size_t i = 0; i < mv.size(); ++i)
-                    mv[i] = prof.value[i][c];
+                if (avg->second.value.empty()) continue; // NaN, Inf or negative: listed once
+                const std::vector<double> mv = channelOf(avg->second, c);
                 ScoreboardRow row;
                 const std::string totalKey = e.displayPath + std::to_string(e.generation) +
                                              toJson(e.values).dump() + core::keyOf(b, ld, c);
@@ -87,7 +92,7 @@ bool ScoreboardStage::update(const ScoreboardInputs& in) {
                 const double total =
                     cached != m_totals.end() ? cached->second : modelTotalRd(program, e, b, ld, c);
                 totals[totalKey] = total;
-                row.score = scoreAgainstReference(r.rMid, r.rd, r.rdStderr, r.specular, r.totalRd,
+                row.score = scoreAgainstReference(edges, r.rd, r.rdStderr, r.specular, r.totalRd,
                                                   r.totalRdStderr, ld, mv, total);
                 std::string stem = e.displayPath.substr(e.displayPath.rfind('/') + 1);
                 row.score.model = stem.substr(0, stem.rfind('.'));

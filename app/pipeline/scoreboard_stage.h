@@ -4,7 +4,9 @@
 // the plot's radial bins), and every usable model is scored against it with its own σ, per
 // channel over [0.1, 4] l_d of that channel (over what the plot's range covers of it when the
 // range is shorter: the row says so). Re-scored when a model changes (hot reload, parameters)
-// or the reference gains paths, at most every kRescoreSeconds while the reference runs.
+// or the reference gains paths, at most every kRescoreSeconds while the reference runs. The
+// pencil plot's legend shows the same rows (pencil_series.h). Each model is evaluated once per
+// re-scoring, averaged over the reference's bins for all three channels.
 #pragma once
 
 #include "bssrdf/program_library.h"
@@ -21,7 +23,7 @@
 namespace app {
 
 struct ScoreboardInputs {
-    bool enabled = false; // the GUI sets it while the Scoreboard panel shows
+    bool enabled = false; // while the Scoreboard panel shows or the reference runs (the legend)
     bssrdf::ModelLibrary* library = nullptr;
     const std::map<std::string, ModelView>* views = nullptr;
     const ReferenceSnapshot* reference = nullptr;

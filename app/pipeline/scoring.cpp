@@ -2,6 +2,7 @@
 #include "pipeline/scoring.h"
 
 #include "core/core.h"
+#include "core/relative_error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -44,41 +45,79 @@ double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::B
     return 2 * std::numbers::pi * sum * h;
 }
 
-ScoreRow scoreAgainstReference(const std::vector<double>& rMid, const std::vector<double>& rd,
+std::vector<double> binEdges(const std::vector<double>& rMid) {
+    std::vector<double> e;
+    if (rMid.empty()) return e;
+    const double dr = rMid.size() > 1 ? rMid[1] - rMid[0] : 2 * rMid[0];
+    for (double r : rMid)
+        e.push_back(r - 0.5 * dr);
+    e.push_back(rMid.back() + 0.5 * dr);
+    e.front() = std::max(e.front(), 0.0);
+    return e;
+}
+
+bssrdf::Profile binAverageProfile(GLuint program, const bssrdf::ModelEntry& e,
+                                  const bssrdf::Builtins& b, const std::vector<double>& edges,
+                                  std::string& problem) {
+    const size_t n = edges.empty() ? 0 : edges.size() - 1;
+    std::vector<core::BinNodes> nodes(n);
+    std::vector<double> radii;
+    radii.reserve(4 * n);
+    for (size_t i = 0; i < n; ++i) {
+        nodes[i] = core::areaAverageNodes(edges[i], edges[i + 1]);
+        radii.insert(radii.end(), nodes[i].r.begin(), nodes[i].r.end());
+    }
+    const bssrdf::Profile atNodes = bssrdf::evaluateProfile(program, *e.model, e.values, b, radii);
+    problem = bssrdf::profileProblem(atNodes);
+    bssrdf::Profile avg;
+    for (size_t i = 0; i < n; ++i) {
+        glm::dvec3 v(0.0);
+        for (size_t k = 0; k < 4; ++k)
+            v += nodes[i].w[k] * atNodes.value[4 * i + k];
+        avg.r.push_back(0.5 * (edges[i] + edges[i + 1]));
+        avg.value.push_back(v);
+    }
+    return avg;
+}
+
+std::vector<double> channelOf(const bssrdf::Profile& p, int channel) {
+    std::vector<double> v(p.value.size());
+    for (size_t i = 0; i < v.size(); ++i)
+        v[i] = p.value[i][channel];
+    return v;
+}
+
+ScoreRow scoreAgainstReference(const std::vector<double>& edges, const std::vector<double>& rd,
                                const std::vector<double>& rdSe, double specular, double totalRd,
                                double totalRdSe, double ldMm, const std::vector<double>& model,
                                double modelTotal) {
     ScoreRow s;
     s.ldMm = ldMm;
     const double entering = 1.0 - specular;
-    const size_t n = rMid.size();
-    const double dr = n > 1 ? rMid[1] - rMid[0] : 1.0;
-    double num = 0, den = 0;
-    std::vector<size_t> in;
-    for (size_t i = 0; i < n; ++i)
-        if (rMid[i] >= 0.1 * ldMm && rMid[i] <= 4.0 * ldMm) in.push_back(i);
-    for (size_t i : in) {
-        const double ref = rd[i] / entering, d = model[i] - ref;
-        num += d * d * rMid[i] * dr;
-        den += ref * ref * rMid[i] * dr;
+    const size_t n = rd.size();
+    std::vector<double> rMid(n), ref(n), refSe(n);
+    for (size_t i = 0; i < n; ++i) {
+        rMid[i] = 0.5 * (edges[i] + edges[i + 1]);
+        ref[i] = rd[i] / entering;
+        refSe[i] = rdSe[i] / entering;
     }
-    s.relL2 = den > 0 ? std::sqrt(num / den) : std::numeric_limits<double>::infinity();
-    double var = 0;
-    if (num > 0 && den > 0)
-        for (size_t i : in) {
-            const double ref = rd[i] / entering, d = model[i] - ref;
-            const double grad =
-                s.relL2 / 2 * (-2 * d / num - 2 * ref / den) * rMid[i] * dr / entering;
-            var += grad * grad * rdSe[i] * rdSe[i];
-        }
-    s.relL2Se = std::sqrt(var);
+    const core::RelativeError e = core::radialRelativeError(
+        edges, ref, refSe, model, core::kRelErrFromLd * ldMm, core::kRelErrToLd * ldMm);
+    s.relErr = e.valid() ? e.value : std::numeric_limits<double>::infinity();
+    s.relErrSe = e.valid() ? e.se : 0.0;
+    // the model's power over the reference's in the bins whose centres lie within ±5 % of r:
+    // a window of fixed width in ln r, so the ratio does not hang on one bin of a fine grid
     auto ratioAt = [&](double r, double& se) {
-        size_t best = 0;
-        for (size_t i = 0; i < n; ++i)
-            if (std::abs(rMid[i] - r) < std::abs(rMid[best] - r)) best = i;
-        const double ref = rd[best] / entering;
-        const double ratio = model[best] / ref;
-        se = std::abs(ratio) * rdSe[best] / std::abs(rd[best]);
+        double num = 0, den = 0, var = 0;
+        for (size_t i = 0; i < n; ++i) {
+            if (std::abs(rMid[i] - r) > 0.05 * r) continue;
+            const double area = edges[i + 1] * edges[i + 1] - edges[i] * edges[i];
+            num += model[i] * area;
+            den += ref[i] * area;
+            var += refSe[i] * refSe[i] * area * area;
+        }
+        const double ratio = den > 0 ? num / den : std::numeric_limits<double>::quiet_NaN();
+        se = std::abs(ratio) * std::sqrt(var) / den;
         return ratio;
     };
     s.ratio1 = ratioAt(ldMm, s.ratio1Se);
@@ -86,9 +125,10 @@ ScoreRow scoreAgainstReference(const std::vector<double>& rMid, const std::vecto
     const double refTotal = totalRd / entering;
     s.totalRatio = modelTotal / refTotal;
     s.totalRatioSe = std::abs(s.totalRatio) * totalRdSe / std::abs(totalRd);
-    for (size_t i : in) {
-        const double ref = rd[i] / entering, d = std::abs(model[i] - ref);
-        if (d > 0.05 * std::abs(ref) && d > 2 * rdSe[i] / entering) {
+    for (size_t i = 0; i < n; ++i) {
+        if (rMid[i] < core::kRelErrFromLd * ldMm || rMid[i] > core::kRelErrToLd * ldMm) continue;
+        const double d = std::abs(model[i] - ref[i]);
+        if (d > 0.05 * std::abs(ref[i]) && d > 2 * refSe[i]) {
             s.rErr5Ld = rMid[i] / ldMm;
             break;
         }
@@ -102,8 +142,8 @@ void rankRows(std::vector<ScoreRow>& rows) {
         groups[{r.preset, r.channel, r.thetaI}].push_back(&r);
     for (auto& [key, g] : groups) {
         std::sort(g.begin(), g.end(),
-                  [](const ScoreRow* a, const ScoreRow* b) { return a->relL2 < b->relL2; });
-        // A rank group starts at its best model (the leader); a model whose rel_l2 exceeds the
+                  [](const ScoreRow* a, const ScoreRow* b) { return a->relErr < b->relErr; });
+        // A rank group starts at its best model (the leader); a model whose rel_err exceeds the
         // leader's by no more than the noise, 2√(se² + se_leader²), shares the leader's rank
         // and both are marked as ties; otherwise it leads a new group at its own position.
         ScoreRow* leader = nullptr;
@@ -111,9 +151,10 @@ void rankRows(std::vector<ScoreRow>& rows) {
             ScoreRow& r = *g[k];
             r.tie = false;
             const double noise =
-                leader ? 2 * std::sqrt(r.relL2Se * r.relL2Se + leader->relL2Se * leader->relL2Se)
-                       : 0.0;
-            if (leader && r.relL2 - leader->relL2 <= noise) {
+                leader
+                    ? 2 * std::sqrt(r.relErrSe * r.relErrSe + leader->relErrSe * leader->relErrSe)
+                    : 0.0;
+            if (leader && r.relErr - leader->relErr <= noise) {
                 r.rank = leader->rank;
                 r.tie = true;
                 leader->tie = true;
@@ -124,8 +165,8 @@ void rankRows(std::vector<ScoreRow>& rows) {
         }
     }
     std::stable_sort(rows.begin(), rows.end(), [](const ScoreRow& a, const ScoreRow& b) {
-        return std::tie(a.preset, a.channel, a.thetaI, a.rank, a.relL2) <
-               std::tie(b.preset, b.channel, b.thetaI, b.rank, b.relL2);
+        return std::tie(a.preset, a.channel, a.thetaI, a.rank, a.relErr) <
+               std::tie(b.preset, b.channel, b.thetaI, b.rank, b.relErr);
     });
 }
 

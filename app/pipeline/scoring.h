@@ -3,17 +3,18 @@
 // incidence (θi = 0) for every number below:
 //   l_d       = 1/√(3σa(σa + σs(1 − g)))                 (the channel's diffuse mean free path)
 //   R_ref(r)  = R_d(r)/(1 − R_sp)                         (per unit power entering, as plotted)
-//   rel_l2    = √(∫(R_m − R_ref)² r dr / ∫R_ref² r dr) over r ∈ [0.1 l_d, 4 l_d], the integrals
-//               as sums over the reference's radial bins (bin centre r_i, width Δr)
-//   rel_l2_se = the standard error of rel_l2 from the reference's bin standard errors s_i by the
-//               delta method: ∂rel/∂R_ref,i = rel/2 · (−2(R_m,i − R_ref,i)/N − 2R_ref,i/D) r_i Δr
-//               with N, D the two sums, so se = √Σ(∂rel/∂R_ref,i · s_i)²
-//   ratio_1ld, ratio_4ld = R_m/R_ref at the bin holding 1 l_d and 4 l_d (with their se)
+//   R_m,i     = the model averaged over the reference's radial bin i as the tally counts it,
+//               ∫R_m r dr / ∫r dr (core::areaAverageNodes)
+//   rel_err   = the RMS relative error over ln r ∈ [0.1 l_d, 4 l_d] with the reference's noise
+//               removed, and rel_err_se its standard error (core/relative_error.h)
+//   ratio_1ld, ratio_4ld = Σ R_m,i A_i / Σ R_ref,i A_i over the bins whose centres lie within
+//               ±5 % of 1 l_d and of 4 l_d (A_i the bins' areas), with their se; NaN (null in
+//               scores.json) when the reference has no paths there
 //   total_ratio = 2π∫₀^∞ R_m r dr / (R_d,total/(1 − R_sp)), the model's integral on 2048 points
 //               in ln r up to 60 l_d
 //   r_err5_ld = the first radius (in l_d, from 0.1 l_d) where |R_m − R_ref| exceeds both 5 % of
 //               R_ref and 2 standard errors (noise is not an error); absent when none does
-// Models whose rel_l2 differ from the best of their (preset, channel) by less than
+// Models whose rel_err differ from the best of their (preset, channel) by less than
 // 2√(se_a² + se_b²) share its rank ("tie").
 // At θi > 0 the rows are scored against the seed 001 estimate of the whole BSSRDF
 // (scoring_oblique.h).
@@ -38,10 +39,21 @@ using ScoreRow = capture::ScoreRow;
 // $XDG_CACHE_HOME/bssrdf-workbench/reference, else ~/.cache/bssrdf-workbench/reference.
 std::filesystem::path compareCacheDir();
 
+// The edges of the uniform bins whose centres are rMid (the slab tracer's histogram).
+std::vector<double> binEdges(const std::vector<double>& rMid);
+// The model averaged over each bin [edges[i], edges[i+1]) (R_m,i above, every channel), from one
+// run of the pencil program on 4 nodes per bin; r holds the bins' centres. A model that is NaN,
+// Inf or negative at a node gives profileProblem's sentence in `problem`.
+bssrdf::Profile binAverageProfile(GLuint program, const bssrdf::ModelEntry& e,
+                                  const bssrdf::Builtins& b, const std::vector<double>& edges,
+                                  std::string& problem);
+// One channel of a profile.
+std::vector<double> channelOf(const bssrdf::Profile& p, int channel);
+
 // Scores from one model's profile against one reference channel (exposed for tests):
-// rMid, rd, rdSe: the reference's bins; specular R_sp; totalRd, totalRdSe; model: R_m at rMid;
-// modelTotal: 2π∫R_m r dr.
-ScoreRow scoreAgainstReference(const std::vector<double>& rMid, const std::vector<double>& rd,
+// edges, rd, rdSe: the reference's bins; specular R_sp; totalRd, totalRdSe; model: R_m,i (the
+// model's bin averages); modelTotal: 2π∫R_m r dr.
+ScoreRow scoreAgainstReference(const std::vector<double>& edges, const std::vector<double>& rd,
                                const std::vector<double>& rdSe, double specular, double totalRd,
                                double totalRdSe, double ldMm, const std::vector<double>& model,
                                double modelTotal);

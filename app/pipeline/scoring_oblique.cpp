@@ -3,12 +3,14 @@
 
 #include "core/core.h"
 #include "core/fields.h"
+#include "core/relative_error.h"
 #include "pipeline/scoring.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 
 namespace app {
@@ -19,8 +21,9 @@ pathtrace::EstimateSettings obliqueSettings(double ldMm, double thetaIDeg, uint6
     pathtrace::EstimateSettings s;
     s.thetaIDeg = {thetaIDeg};
     s.bins.rBins = kObliqueRBins;
-    s.bins.rStartMm = 0.1 * ldMm;
-    s.bins.rMaxMm = 4.0 * ldMm;
+    s.bins.spacing = pathtrace::RadialSpacing::Log; // equal steps in ln r, as rel_err weighs them
+    s.bins.rStartMm = core::kRelErrFromLd * ldMm;
+    s.bins.rMaxMm = core::kRelErrToLd * ldMm;
     s.bins.thetaSBins = kObliqueThetaSBins;
     s.bins.dirCosBins = kObliqueDirCos;
     s.bins.dirPhiBins = kObliquePhi;
@@ -70,25 +73,29 @@ std::optional<pathtrace::BssrdfSlice> cachedSlice(const fs::path& file,
     }
 }
 
-// Relative L2 of `model` against `ref` with weights w, and its delta-method standard error.
-std::pair<double, double> relL2(const std::vector<double>& model, const std::vector<double>& ref,
-                                const std::vector<double>& se, const std::vector<double>& w) {
-    double num = 0, den = 0;
-    for (size_t i = 0; i < ref.size(); ++i) {
-        const double d = model[i] - ref[i];
-        num += d * d * w[i];
-        den += ref[i] * ref[i] * w[i];
-    }
-    if (!(den > 0)) return {std::numeric_limits<double>::infinity(), 0.0};
-    const double rel = std::sqrt(num / den);
-    double var = 0;
-    if (num > 0)
-        for (size_t i = 0; i < ref.size(); ++i) {
-            const double d = model[i] - ref[i];
-            const double grad = rel / 2 * (-2 * d * w[i] / num - 2 * ref[i] * w[i] / den);
-            var += grad * grad * se[i] * se[i];
+// rel_err over the slice's bins: one radial series per θs sector (and exit cell), index
+// ib·cells + ic with ib = ir·sectors + it, weighted by `weight(ic)`; noisy rings merged within
+// each series (core/relative_error.h).
+std::pair<double, double> relErr(const pathtrace::BssrdfBins& b, const std::vector<double>& model,
+                                 const std::vector<double>& ref, const std::vector<double>& se,
+                                 int cells, const std::function<double(int)>& weight, double ldMm) {
+    std::vector<core::RadialSeries> series;
+    for (int it = 0; it < b.thetaSBins; ++it)
+        for (int ic = 0; ic < cells; ++ic) {
+            core::RadialSeries s;
+            s.weight = weight(ic);
+            for (int ir = 0; ir < b.rBins; ++ir) {
+                const size_t i = size_t((ir * b.thetaSBins + it) * cells + ic);
+                s.ref.push_back(ref[i]);
+                s.refSe.push_back(se[i]);
+                s.model.push_back(model[i]);
+            }
+            series.push_back(std::move(s));
         }
-    return {rel, std::sqrt(var)};
+    const core::RelativeError e = core::radialRelativeError(
+        b.rEdges(), series, core::kRelErrFromLd * ldMm, core::kRelErrToLd * ldMm);
+    if (!e.valid()) return {std::numeric_limits<double>::infinity(), 0.0};
+    return {e.value, e.se};
 }
 
 } // namespace
@@ -134,19 +141,19 @@ capture::ScoreRow scoreSlice(const pathtrace::BssrdfBins& b, const pathtrace::Bs
     row.ldMm = ldMm;
     row.thetaI = ref.thetaIDeg;
     const int nb = b.spatialBins(), nc = b.dirBins();
+    const std::vector<double> edges = b.rEdges();
     std::vector<double> area(size_t(nb), 0.0);
     for (int ib = 0; ib < nb; ++ib)
         area[size_t(ib)] = pathtrace::binArea(b, ib / b.thetaSBins);
-    std::tie(row.relL2, row.relL2Se) = relL2(model.R, ref.R, ref.RStderr, area);
+    // over (ln r, θs): the θs sectors are equal, so each sector's series weighs 1
+    std::tie(row.relErr, row.relErrSe) = relErr(
+        b, model.R, ref.R, ref.RStderr, 1, [](int) { return 1.0; }, ldMm);
     if (nc > 1 && ref.S.size() == size_t(nb * nc) && model.S.size() == ref.S.size()) {
-        std::vector<double> w(ref.S.size());
-        for (int ib = 0; ib < nb; ++ib)
-            for (int ic = 0; ic < nc; ++ic)
-                w[size_t(ib * nc + ic)] =
-                    area[size_t(ib)] * pathtrace::cellProjectedSolidAngle(b, ic);
-        auto [rel, se] = relL2(model.S, ref.S, ref.SStderr, w);
-        row.relL2Dir = rel;
-        row.relL2DirSe = se;
+        auto [rel, se] = relErr(
+            b, model.S, ref.S, ref.SStderr, nc,
+            [&](int ic) { return pathtrace::cellProjectedSolidAngle(b, ic); }, ldMm);
+        row.relErrDir = rel;
+        row.relErrDirSe = se;
     }
     // ring powers (Σ over θs of R·A) and their standard errors
     std::vector<double> ringM(size_t(b.rBins), 0.0), ringR(size_t(b.rBins), 0.0),
@@ -163,7 +170,6 @@ capture::ScoreRow scoreSlice(const pathtrace::BssrdfBins& b, const pathtrace::Bs
         totR += ringR[size_t(ir)];
         totVar += ringVar[size_t(ir)];
     }
-    const std::vector<double> edges = b.rEdges();
     auto ringAt = [&](double r) {
         int best = 0;
         for (int ir = 0; ir < b.rBins; ++ir) {

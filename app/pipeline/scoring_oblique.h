@@ -1,14 +1,17 @@
 // The scoreboard at oblique incidence (θi > 0, `compare --theta-i`): the reference is the whole
 // BSSRDF of the slab estimated by the random walk with connections (Dal Corso & Frisvad 2018,
 // pathtrace/bssrdf_estimate.h), each model is evaluated on the same bins (slice_model.h), and
-//   bins      r in [0.1 l_d, 4 l_d) in kObliqueRBins uniform rings × kObliqueThetaSBins θs
-//             sectors over [0°, 180°] (both mirror halves) × kObliqueDirCos · kObliquePhi exit
-//             cells of equal solid angle; A_b the area of spatial bin b, Ω_c = ∫cell cos θo dω
-//   rel_l2    = √(Σ_b (R_m,b − R_ref,b)² A_b / Σ_b R_ref,b² A_b)    over the plane (r, θs)
-//   rel_l2_dir= √(Σ_b,c (S_m − S_ref)² A_b Ω_c / Σ_b,c S_ref² A_b Ω_c) over the plane and the exit
-//               directions
-//   each with its delta-method standard error from the bins' standard errors (bins treated as
-//   independent: the connections of one path reach every bin, so this is a first-order figure)
+//   bins      r in [0.1 l_d, 4 l_d) in kObliqueRBins rings of equal steps in ln r ×
+//             kObliqueThetaSBins θs sectors over [0°, 180°] (both mirror halves) ×
+//             kObliqueDirCos · kObliquePhi exit cells of equal solid angle; A_b the area of spatial
+//             bin b, Ω_c = ∫cell cos θo dω
+//   rel_err   = the RMS relative error of R over (ln r, θs) (core/relative_error.h: each θs
+//               sector a radial series with bin weights ln(r_hi/r_lo), its noisy rings merged;
+//               the model averaged over each bin as slice_model.h does)
+//   rel_err_dir = the same of S over (ln r, θs) and the exit directions (a series per sector and
+//               exit cell, weighted by Ω_c)
+//   each with its standard error from the bins' standard errors (bins treated as independent: the
+//   connections of one path reach every bin, so this is a first-order figure)
 //   ratio_1ld, ratio_4ld = ring power Σ_θs R A of the model over the reference's, at the ring
 //               whose centre is nearest 1 l_d and 4 l_d
 //   total_ratio = Σ_b R_m A_b / Σ_b R_ref A_b   (the power leaving the annulus, not the whole

@@ -89,8 +89,13 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
          [this] {
              const ReferenceSnapshot snap = m_reference->snapshot();
              const ReferenceInputs ri = referenceInputs();
-             ScoreboardInputs in{
-                 m_scoreboardEnabled, m_library.get(), &m_views, &snap, ri.model, ri.params};
+             // the pencil legend shows the same scores, so they follow the reference too
+             ScoreboardInputs in{m_scoreboardEnabled || m_refSettings.enabled,
+                                 m_library.get(),
+                                 &m_views,
+                                 &snap,
+                                 ri.model,
+                                 ri.params};
              return m_scoreboard->update(in);
          }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); },

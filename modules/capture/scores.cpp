@@ -22,10 +22,17 @@ std::vector<ScoreRow> readScores(const std::string& file) {
         throw core::Error(file, 0,
                           std::string("not a scores file (expected \"schema\": \"") +
                               kScoresSchema + "\")");
-    if (!j.contains("version") || !j["version"].is_number_integer() ||
-        j["version"].get<int>() != kScoresVersion)
+    if (!j.contains("version") || !j["version"].is_number_integer())
+        throw core::Error(file, 0, "version: expected an integer");
+    if (const int v = j["version"].get<int>(); v == 1)
         throw core::Error(file, 0,
-                          "scores of another schema version (expected " +
+                          "scores of schema version 1, which ranked by rel_l2; this version (" +
+                              std::to_string(kScoresVersion) +
+                              ") ranks by rel_err, a different measure: run `compare` again to "
+                              "make the baseline");
+    else if (v != kScoresVersion)
+        throw core::Error(file, 0,
+                          "scores of schema version " + std::to_string(v) + " (expected " +
                               std::to_string(kScoresVersion) + ")");
     if (!j.contains("rows") || !j["rows"].is_array())
         throw core::Error(file, 0, "rows: expected an array");
@@ -48,13 +55,13 @@ std::vector<ScoreRow> readScores(const std::string& file) {
         s.preset = str("preset");
         s.channel = str("channel");
         s.thetaI = num("theta_i");
-        s.relL2 = num("rel_l2");
-        s.relL2Se = num("rel_l2_se");
-        if (!(std::isfinite(s.thetaI) && s.relL2 >= 0 && std::isfinite(s.relL2) && s.relL2Se >= 0 &&
-              std::isfinite(s.relL2Se)))
+        s.relErr = num("rel_err");
+        s.relErrSe = num("rel_err_se");
+        if (!(std::isfinite(s.thetaI) && s.relErr >= 0 && std::isfinite(s.relErr) &&
+              s.relErrSe >= 0 && std::isfinite(s.relErrSe)))
             throw core::Error(file, 0,
-                              at + ": theta_i, rel_l2 and rel_l2_se must be finite, "
-                                   "rel_l2 and rel_l2_se >= 0");
+                              at + ": theta_i, rel_err and rel_err_se must be finite, "
+                                   "rel_err and rel_err_se >= 0");
         rows.push_back(s);
     }
     return rows;

@@ -37,6 +37,7 @@ struct Series {
     bool dashed = false;
     bool marker = false; // legend shows an error-bar mark (for reference / measured curves)
     int compareTo = -1;  // index of the series this one is compared with (relativeTo), -1: none
+    std::string tooltip; // shown while the pointer is on its legend entry ("" for none)
 };
 
 // What a plot shows of its series: the values, or each series relative to the one it is

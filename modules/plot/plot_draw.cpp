@@ -175,7 +175,8 @@ void drawSeries(ImDrawList* dl, const Frame& f, const std::vector<Series>& serie
     }
 }
 
-void drawLegend(ImDrawList* dl, const Frame& f, const std::vector<Series>& series) {
+// Draws the legend; returns the tooltip of the entry under the pointer ("" for none).
+std::string drawLegend(ImDrawList* dl, const Frame& f, const std::vector<Series>& series) {
     std::vector<const Series*> shown;
     float textW = 0;
     for (const Series& s : series) {
@@ -183,7 +184,7 @@ void drawLegend(ImDrawList* dl, const Frame& f, const std::vector<Series>& serie
         shown.push_back(&s);
         textW = std::max(textW, ImGui::CalcTextSize(s.label.c_str()).x);
     }
-    if (shown.empty()) return;
+    if (shown.empty()) return {};
     const float lineH = ImGui::GetTextLineHeight();
     const float swatchW = 2.0f * lineH, gap = 6.0f, rowH = lineH + 2.0f;
     const ImVec2 size(gap + swatchW + gap + textW + gap, gap + rowH * shown.size() + gap - 2.0f);
@@ -192,9 +193,14 @@ void drawLegend(ImDrawList* dl, const Frame& f, const std::vector<Series>& serie
     dl->PushClipRect(f.min, f.max, true);
     dl->AddRectFilled(bMin, bMax, kLegendBg, 3.0f);
     dl->AddRect(bMin, bMax, IM_COL32(255, 255, 255, 60), 3.0f);
+    std::string tooltip;
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
     for (size_t i = 0; i < shown.size(); ++i) {
         const Series& s = *shown[i];
         const float top = bMin.y + gap + rowH * i;
+        if (mouse.x >= bMin.x && mouse.x <= bMax.x && mouse.y >= top && mouse.y < top + rowH &&
+            ImGui::IsWindowHovered())
+            tooltip = s.tooltip;
         const float cy = top + 0.5f * lineH;
         const float x0 = bMin.x + gap, x1 = x0 + swatchW;
         if (s.bandLo.size() >= s.x.size() && s.bandHi.size() >= s.x.size() && !s.x.empty())
@@ -218,6 +224,7 @@ void drawLegend(ImDrawList* dl, const Frame& f, const std::vector<Series>& serie
         dl->AddText(ImVec2(x1 + gap, top), kText, s.label.c_str());
     }
     dl->PopClipRect();
+    return tooltip;
 }
 
 void drawHover(ImDrawList* dl, const Frame& f, const PlotState& st, const Axis& xa,
@@ -325,7 +332,7 @@ PlotState drawPlot(const char* id, ImVec2 size, const std::vector<Series>& serie
     if (!ya.label.empty())
         dl->AddText(ImVec2(st.min.x + kPad, yLabelY), kTextDim, ya.label.c_str());
     drawTextCentred(dl, cx, xLabelY, st.min.x + kPad, st.max.x - kPad, kTextDim, xa.label);
-    if (options.legend) drawLegend(dl, f, series);
+    const std::string legendTip = options.legend ? drawLegend(dl, f, series) : std::string();
 
     const ImVec2 mouse = ImGui::GetIO().MousePos;
     st.hovered = itemHovered && mouse.x >= f.min.x && mouse.x <= f.max.x && mouse.y >= f.min.y &&
@@ -336,7 +343,10 @@ PlotState drawPlot(const char* id, ImVec2 size, const std::vector<Series>& serie
         if (options.hoverTooltip) drawHover(dl, f, st, xa, ya);
     }
     dl->PopClipRect();
-    if (st.hovered && options.hoverTooltip) drawTooltip(st, xa);
+    if (!legendTip.empty())
+        ImGui::SetTooltip("%s", legendTip.c_str()); // the legend entry's, not the readout
+    else if (st.hovered && options.hoverTooltip)
+        drawTooltip(st, xa);
     return st;
 }
 

@@ -1,6 +1,6 @@
 // `compare` (app/cli/compare_command.h, app/pipeline/scoring.h): the scores of a model against
-// a synthetic reference (exact values, the delta-method standard error against finite
-// differences, ties within the noise), and the command end to end: scores.json schema, reports, the
+// a synthetic reference (exact values, the standard error against the spread of noisy references,
+// ties within the noise), and the command end to end: scores.json schema, reports, the
 // reference cache, --fail-if-worse and bad inputs.
 #include "../support/cli_fixture.h"
 #include "gui/report_png.h"
@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <random>
 
 #include <stb_image.h>
 
@@ -37,7 +38,8 @@ Synthetic synthetic(double modelScale) {
 }
 
 app::ScoreRow score(const Synthetic& s, double modelTotal = 1.0) {
-    return app::scoreAgainstReference(s.r, s.rd, s.se, 0.0, 1.0, 0.01, 1.0, s.model, modelTotal);
+    return app::scoreAgainstReference(app::binEdges(s.r), s.rd, s.se, 0.0, 1.0, 0.01, 1.0, s.model,
+                                      modelTotal);
 }
 
 } // namespace
@@ -45,14 +47,15 @@ app::ScoreRow score(const Synthetic& s, double modelTotal = 1.0) {
 TEST(CompareScores, ExactValuesOfAScaledModel) {
     // a model equal to the reference: no error anywhere
     app::ScoreRow same = score(synthetic(1.0));
-    EXPECT_DOUBLE_EQ(same.relL2, 0.0);
+    EXPECT_DOUBLE_EQ(same.relErr, 0.0);
     EXPECT_DOUBLE_EQ(same.ratio1, 1.0);
     EXPECT_DOUBLE_EQ(same.ratio4, 1.0);
     EXPECT_FALSE(same.rErr5Ld.has_value());
-    // R_m = 1.1 R_ref: rel_l2 = 0.1 exactly, ratios 1.1, the error exceeds 5 % (and 2 se = 2 %)
-    // from the first bin inside [0.1, 4] l_d, whose centre is 0.125
+    // R_m = 1.1 R_ref: rel_err² = 0.1² less the reference's noise c²(3x² − 2x) with c = 1 %,
+    // x = 1.1; ratios 1.1, the error exceeds 5 % (and 2 se = 2 %) from the first bin inside
+    // [0.1, 4] l_d, whose centre is 0.125
     app::ScoreRow high = score(synthetic(1.1), 1.1);
-    EXPECT_NEAR(high.relL2, 0.1, 1e-12);
+    EXPECT_NEAR(high.relErr, std::sqrt(0.01 - 1e-4 * (3 * 1.21 - 2.2)), 1e-12);
     EXPECT_NEAR(high.ratio1, 1.1, 1e-12);
     EXPECT_NEAR(high.ratio4, 1.1, 1e-12);
     EXPECT_NEAR(high.totalRatio, 1.1, 1e-12);
@@ -60,36 +63,45 @@ TEST(CompareScores, ExactValuesOfAScaledModel) {
     EXPECT_NEAR(*high.rErr5Ld, 0.125, 1e-12);
     // R_sp divides the reference: R_ref = R_d/(1 − R_sp)
     Synthetic s = synthetic(1.0 / 0.96);
-    app::ScoreRow sp =
-        app::scoreAgainstReference(s.r, s.rd, s.se, 0.04, 0.96, 0.01, 1.0, s.model, 1.0);
-    EXPECT_NEAR(sp.relL2, 0.0, 1e-12);
+    app::ScoreRow sp = app::scoreAgainstReference(app::binEdges(s.r), s.rd, s.se, 0.04, 0.96, 0.01,
+                                                  1.0, s.model, 1.0);
+    EXPECT_NEAR(sp.relErr, 0.0, 1e-12);
     EXPECT_NEAR(sp.totalRatio, 1.0, 1e-12);
 }
 
-TEST(CompareScores, StandardErrorIsTheDeltaMethodOfTheReferenceErrors) {
-    // se(rel_l2)² = Σ (∂rel/∂R_d,i · s_i)²; each derivative by a central finite difference
+TEST(CompareScores, StandardErrorIsTheSpreadOverNoisyReferences) {
+    // an uneven 10 % error; 300 references, each the truth with 1 % Gaussian noise per bin: the
+    // stated standard error is the spread of rel_err over them, whose mean is the noise-free one
     Synthetic s = synthetic(1.0);
     for (size_t i = 0; i < s.model.size(); ++i)
-        s.model[i] *= 1.0 + 0.2 * std::sin(double(i)); // an uneven error
-    const app::ScoreRow base = score(s);
-    double var = 0;
-    for (size_t i = 0; i < s.r.size(); ++i) {
-        const double h = 1e-6 * s.rd[i];
-        Synthetic up = s, down = s;
-        up.rd[i] += h;
-        down.rd[i] -= h;
-        const double d = (score(up).relL2 - score(down).relL2) / (2 * h);
-        var += d * d * s.se[i] * s.se[i];
+        s.model[i] *= 1.0 + 0.1 * std::sin(double(i));
+    Synthetic exact = s;
+    for (double& v : exact.se)
+        v = 0;
+    const double truth = score(exact).relErr;
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> z;
+    const int trials = 300;
+    double sum = 0, sumSq = 0, seSum = 0;
+    for (int t = 0; t < trials; ++t) {
+        Synthetic noisy = s;
+        for (size_t i = 0; i < noisy.rd.size(); ++i)
+            noisy.rd[i] += s.se[i] * z(rng);
+        const app::ScoreRow r = score(noisy);
+        sum += r.relErr;
+        sumSq += r.relErr * r.relErr;
+        seSum += r.relErrSe;
     }
-    EXPECT_NEAR(base.relL2Se, std::sqrt(var), 1e-6 * std::sqrt(var));
-    EXPECT_GT(base.relL2Se, 0.0);
+    const double mean = sum / trials, sd = std::sqrt(sumSq / trials - mean * mean);
+    EXPECT_NEAR(mean, truth, 4 * sd / std::sqrt(double(trials)));
+    EXPECT_NEAR(seSum / trials / sd, 1.0, 0.15);
 }
 
 TEST(CompareScores, DifferencesWithinTheNoiseAreTies) {
     std::vector<app::ScoreRow> rows;
     auto row = [](const char* model, double rel, double se) {
         app::ScoreRow r;
-        r.model = model, r.preset = "P", r.channel = "R", r.relL2 = rel, r.relL2Se = se;
+        r.model = model, r.preset = "P", r.channel = "R", r.relErr = rel, r.relErrSe = se;
         return r;
     };
     rows.push_back(row("c", 0.30, 0.01)); // far from the others
@@ -150,43 +162,52 @@ SyntheticSlice syntheticSlice(double scale) {
 TEST(CompareScores, ObliqueScoresOfAScaledModelAreExact) {
     const SyntheticSlice same = syntheticSlice(1.0);
     const app::ScoreRow a = app::scoreSlice(same.bins, same.ref, same.model, 1.0);
-    EXPECT_DOUBLE_EQ(a.relL2, 0.0);
-    ASSERT_TRUE(a.relL2Dir.has_value());
-    EXPECT_DOUBLE_EQ(*a.relL2Dir, 0.0);
+    EXPECT_DOUBLE_EQ(a.relErr, 0.0);
+    ASSERT_TRUE(a.relErrDir.has_value());
+    EXPECT_DOUBLE_EQ(*a.relErrDir, 0.0);
     EXPECT_DOUBLE_EQ(a.totalRatio, 1.0);
     EXPECT_FALSE(a.rErr5Ld.has_value());
     EXPECT_EQ(a.thetaI, 45.0);
-    // 1.1 × the reference: every relative figure is 0.1 or 1.1 exactly; the error exceeds 5 %
-    // (and 2 se, about 1 % of a ring) from the first ring, centred at 0.1 + 3.9/32 l_d
+    // 1.1 × the reference: the ratios are 1.1 exactly, rel_err² is 0.1² less the noise term
+    // c²(3x² − 2x) (c = 1 %, x = 1.1); the error exceeds 5 % (and 2 se, about 1 % of a ring)
+    // from the first ring, [0.1, 0.1 · 40^(1/16)] l_d (rings of equal steps in ln r)
     const SyntheticSlice high = syntheticSlice(1.1);
     const app::ScoreRow b = app::scoreSlice(high.bins, high.ref, high.model, 1.0);
-    EXPECT_NEAR(b.relL2, 0.1, 1e-12);
-    EXPECT_NEAR(*b.relL2Dir, 0.1, 1e-12);
+    const double expected = std::sqrt(0.01 - 1e-4 * (3 * 1.21 - 2.2));
+    EXPECT_NEAR(b.relErr, expected, 1e-12);
+    EXPECT_NEAR(*b.relErrDir, expected, 1e-12);
     EXPECT_NEAR(b.ratio1, 1.1, 1e-12);
     EXPECT_NEAR(b.ratio4, 1.1, 1e-12);
     EXPECT_NEAR(b.totalRatio, 1.1, 1e-12);
     ASSERT_TRUE(b.rErr5Ld.has_value());
-    EXPECT_NEAR(*b.rErr5Ld, 0.1 + 3.9 / 32, 1e-12);
+    EXPECT_NEAR(*b.rErr5Ld, 0.05 * (1 + std::pow(40.0, 1.0 / 16)), 1e-12);
 }
 
-TEST(CompareScores, ObliqueStandardErrorIsTheDeltaMethodOfTheBinErrors) {
+TEST(CompareScores, ObliqueStandardErrorIsTheSpreadOverNoisyReferences) {
+    // an uneven 10 % error on the plane; 200 references with 1 % Gaussian noise per bin
     SyntheticSlice s = syntheticSlice(1.0);
     for (size_t i = 0; i < s.model.R.size(); ++i)
-        s.model.R[i] *= 1.0 + 0.2 * std::sin(double(i));
-    const app::ScoreRow base = app::scoreSlice(s.bins, s.ref, s.model, 1.0);
-    double var = 0;
-    for (size_t i = 0; i < s.ref.R.size(); ++i) {
-        const double h = 1e-6 * s.ref.R[i];
-        SyntheticSlice up = s, down = s;
-        up.ref.R[i] += h;
-        down.ref.R[i] -= h;
-        const double d = (app::scoreSlice(s.bins, up.ref, s.model, 1.0).relL2 -
-                          app::scoreSlice(s.bins, down.ref, s.model, 1.0).relL2) /
-                         (2 * h);
-        var += d * d * s.ref.RStderr[i] * s.ref.RStderr[i];
+        s.model.R[i] *= 1.0 + 0.1 * std::sin(double(i));
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> z;
+    const int trials = 200;
+    double sum = 0, sumSq = 0, seSum = 0;
+    for (int t = 0; t < trials; ++t) {
+        SyntheticSlice noisy = s;
+        for (size_t i = 0; i < noisy.ref.R.size(); ++i)
+            noisy.ref.R[i] += s.ref.RStderr[i] * z(rng);
+        const app::ScoreRow r = app::scoreSlice(s.bins, noisy.ref, s.model, 1.0);
+        sum += r.relErr;
+        sumSq += r.relErr * r.relErr;
+        seSum += r.relErrSe;
     }
-    EXPECT_GT(base.relL2Se, 0.0);
-    EXPECT_NEAR(base.relL2Se, std::sqrt(var), 1e-5 * std::sqrt(var));
+    const double mean = sum / trials, sd = std::sqrt(sumSq / trials - mean * mean);
+    SyntheticSlice exact = s;
+    for (double& v : exact.ref.RStderr)
+        v = 0;
+    const double truth = app::scoreSlice(s.bins, exact.ref, s.model, 1.0).relErr;
+    EXPECT_NEAR(mean, truth, 4 * sd / std::sqrt(double(trials)));
+    EXPECT_NEAR(seSum / trials / sd, 1.0, 0.15);
 }
 
 TEST(ReportPng, Base64OfKnownStrings) { // RFC 4648 §10 test vectors
@@ -212,26 +233,26 @@ TEST_F(CompareCli, WritesScoresAndReportsCachesTheReferenceAndFailsIfWorse) {
                                            "Marble",
                                            "Skin1",
                                            "--paths",
-                                           "5000",
+                                           "20000",
                                            "--out",
                                            "cmp"};
     RunResult r = run(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     const nlohmann::json j = nlohmann::json::parse(readText(dir() / "cmp/scores.json"));
     EXPECT_EQ(j["schema"], "bssrdf-workbench-scores");
-    EXPECT_EQ(j["version"], 1);
+    EXPECT_EQ(j["version"], 2);
     ASSERT_EQ(j["rows"].size(), 12u); // 2 models × 2 presets × 3 channels
     for (const auto& row : j["rows"]) {
         for (const char* k : {"model", "preset", "channel"})
             EXPECT_TRUE(row[k].is_string()) << k;
         for (const char* k :
-             {"theta_i", "ld_mm", "rel_l2", "rel_l2_se", "ratio_1ld", "ratio_1ld_se", "ratio_4ld",
+             {"theta_i", "ld_mm", "rel_err", "rel_err_se", "ratio_1ld", "ratio_1ld_se", "ratio_4ld",
               "ratio_4ld_se", "total_ratio", "total_ratio_se", "rank"})
             EXPECT_TRUE(row[k].is_number()) << k << " " << row.dump();
         EXPECT_TRUE(row["r_err5_ld"].is_number() || row["r_err5_ld"].is_null());
         EXPECT_TRUE(row["tie"].is_boolean());
-        EXPECT_GE(row["rel_l2"].get<double>(), 0.0);
-        EXPECT_GT(row["rel_l2_se"].get<double>(), 0.0);
+        EXPECT_GE(row["rel_err"].get<double>(), 0.0);
+        EXPECT_GT(row["rel_err_se"].get<double>(), 0.0);
         EXPECT_GE(row["rank"].get<int>(), 1);
     }
     EXPECT_NE(readText(dir() / "cmp/report.html").find("<table>"), std::string::npos);
@@ -252,14 +273,14 @@ TEST_F(CompareCli, WritesScoresAndReportsCachesTheReferenceAndFailsIfWorse) {
     // that row is worse now beyond the noise, exit 1 naming it
     size_t far = 0;
     auto zOf = [&](size_t i) {
-        return j["rows"][i]["rel_l2"].get<double>() / j["rows"][i]["rel_l2_se"].get<double>();
+        return j["rows"][i]["rel_err"].get<double>() / j["rows"][i]["rel_err_se"].get<double>();
     };
     for (size_t i = 1; i < j["rows"].size(); ++i)
         if (zOf(i) > zOf(far)) far = i;
     ASSERT_GT(zOf(far), 3.0);
     nlohmann::json better = j;
-    better["rows"][far]["rel_l2"] = 0.0;
-    better["rows"][far]["rel_l2_se"] = 0.0;
+    better["rows"][far]["rel_err"] = 0.0;
+    better["rows"][far]["rel_err_se"] = 0.0;
     std::ofstream(dir() / "better.json") << better.dump();
     again[again.size() - 3] = "better.json";
     r = run(again);
@@ -294,11 +315,19 @@ TEST_F(CompareCli, BadInputsNameTheirArgumentAndWriteNothing) {
     expectFailure({"compare", "--presets", "Marble", "--paths", "2000", "--baseline", "other.json",
                    "--fail-if-worse", "5", "--out", "o2"},
                   {"other.json", "not a scores file"});
-    std::ofstream(dir() / "v2.json")
-        << R"({"schema": "bssrdf-workbench-scores", "version": 2, "rows": []})";
-    expectFailure({"compare", "--presets", "Marble", "--paths", "2000", "--baseline", "v2.json",
+    std::ofstream(dir() / "v3.json")
+        << R"({"schema": "bssrdf-workbench-scores", "version": 3, "rows": []})";
+    expectFailure({"compare", "--presets", "Marble", "--paths", "2000", "--baseline", "v3.json",
                    "--fail-if-worse", "5", "--out", "o3"},
-                  {"v2.json", "schema version"});
+                  {"v3.json", "schema version 3"});
+    // a baseline from before rel_err (version 1 ranked by rel_l2) is refused, saying why
+    std::ofstream(dir() / "v1.json") << R"({"schema": "bssrdf-workbench-scores", "version": 1,
+        "rows": [{"model": "dipole", "preset": "Marble", "channel": "R", "theta_i": 0,
+                  "rel_l2": 0.1, "rel_l2_se": 0.01}]})";
+    expectFailure({"compare", "--presets", "Marble", "--paths", "2000", "--baseline", "v1.json",
+                   "--fail-if-worse", "5", "--out", "o6"},
+                  {"v1.json", "version 1", "rel_l2", "rel_err", "run `compare` again"});
+    EXPECT_FALSE(fs::exists(dir() / "o6"));
     EXPECT_FALSE(fs::exists(dir() / "o2"));
     expectFailure({"compare", "--presets", "Marble", "--paths", "2000", "--out", "/proc/no/dir"},
                   {"--out", "/proc/no/dir"});
@@ -307,7 +336,7 @@ TEST_F(CompareCli, BadInputsNameTheirArgumentAndWriteNothing) {
     expectFailure({"compare", "--paths", "nan", "--out", "o5"}, {"--paths"});
 }
 
-// θi > 0 rows against the connections estimate, with rel_l2_dir; the report embeds its plots
+// θi > 0 rows against the connections estimate, with rel_err_dir; the report embeds its plots
 // (pencil plot and ratio per preset and channel, slice heatmaps at θi > 0) as PNG drawn by the
 // workbench's plot code, and writes them to plots/ too.
 TEST_F(CompareCli, ObliqueAnglesAreScoredOverThePlaneAndTheReportHasItsPlots) {
@@ -332,16 +361,16 @@ TEST_F(CompareCli, ObliqueAnglesAreScoredOverThePlaneAndTheReportHasItsPlots) {
     int oblique = 0;
     for (const auto& row : j["rows"]) {
         if (row["theta_i"].get<double>() == 0) {
-            EXPECT_TRUE(row["rel_l2_dir"].is_null()) << row.dump();
+            EXPECT_TRUE(row["rel_err_dir"].is_null()) << row.dump();
             continue;
         }
         ++oblique;
         EXPECT_EQ(row["theta_i"].get<double>(), 60.0);
-        for (const char* k : {"rel_l2", "rel_l2_se", "rel_l2_dir", "rel_l2_dir_se", "ratio_1ld",
+        for (const char* k : {"rel_err", "rel_err_se", "rel_err_dir", "rel_err_dir_se", "ratio_1ld",
                               "total_ratio", "rank"})
             EXPECT_TRUE(row[k].is_number()) << k << " " << row.dump();
-        EXPECT_GT(row["rel_l2_se"].get<double>(), 0.0);
-        EXPECT_GT(row["rel_l2_dir"].get<double>(), 0.0);
+        EXPECT_GT(row["rel_err_se"].get<double>(), 0.0);
+        EXPECT_GT(row["rel_err_dir"].get<double>(), 0.0);
     }
     EXPECT_EQ(oblique, 6);
     EXPECT_NE(r.output.find("6 references traced"), std::string::npos) << r.output;

@@ -51,9 +51,36 @@ TEST(Reference, SeriesBandAndModelErrors) {
     }
     EXPECT_NEAR(ref.y[5], mean, 1e-12 * mean);
     EXPECT_NEAR(ref.bandHi[5] - ref.y[5], 2 * std::sqrt(var), 1e-9 * mean);
-    // the model's legend carries its error figures against the reference
-    EXPECT_NE(series[0].label.find("rel.L2"), std::string::npos) << series[0].label;
-    EXPECT_NE(series[0].label.find("ratio@1ld"), std::string::npos) << series[0].label;
+    // the model's legend carries its error figures against the reference: on the luminance
+    // plot rel_err of each channel the Scoreboard scores (B's l_d is too short for these bins)
+    EXPECT_NE(series[0].label.find("rel_err R "), std::string::npos) << series[0].label;
+    EXPECT_NE(series[0].label.find(" G "), std::string::npos) << series[0].label;
+    EXPECT_NE(series[0].tooltip.find("channel R"), std::string::npos) << series[0].tooltip;
+    {
+        // on one channel, the Scoreboard's very row: one definition, one number
+        wb.plotSettings().channel = 0;
+        const auto one = plotSeries(wb);
+        const app::ScoreboardRow* row = app::scoreOf(wb, wb.reference().model(), 0);
+        ASSERT_NE(row, nullptr);
+        EXPECT_NE(one[0].label.find(app::errorFigures(row->score)), std::string::npos)
+            << one[0].label;
+        EXPECT_NE(one[0].label.find("ratio@1ld"), std::string::npos) << one[0].label;
+        EXPECT_NE(one[0].tooltip.find("ln r in [0.1, "), std::string::npos) << one[0].tooltip;
+        // soloed: each channel's curve carries its own channel's number
+        wb.plotSettings().solo = wb.reference().model();
+        const auto solo = plotSeries(wb);
+        ASSERT_GE(solo.size(), 3u);
+        for (int c = 0; c < 2; ++c) { // R and G (B's l_d is too short for these bins)
+            const app::ScoreboardRow* rc = app::scoreOf(wb, wb.reference().model(), c);
+            ASSERT_NE(rc, nullptr);
+            EXPECT_NE(solo[size_t(c)].label.find(app::errorFigures(rc->score)), std::string::npos)
+                << solo[size_t(c)].label;
+            EXPECT_NE(solo[size_t(c)].tooltip.find(std::string("channel ") + "RGB"[c]),
+                      std::string::npos);
+        }
+        wb.plotSettings().solo.clear();
+        wb.plotSettings().channel = 3;
+    }
     // the model is compared with the reference: as a ratio the reference is 1 with a band of
     // its own relative uncertainty, and the model's ratio at a bin centre is R_model / R_ref
     EXPECT_EQ(series[0].compareTo, 1);
@@ -211,7 +238,7 @@ TEST(Reference, FailedEnergyCheckIsAnErrorAndDrawsNoBand) {
     ASSERT_EQ(series.size(), 2u);
     EXPECT_TRUE(series[1].bandLo.empty());
     EXPECT_NE(series[1].label.find("energy check FAILED"), std::string::npos);
-    EXPECT_EQ(series[0].label.find("rel.L2"), std::string::npos) << series[0].label;
+    EXPECT_EQ(series[0].label.find("rel_err"), std::string::npos) << series[0].label;
 
     wb.applyPreset(wb.shared(), "Marble");
     wb.update();

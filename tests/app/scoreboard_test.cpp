@@ -42,8 +42,8 @@ TEST(ScoreboardPanel, ScoresEveryModelFollowsHotReloadAndAClickOpensThePencilPlo
     std::vector<app::ScoreboardRow> rows = wb.scoreboard().rows();
     ASSERT_EQ(rows.size(), 6u); // 2 models × 3 channels of the default preset
     for (const auto& r : rows) {
-        EXPECT_TRUE(std::isfinite(r.score.relL2)) << r.score.model;
-        EXPECT_GT(r.score.relL2Se, 0.0) << r.score.model;
+        EXPECT_TRUE(std::isfinite(r.score.relErr)) << r.score.model;
+        EXPECT_GT(r.score.relErrSe, 0.0) << r.score.model;
         EXPECT_GE(r.score.rank, 1);
         EXPECT_EQ(r.score.channel, std::string(1, "RGB"[r.channel]));
     }
@@ -60,18 +60,18 @@ TEST(ScoreboardPanel, ScoresEveryModelFollowsHotReloadAndAClickOpensThePencilPlo
         const pathtrace::SlabResult& ref = snap.channel[size_t(c)];
         const auto m = app::mediaOf(*wb.view(dipole).effective)[size_t(c)];
         const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
-        const bssrdf::Profile p =
-            bssrdf::evaluateProfile(program, *e->model, e->values, b, ref.rMid);
-        std::vector<double> mv;
-        for (const auto& v : p.value)
-            mv.push_back(v[c]);
+        const std::vector<double> edges = app::binEdges(ref.rMid);
+        std::string bad;
+        const bssrdf::Profile p = app::binAverageProfile(program, *e, b, edges, bad);
+        ASSERT_EQ(bad, "");
+        const std::vector<double> mv = app::channelOf(p, c);
         const app::ScoreRow want = app::scoreAgainstReference(
-            ref.rMid, ref.rd, ref.rdStderr, ref.specular, ref.totalRd, ref.totalRdStderr, ld, mv,
+            edges, ref.rd, ref.rdStderr, ref.specular, ref.totalRd, ref.totalRdStderr, ld, mv,
             app::modelTotalRd(program, *e, b, ld, c));
         const app::ScoreboardRow* got = findRow(rows, "dipole", std::string(1, "RGB"[c]));
         ASSERT_NE(got, nullptr);
-        EXPECT_DOUBLE_EQ(got->score.relL2, want.relL2);
-        EXPECT_DOUBLE_EQ(got->score.relL2Se, want.relL2Se);
+        EXPECT_DOUBLE_EQ(got->score.relErr, want.relErr);
+        EXPECT_DOUBLE_EQ(got->score.relErrSe, want.relErrSe);
         EXPECT_DOUBLE_EQ(got->score.totalRatio, want.totalRatio);
     }
 
@@ -96,6 +96,13 @@ TEST(ScoreboardPanel, ScoresEveryModelFollowsHotReloadAndAClickOpensThePencilPlo
     }
     if (const char* dir = std::getenv("BW_SCOREBOARD_PNG"))
         gl::writePng(dir, gui.width(), gui.height(), gui.pixels());
+    // every column fits the panel of a 1280-wide window: the rows end inside it
+    const ImGuiWindow* panel = testsupport::panelWindow(app::PanelId::Scoreboard);
+    ASSERT_NE(panel, nullptr);
+    ASSERT_FALSE(gui.ui().scoreboard.rowRects.empty());
+    for (const app::Rect& row : gui.ui().scoreboard.rowRects)
+        EXPECT_LE(row.x1, panel->InnerRect.Max.x + 0.5f)
+            << "a column is cut at the panel's edge (" << panel->InnerRect.Max.x << ")";
 
     // a click on the better dipole's G row solos it in the pencil plot on channel G
     const app::ScoreboardPanelState& ps = gui.ui().scoreboard;

@@ -3,10 +3,13 @@
 // same bins through Bssrdf() on the GPU with the directions it reads, and bad settings or bad
 // model values are Errors entries while the last table stays.
 #include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
 #include "bssrdf/program.h"
+#include "core/text.h"
 #include "gui/gui.h"
 #include "pathtrace/bssrdf_table.h"
 #include "pathtrace/fresnel.h"
+#include "pipeline/scoring_oblique.h"
 #include "pipeline/slice_model.h"
 #include "pipeline/workbench.h"
 
@@ -233,6 +236,46 @@ TEST(SlicePanel, ClickingABinPicksItForTheExitDirections) {
     if (const char* dir = std::getenv("BW_PANEL_PNG_DIR"))
         gl::writePng((std::filesystem::path(dir) / "Slice-clicked-1600x1000.png").string(), 1600,
                      1000, gui.pixels());
+}
+
+// The panel states the model's rel_err over the plane as `compare` computes it, and at 1280×720
+// the three maps, the difference map included, are on screen.
+TEST(SlicePanel, StatesRelErrAndShowsTheDifferenceMapAt1280x720) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("slice_summary", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    smallSlice(wb.sliceSettings());
+    app::HeadlessGui gui(wb, 1280, 720);
+    gui.ui().shared.show(app::PanelId::Slice);
+    gui.frame();
+    wb.finishSlice();
+    gui.frame();
+    gui.frame();
+    const app::SlicePanelState& ps = gui.ui().slice;
+    const app::SliceSnapshot snap = wb.slice().snapshot();
+    ASSERT_TRUE(snap.slice.has_value());
+    const auto& models = wb.slice().models();
+    ASSERT_EQ(models.count(ps.model), 1u);
+    const app::ModelSliceResult& mr = models.at(ps.model);
+    ASSERT_TRUE(mr.slice.has_value());
+    const pathtrace::Medium& m = snap.medium;
+    const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
+    const capture::ScoreRow want = app::scoreSlice(snap.settings.bins, *snap.slice, *mr.slice, ld);
+    ASSERT_TRUE(std::isfinite(want.relErr));
+    EXPECT_NE(ps.summary.find("rel_err over the plane " + core::formatNumber(100 * want.relErr, 3) +
+                              " % +- "),
+              std::string::npos)
+        << ps.summary;
+    const ImGuiWindow* panel = testsupport::panelWindow(app::PanelId::Slice);
+    ASSERT_NE(panel, nullptr);
+    ASSERT_GT(ps.diffRect.width(), 100.0f);
+    EXPECT_LE(ps.diffRect.y1, panel->InnerClipRect.Max.y) << "the difference map is below the fold";
+    EXPECT_LE(ps.diffRect.x1, panel->InnerClipRect.Max.x);
+    if (const char* dir = std::getenv("BW_PANEL_PNG_DIR"))
+        gl::writePng((std::filesystem::path(dir) / "Slice-1280x720.png").string(), 1280, 720,
+                     gui.pixels());
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
 }
 
 // A path-traced oblique table loaded as a model (table models, pathtrace/bssrdf_table.h) is a

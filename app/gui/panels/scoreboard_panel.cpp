@@ -1,10 +1,12 @@
 // Scoreboard panel: the table of `compare` for the current parameters (scoreboard_stage.h),
 // every model ranked against the pencil plot's path-traced reference per channel, ties within
-// the noise marked "=", rel_l2 cells coloured from green (0) to red (>= 30 %). A click on a
+// the noise marked "=", rel_err cells coloured from green (0) to red (>= 30 %), each header and
+// rel_err cell explaining itself in a tooltip. A click on a
 // row solos that model in the pencil plot on that channel and brings the plot to the front;
 // the preset combo applies a preset to the shared parameters (the table follows).
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
+#include "pipeline/pencil_series.h"
 
 #include "core/text.h"
 
@@ -50,9 +52,10 @@ void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) 
     }
     const ScoreboardStage& sb = wb.scoreboard();
     const ReferenceSnapshot snap = wb.reference().snapshot();
-    hintText("Against the reference of %s's medium: %s paths per channel%s. rel_l2 over [0.1, 4] "
-             "l_d (+- standard error), ratios at 1 and 4 l_d, \"=\" ties within the noise. Click "
-             "a row to open the model in the pencil plot.",
+    hintText("Against the reference of %s's medium: %s paths per channel%s. rel_err: RMS relative "
+             "error over ln r in [0.1, 4] l_d (+- standard error); \"=\" ties within the noise. "
+             "Hover a header or a rel_err for its definition; click a row to open the model in "
+             "the pencil plot.",
              wb.reference().model().c_str(),
              core::formatNumber(double(sb.referencePaths()), 3).c_str(),
              snap.running ? " (running)" : "");
@@ -63,10 +66,28 @@ void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) 
                                   ImGuiTableFlags_SizingFixedFit;
     if (!ImGui::BeginTable("scores", 8, flags)) return;
     ImGui::TableSetupScrollFreeze(2, 1);
-    for (const char* h : {"ch", "model", "rank", "rel_l2", "ratio 1 l_d", "ratio 4 l_d",
-                          "total ratio", "> 5 % from (l_d)"})
+    // short headers, so the table fits a 1280-wide window; each explains itself on hover
+    static constexpr std::pair<const char*, const char*> kColumns[] = {
+        {"ch", "colour channel: each is its own medium and its own reference"},
+        {"model", "the model file (click a row to open it in the pencil plot)"},
+        {"rank", "rank within the channel; \"=\" ties with the best of its group within "
+                 "2 standard errors"},
+        {"rel_err", "RMS relative error (model - reference) / reference over ln r in "
+                    "[0.1, 4] l_d, the model averaged over each reference bin, the reference's "
+                    "own noise removed; +- its standard error (as `compare`)"},
+        {"@1 l_d", "model / reference over r within 5 % of 1 l_d"},
+        {"@4 l_d", "model / reference over r within 5 % of 4 l_d"},
+        {"total", "model's total diffuse reflectance 2 pi int R r dr over the reference's"},
+        {">5 % at", "the first radius (l_d) from 0.1 l_d where the model is off by more than "
+                    "5 % and 2 standard errors"}};
+    for (const auto& [h, tip] : kColumns)
         ImGui::TableSetupColumn(h);
-    ImGui::TableHeadersRow();
+    ImGui::TableNextRow(ImGuiTableRowFlags_Headers);
+    for (int c = 0; c < 8; ++c) {
+        if (!ImGui::TableSetColumnIndex(c)) continue;
+        ImGui::TableHeader(kColumns[c].first);
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", kColumns[c].second);
+    }
     int id = 0;
     ps.rowRects.clear();
     for (const ScoreboardRow& r : sb.rows()) {
@@ -93,12 +114,10 @@ void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) 
         ImGui::TableNextColumn();
         ImGui::Text("%s%d", s2.tie ? "=" : "", s2.rank);
         ImGui::TableNextColumn();
-        ImGui::TableSetBgColor(ImGuiTableBgTarget_CellBg, relColour(s2.relL2));
-        ImGui::Text("%s %% +- %s %%", num(100 * s2.relL2).c_str(),
-                    num(100 * s2.relL2Se, 2).c_str());
-        if (r.coveredLd < 4 && ImGui::IsItemHovered())
-            ImGui::SetTooltip("the reference reaches %s l_d: scored up to there",
-                              num(r.coveredLd).c_str());
+        ImGui::TableSetBgColor(ImGuiTableBgTarget_CellBg, relColour(s2.relErr));
+        ImGui::Text("%s %% +- %s %%", num(100 * s2.relErr).c_str(),
+                    num(100 * s2.relErrSe, 2).c_str());
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", errorTooltip(r).c_str());
         ImGui::TableNextColumn();
         ImGui::TextUnformatted(num(s2.ratio1).c_str());
         ImGui::TableNextColumn();

@@ -2,15 +2,19 @@
 // and a model's on the same bins (slice_stage.h), as polar heatmaps over the surface plane —
 // reference | model | signed relative difference — on a log colour scale with colour bars,
 // R (directionally integrated) or S in one exit-direction cell; and polar plots over the exit
-// directions at the selected bin. Hover or click a bin for value ± standard error.
+// directions at the selected bin. Hover or click a bin for value ± standard error. Above the
+// maps, the model's rel_err over the plane and the exit directions (scoring_oblique.h).
 // The plane is drawn whole: the estimate folds y → −y, so both halves show the same bins. The
 // beam arrives from the left and travels toward +x (right), θs = 0 is forward.
 #include "gui/panels/panels.h"
 #include "gui/polar_heatmap.h"
 #include "gui/widgets.h"
+#include "pipeline/scoring_oblique.h"
 
 #include "core/core.h"
 #include "core/fields.h"
+#include "core/relative_error.h"
+#include "core/text.h"
 #include "pathtrace/fresnel.h"
 #include "pipeline/image_display.h"
 
@@ -281,10 +285,47 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
     const bool trusted = snap.energy.empty();
     auto relDiff = [&](size_t i) { return (modV[i] - refV[i]) / refV[i]; };
 
+    // the summary: rel_err over the plane (and the exit directions), as `compare` at θi > 0
+    ps.summary.clear();
+    if (ms && trusted && ms->R.size() == bins) {
+        const pathtrace::Medium& m = snap.medium;
+        const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
+        if (std::isfinite(ld) && ld > 0) {
+            const capture::ScoreRow sc = scoreSlice(b, ref, *ms, ld);
+            auto pct = [](double v, double se) {
+                return std::isfinite(v) ? core::formatNumber(100 * v, 3) + " % +- " +
+                                              core::formatNumber(100 * se, 2) + " %"
+                                        : std::string("- (a bin without paths)");
+            };
+            ps.summary = "rel_err over the plane " + pct(sc.relErr, sc.relErrSe);
+            if (sc.relErrDir)
+                ps.summary +=
+                    ", with the exit directions " + pct(*sc.relErrDir, sc.relErrDirSe.value_or(0));
+            ps.summary += "  |  power ratio " + core::formatNumber(sc.totalRatio, 3);
+            ImGui::TextWrapped("%s", ps.summary.c_str());
+            if (ImGui::IsItemHovered()) {
+                const double to = std::min(core::kRelErrToLd, b.rMaxMm / ld);
+                ImGui::SetTooltip(
+                    "rel_err: the RMS relative error (model - reference) / reference of R over "
+                    "(ln r, theta_s), r in [%.2g, %.3g] l_d (l_d %.3g mm), each bin weighted by "
+                    "its extent in ln r, the reference's noise removed; +- its standard error. "
+                    "With the exit directions: of S, each cell also weighted by its projected "
+                    "solid angle. The same measure as `compare --theta-i` and the Scoreboard "
+                    "(pipeline/scoring_oblique.h).\npower ratio: the power the model sends "
+                    "out of the plotted annulus over the reference's.",
+                    core::kRelErrFromLd, to, ld);
+            }
+        }
+    }
+
     const float avail = ImGui::GetContentRegionAvail().x;
     const float gap = ImGui::GetStyle().ItemSpacing.x;
-    // three in a row where they fit (a few pixels of slack for rounding), else they wrap
-    const float side = std::clamp((avail - 2 * gap) / 3 - 4, 140.0f, 420.0f);
+    // three in a row where they fit (a few pixels of slack for rounding), else they wrap; in a
+    // row they also fit the height left (title, two colour-bar lines and the readout below), so
+    // the difference map is on screen at 1280x720
+    const float lineH = ImGui::GetTextLineHeightWithSpacing();
+    const float byHeight = ImGui::GetContentRegionAvail().y - 5 * lineH - 10;
+    const float side = std::clamp(std::min((avail - 2 * gap) / 3 - 4, byHeight), 140.0f, 420.0f);
     int hovered = -1, h = -1;
     ImGui::BeginGroup();
     ImGui::TextUnformatted("path traced");
@@ -306,6 +347,10 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
     sameLineIfFits(side);
     ImGui::BeginGroup();
     ImGui::TextUnformatted(trusted ? "(model - ref) / ref" : "difference (reference untrusted)");
+    {
+        const ImVec2 at = ImGui::GetCursorScreenPos();
+        ps.diffRect = {at.x, at.y, at.x + side, at.y + side};
+    }
     h = polarHeatmap("##diff", side, b,
                      {modV,
                       [&](size_t i) -> ImU32 {
