@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <tuple>
 
 namespace app {
 namespace fs = std::filesystem;
@@ -64,12 +65,15 @@ Command guiCommand() {
             top.add_option("--out-dir", a->out, "where --headless writes (default out/default)");
             cmd.add_flag("--headless", a->headless, "same as the top-level --headless");
             cmd.add_option("--size", a->size,
-                           "window WxH (default 1600x1000, shrunk to fit the screen's work area)");
+                           "window WxH (default: the size it had last time, else 1600x1000; "
+                           "shrunk to fit the screen's work area)");
             return [a](CommandContext& ctx) {
                 int width = 1600, height = 1000;
                 if (!a->size.empty() && !parseSize(a->size, width, height, 320))
                     throw core::Error("--size", 0,
                                       "expected WxH between 320 and 8192, got '" + a->size + "'");
+                if (a->size.empty())
+                    if (auto last = rememberedWindowSize()) std::tie(width, height) = *last;
                 const fs::path& root = ctx.root();
                 bool headless = a->headless;
                 if (!headless && !gl::displayAvailable()) {

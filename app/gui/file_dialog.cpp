@@ -53,7 +53,14 @@ void enter(FileDialogState& st, const fs::path& dir) {
 
 } // namespace
 
-std::optional<fs::path> drawFileDialog(FileDialogState& st, const std::string& extension) {
+void setDialogFile(FileDialogState& st, const fs::path& file) {
+    const fs::path abs = fs::absolute(file).lexically_normal();
+    enter(st, abs.parent_path());
+    setPath(st, abs);
+}
+
+std::optional<fs::path> drawFileDialog(FileDialogState& st, const std::string& extension,
+                                       const char* action) {
     if (st.dir.empty()) enter(st, fs::current_path());
     if (st.listed != st.dir) {
         st.listed = st.dir;
@@ -95,7 +102,17 @@ std::optional<fs::path> drawFileDialog(FileDialogState& st, const std::string& e
         ImGui::TextDisabled(extension.empty() ? "(empty folder)" : "(no folders or %s files)",
                             extension.c_str());
     ImGui::EndChild();
-    const bool open = ImGui::Button("Open");
+    const bool saving = std::strcmp(action, "Save") == 0;
+    if (saving) {
+        std::error_code ec;
+        if (fs::is_regular_file(st.path, ec)) ImGui::TextDisabled("(replaces the existing file)");
+    }
+    const bool open = ImGui::Button(action);
+    {
+        const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+        st.actionRect[0] = lo.x, st.actionRect[1] = lo.y, st.actionRect[2] = hi.x,
+        st.actionRect[3] = hi.y;
+    }
     if ((open || typedEnter) && !chosen) {
         const fs::path p = st.path;
         std::error_code ec;

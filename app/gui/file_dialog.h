@@ -1,6 +1,6 @@
-// A file dialog drawn with ImGui (File → Open model): a folder's subfolders and the files with
-// one extension, a path field, Up, double click to enter or open. Hand-written because
-// neither Debian 12's ImGui 1.86 nor any Debian package offers an ImGui file browser, and a
+// A file dialog drawn with ImGui (File → Open model, Render → Export): a folder's subfolders and
+// the files with one extension, a path field, Up, double click to enter or open. Hand-written
+// because neither Debian 12's ImGui 1.86 nor any Debian package offers an ImGui file browser, and a
 // native dialog (GTK, portals) would add a toolkit dependency to a GLFW program.
 #pragma once
 
@@ -22,18 +22,24 @@ struct DirEntry {
 std::vector<DirEntry> listDirectory(const std::filesystem::path& dir, const std::string& extension);
 
 struct FileDialogState {
-    std::filesystem::path dir;     // the folder shown
-    std::vector<DirEntry> entries; // its listing (read when dir changes)
-    std::filesystem::path listed;  // the folder `entries` belongs to
-    std::string problem;           // why the folder could not be listed
-    char path[1024] = "";          // the path field (a file or a folder)
-    int selected = -1;             // index into entries
+    std::filesystem::path dir;          // the folder shown
+    std::vector<DirEntry> entries;      // its listing (read when dir changes)
+    std::filesystem::path listed;       // the folder `entries` belongs to
+    std::string problem;                // why the folder could not be listed
+    char path[1024] = "";               // the path field (a file or a folder)
+    int selected = -1;                  // index into entries
+    float actionRect[4] = {0, 0, 0, 0}; // the Open/Save button last frame (screen px, tests)
 };
 
-// Draws the dialog's body inside an open popup; returns the file the user chose (Open, Enter
-// on a file path, or a double click on a file). `extension` filters the files ("" = all).
-std::optional<std::filesystem::path> drawFileDialog(FileDialogState& st,
-                                                    const std::string& extension);
+// Shows `file`'s folder with `file` in the path field (e.g. a proposed name to save as).
+void setDialogFile(FileDialogState& st, const std::filesystem::path& file);
+
+// Draws the dialog's body inside an open popup; returns the file the user chose (the action
+// button, Enter on a file path, or a double click on a file). `extension` filters the files
+// ("" = all); `action` names the button ("Open", or "Save": then a file that exists is marked
+// as the one that will be replaced).
+std::optional<std::filesystem::path>
+drawFileDialog(FileDialogState& st, const std::string& extension, const char* action = "Open");
 
 // Recent files: `path` moved to the front, duplicates removed, at most `keep` kept.
 void rememberRecent(std::vector<std::string>& recent, const std::string& path, size_t keep = 8);

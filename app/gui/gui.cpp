@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 
 namespace app {
 namespace fs = std::filesystem;
@@ -82,6 +83,8 @@ void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffe
     }
     for (const std::string& r : g_ui->shared.recent)
         buf->appendf("Recent=%s\n", r.c_str());
+    if (g_ui->shared.windowWidth > 0 && g_ui->shared.windowHeight > 0)
+        buf->appendf("Window=%d,%d\n", g_ui->shared.windowWidth, g_ui->shared.windowHeight);
     buf->append("\n");
 }
 
@@ -141,6 +144,21 @@ void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight) {
 }
 } // namespace
 
+std::optional<std::pair<int, int>> rememberedWindowSize() {
+    std::ifstream in(iniPath());
+    std::string line;
+    bool ours = false;
+    while (std::getline(in, line)) {
+        if (!line.empty() && line[0] == '[') ours = line.rfind("[BssrdfWorkbench]", 0) == 0;
+        int w = 0, h = 0;
+        char end = 0;
+        if (ours && std::sscanf(line.c_str(), "Window=%d,%d%c", &w, &h, &end) == 2 && w >= 320 &&
+            h >= 320 && w <= 16384 && h <= 16384)
+            return std::pair{w, h};
+    }
+    return std::nullopt;
+}
+
 HeadlessGui::HeadlessGui(Workbench& wb, int width, int height)
     : m_wb(wb), m_width(width), m_height(height) {
     if (!ImGui::GetCurrentContext()) {
@@ -188,6 +206,13 @@ bool HeadlessGui::frame() {
     if (changed) m_wb.framePresented();
     gl::collectTimings(true);
     return changed;
+}
+
+void HeadlessGui::resize(int width, int height) {
+    m_width = width;
+    m_height = height;
+    m_target.resize(width, height);
+    ImGui::GetIO().DisplaySize = ImVec2(float(width), float(height));
 }
 
 void HeadlessGui::mouse(float x, float y, bool down) {
@@ -242,6 +267,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             drawPanels(wb, ui);
             ImGui::Render();
             int w = 0, h = 0;
+            glfwGetWindowSize(win, &ui.shared.windowWidth, &ui.shared.windowHeight);
             glfwGetFramebufferSize(win, &w, &h);
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             glViewport(0, 0, w, h);
@@ -258,6 +284,8 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     } else {
         {
             HeadlessGui gui(wb, opt.width, opt.height);
+            ui.shared.windowWidth = opt.width;
+            ui.shared.windowHeight = opt.height;
             for (int f = 0; f < std::max(1, opt.frames) && !ui.shared.quit; ++f) {
                 gui.frame();
                 // The first frame enables the scene when its panels are open; headless runs

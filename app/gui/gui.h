@@ -6,7 +6,9 @@
 #include "gui/ui_state.h"
 #include "pipeline/workbench.h"
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace app {
@@ -17,6 +19,10 @@ struct GuiOptions {
     std::string screenshotPath; // headless: PNG of what a user would see
     bool persistLayout = true;  // load/save window layout and panel visibility
 };
+
+// The window size the last session saved (Window=W,H in the layout file, imgui.ini under
+// $XDG_CONFIG_HOME or ~/.config/bssrdf-workbench), when it holds two sizes in [320, 16384].
+std::optional<std::pair<int, int>> rememberedWindowSize();
 
 // The whole UI rendered into an FBO on the current (headless) context, one frame per call.
 class HeadlessGui {
@@ -33,6 +39,7 @@ class HeadlessGui {
     // the left button held or not; noMouse() takes it away again.
     void mouse(float x, float y, bool down);
     void noMouse() { m_hasMouse = false; }
+    void resize(int width, int height); // the window resized: the next frames draw at this size
     int width() const { return m_width; }
     int height() const { return m_height; }
 

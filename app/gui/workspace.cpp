@@ -81,18 +81,29 @@ void drawArea(Workbench& wb, UiState& ui, Area area, const Rect& r, int want) {
     int& selected = sh.workspace.selected[idx(area)];
     const PanelEntry* floatRequest = nullptr;
     bool any = false;
-    if (ImGui::BeginTabBar("tabs", ImGuiTabBarFlags_FittingPolicyScroll)) {
+    // Tabs that do not fit scroll, with working arrows and a list button ("v") that reaches
+    // every tab at any width.
+    if (ImGui::BeginTabBar("tabs", ImGuiTabBarFlags_FittingPolicyScroll |
+                                       ImGuiTabBarFlags_TabListPopupButton)) {
         // The workspace's choice (`want`) is the authority; ImGui's tab bar follows it in this
         // frame (a SetSelected flag would act a frame late; a tab submitted for the first
-        // time still shows a frame late). A click on a tab is the user's new choice.
+        // time still shows a frame late). A click on a tab is the user's new choice, and so is
+        // a tab the bar's arrows or list chose during its layout (it sets SelectedTabId itself).
         ImGuiTabBar* bar = ImGui::GetCurrentContext()->CurrentTabBar;
         ImGuiID setId = 0;
+        bool wantKnown = want < 0; // the wanted tab exists in the bar (not submitted first now)
+        // the bar's width: when it changes, the selected tab is scrolled into view again
+        float& lastWidth = *ImGui::GetStateStorage()->GetFloatRef(ImGui::GetID("##barWidth"), 0);
+        const bool resized = lastWidth != bar->BarRect.GetWidth();
+        lastWidth = bar->BarRect.GetWidth();
         if (want >= 0) {
             const ImGuiID wantId = ImGui::GetCurrentWindow()->GetIDNoKeepAlive(
                 panelLabel(wb, panelEntry(static_cast<PanelId>(want))).c_str());
-            if (bar->SelectedTabId != wantId) bar->NextSelectedTabId = setId = wantId;
+            wantKnown = ImGui::TabBarFindTabByID(bar, wantId) != nullptr;
+            if (bar->SelectedTabId != wantId || resized) bar->NextSelectedTabId = setId = wantId;
         }
         selected = want;
+        const ImGuiID expected = setId ? setId : bar->SelectedTabId;
         for (const PanelEntry& p : panelRegistry()) {
             if (p.area != area || !docked(sh, p)) continue;
             any = true;
@@ -108,10 +119,12 @@ void drawArea(Workbench& wb, UiState& ui, Area area, const Rect& r, int want) {
                 drawPanelBody(wb, ui, p);
                 ImGui::EndTabItem();
             }
+            const ImGuiID id = ImGui::GetCurrentWindow()->GetIDNoKeepAlive(label.c_str());
             if (bar->NextSelectedTabId != 0 && bar->NextSelectedTabId != setId &&
-                bar->NextSelectedTabId ==
-                    ImGui::GetCurrentWindow()->GetIDNoKeepAlive(label.c_str()))
+                bar->NextSelectedTabId == id)
                 selected = static_cast<int>(p.id); // clicked
+            else if (wantKnown && bar->SelectedTabId != expected && bar->SelectedTabId == id)
+                selected = static_cast<int>(p.id); // the arrows or the tab list chose it
             if (!open) sh.isOpen(p.id) = false;
         }
         if (any && selected >= 0 &&

@@ -96,6 +96,55 @@ float maxAbsDifference(const pathtrace::Image& a, const pathtrace::Image& b) {
     return m;
 }
 
+namespace {
+float lumVar(const std::vector<float>& v, size_t p) {
+    float s = 0;
+    for (int c = 0; c < 3; ++c)
+        s += float(core::kRec709Luminance[c] * core::kRec709Luminance[c]) *
+             std::max(v[3 * p + size_t(c)], 0.0f);
+    return s;
+}
+} // namespace
+
+std::vector<uint8_t> zMap(const pathtrace::Image& a, const pathtrace::Image& b, float zRange) {
+    const size_t n = size_t(a.width) * size_t(a.height);
+    std::vector<uint8_t> out(n * 4, 255);
+    if (!sameShape(a, b) || a.variance.size() != a.mean.size() ||
+        b.variance.size() != b.mean.size())
+        return out;
+    for (size_t p = 0; p < n; ++p) {
+        const float d = lum(a.mean, p) - lum(b.mean, p);
+        const float var = lumVar(a.variance, p) + lumVar(b.variance, p);
+        std::array<uint8_t, 3> c;
+        if (d == 0 && var == 0)
+            c = {0, 0, 0};
+        else if (!(var > 0) || !std::isfinite(d))
+            c = divergingColor(std::nanf("")); // magenta
+        else if (std::abs(d) < 2 * std::sqrt(var))
+            c = {90, 90, 90};
+        else
+            c = divergingColor(d / std::sqrt(var) / std::max(zRange, 1e-6f));
+        out[4 * p] = c[0];
+        out[4 * p + 1] = c[1];
+        out[4 * p + 2] = c[2];
+    }
+    return out;
+}
+
+double relativeStandardError(const pathtrace::Image& img) {
+    std::vector<double> rel;
+    const size_t n = img.mean.size() / 3;
+    if (img.variance.size() != img.mean.size()) return std::nan("");
+    for (size_t p = 0; p < n; ++p) {
+        const float l = lum(img.mean, p);
+        if (l > 0 && std::isfinite(l))
+            rel.push_back(std::sqrt(double(lumVar(img.variance, p))) / l);
+    }
+    if (rel.empty()) return std::nan("");
+    std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+    return rel[rel.size() / 2];
+}
+
 PixelValue pixelAt(const pathtrace::Image& img, int x, int y) {
     PixelValue v;
     if (x < 0 || y < 0 || x >= img.width || y >= img.height || img.mean.empty()) return v;

@@ -1,5 +1,6 @@
 // Lit-sphere image helpers (pure CPU): merging independent progressive passes, HDR display
-// (exposure, gamma), the signed difference view with its colour bar, pixel readouts.
+// (exposure, gamma), the signed difference and z-score views with their colour bars, each
+// image's relative standard error, pixel readouts.
 #pragma once
 
 #include "pathtrace/lit_sphere.h"
@@ -28,6 +29,16 @@ std::array<uint8_t, 3> sequentialColor(float t);
 
 // Largest |a − b| of the luminance over the pixels (a default range for the difference view).
 float maxAbsDifference(const pathtrace::Image& a, const pathtrace::Image& b);
+
+// The difference in standard errors: z = (L_a − L_b)/√(Var L_a + Var L_b) per pixel, L the
+// luminance and Var L = Σ w_c² Var_c (channels traced apart, so independent), mapped like
+// differenceMap with |z| = zRange at full saturation; |z| < 2 (noise) is grey, a pixel both
+// images leave black is black, and a difference with no variance to weigh it is magenta.
+std::vector<uint8_t> zMap(const pathtrace::Image& a, const pathtrace::Image& b, float zRange);
+
+// The relative standard error of an image: the median over its lit pixels (luminance > 0) of
+// √Var L / L. NaN when no pixel is lit.
+double relativeStandardError(const pathtrace::Image& img);
 
 struct PixelValue {
     bool valid = false;

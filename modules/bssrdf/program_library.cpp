@@ -1,5 +1,6 @@
 // bssrdf model library with keep-last-good reload semantics.
 #include "bssrdf/program_library.h"
+#include "bssrdf/loop_sites.h"
 
 #include "core/core.h"
 
@@ -155,10 +156,17 @@ bool ModelLibrary::finishProbes(bool block) {
         const ProbeVerdict v = block ? e.pending->probe->wait() : e.pending->probe->poll();
         if (!v.done) continue;
         std::unique_ptr<PendingModel> c = std::move(e.pending);
-        if (v.problem.empty())
+        if (v.problem.empty()) {
             adopt(e, std::move(*c));
-        else
+        } else if (v.problem.find("loop") != std::string::npos) {
+            // a model that does not finish: name its loops, and put the entry at the first
+            const std::vector<LoopSite> loops = loopSites(c->model);
+            fail(e, core::Error(e.displayPath, loops.empty() ? 0 : loops.front().line,
+                                loops.empty() ? v.problem
+                                              : v.problem + " [" + describeLoops(loops) + "]"));
+        } else {
             fail(e, core::Error(e.displayPath, 0, v.problem));
+        }
         changed = true;
     }
     return changed;

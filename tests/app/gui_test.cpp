@@ -108,6 +108,25 @@ TEST(HeadlessGui, LayoutAndPanelVisibilityPersist) {
                              "Float.PencilPlot=100,120,600,500"})
         EXPECT_NE(after.find(kept), std::string::npos) << kept << "\n" << after;
     EXPECT_EQ(after.find("nan"), std::string::npos) << after;
+
+    // the window's size is saved, and the next start opens at it (gui --size overrides)
+    EXPECT_NE(after.find("Window=1600,1000"), std::string::npos) << after;
+    opt.width = 1024;
+    opt.height = 700;
+    {
+        app::Workbench wb(root, false);
+        ASSERT_EQ(app::runGui(wb, ctx, opt), 0);
+    }
+    auto size = app::rememberedWindowSize();
+    ASSERT_TRUE(size.has_value());
+    EXPECT_EQ(*size, std::make_pair(1024, 700));
+    // nonsense or absurd sizes are not remembered
+    for (const char* bad :
+         {"Window=abc", "Window=100,100", "Window=800,600x", "Window=99999,600"}) {
+        core::writeFile(ini, testsupport::replaced(core::readFile(ini), "Window=1024,700", bad));
+        EXPECT_FALSE(app::rememberedWindowSize().has_value()) << bad;
+        core::writeFile(ini, testsupport::replaced(core::readFile(ini), bad, "Window=1024,700"));
+    }
     ::unsetenv("XDG_CONFIG_HOME");
     fs::remove_all(root);
 }

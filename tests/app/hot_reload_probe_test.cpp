@@ -37,6 +37,14 @@ template <class F> double updateUntil(app::Workbench& wb, F done, double ms = 60
     return longest;
 }
 
+// The 1-based line of the first `while (` of a model's text.
+int whileLine(const std::string& text) {
+    const size_t at = text.find("while (");
+    return at == std::string::npos
+               ? 0
+               : 1 + int(std::count(text.begin(), text.begin() + long(at), '\n'));
+}
+
 // The dipole with `body` run before its return statement.
 std::string withLoop(const std::string& good, const std::string& body) {
     return replaced(good, "return Multiplier/(4.0*PI)", body + "\n    return Multiplier/(4.0*PI)");
@@ -85,6 +93,10 @@ TEST_F(ProbeFixture, SlowModelTimesOutTheLastGoodVersionStaysThenTheFixIsAdopted
     });
     EXPECT_NE(error.find("did not finish within 1 s"), std::string::npos) << error;
     EXPECT_NE(error.find("a loop that does not end?"), std::string::npos) << error;
+    const int line = whileLine(withLoop(good, kSlowLoop));
+    EXPECT_NE(error.find("the loop at line " + std::to_string(line) + " (while)"),
+              std::string::npos)
+        << error;
     // The main process never evaluated the model: no update() waited for it (evaluating it here
     // would take about 5 s on llvmpipe, for ever on a GPU).
     EXPECT_LT(longest, 2500.0);
@@ -119,6 +131,13 @@ TEST_F(ProbeFixture, EndlessLoopIsRefusedNamingTheFile) {
                     error.find("did not end") != std::string::npos ||
                     error.find("did not finish within") != std::string::npos)
             << loop << ": " << error;
+        // the entry is at the loop's line and names it
+        const int line = whileLine(withLoop(good, loop));
+        ASSERT_GT(line, 0);
+        EXPECT_NE(error.find(path + ":" + std::to_string(line) + ":"), std::string::npos) << error;
+        EXPECT_NE(error.find("the loop at line " + std::to_string(line) + " (while)"),
+                  std::string::npos)
+            << error;
         EXPECT_LT(longest, 2500.0);
         EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base) << loop;
         core::writeFile(file, good); // good again (known: adopted without a check)

@@ -1,6 +1,8 @@
 // Lit-sphere image helpers: merging passes, display mapping, difference view, readouts.
 #include "pipeline/image_display.h"
 
+#include "core/color.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -69,4 +71,47 @@ TEST(ImageView, DifferenceIsSignedAndReadoutHasStderr) {
     EXPECT_FLOAT_EQ(v.mean[0], 1.0f);
     EXPECT_FLOAT_EQ(v.stderr_[0], 0.2f);
     EXPECT_FALSE(app::pixelAt(a, 4, 0).valid);
+}
+
+// z = ΔL / √(Var L_a + Var L_b): 0.5 / √(0.04) = 2.5 standard errors (channels equal, so the
+// luminance's variance is Σ w² · 0.04); full colour at z = zRange, grey within 2.
+TEST(ImageView, ZMapWeighsTheDifferenceByTheNoise) {
+    const auto a = flat(1.0f, 0.04f, 10), b = flat(0.5f, 0.0f, 10);
+    double w2 = 0;
+    for (double w : core::kRec709Luminance)
+        w2 += w * w;
+    const float z = float(0.5 / std::sqrt(0.04 * w2));
+    ASSERT_GT(z, 2.0f);
+    auto m = app::zMap(a, b, z); // exactly at full colour: red
+    EXPECT_EQ(m[0], 255);
+    EXPECT_LT(m[2], 60);
+    auto half = app::zMap(b, a, 2 * z); // negative, half way: blue, not saturated
+    EXPECT_GT(half[2], half[0]);
+    EXPECT_LT(half[2], 255);
+    // within 2 standard errors: grey
+    const auto close = flat(0.55f, 0.04f, 10);
+    auto g = app::zMap(close, b, 4.0f);
+    EXPECT_EQ(g[0], 90);
+    EXPECT_EQ(g[1], 90);
+    // black where both are black; magenta where they differ without any variance
+    auto zero = app::zMap(flat(0, 0, 10), flat(0, 0, 10), 4.0f);
+    EXPECT_EQ(zero[0] + zero[1] + zero[2], 0);
+    auto exact = app::zMap(flat(1, 0, 10), flat(0.5f, 0, 10), 4.0f);
+    EXPECT_EQ(exact[0], 255);
+    EXPECT_EQ(exact[1], 0);
+    EXPECT_EQ(exact[2], 255);
+}
+
+TEST(ImageView, RelativeStandardErrorIsTheMedianOverLitPixels) {
+    auto img = flat(2.0f, 0.04f, 10); // se 0.2 per channel, equal channels: √(Σw²)·0.2 / 2
+    double w2 = 0, w = 0;
+    for (double c : core::kRec709Luminance) {
+        w2 += c * c;
+        w += c;
+    }
+    EXPECT_NEAR(app::relativeStandardError(img), std::sqrt(w2) * 0.2 / (2.0 * w), 1e-6);
+    for (int c = 0; c < 3; ++c) // one dark pixel does not count
+        img.mean[size_t(c)] = 0;
+    EXPECT_NEAR(app::relativeStandardError(img), std::sqrt(w2) * 0.2 / (2.0 * w), 1e-6);
+    EXPECT_TRUE(std::isnan(app::relativeStandardError(flat(0, 0, 1))));
 }

@@ -260,6 +260,48 @@ TEST(Interactions, RenderPanelModelChoiceProbeAndExport) {
     }
 }
 
+// Export asks where: a click on Export PNG opens the file dialog in the current folder with the
+// name proposed; a path typed there and a click on Save write the file, and the status line and
+// the log give its full path.
+TEST(Interactions, RenderExportAsksWhereAndLogsTheFullPath) {
+    RenderFixture fx;
+    app::RenderPanelState& ps = fx.gui->ui().render;
+    auto click = [&](const app::Rect& r) {
+        const float x = 0.5f * (r.x0 + r.x1), y = 0.5f * (r.y0 + r.y1);
+        fx.press(x, y);
+        fx.release(x, y);
+        fx.gui->frame();
+    };
+    // the export row is under the image: scroll the panel down to it, as a user would
+    ImGuiWindow* panel = testsupport::panelWindow(app::PanelId::Render);
+    ASSERT_NE(panel, nullptr);
+    ImGui::SetScrollY(panel, 1e6f); // clamped to the bottom
+    fx.gui->frame();
+    fx.gui->frame();
+    ASSERT_GT(ps.exportButtons[1].width(), 10.0f);
+    ASSERT_LE(ps.exportButtons[1].y1, panel->InnerClipRect.Max.y) << "Export PNG not on screen";
+    click(ps.exportButtons[1]);
+    EXPECT_EQ(std::string(ps.exportDialog.path),
+              (std::filesystem::current_path() / "render.png").lexically_normal().string());
+    ASSERT_GT(ps.exportDialog.actionRect[2], ps.exportDialog.actionRect[0]) << "no dialog";
+    const std::filesystem::path target = fx.root / "exports" / "bunny";
+    std::filesystem::create_directories(target.parent_path());
+    std::snprintf(ps.exportDialog.path, sizeof ps.exportDialog.path, "%s", target.c_str());
+    const float* a = ps.exportDialog.actionRect;
+    click({a[0], a[1], a[2], a[3]});
+    const std::filesystem::path written = target.string() + ".png"; // the extension added
+    ASSERT_TRUE(std::filesystem::exists(written)) << fx.gui->ui().shared.status;
+    EXPECT_GT(std::filesystem::file_size(written), 100u);
+    EXPECT_EQ(fx.gui->ui().shared.status, "wrote " + written.string());
+    bool logged = false;
+    for (const auto& line : core::logSnapshot())
+        logged |= line.text.find("render: wrote " + written.string()) != std::string::npos;
+    EXPECT_TRUE(logged);
+    EXPECT_EQ(std::string(ps.exportName), "bunny");
+    for (const auto& e : fx.wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+}
+
 // A/B: brute force of the same view right of the divider (requested by the view itself), the
 // divider dragged with the mouse on the strip under the image; then another model as B.
 TEST(Interactions, RenderPanelAbSplitShowsBruteForceOrAnotherModel) {

@@ -9,6 +9,7 @@
 #include "pipeline/image_display.h"
 
 #include <cmath>
+#include <cstdlib>
 
 TEST(LitSphereStage, PathTracedAndIntegratedImagesOfTheSameSetup) {
     testsupport::context();
@@ -215,5 +216,50 @@ TEST(LitSphereStage, TheIntegrationsSettingsLeaveThePathTracerRunning) {
     wb.applyPreset(wb.shared(), "Marble"); // the medium: the path tracer restarts
     wb.update();
     EXPECT_EQ(wb.litSpheres().pathTracer().runs(), runs + 2);
+    std::filesystem::remove_all(root);
+}
+
+// The panel states each image's relative standard error, and the difference view switches to
+// the z-score map with a click.
+TEST(LitSpherePanel, StatesTheNoiseAndShowsTheDifferenceInStandardErrors) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("sphere_panel_z", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    auto& s = wb.litSphereSettings();
+    s.enabled = true;
+    s.size = 16;
+    s.pathSpp = 4;
+    s.integratedSpp = 64;
+    app::HeadlessGui gui(wb, 1280, 720);
+    gui.ui().shared.show(app::PanelId::LitSpheres);
+    gui.ui().litSpheres.view = app::SphereView::Difference;
+    gui.frame();
+    wb.finishLitSpheres();
+    gui.frame();
+    gui.frame();
+    app::LitSpherePanelState& ps = gui.ui().litSpheres;
+    const pathtrace::Image a = wb.litSpheres().pathTracer().image(),
+                           b = wb.litSpheres().integratedImage();
+    EXPECT_DOUBLE_EQ(ps.relSe[0], app::relativeStandardError(a));
+    EXPECT_DOUBLE_EQ(ps.relSe[1], app::relativeStandardError(b));
+    EXPECT_GT(ps.relSe[0], 0.0); // a few paths per pixel: noisy
+    ASSERT_GT(ps.zRadio.width(), 5.0f);
+    EXPECT_FALSE(ps.diffZ);
+    const float x = 0.5f * (ps.zRadio.x0 + ps.zRadio.x1), y = 0.5f * (ps.zRadio.y0 + ps.zRadio.y1);
+    gui.mouse(x, y, false);
+    gui.frame();
+    gui.mouse(x, y, true);
+    gui.frame();
+    gui.mouse(x, y, false);
+    gui.frame();
+    gui.noMouse();
+    gui.frame();
+    EXPECT_TRUE(ps.diffZ);
+    if (const char* dir = std::getenv("BW_PANEL_PNG_DIR"))
+        gl::writePng((std::filesystem::path(dir) / "LitSpheres-z-1280x720.png").string(), 1280,
+                     720, gui.pixels());
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
     std::filesystem::remove_all(root);
 }

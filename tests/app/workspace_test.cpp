@@ -213,3 +213,80 @@ TEST(WorkspaceLayout, SplitterDragsWithTheMouseAndTabsFollowShowRequests) {
     EXPECT_FALSE(wb.scene().settings().enabled);
     fs::remove_all(root);
 }
+
+// At 800×600 the centre area's tabs do not fit: its ◀ ▶ arrows select the previous / next tab
+// (real clicks), every tab is reachable that way and scrolled into view, and a narrower window
+// scrolls the selected tab into view again.
+TEST(WorkspaceLayout, TabBarArrowsReachEveryTabAt800x600) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("tabarrows", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 800, 600);
+    app::UiState& ui = gui.ui();
+    ui = app::UiState{};
+    ui.shared.isOpen(app::PanelId::Render) = false; // no scene needed here
+    std::vector<app::PanelId> centre;
+    for (const auto& p : app::panelRegistry())
+        if (p.area == app::Area::Centre) {
+            ui.shared.isOpen(p.id) = true;
+            centre.push_back(p.id);
+        }
+    ASSERT_GE(centre.size(), 6u);
+    ui.shared.show(centre.front());
+    for (int i = 0; i < 3; ++i)
+        gui.frame();
+    ImGuiWindow* area = ImGui::FindWindowByName("##area.centre");
+    ASSERT_NE(area, nullptr);
+    ImGuiTabBar* bar = ImGui::GetCurrentContext()->TabBars.GetByKey(area->GetID("tabs"));
+    ASSERT_NE(bar, nullptr);
+    ASSERT_GT(bar->WidthAllTabsIdeal, area->WorkRect.GetWidth()) << "the tabs fit: no arrows";
+    // the arrows sit at the bar's right end, ▶ last (imgui's TabBarScrollingButtons)
+    const float arrowW = ImGui::GetFontSize() - 2.0f;
+    const float y = 0.5f * (bar->BarRect.Min.y + bar->BarRect.Max.y);
+    auto click = [&](float x) {
+        gui.mouse(x, y, false);
+        gui.frame();
+        gui.mouse(x, y, true);
+        gui.frame();
+        gui.mouse(x, y, false);
+        gui.frame();
+        gui.noMouse();
+        for (int i = 0; i < 30; ++i) // let the bar's scrolling settle
+            gui.frame();
+    };
+    const float right = area->WorkRect.Max.x - 0.5f * arrowW, left = right - arrowW;
+    auto selectedTabVisible = [&] {
+        const ImGuiTabItem* t = ImGui::TabBarFindTabByID(bar, bar->SelectedTabId);
+        if (!t) return false;
+        const float x0 = bar->BarRect.Min.x + t->Offset - bar->ScrollingAnim;
+        return x0 >= bar->ScrollingRectMinX - 1 && x0 + t->Width <= bar->ScrollingRectMaxX + 1;
+    };
+    const int at = [&] { return ui.shared.workspace.selected[size_t(app::Area::Centre)]; }();
+    EXPECT_EQ(at, int(centre.front()));
+    std::vector<int> reached{at};
+    for (size_t k = 1; k < centre.size(); ++k) {
+        click(right);
+        const int now = ui.shared.workspace.selected[size_t(app::Area::Centre)];
+        EXPECT_EQ(now, int(centre[k])) << "after " << k << " clicks on the right arrow";
+        EXPECT_NE(panelWindow(centre[k]), nullptr) << app::panelEntry(centre[k]).title;
+        EXPECT_TRUE(selectedTabVisible()) << app::panelEntry(centre[k]).title;
+        reached.push_back(now);
+    }
+    EXPECT_EQ(reached.size(), centre.size());
+    click(left);
+    EXPECT_EQ(ui.shared.workspace.selected[size_t(app::Area::Centre)],
+              int(centre[centre.size() - 2]));
+    EXPECT_TRUE(selectedTabVisible());
+
+    // the last tab, selected in a wide window, is scrolled into view when the window narrows
+    gui.resize(1920, 1080);
+    ui.shared.show(centre.back());
+    for (int i = 0; i < 30; ++i)
+        gui.frame();
+    gui.resize(800, 600);
+    for (int i = 0; i < 30; ++i)
+        gui.frame();
+    EXPECT_EQ(ui.shared.workspace.selected[size_t(app::Area::Centre)], int(centre.back()));
+    EXPECT_TRUE(selectedTabVisible());
+    fs::remove_all(root);
+}

@@ -1,10 +1,12 @@
 // Lit spheres panel (thesis 3.6.2): the path-traced sphere and the selected model integrated
 // over the sphere, same camera, light and radius in mm; tabs, side by side, signed difference
-// with a colour bar; HDR exposure and gamma; samples per pixel; progress; click a pixel for
-// its value and standard error in both.
+// or its z-score (in standard errors) with a colour bar; each image's relative standard error;
+// HDR exposure and gamma; samples per pixel; progress; click a pixel for its value and standard
+// error in both.
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 
+#include "core/text.h"
 #include "pipeline/image_display.h"
 
 #include <imgui.h>
@@ -122,6 +124,14 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
 
     const pathtrace::Image a = wb.litSpheres().pathTracer().image(),
                            b = wb.litSpheres().integratedImage();
+    // how noisy each image is, so a difference can be read against it
+    auto pct = [](double v) {
+        return std::isfinite(v) ? core::formatNumber(100 * v, 2) + " %" : std::string("-");
+    };
+    ps.relSe[0] = relativeStandardError(a);
+    ps.relSe[1] = relativeStandardError(b);
+    ImGui::Text("relative standard error (median over lit pixels): path traced %s, integrated %s",
+                pct(ps.relSe[0]).c_str(), pct(ps.relSe[1]).c_str());
     const float avail = ImGui::GetContentRegionAvail().x;
     if (ImGui::BeginTabBar("views")) {
         const char* names[4] = {"Path traced", "BSSRDF integrated", "Side by side", "Difference"};
@@ -145,11 +155,29 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     if (ps.view == SphereView::Integrated || both)
         imageWithPick(ps.tex[1], tonemap(b, ps.exposure, ps.gamma), b.width, b.height, side, ps);
     if (ps.view == SphereView::Difference) {
-        float range = ps.diffRange > 0 ? ps.diffRange : maxAbsDifference(a, b);
-        imageWithPick(ps.tex[2], differenceMap(a, b, range), a.width, a.height, side, ps);
-        colourBar(range);
-        ImGui::SetNextItemWidth(160);
-        ImGui::DragFloat("range (0: auto)", &ps.diffRange, 0.001f, 0.0f, 10.0f, "%.4g");
+        int mode = ps.diffZ ? 1 : 0;
+        ImGui::RadioButton("difference", &mode, 0);
+        ImGui::SameLine();
+        ImGui::RadioButton("z-score (in standard errors)", &mode, 1);
+        {
+            const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+            ps.zRadio = {lo.x, lo.y, hi.x, hi.y};
+        }
+        ps.diffZ = mode == 1;
+        if (ps.diffZ) {
+            imageWithPick(ps.tex[2], zMap(a, b, ps.zRange), a.width, a.height, side, ps);
+            colourBar(ps.zRange);
+            hintText("z = (path traced - integrated) / sqrt(var + var) of the luminance; grey: "
+                     "|z| < 2 (within the noise); magenta: a difference without variance");
+            ImGui::SetNextItemWidth(160);
+            ImGui::DragFloat("z range", &ps.zRange, 0.05f, 1.0f, 100.0f, "%.3g");
+        } else {
+            float range = ps.diffRange > 0 ? ps.diffRange : maxAbsDifference(a, b);
+            imageWithPick(ps.tex[2], differenceMap(a, b, range), a.width, a.height, side, ps);
+            colourBar(range);
+            ImGui::SetNextItemWidth(160);
+            ImGui::DragFloat("range (0: auto)", &ps.diffRange, 0.001f, 0.0f, 10.0f, "%.4g");
+        }
     }
     if (ps.pickX >= 0) {
         ImGui::Text("pixel (%d, %d): radiant exitance per unit irradiance", ps.pickX, ps.pickY);

@@ -3,6 +3,8 @@
 // solid-angle criterion or its bounding-box variant, and heatmaps of the traversal — nodes
 // visited per pixel, maximum stack depth, relative error against brute force. Drag to orbit,
 // wheel to zoom (half resolution while moving); click a pixel to trace it in the debugger.
+#include "core/core.h"
+#include "gui/file_dialog.h"
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 
@@ -14,6 +16,7 @@
 #include <cmath>
 
 namespace app {
+namespace fs = std::filesystem;
 namespace {
 
 // RGBA8 image of a heatmap quantity (render::heatValues): the colour ramp over [0, max], grey
@@ -172,22 +175,44 @@ void probePixel(SceneStage& scene, RenderPanelState& ps, ImVec2 uv) {
     ImGui::EndTooltip();
 }
 
-// Export of the shown frame: the name field and the two buttons.
+// Export of the shown frame: the name field and the two buttons, each asking where (the file
+// dialog, in the folder of the last export); the full path written goes to the status line and
+// the log.
 void drawExport(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     ImGui::SetNextItemWidth(160);
     ImGui::InputText("##renderexport", ps.exportName, sizeof ps.exportName);
     for (const char* ext : {".exr", ".png"}) {
-        const std::string label = std::string("Export ") + (ext[1] == 'e' ? "EXR" : "PNG");
+        const bool exr = ext[1] == 'e';
+        const std::string label = std::string("Export ") + (exr ? "EXR" : "PNG");
         sameLineIfFits(buttonWidth(label.c_str()));
-        if (!ImGui::Button(label.c_str())) continue;
-        const std::string path = std::string(ps.exportName) + ext;
+        const bool pressed = ImGui::Button(label.c_str());
+        const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+        ps.exportButtons[exr ? 0 : 1] = {lo.x, lo.y, hi.x, hi.y};
+        if (!pressed) continue;
+        ps.exportExt = ext;
+        const fs::path dir = ps.exportDialog.dir.empty() ? fs::current_path() : ps.exportDialog.dir;
+        setDialogFile(ps.exportDialog, dir / (std::string(ps.exportName) + ext));
+        ImGui::OpenPopup("Export render");
+    }
+    if (!ImGui::BeginPopupModal("Export render", nullptr, ImGuiWindowFlags_AlwaysAutoResize))
+        return;
+    if (auto chosen = drawFileDialog(ps.exportDialog, ps.exportExt, "Save")) {
+        fs::path path = *chosen;
+        if (path.extension().empty()) path += ps.exportExt;
+        path = fs::absolute(path).lexically_normal();
         try {
             exportRenderView(wb, ps, path);
-            ui.status = "wrote " + path;
+            ui.status = "wrote " + path.string();
+            core::logInfo("render: wrote " + path.string());
+            std::snprintf(ps.exportName, sizeof ps.exportName, "%s", path.stem().c_str());
         } catch (const core::Error& e) {
             wb.reportActionError(std::string("export render: ") + e.what());
         }
+        ImGui::CloseCurrentPopup();
     }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
 }
 
 } // namespace

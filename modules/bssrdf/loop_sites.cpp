@@ -1,0 +1,84 @@
+// Loop statements of a model's GLSL (loop_sites.h).
+#include "bssrdf/loop_sites.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace bssrdf {
+
+namespace {
+
+bool identChar(char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+}
+
+// Appends the loops of one section (a /* */ comment may span its lines).
+void scan(const Section& s, std::vector<LoopSite>& out) {
+    bool inComment = false;
+    int line = s.firstLine;
+    char lastCode = 0; // the last character of code outside comments, across lines
+    const std::string& c = s.code;
+    for (size_t i = 0; i < c.size(); ++i) {
+        if (c[i] == '\n') {
+            ++line;
+            continue;
+        }
+        if (inComment) {
+            if (c[i] == '*' && i + 1 < c.size() && c[i + 1] == '/') {
+                inComment = false;
+                ++i;
+            }
+            continue;
+        }
+        if (c[i] == '/' && i + 1 < c.size() && c[i + 1] == '/') { // to the end of the line
+            while (i + 1 < c.size() && c[i + 1] != '\n')
+                ++i;
+            continue;
+        }
+        if (c[i] == '/' && i + 1 < c.size() && c[i + 1] == '*') {
+            inComment = true;
+            ++i;
+            continue;
+        }
+        if (c[i] == '#' && (i == 0 || c[i - 1] == '\n')) { // a preprocessor line
+            while (i + 1 < c.size() && c[i + 1] != '\n')
+                ++i;
+            continue;
+        }
+        if (identChar(c[i]) && (i == 0 || !identChar(c[i - 1]))) {
+            size_t j = i;
+            while (j < c.size() && identChar(c[j]))
+                ++j;
+            const std::string word = c.substr(i, j - i);
+            const bool closesDo = word == "while" && lastCode == '}';
+            if ((word == "for" || word == "while" || word == "do") && !closesDo)
+                out.push_back({line, word});
+            lastCode = c[j - 1];
+            i = j - 1;
+            continue;
+        }
+        if (!std::isspace(static_cast<unsigned char>(c[i]))) lastCode = c[i];
+    }
+}
+
+} // namespace
+
+std::vector<LoopSite> loopSites(const Model& m) {
+    std::vector<LoopSite> out;
+    for (const auto* s : {&m.initializer, &m.diffuseReflectance, &m.shader, &m.sample})
+        if (*s) scan(**s, out);
+    std::sort(out.begin(), out.end(),
+              [](const LoopSite& a, const LoopSite& b) { return a.line < b.line; });
+    return out;
+}
+
+std::string describeLoops(const std::vector<LoopSite>& loops) {
+    if (loops.empty()) return "";
+    std::string s = loops.size() == 1 ? "the loop at line " : "loops at lines ";
+    for (size_t i = 0; i < loops.size() && i < 6; ++i)
+        s += (i ? ", " : "") + std::to_string(loops[i].line) + " (" + loops[i].keyword + ")";
+    if (loops.size() > 6) s += " and " + std::to_string(loops.size() - 6) + " more";
+    return s;
+}
+
+} // namespace bssrdf
