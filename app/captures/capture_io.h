@@ -8,7 +8,11 @@
 
 #include "pipeline/workbench.h"
 
+#include "capture/capture.h"
+
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
 
 namespace app {
@@ -22,8 +26,41 @@ capture::StageOutput writeCaptureEntry(const std::filesystem::path& dir, const C
 // leaves nothing). Throws core::Error.
 // With the scene on (wb.scene().settings().enabled), its stages are recorded too
 // (pipeline/scene_capture.cpp), with the traversal of pixel (traceX, traceY) when both are >= 0.
+// onStage, when given, is told each stage's name as its outputs are made (progress lines).
 void recordCaptureTo(Workbench& wb, const std::filesystem::path& dir, const std::string& name,
-                     int traceX = -1, int traceY = -1);
+                     int traceX = -1, int traceY = -1,
+                     const std::function<void(const std::string&)>& onStage = {});
+
+// The manifest of the current state without outputs: name, program and GL driver, every model
+// with its text, params and settings. Throws core::Error for an invalid name or two models
+// from outside the project with the same file name.
+capture::Manifest captureInputs(Workbench& wb, const std::string& name, int traceX = -1,
+                                int traceY = -1);
+
+// A recording done by another process (the GUI records in a child, so it never waits): the
+// current state's inputs written as <root>/captures/.<name>.request/request.json (returned),
+// and in the child the workbench made from them (as replay makes it) recorded into `dir`.
+std::filesystem::path writeRecordRequest(Workbench& wb, const std::string& name, int traceX = -1,
+                                         int traceY = -1);
+void recordFromRequest(const std::filesystem::path& request, const std::filesystem::path& root,
+                       const std::filesystem::path& dir, const std::string& name,
+                       const std::function<void(const std::string&)>& onStage = {});
+
+// A temporary folder for models recorded from outside the project, removed with this object.
+struct ExternalModels {
+    ExternalModels();
+    ~ExternalModels();
+    ExternalModels(const ExternalModels&) = delete;
+    ExternalModels& operator=(const ExternalModels&) = delete;
+    std::filesystem::path dir;
+};
+// A workbench with a manifest's recorded inputs: the project's models by path, the others from
+// their recorded text written under `externalDir`; params and settings applied (errors name
+// `where`); the traced pixel, if any, in traceX/traceY.
+std::unique_ptr<Workbench> workbenchFromInputs(const capture::Manifest& m,
+                                               const std::filesystem::path& root,
+                                               const std::filesystem::path& externalDir,
+                                               const std::string& where, int& traceX, int& traceY);
 
 // Records the current state as <root>/captures/<name> (File → Record capture); returns that
 // folder relative to the root.
@@ -32,7 +69,9 @@ std::string recordCapture(Workbench& wb, const std::string& name);
 // recorded inputs and compares with the recorded outputs. Prints one line per stage to
 // `out`. Returns 0 when everything passes, 1 on any failure, 2 when the capture is unreadable.
 // update: rewrite the outputs (and their hashes) from this run instead of comparing.
+// onStage as for recordCaptureTo.
 int replayCapture(const std::filesystem::path& captureDir, const std::filesystem::path& root,
-                  bool update, std::string& out);
+                  bool update, std::string& out,
+                  const std::function<void(const std::string&)>& onStage = {});
 
 } // namespace app

@@ -34,16 +34,9 @@ capture::StageOutput writeCaptureEntry(const fs::path& dir, const CaptureEntry& 
     throw core::Error(e.stage, 0, "unknown capture entry kind");
 }
 
-void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name, int traceX,
-                     int traceY) {
+capture::Manifest captureInputs(Workbench& wb, const std::string& name, int traceX, int traceY) {
     if (!capture::isValidName(name))
         throw core::Error(name, 0, "invalid capture name (letters, digits, '_', '-', '.' only)");
-    CaptureEntries captured;
-    captured.traceX = traceX;
-    captured.traceY = traceY;
-    wb.capture(captured);
-    if (captured.entries.empty())
-        throw core::Error(dir.string(), 0, "nothing to record: no model produced output");
     capture::Manifest m;
     m.name = name;
     m.createdUtc = capture::utcNow();
@@ -60,10 +53,22 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
                                       e.file.filename().string() + "; rename one to record");
         m.models.push_back({path, core::hashHex(text), text});
     }
-    for (auto& input : captured.inputs) // meshes: path and content hash
-        m.models.push_back(std::move(input));
     m.params = paramsJson(wb);
     m.settings = settingsJson(wb, traceX, traceY);
+    return m;
+}
+
+void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name, int traceX,
+                     int traceY, const std::function<void(const std::string&)>& onStage) {
+    capture::Manifest m = captureInputs(wb, name, traceX, traceY);
+    CaptureEntries captured;
+    captured.traceX = traceX;
+    captured.traceY = traceY;
+    wb.capture(captured, onStage);
+    if (captured.entries.empty())
+        throw core::Error(dir.string(), 0, "nothing to record: no model produced output");
+    for (auto& input : captured.inputs) // meshes: path and content hash
+        m.models.push_back(std::move(input));
     // Written into a temporary folder beside `dir` and renamed over it when complete: a capture
     // folder never exists without its manifest, a failed record leaves nothing behind, and a
     // capture recorded again holds none of the previous recording's files.
@@ -86,6 +91,29 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
     }
     for (const auto& s : captured.missing)
         core::logWarn("capture " + name + ": not recorded: " + s);
+}
+
+fs::path writeRecordRequest(Workbench& wb, const std::string& name, int traceX, int traceY) {
+    const capture::Manifest m = captureInputs(wb, name, traceX, traceY);
+    const fs::path dir = wb.root() / "captures" / ("." + name + ".request");
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    fs::create_directories(dir, ec);
+    if (ec) throw core::Error(dir.string(), 0, "cannot create the folder: " + ec.message());
+    capture::writeInputs(dir / "request.json", m);
+    return dir / "request.json";
+}
+
+void recordFromRequest(const fs::path& request, const fs::path& root, const fs::path& dir,
+                       const std::string& name,
+                       const std::function<void(const std::string&)>& onStage) {
+    const capture::Manifest m = capture::readInputs(request);
+    const std::string where = request.string();
+    int traceX = -1, traceY = -1;
+    const ExternalModels external;
+    std::unique_ptr<Workbench> wb =
+        workbenchFromInputs(m, root, external.dir, where, traceX, traceY);
+    recordCaptureTo(*wb, dir, name, traceX, traceY, onStage);
 }
 
 std::string recordCapture(Workbench& wb, const std::string& name) {

@@ -103,7 +103,38 @@ capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captu
 
 } // namespace
 
-int replayCapture(const fs::path& captureDir, const fs::path& root, bool update, std::string& out) {
+ExternalModels::ExternalModels()
+    : dir(fs::temp_directory_path() / ("bw_external_models_" + std::to_string(::getpid()))) {}
+
+ExternalModels::~ExternalModels() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+}
+
+std::unique_ptr<Workbench> workbenchFromInputs(const capture::Manifest& m, const fs::path& root,
+                                               const fs::path& externalDir,
+                                               const std::string& where, int& traceX, int& traceY) {
+    std::vector<fs::path> models;
+    for (const auto& mf : m.models) {
+        if (fs::path(mf.path).extension() != ".bssrdf") continue;
+        if (mf.path.rfind(kExternalPrefix, 0) == 0) {
+            const fs::path file = externalDir / fs::path(mf.path).filename();
+            fs::create_directories(externalDir);
+            core::writeFile(file, mf.source);
+            models.push_back(file);
+        } else if (fs::exists(root / mf.path)) {
+            models.push_back(root / mf.path);
+        }
+    }
+    auto wb = std::make_unique<Workbench>(root, false, models);
+    applyParams(*wb, m.params, where);
+    if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
+    applySettingsJson(*wb, m.settings, where, traceX, traceY);
+    return wb;
+}
+
+int replayCapture(const fs::path& captureDir, const fs::path& root, bool update, std::string& out,
+                  const std::function<void(const std::string&)>& onStage) {
     capture::Manifest m;
     try {
         m = capture::readManifest(captureDir);
@@ -124,41 +155,18 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
     capture::ReplayReport report;
     if (!update)
         report.inputProblems = capture::checkInputs(m, captureDir, root, &report.inputNotes);
-    std::vector<fs::path> models;
-    // Models recorded from outside the project are replayed from their recorded text, written
-    // to a temporary folder (removed when the replay ends).
-    const fs::path external =
-        fs::temp_directory_path() / ("bw_replay_external_" + std::to_string(::getpid()));
-    struct Cleanup {
-        fs::path dir;
-        ~Cleanup() {
-            std::error_code ec;
-            fs::remove_all(dir, ec);
-        }
-    } cleanup{external};
-    for (const auto& mf : m.models) {
-        if (fs::path(mf.path).extension() != ".bssrdf") continue;
-        if (mf.path.rfind(kExternalPrefix, 0) == 0) {
-            const fs::path file = external / fs::path(mf.path).filename();
-            fs::create_directories(external);
-            core::writeFile(file, mf.source);
-            models.push_back(file);
-        } else if (fs::exists(root / mf.path)) {
-            models.push_back(root / mf.path);
-        }
-    }
     const std::string where = (captureDir / capture::kManifestFileName).string();
+    const ExternalModels external;
     try {
-        Workbench wb(root, false, models);
-        applyParams(wb, m.params, where);
-        if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
         int traceX = -1, traceY = -1;
-        applySettingsJson(wb, m.settings, where, traceX, traceY);
+        std::unique_ptr<Workbench> owned =
+            workbenchFromInputs(m, root, external.dir, where, traceX, traceY);
+        Workbench& wb = *owned;
         checkCaptureInputs(wb, captureDir, where);
         CaptureEntries captured;
         captured.traceX = traceX;
         captured.traceY = traceY;
-        wb.capture(captured);
+        wb.capture(captured, onStage);
         for (auto& rec : m.outputs)
             report.stages.push_back(replayStage(rec, captureDir, captured, update));
         if (update) {

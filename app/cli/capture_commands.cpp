@@ -12,11 +12,22 @@
 #include "pipeline/workbench.h"
 
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <memory>
 
 namespace app {
 namespace fs = std::filesystem;
+
+namespace {
+// "record: stage reference" on stderr as each stage's outputs are made (the GUI shows the last).
+std::function<void(const std::string&)> printStage(const char* what) {
+    return [what](const std::string& stage) {
+        std::fprintf(stderr, "%s: stage %s\n", what, stage.c_str());
+        std::fflush(stderr);
+    };
+}
+} // namespace
 
 int runRecord(const fs::path& root, const RecordArgs& a) {
     const fs::path dir = a.outDir.empty() ? root / "captures" / a.name : fs::path(a.outDir);
@@ -28,6 +39,12 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
     const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
     fs::create_directories(parent, ec);
     checkWritable((parent / ".bw-record-probe").string(), flag);
+    if (!a.fromRequest.empty()) { // the GUI's state, recorded here so the GUI never waits
+        auto ctx = gl::createHeadlessContext(false);
+        recordFromRequest(a.fromRequest, root, dir, a.name, printStage("record"));
+        std::printf("recorded %s\n", dir.string().c_str());
+        return 0;
+    }
     std::vector<fs::path> models;
     for (const auto& m : a.models)
         models.push_back(resolveModel(root, m));
@@ -93,7 +110,7 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
     }
     wb.update();
     // recorded into a temporary folder and renamed when complete (recordCaptureTo)
-    recordCaptureTo(wb, dir, a.name, traceX, traceY);
+    recordCaptureTo(wb, dir, a.name, traceX, traceY, printStage("record"));
     std::printf("recorded %s\n", dir.string().c_str());
     return 0;
 }
@@ -101,7 +118,7 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
 int runReplay(const fs::path& root, const std::string& dir, bool update) {
     auto ctx = gl::createHeadlessContext(false);
     std::string text;
-    int rc = replayCapture(dir, root, update, text);
+    int rc = replayCapture(dir, root, update, text, printStage("replay"));
     std::printf("%s", text.c_str());
     if (!text.empty() && text.back() != '\n') std::printf("\n");
     return rc;
@@ -168,6 +185,9 @@ Command recordCommand() {
             cmd.add_option("--trace-x", a->traceX, "traced pixel x (default: centre)");
             cmd.add_option("--trace-y", a->traceY, "traced pixel y (default: centre)");
             cmd.add_flag("--force", a->force, "replace an existing capture folder");
+            cmd.add_option("--from-request", a->fromRequest,
+                           "record the state a GUI wrote to this manifest (File -> Record "
+                           "capture records in a child process this way)");
             return [a](CommandContext& ctx) { return runRecord(ctx.root(), *a); };
         }};
 }

@@ -30,6 +30,9 @@ struct RecordArgs {
     int textureSpace = 0;
     int textureSamples = 256, textureSets = 16;
     bool force = false; // replace an existing capture folder
+    // the state to record, as written by the GUI (writeRecordRequest): replaces every option
+    // above but --name, --out and --force
+    std::string fromRequest;
 };
 int runRecord(const std::filesystem::path& root, const RecordArgs& a);
 

@@ -197,6 +197,13 @@ struct CapturesPanelState {
         int width = 0, height = 0;
     };
     std::vector<Picture> pictures;
+    // File → Record capture: recorded by a child process (`record --from-request`), so the GUI
+    // never waits; its stage lines show progress, Cancel kills it and nothing is left
+    std::unique_ptr<ChildProcess> recorder;
+    std::string recording;               // the capture being recorded
+    std::filesystem::path recordRequest; // the state it records (removed when it ends)
+    double recordStarted = 0;
+    std::string recordOutcome; // how the last recording ended ("" while none has)
 };
 
 // The Scoreboard panel: which channels it lists (the table is ScoreboardStage's).

@@ -332,10 +332,14 @@ void Workbench::finishLitSpheres() {
     m_litSpheres->finish(litSphereInputs(-1));
 }
 
-void Workbench::capture(CaptureEntries& out) {
+void Workbench::capture(CaptureEntries& out,
+                        const std::function<void(const std::string&)>& onStage) {
     update();
-    for (const PipelineStep& step : m_pipeline)
-        if (step.capture) step.capture(out);
+    for (const PipelineStep& step : m_pipeline) {
+        if (!step.capture) continue;
+        if (onStage) onStage(step.stage->name());
+        step.capture(out);
+    }
 }
 
 ReferenceSnapshot Workbench::finishReference() {

@@ -106,7 +106,8 @@ class Workbench {
     // Captures: updates, then runs every stage with outputs to record to completion in pipeline
     // order and collects its entries (pipeline/capture_entries.h; captures/ writes and
     // compares them). core::Error from the first stage that cannot produce its outputs.
-    void capture(CaptureEntries& out);
+    // onStage, when given, is told each stage's name before it is captured (progress lines).
+    void capture(CaptureEntries& out, const std::function<void(const std::string&)>& onStage = {});
 
     // A model's plot slot (its colour and line style in the pencil plot): given when the model
     // first loads, the lowest no other present model holds, and kept while it stays loaded, so

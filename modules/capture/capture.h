@@ -67,6 +67,11 @@ Manifest readManifest(const std::filesystem::path& captureDir);
 // with sorted keys (stable diffs). Throws core::Error naming the path on failure.
 void writeManifest(const std::filesystem::path& captureDir, const Manifest& manifest);
 
+// A record request: a manifest of the inputs only (no outputs yet), read and written with the
+// same checks otherwise (a process records it: app/captures/capture_io.h, writeRecordRequest).
+Manifest readInputs(const std::filesystem::path& file);
+void writeInputs(const std::filesystem::path& file, const Manifest& manifest);
+
 nlohmann::json toJson(const Manifest& manifest);
 // Validates like readManifest; errors name `fileForErrors` with line 0.
 Manifest fromJson(const nlohmann::json& json, const std::string& fileForErrors);

@@ -30,7 +30,8 @@ JsonPath child(JsonPath path, size_t index) {
 // Validating reader over a parsed document; `text` (optional) maps paths to line numbers.
 class Reader {
   public:
-    Reader(std::string file, std::string_view text) : m_file(std::move(file)), m_text(text) {}
+    Reader(std::string file, std::string_view text, bool inputsOnly = false)
+        : m_file(std::move(file)), m_text(text), m_inputsOnly(inputsOnly) {}
 
     [[noreturn]] void fail(const JsonPath& at, const std::string& msg, bool namePath = true) const {
         int line = 0;
@@ -184,7 +185,7 @@ class Reader {
                 fail(child(at, "path"), "'" + m.models.back().path + "' is listed twice");
         }
         const json& outputs = array(j, {}, "outputs");
-        if (outputs.empty())
+        if (outputs.empty() && !m_inputsOnly)
             fail(child({}, "outputs"), "a capture needs at least one stage output");
         std::set<std::string> stages, files;
         for (size_t i = 0; i < outputs.size(); ++i) {
@@ -201,6 +202,7 @@ class Reader {
   private:
     std::string m_file;
     std::string_view m_text;
+    bool m_inputsOnly = false; // a record request: no outputs yet
 };
 
 // "[json.exception.parse_error.101] parse error at line 3, column 5: syntax error ..." ->
@@ -301,6 +303,34 @@ nlohmann::json toJson(const Manifest& m) {
 Manifest fromJson(const nlohmann::json& j, const std::string& fileForErrors) {
     Reader reader(fileForErrors, {});
     return reader.manifest(j);
+}
+
+namespace {
+Manifest readFile(const std::filesystem::path& file, bool inputsOnly) {
+    const std::string fileName = file.string();
+    const std::string text = core::readFile(file);
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::parse_error& e) {
+        size_t offset = e.byte > 0 ? e.byte - 1 : 0;
+        throw core::Error(fileName, core::lineOfOffset(text, offset),
+                          "invalid JSON: " + parseErrorMessage(e.what()));
+    } catch (const json::exception& e) {
+        throw core::Error(fileName, 0, "invalid JSON: " + parseErrorMessage(e.what()));
+    }
+    return Reader(fileName, text, inputsOnly).manifest(j);
+}
+} // namespace
+
+Manifest readInputs(const std::filesystem::path& file) {
+    return readFile(file, true);
+}
+
+void writeInputs(const std::filesystem::path& file, const Manifest& manifest) {
+    const json j = toJson(manifest);
+    Reader(file.string(), {}, true).manifest(j); // refuse to write what could not be read back
+    core::writeFile(file, j.dump(2) + "\n");
 }
 
 Manifest readManifest(const std::filesystem::path& captureDir) {

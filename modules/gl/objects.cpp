@@ -20,6 +20,12 @@ void deleteFramebuffer(GLuint id) {
     glDeleteFramebuffers(1, &id);
 }
 void deleteProgram(GLuint id) {
+    // A program deleted while it is current stays in use under a name that is no longer valid:
+    // whoever saves and restores GL_CURRENT_PROGRAM (ImGui's renderer does, every frame) then
+    // calls glUseProgram with it, GL_INVALID_VALUE. Unbind it first.
+    GLint current = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    if (GLuint(current) == id) glUseProgram(0);
     glDeleteProgram(id);
 }
 void deleteVertexArray(GLuint id) {

@@ -207,6 +207,19 @@ TEST_F(CliOutputs, RecordNeverOverwritesSilentlyNorLeavesHalfACapture) {
     EXPECT_EQ(entries, 1u);
 }
 
+// `record --from-request` (the GUI's recordings): a missing or malformed request is an error
+// naming the file, and nothing is written.
+TEST_F(CliOutputs, RecordFromABadRequestNamesItAndWritesNothing) {
+    expectFailure({"record", "--name", "r", "--out", "caps/r", "--from-request",
+                   (m_dir.path() / "missing.json").string()},
+                  {"missing.json", "cannot open"});
+    std::ofstream(m_dir.path() / "bad.json") << R"({"formatVersion": 1})";
+    expectFailure({"record", "--name", "r", "--out", "caps/r", "--from-request",
+                   (m_dir.path() / "bad.json").string()},
+                  {"bad.json", "missing key 'name'"});
+    EXPECT_FALSE(fs::exists(m_dir.path() / "caps/r"));
+}
+
 // `record --slice-*`: a bad incidence angle is refused naming the flag, and nothing is left.
 TEST_F(CliOutputs, RecordRefusesABadSliceAngle) {
     const std::string dipole = std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf";

@@ -336,6 +336,61 @@ TEST(CapturesPanel, ACaptureJustRecordedIsListedAndReplacesTheOldWhole) {
     fs::remove_all(root);
 }
 
+// File → Record capture records in a child process: the GUI keeps drawing frames meanwhile, the
+// Captures panel names the stage being recorded, the capture (with the path-traced reference)
+// replays PASS, and nothing of the request is left; a cancelled recording leaves no folder.
+TEST(CapturesPanel, RecordingRunsInTheBackgroundShowsItsStageAndCancels) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("caprecord", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.referenceSettings().enabled = true;
+    wb.referenceSettings().paths = 400000; // a second or so in the child
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui.captures.exe = BW_EXE;
+    gui.frame();
+    app::startRecording(wb, ui.captures, "background");
+    ASSERT_TRUE(fs::exists(root / "captures/.background.request/request.json"));
+    core::Stopwatch clock;
+    double longest = 0;
+    bool stageShown = false;
+    ui.shared.show(app::PanelId::Captures);
+    while (!ui.captures.recorder->done() && clock.ms() < 120000) {
+        core::Stopwatch one;
+        gui.frame();
+        longest = std::max(longest, one.ms());
+        stageShown |= !app::lastStage(ui.captures.recorder->output(), "record").empty();
+    }
+    gui.frame();
+    ASSERT_EQ(ui.captures.recorder->exitCode(), 0) << ui.captures.recorder->output();
+    EXPECT_TRUE(stageShown) << ui.captures.recorder->output();
+    EXPECT_LT(longest, 2000.0) << "a frame waited for the recording";
+    EXPECT_EQ(ui.shared.status, "recorded captures/background");
+    EXPECT_FALSE(fs::exists(root / "captures/.background.request"));
+    const std::string manifest = core::readFile(root / "captures/background/manifest.json");
+    EXPECT_NE(manifest.find("\"reference\""), std::string::npos);
+    std::string report;
+    EXPECT_EQ(app::replayCapture(root / "captures/background", root, false, report), 0) << report;
+    // the replay's workbench (its programs deleted, one of them current) leaves the GUI's frames
+    // without GL errors
+    gui.frame();
+
+    // cancelled: no capture, no request, no temporary folder
+    app::startRecording(wb, ui.captures, "cancelled");
+    gui.frame();
+    ui.captures.recorder->cancel();
+    gui.frame();
+    EXPECT_EQ(ui.captures.recordOutcome, "recording of cancelled cancelled");
+    for (const auto& entry : fs::directory_iterator(root / "captures"))
+        EXPECT_EQ(entry.path().filename().string().find("cancelled"), std::string::npos)
+            << "left behind: " << entry.path();
+    // a bad name is refused before anything starts
+    EXPECT_THROW(app::startRecording(wb, ui.captures, "../escape"), core::Error);
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+    fs::remove_all(root);
+}
+
 TEST(HeadlessGui, ModelNanValuesAreAnErrorEntryWithTheRadii) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("nanmodel", {"dipole.bssrdf"});

@@ -34,6 +34,24 @@ void main() { v[gl_GlobalInvocationID.x] = float(gl_GlobalInvocationID.x) * 0.5;
     EXPECT_TRUE(t[0].gpuMs >= 0.0 || t[0].gpuUnmeasurable);
 }
 
+// A program deleted while current is unbound first: restoring GL_CURRENT_PROGRAM afterwards (as
+// ImGui's renderer does each frame) is then no GL_INVALID_VALUE.
+TEST(HeadlessContext, DeletingTheCurrentProgramUnbindsIt) {
+    auto ctx = gl::createHeadlessContext();
+    const char* src = "#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n";
+    {
+        gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, src}});
+        glUseProgram(p.id());
+    }
+    GLint current = -1;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    EXPECT_EQ(current, 0);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    glUseProgram(GLuint(current)); // what a save-and-restore does
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
 TEST(HeadlessContext, CompileErrorsCarryTheDriverLog) {
     auto ctx = gl::createHeadlessContext();
     try {

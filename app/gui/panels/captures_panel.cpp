@@ -6,6 +6,7 @@
 #include "gui/widgets.h"
 
 #include "capture/capture.h"
+#include "captures/capture_io.h"
 #include "core/core.h"
 
 #include <stb_image.h>
@@ -83,6 +84,60 @@ void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name)
                                               wb.root() / "captures" / name);
 }
 
+std::string lastStage(const std::string& output, const std::string& what) {
+    const std::string tag = what + ": stage ";
+    const size_t at = output.rfind(tag);
+    if (at == std::string::npos) return "";
+    const size_t end = output.find('\n', at);
+    return output.substr(at + tag.size(),
+                         end == std::string::npos ? std::string::npos : end - at - tag.size());
+}
+
+void startRecording(Workbench& wb, CapturesPanelState& ps, const std::string& name) {
+    if (ps.recorder && !ps.recorder->done())
+        throw core::Error(name, 0, "a recording is under way (" + ps.recording + ")");
+    const fs::path request = writeRecordRequest(wb, name);
+    ps.recordRequest = request;
+    ps.recording = name;
+    ps.recordOutcome.clear();
+    ps.recordStarted = core::secondsSinceStart();
+    ps.recorder = std::make_unique<ChildProcess>(
+        std::vector<std::string>{(ps.exe.empty() ? selfExecutable() : ps.exe).string(), "--root",
+                                 wb.root().string(), "record", "--name", name, "--force",
+                                 "--from-request", request.string()},
+        "record " + name);
+}
+
+void pollRecording(Workbench& wb, CapturesPanelState& ps, UiShared& ui) {
+    if (!ps.recorder || !ps.recorder->poll() || !ps.recordOutcome.empty()) return;
+    // ended: its request goes, and so does a half-written folder a killed child left
+    std::error_code ec;
+    fs::remove_all(ps.recordRequest.parent_path(), ec);
+    const fs::path captures = wb.root() / "captures";
+    for (const auto& e : fs::directory_iterator(captures, ec))
+        if (e.path().filename().string().rfind("." + ps.recording + ".recording-", 0) == 0)
+            fs::remove_all(e.path(), ec);
+    const int code = ps.recorder->exitCode();
+    if (code == 0) {
+        ps.recordOutcome = "recorded captures/" + ps.recording;
+        ui.status = ps.recordOutcome;
+        core::logInfo("record capture: " + ps.recordOutcome);
+    } else if (ps.recordOutcome.empty() && code == 128 + 9) {
+        ps.recordOutcome = "recording of " + ps.recording + " cancelled";
+        ui.status = ps.recordOutcome;
+    } else {
+        std::string last; // the child's error line, else its whole output
+        std::istringstream in(ps.recorder->output());
+        for (std::string line; std::getline(in, line);)
+            if (line.rfind("error", 0) == 0) last = line;
+        ps.recordOutcome = "recording of " + ps.recording + " failed";
+        ui.status = ps.recordOutcome;
+        wb.reportActionError("record capture " + ps.recording + ": " +
+                             (last.empty() ? ps.recorder->output() : last));
+    }
+    ps.listedAt = -1e9; // list the captures again
+}
+
 void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
     // listed when the panel first shows and again every kCapturesListSeconds while it shows, so
     // a capture just recorded (File → Record capture, or from a shell) appears without Refresh
@@ -99,9 +154,21 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
     ImGui::EndChild();
     ImGui::SameLine();
     ImGui::BeginChild("replay", ImVec2(0, 0), false, ImGuiWindowFlags_HorizontalScrollbar);
+    if (ps.recorder && !ps.recorder->done()) {
+        const std::string stage = lastStage(ps.recorder->output(), "record");
+        ImGui::Text("recording %s ... %s%.1f s", ps.recording.c_str(),
+                    stage.empty() ? "" : ("stage " + stage + ", ").c_str(),
+                    core::secondsSinceStart() - ps.recordStarted);
+        ImGui::SameLine();
+        if (ImGui::SmallButton("Cancel recording")) ps.recorder->cancel();
+    } else if (!ps.recordOutcome.empty()) {
+        hintText("%s", ps.recordOutcome.c_str());
+    }
     const bool running = ps.proc && !ps.proc->done();
     if (running) {
-        ImGui::Text("replaying %s ... %.1f s", ps.replaying.c_str(),
+        const std::string stage = lastStage(ps.proc->output(), "replay");
+        ImGui::Text("replaying %s ... %s%.1f s", ps.replaying.c_str(),
+                    stage.empty() ? "" : ("stage " + stage + ", ").c_str(),
                     core::secondsSinceStart() - ps.started);
         ImGui::SameLine();
         if (ImGui::SmallButton("Cancel")) ps.proc->cancel();
@@ -130,6 +197,7 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
     for (std::string line; std::getline(in, line);) {
         const size_t cr = line.rfind('\r'); // progress lines: the last state only
         if (cr != std::string::npos) line = line.substr(cr + 1);
+        if (line.rfind("replay: stage ", 0) == 0) continue; // shown in the status line above
         ImGui::PushStyleColor(ImGuiCol_Text, lineColor(line));
         ImGui::TextUnformatted(line.c_str());
         ImGui::PopStyleColor();

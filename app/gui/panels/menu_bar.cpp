@@ -10,6 +10,7 @@
 #include <imgui.h>
 
 namespace app {
+namespace fs = std::filesystem;
 
 void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file) {
     std::filesystem::path p = file;
@@ -24,6 +25,7 @@ void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& fil
 }
 
 void drawMenuBar(Workbench& wb, UiState& ui) {
+    pollRecording(wb, ui.captures, ui.shared);
     if (ImGui::BeginMainMenuBar()) {
         if (ImGui::BeginMenu("File")) {
             if (ImGui::MenuItem("Open model...", "Ctrl+O")) ui.menu.openModelPopup = true;
@@ -105,9 +107,20 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
     if (ImGui::BeginPopupModal("Record capture", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("Capture name (folder under captures/):");
         ImGui::InputText("##name", ui.menu.nameBuffer, sizeof ui.menu.nameBuffer);
-        if (ImGui::Button("Record")) {
+        {
+            std::error_code ec;
+            if (fs::exists(wb.root() / "captures" / ui.menu.nameBuffer, ec))
+                ImGui::TextDisabled("(replaces the capture of that name)");
+        }
+        const bool busy = ui.captures.recorder && !ui.captures.recorder->done();
+        if (busy)
+            ImGui::TextDisabled("(one recording at a time: %s is under way)",
+                                ui.captures.recording.c_str());
+        if (ImGui::Button("Record") && !busy) {
             try {
-                ui.shared.status = "recorded " + recordCapture(wb, ui.menu.nameBuffer);
+                startRecording(wb, ui.captures, ui.menu.nameBuffer);
+                ui.shared.status = "recording " + std::string(ui.menu.nameBuffer);
+                ui.shared.show(PanelId::Captures);
             } catch (const core::Error& e) {
                 wb.reportActionError(std::string("record capture: ") + e.what());
             }

@@ -42,6 +42,13 @@ void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem
 void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
 // Starts replaying captures/NAME in a child process (core::Error when it cannot start).
 void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name);
+// File → Record capture: the current state recorded by a child process (CapturesPanelState).
+// startRecording throws core::Error when the state cannot be written or a recording runs;
+// pollRecording, called every frame, ends one: status line, log, or an Errors entry.
+void startRecording(Workbench& wb, CapturesPanelState& ps, const std::string& name);
+void pollRecording(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
+// The stage a record or replay child reported last ("what: stage NAME" lines), "" before any.
+std::string lastStage(const std::string& output, const std::string& what);
 void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared& ui);
 void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui);
 void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui);
