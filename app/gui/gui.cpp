@@ -138,6 +138,7 @@ void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight) {
         auto px = gl::readPixelsRGBA8(fbo, x0, fbHeight - (y0 + h), w, h);
         gl::writePng(path, w, h, px);
         ui.shared.status = "wrote " + path;
+        core::logInfo("exported " + path);
     } catch (const core::Error& e) {
         wb.reportActionError(std::string("export PNG: ") + e.what());
     }

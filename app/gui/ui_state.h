@@ -109,6 +109,8 @@ struct ParametersPanelState {
 struct PencilPanelState {
     std::string plotPngRequest;           // Export PNG: turned into UiShared's export request
     char exportName[256] = "pencil_plot"; // export file name without extension
+    ExportState exporter;                 // where to export (Export CSV / PNG ask)
+    std::vector<std::array<float, 4>> exportButtons; // Export CSV, PNG last frame (screen px)
 };
 
 struct LitSpherePanelState {
@@ -167,8 +169,7 @@ struct RenderPanelState {
     render::Readback readback; // of the shown frame, for the pixel probe and export
     long long readbackRuns = -1;
     char exportName[256] = "render"; // export file name without extension
-    FileDialogState exportDialog;    // where to export (Export EXR / PNG ask)
-    std::string exportExt;           // ".exr" or ".png" while the dialog is open
+    ExportState exporter;            // where to export (Export EXR / PNG ask)
     Rect exportButtons[2];           // Export EXR, Export PNG last frame (screen px)
     bool abSplit = false;            // A/B: the render left of the divider, B right of it
     std::string abWith;              // B: "" brute force, else a model's display path

@@ -336,6 +336,44 @@ TEST(CapturesPanel, ACaptureJustRecordedIsListedAndReplacesTheOldWhole) {
     fs::remove_all(root);
 }
 
+// The pencil plot's Export CSV asks where (the file dialog) and writes what is shown there,
+// giving the full path in the status line and the log.
+TEST(HeadlessGui, PencilExportAsksWhere) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("pencilexport", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui.shared.show(app::PanelId::Pencil);
+    gui.frame();
+    gui.frame();
+    auto click = [&](const std::array<float, 4>& r) {
+        const float x = 0.5f * (r[0] + r[2]), y = 0.5f * (r[1] + r[3]);
+        gui.mouse(x, y, false);
+        gui.frame();
+        gui.mouse(x, y, true);
+        gui.frame();
+        gui.mouse(x, y, false);
+        gui.frame();
+        gui.noMouse();
+        gui.frame();
+    };
+    ASSERT_EQ(ui.pencil.exportButtons.size(), 2u);
+    click(ui.pencil.exportButtons[0]); // Export CSV
+    app::FileDialogState& d = ui.pencil.exporter.dialog;
+    EXPECT_EQ(std::string(d.path),
+              (fs::current_path() / "pencil_plot.csv").lexically_normal().string());
+    const fs::path target = root / "plot_here.csv";
+    std::snprintf(d.path, sizeof d.path, "%s", target.c_str());
+    click({d.actionRect[0], d.actionRect[1], d.actionRect[2], d.actionRect[3]});
+    ASSERT_TRUE(fs::exists(target)) << ui.shared.status;
+    EXPECT_NE(core::readFile(target).find("r_mm"), std::string::npos);
+    EXPECT_EQ(ui.shared.status, "wrote " + target.string());
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+    fs::remove_all(root);
+}
+
 // File → Record capture records in a child process: the GUI keeps drawing frames meanwhile, the
 // Captures panel names the stage being recorded, the capture (with the path-traced reference)
 // replays PASS, and nothing of the request is left; a cancelled recording leaves no folder.

@@ -281,13 +281,13 @@ TEST(Interactions, RenderExportAsksWhereAndLogsTheFullPath) {
     ASSERT_GT(ps.exportButtons[1].width(), 10.0f);
     ASSERT_LE(ps.exportButtons[1].y1, panel->InnerClipRect.Max.y) << "Export PNG not on screen";
     click(ps.exportButtons[1]);
-    EXPECT_EQ(std::string(ps.exportDialog.path),
+    EXPECT_EQ(std::string(ps.exporter.dialog.path),
               (std::filesystem::current_path() / "render.png").lexically_normal().string());
-    ASSERT_GT(ps.exportDialog.actionRect[2], ps.exportDialog.actionRect[0]) << "no dialog";
+    ASSERT_GT(ps.exporter.dialog.actionRect[2], ps.exporter.dialog.actionRect[0]) << "no dialog";
     const std::filesystem::path target = fx.root / "exports" / "bunny";
     std::filesystem::create_directories(target.parent_path());
-    std::snprintf(ps.exportDialog.path, sizeof ps.exportDialog.path, "%s", target.c_str());
-    const float* a = ps.exportDialog.actionRect;
+    std::snprintf(ps.exporter.dialog.path, sizeof ps.exporter.dialog.path, "%s", target.c_str());
+    const float* a = ps.exporter.dialog.actionRect;
     click({a[0], a[1], a[2], a[3]});
     const std::filesystem::path written = target.string() + ".png"; // the extension added
     ASSERT_TRUE(std::filesystem::exists(written)) << fx.gui->ui().shared.status;

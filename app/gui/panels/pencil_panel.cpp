@@ -1,6 +1,7 @@
 // Pencil plot panel (thesis 3.6.3): radial profiles of every loaded model on the semi-infinite
 // slab under a normally incident pencil beam; y axis linear/log/sqrt, optional r·R(r),
 // channel R/G/B/luminance, solo mode, hover readout, CSV and PNG export.
+#include "gui/file_dialog.h"
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 #include "pipeline/pencil_series.h"
@@ -140,21 +141,21 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     }
     if (relative) series = plot::relativeTo(series, ps.relation);
 
-    char* exportPath = own.exportName;
-    ImGui::SetNextItemWidth(160);
-    ImGui::InputText("##export", exportPath, sizeof own.exportName);
-    ImGui::SameLine();
-    if (ImGui::Button("Export CSV")) {
-        std::string path = std::string(exportPath) + ".csv";
-        try {
-            plot::writeCsv(path, series, "r_mm");
-            ui.status = "wrote " + path;
-        } catch (const core::Error& e) {
-            wb.reportActionError(std::string("export CSV: ") + e.what());
+    // what is shown, as CSV or as the picture; each asks where (the file dialog)
+    if (auto path = drawExportButtons("Export pencil plot", own.exportName, sizeof own.exportName,
+                                      {".csv", ".png"}, own.exporter, &own.exportButtons)) {
+        if (path->extension() == ".png") {
+            own.plotPngRequest = path->string(); // read back after the frame is drawn
+        } else {
+            try {
+                plot::writeCsv(path->string(), series, "r_mm");
+                ui.status = "wrote " + path->string();
+                core::logInfo("pencil plot: wrote " + path->string());
+            } catch (const core::Error& e) {
+                wb.reportActionError(std::string("export CSV: ") + e.what());
+            }
         }
     }
-    sameLineIfFits(buttonWidth("Export PNG"));
-    if (ImGui::Button("Export PNG")) own.plotPngRequest = std::string(exportPath) + ".png";
 
     drawReferenceControls(wb);
 

@@ -179,40 +179,19 @@ void probePixel(SceneStage& scene, RenderPanelState& ps, ImVec2 uv) {
 // dialog, in the folder of the last export); the full path written goes to the status line and
 // the log.
 void drawExport(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
-    ImGui::SetNextItemWidth(160);
-    ImGui::InputText("##renderexport", ps.exportName, sizeof ps.exportName);
-    for (const char* ext : {".exr", ".png"}) {
-        const bool exr = ext[1] == 'e';
-        const std::string label = std::string("Export ") + (exr ? "EXR" : "PNG");
-        sameLineIfFits(buttonWidth(label.c_str()));
-        const bool pressed = ImGui::Button(label.c_str());
-        const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
-        ps.exportButtons[exr ? 0 : 1] = {lo.x, lo.y, hi.x, hi.y};
-        if (!pressed) continue;
-        ps.exportExt = ext;
-        const fs::path dir = ps.exportDialog.dir.empty() ? fs::current_path() : ps.exportDialog.dir;
-        setDialogFile(ps.exportDialog, dir / (std::string(ps.exportName) + ext));
-        ImGui::OpenPopup("Export render");
+    std::vector<std::array<float, 4>> rects;
+    const auto chosen = drawExportButtons("Export render", ps.exportName, sizeof ps.exportName,
+                                          {".exr", ".png"}, ps.exporter, &rects);
+    for (size_t i = 0; i < rects.size() && i < 2; ++i)
+        ps.exportButtons[i] = {rects[i][0], rects[i][1], rects[i][2], rects[i][3]};
+    if (!chosen) return;
+    try {
+        exportRenderView(wb, ps, *chosen);
+        ui.status = "wrote " + chosen->string();
+        core::logInfo("render: wrote " + chosen->string());
+    } catch (const core::Error& e) {
+        wb.reportActionError(std::string("export render: ") + e.what());
     }
-    if (!ImGui::BeginPopupModal("Export render", nullptr, ImGuiWindowFlags_AlwaysAutoResize))
-        return;
-    if (auto chosen = drawFileDialog(ps.exportDialog, ps.exportExt, "Save")) {
-        fs::path path = *chosen;
-        if (path.extension().empty()) path += ps.exportExt;
-        path = fs::absolute(path).lexically_normal();
-        try {
-            exportRenderView(wb, ps, path);
-            ui.status = "wrote " + path.string();
-            core::logInfo("render: wrote " + path.string());
-            std::snprintf(ps.exportName, sizeof ps.exportName, "%s", path.stem().c_str());
-        } catch (const core::Error& e) {
-            wb.reportActionError(std::string("export render: ") + e.what());
-        }
-        ImGui::CloseCurrentPopup();
-    }
-    ImGui::SameLine();
-    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
-    ImGui::EndPopup();
 }
 
 } // namespace
