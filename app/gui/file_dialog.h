@@ -42,19 +42,11 @@ void setDialogFile(FileDialogState& st, const std::filesystem::path& file);
 std::optional<std::filesystem::path>
 drawFileDialog(FileDialogState& st, const std::string& extension, const char* action = "Open");
 
-// The export controls of a panel: a name field, then one "Export <EXT>" button per extension
-// (".exr" → "Export EXR"); a click opens a Save dialog (popup `popupId`) proposing the name in
-// the folder of the last export. Returns the chosen absolute path, its extension added when
-// missing, in the frame it is chosen; `name` follows the chosen file's stem. `buttons`, when
-// given, receives each button's rectangle (x0, y0, x1, y1; tests click them).
+// Where a panel's Export buttons write (gui/export_buttons.h).
 struct ExportState {
     FileDialogState dialog;
     std::string extension; // of the button that opened the dialog
 };
-std::optional<std::filesystem::path>
-drawExportButtons(const char* popupId, char* name, size_t nameSize,
-                  const std::vector<std::string>& extensions, ExportState& st,
-                  std::vector<std::array<float, 4>>* buttons = nullptr);
 
 // Recent files: `path` moved to the front, duplicates removed, at most `keep` kept.
 void rememberRecent(std::vector<std::string>& recent, const std::string& path, size_t keep = 8);

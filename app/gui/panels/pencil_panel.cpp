@@ -1,7 +1,7 @@
 // Pencil plot panel (thesis 3.6.3): radial profiles of every loaded model on the semi-infinite
 // slab under a normally incident pencil beam; y axis linear/log/sqrt, optional r·R(r),
 // channel R/G/B/luminance, solo mode, hover readout, CSV and PNG export.
-#include "gui/file_dialog.h"
+#include "gui/export_buttons.h"
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 #include "pipeline/pencil_series.h"

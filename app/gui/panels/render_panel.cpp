@@ -4,7 +4,7 @@
 // visited per pixel, maximum stack depth, relative error against brute force. Drag to orbit,
 // wheel to zoom (half resolution while moving); click a pixel to trace it in the debugger.
 #include "core/core.h"
-#include "gui/file_dialog.h"
+#include "gui/export_buttons.h"
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 
