@@ -14,6 +14,7 @@ Command replayCommand();            // capture_commands.cpp
 Command slabCommand();              // slab_command.cpp
 Command estimateCommand();          // estimate_commands.cpp
 Command compareCommand();           // compare_command.cpp
+Command fitCommand();               // fit_command.cpp
 Command mergeCommand();             // estimate_commands.cpp
 Command sphereCommand();            // image_commands.cpp
 Command meshCommand();              // image_commands.cpp
@@ -42,6 +43,7 @@ const std::vector<Command>& commands() {
         slabCommand(),
         estimateCommand(),
         compareCommand(),
+        fitCommand(),
         mergeCommand(),
         sphereCommand(),
         meshCommand(),

@@ -8,6 +8,8 @@
 //   kProbeLoopCut      `probe-model`: a loop in the model was cut short by the driver's
 //                      iteration limit (probe/protocol.h)
 //   kProbeUnavailable  `probe-model`, `probe-server`: no headless GL context to check with
+//   kNotConverged      `fit`: the optimizer stopped before converging (its evaluation budget);
+//                      the best point found is still written
 #pragma once
 
 namespace app {
@@ -16,5 +18,6 @@ constexpr int kUsageError = 2;
 constexpr int kEnergyCheckFailed = 3;
 constexpr int kProbeLoopCut = 4;
 constexpr int kProbeUnavailable = 5;
+constexpr int kNotConverged = 6;
 
 } // namespace app

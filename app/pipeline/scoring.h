@@ -23,6 +23,7 @@
 #include "bssrdf/program_library.h"
 #include "capture/scores.h"
 #include "gl/gl.h"
+#include "pathtrace/pathtrace.h"
 
 #include <filesystem>
 #include <string>
@@ -34,6 +35,15 @@ namespace app {
 std::string formatScore(double v, int digits = 4);
 
 using ScoreRow = capture::ScoreRow;
+
+// The slab reference of the scores at normal incidence: [0, 4.5 l_d) in 360 bins of 0.0125 l_d
+// (fine in ln r at 0.1 l_d, the lower bound of rel_err), `paths` paths, seed 1.
+pathtrace::SlabSettings scoringSlabSettings(double ldMm, uint64_t paths);
+// The path-traced reference of one medium, from the disk cache (compareCacheDir) or traced and
+// cached; `what` prefixes its progress line on stderr. Throws core::Error when the trace fails
+// its own energy check.
+pathtrace::SlabResult slabReference(const pathtrace::Medium& m, const pathtrace::SlabSettings& s,
+                                    const std::string& what, bool& fromCache);
 
 // Where references are cached: $BSSRDF_WORKBENCH_CACHE/reference, else
 // $XDG_CACHE_HOME/bssrdf-workbench/reference, else ~/.cache/bssrdf-workbench/reference.

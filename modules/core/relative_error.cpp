@@ -13,7 +13,7 @@ namespace core {
 namespace {
 RelativeError failed(std::string why, int bin) {
     RelativeError e;
-    e.value = e.se = std::numeric_limits<double>::quiet_NaN();
+    e.value = e.se = e.squared = std::numeric_limits<double>::quiet_NaN();
     e.problem = std::move(why);
     e.badBin = bin;
     return e;
@@ -49,6 +49,7 @@ RelativeError relativeError(const std::vector<ErrorBin>& bins) {
     var = std::max(var, floor);
     const double e2 = sum / W, seE2 = std::sqrt(var);
     RelativeError e;
+    e.squared = e2;
     e.value = std::sqrt(std::max(e2, 0.0));
     e.se = std::sqrt(e.value * e.value + seE2) - e.value;
     return e;

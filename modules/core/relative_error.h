@@ -39,6 +39,8 @@ struct ErrorBin {
 
 struct RelativeError {
     double value = 0, se = 0; // e and its standard error; NaN when `problem` is set
+    double squared = 0;       // e² before the clamp at 0 (may be < 0 where noise dominates):
+                              // smooth through 0, what a fit minimises
     std::string problem;      // why there is no value ("" when there is)
     int badBin = -1;          // the first bin that made `problem`, if one did
     bool valid() const { return problem.empty(); }

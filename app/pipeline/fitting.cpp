@@ -1,0 +1,306 @@
+// Fitting a model's parameters to the reference (fitting.h).
+#include "pipeline/fitting.h"
+
+#include "core/core.h"
+#include "core/relative_error.h"
+#include "core/text.h"
+#include "pipeline/model_stages.h"
+#include "pipeline/scoring.h"
+
+#include <nlopt.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <sstream>
+
+namespace app {
+
+namespace {
+
+double parseBound(const std::string& text, const std::string& what) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+        throw core::Error("--params", 0, what + ": '" + text + "' is not a number");
+    return v;
+}
+
+const char* stopReason(nlopt_result r) {
+    switch (r) {
+    case NLOPT_SUCCESS:
+        return "success";
+    case NLOPT_STOPVAL_REACHED:
+        return "objective reached the stop value";
+    case NLOPT_FTOL_REACHED:
+        return "objective changed less than its tolerance";
+    case NLOPT_XTOL_REACHED:
+        return "parameters changed less than their tolerance (converged)";
+    case NLOPT_MAXEVAL_REACHED:
+        return "evaluation budget spent before converging";
+    case NLOPT_MAXTIME_REACHED:
+        return "time limit reached before converging";
+    case NLOPT_FORCED_STOP:
+        return "stopped (cancelled): the best point so far";
+    case NLOPT_ROUNDOFF_LIMITED:
+        return "stopped by roundoff: the best point so far";
+    case NLOPT_OUT_OF_MEMORY:
+        return "out of memory";
+    case NLOPT_INVALID_ARGS:
+        return "invalid arguments";
+    case NLOPT_FAILURE:
+    default:
+        return "the optimizer failed";
+    }
+}
+
+struct Objective {
+    const bssrdf::ModelEntry* entry;
+    const std::vector<FitVariable>* vars;
+    const std::vector<FitTarget>* targets;
+    bssrdf::ParamValues values;
+    int evaluations = 0;
+    double best = std::numeric_limits<double>::infinity();
+    std::vector<double> bestX;
+    std::vector<std::string> problems;
+    const std::function<void(int, double)>* progress;
+    const std::atomic<bool>* cancel;
+    nlopt_opt opt = nullptr;
+    size_t notFinite = 0; // evaluations where the model was not finite
+};
+double objective(unsigned n, const double* x, double*, void* data) {
+    auto& o = *static_cast<Objective*>(data);
+    if (o.cancel && o.cancel->load()) nlopt_force_stop(o.opt);
+    applyFit(*o.vars, std::vector<double>(x, x + n), o.values);
+    std::string problem;
+    std::vector<double> squared;
+    relErrOnTargets(*o.entry, o.values, *o.targets, &problem, &squared);
+    double sum = 0;
+    for (double e2 : squared)
+        sum += e2;
+    double f = sum / double(std::max<size_t>(1, squared.size()));
+    if (!std::isfinite(f)) {
+        // outside where the model is finite: the worst value there is, and a note of where
+        ++o.notFinite;
+        if (o.problems.size() < 20) {
+            std::string at;
+            for (unsigned i = 0; i < n; ++i)
+                at += (i ? ", " : "") + (*o.vars)[i].label + " = " + core::formatNumber(x[i], 6);
+            o.problems.push_back(at + ": " + (problem.empty() ? "no finite rel_err" : problem));
+        }
+        f = std::numeric_limits<double>::max();
+    }
+    ++o.evaluations;
+    if (f < o.best) {
+        o.best = f;
+        o.bestX.assign(x, x + n);
+    }
+    if (o.progress && *o.progress) (*o.progress)(o.evaluations, o.best);
+    return f;
+}
+
+} // namespace
+
+std::vector<FitVariable> fitVariables(const bssrdf::Model& m,
+                                      const std::vector<std::string>& names) {
+    std::vector<FitVariable> out;
+    std::set<std::string> seen;
+    for (const std::string& spec : names) {
+        const size_t eq = spec.find('=');
+        const std::string name = spec.substr(0, eq);
+        const bssrdf::Param* p = m.findParam(name);
+        if (!p) {
+            std::string known;
+            for (const auto& q : m.params)
+                known += (known.empty() ? "" : ", ") + q.name;
+            throw core::Error(
+                "--params", 0,
+                "'" + name + "' is not a parameter of " + m.path +
+                    (known.empty() ? " (it declares none)" : " (it declares " + known + ")"));
+        }
+        if (!seen.insert(name).second)
+            throw core::Error("--params", 0, "'" + name + "' is given twice");
+        if (p->type == bssrdf::ParamType::Bool)
+            throw core::Error("--params", 0,
+                              "'" + name +
+                                  "' is a bool: only float and colour "
+                                  "parameters can be fitted");
+        double lo = p->min, hi = p->max;
+        if (eq != std::string::npos) {
+            const std::string range = spec.substr(eq + 1);
+            const size_t comma = range.find(',');
+            if (comma == std::string::npos)
+                throw core::Error("--params", 0,
+                                  "'" + spec + "': expected NAME=LO,HI for a narrower range");
+            lo = parseBound(range.substr(0, comma), name + " lower bound");
+            hi = parseBound(range.substr(comma + 1), name + " upper bound");
+            if (lo < p->min || hi > p->max || !(lo < hi))
+                throw core::Error("--params", 0,
+                                  "'" + spec + "': the range must lie inside the declared [" +
+                                      core::formatNumber(p->min, 6) + ", " +
+                                      core::formatNumber(p->max, 6) + "] (line " +
+                                      std::to_string(p->line) + ") with LO < HI");
+        }
+        if (!(lo < hi))
+            throw core::Error("--params", 0,
+                              "'" + name + "' has an empty range [" + core::formatNumber(lo, 6) +
+                                  ", " + core::formatNumber(hi, 6) + "]: nothing to fit");
+        if (p->type == bssrdf::ParamType::Float) {
+            out.push_back({name, 0, name, lo, hi});
+        } else {
+            for (int c = 0; c < 3; ++c)
+                out.push_back({name, c, name + "." + "rgb"[c], lo, hi});
+        }
+    }
+    if (out.empty()) throw core::Error("--params", 0, "give at least one parameter to fit");
+    return out;
+}
+
+void applyFit(const std::vector<FitVariable>& vars, const std::vector<double>& x,
+              bssrdf::ParamValues& values) {
+    for (size_t i = 0; i < vars.size() && i < x.size(); ++i)
+        values[vars[i].param][size_t(vars[i].component)] = float(x[i]);
+}
+
+std::vector<double> relErrOnTargets(const bssrdf::ModelEntry& e, const bssrdf::ParamValues& values,
+                                    const std::vector<FitTarget>& targets, std::string* problem,
+                                    std::vector<double>* squared) {
+    std::vector<double> out;
+    if (squared) squared->clear();
+    const GLuint program = e.programs.at("pencil_profile.comp").id();
+    for (const FitTarget& t : targets) {
+        const bssrdf::Builtins b = builtinsOf(t.params);
+        std::vector<core::BinNodes> nodes(t.ref.size());
+        std::vector<double> radii;
+        for (size_t i = 0; i < t.ref.size(); ++i) {
+            nodes[i] = core::areaAverageNodes(t.edges[i], t.edges[i + 1]);
+            radii.insert(radii.end(), nodes[i].r.begin(), nodes[i].r.end());
+        }
+        const bssrdf::Profile p = bssrdf::evaluateProfile(program, *e.model, values, b, radii);
+        if (std::string bad = bssrdf::profileProblem(p); !bad.empty()) {
+            if (problem) *problem = t.preset + " " + "RGB"[t.channel] + ": " + bad;
+            out.push_back(std::numeric_limits<double>::quiet_NaN());
+            if (squared) squared->push_back(std::numeric_limits<double>::quiet_NaN());
+            continue;
+        }
+        std::vector<double> model(t.ref.size());
+        for (size_t i = 0; i < t.ref.size(); ++i)
+            for (size_t k = 0; k < 4; ++k)
+                model[i] += nodes[i].w[k] * p.value[4 * i + k][t.channel];
+        const core::RelativeError err =
+            core::radialRelativeError(t.edges, t.ref, t.refSe, model, core::kRelErrFromLd * t.ldMm,
+                                      core::kRelErrToLd * t.ldMm);
+        if (!err.valid() && problem)
+            *problem = t.preset + " " + "RGB"[t.channel] + ": " + err.problem;
+        out.push_back(err.valid() ? err.value : std::numeric_limits<double>::quiet_NaN());
+        if (squared) squared->push_back(err.squared);
+    }
+    return out;
+}
+
+FitResult fitModel(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& vars,
+                   const std::vector<FitTarget>& targets, const FitSettings& s,
+                   const std::function<void(int, double)>& progress,
+                   const std::atomic<bool>* cancel) {
+    if (!e.usable()) throw core::Error(e.displayPath, 0, "the model is not usable");
+    if (targets.empty()) throw core::Error("fit", 0, "no targets to fit to");
+    FitResult r;
+    const unsigned n = unsigned(vars.size());
+    std::vector<double> lo(n), hi(n), x(n);
+    for (unsigned i = 0; i < n; ++i) {
+        lo[i] = vars[i].lo;
+        hi[i] = vars[i].hi;
+        x[i] =
+            std::clamp(double(e.values.at(vars[i].param)[size_t(vars[i].component)]), lo[i], hi[i]);
+    }
+    r.start = x;
+    Objective o{&e, &vars, &targets,  e.values, 0, std::numeric_limits<double>::infinity(),
+                x,  {},    &progress, cancel};
+    std::vector<double> squaredStart;
+    {
+        bssrdf::ParamValues v = e.values;
+        applyFit(vars, x, v);
+        r.relErrStart = relErrOnTargets(e, v, targets, nullptr, &squaredStart);
+    }
+    // BOBYQA from the start; where the model was not finite during a run (its quadratic model
+    // then holds a wall of penalties), again from the best point with a smaller first step, at
+    // most kRestarts times while the budget lasts
+    constexpr int kRestarts = 3;
+    nlopt_result res = NLOPT_FAILURE;
+    for (int run = 0; run <= kRestarts; ++run) {
+        const size_t problemsBefore = o.notFinite;
+        const int budget = s.maxEvaluations - o.evaluations;
+        if (budget <= 0) break;
+        nlopt_opt opt = nlopt_create(NLOPT_LN_BOBYQA, n);
+        o.opt = opt;
+        nlopt_set_lower_bounds(opt, lo.data());
+        nlopt_set_upper_bounds(opt, hi.data());
+        nlopt_set_min_objective(opt, objective, &o);
+        nlopt_set_xtol_rel(opt, s.xtolRel);
+        nlopt_set_maxeval(opt, budget);
+        // the first steps: a tenth of each range (BOBYQA's trust region starts there), halved
+        // with each restart
+        std::vector<double> step(n);
+        for (unsigned i = 0; i < n; ++i)
+            step[i] = 0.1 * (hi[i] - lo[i]) * std::ldexp(1.0, -run);
+        nlopt_set_initial_step(opt, step.data());
+        std::vector<double> from = run == 0 ? x : o.bestX;
+        double fmin = 0;
+        res = nlopt_optimize(opt, from.data(), &fmin);
+        nlopt_destroy(opt);
+        o.opt = nullptr;
+        const bool walled = o.notFinite > problemsBefore;
+        if (!walled || res == NLOPT_FORCED_STOP || res == NLOPT_MAXEVAL_REACHED) break;
+    }
+    if (o.evaluations >= s.maxEvaluations && res != NLOPT_FORCED_STOP) res = NLOPT_MAXEVAL_REACHED;
+    r.status = stopReason(res);
+    r.converged = res == NLOPT_XTOL_REACHED || res == NLOPT_FTOL_REACHED || res == NLOPT_SUCCESS;
+    r.evaluations = o.evaluations;
+    r.problems = o.problems;
+    r.best = o.bestX;
+    bssrdf::ParamValues v = e.values;
+    applyFit(vars, r.start, v);
+    double sum = 0;
+    for (double e2 : squaredStart)
+        sum += e2;
+    r.startObjective = sum / double(targets.size());
+    applyFit(vars, r.best, v);
+    r.relErrBest = relErrOnTargets(e, v, targets);
+    r.bestObjective = o.best;
+    return r;
+}
+
+std::string withDefaults(const bssrdf::Model& m, const bssrdf::ParamValues& values,
+                         const std::string& note) {
+    std::vector<std::string> lines;
+    std::istringstream in(m.source);
+    for (std::string line; std::getline(in, line);)
+        lines.push_back(line);
+    for (const bssrdf::Param& p : m.params) {
+        auto it = values.find(p.name);
+        if (it == values.end() || p.line < 1 || size_t(p.line) > lines.size()) continue;
+        std::istringstream tok(lines[size_t(p.line) - 1]);
+        std::vector<std::string> t;
+        for (std::string w; tok >> w;)
+            t.push_back(w);
+        std::string out;
+        if (p.type == bssrdf::ParamType::Float && t.size() >= 5)
+            out = t[0] + " " + t[1] + " " + t[2] + " " + t[3] + " " +
+                  core::formatNumber(it->second[0], 7);
+        else if (p.type == bssrdf::ParamType::Color && t.size() >= 5)
+            out = t[0] + " " + t[1] + " " + core::formatNumber(it->second[0], 7) + " " +
+                  core::formatNumber(it->second[1], 7) + " " + core::formatNumber(it->second[2], 7);
+        else
+            continue;
+        lines[size_t(p.line) - 1] = out;
+    }
+    std::string text;
+    for (size_t i = 0; i < lines.size(); ++i) {
+        text += lines[i] + "\n";
+        if (i == 0) text += "# " + note + "\n";
+    }
+    return text;
+}
+
+} // namespace app

@@ -1,0 +1,88 @@
+// Fitting a model's declared parameters to the path-traced reference (`fit`): the free
+// parameters (each float, or each component of a colour, within its declared range or a narrower
+// one) minimise the mean over the targets (preset × channel) of rel_err² (core/relative_error.h;
+// unclamped, so the objective stays smooth where the error is within the reference's noise)
+// of the model's pencil-beam profile at normal incidence against the slab reference on its bins,
+// the model averaged over each bin as the scores do (pipeline/scoring.h). The optimizer is
+// NLopt's BOBYQA (Powell 2009: bounded, derivative-free, quadratic models of the objective),
+// started from the model's current values; it stops at a relative change of the parameters below
+// `xtolRel` or after `maxEvaluations`. A model that gives NaN, Inf or negative values at some
+// parameters scores +∞ there (listed in `problems` with the values) and the search goes on from
+// the best point. Cancel keeps the best point so far. The same targets and start give the same
+// result (BOBYQA is deterministic).
+#pragma once
+
+#include "bssrdf/program_library.h"
+#include "material/material.h"
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace app {
+
+// One target: a preset's channel with its slab reference (per unit power entering, as the
+// pencil plot draws it) on bins [edges[i], edges[i+1]).
+struct FitTarget {
+    std::string preset;
+    int channel = 0;
+    double ldMm = 0;
+    material::MaterialParams params; // the medium (the model's builtins)
+    std::vector<double> edges, ref, refSe;
+};
+
+// One free variable: a float parameter, or one component of a colour ("Albedo.g").
+struct FitVariable {
+    std::string param; // the parameter's name
+    int component = 0; // 0 for a float, 0..2 for a colour's r, g, b
+    std::string label; // "Multiplier", "Albedo.g"
+    double lo = 0, hi = 1;
+};
+
+// The free variables of `names` (NAME or NAME=LO,HI with a range inside the declared one), in
+// order. Throws core::Error("--params", …) naming a parameter the model does not declare, a bool,
+// a range outside the declared one or empty, or a name given twice.
+std::vector<FitVariable> fitVariables(const bssrdf::Model& m,
+                                      const std::vector<std::string>& names);
+
+struct FitSettings {
+    double xtolRel = 1e-4;
+    int maxEvaluations = 300;
+};
+
+struct FitResult {
+    std::vector<double> start, best;              // per variable
+    double startObjective = 0, bestObjective = 0; // mean rel_err² over the targets
+    std::vector<double> relErrStart, relErrBest;  // per target
+    int evaluations = 0;
+    std::string status;     // NLopt's stop reason, in words
+    bool converged = false; // stopped by the parameter tolerance (not by the budget or a cancel)
+    std::vector<std::string> problems; // parameter values where the model was not finite
+};
+
+// Sets the variables' values into `values` (the model's parameter values).
+void applyFit(const std::vector<FitVariable>& vars, const std::vector<double>& x,
+              bssrdf::ParamValues& values);
+
+// Runs the fit of entry `e` (its pencil program, its current values as the start). progress is
+// called after each evaluation with (evaluations, best objective so far); cancel stops it.
+FitResult fitModel(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& vars,
+                   const std::vector<FitTarget>& targets, const FitSettings& s,
+                   const std::function<void(int, double)>& progress = {},
+                   const std::atomic<bool>* cancel = nullptr);
+
+// rel_err of the model with `values` on each target (NaN where the model is not finite or the
+// target has no paths); `squared`, when given, receives the unclamped rel_err² of each (the
+// objective's terms).
+std::vector<double> relErrOnTargets(const bssrdf::ModelEntry& e, const bssrdf::ParamValues& values,
+                                    const std::vector<FitTarget>& targets,
+                                    std::string* problem = nullptr,
+                                    std::vector<double>* squared = nullptr);
+
+// The model file's text with the declared defaults of `values`' parameters set to them (a model
+// that opens with the fitted values: its first line says so).
+std::string withDefaults(const bssrdf::Model& m, const bssrdf::ParamValues& values,
+                         const std::string& note);
+
+} // namespace app
