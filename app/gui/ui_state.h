@@ -83,6 +83,7 @@ struct UiShared {
     WorkspaceState workspace;
     std::vector<std::string> recent;       // recently opened model files, newest first (saved)
     int windowWidth = 0, windowHeight = 0; // the window's size, saved to open at it next time
+    Rect resetDefaults; // the Models panel's last "reset to the file's defaults" (screen px)
     bool quit = false;
     std::string status; // one-line status shown in the menu bar
     SceneInspect inspect;

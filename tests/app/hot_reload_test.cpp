@@ -3,6 +3,7 @@
 // values survive; models appear and disappear with their files; shaders reload too.
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
+#include "gui/gui.h"
 #include "pipeline/pencil_series.h"
 #include "pipeline/workbench.h"
 
@@ -163,7 +164,22 @@ TEST(HotReload, AnEditedDefaultIsReportedAndResetBringsIt) {
     EXPECT_EQ(e->values.at("Multiplier")[0], 1.0f) << "the value in use survived the reload";
     EXPECT_EQ(bssrdf::valuesOffTheDefaults(*e->model, e->values),
               std::vector<std::string>{"Multiplier"});
-    wb.library().find(path)->values = bssrdf::defaultValues(*e->model); // the panel's button
+    // the Models panel says so and its button, clicked, brings the file's default
+    app::HeadlessGui gui(wb, 1280, 720);
+    gui.ui().shared.show(app::PanelId::Models);
+    gui.frame();
+    gui.frame();
+    const app::Rect r = gui.ui().shared.resetDefaults;
+    ASSERT_GT(r.width(), 10.0f) << "no reset button";
+    const float x = 0.5f * (r.x0 + r.x1), y = 0.5f * (r.y0 + r.y1);
+    gui.mouse(x, y, false);
+    gui.frame();
+    gui.mouse(x, y, true);
+    gui.frame();
+    gui.mouse(x, y, false);
+    gui.frame();
+    gui.noMouse();
+    EXPECT_EQ(e->values.at("Multiplier")[0], 2.0f);
     ASSERT_TRUE(waitFor(wb, [&] { return valueAt0(wb, path) > 1.5 * before; }));
     EXPECT_NEAR(valueAt0(wb, path), 2.0 * before, 1e-3 * before);
     EXPECT_TRUE(bssrdf::valuesOffTheDefaults(*e->model, e->values).empty());

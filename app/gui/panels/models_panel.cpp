@@ -27,7 +27,7 @@ void drawModelParams(bssrdf::ModelEntry& e) {
 }
 } // namespace
 
-void drawModelsPanel(Workbench& wb, UiShared&) {
+void drawModelsPanel(Workbench& wb, UiShared& ui) {
     auto& entries = wb.library().entries();
     if (entries.empty()) ImGui::TextDisabled("no .bssrdf files in materials/");
     for (auto& e : entries) {
@@ -75,6 +75,8 @@ void drawModelsPanel(Workbench& wb, UiShared&) {
                     ImGui::PopStyleColor();
                     if (ImGui::SmallButton("reset to the file's defaults"))
                         e.values = bssrdf::defaultValues(*e.model);
+                    const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+                    ui.resetDefaults = {lo.x, lo.y, hi.x, hi.y};
                 }
                 ImGui::Checkbox("own parameters", &view.override);
                 if (ImGui::IsItemHovered())
