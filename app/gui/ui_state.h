@@ -32,6 +32,7 @@ enum class PanelId {
     Captures,
     Slice,
     Scoreboard,
+    Fit,
     Errors,
     Log,
     Timings,
@@ -214,6 +215,13 @@ struct ScoreboardPanelState {
     std::vector<Rect> rowRects; // where each listed row was drawn last frame (screen px)
 };
 
+// The Fit panel: the model and the parameters to fit (the fit itself is Workbench::fit()).
+struct FitPanelState {
+    std::string model;               // display path ("": the reference's model)
+    std::vector<std::string> params; // the parameters ticked
+    Rect fitButton, applyButton;     // last frame (screen px)
+};
+
 // The BSSRDF slice panel: what it compares and shows (the run's settings are SliceSettings).
 enum class SliceQuantity { R, S };
 struct SlicePanelState {
@@ -244,6 +252,7 @@ struct UiState {
     ParametersPanelState parameters;
     PencilPanelState pencil;
     LitSpherePanelState litSpheres;
+    FitPanelState fit;
     PointCloudPanelState pointCloud;
     OctreePanelState octree;
     IrradiancePanelState irradiance;

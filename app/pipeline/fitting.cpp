@@ -56,10 +56,8 @@ const char* stopReason(nlopt_result r) {
 }
 
 struct Objective {
-    const bssrdf::ModelEntry* entry;
     const std::vector<FitVariable>* vars;
-    const std::vector<FitTarget>* targets;
-    bssrdf::ParamValues values;
+    const ObjectiveFn* fn;
     int evaluations = 0;
     double best = std::numeric_limits<double>::infinity();
     std::vector<double> bestX;
@@ -69,17 +67,19 @@ struct Objective {
     nlopt_opt opt = nullptr;
     size_t notFinite = 0; // evaluations where the model was not finite
 };
+
 double objective(unsigned n, const double* x, double*, void* data) {
     auto& o = *static_cast<Objective*>(data);
-    if (o.cancel && o.cancel->load()) nlopt_force_stop(o.opt);
-    applyFit(*o.vars, std::vector<double>(x, x + n), o.values);
+    if (o.cancel && o.cancel->load()) {
+        nlopt_force_stop(o.opt);
+        return std::numeric_limits<double>::max();
+    }
     std::string problem;
-    std::vector<double> squared;
-    relErrOnTargets(*o.entry, o.values, *o.targets, &problem, &squared);
-    double sum = 0;
-    for (double e2 : squared)
-        sum += e2;
-    double f = sum / double(std::max<size_t>(1, squared.size()));
+    double f = (*o.fn)(std::vector<double>(x, x + n), problem);
+    if (o.cancel && o.cancel->load()) { // cancelled while it evaluated: not a model problem
+        nlopt_force_stop(o.opt);
+        return std::numeric_limits<double>::max();
+    }
     if (!std::isfinite(f)) {
         // outside where the model is finite: the worst value there is, and a note of where
         ++o.notFinite;
@@ -199,37 +199,26 @@ std::vector<double> relErrOnTargets(const bssrdf::ModelEntry& e, const bssrdf::P
     return out;
 }
 
-FitResult fitModel(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& vars,
-                   const std::vector<FitTarget>& targets, const FitSettings& s,
-                   const std::function<void(int, double)>& progress,
-                   const std::atomic<bool>* cancel) {
-    if (!e.usable()) throw core::Error(e.displayPath, 0, "the model is not usable");
-    if (targets.empty()) throw core::Error("fit", 0, "no targets to fit to");
-    FitResult r;
+SearchResult searchParameters(const std::vector<FitVariable>& vars,
+                              const std::vector<double>& start, const FitSettings& s,
+                              const ObjectiveFn& fn,
+                              const std::function<void(int, double)>& progress,
+                              const std::atomic<bool>* cancel) {
     const unsigned n = unsigned(vars.size());
     std::vector<double> lo(n), hi(n), x(n);
     for (unsigned i = 0; i < n; ++i) {
         lo[i] = vars[i].lo;
         hi[i] = vars[i].hi;
-        x[i] =
-            std::clamp(double(e.values.at(vars[i].param)[size_t(vars[i].component)]), lo[i], hi[i]);
+        x[i] = std::clamp(start.at(i), lo[i], hi[i]);
     }
-    r.start = x;
-    Objective o{&e, &vars, &targets,  e.values, 0, std::numeric_limits<double>::infinity(),
-                x,  {},    &progress, cancel};
-    std::vector<double> squaredStart;
-    {
-        bssrdf::ParamValues v = e.values;
-        applyFit(vars, x, v);
-        r.relErrStart = relErrOnTargets(e, v, targets, nullptr, &squaredStart);
-    }
+    Objective o{&vars, &fn, 0, std::numeric_limits<double>::infinity(), x, {}, &progress, cancel};
     // BOBYQA from the start; where the model was not finite during a run (its quadratic model
     // then holds a wall of penalties), again from the best point with a smaller first step, at
     // most kRestarts times while the budget lasts
     constexpr int kRestarts = 3;
     nlopt_result res = NLOPT_FAILURE;
     for (int run = 0; run <= kRestarts; ++run) {
-        const size_t problemsBefore = o.notFinite;
+        const size_t notFiniteBefore = o.notFinite;
         const int budget = s.maxEvaluations - o.evaluations;
         if (budget <= 0) break;
         nlopt_opt opt = nlopt_create(NLOPT_LN_BOBYQA, n);
@@ -250,24 +239,54 @@ FitResult fitModel(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& 
         res = nlopt_optimize(opt, from.data(), &fmin);
         nlopt_destroy(opt);
         o.opt = nullptr;
-        const bool walled = o.notFinite > problemsBefore;
+        const bool walled = o.notFinite > notFiniteBefore;
         if (!walled || res == NLOPT_FORCED_STOP || res == NLOPT_MAXEVAL_REACHED) break;
     }
     if (o.evaluations >= s.maxEvaluations && res != NLOPT_FORCED_STOP) res = NLOPT_MAXEVAL_REACHED;
+    SearchResult r;
     r.status = stopReason(res);
     r.converged = res == NLOPT_XTOL_REACHED || res == NLOPT_FTOL_REACHED || res == NLOPT_SUCCESS;
     r.evaluations = o.evaluations;
     r.problems = o.problems;
+    r.start = x;
     r.best = o.bestX;
-    bssrdf::ParamValues v = e.values;
-    applyFit(vars, r.start, v);
-    double sum = 0;
-    for (double e2 : squaredStart)
-        sum += e2;
-    r.startObjective = sum / double(targets.size());
-    applyFit(vars, r.best, v);
-    r.relErrBest = relErrOnTargets(e, v, targets);
     r.bestObjective = o.best;
+    return r;
+}
+
+double meanSquared(const std::vector<double>& squared) {
+    double sum = 0;
+    for (double e2 : squared)
+        sum += e2;
+    return squared.empty() ? std::numeric_limits<double>::quiet_NaN()
+                           : sum / double(squared.size());
+}
+
+FitResult fitModel(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& vars,
+                   const std::vector<FitTarget>& targets, const FitSettings& s,
+                   const std::function<void(int, double)>& progress,
+                   const std::atomic<bool>* cancel) {
+    if (!e.usable()) throw core::Error(e.displayPath, 0, "the model is not usable");
+    if (targets.empty()) throw core::Error("fit", 0, "no targets to fit to");
+    std::vector<double> start;
+    for (const FitVariable& v : vars)
+        start.push_back(e.values.at(v.param)[size_t(v.component)]);
+    bssrdf::ParamValues values = e.values;
+    const ObjectiveFn fn = [&](const std::vector<double>& x, std::string& problem) {
+        applyFit(vars, x, values);
+        std::vector<double> squared;
+        relErrOnTargets(e, values, targets, &problem, &squared);
+        return meanSquared(squared);
+    };
+    const SearchResult sr = searchParameters(vars, start, s, fn, progress, cancel);
+    FitResult r;
+    static_cast<SearchResult&>(r) = sr;
+    std::vector<double> squared;
+    applyFit(vars, r.start, values);
+    r.relErrStart = relErrOnTargets(e, values, targets, nullptr, &squared);
+    r.startObjective = meanSquared(squared);
+    applyFit(vars, r.best, values);
+    r.relErrBest = relErrOnTargets(e, values, targets);
     return r;
 }
 

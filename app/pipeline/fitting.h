@@ -51,14 +51,29 @@ struct FitSettings {
     int maxEvaluations = 300;
 };
 
-struct FitResult {
-    std::vector<double> start, best;              // per variable
-    double startObjective = 0, bestObjective = 0; // mean rel_err² over the targets
-    std::vector<double> relErrStart, relErrBest;  // per target
+// The search itself, for any objective: `fn` maps the variables' values to the mean rel_err²
+// (non-finite where the model is not finite, with `problem` saying why); BOBYQA from `start`
+// (clamped into the ranges) with its restarts. progress and cancel as for fitModel.
+using ObjectiveFn = std::function<double(const std::vector<double>& x, std::string& problem)>;
+struct SearchResult {
+    std::vector<double> start, best; // per variable
+    double bestObjective = 0;        // mean rel_err² over the targets at `best`
     int evaluations = 0;
     std::string status;     // NLopt's stop reason, in words
     bool converged = false; // stopped by the parameter tolerance (not by the budget or a cancel)
     std::vector<std::string> problems; // parameter values where the model was not finite
+};
+SearchResult searchParameters(const std::vector<FitVariable>& vars,
+                              const std::vector<double>& start, const FitSettings& s,
+                              const ObjectiveFn& fn,
+                              const std::function<void(int, double)>& progress = {},
+                              const std::atomic<bool>* cancel = nullptr);
+// The mean of rel_err² terms (NaN for none).
+double meanSquared(const std::vector<double>& squared);
+
+struct FitResult : SearchResult {
+    double startObjective = 0;                   // mean rel_err² at the start
+    std::vector<double> relErrStart, relErrBest; // per target
 };
 
 // Sets the variables' values into `values` (the model's parameter values).

@@ -38,6 +38,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     m_reference = std::make_unique<ReferenceStage>(m_root / "shaders" / "pathtrace_slab.comp");
     m_slice = std::make_unique<SliceStage>();
     m_scoreboard = std::make_unique<ScoreboardStage>();
+    m_fit = std::make_unique<FitStage>();
     m_monteCarlo = std::make_unique<MonteCarloStage>();
     m_textureSpace = std::make_unique<TextureSpaceStage>(m_root);
     m_litSpheres = std::make_unique<LitSphereStage>(m_root / "shaders" / "pathtrace_sphere.comp");
@@ -97,6 +98,11 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
                                  ri.model,
                                  ri.params};
              return m_scoreboard->update(in);
+         }},
+        {m_fit.get(),
+         [this] {
+             const ReferenceSnapshot snap = m_reference->snapshot();
+             return m_fit->update({m_library.get(), &snap, referenceInputs().params});
          }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); },
          [this](CaptureEntries& out) { m_litSpheres->capture(litSphereInputs(-1), out); }},
@@ -340,6 +346,17 @@ void Workbench::capture(CaptureEntries& out,
         if (onStage) onStage(step.stage->name());
         step.capture(out);
     }
+}
+
+void Workbench::startFit(const std::string& model, const std::vector<std::string>& params,
+                         const FitSettings& s) {
+    const ReferenceSnapshot snap = m_reference->snapshot();
+    m_fit->start({m_library.get(), &snap, referenceInputs().params}, model, params, s);
+}
+
+void Workbench::finishFit() {
+    const ReferenceSnapshot snap = m_reference->snapshot();
+    m_fit->finish({m_library.get(), &snap, referenceInputs().params});
 }
 
 ReferenceSnapshot Workbench::finishReference() {

@@ -21,6 +21,7 @@
 #include "core/file_watcher.h"
 #include "core/limits.h"
 #include "material/material.h"
+#include "pipeline/fit_stage.h"
 #include "pipeline/lit_sphere_stage.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/monte_carlo_stage.h"
@@ -139,6 +140,13 @@ class Workbench {
     // pencil plot's reference. Runs while enabled (the GUI: while its panel shows).
     void setScoreboardEnabled(bool on) { m_scoreboardEnabled = on; }
     const ScoreboardStage& scoreboard() const { return *m_scoreboard; }
+    // The Fit panel's fit (fit_stage.h) against the pencil plot's reference.
+    FitStage& fit() { return *m_fit; }
+    const FitStage& fit() const { return *m_fit; }
+    // Starts fitting `params` of `model` to the reference as it is now (FitStage::start).
+    void startFit(const std::string& model, const std::vector<std::string>& params,
+                  const FitSettings& s = {});
+    void finishFit(); // runs the fit to its end on this thread (tests)
     // Runs the slice's estimate to its target and evaluates every model (captures, tests).
     SliceSnapshot finishSlice() {
         update(); // the stages before it (the models' σ) first
@@ -217,6 +225,7 @@ class Workbench {
     SliceSettings m_sliceSettings;
     std::unique_ptr<SliceStage> m_slice;
     std::unique_ptr<ScoreboardStage> m_scoreboard;
+    std::unique_ptr<FitStage> m_fit;
     bool m_scoreboardEnabled = false;
     std::unique_ptr<LitSphereStage> m_litSpheres;
     std::unique_ptr<SceneStage> m_scene;

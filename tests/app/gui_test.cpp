@@ -526,3 +526,62 @@ TEST(HeadlessGui, EveryCharacterTheProgramPrintsHasAGlyph) {
     EXPECT_EQ(missing, "") << "no glyph in " << app::symbolFontFile();
     fs::remove_all(root);
 }
+
+// The Fit panel: a dipole mis-set to Multiplier 1.6, fitted with a click against the pencil
+// plot's reference while frames go on (each frame serves evaluations for a bounded time), lowers
+// rel_err on every channel; Apply, clicked, puts the fitted value in the model.
+TEST(FitPanel, FitsAgainstTheReferenceWithoutHoldingTheFramesAndApplies) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("fitpanel", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    wb.referenceSettings().enabled = true;
+    wb.referenceSettings().paths = 100000;
+    const std::string dipole = "materials/dipole.bssrdf";
+    wb.library().find(dipole)->values["Multiplier"] = {1.6f, 0, 0};
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui.shared.show(app::PanelId::Fit);
+    ui.fit.model = dipole;
+    ui.fit.params = {"Multiplier"};
+    gui.frame();
+    wb.finishReference();
+    gui.frame();
+    gui.frame();
+    auto click = [&](const app::Rect& r) {
+        const float x = 0.5f * (r.x0 + r.x1), y = 0.5f * (r.y0 + r.y1);
+        gui.mouse(x, y, false);
+        gui.frame();
+        gui.mouse(x, y, true);
+        gui.frame();
+        gui.mouse(x, y, false);
+        gui.frame();
+        gui.noMouse();
+    };
+    ASSERT_GT(ui.fit.fitButton.width(), 5.0f);
+    click(ui.fit.fitButton);
+    ASSERT_TRUE(wb.fit().snapshot().running || wb.fit().snapshot().result) << "not started";
+    core::Stopwatch clock;
+    double longest = 0;
+    while (wb.fit().snapshot().running && clock.ms() < 60000) {
+        core::Stopwatch one;
+        gui.frame();
+        longest = std::max(longest, one.ms());
+    }
+    const app::FitSnapshot snap = wb.fit().snapshot();
+    ASSERT_TRUE(snap.result.has_value()) << snap.problem;
+    EXPECT_TRUE(snap.result->converged) << snap.result->status;
+    EXPECT_LT(longest, 1000.0) << "a frame waited for the fit";
+    ASSERT_EQ(snap.targets.size(), snap.result->relErrBest.size());
+    for (size_t t = 0; t < snap.targets.size(); ++t)
+        EXPECT_LT(snap.result->relErrBest[t], snap.result->relErrStart[t]) << snap.targets[t];
+    EXPECT_GE(snap.trace.size(), 3u);
+    gui.frame();
+    ASSERT_GT(ui.fit.applyButton.width(), 5.0f);
+    click(ui.fit.applyButton);
+    EXPECT_FLOAT_EQ(wb.library().find(dipole)->values.at("Multiplier")[0],
+                    float(snap.result->best[0]));
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+    fs::remove_all(root);
+}

@@ -40,6 +40,7 @@ void drawSamplesOnMesh(Workbench& wb, RenderPanelState& ps, const render::Settin
 // shown). Throws core::Error naming the path (no finished frame, other extension, I/O).
 void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem::path& path);
 void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
+void drawFitPanel(Workbench& wb, FitPanelState& ps, UiShared& ui);
 // Starts replaying captures/NAME in a child process (core::Error when it cannot start).
 void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name);
 // File → Record capture: the current state recorded by a child process (CapturesPanelState).

@@ -31,6 +31,8 @@ const std::array<PanelEntry, kPanelCount>& panelRegistry() {
          [](Workbench& wb, UiState& ui) { drawSlicePanel(wb, ui.slice, ui.shared); }},
         {PanelId::Scoreboard, "Scoreboard", "Scoreboard", 1, Area::Centre, true, false,
          [](Workbench& wb, UiState& ui) { drawScoreboardPanel(wb, ui.scoreboard, ui.shared); }},
+        {PanelId::Fit, "Fit", "Fit", 1, Area::Centre, false, false,
+         [](Workbench& wb, UiState& ui) { drawFitPanel(wb, ui.fit, ui.shared); }},
         {PanelId::Errors, "Errors", "Errors", 3, Area::Bottom, true, false,
          [](Workbench& wb, UiState& ui) { drawErrorsPanel(wb, ui.errors, ui.shared); }},
         {PanelId::Log, "Log", "Log", 3, Area::Bottom, true, false,
