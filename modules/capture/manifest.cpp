@@ -306,6 +306,7 @@ Manifest fromJson(const nlohmann::json& j, const std::string& fileForErrors) {
 }
 
 namespace {
+// A manifest (or, inputsOnly, a record request) from its file, errors at their JSON line.
 Manifest readFile(const std::filesystem::path& file, bool inputsOnly) {
     const std::string fileName = file.string();
     const std::string text = core::readFile(file);
@@ -317,6 +318,7 @@ Manifest readFile(const std::filesystem::path& file, bool inputsOnly) {
         throw core::Error(fileName, core::lineOfOffset(text, offset),
                           "invalid JSON: " + parseErrorMessage(e.what()));
     } catch (const json::exception& e) {
+        // e.g. out_of_range 406: a number too large for a double ("1e999")
         throw core::Error(fileName, 0, "invalid JSON: " + parseErrorMessage(e.what()));
     }
     return Reader(fileName, text, inputsOnly).manifest(j);
@@ -343,20 +345,7 @@ Manifest readManifest(const std::filesystem::path& captureDir) {
                               "missing: there is no capture folder " + captureDir.string());
         throw core::Error(fileName, 0, "missing (every capture folder needs a manifest.json)");
     }
-    const std::string text = core::readFile(file);
-    json j;
-    try {
-        j = json::parse(text);
-    } catch (const json::parse_error& e) {
-        size_t offset = e.byte > 0 ? e.byte - 1 : 0;
-        throw core::Error(fileName, core::lineOfOffset(text, offset),
-                          "invalid JSON: " + parseErrorMessage(e.what()));
-    } catch (const json::exception& e) {
-        // e.g. out_of_range 406: a number too large for a double ("1e999")
-        throw core::Error(fileName, 0, "invalid JSON: " + parseErrorMessage(e.what()));
-    }
-    Reader reader(fileName, text);
-    return reader.manifest(j);
+    return readFile(file, false);
 }
 
 void writeManifest(const std::filesystem::path& captureDir, const Manifest& manifest) {

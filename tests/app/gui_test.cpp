@@ -348,15 +348,7 @@ TEST(HeadlessGui, PencilExportAsksWhere) {
     gui.frame();
     gui.frame();
     auto click = [&](const std::array<float, 4>& r) {
-        const float x = 0.5f * (r[0] + r[2]), y = 0.5f * (r[1] + r[3]);
-        gui.mouse(x, y, false);
-        gui.frame();
-        gui.mouse(x, y, true);
-        gui.frame();
-        gui.mouse(x, y, false);
-        gui.frame();
-        gui.noMouse();
-        gui.frame();
+        testsupport::click(gui, {r[0], r[1], r[2], r[3]});
     };
     ASSERT_EQ(ui.pencil.exportButtons.size(), 2u);
     click(ui.pencil.exportButtons[0]); // Export CSV
@@ -548,16 +540,7 @@ TEST(FitPanel, FitsAgainstTheReferenceWithoutHoldingTheFramesAndApplies) {
     wb.finishReference();
     gui.frame();
     gui.frame();
-    auto click = [&](const app::Rect& r) {
-        const float x = 0.5f * (r.x0 + r.x1), y = 0.5f * (r.y0 + r.y1);
-        gui.mouse(x, y, false);
-        gui.frame();
-        gui.mouse(x, y, true);
-        gui.frame();
-        gui.mouse(x, y, false);
-        gui.frame();
-        gui.noMouse();
-    };
+    auto click = [&](const app::Rect& r) { testsupport::click(gui, r); };
     ASSERT_GT(ui.fit.fitButton.width(), 5.0f);
     click(ui.fit.fitButton);
     ASSERT_TRUE(wb.fit().snapshot().running || wb.fit().snapshot().result) << "not started";

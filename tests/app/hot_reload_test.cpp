@@ -2,6 +2,7 @@
 // write a broken one, keep the old output and get the error; fix it, recover. Parameter
 // values survive; models appear and disappear with their files; shaders reload too.
 #include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
 #include "../support/workbench_values.h"
 #include "gui/gui.h"
 #include "pipeline/pencil_series.h"
@@ -171,14 +172,7 @@ TEST(HotReload, AnEditedDefaultIsReportedAndResetBringsIt) {
     gui.frame();
     const app::Rect r = gui.ui().shared.resetDefaults;
     ASSERT_GT(r.width(), 10.0f) << "no reset button";
-    const float x = 0.5f * (r.x0 + r.x1), y = 0.5f * (r.y0 + r.y1);
-    gui.mouse(x, y, false);
-    gui.frame();
-    gui.mouse(x, y, true);
-    gui.frame();
-    gui.mouse(x, y, false);
-    gui.frame();
-    gui.noMouse();
+    testsupport::click(gui, r);
     EXPECT_EQ(e->values.at("Multiplier")[0], 2.0f);
     ASSERT_TRUE(waitFor(wb, [&] { return valueAt0(wb, path) > 1.5 * before; }));
     EXPECT_NEAR(valueAt0(wb, path), 2.0 * before, 1e-3 * before);

@@ -246,19 +246,11 @@ TEST(LitSpherePanel, StatesTheNoiseAndShowsTheDifferenceInStandardErrors) {
     EXPECT_GT(ps.relSe[0], 0.0); // a few paths per pixel: noisy
     ASSERT_GT(ps.zRadio.width(), 5.0f);
     EXPECT_FALSE(ps.diffZ);
-    const float x = 0.5f * (ps.zRadio.x0 + ps.zRadio.x1), y = 0.5f * (ps.zRadio.y0 + ps.zRadio.y1);
-    gui.mouse(x, y, false);
-    gui.frame();
-    gui.mouse(x, y, true);
-    gui.frame();
-    gui.mouse(x, y, false);
-    gui.frame();
-    gui.noMouse();
-    gui.frame();
+    testsupport::click(gui, ps.zRadio);
     EXPECT_TRUE(ps.diffZ);
     if (const char* dir = std::getenv("BW_PANEL_PNG_DIR"))
-        gl::writePng((std::filesystem::path(dir) / "LitSpheres-z-1280x720.png").string(), 1280,
-                     720, gui.pixels());
+        gl::writePng((std::filesystem::path(dir) / "LitSpheres-z-1280x720.png").string(), 1280, 720,
+                     gui.pixels());
     for (const auto& e : wb.errors())
         ADD_FAILURE() << e.source << ": " << e.text;
     std::filesystem::remove_all(root);

@@ -111,16 +111,7 @@ TEST(ScoreboardPanel, ScoresEveryModelFollowsHotReloadAndAClickOpensThePencilPlo
     while (k < rows.size() && !(rows[k].score.model == "better_dipole" && rows[k].channel == 1))
         ++k;
     ASSERT_LT(k, rows.size());
-    const app::Rect r = ps.rowRects[k];
-    const float x = 0.5f * (r.x0 + r.x1), y = 0.5f * (r.y0 + r.y1);
-    gui.mouse(x, y, false);
-    gui.frame();
-    gui.mouse(x, y, true);
-    gui.frame();
-    gui.mouse(x, y, false);
-    gui.frame();
-    gui.noMouse();
-    gui.frame();
+    testsupport::click(gui, ps.rowRects[k]);
     EXPECT_EQ(wb.plotSettings().solo, "materials/better_dipole.bssrdf");
     EXPECT_EQ(wb.plotSettings().channel, 1);
     gui.frame();

@@ -221,15 +221,7 @@ TEST(SlicePanel, ClickingABinPicksItForTheExitDirections) {
     // forward (θs ≈ 0), at 0.55 of r_max: radial bin 3 of 6, θs bin 0
     const float cx = 0.5f * (ps.refRect.x0 + ps.refRect.x1);
     const float cy = 0.5f * (ps.refRect.y0 + ps.refRect.y1);
-    const float x = cx + 0.55f * (0.5f * ps.refRect.width() - 2.0f), y = cy - 2.0f;
-    gui.mouse(x, y, false);
-    gui.frame();
-    gui.mouse(x, y, true);
-    gui.frame();
-    gui.mouse(x, y, false);
-    gui.frame();
-    gui.noMouse();
-    gui.frame();
+    testsupport::clickAt(gui, cx + 0.55f * (0.5f * ps.refRect.width() - 2.0f), cy - 2.0f);
     EXPECT_EQ(ps.bin, 3 * wb.sliceSettings().thetaSBins + 0);
     for (const auto& e : wb.errors())
         ADD_FAILURE() << e.source << ": " << e.text;

@@ -1,6 +1,7 @@
 // Shared by GUI tests: what ImGui drew in the last frame, read from its window list.
 #pragma once
 
+#include "gui/gui.h"
 #include "gui/panels/registry.h"
 #include "gui/workspace_layout.h"
 #include "pipeline/scene_stage.h"
@@ -48,6 +49,22 @@ inline ImGuiWindow* panelWindow(app::PanelId id) {
         if (std::string(w->Name).find(key) != std::string::npos) return w;
     }
     return nullptr;
+}
+
+// A real click at (x, y), or at the centre of `r`: the pointer arrives, presses, releases and
+// leaves, a frame each (ImGui sees hover, press and release as a user's click).
+inline void clickAt(app::HeadlessGui& gui, float x, float y) {
+    gui.mouse(x, y, false);
+    gui.frame();
+    gui.mouse(x, y, true);
+    gui.frame();
+    gui.mouse(x, y, false);
+    gui.frame();
+    gui.noMouse();
+    gui.frame();
+}
+inline void click(app::HeadlessGui& gui, const app::Rect& r) {
+    clickAt(gui, 0.5f * (r.x0 + r.x1), 0.5f * (r.y0 + r.y1));
 }
 
 } // namespace testsupport
