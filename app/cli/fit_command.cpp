@@ -17,6 +17,7 @@
 #include "pipeline/fitting.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/scoring.h"
+#include "pipeline/scoring_oblique.h"
 #include "pipeline/workbench.h"
 
 #include <nlohmann/json.hpp>
@@ -35,6 +36,7 @@ namespace {
 struct FitArgs {
     std::string model, out;
     std::vector<std::string> params, presets{"Marble"}, channels{"R", "G", "B"};
+    std::vector<double> thetaI{0.0}; // 0: the radial profile; > 0: the whole BSSRDF's slice
     uint64_t paths = 1000000;
     int maxEvaluations = FitSettings{}.maxEvaluations;
     double xtolRel = FitSettings{}.xtolRel;
@@ -58,22 +60,36 @@ std::vector<FitTarget> makeTargets(Workbench& wb, const bssrdf::ModelEntry& e, c
                                   preset + " " + ch +
                                       ": sigma_a = 0, no diffuse mean free path to fit over "
                                       "(leave the channel out with --channels)");
-            pathtrace::SlabSettings ss = scoringSlabSettings(ld, paths);
-            ss.seed = seed;
-            bool cached = false;
-            const pathtrace::SlabResult ref =
-                slabReference(m, ss, "fit: reference " + preset + " " + ch + what, cached);
-            FitTarget t;
-            t.preset = preset;
-            t.channel = c;
-            t.ldMm = ld;
-            t.params = eff;
-            t.edges = binEdges(ref.rMid);
-            for (size_t i = 0; i < ref.rd.size(); ++i) {
-                t.ref.push_back(ref.rd[i] / (1 - ref.specular));
-                t.refSe.push_back(ref.rdStderr[i] / (1 - ref.specular));
+            for (double theta : a.thetaI) {
+                FitTarget t;
+                t.preset = preset;
+                t.channel = c;
+                t.ldMm = ld;
+                t.params = eff;
+                t.thetaI = theta;
+                bool cached = false;
+                if (theta > 0) { // the whole BSSRDF on compare's oblique bins
+                    pathtrace::EstimateSettings es = obliqueSettings(ld, theta, paths);
+                    es.seed = seed;
+                    t.bins = es.bins;
+                    t.slice = obliqueReference(m, es,
+                                               preset + " " + ch + " at " +
+                                                   core::formatNumber(theta, 3) + " deg" + what,
+                                               cached);
+                    targets.push_back(std::move(t));
+                    continue;
+                }
+                pathtrace::SlabSettings ss = scoringSlabSettings(ld, paths);
+                ss.seed = seed;
+                const pathtrace::SlabResult ref =
+                    slabReference(m, ss, "fit: reference " + preset + " " + ch + what, cached);
+                t.edges = binEdges(ref.rMid);
+                for (size_t i = 0; i < ref.rd.size(); ++i) {
+                    t.ref.push_back(ref.rd[i] / (1 - ref.specular));
+                    t.refSe.push_back(ref.rdStderr[i] / (1 - ref.specular));
+                }
+                targets.push_back(std::move(t));
             }
-            targets.push_back(std::move(t));
         }
     }
     return targets;
@@ -90,6 +106,12 @@ int runFit(const fs::path& root, const FitArgs& a) {
             throw core::Error("--channels", 0, "'" + ch + "' is not a channel (R, G or B)");
     if (a.channels.empty()) throw core::Error("--channels", 0, "give at least one channel");
     if (a.presets.empty()) throw core::Error("--presets", 0, "give at least one preset");
+    if (a.thetaI.empty()) throw core::Error("--theta-i", 0, "give at least one angle");
+    for (double t : a.thetaI)
+        if (!(std::isfinite(t) && t >= 0 && t < 90))
+            throw core::Error("--theta-i", 0,
+                              "incidence angles must be degrees in [0, 90), got " +
+                                  core::formatNumber(t, 6));
     std::error_code ec;
     fs::create_directories(a.out, ec);
     if (ec || !fs::is_directory(a.out))
@@ -169,6 +191,7 @@ int runFit(const fs::path& root, const FitArgs& a) {
     for (size_t t = 0; t < targets.size(); ++t)
         j["targets"].push_back({{"preset", targets[t].preset},
                                 {"channel", std::string(1, "RGB"[targets[t].channel])},
+                                {"theta_i", targets[t].thetaI},
                                 {"ld_mm", targets[t].ldMm},
                                 {"rel_err_start", r.relErrStart[t]},
                                 {"rel_err_fitted", r.relErrBest[t]}});
@@ -214,9 +237,12 @@ int runFit(const fs::path& root, const FitArgs& a) {
                     std::isfinite(sigma[i]) ? core::formatNumber(sigma[i], 2).c_str() : "-",
                     core::formatNumber(r.start[i], 6).c_str());
     for (size_t t = 0; t < targets.size(); ++t)
-        std::printf("%s %c: rel_err %s -> %s\n", targets[t].preset.c_str(),
-                    "RGB"[targets[t].channel], pct(r.relErrStart[t]).c_str(),
-                    pct(r.relErrBest[t]).c_str());
+        std::printf("%s %c%s: rel_err %s -> %s\n", targets[t].preset.c_str(),
+                    "RGB"[targets[t].channel],
+                    targets[t].thetaI > 0
+                        ? (" at " + core::formatNumber(targets[t].thetaI, 3) + " deg").c_str()
+                        : "",
+                    pct(r.relErrStart[t]).c_str(), pct(r.relErrBest[t]).c_str());
     std::printf("wrote %s, %s, %s\n", (fs::path(a.out) / "fit.json").c_str(),
                 (fs::path(a.out) / "report.md").c_str(), modelOut.c_str());
     for (const std::string& p : r.problems)
@@ -247,6 +273,10 @@ Command fitCommand() {
                     ->required();
                 cmd.add_option("--presets", a->presets, "presets to fit over (default Marble)");
                 cmd.add_option("--channels", a->channels, "channels R G B (default all)")
+                    ->delimiter(',');
+                cmd.add_option("--theta-i", a->thetaI,
+                               "incidence angles in degrees, [0, 90): DEG[,DEG...]; 0 fits the "
+                               "radial profile, others the whole BSSRDF over the plane (default 0)")
                     ->delimiter(',');
                 addCountOption(&cmd, "--paths", a->paths,
                                "reference paths per preset and channel (default " +

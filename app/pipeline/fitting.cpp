@@ -6,6 +6,8 @@
 #include "core/text.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/scoring.h"
+#include "pipeline/scoring_oblique.h"
+#include "pipeline/slice_model.h"
 
 #include <nlopt.h>
 
@@ -171,6 +173,32 @@ std::vector<double> relErrOnTargets(const bssrdf::ModelEntry& e, const bssrdf::P
     const GLuint program = e.programs.at("pencil_profile.comp").id();
     for (const FitTarget& t : targets) {
         const bssrdf::Builtins b = builtinsOf(t.params);
+        if (t.thetaI > 0) { // the whole BSSRDF on the slice's bins
+            const bool readsWo = !e.model->attrs.noWo;
+            const SliceSampling n = sliceSampling(t.bins, readsWo);
+            const std::vector<glm::dvec3> rgb = bssrdf::evaluateQueries(
+                program, *e.model, values, b, sliceQueries(t.bins, t.thetaI, readsWo, n));
+            std::vector<double> v(rgb.size());
+            for (size_t i = 0; i < rgb.size(); ++i)
+                v[i] = rgb[i][t.channel];
+            const ModelSlice ms = modelSlice(t.bins, t.thetaI, t.params.eta, readsWo, n, v);
+            bool finite = true;
+            for (double x : ms.R)
+                finite &= std::isfinite(x) && x >= 0;
+            if (!finite) {
+                if (problem)
+                    *problem = t.preset + " " + "RGB"[t.channel] +
+                               ": Bssrdf() is negative or not finite on the slice";
+                out.push_back(std::numeric_limits<double>::quiet_NaN());
+                if (squared) squared->push_back(std::numeric_limits<double>::quiet_NaN());
+                continue;
+            }
+            const capture::ScoreRow row = scoreSlice(t.bins, t.slice, ms, t.ldMm);
+            out.push_back(std::isfinite(row.relErr) ? row.relErr
+                                                    : std::numeric_limits<double>::quiet_NaN());
+            if (squared) squared->push_back(row.relErrSquared);
+            continue;
+        }
         std::vector<core::BinNodes> nodes(t.ref.size());
         std::vector<double> radii;
         for (size_t i = 0; i < t.ref.size(); ++i) {

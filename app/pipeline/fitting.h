@@ -1,19 +1,20 @@
 // Fitting a model's declared parameters to the path-traced reference (`fit`): the free
 // parameters (each float, or each component of a colour, within its declared range or a narrower
-// one) minimise the mean over the targets (preset × channel) of rel_err² (core/relative_error.h;
-// unclamped, so the objective stays smooth where the error is within the reference's noise)
-// of the model's pencil-beam profile at normal incidence against the slab reference on its bins,
-// the model averaged over each bin as the scores do (pipeline/scoring.h). The optimizer is
-// NLopt's BOBYQA (Powell 2009: bounded, derivative-free, quadratic models of the objective),
-// started from the model's current values; it stops at a relative change of the parameters below
-// `xtolRel` or after `maxEvaluations`. A model that gives NaN, Inf or negative values at some
-// parameters scores +∞ there (listed in `problems` with the values) and the search goes on from
-// the best point. Cancel keeps the best point so far. The same targets and start give the same
-// result (BOBYQA is deterministic).
+// one) minimise the mean over the targets (preset × channel × θi) of rel_err²
+// (core/relative_error.h; unclamped, so the objective stays smooth where the error is within the
+// reference's noise) of the model's pencil-beam profile at normal incidence against the slab
+// reference on its bins, the model averaged over each bin as the scores do (pipeline/scoring.h).
+// The optimizer is NLopt's BOBYQA (Powell 2009: bounded, derivative-free, quadratic models of the
+// objective), started from the model's current values; it stops at a relative change of the
+// parameters below `xtolRel` or after `maxEvaluations`. A model that gives NaN, Inf or negative
+// values at some parameters scores +∞ there (listed in `problems` with the values) and the search
+// goes on from the best point. Cancel keeps the best point so far. The same targets and start give
+// the same result (BOBYQA is deterministic).
 #pragma once
 
 #include "bssrdf/program_library.h"
 #include "material/material.h"
+#include "pathtrace/bssrdf_estimate.h"
 
 #include <atomic>
 #include <functional>
@@ -23,13 +24,18 @@
 namespace app {
 
 // One target: a preset's channel with its slab reference (per unit power entering, as the
-// pencil plot draws it) on bins [edges[i], edges[i+1]).
+// pencil plot draws it) on bins [edges[i], edges[i+1]); or, at thetaI > 0, the estimate of the
+// whole BSSRDF on the slice's bins (pipeline/scoring_oblique.h), where the model's rel_err over
+// the plane (ln r, θs) is the term.
 struct FitTarget {
     std::string preset;
     int channel = 0;
     double ldMm = 0;
     material::MaterialParams params; // the medium (the model's builtins)
     std::vector<double> edges, ref, refSe;
+    double thetaI = 0;
+    pathtrace::BssrdfBins bins;   // thetaI > 0
+    pathtrace::BssrdfSlice slice; // thetaI > 0: the reference
 };
 
 // One free variable: a float parameter, or one component of a colour ("Albedo.g").

@@ -192,6 +192,7 @@ ScoreRow scoreAgainstReference(const std::vector<double>& edges, const std::vect
         edges, ref, refSe, model, core::kRelErrFromLd * ldMm, core::kRelErrToLd * ldMm);
     s.relErr = e.valid() ? e.value : std::numeric_limits<double>::infinity();
     s.relErrSe = e.valid() ? e.se : 0.0;
+    s.relErrSquared = e.squared;
     // the model's power over the reference's in the bins whose centres lie within ±5 % of r:
     // a window of fixed width in ln r, so the ratio does not hang on one bin of a fine grid
     auto ratioAt = [&](double r, double& se) {

@@ -76,9 +76,9 @@ std::optional<pathtrace::BssrdfSlice> cachedSlice(const fs::path& file,
 // rel_err over the slice's bins: one radial series per θs sector (and exit cell), index
 // ib·cells + ic with ib = ir·sectors + it, weighted by `weight(ic)`; noisy rings merged within
 // each series (core/relative_error.h).
-std::pair<double, double> relErr(const pathtrace::BssrdfBins& b, const std::vector<double>& model,
-                                 const std::vector<double>& ref, const std::vector<double>& se,
-                                 int cells, const std::function<double(int)>& weight, double ldMm) {
+core::RelativeError relErr(const pathtrace::BssrdfBins& b, const std::vector<double>& model,
+                           const std::vector<double>& ref, const std::vector<double>& se, int cells,
+                           const std::function<double(int)>& weight, double ldMm) {
     std::vector<core::RadialSeries> series;
     for (int it = 0; it < b.thetaSBins; ++it)
         for (int ic = 0; ic < cells; ++ic) {
@@ -92,10 +92,10 @@ std::pair<double, double> relErr(const pathtrace::BssrdfBins& b, const std::vect
             }
             series.push_back(std::move(s));
         }
-    const core::RelativeError e = core::radialRelativeError(
+    core::RelativeError e = core::radialRelativeError(
         b.rEdges(), series, core::kRelErrFromLd * ldMm, core::kRelErrToLd * ldMm);
-    if (!e.valid()) return {std::numeric_limits<double>::infinity(), 0.0};
-    return {e.value, e.se};
+    if (!e.valid()) e.value = std::numeric_limits<double>::infinity(), e.se = 0;
+    return e;
 }
 
 } // namespace
@@ -115,7 +115,7 @@ pathtrace::BssrdfSlice obliqueReference(const pathtrace::Medium& m,
     const pathtrace::BssrdfTally t =
         pathtrace::estimateChunks(m, s, 0, 0, pathtrace::chunkCount(s), [&](uint64_t done) {
             if (clock.ms() < 1000) return;
-            std::fprintf(stderr, "\rcompare: reference %s  %5.1f%%   ", what.c_str(),
+            std::fprintf(stderr, "\rreference %s  %5.1f%%   ", what.c_str(),
                          100.0 * double(done) / double(s.paths));
             std::fflush(stderr);
         });
@@ -146,14 +146,17 @@ capture::ScoreRow scoreSlice(const pathtrace::BssrdfBins& b, const pathtrace::Bs
     for (int ib = 0; ib < nb; ++ib)
         area[size_t(ib)] = pathtrace::binArea(b, ib / b.thetaSBins);
     // over (ln r, θs): the θs sectors are equal, so each sector's series weighs 1
-    std::tie(row.relErr, row.relErrSe) = relErr(
+    const core::RelativeError plane = relErr(
         b, model.R, ref.R, ref.RStderr, 1, [](int) { return 1.0; }, ldMm);
+    row.relErr = plane.value;
+    row.relErrSe = plane.se;
+    row.relErrSquared = plane.squared;
     if (nc > 1 && ref.S.size() == size_t(nb * nc) && model.S.size() == ref.S.size()) {
-        auto [rel, se] = relErr(
+        const core::RelativeError dir = relErr(
             b, model.S, ref.S, ref.SStderr, nc,
             [&](int ic) { return pathtrace::cellProjectedSolidAngle(b, ic); }, ldMm);
-        row.relErrDir = rel;
-        row.relErrDirSe = se;
+        row.relErrDir = dir.value;
+        row.relErrDirSe = dir.se;
     }
     // ring powers (Σ over θs of R·A) and their standard errors
     std::vector<double> ringM(size_t(b.rBins), 0.0), ringR(size_t(b.rBins), 0.0),

@@ -19,6 +19,8 @@ struct ScoreRow {
     std::string model, preset, channel;
     double thetaI = 0, ldMm = 0;
     double relErr = 0, relErrSe = 0; // rel_err, rel_err_se
+    double relErrSquared = 0;        // rel_err² before its clamp at 0 (what `fit` minimises;
+                                     // not written to scores.json)
     double ratio1 = 0, ratio1Se = 0, ratio4 = 0, ratio4Se = 0;
     double totalRatio = 0, totalRatioSe = 0;
     std::optional<double> rErr5Ld;

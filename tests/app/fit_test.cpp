@@ -199,6 +199,25 @@ TEST_F(FitCli, AMisSetDipoleIsFittedBackAndTheResultLoads) {
     ::unsetenv("BSSRDF_WORKBENCH_CACHE");
 }
 
+// At θi > 0 the target is the whole BSSRDF over the plane (compare's oblique bins): a fit to the
+// slab's radial profile and to the slice at 45° together lowers rel_err on both.
+TEST_F(FitCli, ObliqueIncidenceFitsTheWholeBssrdfOverThePlane) {
+    ::setenv("BSSRDF_WORKBENCH_CACHE", (dir() / "cache").c_str(), 1);
+    const std::string dipole = (fs::path(BW_SOURCE_ROOT) / "materials/dipole.bssrdf").string();
+    const std::vector<std::string> args = {
+        "fit", "--model",   dipole, "--params", "Multiplier", "--presets", "Skin1",  "--channels",
+        "G",   "--theta-i", "0,45", "--paths",  "20000",      "--out",     "oblique"};
+    clitest::RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    const nlohmann::json j = nlohmann::json::parse(clitest::readText(dir() / "oblique/fit.json"));
+    ASSERT_EQ(j["targets"].size(), 2u);
+    EXPECT_EQ(j["targets"][1]["theta_i"].get<double>(), 45.0);
+    for (const auto& t : j["targets"])
+        EXPECT_LT(t["rel_err_fitted"].get<double>(), t["rel_err_start"].get<double>()) << t.dump();
+    EXPECT_NE(r.output.find("Skin1 G at 45 deg: rel_err"), std::string::npos) << r.output;
+    ::unsetenv("BSSRDF_WORKBENCH_CACHE");
+}
+
 TEST_F(FitCli, BadInputsNameTheirArgument) {
     const std::string dipole = (fs::path(BW_SOURCE_ROOT) / "materials/dipole.bssrdf").string();
     expectFailure({"fit", "--model", dipole, "--params", "Mult", "--out", "o"},
@@ -214,5 +233,8 @@ TEST_F(FitCli, BadInputsNameTheirArgument) {
     expectFailure({"fit", "--model", dipole, "--params", "Multiplier", "--presets", "Spectralon",
                    "--out", "o"},
                   {"--presets", "Spectralon", "sigma_a = 0"});
+    expectFailure(
+        {"fit", "--model", dipole, "--params", "Multiplier", "--theta-i", "90", "--out", "o"},
+        {"--theta-i", "[0, 90)"});
     EXPECT_FALSE(fs::exists(dir() / "o/fit.json"));
 }
