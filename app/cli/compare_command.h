@@ -68,6 +68,10 @@ struct CompareReport {
     std::vector<ProfileCurves> profiles;
     std::vector<SliceMaps> slices;
 };
+// The radial profiles and the ratio to the reference of one preset and channel, written into
+// `dir` as PNG (drawn headless by the pencil plot's code); each picture's file name and caption.
+std::vector<std::pair<std::string, std::string>>
+writeProfilePictures(const std::filesystem::path& dir, const ProfileCurves& p);
 // report.md and report.html in `dir` (and the pictures in dir/plots when `pictures`).
 void writeReports(const std::filesystem::path& dir, const CompareReport& r, bool pictures);
 

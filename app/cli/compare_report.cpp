@@ -112,6 +112,21 @@ std::vector<Picture> profilePictures(const ProfileCurves& p) {
     return out;
 }
 
+} // namespace
+
+std::vector<std::pair<std::string, std::string>> writeProfilePictures(const fs::path& dir,
+                                                                      const ProfileCurves& p) {
+    std::vector<std::pair<std::string, std::string>> out;
+    fs::create_directories(dir);
+    for (const Picture& pic : profilePictures(p)) {
+        core::writeFile(dir / pic.file, pic.png);
+        out.emplace_back(pic.file, pic.caption);
+    }
+    return out;
+}
+
+namespace {
+
 // Reference R and each model's signed relative difference over the plane, one disc each.
 Picture slicePicture(const SliceMaps& s) {
     const std::string ch(1, "RGB"[s.channel]);

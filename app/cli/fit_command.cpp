@@ -1,9 +1,11 @@
 // `bssrdf-workbench fit`: a model's declared parameters fitted to the path-traced reference
 // (pipeline/fitting.h), with uncertainties from refitting on two independent half references.
-// Outputs in --out: fit.json (schema "bssrdf-workbench-fit", version 1), report.md and the model
-// file with the fitted values as its defaults (<stem>_fit.bssrdf, loadable like any model).
+// Outputs in --out: fit.json (schema "bssrdf-workbench-fit", version 1), report.md with the
+// profiles before and after against the reference (plots/, as `compare` draws them) and the
+// model file with the fitted values as its defaults (<stem>_fit.bssrdf, loadable like any model).
 #include "cli/args.h"
 #include "cli/command.h"
+#include "cli/compare_command.h"
 #include "cli/interrupt.h"
 #include "cli/options.h"
 #include "cli/output.h"
@@ -41,6 +43,7 @@ struct FitArgs {
     int maxEvaluations = FitSettings{}.maxEvaluations;
     double xtolRel = FitSettings{}.xtolRel;
     bool uncertainty = true;
+    bool plots = true; // before/after pictures in the report
 };
 
 // The targets of every preset × channel against references of `paths` paths with `seed`.
@@ -217,11 +220,32 @@ int runFit(const fs::path& root, const FitArgs& a) {
            << core::formatNumber(vars[i].hi, 4) << "] | " << core::formatNumber(r.start[i], 5)
            << " | " << core::formatNumber(r.best[i], 5) << " | "
            << (std::isfinite(sigma[i]) ? core::formatNumber(sigma[i], 2) : "—") << " |\n";
-    md << "\n| preset | ch | l_d (mm) | rel_err before | rel_err after |\n|---|---|---|---|---|\n";
+    md << "\n| preset | ch | θi | l_d (mm) | rel_err before | rel_err after |\n"
+          "|---|---|---|---|---|---|\n";
     for (size_t t = 0; t < targets.size(); ++t)
         md << "| " << targets[t].preset << " | "
-           << "RGB"[targets[t].channel] << " | " << core::formatNumber(targets[t].ldMm, 4) << " | "
-           << pct(r.relErrStart[t]) << " | " << pct(r.relErrBest[t]) << " |\n";
+           << "RGB"[targets[t].channel] << " | " << core::formatNumber(targets[t].thetaI, 3)
+           << " | " << core::formatNumber(targets[t].ldMm, 4) << " | " << pct(r.relErrStart[t])
+           << " | " << pct(r.relErrBest[t]) << " |\n";
+    // before and after against the reference, per radial target (the pencil plot's drawing)
+    if (a.plots) {
+        bssrdf::ParamValues startValues = e->values;
+        applyFit(vars, r.start, startValues);
+        for (const FitTarget& t : targets) {
+            if (t.thetaI > 0) continue;
+            ProfileCurves curves{t.preset, t.channel, t.ldMm, {}, t.ref, t.refSe, {}};
+            for (size_t i = 0; i + 1 < t.edges.size(); ++i)
+                curves.r.push_back(0.5 * (t.edges[i] + t.edges[i + 1]));
+            const std::vector<double> before = modelOnTarget(*e, startValues, t);
+            const std::vector<double> after = modelOnTarget(*e, fitted, t);
+            if (before.empty() || after.empty()) continue;
+            curves.models = {{stem + " start", before}, {stem + " fitted", after}};
+            md << "\n";
+            for (const auto& [file, caption] :
+                 writeProfilePictures(fs::path(a.out) / "plots", curves))
+                md << "![" << caption << "](plots/" << file << ")\n";
+        }
+    }
     if (!r.problems.empty()) {
         md << "\nWhere the model was not finite during the search:\n\n";
         for (const std::string& p : r.problems)
@@ -292,6 +316,7 @@ Command fitCommand() {
                                 core::Limits{1e-12, 1});
                 cmd.add_flag("!--no-uncertainty", a->uncertainty,
                              "skip the refits on two half references");
+                cmd.add_flag("!--no-plots", a->plots, "the report without its PNG plots");
                 cmd.add_option("--out", a->out, "output folder: fit.json, report.md, the model")
                     ->required();
                 return [a](CommandContext& ctx) { return runFit(ctx.root(), *a); };

@@ -165,6 +165,27 @@ void applyFit(const std::vector<FitVariable>& vars, const std::vector<double>& x
         values[vars[i].param][size_t(vars[i].component)] = float(x[i]);
 }
 
+std::vector<double> modelOnTarget(const bssrdf::ModelEntry& e, const bssrdf::ParamValues& values,
+                                  const FitTarget& t, std::string* problem) {
+    std::vector<core::BinNodes> nodes(t.ref.size());
+    std::vector<double> radii;
+    for (size_t i = 0; i < t.ref.size(); ++i) {
+        nodes[i] = core::areaAverageNodes(t.edges[i], t.edges[i + 1]);
+        radii.insert(radii.end(), nodes[i].r.begin(), nodes[i].r.end());
+    }
+    const bssrdf::Profile p = bssrdf::evaluateProfile(
+        e.programs.at("pencil_profile.comp").id(), *e.model, values, builtinsOf(t.params), radii);
+    if (std::string bad = bssrdf::profileProblem(p); !bad.empty()) {
+        if (problem) *problem = t.preset + " " + "RGB"[t.channel] + ": " + bad;
+        return {};
+    }
+    std::vector<double> model(t.ref.size());
+    for (size_t i = 0; i < t.ref.size(); ++i)
+        for (size_t k = 0; k < 4; ++k)
+            model[i] += nodes[i].w[k] * p.value[4 * i + k][t.channel];
+    return model;
+}
+
 std::vector<double> relErrOnTargets(const bssrdf::ModelEntry& e, const bssrdf::ParamValues& values,
                                     const std::vector<FitTarget>& targets, std::string* problem,
                                     std::vector<double>* squared) {
@@ -199,23 +220,12 @@ std::vector<double> relErrOnTargets(const bssrdf::ModelEntry& e, const bssrdf::P
             if (squared) squared->push_back(row.relErrSquared);
             continue;
         }
-        std::vector<core::BinNodes> nodes(t.ref.size());
-        std::vector<double> radii;
-        for (size_t i = 0; i < t.ref.size(); ++i) {
-            nodes[i] = core::areaAverageNodes(t.edges[i], t.edges[i + 1]);
-            radii.insert(radii.end(), nodes[i].r.begin(), nodes[i].r.end());
-        }
-        const bssrdf::Profile p = bssrdf::evaluateProfile(program, *e.model, values, b, radii);
-        if (std::string bad = bssrdf::profileProblem(p); !bad.empty()) {
-            if (problem) *problem = t.preset + " " + "RGB"[t.channel] + ": " + bad;
+        const std::vector<double> model = modelOnTarget(e, values, t, problem);
+        if (model.empty()) {
             out.push_back(std::numeric_limits<double>::quiet_NaN());
             if (squared) squared->push_back(std::numeric_limits<double>::quiet_NaN());
             continue;
         }
-        std::vector<double> model(t.ref.size());
-        for (size_t i = 0; i < t.ref.size(); ++i)
-            for (size_t k = 0; k < 4; ++k)
-                model[i] += nodes[i].w[k] * p.value[4 * i + k][t.channel];
         const core::RelativeError err =
             core::radialRelativeError(t.edges, t.ref, t.refSe, model, core::kRelErrFromLd * t.ldMm,
                                       core::kRelErrToLd * t.ldMm);

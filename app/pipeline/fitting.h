@@ -93,6 +93,11 @@ FitResult fitModel(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& 
                    const std::function<void(int, double)>& progress = {},
                    const std::atomic<bool>* cancel = nullptr);
 
+// The model with `values` averaged over each bin of a radial target (θi = 0), channel t.channel;
+// empty when it is not finite somewhere (`problem` says where).
+std::vector<double> modelOnTarget(const bssrdf::ModelEntry& e, const bssrdf::ParamValues& values,
+                                  const FitTarget& t, std::string* problem = nullptr);
+
 // rel_err of the model with `values` on each target (NaN where the model is not finite or the
 // target has no paths); `squared`, when given, receives the unclamped rel_err² of each (the
 // objective's terms).

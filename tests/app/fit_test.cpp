@@ -192,6 +192,10 @@ TEST_F(FitCli, AMisSetDipoleIsFittedBackAndTheResultLoads) {
     EXPECT_NE(r.output.find("Marble R: rel_err"), std::string::npos) << r.output;
     EXPECT_NE(clitest::readText(dir() / "fitted/report.md").find("| Multiplier |"),
               std::string::npos);
+    // before and after against the reference, as `compare` draws them
+    EXPECT_NE(clitest::readText(dir() / "fitted/report.md").find("](plots/Marble_R_profile.png)"),
+              std::string::npos);
+    EXPECT_GT(fs::file_size(dir() / "fitted/plots/Marble_R_ratio.png"), 1000u);
     // the written model carries the fitted default and loads
     const bssrdf::Model fitted =
         bssrdf::loadModel(dir() / "fitted/off_fit.bssrdf", "fitted/off_fit.bssrdf");
