@@ -236,8 +236,11 @@ int runFit(const fs::path& root, const FitArgs& a) {
             ProfileCurves curves{t.preset, t.channel, t.ldMm, {}, t.ref, t.refSe, {}};
             for (size_t i = 0; i + 1 < t.edges.size(); ++i)
                 curves.r.push_back(0.5 * (t.edges[i] + t.edges[i + 1]));
-            const std::vector<double> before = modelOnTarget(*e, startValues, t);
-            const std::vector<double> after = modelOnTarget(*e, fitted, t);
+            FitTarget atStart = t, atBest = t; // with the medium the model was evaluated with
+            applyMedium(vars, r.start, t.params, atStart.params);
+            applyMedium(vars, r.best, t.params, atBest.params);
+            const std::vector<double> before = modelOnTarget(*e, startValues, atStart);
+            const std::vector<double> after = modelOnTarget(*e, fitted, atBest);
             if (before.empty() || after.empty()) continue;
             curves.models = {{stem + " start", before}, {stem + " fitted", after}};
             md << "\n";
@@ -293,7 +296,9 @@ Command fitCommand() {
                 auto a = std::make_shared<FitArgs>();
                 cmd.add_option("--model", a->model, "the model file")->required();
                 cmd.add_option("--params", a->params,
-                               "parameters to fit: NAME (its declared range) or NAME=LO,HI")
+                               "parameters to fit: NAME (its declared range) or NAME=LO,HI; also "
+                               "the medium's medium.sigma_scale (sigma_a and sigma_s times it, "
+                               "[0.1, 10]) and medium.g ([-0.95, 0.95])")
                     ->required();
                 cmd.add_option("--presets", a->presets, "presets to fit over (default Marble)");
                 cmd.add_option("--channels", a->channels, "channels R G B (default all)")

@@ -30,6 +30,11 @@ void FitStage::start(const FitInputs& in, const std::string& model,
     bssrdf::ModelEntry* e = in.library ? in.library->find(model) : nullptr;
     if (!e || !e->usable()) throw core::Error(model, 0, "not a usable model");
     std::vector<FitVariable> vars = fitVariables(*e->model, params);
+    for (const FitVariable& v : vars)
+        if (v.medium)
+            throw core::Error("fit", 0,
+                              "the Fit panel frees the model's parameters; fit the medium (" +
+                                  v.label + ") with the `fit` command");
     if (!in.reference || in.reference->pathsDone == 0 || !in.params)
         throw core::Error("fit", 0, "the path-traced reference has no paths yet (start it)");
     const ReferenceSnapshot& ref = *in.reference;

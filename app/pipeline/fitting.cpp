@@ -111,6 +111,28 @@ std::vector<FitVariable> fitVariables(const bssrdf::Model& m,
     for (const std::string& spec : names) {
         const size_t eq = spec.find('=');
         const std::string name = spec.substr(0, eq);
+        if (name == kSigmaScale || name == kMediumG) { // the medium the model is evaluated with
+            if (!seen.insert(name).second)
+                throw core::Error("--params", 0, "'" + name + "' is given twice");
+            const bool scale = name == kSigmaScale;
+            const double declaredLo = scale ? 0.1 : -0.95, declaredHi = scale ? 10.0 : 0.95;
+            double lo = declaredLo, hi = declaredHi;
+            if (eq != std::string::npos) {
+                const std::string range = spec.substr(eq + 1);
+                const size_t comma = range.find(',');
+                if (comma == std::string::npos)
+                    throw core::Error("--params", 0, "'" + spec + "': expected NAME=LO,HI");
+                lo = parseBound(range.substr(0, comma), name + " lower bound");
+                hi = parseBound(range.substr(comma + 1), name + " upper bound");
+                if (lo < declaredLo || hi > declaredHi || !(lo < hi))
+                    throw core::Error("--params", 0,
+                                      "'" + spec + "': the range must lie inside [" +
+                                          core::formatNumber(declaredLo, 3) + ", " +
+                                          core::formatNumber(declaredHi, 3) + "] with LO < HI");
+            }
+            out.push_back({name, 0, name, lo, hi, true});
+            continue;
+        }
         const bssrdf::Param* p = m.findParam(name);
         if (!p) {
             std::string known;
@@ -162,7 +184,20 @@ std::vector<FitVariable> fitVariables(const bssrdf::Model& m,
 void applyFit(const std::vector<FitVariable>& vars, const std::vector<double>& x,
               bssrdf::ParamValues& values) {
     for (size_t i = 0; i < vars.size() && i < x.size(); ++i)
-        values[vars[i].param][size_t(vars[i].component)] = float(x[i]);
+        if (!vars[i].medium) values[vars[i].param][size_t(vars[i].component)] = float(x[i]);
+}
+
+void applyMedium(const std::vector<FitVariable>& vars, const std::vector<double>& x,
+                 const material::MaterialParams& base, material::MaterialParams& p) {
+    p = base;
+    for (size_t i = 0; i < vars.size() && i < x.size(); ++i) {
+        if (vars[i].param == kSigmaScale) {
+            p.sigmaA = base.sigmaA * x[i];
+            p.sigmaS = base.sigmaS * x[i];
+        } else if (vars[i].param == kMediumG) {
+            p.g = x[i];
+        }
+    }
 }
 
 std::vector<double> modelOnTarget(const bssrdf::ModelEntry& e, const bssrdf::ParamValues& values,
@@ -308,23 +343,32 @@ FitResult fitModel(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& 
     if (targets.empty()) throw core::Error("fit", 0, "no targets to fit to");
     std::vector<double> start;
     for (const FitVariable& v : vars)
-        start.push_back(e.values.at(v.param)[size_t(v.component)]);
+        start.push_back(v.param == kSigmaScale ? 1.0
+                        : v.param == kMediumG  ? double(targets.front().params.g)
+                                               : double(e.values.at(v.param)[size_t(v.component)]));
     bssrdf::ParamValues values = e.values;
-    const ObjectiveFn fn = [&](const std::vector<double>& x, std::string& problem) {
+    // the targets with the medium the model is evaluated with (the references unchanged)
+    std::vector<FitTarget> work = targets;
+    auto set = [&](const std::vector<double>& x) {
         applyFit(vars, x, values);
+        for (size_t t = 0; t < work.size(); ++t)
+            applyMedium(vars, x, targets[t].params, work[t].params);
+    };
+    const ObjectiveFn fn = [&](const std::vector<double>& x, std::string& problem) {
+        set(x);
         std::vector<double> squared;
-        relErrOnTargets(e, values, targets, &problem, &squared);
+        relErrOnTargets(e, values, work, &problem, &squared);
         return meanSquared(squared);
     };
     const SearchResult sr = searchParameters(vars, start, s, fn, progress, cancel);
     FitResult r;
     static_cast<SearchResult&>(r) = sr;
     std::vector<double> squared;
-    applyFit(vars, r.start, values);
-    r.relErrStart = relErrOnTargets(e, values, targets, nullptr, &squared);
+    set(r.start);
+    r.relErrStart = relErrOnTargets(e, values, work, nullptr, &squared);
     r.startObjective = meanSquared(squared);
-    applyFit(vars, r.best, values);
-    r.relErrBest = relErrOnTargets(e, values, targets);
+    set(r.best);
+    r.relErrBest = relErrOnTargets(e, values, work);
     return r;
 }
 

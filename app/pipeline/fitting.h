@@ -38,17 +38,23 @@ struct FitTarget {
     pathtrace::BssrdfSlice slice; // thetaI > 0: the reference
 };
 
-// One free variable: a float parameter, or one component of a colour ("Albedo.g").
+// One free variable: a float parameter, one component of a colour ("Albedo.g"), or a quantity
+// of the medium the model is evaluated with (the reference stays the preset's own medium):
+// kSigmaScale multiplies σa and σs, kMediumG replaces g.
+inline constexpr const char* kSigmaScale = "medium.sigma_scale";
+inline constexpr const char* kMediumG = "medium.g";
 struct FitVariable {
-    std::string param; // the parameter's name
+    std::string param; // the parameter's name (or kSigmaScale, kMediumG)
     int component = 0; // 0 for a float, 0..2 for a colour's r, g, b
     std::string label; // "Multiplier", "Albedo.g"
     double lo = 0, hi = 1;
+    bool medium = false; // kSigmaScale or kMediumG
 };
 
-// The free variables of `names` (NAME or NAME=LO,HI with a range inside the declared one), in
-// order. Throws core::Error("--params", …) naming a parameter the model does not declare, a bool,
-// a range outside the declared one or empty, or a name given twice.
+// The free variables of `names` (NAME or NAME=LO,HI with a range inside the declared one; the
+// medium's kSigmaScale in [0.1, 10] and kMediumG in [-0.95, 0.95] by default), in order. Throws
+// core::Error("--params", …) naming a parameter the model does not declare, a bool, a range
+// outside the declared one or empty, or a name given twice.
 std::vector<FitVariable> fitVariables(const bssrdf::Model& m,
                                       const std::vector<std::string>& names);
 
@@ -82,9 +88,13 @@ struct FitResult : SearchResult {
     std::vector<double> relErrStart, relErrBest; // per target
 };
 
-// Sets the variables' values into `values` (the model's parameter values).
+// Sets the variables' values into `values` (the model's parameter values; medium variables
+// are left out).
 void applyFit(const std::vector<FitVariable>& vars, const std::vector<double>& x,
               bssrdf::ParamValues& values);
+// Sets the medium variables' values into `p`, the target's own medium `base` changed.
+void applyMedium(const std::vector<FitVariable>& vars, const std::vector<double>& x,
+                 const material::MaterialParams& base, material::MaterialParams& p);
 
 // Runs the fit of entry `e` (its pencil program, its current values as the start). progress is
 // called after each evaluation with (evaluations, best objective so far); cancel stops it.

@@ -38,7 +38,7 @@ const char* kGaussian = "analytic radial no_wi no_wo\n"
 // A target on Marble's red channel whose reference is the model itself at `values` (standard
 // errors 0.1 % of each bin: nearly exact).
 app::FitTarget ownOutput(app::Workbench& wb, const bssrdf::ModelEntry& e,
-                         const bssrdf::ParamValues& values) {
+                         const bssrdf::ParamValues& values, double sigmaScale = 1) {
     app::MaterialSettings s;
     wb.applyPreset(s, "Marble");
     app::FitTarget t;
@@ -56,9 +56,12 @@ app::FitTarget ownOutput(app::Workbench& wb, const bssrdf::ModelEntry& e,
         nodes.push_back(core::areaAverageNodes(t.edges[size_t(i)], t.edges[size_t(i) + 1]));
         radii.insert(radii.end(), nodes.back().r.begin(), nodes.back().r.end());
     }
+    material::MaterialParams scaled = t.params; // the medium made with; the target keeps its own
+    scaled.sigmaA *= sigmaScale;
+    scaled.sigmaS *= sigmaScale;
     const bssrdf::Profile p =
         bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model, values,
-                                app::builtinsOf(t.params), radii);
+                                app::builtinsOf(scaled), radii);
     for (int i = 0; i < n; ++i) {
         double v = 0;
         for (size_t k = 0; k < 4; ++k)
@@ -110,6 +113,27 @@ TEST(Fit, RecoversKnownParametersFromTheModelsOwnOutputAndIsDeterministic) {
     fs::remove_all(root);
 }
 
+// The medium as a free quantity: the dipole's own output for σ × 1.3 gives back σ scale 1.3
+// (the reference keeps the preset's medium; the model is evaluated with the scaled one).
+TEST(Fit, RecoversTheSigmaScaleOfTheMediumTheModelNeeds) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("fitmedium", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.update();
+    const bssrdf::ModelEntry* e = wb.library().find("materials/dipole.bssrdf");
+    ASSERT_TRUE(e && e->usable());
+    const std::vector<app::FitTarget> targets{ownOutput(wb, *e, e->values, 1.3)};
+    app::FitSettings s;
+    s.xtolRel = 1e-7;
+    const app::FitResult r =
+        app::fitModel(*e, app::fitVariables(*e->model, {"medium.sigma_scale"}), targets, s);
+    EXPECT_TRUE(r.converged) << r.status;
+    EXPECT_EQ(r.start[0], 1.0);
+    EXPECT_NEAR(r.best[0], 1.3, 1e-4);
+    EXPECT_LT(r.relErrBest[0], 1e-3);
+    fs::remove_all(root);
+}
+
 TEST(Fit, NanForSomeValuesIsListedAndTheSearchGoesOn) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("fitnan", {});
@@ -151,6 +175,8 @@ TEST(Fit, ParameterNamesAndRangesAreChecked) {
     fails({"Amp=x,1"}, "not a number");
     fails({"Unused"}, "is a bool");
     fails({"Amp", "Amp"}, "given twice");
+    fails({"medium.g=-2,0"}, "inside [-0.95, 0.95]");
+    fails({"medium.sigma_scale", "medium.sigma_scale"}, "given twice");
     const auto v = app::fitVariables(m, {"Amp=0.5,2", "W"});
     ASSERT_EQ(v.size(), 2u);
     EXPECT_EQ(v[0].lo, 0.5);
