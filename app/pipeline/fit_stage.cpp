@@ -11,6 +11,26 @@
 
 namespace app {
 
+std::vector<std::string> splitParams(const std::string& params) {
+    std::vector<std::string> out;
+    std::string cur;
+    bool range = false; // after '=' one comma belongs to LO,HI
+    for (char c : params) {
+        if (c == ',' && !range) {
+            if (!cur.empty()) out.push_back(cur);
+            cur.clear();
+            continue;
+        }
+        if (c == '=')
+            range = true;
+        else if (c == ',')
+            range = false;
+        cur += c;
+    }
+    if (!cur.empty()) out.push_back(cur);
+    return out;
+}
+
 FitStage::~FitStage() {
     stopWorker();
 }
@@ -185,6 +205,38 @@ bool FitStage::update(const FitInputs& in) {
 void FitStage::finish(const FitInputs& in) {
     while (m_snap.running)
         update(in);
+}
+
+void FitStage::capture(const FitInputs& in, const FitRequestSettings& request,
+                       CaptureEntries& out) {
+    if (request.model.empty()) return;
+    if (!in.reference || in.reference->pathsDone == 0) {
+        out.missing.push_back("fit: " + request.model + ": needs the path-traced reference");
+        return;
+    }
+    FitSettings s;
+    s.maxEvaluations = request.maxEvaluations;
+    s.xtolRel = request.xtolRel;
+    start(in, request.model, splitParams(request.params), s);
+    finish(in);
+    if (!m_snap.result)
+        throw core::Error("fit", 0, m_snap.problem.empty() ? "no result" : m_snap.problem);
+    const FitResult& r = *m_snap.result;
+    CaptureEntry e = captureEntry(CaptureEntry::Kind::Csv, "fit", "row");
+    e.relTol = 1e-4;
+    e.absTol = 1e-7;
+    e.note = "deterministic: the same reference and start give the same search (NLopt BOBYQA); "
+             "the model is evaluated in float on the GPU";
+    e.table.comments = {"fit of " + request.model + " (" + request.params +
+                            ") to the reference: " + r.status,
+                        "rows 0..n-1: variable i, start, fitted; then per target (R, G, B "
+                        "resolved): -1 - channel, rel_err before, rel_err after"};
+    e.table.columns = {"row", "a", "b"};
+    for (size_t i = 0; i < r.best.size(); ++i)
+        e.table.rows.push_back({double(i), r.start[i], r.best[i]});
+    for (size_t t = 0; t < m_targets.size(); ++t)
+        e.table.rows.push_back({-1.0 - m_targets[t].channel, r.relErrStart[t], r.relErrBest[t]});
+    out.entries.push_back(std::move(e));
 }
 
 StageStatus FitStage::status() const {

@@ -8,6 +8,8 @@
 // far; a model that becomes unusable ends it with a problem. Apply sets the fitted values.
 #pragma once
 
+#include "core/fields.h"
+#include "core/limits.h"
 #include "pipeline/fitting.h"
 #include "pipeline/reference_stage.h"
 #include "pipeline/stage.h"
@@ -21,6 +23,24 @@
 #include <vector>
 
 namespace app {
+
+// The fit a capture records (settings section "fit"): the Fit panel's last request. Recording
+// and replay run it again from the recorded values on the recorded reference (the search is
+// deterministic), so the fitted values replay exactly up to float evaluation.
+struct FitRequestSettings {
+    std::string model;  // display path; "" for none
+    std::string params; // comma-separated NAME or NAME=LO,HI
+    int maxEvaluations = FitSettings{}.maxEvaluations;
+    double xtolRel = FitSettings{}.xtolRel;
+};
+template <class V> void fields(V& v, FitRequestSettings& s) {
+    v("model", s.model, "model fitted (display path; empty: none)");
+    v("params", s.params, "its free parameters, comma-separated NAME or NAME=LO,HI");
+    v("max_evaluations", s.maxEvaluations, "evaluation budget", core::Limits{1, 1e6});
+    v("xtol_rel", s.xtolRel, "relative parameter tolerance of convergence", core::Limits{1e-12, 1});
+}
+// "a,b=1,2,c" → {"a", "b=1,2", "c"}: a comma starts a new name unless a range is open.
+std::vector<std::string> splitParams(const std::string& params);
 
 struct FitInputs {
     bssrdf::ModelLibrary* library = nullptr;
@@ -61,6 +81,10 @@ class FitStage : public StageOf<FitInputs> {
     bool apply(bssrdf::ModelLibrary& library);
     // Runs the fit to its end on this thread (tests, captures): update() until it has ended.
     void finish(const FitInputs& in);
+    // Captures: with a request, the fit run again from the current values to its end and
+    // `fit`, one row per variable (start, fitted) and one per target (rel_err before, after).
+    // A request without the reference recorded is noted in out.missing.
+    void capture(const FitInputs& in, const FitRequestSettings& request, CaptureEntries& out);
 
   private:
     void launch(const std::vector<double>& start);

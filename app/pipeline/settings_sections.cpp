@@ -59,6 +59,7 @@ std::vector<SettingsSection> settingsSections(Workbench* wb) {
         section<LitSphereSettings>("lit_spheres", wb ? &wb->litSphereSettings() : nullptr),
         scene,
         section<MonteCarloSettings>("monte_carlo", wb ? &wb->monteCarloSettings() : nullptr),
+        section<FitRequestSettings>("fit", wb ? &wb->fitRequest() : nullptr),
         section<TextureSpaceSettings>(
             "texture_space", wb ? &wb->textureSpaceSettings() : nullptr,
             [wb] { texspace::validateSettings(wb->textureSpaceSettings().sampling); }),

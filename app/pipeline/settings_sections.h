@@ -1,5 +1,5 @@
 // The workbench's settings as named sections, one per settings struct: "material", "plot",
-// "reference", "slice", "lit_spheres", "scene", "monte_carlo", "texture_space". A capture
+// "reference", "slice", "lit_spheres", "scene", "monte_carlo", "fit", "texture_space". A capture
 // manifest's "settings" (captures/settings_json.cpp) and the `defaults` table
 // (cli/defaults_command.cpp) loop over them, so a stage's settings are registered once, here
 // (settings_sections.cpp), and JSON, defaults and their documentation follow from the struct's

@@ -103,6 +103,10 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
          [this] {
              const ReferenceSnapshot snap = m_reference->snapshot();
              return m_fit->update({m_library.get(), &snap, referenceInputs().params});
+         },
+         [this](CaptureEntries& out) {
+             const ReferenceSnapshot snap = m_reference->snapshot(); // finished by its capture
+             m_fit->capture({m_library.get(), &snap, referenceInputs().params}, m_fitRequest, out);
          }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); },
          [this](CaptureEntries& out) { m_litSpheres->capture(litSphereInputs(-1), out); }},
@@ -352,6 +356,12 @@ void Workbench::startFit(const std::string& model, const std::vector<std::string
                          const FitSettings& s) {
     const ReferenceSnapshot snap = m_reference->snapshot();
     m_fit->start({m_library.get(), &snap, referenceInputs().params}, model, params, s);
+    m_fitRequest.model = model;
+    m_fitRequest.params.clear();
+    for (const std::string& p : params)
+        m_fitRequest.params += (m_fitRequest.params.empty() ? "" : ",") + p;
+    m_fitRequest.maxEvaluations = s.maxEvaluations;
+    m_fitRequest.xtolRel = s.xtolRel;
 }
 
 void Workbench::finishFit() {

@@ -147,6 +147,8 @@ class Workbench {
     void startFit(const std::string& model, const std::vector<std::string>& params,
                   const FitSettings& s = {});
     void finishFit(); // runs the fit to its end on this thread (tests)
+    // The last fit asked for, which captures record and replay (settings section "fit").
+    FitRequestSettings& fitRequest() { return m_fitRequest; }
     // Runs the slice's estimate to its target and evaluates every model (captures, tests).
     SliceSnapshot finishSlice() {
         update(); // the stages before it (the models' σ) first
@@ -226,6 +228,7 @@ class Workbench {
     std::unique_ptr<SliceStage> m_slice;
     std::unique_ptr<ScoreboardStage> m_scoreboard;
     std::unique_ptr<FitStage> m_fit;
+    FitRequestSettings m_fitRequest;
     bool m_scoreboardEnabled = false;
     std::unique_ptr<LitSphereStage> m_litSpheres;
     std::unique_ptr<SceneStage> m_scene;

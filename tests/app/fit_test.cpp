@@ -5,6 +5,7 @@
 #include "../support/cli_fixture.h"
 #include "../support/gl_fixture.h"
 #include "core/core.h"
+#include "pipeline/fit_stage.h"
 #include "pipeline/fitting.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/scoring.h"
@@ -177,6 +178,9 @@ TEST(Fit, ParameterNamesAndRangesAreChecked) {
     fails({"Amp", "Amp"}, "given twice");
     fails({"medium.g=-2,0"}, "inside [-0.95, 0.95]");
     fails({"medium.sigma_scale", "medium.sigma_scale"}, "given twice");
+    // the capture's comma-separated list keeps each range's comma
+    EXPECT_EQ(app::splitParams("Amp,W=1,2,medium.g"),
+              (std::vector<std::string>{"Amp", "W=1,2", "medium.g"}));
     const auto v = app::fitVariables(m, {"Amp=0.5,2", "W"});
     ASSERT_EQ(v.size(), 2u);
     EXPECT_EQ(v[0].lo, 0.5);

@@ -564,6 +564,15 @@ TEST(FitPanel, FitsAgainstTheReferenceWithoutHoldingTheFramesAndApplies) {
     click(ui.fit.applyButton);
     EXPECT_FLOAT_EQ(wb.library().find(dipole)->values.at("Multiplier")[0],
                     float(snap.result->best[0]));
+    // a capture records the fit asked for (run again from the values now) and replays it
+    EXPECT_EQ(wb.fitRequest().model, dipole);
+    EXPECT_EQ(wb.fitRequest().params, "Multiplier");
+    app::recordCapture(wb, "withfit");
+    const std::string manifest = core::readFile(root / "captures/withfit/manifest.json");
+    EXPECT_NE(manifest.find("\"stage\": \"fit\""), std::string::npos);
+    std::string report;
+    EXPECT_EQ(app::replayCapture(root / "captures/withfit", root, false, report), 0) << report;
+    EXPECT_NE(report.find("fit"), std::string::npos) << report;
     for (const auto& e : wb.errors())
         ADD_FAILURE() << e.source << ": " << e.text;
     fs::remove_all(root);
