@@ -195,6 +195,14 @@ bool FitStage::update(const FitInputs& in) {
         r.startObjective = meanSquared(squared);
         applyFit(m_snap.vars, r.best, values);
         r.relErrBest = relErrOnTargets(*e, values, m_targets);
+        // the fitted curve for the pencil plot (its range and samples now)
+        bssrdf::ParamValues fitted = e->values;
+        applyFit(m_snap.vars, r.best, fitted);
+        if (in.rMaxMm > 0 && in.samples > 1 && in.params)
+            m_snap.fitted = bssrdf::evaluateProfile(e->programs.at("pencil_profile.comp").id(),
+                                                    *e->model, fitted, builtinsOf(*in.params),
+                                                    bssrdf::radiusGrid(in.rMaxMm, in.samples));
+        m_snap.fittedValues = fitted;
         m_snap.result = std::move(r);
         m_snap.running = false;
         changed = true;

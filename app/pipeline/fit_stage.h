@@ -46,6 +46,8 @@ struct FitInputs {
     bssrdf::ModelLibrary* library = nullptr;
     const ReferenceSnapshot* reference = nullptr;
     std::optional<material::MaterialParams> params; // the reference's medium
+    double rMaxMm = 0; // the pencil plot's range and samples: the fitted profile is drawn there
+    int samples = 0;
 };
 
 struct FitSnapshot {
@@ -58,6 +60,8 @@ struct FitSnapshot {
     std::optional<FitResult> result;  // when the search has ended
     std::string problem;              // why it could not start or went on
     int restarts = 0;                 // after hot reloads
+    bssrdf::Profile fitted;           // the model at the fitted values on the plot's radii
+    bssrdf::ParamValues fittedValues; // the model's values with the fit applied
 };
 
 class FitStage : public StageOf<FitInputs> {

@@ -191,6 +191,22 @@ std::vector<plot::Series> plotSeries(const Workbench& wb) {
             out.back().dashed = odd;
             out.back().thickness = odd ? 1.5f : 3.0f;
         }
+        // a fit of this model not applied yet: its fitted curve beside it (Fit panel)
+        const FitSnapshot fit = wb.fit().snapshot();
+        if (ps.solo.empty() && fit.result && fit.model == e.displayPath && !fit.fitted.r.empty() &&
+            fit.fittedValues != e.values) {
+            plot::Series f;
+            f.label = name + " fitted (Fit panel, not applied)";
+            f.color = plot::defaultColor(slot);
+            f.dashed = true;
+            f.thickness = 1.5f;
+            f.x = fit.fitted.r;
+            for (size_t i = 0; i < f.x.size(); ++i) {
+                const double y = valueOf(fit.fitted.value[i], ps.channel);
+                f.y.push_back(ps.rTimesR ? y * f.x[i] : y);
+            }
+            out.push_back(std::move(f));
+        }
     }
     if (!scored) return out;
     if (!ps.solo.empty()) {

@@ -102,11 +102,14 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
         {m_fit.get(),
          [this] {
              const ReferenceSnapshot snap = m_reference->snapshot();
-             return m_fit->update({m_library.get(), &snap, referenceInputs().params});
+             return m_fit->update(
+                 {m_library.get(), &snap, referenceInputs().params, m_rMax, m_plot.samples});
          },
          [this](CaptureEntries& out) {
              const ReferenceSnapshot snap = m_reference->snapshot(); // finished by its capture
-             m_fit->capture({m_library.get(), &snap, referenceInputs().params}, m_fitRequest, out);
+             m_fit->capture(
+                 {m_library.get(), &snap, referenceInputs().params, m_rMax, m_plot.samples},
+                 m_fitRequest, out);
          }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); },
          [this](CaptureEntries& out) { m_litSpheres->capture(litSphereInputs(-1), out); }},
@@ -355,7 +358,8 @@ void Workbench::capture(CaptureEntries& out,
 void Workbench::startFit(const std::string& model, const std::vector<std::string>& params,
                          const FitSettings& s) {
     const ReferenceSnapshot snap = m_reference->snapshot();
-    m_fit->start({m_library.get(), &snap, referenceInputs().params}, model, params, s);
+    m_fit->start({m_library.get(), &snap, referenceInputs().params, m_rMax, m_plot.samples}, model,
+                 params, s);
     m_fitRequest.model = model;
     m_fitRequest.params.clear();
     for (const std::string& p : params)
@@ -366,7 +370,7 @@ void Workbench::startFit(const std::string& model, const std::vector<std::string
 
 void Workbench::finishFit() {
     const ReferenceSnapshot snap = m_reference->snapshot();
-    m_fit->finish({m_library.get(), &snap, referenceInputs().params});
+    m_fit->finish({m_library.get(), &snap, referenceInputs().params, m_rMax, m_plot.samples});
 }
 
 ReferenceSnapshot Workbench::finishReference() {

@@ -10,6 +10,7 @@
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
 #include "pathtrace/image_io.h"
+#include "pipeline/pencil_series.h"
 
 #include <imgui.h>
 #include <imgui_internal.h>
@@ -560,8 +561,17 @@ TEST(FitPanel, FitsAgainstTheReferenceWithoutHoldingTheFramesAndApplies) {
         EXPECT_LT(snap.result->relErrBest[t], snap.result->relErrStart[t]) << snap.targets[t];
     EXPECT_GE(snap.trace.size(), 3u);
     gui.frame();
+    // until applied, the pencil plot shows the fitted curve beside the model's
+    auto fittedCurves = [&] {
+        size_t n = 0;
+        for (const auto& series : app::plotSeries(wb))
+            n += series.label.find("fitted (Fit panel, not applied)") != std::string::npos;
+        return n;
+    };
+    EXPECT_EQ(fittedCurves(), 1u);
     ASSERT_GT(ui.fit.applyButton.width(), 5.0f);
     click(ui.fit.applyButton);
+    EXPECT_EQ(fittedCurves(), 0u);
     EXPECT_FLOAT_EQ(wb.library().find(dipole)->values.at("Multiplier")[0],
                     float(snap.result->best[0]));
     // a capture records the fit asked for (run again from the values now) and replays it
