@@ -587,3 +587,25 @@ TEST(FitPanel, FitsAgainstTheReferenceWithoutHoldingTheFramesAndApplies) {
         ADD_FAILURE() << e.source << ": " << e.text;
     fs::remove_all(root);
 }
+
+// A hot reload of the model during a fit restarts it from its best point; it still ends.
+TEST(FitPanel, AReloadDuringAFitRestartsIt) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("fitreload", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    wb.referenceSettings().enabled = true;
+    wb.referenceSettings().paths = 20000;
+    wb.update();
+    wb.finishReference();
+    wb.update();
+    wb.startFit("materials/dipole.bssrdf", {"Multiplier"});
+    ASSERT_TRUE(wb.fit().snapshot().running);
+    wb.reloadAll(); // the programs rebuilt: a new generation of the model
+    wb.finishFit();
+    const app::FitSnapshot snap = wb.fit().snapshot();
+    EXPECT_EQ(snap.restarts, 1);
+    ASSERT_TRUE(snap.result.has_value()) << snap.problem;
+    EXPECT_TRUE(snap.result->converged) << snap.result->status;
+    fs::remove_all(root);
+}
