@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <numbers>
@@ -98,7 +98,6 @@ pathtrace::SlabResult slabReference(const pathtrace::Medium& m, const pathtrace:
     }
     return r;
 }
-
 
 std::string formatScore(double v, int digits) {
     return std::isfinite(v) ? core::formatNumber(v, digits) : "—";

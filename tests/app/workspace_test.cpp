@@ -244,13 +244,7 @@ TEST(WorkspaceLayout, TabBarArrowsReachEveryTabAt800x600) {
     const float arrowW = ImGui::GetFontSize() - 2.0f;
     const float y = 0.5f * (bar->BarRect.Min.y + bar->BarRect.Max.y);
     auto click = [&](float x) {
-        gui.mouse(x, y, false);
-        gui.frame();
-        gui.mouse(x, y, true);
-        gui.frame();
-        gui.mouse(x, y, false);
-        gui.frame();
-        gui.noMouse();
+        testsupport::clickAt(gui, x, y);
         for (int i = 0; i < 30; ++i) // let the bar's scrolling settle
             gui.frame();
     };
