@@ -14,6 +14,7 @@
 #include "pathtrace/image_io.h"
 
 #include <algorithm>
+#include <atomic>
 
 #include <unistd.h>
 
@@ -103,8 +104,11 @@ capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captu
 
 } // namespace
 
-ExternalModels::ExternalModels()
-    : dir(fs::temp_directory_path() / ("bw_external_models_" + std::to_string(::getpid()))) {}
+ExternalModels::ExternalModels() {
+    static std::atomic<int> count{0}; // two at once in one process get two folders
+    dir = fs::temp_directory_path() /
+          ("bw_external_models_" + std::to_string(::getpid()) + "_" + std::to_string(count++));
+}
 
 ExternalModels::~ExternalModels() {
     std::error_code ec;

@@ -228,8 +228,8 @@ std::vector<double> relErrOnTargets(const bssrdf::ModelEntry& e, const bssrdf::P
     if (squared) squared->clear();
     const GLuint program = e.programs.at("pencil_profile.comp").id();
     for (const FitTarget& t : targets) {
-        const bssrdf::Builtins b = builtinsOf(t.params);
         if (t.thetaI > 0) { // the whole BSSRDF on the slice's bins
+            const bssrdf::Builtins b = builtinsOf(t.params);
             const bool readsWo = !e.model->attrs.noWo;
             const SliceSampling n = sliceSampling(t.bins, readsWo);
             const std::vector<glm::dvec3> rgb = bssrdf::evaluateQueries(
