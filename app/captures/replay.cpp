@@ -176,8 +176,11 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         if (update) {
             m.glRenderer = glRendererString();
             m.glVersion = glVersionString();
-            for (auto& mf : m.models)
-                if (fs::exists(root / mf.path)) mf.hash = capture::hashFile(root / mf.path);
+            for (auto& mf : m.models) // the hash and the recorded text, as `record` writes them
+                if (fs::exists(root / mf.path)) {
+                    mf.hash = capture::hashFile(root / mf.path);
+                    if (!mf.source.empty()) mf.source = core::readFile(root / mf.path);
+                }
             capture::writeManifest(captureDir, m);
         }
     } catch (const core::Error& e) {

@@ -3,6 +3,7 @@
 // Outputs in --out: fit.json (schema "bssrdf-workbench-fit", version 1), report.md with the
 // profiles before and after against the reference (plots/, as `compare` draws them) and the
 // model file with the fitted values as its defaults (<stem>_fit.bssrdf, loadable like any model).
+#include "cli/fit_command.h"
 #include "cli/args.h"
 #include "cli/command.h"
 #include "cli/compare_command.h"
@@ -33,39 +34,23 @@ namespace app {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace {
-
-struct FitArgs {
-    std::string model, out;
-    std::vector<std::string> params, presets{"Marble"}, channels{"R", "G", "B"};
-    std::vector<double> thetaI{0.0}; // 0: the radial profile; > 0: the whole BSSRDF's slice
-    uint64_t paths = 1000000;
-    int maxEvaluations = FitSettings{}.maxEvaluations;
-    double xtolRel = FitSettings{}.xtolRel;
-    bool uncertainty = true;
-    bool plots = true; // before/after pictures in the report
-};
-
-// The targets of every preset × channel against references of `paths` paths with `seed`.
-std::vector<FitTarget> makeTargets(Workbench& wb, const bssrdf::ModelEntry& e, const FitArgs& a,
-                                   uint64_t paths, uint64_t seed, const std::string& what) {
+std::vector<FitTarget> makeTargets(const std::vector<FitMedium>& media,
+                                   const std::vector<double>& thetaI, uint64_t paths, uint64_t seed,
+                                   const std::string& what) {
     std::vector<FitTarget> targets;
-    for (const std::string& preset : a.presets) {
-        MaterialSettings s;
-        wb.applyPreset(s, preset);
-        const material::MaterialParams eff = effectiveParams(e, s);
-        for (const std::string& ch : a.channels) {
-            const int c = ch == "R" ? 0 : ch == "G" ? 1 : 2;
+    for (const FitMedium& medium : media) {
+        const material::MaterialParams& eff = medium.params;
+        for (int c : medium.channels) {
+            const std::string name = medium.name + " " + "RGB"[c];
             const pathtrace::Medium m{eff.sigmaA[c], eff.sigmaS[c], eff.g, eff.eta};
             const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
             if (!(std::isfinite(ld) && ld > 0))
                 throw core::Error("--presets", 0,
-                                  preset + " " + ch +
-                                      ": sigma_a = 0, no diffuse mean free path to fit over "
-                                      "(leave the channel out with --channels)");
-            for (double theta : a.thetaI) {
+                                  name + ": sigma_a = 0, no diffuse mean free path to fit over "
+                                         "(leave the channel out with --channels)");
+            for (double theta : thetaI) {
                 FitTarget t;
-                t.preset = preset;
+                t.preset = medium.name;
                 t.channel = c;
                 t.ldMm = ld;
                 t.params = eff;
@@ -75,28 +60,71 @@ std::vector<FitTarget> makeTargets(Workbench& wb, const bssrdf::ModelEntry& e, c
                     pathtrace::EstimateSettings es = obliqueSettings(ld, theta, paths);
                     es.seed = seed;
                     t.bins = es.bins;
-                    t.slice = obliqueReference(m, es,
-                                               preset + " " + ch + " at " +
-                                                   core::formatNumber(theta, 3) + " deg" + what,
-                                               cached);
+                    t.slice = obliqueReference(
+                        m, es, name + " at " + core::formatNumber(theta, 3) + " deg" + what,
+                        cached);
                     targets.push_back(std::move(t));
                     continue;
                 }
                 pathtrace::SlabSettings ss = scoringSlabSettings(ld, paths);
                 ss.seed = seed;
                 const pathtrace::SlabResult ref =
-                    slabReference(m, ss, "fit: reference " + preset + " " + ch + what, cached);
+                    slabReference(m, ss, "fit: reference " + name + what, cached);
                 t.edges = binEdges(ref.rMid);
                 for (size_t i = 0; i < ref.rd.size(); ++i) {
                     t.ref.push_back(ref.rd[i] / (1 - ref.specular));
                     t.refSe.push_back(ref.rdStderr[i] / (1 - ref.specular));
                 }
+                t.totalRd = ref.totalRd / (1 - ref.specular);
+                t.totalRdSe = ref.totalRdStderr / (1 - ref.specular);
                 targets.push_back(std::move(t));
             }
         }
     }
     return targets;
 }
+
+std::function<void(int, double)> fitProgress(const std::string& what) {
+    auto clock = std::make_shared<core::Stopwatch>();
+    auto last = std::make_shared<double>(-1e9);
+    return [what, clock, last](int n, double best) {
+        if (clock->ms() - *last < 250) return;
+        *last = clock->ms();
+        std::fprintf(stderr, "\rfit%s: %d evaluations, best mean rel_err^2 %s   ", what.c_str(), n,
+                     core::formatNumber(best, 4).c_str());
+        std::fflush(stderr);
+    };
+}
+
+FitOutcome fitWithUncertainty(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& vars,
+                              const std::vector<FitMedium>& media, const FitArgs& a,
+                              const FitSettings& s, const std::string& what) {
+    const std::atomic<bool>* cancel = interruptFlag();
+    FitOutcome out;
+    const std::vector<FitTarget> targets = makeTargets(media, a.thetaI, a.paths, 1, what);
+    out.result = fitModel(e, vars, targets, s, fitProgress(what), cancel);
+    std::fprintf(stderr, "\n");
+    out.sigma.assign(vars.size(), std::nan(""));
+    if (!a.uncertainty || interrupted()) return out;
+    const std::vector<FitTarget> halfA =
+        makeTargets(media, a.thetaI, a.paths / 2, 2, what + " (half A)");
+    const std::vector<FitTarget> halfB =
+        makeTargets(media, a.thetaI, a.paths / 2, 3, what + " (half B)");
+    const FitResult ra = fitModel(e, vars, halfA, s, fitProgress(what + " (half A)"), cancel);
+    std::fprintf(stderr, "\n");
+    const FitResult rb = fitModel(e, vars, halfB, s, fitProgress(what + " (half B)"), cancel);
+    std::fprintf(stderr, "\n");
+    for (size_t i = 0; i < vars.size(); ++i) {
+        const double stat = std::abs(ra.best[i] - rb.best[i]) / 2;
+        const double bias = out.result.best[i] - (ra.best[i] + rb.best[i]) / 2;
+        out.sigma[i] = std::hypot(stat, bias);
+    }
+    out.halfA = ra.best;
+    out.halfB = rb.best;
+    return out;
+}
+
+namespace {
 
 std::string pct(double v) {
     return std::isfinite(v) ? core::formatNumber(100 * v, 3) + " %" : std::string("-");
@@ -124,50 +152,40 @@ int runFit(const fs::path& root, const FitArgs& a) {
     auto ctx = gl::createHeadlessContext(false);
     const fs::path file = resolveModel(root, a.model);
     Workbench wb(root, false, {file});
-    const bssrdf::ModelEntry* e =
-        wb.library().entries().empty() ? nullptr : &wb.library().entries()[0];
+    bssrdf::ModelEntry* e = wb.library().entries().empty() ? nullptr : &wb.library().entries()[0];
     if (!e) throw core::Error("--model", 0, "no model loaded");
     if (e->problem) throw core::Error(e->problem->file, e->problem->line, e->problem->message);
-    for (const std::string& p : a.presets)
+    setParameters(*e->model, a.set, e->values);
+    const std::vector<FitVariable> vars = fitVariables(*e->model, a.params);
+    FitSettings settings;
+    settings.maxEvaluations = a.maxEvaluations;
+    settings.xtolRel = a.xtolRel;
+    if (!a.albedoSweep.empty()) {
+        FitArgs sweep = a; // published curves, like models, are also looked up in the project
+        for (std::string& p : sweep.published)
+            if (!fs::exists(p) && fs::exists(root / p)) p = (root / p).string();
+        return runFitSweep(*e, vars, sweep, settings);
+    }
+
+    std::vector<FitMedium> media;
+    for (const std::string& p : a.presets) {
         if (!material::findPreset(wb.presets(), p))
             throw core::Error("--presets", 0, material::unknownPresetMessage(wb.presets(), p));
-    const std::vector<FitVariable> vars = fitVariables(*e->model, a.params);
-
-    FitSettings fs;
-    fs.maxEvaluations = a.maxEvaluations;
-    fs.xtolRel = a.xtolRel;
-    const std::atomic<bool>* cancel = interruptFlag();
-    // one progress line, rewritten at most four times a second
-    auto progress = [](const char* what) {
-        auto clock = std::make_shared<core::Stopwatch>();
-        auto last = std::make_shared<double>(-1e9);
-        return [what, clock, last](int n, double best) {
-            if (clock->ms() - *last < 250) return;
-            *last = clock->ms();
-            std::fprintf(stderr, "\rfit%s: %d evaluations, best mean rel_err^2 %s   ", what, n,
-                         core::formatNumber(best, 4).c_str());
-            std::fflush(stderr);
-        };
-    };
-    const std::vector<FitTarget> targets = makeTargets(wb, *e, a, a.paths, 1, "");
-    const FitResult r = fitModel(*e, vars, targets, fs, progress(""), cancel);
-    std::fprintf(stderr, "\n");
-    // uncertainties: refits on two independent half references (seeds 2 and 3); each half fit
-    // scatters √2 times the full one, their difference 2 times: σ ≈ |x_A − x_B| / 2
-    std::vector<double> sigma(vars.size(), std::nan(""));
-    std::string uncertaintyNote = "not computed (--no-uncertainty)";
-    if (a.uncertainty && !interrupted()) {
-        const std::vector<FitTarget> halfA = makeTargets(wb, *e, a, a.paths / 2, 2, " (half A)");
-        const std::vector<FitTarget> halfB = makeTargets(wb, *e, a, a.paths / 2, 3, " (half B)");
-        const FitResult ra = fitModel(*e, vars, halfA, fs, progress(" (half A)"), cancel);
-        std::fprintf(stderr, "\n");
-        const FitResult rb = fitModel(*e, vars, halfB, fs, progress(" (half B)"), cancel);
-        std::fprintf(stderr, "\n");
-        for (size_t i = 0; i < vars.size(); ++i)
-            sigma[i] = std::abs(ra.best[i] - rb.best[i]) / 2;
-        uncertaintyNote = "|x_A - x_B| / 2 from fits to two independent references of " +
-                          std::to_string(a.paths / 2) + " paths (seeds 2 and 3)";
+        MaterialSettings s;
+        wb.applyPreset(s, p);
+        FitMedium m{p, effectiveParams(*e, s), {}};
+        for (const std::string& ch : a.channels)
+            m.channels.push_back(ch == "R" ? 0 : ch == "G" ? 1 : 2);
+        media.push_back(std::move(m));
     }
+    const FitOutcome outcome = fitWithUncertainty(*e, vars, media, a, settings, "");
+    const FitResult& r = outcome.result;
+    const std::vector<double>& sigma = outcome.sigma;
+    const std::vector<FitTarget> targets = makeTargets(media, a.thetaI, a.paths, 1, "");
+    const std::string uncertaintyNote =
+        a.uncertainty
+            ? std::string(kUncertaintyNote) + ", " + std::to_string(a.paths / 2) + " paths each"
+            : "not computed (--no-uncertainty)";
 
     json j = {{"schema", "bssrdf-workbench-fit"},
               {"version", 1},
@@ -185,12 +203,15 @@ int runFit(const fs::path& root, const FitArgs& a) {
               {"parameters", json::array()},
               {"targets", json::array()}};
     for (size_t i = 0; i < vars.size(); ++i)
-        j["parameters"].push_back({{"name", vars[i].label},
-                                   {"lo", vars[i].lo},
-                                   {"hi", vars[i].hi},
-                                   {"start", r.start[i]},
-                                   {"fitted", r.best[i]},
-                                   {"sigma", std::isfinite(sigma[i]) ? json(sigma[i]) : json()}});
+        j["parameters"].push_back(
+            {{"name", vars[i].label},
+             {"lo", vars[i].lo},
+             {"hi", vars[i].hi},
+             {"start", r.start[i]},
+             {"fitted", r.best[i]},
+             {"sigma", std::isfinite(sigma[i]) ? json(sigma[i]) : json()},
+             {"halves",
+              outcome.halfA.empty() ? json() : json::array({outcome.halfA[i], outcome.halfB[i]})}});
     for (size_t t = 0; t < targets.size(); ++t)
         j["targets"].push_back({{"preset", targets[t].preset},
                                 {"channel", std::string(1, "RGB"[targets[t].channel])},
@@ -291,41 +312,66 @@ int runFit(const fs::path& root, const FitArgs& a) {
 } // namespace
 
 Command fitCommand() {
-    return {"fit", "fit a model's parameters to the path-traced reference", false,
-            [](CLI::App& cmd) -> CommandRun {
-                auto a = std::make_shared<FitArgs>();
-                cmd.add_option("--model", a->model, "the model file")->required();
-                cmd.add_option("--params", a->params,
-                               "parameters to fit: NAME (its declared range) or NAME=LO,HI; also "
-                               "the medium's medium.sigma_scale (sigma_a and sigma_s times it, "
-                               "[0.1, 10]) and medium.g ([-0.95, 0.95])")
-                    ->required();
+    return {
+        "fit", "fit a model's parameters to the path-traced reference", false,
+        [](CLI::App& cmd) -> CommandRun {
+            auto a = std::make_shared<FitArgs>();
+            cmd.add_option("--model", a->model, "the model file")->required();
+            cmd.add_option("--params", a->params,
+                           "parameters to fit: NAME (its declared range) or NAME=LO,HI; also "
+                           "the medium's medium.sigma_scale (sigma_a and sigma_s times it, "
+                           "[0.1, 10]) and medium.g ([-0.95, 0.95])")
+                ->required();
+            cmd.add_option("--set", a->set,
+                           "fixed parameter values: NAME=V or NAME=R,G,B (e.g. "
+                           "Configuration=3)");
+            auto* presets =
                 cmd.add_option("--presets", a->presets, "presets to fit over (default Marble)");
+            auto* channels =
                 cmd.add_option("--channels", a->channels, "channels R G B (default all)")
                     ->delimiter(',');
-                cmd.add_option("--theta-i", a->thetaI,
-                               "incidence angles in degrees, [0, 90): DEG[,DEG...]; 0 fits the "
-                               "radial profile, others the whole BSSRDF over the plane (default 0)")
-                    ->delimiter(',');
-                addCountOption(&cmd, "--paths", a->paths,
-                               "reference paths per preset and channel (default " +
-                                   std::to_string(a->paths) + ")",
-                               core::Limits{1000, 1e12});
-                cmd.add_option("--max-evaluations", a->maxEvaluations,
-                               "evaluation budget of the optimizer (default " +
-                                   std::to_string(a->maxEvaluations) + ")")
-                    ->check(CLI::Range(1, 1000000));
-                addNumberOption(&cmd, "--xtol", a->xtolRel,
-                                "relative parameter tolerance of convergence (default " +
-                                    core::formatNumber(a->xtolRel) + ")",
-                                core::Limits{1e-12, 1});
-                cmd.add_flag("!--no-uncertainty", a->uncertainty,
-                             "skip the refits on two half references");
-                cmd.add_flag("!--no-plots", a->plots, "the report without its PNG plots");
-                cmd.add_option("--out", a->out, "output folder: fit.json, report.md, the model")
-                    ->required();
-                return [a](CommandContext& ctx) { return runFit(ctx.root(), *a); };
-            }};
+            auto* sweep = cmd.add_option("--albedo-sweep", a->albedoSweep,
+                                         "fit at each reduced albedo a' in (0, 1) of a medium with "
+                                         "sigma'_t = 1/mm instead of presets: A[,A...]; writes the "
+                                         "fitted values as a table over albedo (sweep.csv)")
+                              ->delimiter(',')
+                              ->excludes(presets)
+                              ->excludes(channels);
+            addNumberOption(&cmd, "--eta", a->sweepEta,
+                            "the sweep's relative index of refraction (default " +
+                                core::formatNumber(a->sweepEta) + ")",
+                            core::Limits{1.0, 3.0})
+                ->needs(sweep);
+            addNumberOption(&cmd, "--g", a->sweepG, "the sweep's Henyey-Greenstein g (default 0)",
+                            core::Limits{-0.95, 0.95})
+                ->needs(sweep);
+            cmd.add_option("--published", a->published,
+                           "CSV of a published curve to draw beside the sweep's fitted "
+                           "values: a header 'A,PARAM' then rows of A and the value")
+                ->needs(sweep);
+            cmd.add_option("--theta-i", a->thetaI,
+                           "incidence angles in degrees, [0, 90): DEG[,DEG...]; 0 fits the "
+                           "radial profile, others the whole BSSRDF over the plane (default 0)")
+                ->delimiter(',');
+            addCountOption(&cmd, "--paths", a->paths,
+                           "reference paths per preset and channel (default " +
+                               std::to_string(a->paths) + ")",
+                           core::Limits{1000, 1e12});
+            cmd.add_option("--max-evaluations", a->maxEvaluations,
+                           "evaluation budget of the optimizer (default " +
+                               std::to_string(a->maxEvaluations) + ")")
+                ->check(CLI::Range(1, 1000000));
+            addNumberOption(&cmd, "--xtol", a->xtolRel,
+                            "relative parameter tolerance of convergence (default " +
+                                core::formatNumber(a->xtolRel) + ")",
+                            core::Limits{1e-12, 1});
+            cmd.add_flag("!--no-uncertainty", a->uncertainty,
+                         "skip the refits on two half references");
+            cmd.add_flag("!--no-plots", a->plots, "the report without its PNG plots");
+            cmd.add_option("--out", a->out, "output folder: fit.json, report.md, the model")
+                ->required();
+            return [a](CommandContext& ctx) { return runFit(ctx.root(), *a); };
+        }};
 }
 
 } // namespace app

@@ -12,6 +12,7 @@
 #include <nlopt.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -70,16 +71,27 @@ struct Objective {
     size_t notFinite = 0; // evaluations where the model was not finite
 };
 
+// The radical inverse of k in `base` (the Halton sequence's coordinate), in [0, 1).
+double halton(int k, int base) {
+    double f = 1, r = 0;
+    for (; k > 0; k /= base) {
+        f /= base;
+        r += f * (k % base);
+    }
+    return r;
+}
+constexpr std::array<int, 8> kPrimes{2, 3, 5, 7, 11, 13, 17, 19};
+
 double objective(unsigned n, const double* x, double*, void* data) {
     auto& o = *static_cast<Objective*>(data);
     if (o.cancel && o.cancel->load()) {
-        nlopt_force_stop(o.opt);
+        if (o.opt) nlopt_force_stop(o.opt);
         return std::numeric_limits<double>::max();
     }
     std::string problem;
     double f = (*o.fn)(std::vector<double>(x, x + n), problem);
     if (o.cancel && o.cancel->load()) { // cancelled while it evaluated: not a model problem
-        nlopt_force_stop(o.opt);
+        if (o.opt) nlopt_force_stop(o.opt);
         return std::numeric_limits<double>::max();
     }
     if (!std::isfinite(f)) {
@@ -179,6 +191,56 @@ std::vector<FitVariable> fitVariables(const bssrdf::Model& m,
     }
     if (out.empty()) throw core::Error("--params", 0, "give at least one parameter to fit");
     return out;
+}
+
+void setParameters(const bssrdf::Model& m, const std::vector<std::string>& specs,
+                   bssrdf::ParamValues& values) {
+    for (const std::string& spec : specs) {
+        const size_t eq = spec.find('=');
+        if (eq == std::string::npos)
+            throw core::Error("--set", 0, "'" + spec + "': expected NAME=VALUE");
+        const std::string name = spec.substr(0, eq);
+        const bssrdf::Param* p = m.findParam(name);
+        if (!p) {
+            std::string known;
+            for (const auto& q : m.params)
+                known += (known.empty() ? "" : ", ") + q.name;
+            throw core::Error(
+                "--set", 0,
+                "'" + name + "' is not a parameter of " + m.path +
+                    (known.empty() ? " (it declares none)" : " (it declares " + known + ")"));
+        }
+        std::vector<double> v;
+        std::string rest = spec.substr(eq + 1);
+        for (size_t start = 0;;) {
+            const size_t comma = rest.find(',', start);
+            const std::string item = rest.substr(start, comma - start);
+            char* end = nullptr;
+            const double x = std::strtod(item.c_str(), &end);
+            if (item.empty() || *end != '\0' || !std::isfinite(x))
+                throw core::Error("--set", 0, "'" + spec + "': '" + item + "' is not a number");
+            v.push_back(x);
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+        const size_t want = p->type == bssrdf::ParamType::Color ? 3 : 1;
+        if (v.size() == 1 && want == 3) v = {v[0], v[0], v[0]};
+        if (v.size() != want)
+            throw core::Error("--set", 0,
+                              "'" + spec + "': " + name + " takes " +
+                                  (want == 3 ? "R,G,B or one value" : "one value"));
+        const double lo = p->type == bssrdf::ParamType::Bool ? 0 : p->min;
+        const double hi = p->type == bssrdf::ParamType::Bool ? 1 : p->max;
+        for (double x : v)
+            if (x < lo || x > hi)
+                throw core::Error("--set", 0,
+                                  "'" + spec + "': outside the declared range [" +
+                                      core::formatNumber(lo, 6) + ", " + core::formatNumber(hi, 6) +
+                                      "] (" + m.path + " line " + std::to_string(p->line) + ")");
+        auto& slot = values[name];
+        for (size_t c = 0; c < want; ++c)
+            slot[c] = float(v[c]);
+    }
 }
 
 void applyFit(const std::vector<FitVariable>& vars, const std::vector<double>& x,
@@ -285,6 +347,21 @@ SearchResult searchParameters(const std::vector<FitVariable>& vars,
         x[i] = std::clamp(start.at(i), lo[i], hi[i]);
     }
     Objective o{&vars, &fn, 0, std::numeric_limits<double>::infinity(), x, {}, &progress, cancel};
+    // a coarse scan first, so that a start in the wrong valley does not decide the result: the
+    // start and 8 n points of a Halton sequence over the ranges (log-spaced along a positive
+    // range spanning more than a decade); BOBYQA starts from the best of them
+    std::vector<double> first = x;
+    objective(n, first.data(), nullptr, &o);
+    const int scan = std::min(8 * int(n), s.maxEvaluations / 4);
+    for (int k = 1; k <= scan && !(cancel && cancel->load()); ++k) {
+        std::vector<double> p(n);
+        for (unsigned i = 0; i < n; ++i) {
+            const double u = halton(k, kPrimes[i % kPrimes.size()]);
+            p[i] = lo[i] > 0 && hi[i] > 10 * lo[i] ? lo[i] * std::pow(hi[i] / lo[i], u)
+                                                   : lo[i] + u * (hi[i] - lo[i]);
+        }
+        objective(n, p.data(), nullptr, &o);
+    }
     // BOBYQA from the start; where the model was not finite during a run (its quadratic model
     // then holds a wall of penalties), again from the best point with a smaller first step, at
     // most kRestarts times while the budget lasts
@@ -301,13 +378,16 @@ SearchResult searchParameters(const std::vector<FitVariable>& vars,
         nlopt_set_min_objective(opt, objective, &o);
         nlopt_set_xtol_rel(opt, s.xtolRel);
         nlopt_set_maxeval(opt, budget);
-        // the first steps: a tenth of each range (BOBYQA's trust region starts there), halved
-        // with each restart
+        // the first steps (BOBYQA's trust region starts there): a tenth of each range, but at
+        // most half the start's magnitude, so that a parameter spanning decades ([0.1, 50])
+        // is first explored near where it starts; halved with each restart
         std::vector<double> step(n);
-        for (unsigned i = 0; i < n; ++i)
-            step[i] = 0.1 * (hi[i] - lo[i]) * std::ldexp(1.0, -run);
+        for (unsigned i = 0; i < n; ++i) {
+            const double range = hi[i] - lo[i], at = std::abs(o.bestX[i]);
+            step[i] = std::clamp(0.5 * at, 0.01 * range, 0.1 * range) * std::ldexp(1.0, -run);
+        }
         nlopt_set_initial_step(opt, step.data());
-        std::vector<double> from = run == 0 ? x : o.bestX;
+        std::vector<double> from = o.bestX;
         double fmin = 0;
         res = nlopt_optimize(opt, from.data(), &fmin);
         nlopt_destroy(opt);

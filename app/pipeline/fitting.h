@@ -5,11 +5,13 @@
 // reference's noise) of the model's pencil-beam profile at normal incidence against the slab
 // reference on its bins, the model averaged over each bin as the scores do (pipeline/scoring.h).
 // The optimizer is NLopt's BOBYQA (Powell 2009: bounded, derivative-free, quadratic models of the
-// objective), started from the model's current values; it stops at a relative change of the
-// parameters below `xtolRel` or after `maxEvaluations`. A model that gives NaN, Inf or negative
-// values at some parameters scores +∞ there (listed in `problems` with the values) and the search
-// goes on from the best point. Cancel keeps the best point so far. The same targets and start give
-// the same result (BOBYQA is deterministic).
+// objective), started from the best of the model's current values and a coarse scan of the
+// ranges (8 Halton points per variable, log-spaced along ranges spanning decades), so that a
+// start in another valley of the objective does not decide the result; it stops at a relative
+// change of the parameters below `xtolRel` or after `maxEvaluations`. A model that gives NaN, Inf
+// or negative values at some parameters scores +∞ there (listed in `problems` with the values) and
+// the search goes on from the best point. Cancel keeps the best point so far. The same targets and
+// start give the same result (BOBYQA is deterministic).
 #pragma once
 
 #include "bssrdf/program_library.h"
@@ -17,6 +19,7 @@
 #include "pathtrace/bssrdf_estimate.h"
 
 #include <atomic>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -33,6 +36,7 @@ struct FitTarget {
     double ldMm = 0;
     material::MaterialParams params; // the medium (the model's builtins)
     std::vector<double> edges, ref, refSe;
+    double totalRd = NAN, totalRdSe = NAN; // θi = 0: 2π∫R_ref r dr per unit power entering
     double thetaI = 0;
     pathtrace::BssrdfBins bins;   // thetaI > 0
     pathtrace::BssrdfSlice slice; // thetaI > 0: the reference
@@ -57,6 +61,13 @@ struct FitVariable {
 // outside the declared one or empty, or a name given twice.
 std::vector<FitVariable> fitVariables(const bssrdf::Model& m,
                                       const std::vector<std::string>& names);
+
+// Sets fixed parameter values from `specs` (NAME=V, or NAME=R,G,B for a colour; a bool takes
+// 0 or 1) into `values`, before a fit starts (`fit --set`). Throws core::Error("--set", …)
+// naming a parameter the model does not declare, a value that is not a number or lies outside
+// the declared range (with the declaration's line).
+void setParameters(const bssrdf::Model& m, const std::vector<std::string>& specs,
+                   bssrdf::ParamValues& values);
 
 struct FitSettings {
     double xtolRel = 1e-4;

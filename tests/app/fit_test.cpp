@@ -187,6 +187,31 @@ TEST(Fit, ParameterNamesAndRangesAreChecked) {
     EXPECT_EQ(v[1].hi, 5.0);
 }
 
+// `--set`: fixed values before a fit, checked against the declarations like --params.
+TEST(Fit, SetParametersChecksNamesValuesAndRanges) {
+    const bssrdf::Model m = bssrdf::parseModel(kGaussian, "materials/gauss.bssrdf");
+    bssrdf::ParamValues values = bssrdf::defaultValues(m);
+    app::setParameters(m, {"Amp=2.5", "Unused=1"}, values);
+    EXPECT_EQ(values.at("Amp")[0], 2.5f);
+    EXPECT_EQ(values.at("Unused")[0], 1.0f);
+    auto fails = [&](const std::string& spec, const std::string& part) {
+        bssrdf::ParamValues v = bssrdf::defaultValues(m);
+        try {
+            app::setParameters(m, {spec}, v);
+            ADD_FAILURE() << "accepted " << spec;
+        } catch (const core::Error& e) {
+            EXPECT_NE(std::string(e.what()).find("--set"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+        }
+    };
+    fails("Width=1", "'Width' is not a parameter of materials/gauss.bssrdf (it declares Amp, W");
+    fails("Amp=9", "outside the declared range [0.1, 3] (materials/gauss.bssrdf line 3)");
+    fails("Amp=x", "'x' is not a number");
+    fails("Amp=1,2", "takes one value");
+    fails("Amp", "expected NAME=VALUE");
+    fails("Unused=2", "outside the declared range [0, 1]");
+}
+
 namespace {
 class FitCli : public clitest::CliFixture {};
 } // namespace
@@ -250,6 +275,87 @@ TEST_F(FitCli, ObliqueIncidenceFitsTheWholeBssrdfOverThePlane) {
         EXPECT_LT(t["rel_err_fitted"].get<double>(), t["rel_err_start"].get<double>()) << t.dump();
     EXPECT_NE(r.output.find("Skin1 G at 45 deg: rel_err"), std::string::npos) << r.output;
     ::unsetenv("BSSRDF_WORKBENCH_CACHE");
+}
+
+// A function fit: normalized_diffusion's scaling factor s (configuration 3: s = S, l = the mean
+// free path) fitted at each albedo of a sweep. rel_err falls at every albedo; the profile in units
+// of the mean free path widens as the albedo rises, so s falls; A, the path-traced total diffuse
+// reflectance, rises with the albedo; a published curve given as CSV is drawn beside the result.
+TEST_F(FitCli, AnAlbedoSweepFitsAParameterAsATableOverAlbedo) {
+    ::setenv("BSSRDF_WORKBENCH_CACHE", (dir() / "cache").c_str(), 1);
+    const fs::path root(BW_SOURCE_ROOT);
+    const std::vector<std::string> args = {
+        "fit",
+        "--model",
+        (root / "materials/normalized_diffusion.bssrdf").string(),
+        "--set",
+        "Configuration=3",
+        "--params",
+        "S",
+        "--albedo-sweep",
+        "0.7,0.95",
+        "--paths",
+        "40000",
+        "--published",
+        (root / "docs/fits/christensen_burley_searchlight_mfp.csv").string(),
+        "--out",
+        "sweep"};
+    clitest::RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    const nlohmann::json j = nlohmann::json::parse(clitest::readText(dir() / "sweep/fit.json"));
+    EXPECT_EQ(j["mode"], "albedo_sweep");
+    ASSERT_EQ(j["sweep"].size(), 2u);
+    for (const auto& row : j["sweep"]) {
+        EXPECT_TRUE(row["converged"].get<bool>()) << row.dump();
+        EXPECT_LT(row["targets"][0]["rel_err_fitted"].get<double>(),
+                  row["targets"][0]["rel_err_start"].get<double>())
+            << row.dump();
+        EXPECT_GT(row["parameters"][0]["sigma"].get<double>(), 0.0);
+    }
+    const auto& lo = j["sweep"][0];
+    const auto& hi = j["sweep"][1];
+    EXPECT_LT(lo["A"].get<double>(), hi["A"].get<double>());
+    EXPECT_GT(lo["parameters"][0]["fitted"].get<double>(),
+              hi["parameters"][0]["fitted"].get<double>());
+    // the second albedo's fit starts where the first ended
+    EXPECT_EQ(hi["parameters"][0]["start"].get<double>(),
+              double(float(lo["parameters"][0]["fitted"].get<double>())));
+    const std::string csv = clitest::readText(dir() / "sweep/sweep.csv");
+    EXPECT_NE(csv.find("alpha_prime,ld_over_l,A,A_se,S,S_sigma,rel_err_start,rel_err_fitted"),
+              std::string::npos)
+        << csv;
+    const std::string md = clitest::readText(dir() / "sweep/report.md");
+    EXPECT_NE(md.find("`Configuration=3`"), std::string::npos) << md;
+    EXPECT_GT(fs::file_size(dir() / "sweep/sweep_S.png"), 1000u);
+    EXPECT_GT(fs::file_size(dir() / "sweep/sweep_rel_err.png"), 1000u);
+    EXPECT_NE(r.output.find("a' 0.95"), std::string::npos) << r.output;
+    ::unsetenv("BSSRDF_WORKBENCH_CACHE");
+}
+
+TEST_F(FitCli, AlbedoSweepBadInputsNameTheirArgument) {
+    const std::string nd =
+        (fs::path(BW_SOURCE_ROOT) / "materials/normalized_diffusion.bssrdf").string();
+    const std::vector<std::string> base = {"fit", "--model", nd, "--params", "S", "--out", "o"};
+    auto with = [&](std::vector<std::string> extra) {
+        std::vector<std::string> a = base;
+        a.insert(a.end(), extra.begin(), extra.end());
+        return a;
+    };
+    expectFailure(with({"--albedo-sweep", "0.5,1"}), {"--albedo-sweep", "(0, 1)"});
+    expectFailure(with({"--albedo-sweep", "0.5", "--presets", "Marble"}), {"--presets"});
+    expectFailure(with({"--albedo-sweep", "0.5", "--theta-i", "45"}),
+                  {"--theta-i", "needs 0 among its angles"});
+    expectFailure(with({"--eta", "1.4"}), {"--eta", "--albedo-sweep"});
+    expectFailure(with({"--set", "Configuration=7"}),
+                  {"--set", "outside the declared range [0, 4]", "line"});
+    expectFailure(with({"--set", "Config=1"}), {"--set", "'Config' is not a parameter"});
+    core::writeFile(dir() / "bad.csv", "# comment\nA,T\n0.5,1\n");
+    expectFailure(with({"--albedo-sweep", "0.5", "--published", (dir() / "bad.csv").string()}),
+                  {"bad.csv:2", "'A,PARAM'", "(S)"});
+    core::writeFile(dir() / "bad2.csv", "A,S\n0.5,1\n0.4,x\n");
+    expectFailure(with({"--albedo-sweep", "0.5", "--published", (dir() / "bad2.csv").string()}),
+                  {"bad2.csv:3", "not two numbers"});
+    EXPECT_FALSE(fs::exists(dir() / "o/fit.json"));
 }
 
 TEST_F(FitCli, BadInputsNameTheirArgument) {

@@ -63,9 +63,13 @@ struct Reference {
 };
 
 // The paper's s(A) for configuration 0 (searchlight, mfp), 1 (diffuse, mfp), 2 (searchlight,
-// dmfp).
+// dmfp); configurations 3 (mfp) and 4 (dmfp) take s = the parameter S (kFreeS in these tests).
+constexpr double kFreeS = 2.75;
 double scalingFactor(double A, int configuration) {
     switch (configuration) {
+    case 3:
+    case 4:
+        return double(float(kFreeS));
     case 1:
         return 1.9 - A + 3.5 * (A - 0.8) * (A - 0.8);
     case 2:
@@ -82,7 +86,8 @@ Reference reference(double sa0, double ss0, double g0, double eta0, int configur
     Reference ref;
     ref.A = betterDipoleAlbedo(ssp / stp, eta);
     ref.s = scalingFactor(ref.A, configuration);
-    const double l = configuration == 2 ? 1 / std::sqrt(3 * sa * stp) : 1 / stp;
+    const bool dmfp = configuration == 2 || configuration == 4;
+    const double l = dmfp ? 1 / std::sqrt(3 * sa * stp) : 1 / stp;
     ref.invD = ref.s / l;
     return ref;
 }
@@ -105,7 +110,9 @@ TEST_F(NormalizedDiffusion, AttributesAndParameter) {
     EXPECT_TRUE(m_e->model->attrs.noWo);
     EXPECT_TRUE(m_e->hasInversion());
     ASSERT_TRUE(m_e->values.count("Configuration"));
-    EXPECT_EQ(m_e->values.at("Configuration")[0], 0.0f); // searchlight, mean free path
+    EXPECT_EQ(m_e->values.at("Configuration")[0], 2.0f); // searchlight, diffuse mean free path
+    ASSERT_TRUE(m_e->values.count("S"));                 // s of configurations 3 and 4
+    EXPECT_EQ(m_e->values.at("S")[0], 1.0f);
 }
 
 // The profile at r = (0.01 … 30)·d, d = l/s, for every configuration and medium, against the
@@ -114,8 +121,9 @@ TEST_F(NormalizedDiffusion, AttributesAndParameter) {
 // x = r/d <= 30 (and GLSL's exp adds (3 + 2x) ulp): up to ~3e-5 at 30 d (measured 2.4e-5 on
 // llvmpipe); 1e-4 keeps a margin of 4.
 TEST_F(NormalizedDiffusion, GpuMatchesAnIndependentDoubleEvaluation) {
-    for (int configuration : {0, 1, 2}) {
+    for (int configuration : {0, 1, 2, 3, 4}) {
         m_e->values["Configuration"] = {float(configuration), 0, 0};
+        m_e->values["S"] = {float(kFreeS), 0, 0};
         for (const Medium& m : media()) {
             SCOPED_TRACE(m.name + " configuration " + std::to_string(configuration));
             const Reference ref = reference(m.sa, m.ss, m.g, m.eta, configuration);
@@ -145,8 +153,9 @@ TEST_F(NormalizedDiffusion, GpuMatchesAnIndependentDoubleEvaluation) {
 // <= 2e-6 relative (above), so does their weighted sum; the closed form of R_dr has no
 // cancellation (series near α′ = 1) and is compared at the float α′ it receives: 1e-5.
 TEST_F(NormalizedDiffusion, ProfileIntegratesToDiffuseReflectance) {
-    for (int configuration : {0, 1, 2}) {
+    for (int configuration : {0, 1, 2, 3, 4}) {
         m_e->values["Configuration"] = {float(configuration), 0, 0};
+        m_e->values["S"] = {float(kFreeS), 0, 0};
         for (const Medium& m : media()) {
             SCOPED_TRACE(m.name + " configuration " + std::to_string(configuration));
             const Reference ref = reference(m.sa, m.ss, m.g, m.eta, configuration);
@@ -185,15 +194,16 @@ TEST_F(NormalizedDiffusion, ProfileIntegratesToDiffuseReflectance) {
 TEST_F(NormalizedDiffusion, ProfileHasThePapersScalingFactor) {
     const Medium m{"", 0.01, 1.0, 0.0, 1.3};
     const double sigmaTr = std::sqrt(3 * m.sa * (m.sa + m.ss));
-    for (int configuration : {0, 1, 2}) {
+    for (int configuration : {0, 1, 2, 3, 4}) {
         m_e->values["Configuration"] = {float(configuration), 0, 0};
+        m_e->values["S"] = {float(kFreeS), 0, 0};
         const Reference ref = reference(m.sa, m.ss, m.g, m.eta, configuration);
         const double r1 = double(float(20 / ref.invD)), r2 = double(float(40 / ref.invD));
         const auto got = bssrdf::evaluateProfile(m_e->programs.at("pencil_profile.comp").id(),
                                                  *m_e->model, m_e->values, builtins(m), {r1, r2});
         const double slope =
             3 * std::log((got.value[0].x * r1) / (got.value[1].x * r2)) / (r2 - r1);
-        const double invL = configuration == 2 ? sigmaTr : m.sa + m.ss;
+        const double invL = configuration == 2 || configuration == 4 ? sigmaTr : m.sa + m.ss;
         EXPECT_NEAR(slope / invL, scalingFactor(ref.A, configuration), 1e-4)
             << "configuration " << configuration;
     }

@@ -104,6 +104,18 @@ TEST(CaptureReplay, CommentOnlyModelEditIsANoteACodeEditFails) {
                                           "A = 1.01*(1.0 + Fdr)/(1.0 - Fdr);"));
     EXPECT_EQ(replay(r, out), 1) << out;
     EXPECT_NE(out.find("materials/dipole.bssrdf: content hash changed"), std::string::npos) << out;
+    // --update takes the edit: the manifest's hash and its copy of the model's text both
+    // follow the file, so a later comment-only edit is compared with the edited code
+    EXPECT_EQ(replay(r, out, true), 0) << out;
+    const capture::Manifest m = capture::readManifest(r.dir);
+    bool found = false;
+    for (const auto& mf : m.models)
+        if (mf.path == "materials/dipole.bssrdf") {
+            found = true;
+            EXPECT_NE(mf.source.find("A = 1.01*(1.0 + Fdr)/(1.0 - Fdr);"), std::string::npos);
+        }
+    EXPECT_TRUE(found);
+    EXPECT_EQ(replay(r, out), 0) << out;
     fs::remove_all(r.root);
 }
 
