@@ -95,9 +95,10 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     for (const auto& e : wb.library().entries())
         if (e.problem) throw core::Error(e.problem->file, e.problem->line, e.problem->message);
     std::vector<std::string> presets = a.presets;
-    if (presets.empty())
+    if (presets.empty()) // the first table's (Jensen et al. 2001: the scoreboard's media)
         for (const auto& p : wb.presets())
-            presets.push_back(p.name);
+            if (p.table == wb.presets().front().table && p.unusable.empty())
+                presets.push_back(p.name);
     for (const auto& name : presets)
         if (!material::findPreset(wb.presets(), name))
             throw core::Error("--presets", 0, material::unknownPresetMessage(wb.presets(), name));
@@ -265,7 +266,8 @@ Command compareCommand() {
                 auto a = std::make_shared<CompareArgs>();
                 cmd.add_option("--models", a->models,
                                "model files (default: every materials/*.bssrdf)");
-                cmd.add_option("--presets", a->presets, "preset names (default: all)");
+                cmd.add_option("--presets", a->presets,
+                               "preset names (default: the Jensen et al. 2001 table's)");
                 addCountOption(&cmd, "--paths", a->paths,
                                "reference paths per preset and channel (default " +
                                    std::to_string(a->paths) + ")",

@@ -36,7 +36,7 @@ namespace app {
 
 struct CompareArgs {
     std::vector<std::string> models;   // default: every materials/*.bssrdf
-    std::vector<std::string> presets;  // default: every preset of presets.json
+    std::vector<std::string> presets;  // default: the first table of presets.json (Jensen 2001)
     std::vector<double> thetaI{0.0};   // incidence angles, degrees in [0, 90)
     bool plots = true;                 // PNG plots in the reports
     uint64_t paths = 200000;           // per preset and channel

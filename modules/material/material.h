@@ -1,7 +1,8 @@
 // material: the parameter module of thesis 3.1.1 / 3.4 / 3.6.1.
 //   - MaterialParams: σa, σs (RGB, 1/mm), g, η, scale (mm per model unit); validation with
 //     messages naming the offending field and channel.
-//   - presets from Jensen et al. 2001 (materials/presets.json: σ′s and σa in 1/mm, η).
+//   - presets: measured media of Jensen et al. 2001 and Narasimhan et al. 2006
+//     (materials/presets.json: σ′s, σa in 1/mm, η, each table with its source).
 //   - the R_dr / l_d parametrisation (Jensen & Buhler 2002): given α′ solved per channel from
 //     the model's own DiffuseReflectance (GPU bisection, see invertRdr in bssrdf/gpu), thesis
 //     eqs. (3.3)–(3.5) give σ′t = 1/(l_d √(3(1−α′))), σ′s = α′σ′t, σa = σ′t − σ′s, and the
@@ -43,17 +44,29 @@ void validate(const MaterialParams& p, const std::string& what = "material");
 
 struct Preset {
     std::string name;
-    glm::dvec3 sigmaSPrime; // reduced scattering, 1/mm
+    glm::dvec3 sigmaSPrime; // reduced scattering, 1/mm (σs (1 − g) for a table that gives g)
     glm::dvec3 sigmaA;      // 1/mm
     double eta = 1.3;
+    std::string table;     // the table's id ("jensen2001")
+    std::string tableName; // "Jensen et al. 2001"
+    std::string source;    // the table's citation
+    std::string note;      // the entry's notes and disputes in words ("" for none)
+    bool disputed = false; // the published copies disagree on a value
+    bool hasG = false;     // the table gives g per channel (publishedG)
+    glm::dvec3 publishedG{0.0};
+    std::string unusable; // why the BSSRDF models cannot use it ("" when they can)
 };
-// Parses presets.json; throws core::Error(path, line, msg) on bad JSON or fields.
+// Parses presets.json (version 2: "tables", each with id, name, source, form "sigma_s_prime" or
+// "sigma_s_and_g", eta and its presets; version 1: one "presets" array of σ′s and σa). Throws
+// core::Error(path, line, msg) on bad JSON or fields, naming the preset or table and its line:
+// missing or non-numeric values, negative σ, |g| >= 1, a name used twice.
 std::vector<Preset> loadPresets(const std::filesystem::path& file);
 const Preset* findPreset(const std::vector<Preset>& presets, const std::string& name);
 // "unknown preset 'Marbel' (did you mean 'Marble'? known: Apple, …)": the message for a name
 // findPreset did not find, with the nearest name when one is close (core::nearestName).
 std::string unknownPresetMessage(const std::vector<Preset>& presets, const std::string& name);
-// σs = σ′s/(1−g), σa and η from the preset; g and scale kept.
+// σs = σ′s/(1−g), σa and η from the preset; g and scale kept. Throws core::Error naming the
+// preset when it is `unusable` (σs = 0 in a channel).
 MaterialParams applyPreset(const Preset& preset, MaterialParams base);
 
 // Derived quantities of the classical diffusion theory (thesis 2.4): per channel.

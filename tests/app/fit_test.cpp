@@ -376,5 +376,11 @@ TEST_F(FitCli, BadInputsNameTheirArgument) {
     expectFailure(
         {"fit", "--model", dipole, "--params", "Multiplier", "--theta-i", "90", "--out", "o"},
         {"--theta-i", "[0, 90)"});
+    // a measured medium that does not scatter in a channel (Narasimhan et al. 2006's Coke)
+    expectFailure(
+        {"fit", "--model", dipole, "--params", "Multiplier", "--presets", "Coke", "--out", "o"},
+        {"Coke: sigma_s = 0 in channel B"});
+    expectFailure({"compare", "--models", dipole, "--presets", "Coke", "--out", "o"},
+                  {"Coke: sigma_s = 0 in channel B"});
     EXPECT_FALSE(fs::exists(dir() / "o/fit.json"));
 }

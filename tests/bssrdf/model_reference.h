@@ -48,15 +48,17 @@ inline double moment(int k, double eta) {
                    20000);
 }
 
-// Every preset medium (each channel on its own; the presets list σ′s, so with g = 0 σs = σ′s),
+// Every preset medium of every table (each channel on its own, except one that does not scatter;
+// the presets list σ′s, so with g = 0 σs = σ′s),
 // an anisotropic one at η = 1.5 and an index-matched one.
 inline std::vector<Medium> media() {
     std::vector<Medium> out;
     for (const auto& p :
          material::loadPresets(testsupport::sourceRoot() / "materials/presets.json")) {
         for (int c = 0; c < 3; ++c)
-            out.push_back({p.name + "[" + std::to_string(c) + "]", p.sigmaA[c], p.sigmaSPrime[c],
-                           0.0, p.eta});
+            if (p.sigmaSPrime[c] > 0) // a table may list a channel that does not scatter
+                out.push_back({p.name + "[" + std::to_string(c) + "]", p.sigmaA[c],
+                               p.sigmaSPrime[c], 0.0, p.eta});
     }
     out.push_back({"anisotropic eta 1.5", 0.05, 5.0, 0.8, 1.5});
     out.push_back({"matched boundary", 0.2, 1.0, 0.0, 1.0});

@@ -1,6 +1,7 @@
 // Parameters panel (thesis 3.6.1): σa/σs with logarithmic sliders or the R_dr/l_d
 // parametrisation, g, η, scale, presets, colour swatches; shared by all models or per model.
 #include "gui/panels/panels.h"
+#include "gui/preset_combo.h"
 #include "gui/widgets.h"
 
 #include <imgui.h>
@@ -60,13 +61,7 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared&) {
         if (!wb.view(target).override) hintText("(editing values not in use)");
     }
 
-    if (ImGui::BeginCombo("preset", s.preset.empty() ? "(custom)" : s.preset.c_str())) {
-        for (const auto& p : wb.presets())
-            if (ImGui::Selectable(p.name.c_str(), p.name == s.preset)) wb.applyPreset(s, p.name);
-        ImGui::EndCombo();
-    }
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("Jensen et al. 2001 measurements (sigma_s', sigma_a in 1/mm, eta 1.3)");
+    presetCombo("preset", wb, s);
 
     int mode = static_cast<int>(s.mode);
     ImGui::RadioButton("sigma_a, sigma_s", &mode, 0);

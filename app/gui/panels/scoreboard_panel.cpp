@@ -5,6 +5,7 @@
 // row solos that model in the pencil plot on that channel and brings the plot to the front;
 // the preset combo applies a preset to the shared parameters (the table follows).
 #include "gui/panels/panels.h"
+#include "gui/preset_combo.h"
 #include "gui/widgets.h"
 #include "pipeline/pencil_series.h"
 
@@ -35,11 +36,7 @@ ImU32 relColour(double rel) {
 void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
     MaterialSettings& s = wb.shared();
     ImGui::SetNextItemWidth(160);
-    if (ImGui::BeginCombo("preset", s.preset.empty() ? "(custom)" : s.preset.c_str())) {
-        for (const auto& p : wb.presets())
-            if (ImGui::Selectable(p.name.c_str(), p.name == s.preset)) wb.applyPreset(s, p.name);
-        ImGui::EndCombo();
-    }
+    presetCombo("preset", wb, s);
     sameLineIfFits(200);
     ImGui::SetNextItemWidth(100);
     ImGui::Combo("channels", &ps.channel, "R\0G\0B\0all\0");
