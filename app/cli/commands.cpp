@@ -15,6 +15,7 @@ Command slabCommand();              // slab_command.cpp
 Command estimateCommand();          // estimate_commands.cpp
 Command compareCommand();           // compare_command.cpp
 Command fitCommand();               // fit_command.cpp
+Command paramsLabCommand();         // params_lab_command.cpp
 Command mergeCommand();             // estimate_commands.cpp
 Command sphereCommand();            // image_commands.cpp
 Command meshCommand();              // image_commands.cpp
@@ -44,6 +45,7 @@ const std::vector<Command>& commands() {
         estimateCommand(),
         compareCommand(),
         fitCommand(),
+        paramsLabCommand(),
         mergeCommand(),
         sphereCommand(),
         meshCommand(),

@@ -8,10 +8,12 @@
 #include "gui/file_dialog.h"
 #include "gui/scene_view.h"
 #include "gui/workspace_layout.h"
+#include "pipeline/params_lab.h"
 #include "pipeline/scene_stage.h"
 #include "probe/child_process.h"
 
 #include <array>
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -104,8 +106,24 @@ struct ErrorsPanelState {
     int logMinLevel = 1; // 0 debug .. 3 error (core log levels)
 };
 
+// "From albedo and length" in the Parameters panel: an artist mapping (pipeline/param_mappings.h)
+// and its measurement by the path tracer, run in the background.
+struct ArtistMeasurement {
+    std::atomic<bool> done{false}, cancel{false};
+    std::vector<LabCase> cases; // one per channel, filled when done
+};
+struct ArtistMappingState {
+    std::string mapping = "rdr_ld_better_dipole";
+    glm::dvec3 albedo{0.8, 0.6, 0.4}, lengthMm{4.0, 2.0, 1.0};
+    std::string problem; // the mapping could not make σ from these values
+    std::shared_ptr<ArtistMeasurement> measurement;
+    std::string measuredKey; // mapping, values, g and η the measurement was made for
+    Rect header, applyButton, measureButton; // last frame (screen px)
+};
+
 struct ParametersPanelState {
     std::string target; // display path edited, "" = shared
+    ArtistMappingState artist;
 };
 
 struct PencilPanelState {

@@ -41,6 +41,11 @@ void ensureInspectCamera(Workbench& wb, UiShared& ui) {
     ui.inspect.cameraSet = true;
 }
 
+Rect lastItem() {
+    const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+    return {lo.x, lo.y, hi.x, hi.y};
+}
+
 void sameLineIfFits(float width) {
     const ImGuiStyle& st = ImGui::GetStyle();
     // the visible right edge (the content region grows with horizontal scrolling)

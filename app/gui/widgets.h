@@ -43,6 +43,8 @@ bool comboEnum(const char* label, E& value, const char* const (&names)[N]) {
 // ImGui::SameLine() when an item of `width` pixels still fits on the current line, so rows of
 // controls wrap in narrow areas instead of running off the edge.
 void sameLineIfFits(float width);
+// Where the last item was drawn (screen px), recorded by panels for clicks in tests.
+Rect lastItem();
 // Edit fields that commit when the edit is done — Enter or focus loss — not on every key
 // (a setting that restarts work would restart per keystroke). The +/- step buttons of the
 // integer fields commit at once. Each returns true when the value was committed.

@@ -22,11 +22,6 @@ std::string pct(double v) {
     return std::isfinite(v) ? core::formatNumber(100 * v, 3) + " %" : std::string("-");
 }
 
-Rect lastItem() {
-    const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
-    return {lo.x, lo.y, hi.x, hi.y};
-}
-
 } // namespace
 
 void drawFitPanel(Workbench& wb, FitPanelState& ps, UiShared& ui) {

@@ -20,6 +20,8 @@ void drawWorkspace(Workbench& wb, UiState& ui);
 std::array<bool, kPanelCount> shownPanels(const UiShared& ui);
 void drawModelsPanel(Workbench& wb, UiShared& ui);
 void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared& ui);
+// The Parameters panel's "From albedo and length" section (artist_mapping.cpp) for `s`.
+void drawArtistMapping(Workbench& wb, MaterialSettings& s, ArtistMappingState& st);
 void drawPencilPanel(Workbench& wb, PencilPanelState& ps, UiShared& ui);
 void drawErrorsPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui);
 void drawLogPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui);

@@ -62,6 +62,7 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared&) {
     }
 
     presetCombo("preset", wb, s);
+    drawArtistMapping(wb, s, ps.artist);
 
     int mode = static_cast<int>(s.mode);
     ImGui::RadioButton("sigma_a, sigma_s", &mode, 0);
