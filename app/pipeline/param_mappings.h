@@ -17,9 +17,10 @@
 //       Cycles' Random Walk, appleseed's random walk).
 //   exp_albedo_fit   α = 1 − exp(A(−5.09406 + A(2.61188 − 4.31805 A))), d = 1/σt (appleseed's
 //       directional dipole; Cycles' random walk before 2021 with another σt).
+//   cycles_anisotropic_fit   Cycles' Random Walk (Legacy) and Skin: α from A through six
+//       degree-7 fits in g (Chiang et al. 2016; Wrenninge et al. 2017), d = 1/σ′t.
 // The sources, with the files and commits they were read from, are in paramMappings(). Not
-// here: Cycles' anisotropic per-g fit (degree-7 polynomials in g, subsurface_random_walk.h
-// lines 29-74) and Christensen & Burley's s(A), which scale a profile, not σ (their fit is
+// here: Christensen & Burley's s(A), which scales a profile, not σ (their fit is
 // normalized_diffusion.bssrdf, refitted in docs/christensen_burley.md).
 #pragma once
 

@@ -2,14 +2,49 @@
 
 #include "core/core.h"
 #include "core/text.h"
+#include "pathtrace/bssrdf_estimate.h"
 #include "pipeline/scoring.h"
 #include "pipeline/workbench.h"
 
 #include <cmath>
+#include <tuple>
 
 namespace app {
 
-void measureLabCase(const material::MaterialParams& p, uint64_t paths, LabCase& c) {
+std::pair<double, double> diffuseAlbedo(const pathtrace::Medium& m, uint64_t paths) {
+    // 8-point Gauss–Legendre on [-1, 1] (Abramowitz & Stegun 25.4.30), mapped to μ in (0, 1)
+    static const double x[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                0.9602898564975363};
+    static const double w[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                0.1012285362903763};
+    pathtrace::EstimateSettings es;
+    es.bins.rBins = 1;
+    es.bins.rMaxMm = 1e6;
+    es.bins.thetaSBins = 1;
+    es.estimator = pathtrace::BssrdfEstimator::Implicit;
+    es.paths = paths;
+    es.seed = 11;
+    es.thetaIDeg.clear(); // (the default holds normal incidence)
+    std::vector<double> mu, weight;
+    for (int i = 0; i < 4; ++i)
+        for (double sign : {-1.0, 1.0}) {
+            mu.push_back(0.5 * (1 + sign * x[i]));
+            weight.push_back(0.5 * w[i]);
+            es.thetaIDeg.push_back(std::acos(mu.back()) * 180 / M_PI);
+        }
+    double num = 0, den = 0, var = 0;
+    for (size_t k = 0; k < mu.size(); ++k) {
+        const pathtrace::BssrdfTally t =
+            pathtrace::estimateChunks(m, es, k, 0, pathtrace::chunkCount(es));
+        const pathtrace::BssrdfSlice s = pathtrace::finalize(t, es.bins, es.thetaIDeg[k], m);
+        num += weight[k] * mu[k] * s.totalRd;
+        den += weight[k] * mu[k] * (1 - s.specular);
+        var += std::pow(weight[k] * mu[k] * s.totalRdStderr, 2);
+    }
+    return {num / den, std::sqrt(var) / den};
+}
+
+void measureLabCase(const material::MaterialParams& p, uint64_t paths, LabCase& c, bool diffuse) {
     c.sigmaA = p.sigmaA[0];
     c.sigmaS = p.sigmaS[0];
     const pathtrace::Medium m{p.sigmaA[0], p.sigmaS[0], p.g, p.eta};
@@ -28,6 +63,7 @@ void measureLabCase(const material::MaterialParams& p, uint64_t paths, LabCase& 
         den += r.rd[i] * r.rMid[i];
     }
     c.meanRadiusMm = den > 0 ? num / den : NAN;
+    if (diffuse) std::tie(c.diffuse, c.diffuseSe) = diffuseAlbedo(m, paths);
 }
 
 std::vector<LabCase> runParamsLab(Workbench& wb, const LabSettings& s,
@@ -65,7 +101,7 @@ std::vector<LabCase> runParamsLab(Workbench& wb, const LabSettings& s,
                     try {
                         const material::MaterialParams p = mapArtistParams(
                             *m, glm::dvec3(a), glm::dvec3(s.lengthMm), g, eta, model);
-                        measureLabCase(p, s.paths, c);
+                        measureLabCase(p, s.paths, c, s.diffuse);
                     } catch (const core::Error& e) {
                         c.problem = e.what();
                         c.measured = c.measuredSe = c.meanRadiusMm = NAN;

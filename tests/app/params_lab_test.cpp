@@ -45,6 +45,45 @@ TEST(ParamMappings, VanDeHulstEqualsTheClosedFormInverseInCycles) {
         }
 }
 
+// Cycles' anisotropic fit: σt (1 − g) = 1/d, and the single-scattering albedo rises with A from
+// near 0 to near 1 at every g (a sign or digit error in its 48 constants would break one of these).
+TEST(ParamMappings, CyclesAnisotropicFitIsMonotonicWithTheReducedLength) {
+    const app::ParamMapping* m = app::findParamMapping("cycles_anisotropic_fit");
+    ASSERT_NE(m, nullptr);
+    for (double g : {0.0, 0.3, 0.6, 0.8}) {
+        double previous = -1;
+        for (int i = 1; i <= 99; ++i) {
+            const double A = i / 100.0;
+            const material::MaterialParams p =
+                app::mapArtistParams(*m, glm::dvec3(A), glm::dvec3(2.0), g, 1.3, nullptr);
+            const double alpha = p.sigmaS.x / (p.sigmaA.x + p.sigmaS.x);
+            EXPECT_NEAR((p.sigmaA.x + p.sigmaS.x) * (1 - g), 0.5, 1e-12); // σt (1 − g) = 1/d
+            // it rises until Cycles' clamp at 0.999999 (the fit passes 1 near A = 0.93)
+            if (alpha < 0.999998) {
+                EXPECT_GT(alpha, previous) << "A " << A << " g " << g;
+            } else {
+                EXPECT_GT(A, 0.75) << "clamped already at A " << A << " g " << g;
+            }
+            previous = alpha;
+        }
+        const auto at = [&](double A) {
+            const material::MaterialParams p =
+                app::mapArtistParams(*m, glm::dvec3(A), glm::dvec3(1.0), g, 1.3, nullptr);
+            return p.sigmaS.x / (p.sigmaA.x + p.sigmaS.x);
+        };
+        EXPECT_LT(at(0.01), 0.3) << "g " << g;
+        EXPECT_GT(at(0.99), 0.99) << "g " << g;
+        // at g = 0 it agrees with van de Hulst's inverse to 1 % in α at mid albedo (two
+        // independent fits of the same transport problem)
+        if (g == 0) {
+            const material::MaterialParams v =
+                app::mapArtistParams(*app::findParamMapping("van_de_hulst"), glm::dvec3(0.5),
+                                     glm::dvec3(1.0), 0, 1.3, nullptr);
+            EXPECT_NEAR(at(0.5), v.sigmaS.x / (v.sigmaA.x + v.sigmaS.x), 0.01);
+        }
+    }
+}
+
 TEST(ParamMappings, RdrLdGivesBackTheAskedReflectanceAndLength) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot(
@@ -107,6 +146,7 @@ TEST(ParamsLab, MeasuresChandrasekharsAlbedoAtAnIndexMatchedBoundary) {
     s.etas = {1.0};
     s.gs = {0.0};
     s.paths = 40000;
+    s.diffuse = false;
     const std::vector<app::LabCase> cases = app::runParamsLab(wb, s);
     ASSERT_EQ(cases.size(), 4u);
     const double zMax = core::bonferroniZ(1e-3, 4);
@@ -121,6 +161,24 @@ TEST(ParamsLab, MeasuresChandrasekharsAlbedoAtAnIndexMatchedBoundary) {
     }
     ::unsetenv("BSSRDF_WORKBENCH_CACHE");
     fs::remove_all(root);
+}
+
+// Under uniform diffuse light the albedo is 2∫R(μ)μ dμ; with an index-matched boundary and
+// isotropic scattering R(μ) = 1 − H(μ)√(1 − α), so A_diff = 1 − 2√(1 − α)∫H(μ)μ dμ, the
+// integral by a 40-point Gauss–Legendre rule here (the lab uses 8 points).
+TEST(ParamsLab, DiffuseAlbedoIsChandrasekharsAtAnIndexMatchedBoundary) {
+    const double zMax = core::bonferroniZ(1e-3, 3);
+    for (double alpha : {0.5, 0.9, 0.99}) {
+        std::vector<double> x, w;
+        pttest::gaussLegendre(40, 0.0, 1.0, x, w);
+        double h1 = 0;
+        for (size_t i = 0; i < x.size(); ++i)
+            h1 += w[i] * x[i] * pttest::hByIntegral(alpha, x[i]);
+        const double want = 1 - 2 * std::sqrt(1 - alpha) * h1;
+        const auto [got, se] = app::diffuseAlbedo({1 - alpha, alpha, 0.0, 1.0}, 40000);
+        EXPECT_LT(std::abs(got - want), zMax * se)
+            << "alpha " << alpha << ": " << got << " +- " << se << " vs " << want;
+    }
 }
 
 namespace {

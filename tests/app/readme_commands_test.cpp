@@ -65,9 +65,9 @@ std::vector<std::string> readmeCommands(const std::string& text) {
 // Small sizes for a test run.
 std::vector<std::string> smallArgs(std::vector<std::string> w, const fs::path& dir) {
     const std::map<std::string, std::string> small = {
-        {"--paths", "20000"},       {"--points", "2000"}, {"--width", "64"},
-        {"--height", "36"},         {"--frames", "1"},    {"--brute-frames", "1"},
-        {"--turk-iterations", "10"}};
+        {"--paths", "20000"},        {"--points", "2000"},     {"--width", "64"},
+        {"--height", "36"},          {"--frames", "1"},        {"--brute-frames", "1"},
+        {"--turk-iterations", "10"}, {"--albedos", "0.3,0.8"}, {"--g", "0"}};
     std::vector<std::string> out;
     for (size_t i = 0; i < w.size(); ++i) {
         std::string a = std::regex_replace(w[i], std::regex("\\$\\{SLURM_ARRAY_TASK_ID\\}"), "1");

@@ -142,6 +142,10 @@ void drawArtistMapping(Workbench& wb, MaterialSettings& s, ArtistMappingState& s
             });
             row("A / asked",
                 [](const LabCase& c) { return core::formatNumber(c.measured / c.albedo, 3); });
+            row("A diffuse light", [](const LabCase& c) {
+                return core::formatNumber(c.diffuse, 3) + " +- " +
+                       core::formatNumber(c.diffuseSe, 1);
+            });
             row("mean r / d", [](const LabCase& c) {
                 return core::formatNumber(c.meanRadiusMm / c.lengthMm, 3);
             });
