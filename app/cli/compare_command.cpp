@@ -4,6 +4,7 @@
 #include "cli/args.h"
 #include "cli/command.h"
 #include "cli/options.h"
+#include "pathtrace/mco.h"
 
 #include "capture/scores.h"
 #include "cli/capture_commands.h"
@@ -94,13 +95,44 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     Workbench wb(root, false, models);
     for (const auto& e : wb.library().entries())
         if (e.problem) throw core::Error(e.problem->file, e.problem->line, e.problem->message);
+    // The media scored: presets, or the one medium of the MCML runs given with --mco (their
+    // R_d(r) is the reference, pathtrace/mco.h)
+    std::optional<pathtrace::SlabResult> mcoReference;
+    std::string mcoName;
+    pathtrace::Medium mcoMedium;
+    if (!a.mco.empty()) {
+        if (a.mco.size() > 2)
+            throw core::Error("--mco", 0, "give one MCML output, or two independent runs");
+        if (!a.presets.empty())
+            throw core::Error("--mco", 0, "scores the MCML run's own medium: leave out --presets");
+        if (a.thetaI != std::vector<double>{0.0})
+            throw core::Error("--mco", 0,
+                              "an MCML run is a pencil beam at normal incidence: "
+                              "leave out --theta-i");
+        std::vector<pathtrace::McoFile> runs;
+        for (const std::string& f : a.mco)
+            runs.push_back(pathtrace::readMco(f));
+        mcoMedium = pathtrace::mediumOfMco(runs[0], a.mco[0]);
+        if (runs.size() == 2) {
+            const pathtrace::Medium other = pathtrace::mediumOfMco(runs[1], a.mco[1]);
+            if (other.sigmaA != mcoMedium.sigmaA || other.sigmaS != mcoMedium.sigmaS ||
+                other.g != mcoMedium.g || other.eta != mcoMedium.eta || runs[0].dr != runs[1].dr ||
+                runs[0].nr != runs[1].nr)
+                throw core::Error(a.mco[1], 0,
+                                  "not a run of the same input as " + a.mco[0] +
+                                      " (medium or grid differ)");
+        }
+        mcoReference = pathtrace::slabFromMco(runs[0], runs.size() == 2 ? &runs[1] : nullptr);
+        mcoName = fs::path(a.mco[0]).stem().string();
+    }
     std::vector<std::string> presets = a.presets;
+    if (mcoReference) presets = {mcoName};
     if (presets.empty()) // the first table's (Jensen et al. 2001: the scoreboard's media)
         for (const auto& p : wb.presets())
             if (p.table == wb.presets().front().table && p.unusable.empty())
                 presets.push_back(p.name);
     for (const auto& name : presets)
-        if (!material::findPreset(wb.presets(), name))
+        if (!mcoReference && !material::findPreset(wb.presets(), name))
             throw core::Error("--presets", 0, material::unknownPresetMessage(wb.presets(), name));
 
     for (double t : a.thetaI)
@@ -121,9 +153,17 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     };
     for (const std::string& preset : presets) {
         MaterialSettings s;
-        wb.applyPreset(s, preset);
+        if (mcoReference) {
+            s.preset.clear();
+            s.params.sigmaA = glm::dvec3(mcoMedium.sigmaA);
+            s.params.sigmaS = glm::dvec3(mcoMedium.sigmaS);
+            s.params.g = mcoMedium.g;
+            s.params.eta = mcoMedium.eta;
+        } else {
+            wb.applyPreset(s, preset);
+        }
         const material::MaterialParams& p = s.params;
-        for (int c = 0; c < 3; ++c) {
+        for (int c = 0; c < (mcoReference ? 1 : 3); ++c) {
             const std::string ch(1, "RGB"[c]);
             const pathtrace::Medium m{p.sigmaA[c], p.sigmaS[c], p.g, p.eta};
             const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
@@ -140,8 +180,11 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                     const pathtrace::SlabSettings ss = scoringSlabSettings(ld, a.paths);
                     bool fromCache = false;
                     const pathtrace::SlabResult ref =
-                        slabReference(m, ss, "compare: reference " + preset + " " + ch, fromCache);
-                    (fromCache ? cached : traced)++;
+                        mcoReference
+                            ? *mcoReference
+                            : slabReference(m, ss, "compare: reference " + preset + " " + ch,
+                                            fromCache);
+                    if (!mcoReference) (fromCache ? cached : traced)++;
                     ProfileCurves curves{preset, c, ld, ref.rMid, {}, {}, {}};
                     for (size_t i = 0; i < ref.rMid.size(); ++i) {
                         curves.ref.push_back(ref.rd[i] / (1 - ref.specular));
@@ -268,6 +311,10 @@ Command compareCommand() {
                                "model files (default: every materials/*.bssrdf)");
                 cmd.add_option("--presets", a->presets,
                                "preset names (default: the Jensen et al. 2001 table's)");
+                cmd.add_option("--mco", a->mco,
+                               "score against MCML output instead of presets: FILE.mco, or two "
+                               "independent runs for per-bin standard errors (one semi-infinite "
+                               "layer)");
                 addCountOption(&cmd, "--paths", a->paths,
                                "reference paths per preset and channel (default " +
                                    std::to_string(a->paths) + ")",

@@ -35,12 +35,13 @@
 namespace app {
 
 struct CompareArgs {
-    std::vector<std::string> models;   // default: every materials/*.bssrdf
-    std::vector<std::string> presets;  // default: the first table of presets.json (Jensen 2001)
-    std::vector<double> thetaI{0.0};   // incidence angles, degrees in [0, 90)
-    bool plots = true;                 // PNG plots in the reports
-    uint64_t paths = 200000;           // per preset and channel
-    std::string baseline;              // an earlier scores.json
+    std::vector<std::string> models;  // default: every materials/*.bssrdf
+    std::vector<std::string> presets; // default: the first table of presets.json (Jensen 2001)
+    std::vector<std::string> mco;    // MCML outputs (one, or two independent runs) as the reference
+    std::vector<double> thetaI{0.0}; // incidence angles, degrees in [0, 90)
+    bool plots = true;               // PNG plots in the reports
+    uint64_t paths = 200000;         // per preset and channel
+    std::string baseline;            // an earlier scores.json
     std::optional<double> failIfWorse; // percent
     std::string out;                   // output folder
 };

@@ -2,6 +2,7 @@
 #include "cli/slab_command.h"
 #include "cli/args.h"
 #include "cli/command.h"
+#include "pathtrace/mco.h"
 
 #include "cli/interrupt.h"
 #include "core/text.h"
@@ -107,7 +108,11 @@ int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
     for (size_t i = 0; i < r.rd.size(); ++i)
         out << core::formatNumber(r.rMid[i]) << ',' << core::formatNumber(r.rd[i]) << ','
             << core::formatNumber(r.rdStderr[i]) << '\n';
-    core::writeFile(path, out.str());
+    if (std::filesystem::path(path).extension() == ".mco") // MCML's format (pathtrace/mco.h)
+        core::writeFile(path, pathtrace::formatMco(pathtrace::mcoFromSlab(
+                                  m, s, r, std::filesystem::path(path).filename().string())));
+    else
+        core::writeFile(path, out.str());
     std::fprintf(stderr, "wrote %s (%llu paths, R_d %s +- %s, %.1f s, %.0f paths/s)\n",
                  path.c_str(), static_cast<unsigned long long>(r.paths),
                  core::formatNumber(r.totalRd).c_str(), core::formatNumber(r.totalRdStderr).c_str(),
@@ -142,7 +147,8 @@ void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
                     "run shard K of N (1 <= K <= N) and write its table (raw sums) to --out; "
                     "`merge --slab-csv` combines the shards into this command's CSV");
     cmd->add_option("--out", a.out,
-                    "CSV file: # header, then r_mm,Rd_per_mm2,stderr (with --shard: the table)")
+                    "CSV file: # header, then r_mm,Rd_per_mm2,stderr; FILE.mco: MCML 1.2.2's "
+                    "output format (R_d(r) in 1/cm2); with --shard: the table")
         ->required();
 }
 
@@ -150,6 +156,10 @@ int runSlabCli(const SlabArgs& a) {
     const SlabSetup k = prepare(a);
     checkWritable(a.out, "--out");
     if (!a.shard.empty()) {
+        if (std::filesystem::path(a.out).extension() == ".mco")
+            throw core::Error("--out", 0,
+                              "a shard writes its table of raw sums, not an MCML file: give "
+                              "`merge --slab-csv` the .mco name instead");
         const auto [shard, n] = parseShard(a.shard, "--shard");
         const pathtrace::EstimateSettings e = pathtrace::slabTableSettings(k.s);
         const auto [first, last] = pathtrace::shardChunks(e, shard, n);
