@@ -98,7 +98,9 @@ struct UiShared {
 struct MenuState {
     bool openModelPopup = false;
     bool recordPopup = false;
+    bool mcmlPopup = false;
     FileDialogState openDialog; // File → Open model
+    FileDialogState mcmlDialog; // File → Open MCML reference
     char nameBuffer[128] = "my_capture";
 };
 

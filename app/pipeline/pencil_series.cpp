@@ -1,6 +1,8 @@
 // Reference series (mean ± 2 standard errors) and the models' error figures (pencil_series.h).
 #include "pipeline/pencil_series.h"
 
+#include <algorithm>
+
 #include "core/color.h"
 #include "core/relative_error.h"
 #include "core/text.h"
@@ -148,7 +150,56 @@ void addErrorFigures(const Workbench& wb, const std::string& displayPath, const 
 
 } // namespace
 
+namespace {
+
+// An MCML run opened as a reference (Workbench::mcmlReference): its R_d(r)/(1 − R_sp) with the
+// ±2σ band of two runs, whatever channel is plotted (it is one medium).
+plot::Series mcmlSeries(const Workbench::McmlReference& m, bool rTimesR) {
+    plot::Series s;
+    s.label = "MCML " + m.name;
+    s.color = 0xffb0b0b0u;
+    s.dashed = true;
+    s.marker = true;
+    const pathtrace::SlabResult& p = m.profile;
+    const bool band =
+        std::any_of(p.rdStderr.begin(), p.rdStderr.end(), [](double v) { return v > 0; });
+    for (size_t i = 0; i < p.rMid.size(); ++i) {
+        const double f = (rTimesR ? p.rMid[i] : 1.0) / (1 - p.specular);
+        s.x.push_back(p.rMid[i]);
+        s.y.push_back(p.rd[i] * f);
+        if (band) {
+            s.bandLo.push_back((p.rd[i] - 2 * p.rdStderr[i]) * f);
+            s.bandHi.push_back((p.rd[i] + 2 * p.rdStderr[i]) * f);
+        }
+    }
+    s.tooltip = "MCML's R_d(r) per unit power entering, from " + m.path + " (sigma_a " +
+                core::formatNumber(m.medium.sigmaA, 4) + ", sigma_s " +
+                core::formatNumber(m.medium.sigmaS, 4) + " 1/mm, g " +
+                core::formatNumber(m.medium.g, 3) + ", eta " + core::formatNumber(m.medium.eta, 4) +
+                "): for that medium, whatever the models are evaluated with";
+    return s;
+}
+
+std::vector<plot::Series> modelAndReferenceSeries(const Workbench& wb);
+
+} // namespace
+
 std::vector<plot::Series> plotSeries(const Workbench& wb) {
+    std::vector<plot::Series> out = modelAndReferenceSeries(wb);
+    if (const auto& m = wb.mcmlReference()) {
+        const PlotSettings& ps = wb.plotSettings();
+        plot::Series s = mcmlSeries(*m, ps.rTimesR);
+        // compared with the path-traced reference when that is the plot's one reference
+        const bool refLast = !out.empty() && out.back().compareTo == int(out.size()) - 1;
+        s.compareTo = ps.solo.empty() && refLast ? int(out.size()) - 1 : -1;
+        out.push_back(std::move(s));
+    }
+    return out;
+}
+
+namespace {
+
+std::vector<plot::Series> modelAndReferenceSeries(const Workbench& wb) {
     const PlotSettings& ps = wb.plotSettings();
     std::vector<plot::Series> out;
     auto valueOf = [&](const glm::dvec3& v, int channel) {
@@ -228,5 +279,7 @@ std::vector<plot::Series> plotSeries(const Workbench& wb) {
     out.push_back(std::move(ref));
     return out;
 }
+
+} // namespace
 
 } // namespace app

@@ -1,6 +1,7 @@
 // The workbench (workbench.h): models, the file watcher, the stages in data-flow order, the
 // Errors list and the save → pixels clock of hot reload.
 #include "pipeline/workbench.h"
+#include "pathtrace/mco.h"
 
 #include "probe/model_probe_process.h"
 
@@ -155,6 +156,28 @@ void Workbench::openModel(const fs::path& file) {
     // A model from anywhere is hot-reloaded like those in materials/.
     if (m_watcher) m_watcher->watch(fs::absolute(file).lexically_normal().parent_path());
     update();
+}
+
+void Workbench::openMcmlReference(const std::filesystem::path& file,
+                                  const std::filesystem::path& second) {
+    const pathtrace::McoFile a = pathtrace::readMco(file);
+    McmlReference r;
+    r.path = file.string();
+    r.name = file.filename().string();
+    r.medium = pathtrace::mediumOfMco(a, r.path);
+    if (second.empty()) {
+        r.profile = pathtrace::slabFromMco(a);
+    } else {
+        const pathtrace::McoFile b = pathtrace::readMco(second);
+        const pathtrace::Medium mb = pathtrace::mediumOfMco(b, second.string());
+        if (mb.sigmaA != r.medium.sigmaA || mb.sigmaS != r.medium.sigmaS || mb.g != r.medium.g ||
+            mb.eta != r.medium.eta || a.dr != b.dr || a.nr != b.nr)
+            throw core::Error(second.string(), 0,
+                              "not a run of the same input as " + r.path +
+                                  " (medium or grid differ)");
+        r.profile = pathtrace::slabFromMco(a, &b);
+    }
+    m_mcml = std::move(r);
 }
 
 void Workbench::applyPreset(MaterialSettings& s, const std::string& name) {

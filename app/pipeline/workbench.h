@@ -132,6 +132,20 @@ class Workbench {
     // Starts the reference if needed and waits for it to finish (captures, CLI, tests).
     ReferenceSnapshot finishReference();
 
+    // An MCML run shown in the pencil plot beside the models (File → Open MCML reference):
+    // its R_d(r) per unit power entering, for the medium the file declares (pathtrace/mco.h).
+    struct McmlReference {
+        std::string path, name;
+        pathtrace::Medium medium;
+        pathtrace::SlabResult profile;
+    };
+    // Reads `file` (and `second`, an independent run of the same input, for standard errors);
+    // throws core::Error naming the file and line when it cannot be a reference.
+    void openMcmlReference(const std::filesystem::path& file,
+                           const std::filesystem::path& second = {});
+    void clearMcmlReference() { m_mcml.reset(); }
+    const std::optional<McmlReference>& mcmlReference() const { return m_mcml; }
+
     // BSSRDF slice (seed 001): settings, the stage (reference snapshot, model slices).
     SliceSettings& sliceSettings() { return m_sliceSettings; }
     SliceStage& slice() { return *m_slice; }
@@ -228,6 +242,7 @@ class Workbench {
     std::unique_ptr<SliceStage> m_slice;
     std::unique_ptr<ScoreboardStage> m_scoreboard;
     std::unique_ptr<FitStage> m_fit;
+    std::optional<McmlReference> m_mcml;
     FitRequestSettings m_fitRequest;
     bool m_scoreboardEnabled = false;
     std::unique_ptr<LitSphereStage> m_litSpheres;

@@ -5,6 +5,7 @@
 #include "core/core.h"
 #include "core/text.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -51,7 +52,7 @@ std::vector<double> numbers(const Lines& ls, size_t index, const std::string& li
         char* end = nullptr;
         const double v = std::strtod(token.c_str(), &end);
         if (*end != '\0' || !std::isfinite(v))
-            fail(ls, index, what + ": '" + token + "' is not a number");
+            fail(ls, index, what + ": '" + core::printableText(token) + "' is not a number");
         out.push_back(v);
     }
     if (out.size() < want)
@@ -161,18 +162,25 @@ McoFile parseMco(const std::string& text, const std::string& displayName) {
         std::istringstream v(l);
         v >> m.outName;
     }
-    m.photons = (long long)numbers(ls, index, nextData(ls, index, "photons"), 1, "photons")[0];
+    {
+        const double photons = numbers(ls, index, nextData(ls, index, "photons"), 1, "photons")[0];
+        if (!(photons >= 0 && photons <= 1e18))
+            fail(ls, index, "the number of photons must be 0 … 1e18");
+        m.photons = (long long)photons;
+    }
     {
         const auto v = numbers(ls, index, nextData(ls, index, "dz, dr"), 2, "dz, dr");
         m.dz = v[0];
         m.dr = v[1];
         const auto n = numbers(ls, index, nextData(ls, index, "nz, nr, na"), 3, "nz, nr, na");
+        for (double v : n)
+            if (!(v >= 1 && v <= 100000)) fail(ls, index, "nz, nr, na must be 1 … 100000");
+        if (!(m.dz > 0 && m.dr > 0)) fail(ls, index, "dz and dr must be > 0");
         m.nz = int(n[0]);
         m.nr = int(n[1]);
         m.na = int(n[2]);
-        if (!(m.dz > 0 && m.dr > 0) || m.nz < 1 || m.nr < 1 || m.na < 1 || m.nz > 100000 ||
-            m.nr > 100000 || m.na > 100000)
-            fail(ls, index, "dz, dr must be > 0 and nz, nr, na in 1 … 100000");
+        if (size_t(m.nr) * size_t(std::max(m.nz, m.na)) > 20000000)
+            fail(ls, index, "nr × nz and nr × na must be at most 2e7 values");
     }
     const double layers =
         numbers(ls, index, nextData(ls, index, "the number of layers"), 1, "layers")[0];

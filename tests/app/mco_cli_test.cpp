@@ -3,8 +3,12 @@
 // against MCML output, with per-bin standard errors from two independent runs; bad inputs name
 // the file or argument.
 #include "../support/cli_fixture.h"
+#include "../support/gl_fixture.h"
 #include "core/core.h"
+#include "gui/panels/panels.h"
 #include "pathtrace/mco.h"
+#include "pipeline/pencil_series.h"
+#include "pipeline/workbench.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -127,4 +131,49 @@ TEST_F(McoCli, BadMcmlInputsNameTheFile) {
     expectFailure(cmp({"--mco", (samples / "sample_lhvwang.mco").string(), "--theta-i", "45"}),
                   {"--mco", "normal incidence"});
     EXPECT_FALSE(fs::exists(dir() / "o/scores.json"));
+}
+
+// File → Open MCML reference: the run's R_d(r) per unit power entering is a pencil-plot series
+// (with its ±2σ band when two runs are given); a file that cannot be a reference is an Errors
+// entry naming it, and the reference already shown stays.
+TEST_F(McoCli, APencilPlotSeriesFromAnMcmlRun) {
+    for (const char* seed : {"1", "2"})
+        ASSERT_EQ(run({"slab", "--paths", "20000", "--seed", seed, "--out",
+                       std::string("run") + seed + ".mco"})
+                      .code,
+                  0);
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("mcmlplot", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.openMcmlReference(dir() / "run1.mco");
+    auto mcml = [&]() -> const plot::Series* {
+        static std::vector<plot::Series> keep;
+        keep = app::plotSeries(wb);
+        for (const plot::Series& s : keep)
+            if (s.label == "MCML run1.mco") return &s;
+        return nullptr;
+    };
+    const plot::Series* s = mcml();
+    ASSERT_NE(s, nullptr);
+    const pathtrace::McoFile m = pathtrace::readMco(dir() / "run1.mco");
+    EXPECT_EQ(s->x.size(), size_t(m.nr - 1)); // without MCML's overflow bin
+    EXPECT_NEAR(s->y[3], m.rdR[3] / 100 / (1 - m.specular), 1e-12);
+    EXPECT_TRUE(s->bandLo.empty()); // one run: no standard errors
+    wb.openMcmlReference(dir() / "run1.mco", dir() / "run2.mco");
+    s = mcml();
+    ASSERT_NE(s, nullptr);
+    ASSERT_EQ(s->bandLo.size(), s->x.size());
+    EXPECT_LT(s->bandLo[3], s->y[3]);
+    // a multi-layer MCML file: refused, named, and the reference shown stays
+    app::UiShared ui;
+    app::openMcmlFile(wb, ui, fs::path(BW_SOURCE_ROOT) / "tests/data/mcml/sample_lhvwang.mco");
+    bool named = false;
+    for (const auto& e : wb.errors())
+        named |= e.text.find("sample_lhvwang.mco") != std::string::npos &&
+                 e.text.find("needs one layer") != std::string::npos;
+    EXPECT_TRUE(named);
+    EXPECT_NE(mcml(), nullptr);
+    wb.clearMcmlReference();
+    EXPECT_EQ(mcml(), nullptr);
+    fs::remove_all(root);
 }

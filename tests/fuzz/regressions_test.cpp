@@ -16,7 +16,8 @@
 #define BW_FUZZ_TARGETS(X)                                                                         \
     X(bssrdf_model)                                                                                \
     X(profile_csv)                                                                                 \
-    X(bwtable) X(capture_csv) X(manifest) X(obj) X(ply) X(exr) X(presets) X(settings) X(scores)
+    X(bwtable)                                                                                     \
+    X(capture_csv) X(manifest) X(obj) X(ply) X(exr) X(presets) X(settings) X(scores) X(mco)
 
 #define BW_DECLARE(name) extern "C" int fuzzOne_##name(const uint8_t* data, size_t size);
 BW_FUZZ_TARGETS(BW_DECLARE)

@@ -1,4 +1,5 @@
-// Menu bar: File (open model, reload all, record capture, quit) and View (toggle panels).
+// Menu bar: File (open model, open an MCML reference, reload all, record capture, quit) and View
+// (toggle panels).
 #include "captures/capture_io.h"
 #include "gui/file_dialog.h"
 #include "gui/panels/panels.h"
@@ -24,6 +25,15 @@ void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& fil
     }
 }
 
+void openMcmlFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file) {
+    try {
+        wb.openMcmlReference(file);
+        ui.status = "MCML reference " + file.filename().string();
+    } catch (const core::Error& e) {
+        wb.reportActionError(std::string("open MCML reference: ") + e.what());
+    }
+}
+
 void drawMenuBar(Workbench& wb, UiState& ui) {
     pollRecording(wb, ui.captures, ui.shared);
     if (ImGui::BeginMainMenuBar()) {
@@ -36,6 +46,10 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
                 ImGui::EndMenu();
                 if (!pick.empty()) openModelFile(wb, ui.shared, pick);
             }
+            if (ImGui::MenuItem("Open MCML reference...")) ui.menu.mcmlPopup = true;
+            if (ImGui::MenuItem("Clear MCML reference", nullptr, false,
+                                wb.mcmlReference().has_value()))
+                wb.clearMcmlReference();
             if (ImGui::MenuItem("Reload all", "F5")) wb.reloadAll();
             if (ImGui::MenuItem("Record capture...", "Ctrl+R")) ui.menu.recordPopup = true;
             ImGui::Separator();
@@ -94,6 +108,23 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
         if (d.dir.empty()) d.dir = wb.root() / "materials";
         if (auto chosen = drawFileDialog(d, ".bssrdf")) {
             openModelFile(wb, ui.shared, *chosen);
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+    if (ui.menu.mcmlPopup) {
+        ImGui::OpenPopup("Open MCML reference");
+        ui.menu.mcmlPopup = false;
+    }
+    if (ImGui::BeginPopupModal("Open MCML reference", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::TextDisabled("MCML 1.x output (.mco) of one semi-infinite layer: its R_d(r) is "
+                            "drawn in the pencil plot");
+        FileDialogState& d = ui.menu.mcmlDialog;
+        if (d.dir.empty()) d.dir = fs::current_path();
+        if (auto chosen = drawFileDialog(d, ".mco")) {
+            openMcmlFile(wb, ui.shared, *chosen);
             ImGui::CloseCurrentPopup();
         }
         ImGui::SameLine();

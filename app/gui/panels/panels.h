@@ -13,6 +13,9 @@ void drawMenuBar(Workbench& wb, UiState& ui);
 // Opens a model file (relative: to the current folder, else to the root) and remembers it
 // among the recent files; a failure is an Errors entry.
 void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file);
+// Opens an MCML output as the pencil plot's MCML reference; a file that cannot be one is an
+// Errors entry (and the previous reference stays).
+void openMcmlFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file);
 // Every open panel: docked as tabs in the workspace's areas, or floating (workspace_layout.h).
 void drawWorkspace(Workbench& wb, UiState& ui);
 // The panels drawn this frame: the shown tab of each area (a pending UiShared::show request
