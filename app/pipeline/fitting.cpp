@@ -22,6 +22,19 @@ namespace app {
 
 namespace {
 
+// The parameter `name` of m; throws core::Error(arg, …) listing the declared ones when m has none
+// of that name.
+const bssrdf::Param* declaredParam(const bssrdf::Model& m, const std::string& name,
+                                   const std::string& arg) {
+    if (const bssrdf::Param* p = m.findParam(name)) return p;
+    std::string known;
+    for (const auto& q : m.params)
+        known += (known.empty() ? "" : ", ") + q.name;
+    throw core::Error(arg, 0,
+                      "'" + name + "' is not a parameter of " + m.path +
+                          (known.empty() ? " (it declares none)" : " (it declares " + known + ")"));
+}
+
 double parseBound(const std::string& text, const std::string& what) {
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
@@ -145,16 +158,7 @@ std::vector<FitVariable> fitVariables(const bssrdf::Model& m,
             out.push_back({name, 0, name, lo, hi, true});
             continue;
         }
-        const bssrdf::Param* p = m.findParam(name);
-        if (!p) {
-            std::string known;
-            for (const auto& q : m.params)
-                known += (known.empty() ? "" : ", ") + q.name;
-            throw core::Error(
-                "--params", 0,
-                "'" + name + "' is not a parameter of " + m.path +
-                    (known.empty() ? " (it declares none)" : " (it declares " + known + ")"));
-        }
+        const bssrdf::Param* p = declaredParam(m, name, "--params");
         if (!seen.insert(name).second)
             throw core::Error("--params", 0, "'" + name + "' is given twice");
         if (p->type == bssrdf::ParamType::Bool)
@@ -200,16 +204,7 @@ void setParameters(const bssrdf::Model& m, const std::vector<std::string>& specs
         if (eq == std::string::npos)
             throw core::Error("--set", 0, "'" + spec + "': expected NAME=VALUE");
         const std::string name = spec.substr(0, eq);
-        const bssrdf::Param* p = m.findParam(name);
-        if (!p) {
-            std::string known;
-            for (const auto& q : m.params)
-                known += (known.empty() ? "" : ", ") + q.name;
-            throw core::Error(
-                "--set", 0,
-                "'" + name + "' is not a parameter of " + m.path +
-                    (known.empty() ? " (it declares none)" : " (it declares " + known + ")"));
-        }
+        const bssrdf::Param* p = declaredParam(m, name, "--set");
         std::vector<double> v;
         std::string rest = spec.substr(eq + 1);
         for (size_t start = 0;;) {

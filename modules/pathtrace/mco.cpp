@@ -120,7 +120,7 @@ std::vector<double> block(Lines& ls, const std::string& key, size_t count) {
     return out;
 }
 
-std::string printf(const char* fmt, ...) {
+std::string formatted(const char* fmt, ...) {
     char buf[256];
     va_list ap;
     va_start(ap, fmt);
@@ -220,37 +220,37 @@ McoFile readMco(const std::filesystem::path& file) {
 }
 
 std::string formatMco(const McoFile& m) {
-    std::string s = printf("%s \t# Version number of the file format.\n\n", m.version.c_str());
+    std::string s = formatted("%s \t# Version number of the file format.\n\n", m.version.c_str());
     s += "####\n# Data categories include: \n# InParm, RAT, \n"
          "# A_l, A_z, Rd_r, Rd_a, Tt_r, Tt_a, \n# A_rz, Rd_ra, Tt_ra \n####\n\n";
     s += m.timeLine + "\n\n";
     s += "InParm \t\t\t# Input parameters. cm is used.\n";
     s += m.outName + " \tA\t\t# output file name, ASCII.\n";
-    s += printf("%lld \t\t\t# No. of photons\n", m.photons);
-    s += printf("%G\t%G\t\t# dz, dr [cm]\n", m.dz, m.dr);
-    s += printf("%d\t%d\t%d\t# No. of dz, dr, da.\n\n", m.nz, m.nr, m.na);
-    s += printf("%d\t\t\t\t\t# Number of layers\n", int(m.layers.size()));
+    s += formatted("%lld \t\t\t# No. of photons\n", m.photons);
+    s += formatted("%G\t%G\t\t# dz, dr [cm]\n", m.dz, m.dr);
+    s += formatted("%d\t%d\t%d\t# No. of dz, dr, da.\n\n", m.nz, m.nr, m.na);
+    s += formatted("%d\t\t\t\t\t# Number of layers\n", int(m.layers.size()));
     s += "#n\tmua\tmus\tg\td\t# One line for each layer\n";
-    s += printf("%G\t\t\t\t\t# n for medium above\n", m.nAbove);
+    s += formatted("%G\t\t\t\t\t# n for medium above\n", m.nAbove);
     for (size_t k = 0; k < m.layers.size(); ++k) {
         const McoLayer& l = m.layers[k];
-        s += printf("%G\t%G\t%G\t%G\t%G\t# layer %d\n", l.n, l.mua, l.mus, l.g, l.d, int(k + 1));
+        s += formatted("%G\t%G\t%G\t%G\t%G\t# layer %d\n", l.n, l.mua, l.mus, l.g, l.d, int(k + 1));
     }
-    s += printf("%G\t\t\t\t\t# n for medium below\n\n", m.nBelow);
+    s += formatted("%G\t\t\t\t\t# n for medium below\n\n", m.nBelow);
     s += "RAT #Reflectance, absorption, transmission. \n";
-    s += printf("%-14.6G \t#Specular reflectance [-]\n", m.specular);
-    s += printf("%-14.6G \t#Diffuse reflectance [-]\n", m.diffuse);
-    s += printf("%-14.6G \t#Absorbed fraction [-]\n", m.absorbed);
-    s += printf("%-14.6G \t#Transmittance [-]\n", m.transmittance);
+    s += formatted("%-14.6G \t#Specular reflectance [-]\n", m.specular);
+    s += formatted("%-14.6G \t#Diffuse reflectance [-]\n", m.diffuse);
+    s += formatted("%-14.6G \t#Absorbed fraction [-]\n", m.absorbed);
+    s += formatted("%-14.6G \t#Transmittance [-]\n", m.transmittance);
     s += "\n";
     s += "A_l #Absorption as a function of layer. [-]\n";
     for (double v : m.aLayer)
-        s += printf("%12.4G\n", v);
+        s += formatted("%12.4G\n", v);
     s += "\n";
     auto column = [&](const char* head, const std::vector<double>& v) {
         s += head;
         for (double x : v)
-            s += printf("%12.4E\n", x);
+            s += formatted("%12.4E\n", x);
         s += "\n";
     };
     column("A_z #A[0], [1],..A[nz-1]. [1/cm]\n", m.aZ);
@@ -261,7 +261,7 @@ std::string formatMco(const McoFile& m) {
     auto block = [&](const char* head, const std::vector<double>& v) {
         s += head;
         for (size_t i = 0; i < v.size(); ++i) {
-            s += printf("%12.4E ", v[i]);
+            s += formatted("%12.4E ", v[i]);
             if ((i + 1) % 5 == 0) s += "\n";
         }
         s += "\n";
@@ -281,9 +281,9 @@ std::string formatMco(const McoFile& m) {
 McoFile mcoFromSlab(const Medium& med, const SlabSettings& s, const SlabResult& r,
                     const std::string& outName) {
     McoFile m;
-    m.timeLine = printf("# User time: %8.0f sec = %8.2f hr.   bssrdf-workbench slab: the "
-                        "semi-infinite slab; A_z and A_rz are not tallied (written as 0)",
-                        r.seconds, r.seconds / 3600);
+    m.timeLine = formatted("# User time: %8.0f sec = %8.2f hr.   bssrdf-workbench slab: the "
+                           "semi-infinite slab; A_z and A_rz are not tallied (written as 0)",
+                           r.seconds, r.seconds / 3600);
     m.outName = outName;
     m.photons = (long long)r.paths;
     m.nr = int(r.rd.size());

@@ -44,8 +44,9 @@ TEST(Mco, ReadsMcmlsSampleAndWritesItAgainByteForByte) {
 }
 
 // MCML's own accounting: R_sp + R_d + A + T = 1, and its Rd_r integrates to R_d over the rings
-// 2π (ir + ½) dr² (to the four digits Rd_r is printed with); two independent runs of the same input
-// differ bin by bin as their own spread says (|a − b| within 5σ of the pooled estimate).
+// 2π (ir + ½) dr² (to the four digits Rd_r is printed with). Two independent runs of the same
+// input share R_sp (Fresnel) but not R_d (Monte Carlo), and their mean comes with the standard
+// error |a − b|/2, small against R_d.
 TEST(Mco, TheTwoRunsOfMcmlsSampleAreConsistent) {
     const pathtrace::McoFile a = pathtrace::readMco(data("sample_lhvwang.mco"));
     const pathtrace::McoFile b = pathtrace::readMco(data("sample_kaseykwong.mco"));
