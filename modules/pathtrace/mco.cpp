@@ -62,6 +62,14 @@ std::vector<double> numbers(const Lines& ls, size_t index, const std::string& li
     return out;
 }
 
+// The leading numbers of the next data line (its index in `index`): the line is read first, so
+// that messages name it whatever order a compiler evaluates arguments in.
+std::vector<double> nextNumbers(Lines& ls, size_t& index, const std::string& what, size_t want,
+                                const std::string& label) {
+    const std::string& line = nextData(ls, index, what);
+    return numbers(ls, index, line, want, label);
+}
+
 // Moves past the data line that starts with `key` (followed by a blank or the line's end).
 void seekKey(Lines& ls, const std::string& key) {
     for (size_t i = ls.at; i < ls.text.size(); ++i) {
@@ -163,16 +171,16 @@ McoFile parseMco(const std::string& text, const std::string& displayName) {
         v >> m.outName;
     }
     {
-        const double photons = numbers(ls, index, nextData(ls, index, "photons"), 1, "photons")[0];
+        const double photons = nextNumbers(ls, index, "photons", 1, "photons")[0];
         if (!(photons >= 0 && photons <= 1e18))
             fail(ls, index, "the number of photons must be 0 … 1e18");
         m.photons = (long long)photons;
     }
     {
-        const auto v = numbers(ls, index, nextData(ls, index, "dz, dr"), 2, "dz, dr");
+        const auto v = nextNumbers(ls, index, "dz, dr", 2, "dz, dr");
         m.dz = v[0];
         m.dr = v[1];
-        const auto n = numbers(ls, index, nextData(ls, index, "nz, nr, na"), 3, "nz, nr, na");
+        const auto n = nextNumbers(ls, index, "nz, nr, na", 3, "nz, nr, na");
         for (double v : n)
             if (!(v >= 1 && v <= 100000)) fail(ls, index, "nz, nr, na must be 1 … 100000");
         if (!(m.dz > 0 && m.dr > 0)) fail(ls, index, "dz and dr must be > 0");
@@ -182,21 +190,20 @@ McoFile parseMco(const std::string& text, const std::string& displayName) {
         if (size_t(m.nr) * size_t(std::max(m.nz, m.na)) > 20000000)
             fail(ls, index, "nr × nz and nr × na must be at most 2e7 values");
     }
-    const double layers =
-        numbers(ls, index, nextData(ls, index, "the number of layers"), 1, "layers")[0];
+    const double layers = nextNumbers(ls, index, "the number of layers", 1, "layers")[0];
     if (!(layers >= 1 && layers <= 100)) fail(ls, index, "the number of layers must be 1 … 100");
-    m.nAbove = numbers(ls, index, nextData(ls, index, "n above"), 1, "n above")[0];
+    m.nAbove = nextNumbers(ls, index, "n above", 1, "n above")[0];
     for (int k = 0; k < int(layers); ++k) {
-        const auto v = numbers(ls, index, nextData(ls, index, "a layer"), 5,
-                               "layer " + std::to_string(k + 1) + " (n mua mus g d)");
+        const auto v = nextNumbers(ls, index, "a layer", 5,
+                                   "layer " + std::to_string(k + 1) + " (n mua mus g d)");
         m.layers.push_back({v[0], v[1], v[2], v[3], v[4]});
     }
-    m.nBelow = numbers(ls, index, nextData(ls, index, "n below"), 1, "n below")[0];
+    m.nBelow = nextNumbers(ls, index, "n below", 1, "n below")[0];
     seekKey(ls, "RAT");
-    m.specular = numbers(ls, index, nextData(ls, index, "R_sp"), 1, "specular reflectance")[0];
-    m.diffuse = numbers(ls, index, nextData(ls, index, "R_d"), 1, "diffuse reflectance")[0];
-    m.absorbed = numbers(ls, index, nextData(ls, index, "A"), 1, "absorbed fraction")[0];
-    m.transmittance = numbers(ls, index, nextData(ls, index, "T_t"), 1, "transmittance")[0];
+    m.specular = nextNumbers(ls, index, "R_sp", 1, "specular reflectance")[0];
+    m.diffuse = nextNumbers(ls, index, "R_d", 1, "diffuse reflectance")[0];
+    m.absorbed = nextNumbers(ls, index, "A", 1, "absorbed fraction")[0];
+    m.transmittance = nextNumbers(ls, index, "T_t", 1, "transmittance")[0];
     m.aLayer = column(ls, "A_l", m.layers.size());
     m.aZ = column(ls, "A_z", size_t(m.nz));
     m.rdR = column(ls, "Rd_r", size_t(m.nr));
