@@ -101,8 +101,8 @@ FitOutcome fitWithUncertainty(const bssrdf::ModelEntry& e, const std::vector<Fit
                               const FitSettings& s, const std::string& what) {
     const std::atomic<bool>* cancel = interruptFlag();
     FitOutcome out;
-    const std::vector<FitTarget> targets = makeTargets(media, a.thetaI, a.paths, 1, what);
-    out.result = fitModel(e, vars, targets, s, fitProgress(what), cancel);
+    out.targets = makeTargets(media, a.thetaI, a.paths, 1, what);
+    out.result = fitModel(e, vars, out.targets, s, fitProgress(what), cancel);
     std::fprintf(stderr, "\n");
     out.sigma.assign(vars.size(), std::nan(""));
     if (!a.uncertainty || interrupted()) return out;
@@ -181,7 +181,7 @@ int runFit(const fs::path& root, const FitArgs& a) {
     const FitOutcome outcome = fitWithUncertainty(*e, vars, media, a, settings, "");
     const FitResult& r = outcome.result;
     const std::vector<double>& sigma = outcome.sigma;
-    const std::vector<FitTarget> targets = makeTargets(media, a.thetaI, a.paths, 1, "");
+    const std::vector<FitTarget>& targets = outcome.targets;
     const std::string uncertaintyNote =
         a.uncertainty
             ? std::string(kUncertaintyNote) + ", " + std::to_string(a.paths / 2) + " paths each"

@@ -60,6 +60,7 @@ struct FitOutcome {
     FitResult result;
     std::vector<double> sigma;        // per variable, NaN when not computed
     std::vector<double> halfA, halfB; // the two half fits' values (empty when not computed)
+    std::vector<FitTarget> targets;   // the full references the fit was made on
 };
 FitOutcome fitWithUncertainty(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& vars,
                               const std::vector<FitMedium>& media, const FitArgs& a,

@@ -192,10 +192,9 @@ int runFitSweep(bssrdf::ModelEntry& e, const std::vector<FitVariable>& vars, con
         m.params.sigmaA = glm::dvec3(1 - alpha);
         m.params.g = a.sweepG;
         m.params.eta = a.sweepEta;
-        const std::vector<FitTarget> t = makeTargets({m}, {0.0}, a.paths, 1, "");
-        row.A = t[0].totalRd;
-        row.ASe = t[0].totalRdSe;
         row.fit = fitWithUncertainty(e, vars, {m}, a, s, " " + m.name);
+        row.A = row.fit.targets[theta0].totalRd; // the θi = 0 target (one channel)
+        row.ASe = row.fit.targets[theta0].totalRdSe;
         applyFit(vars, row.fit.result.best, e.values); // the next albedo starts here
         rows.push_back(std::move(row));
         target0.push_back(theta0);
