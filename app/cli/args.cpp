@@ -5,6 +5,7 @@
 #include "material/material.h"
 #include "pipeline/workbench.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -78,6 +79,21 @@ std::pair<uint64_t, uint64_t> parseShard(const std::string& text, const std::str
         throw core::Error(
             flag, 0, "expected K/N with 1 <= K <= N <= 1000000 (shard K of N), got '" + text + "'");
     return {k - 1, n};
+}
+
+std::vector<fs::path> modelFiles(const fs::path& root, const std::vector<std::string>& models) {
+    std::vector<fs::path> files;
+    std::error_code ec;
+    if (models.empty()) {
+        for (const auto& e : fs::directory_iterator(root / "materials", ec))
+            if (e.path().extension() == ".bssrdf") files.push_back(e.path());
+        std::sort(files.begin(), files.end());
+    } else {
+        for (const auto& m : models)
+            files.push_back(resolveModel(root, m));
+    }
+    if (files.empty()) throw core::Error("--models", 0, "no model files");
+    return files;
 }
 
 } // namespace app

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -29,6 +30,11 @@ MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,
 bool parseSize(const std::string& text, int& w, int& h, int minSide = 64);
 
 // "K/N" → (K − 1, N); core::Error naming `flag` when malformed or K not in [1, N].
+// The model files of a command: `models` resolved (resolveModel), or every materials/*.bssrdf
+// in name order; throws core::Error("--models", …) when there are none.
+std::vector<std::filesystem::path> modelFiles(const std::filesystem::path& root,
+                                              const std::vector<std::string>& models);
+
 std::pair<uint64_t, uint64_t> parseShard(const std::string& text, const std::string& flag);
 
 } // namespace app

@@ -3,6 +3,7 @@
 #include "cli/compare_command.h"
 #include "cli/args.h"
 #include "cli/command.h"
+#include "cli/compare_geometry.h"
 #include "cli/options.h"
 #include "pathtrace/mco.h"
 
@@ -80,16 +81,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                               (ec ? ": " + ec.message() : std::string()));
     checkWritable((fs::path(a.out) / "scores.json").string(), "--out");
 
-    std::vector<fs::path> models;
-    if (a.models.empty()) {
-        for (const auto& e : fs::directory_iterator(root / "materials", ec))
-            if (e.path().extension() == ".bssrdf") models.push_back(e.path());
-        std::sort(models.begin(), models.end());
-    } else {
-        for (const auto& m : a.models)
-            models.push_back(resolveModel(root, m));
-    }
-    if (models.empty()) throw core::Error("--models", 0, "no model files");
+    const std::vector<fs::path> models = modelFiles(root, a.models);
 
     auto ctx = gl::createHeadlessContext(false);
     Workbench wb(root, false, models);
@@ -303,10 +295,43 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     return 0;
 }
 
+namespace {
+
+void addGeometryOptions(CLI::App& cmd, bool& geometry, CompareArgs& a, GeometryArgs& g) {
+    const GeometrySettings d;
+    cmd.add_flag("--geometry", geometry,
+                 "score images of the geometry suite's shapes against the volumetric path "
+                 "tracer instead of radial profiles (default presets Marble and Skin1)");
+    cmd.add_option("--shapes", g.shapes,
+                   "--geometry: shape specs, e.g. slab:t=0.3,view=back sphere:r=2 (default: the "
+                   "whole suite; see `defaults`)");
+    addCountOption(&cmd, "--size", g.settings.size,
+                   "--geometry: image side in pixels (default " + std::to_string(d.size) + ")",
+                   core::Limits{8, 1024});
+    addCountOption(&cmd, "--reference-spp", g.settings.referenceSpp,
+                   "--geometry: reference paths per covered pixel, x3 estimates (default " +
+                       std::to_string(d.referenceSpp) + ")",
+                   core::Limits{1, 1e6});
+    addCountOption(&cmd, "--model-spp", g.settings.modelSpp,
+                   "--geometry: BSSRDF samples per pixel (default " + std::to_string(d.modelSpp) +
+                       ")",
+                   core::Limits{1, 1e6});
+    cmd.add_option("--sampling", g.sampling,
+                   std::string("--geometry: BSSRDF integration, uniform or disk (default ") +
+                       core::nameOf(d.sampling) + ")");
+    cmd.add_option("--shard", a.shard,
+                   "--geometry: run shard K of N of the cases (1 <= K <= N) and write "
+                   "DIR/shard.json; `merge --geometry DIR... --out D` combines them");
+}
+
+} // namespace
+
 Command compareCommand() {
     return {"compare", "score every model against the path-traced reference (scoreboard)", false,
             [](CLI::App& cmd) -> CommandRun {
                 auto a = std::make_shared<CompareArgs>();
+                auto g = std::make_shared<GeometryArgs>();
+                auto geometry = std::make_shared<bool>(false);
                 cmd.add_option("--models", a->models,
                                "model files (default: every materials/*.bssrdf)");
                 cmd.add_option("--presets", a->presets,
@@ -332,7 +357,11 @@ Command compareCommand() {
                 cmd.add_option("--out", a->out,
                                "output folder: scores.json, report.md, report.html")
                     ->required();
-                return [a](CommandContext& ctx) { return runCompareCli(ctx.root(), *a); };
+                addGeometryOptions(cmd, *geometry, *a, *g);
+                return [a, g, geometry](CommandContext& ctx) {
+                    return *geometry ? runCompareGeometryCli(ctx.root(), *a, *g)
+                                     : runCompareCli(ctx.root(), *a);
+                };
             }};
 }
 

@@ -44,6 +44,7 @@ struct CompareArgs {
     std::string baseline;            // an earlier scores.json
     std::optional<double> failIfWorse; // percent
     std::string out;                   // output folder
+    std::string shard;                 // K/N (--geometry)
 };
 
 // What the report draws besides the table (compare_report.cpp).
@@ -75,6 +76,10 @@ std::vector<std::pair<std::string, std::string>>
 writeProfilePictures(const std::filesystem::path& dir, const ProfileCurves& p);
 // report.md and report.html in `dir` (and the pictures in dir/plots when `pictures`).
 void writeReports(const std::filesystem::path& dir, const CompareReport& r, bool pictures);
+
+// rel_err → a report cell's colour from green (0) through yellow (10 %) to red (>= 30 %).
+std::string scoreCellColour(double rel);
+std::string htmlEscape(const std::string& s);
 
 int runCompareCli(const std::filesystem::path& root, const CompareArgs& a);
 

@@ -21,10 +21,8 @@
 namespace app {
 namespace fs = std::filesystem;
 
-namespace {
-
 // rel_err → a cell colour from green (0) through yellow (10 %) to red (>= 30 %).
-std::string cellColour(double rel) {
+std::string scoreCellColour(double rel) {
     const double t = std::clamp(rel / 0.3, 0.0, 1.0);
     const int red = int(std::lround(255 * std::min(1.0, 2 * t)));
     const int green = int(std::lround(200 * std::min(1.0, 2 * (1 - t))));
@@ -49,6 +47,8 @@ std::string htmlEscape(const std::string& s) {
     }
     return out;
 }
+
+namespace {
 
 // A file name from preset, channel and angle: letters, digits, '-' and '_' only.
 std::string slug(const std::string& s) {
@@ -243,10 +243,11 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
            << " |\n";
         html << "<tr><td class=l>" << htmlEscape(s.preset) << "</td><td>" << s.channel
              << "</td><td>" << th << "</td><td class=l>" << htmlEscape(s.model) << "</td><td>"
-             << rank << "</td><td style=\"background:" << cellColour(s.relErr) << ";color:#000\">"
-             << htmlEscape(rel) << "</td><td"
-             << (s.relErrDir ? " style=\"background:" + cellColour(*s.relErrDir) + ";color:#000\""
-                             : std::string())
+             << rank << "</td><td style=\"background:" << scoreCellColour(s.relErr)
+             << ";color:#000\">" << htmlEscape(rel) << "</td><td"
+             << (s.relErrDir
+                     ? " style=\"background:" + scoreCellColour(*s.relErrDir) + ";color:#000\""
+                     : std::string())
              << ">" << htmlEscape(dir2) << "</td><td>" << formatScore(s.ratio1) << "</td><td>"
              << formatScore(s.ratio4) << "</td><td>" << formatScore(s.totalRatio) << "</td><td>"
              << err5 << "</td></tr>\n";

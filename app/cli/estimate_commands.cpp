@@ -2,6 +2,7 @@
 #include "cli/estimate_commands.h"
 #include "cli/args.h"
 #include "cli/command.h"
+#include "cli/compare_geometry.h"
 
 #include "cli/interrupt.h"
 
@@ -197,8 +198,15 @@ int runEstimateCli(EstimateArgs a, const std::filesystem::path& root) {
 }
 
 void addMergeOptions(CLI::App* cmd, MergeArgs& a) {
-    cmd->add_option("files", a.inputs, "table files (shards of one estimate run)")->required();
-    cmd->add_option("--out", a.out, "merged table file")->required();
+    cmd->add_option("files", a.inputs,
+                    "table files (shards of one estimate run), or with --geometry the folders of "
+                    "`compare --geometry --shard` runs")
+        ->required();
+    cmd->add_option("--out", a.out, "merged table file (--geometry: the output folder)")
+        ->required();
+    cmd->add_flag("--geometry", a.geometry,
+                  "merge `compare --geometry --shard K/N` folders into one run's scores and "
+                  "reports");
     cmd->add_option("--csv", a.csv, "CSV per spatial bin (as estimate --csv)");
     cmd->add_option("--csv-dir", a.csvDir, "CSV per direction cell (as estimate --csv-dir)");
     cmd->add_option("--slab-csv", a.slabCsv,
@@ -206,6 +214,11 @@ void addMergeOptions(CLI::App* cmd, MergeArgs& a) {
 }
 
 int runMergeCli(const MergeArgs& a) {
+    if (a.geometry) {
+        if (!a.csv.empty() || !a.csvDir.empty() || !a.slabCsv.empty())
+            throw core::Error("--geometry", 0, "geometry shards merge into --out only");
+        return runMergeGeometryCli(a.inputs, a.out);
+    }
     checkWritable(a.out, "--out");
     checkWritable(a.csv, "--csv");
     checkWritable(a.csvDir, "--csv-dir");
@@ -247,8 +260,8 @@ Command estimateCommand() {
 }
 
 Command mergeCommand() {
-    return {"merge", "merge table shards (estimate --shard) into one table", false,
-            [](CLI::App& cmd) -> CommandRun {
+    return {"merge", "merge shards (estimate, slab or compare --geometry --shard) into one result",
+            false, [](CLI::App& cmd) -> CommandRun {
                 auto a = std::make_shared<MergeArgs>();
                 addMergeOptions(&cmd, *a);
                 return [a](CommandContext&) { return runMergeCli(*a); };

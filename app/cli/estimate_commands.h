@@ -36,7 +36,8 @@ int runEstimateCli(EstimateArgs a, const std::filesystem::path& root = {});
 struct MergeArgs {
     std::vector<std::string> inputs;
     std::string out, csv, csvDir;
-    std::string slabCsv; // slab-shaped tables (slab --shard): the CSV `slab` writes
+    std::string slabCsv;   // slab-shaped tables (slab --shard): the CSV `slab` writes
+    bool geometry = false; // the inputs are folders of `compare --geometry --shard`
 };
 void addMergeOptions(CLI::App* cmd, MergeArgs& a);
 int runMergeCli(const MergeArgs& a);

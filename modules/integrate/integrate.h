@@ -138,6 +138,8 @@ class ImageIntegrator {
     // Model evaluations (hits) so far: the cost of the estimator besides the probe rays.
     uint64_t evaluations() const { return m_evaluations; }
     const litsphere::Setup& setup() const { return m_setup; }
+    // Per pixel: 1 where the pixel-centre camera ray hits the surface (the pixels it estimates).
+    const std::vector<char>& coveredPixels() const { return m_hit; }
 
   private:
     struct Geometry;

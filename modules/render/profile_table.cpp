@@ -46,6 +46,21 @@ float chooseProfileRadius(const std::vector<double>& radii, const std::vector<gl
             if (!std::isfinite(v) || (ref[c] > 0.0 && std::fabs(v) > kProfileDecay * ref[c]))
                 last = j;
         }
+    // ... and, for profiles singular at 0 (R ~ 1/r: the peak says nothing about the tail), the
+    // last probe beyond which some channel still holds more than kProfileEnergyTail of its
+    // energy 2π∫R r dr (trapezoids in ln r of R r²)
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> tail(radii.size(), 0.0); // energy beyond probe j
+        for (size_t j = radii.size() - 1; j > 1; --j) {
+            const double a = values[j - 1][c] * radii[j - 1] * radii[j - 1],
+                         b = values[j][c] * radii[j] * radii[j];
+            tail[j - 1] = tail[j] + 0.5 * (a + b) * std::log(radii[j] / radii[j - 1]);
+        }
+        const double total = tail.size() > 1 ? tail[1] : 0.0;
+        if (!(std::isfinite(total) && total > 0.0)) continue;
+        for (size_t j = 1; j < radii.size(); ++j)
+            if (tail[j] > kProfileEnergyTail * total) last = std::max(last, j);
+    }
     double rMax = radii.size() > 1 ? radii[std::min(last + 1, radii.size() - 1)] : 1.0;
     if (capMm > 0.0) rMax = std::min(rMax, capMm);
     return static_cast<float>(rMax);

@@ -11,12 +11,14 @@
 //   10^4 mm). Per channel the reference is R_c(0) (the largest finite probe value if R_c(0) is
 //   not finite and positive); rMax is the first probe radius beyond which every channel stays
 //   at or below kProfileDecay·reference (dropping the tail changes M by less than that
-//   fraction of the peak). rMax is then capped at `capMm` (> 0: the largest distance that can
-//   occur, the diagonal of the scene's bounding box in mm), so that the K entries cover only
-//   distances that exist.
-//   Accuracy (tests/render: dipole and better dipole, skin-like σ, 50 mm bunny): |table − direct|
-//   < 1e-3 relative (measured: 2.2e-5 at worst) wherever R_c(r) >= 1e-6·R_c(0), the region
-//   that matters, against Bssrdf() itself; whole renders differ by < 1e-5 relative per pixel.
+//   fraction of the peak) and beyond which every channel holds at most kProfileEnergyTail of its
+//   energy 2π∫R r dr on the probes (a profile singular at 0, R ~ 1/r as normalized diffusion's,
+//   falls 10^7 below its peak long before its energy converges). rMax is then capped at `capMm` (>
+//   0: the largest distance that can occur, the diagonal of the scene's bounding box in mm), so
+//   that the K entries cover only distances that exist. Accuracy (tests/render: dipole and better
+//   dipole, skin-like σ, 50 mm bunny): |table − direct| < 1e-3 relative (measured: 2.2e-5 at worst)
+//   wherever R_c(r) >= 1e-6·R_c(0), the region that matters, against Bssrdf() itself; whole renders
+//   differ by < 1e-5 relative per pixel.
 #pragma once
 
 #include "bssrdf/program.h"
@@ -29,6 +31,7 @@ namespace render {
 
 inline constexpr int kProfileEntries = 4096;
 inline constexpr double kProfileDecay = 1e-7;
+inline constexpr double kProfileEnergyTail = 1e-6;
 
 struct ProfileTable {
     float rMax = 0;                // mm
