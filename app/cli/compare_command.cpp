@@ -319,6 +319,9 @@ void addGeometryOptions(CLI::App& cmd, bool& geometry, CompareArgs& a, GeometryA
     cmd.add_option("--sampling", g.sampling,
                    std::string("--geometry: BSSRDF integration, uniform or disk (default ") +
                        core::nameOf(d.sampling) + ")");
+    cmd.add_option("--pictures", g.pictures,
+                   "--geometry: the channels whose cases get a picture in the report, e.g. G "
+                   "(default RGB; --no-plots: none)");
     cmd.add_option("--shard", a.shard,
                    "--geometry: run shard K of N of the cases (1 <= K <= N) and write "
                    "DIR/shard.json; `merge --geometry DIR... --out D` combines them");

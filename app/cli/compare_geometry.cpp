@@ -181,10 +181,16 @@ int runCompareGeometryCli(const fs::path& root, const CompareArgs& a, const Geom
     if (!g.sampling.empty())
         report.settings.sampling =
             core::enumFromName<integrate::Sampling>(g.sampling, "--sampling", "");
+    std::string pictures = a.plots ? g.pictures : "";
+    for (char c : pictures)
+        if (c != 'R' && c != 'G' && c != 'B')
+            throw core::Error("--pictures", 0,
+                              "expected channel letters from R, G, B (e.g. G or RGB), got '" +
+                                  g.pictures + "'");
     size_t shardK = 0, shardN = 1;
     if (!a.shard.empty()) {
         const auto [k, n] = parseShard(a.shard, "--shard");
-        shardK = size_t(k - 1);
+        shardK = size_t(k); // 0-based
         shardN = size_t(n);
     }
     report.shapes = g.shapes.empty() ? mesh::defaultSuite() : g.shapes;
@@ -224,6 +230,7 @@ int runCompareGeometryCli(const fs::path& root, const CompareArgs& a, const Geom
                                  std::to_string(cases.size()) + " " + c.shape + " " + c.preset +
                                  " " + ch;
         bool fromCache = false;
+        const double caseStart = clock.ms();
         const auto ref = geometryReference(
             c, report.settings,
             [&](uint64_t done, uint64_t total) {
@@ -236,6 +243,7 @@ int runCompareGeometryCli(const fs::path& root, const CompareArgs& a, const Geom
         (fromCache ? cached : traced)++;
         std::vector<ChannelImage> images;
         std::vector<const ChannelImage*> shown;
+        const double referenceSeconds = (clock.ms() - caseStart) / 1000;
         const MaterialSettings material = geometryMaterial(wb, c);
         const double radiusMm = geometryScene(c, report.settings).setup.radiusMm;
         for (const auto& e : wb.library().entries()) {
@@ -262,12 +270,14 @@ int runCompareGeometryCli(const fs::path& root, const CompareArgs& a, const Geom
         if (stop->load()) break;
         for (const ChannelImage& im : images)
             shown.push_back(&im);
-        const RgbaImage strip = caseStrip(*ref, shown);
-        gl::writePng(fs::path(a.out) / "images" / geometryPictureName(c.shape, c.preset, ch),
-                     strip.width, strip.height, strip.rgba);
-        std::fprintf(stderr, "\r%s: done (%s), %.0f s   \n", what.c_str(),
-                     fromCache ? "reference from the cache" : "reference traced",
-                     clock.ms() / 1000.0);
+        if (pictures.find(ch) != std::string::npos) {
+            const RgbaImage strip = caseStrip(*ref, shown);
+            gl::writePng(fs::path(a.out) / "images" / geometryPictureName(c.shape, c.preset, ch),
+                         strip.width, strip.height, strip.rgba);
+        }
+        std::fprintf(stderr, "\r%s: reference %s %.1f s, models %.1f s (total %.0f s)   \n",
+                     what.c_str(), fromCache ? "from the cache" : "traced", referenceSeconds,
+                     (clock.ms() - caseStart) / 1000 - referenceSeconds, clock.ms() / 1000.0);
     }
     if (stop->load()) {
         std::fprintf(stderr, "error: compare --geometry: interrupted; nothing written\n");

@@ -4,7 +4,7 @@
 // medium and settings (compareCacheDir()/geometry). Outputs in DIR: scores.json (schema below),
 // report.md and report.html (a model × shape summary and per shape a table and, per preset and
 // channel, one picture: reference and models in the top row, signed error maps below),
-// images/*.png.
+// images/*.png (--pictures: of the channels listed; --no-plots: none).
 //
 // scores.json = {"schema": "bssrdf-workbench-geometry-scores", "version": 1,
 //   "settings": {"size", "reference_spp", "model_spp", "sampling", "seed"},
@@ -14,7 +14,7 @@
 //   "rel_l2", "rel_l2_se", "mean_ratio", "mean_ratio_se", "pixels", "rank", "tie",
 //   "problem" (null, or why the model has no image of this case: its scores are then null)}],
 //   "skipped": [{"preset", "channel", "reason"}]}
-// Rows are in case order (shape, preset, channel), models in file order within a case; rank 1
+// Rows are in case order (shape, preset, channel), models in the library's (name) order within a case; rank 1
 // is the best of its (shape, preset, channel), ties as the scoreboard's.
 //
 // --shard K/N runs cases K−1, K−1+N, … only and writes DIR/shard.json (the same rows, unranked,
@@ -41,6 +41,7 @@ struct GeometryArgs {
     GeometrySettings settings;
     std::string sampling; // uniform | disk (default: the settings')
     std::string shard;    // K/N
+    std::string pictures = "RGB"; // the channels whose cases get a picture ("" none)
 };
 
 int runCompareGeometryCli(const std::filesystem::path& root, const CompareArgs& a,

@@ -43,9 +43,11 @@ inline constexpr int kGeometryCacheVersion = 1;
 // The settings of a geometry comparison; `compare --geometry`, the Scoreboard's geometry tab
 // and captures share these defaults.
 struct GeometrySettings {
-    int size = 64;              // image side, pixels
+    // The defaults run the whole suite on Marble and Skin1 (150 cases, every model) on 2 CPU
+    // cores with llvmpipe in a quarter of an hour (README, docs/geometry/).
+    int size = 48;              // image side, pixels
     uint64_t referenceSpp = 64; // reference paths per covered pixel, each of 3 estimates
-    uint64_t modelSpp = 64;     // BSSRDF samples per pixel
+    uint64_t modelSpp = 32;     // BSSRDF samples per pixel
     integrate::Sampling sampling = integrate::Sampling::Disk;
     uint64_t seed = 1;
 };
