@@ -210,7 +210,7 @@ int runCompareGeometryCli(const fs::path& root, const CompareArgs& a, const Geom
         if (e.problem) throw core::Error(e.problem->file, e.problem->line, e.problem->message);
     std::vector<GeometrySkip> skips;
     const std::vector<GeometryCase> cases =
-        geometryCases(wb, report.shapes, report.presets, &skips);
+        geometryCases(wb.presets(), report.shapes, report.presets, &skips);
     json skipped = json::array();
     for (const GeometrySkip& s : skips)
         skipped.push_back({{"preset", s.preset},
@@ -244,7 +244,7 @@ int runCompareGeometryCli(const fs::path& root, const CompareArgs& a, const Geom
         std::vector<ChannelImage> images;
         std::vector<const ChannelImage*> shown;
         const double referenceSeconds = (clock.ms() - caseStart) / 1000;
-        const MaterialSettings material = geometryMaterial(wb, c);
+        const MaterialSettings material = geometryMaterial(wb.presets(), c);
         const double radiusMm = geometryScene(c, report.settings).setup.radiusMm;
         for (const auto& e : wb.library().entries()) {
             GeometryRow row{

@@ -233,6 +233,14 @@ struct CapturesPanelState {
 struct ScoreboardPanelState {
     int channel = 3;            // 0 R, 1 G, 2 B, 3 all
     std::vector<Rect> rowRects; // where each listed row was drawn last frame (screen px)
+    // the geometry tab: the selected cell (model display path, shape), its picked pixel, the
+    // cells' and the Run button's rectangles last frame (screen px), the images' textures
+    std::string geometryModel, geometryShape;
+    int pickX = -1, pickY = -1;
+    std::vector<std::pair<std::string, Rect>> geometryCells; // "model|shape", where drawn
+    Rect geometryRun, geometryTabRect;
+    bool geometryTab = false; // the geometry tab was shown last frame
+    gl::Texture tex[3];
 };
 
 // The Fit panel: the model and the parameters to fit (the fit itself is Workbench::fit()).

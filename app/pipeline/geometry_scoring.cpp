@@ -8,7 +8,6 @@
 #include "pathtrace/image_io.h"
 #include "pathtrace/mesh_tracer.h"
 #include "pipeline/scoring.h"
-#include "pipeline/workbench.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,20 +17,34 @@
 namespace app {
 namespace fs = std::filesystem;
 
-std::vector<GeometryCase> geometryCases(Workbench& wb, const std::vector<std::string>& shapes,
+namespace {
+
+MaterialSettings presetMaterial(const std::vector<material::Preset>& table,
+                                const std::string& name) {
+    const material::Preset* p = material::findPreset(table, name);
+    if (!p) throw core::Error("--presets", 0, material::unknownPresetMessage(table, name));
+    MaterialSettings s;
+    s.params = material::applyPreset(*p, s.params);
+    s.preset = name;
+    s.mode = ParamMode::Sigma;
+    return s;
+}
+
+} // namespace
+
+std::vector<GeometryCase> geometryCases(const std::vector<material::Preset>& presetTable,
+                                        const std::vector<std::string>& shapes,
                                         const std::vector<std::string>& presets,
                                         std::vector<GeometrySkip>* skipped) {
     std::vector<std::string> specs;
     for (const std::string& s : shapes)
         specs.push_back(mesh::makeSuiteShape(s, "--shapes").spec);
     for (const std::string& p : presets)
-        if (!material::findPreset(wb.presets(), p))
-            throw core::Error("--presets", 0, material::unknownPresetMessage(wb.presets(), p));
+        presetMaterial(presetTable, p); // names checked before any work
     std::vector<GeometryCase> cases;
     for (size_t k = 0; k < specs.size(); ++k)
         for (const std::string& p : presets) {
-            MaterialSettings s;
-            wb.applyPreset(s, p);
+            const MaterialSettings s = presetMaterial(presetTable, p);
             for (int c = 0; c < 3; ++c) {
                 const pathtrace::Medium m{s.params.sigmaA[c], s.params.sigmaS[c], s.params.g,
                                           s.params.eta};
@@ -48,10 +61,9 @@ std::vector<GeometryCase> geometryCases(Workbench& wb, const std::vector<std::st
     return cases;
 }
 
-MaterialSettings geometryMaterial(Workbench& wb, const GeometryCase& c) {
-    MaterialSettings s;
-    wb.applyPreset(s, c.preset);
-    s.mode = ParamMode::Sigma;
+MaterialSettings geometryMaterial(const std::vector<material::Preset>& presetTable,
+                                  const GeometryCase& c) {
+    MaterialSettings s = presetMaterial(presetTable, c.preset);
     s.params.sigmaA = glm::dvec3(c.medium.sigmaA);
     s.params.sigmaS = glm::dvec3(c.medium.sigmaS);
     s.params.g = c.medium.g;
@@ -151,22 +163,23 @@ geometryReference(const GeometryCase& c, const GeometrySettings& s,
     return averageOfChannels(img, covered);
 }
 
-std::optional<ChannelImage> geometryModelImage(const bssrdf::ModelEntry& e,
-                                               const MaterialSettings& material,
-                                               const GeometryCase& c, const GeometrySettings& s,
-                                               const std::atomic<bool>* cancel) {
+std::unique_ptr<integrate::ImageIntegrator> geometryIntegrator(const bssrdf::ModelEntry& e,
+                                                               const MaterialSettings& material,
+                                                               const GeometryCase& c,
+                                                               const GeometrySettings& s) {
     const GeometryScene scene = geometryScene(c, s);
-    integrate::ImageIntegrator ig(scene.setup, scene.shape.mesh, c.shape);
+    auto ig = std::make_unique<integrate::ImageIntegrator>(scene.setup, scene.shape.mesh, c.shape);
     integrate::Settings is;
     is.sampling = s.sampling;
     is.seed = s.seed;
     const material::MaterialParams eff = effectiveParams(e, material);
-    ig.setModel(e.programs.at("pencil_profile.comp").id(), *e.model, e.values, builtinsOf(eff), is,
-                e.displayPath);
-    while (ig.samplesPerPixelDone() < s.modelSpp) {
-        if (cancel && cancel->load()) return std::nullopt;
-        ig.step(int(std::min<uint64_t>(s.modelSpp - ig.samplesPerPixelDone(), 4)), cancel);
-    }
+    ig->setModel(e.programs.at("pencil_profile.comp").id(), *e.model, e.values, builtinsOf(eff), is,
+                 e.displayPath);
+    return ig;
+}
+
+ChannelImage geometryChannelImage(const integrate::ImageIntegrator& ig, const GeometryCase& c,
+                                  const std::string& modelName) {
     const litsphere::Image img = ig.image();
     ChannelImage out{img.width, img.height, {}, {}, ig.coveredPixels()};
     const size_t n = size_t(img.width) * size_t(img.height);
@@ -176,14 +189,25 @@ std::optional<ChannelImage> geometryModelImage(const bssrdf::ModelEntry& e,
         out.mean[p] = img.mean[3 * p + size_t(c.channel)];
         out.variance[p] = img.variance[3 * p + size_t(c.channel)];
         if (out.covered[p] && !std::isfinite(out.mean[p]))
-            throw core::Error(e.displayPath, 0,
+            throw core::Error(modelName, 0,
                               c.shape + " " + c.preset +
-                                  ": the integrated image is not finite "
-                                  "at pixel " +
+                                  ": the integrated image is not finite at pixel " +
                                   std::to_string(p % size_t(img.width)) + ", " +
                                   std::to_string(p / size_t(img.width)));
     }
     return out;
+}
+
+std::optional<ChannelImage> geometryModelImage(const bssrdf::ModelEntry& e,
+                                               const MaterialSettings& material,
+                                               const GeometryCase& c, const GeometrySettings& s,
+                                               const std::atomic<bool>* cancel) {
+    const auto ig = geometryIntegrator(e, material, c, s);
+    while (ig->samplesPerPixelDone() < s.modelSpp) {
+        if (cancel && cancel->load()) return std::nullopt;
+        ig->step(int(std::min<uint64_t>(s.modelSpp - ig->samplesPerPixelDone(), 4)), cancel);
+    }
+    return geometryChannelImage(*ig, c, e.displayPath);
 }
 
 ImageScore imageRelativeL2(const ChannelImage& model, const ChannelImage& ref) {

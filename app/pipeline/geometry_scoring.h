@@ -30,13 +30,12 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace app {
-
-class Workbench;
 
 inline constexpr int kGeometryCacheVersion = 1;
 
@@ -82,7 +81,8 @@ struct GeometrySkip {
 };
 // The cases of shapes × presets × channels in this order (shape outermost); channels without an
 // l_d (σa = 0) are skipped and said. Specs are checked (core::Error naming `label`).
-std::vector<GeometryCase> geometryCases(Workbench& wb, const std::vector<std::string>& shapes,
+std::vector<GeometryCase> geometryCases(const std::vector<material::Preset>& presetTable,
+                                        const std::vector<std::string>& shapes,
                                         const std::vector<std::string>& presets,
                                         std::vector<GeometrySkip>* skipped = nullptr);
 
@@ -123,6 +123,15 @@ geometryReference(const GeometryCase& c, const GeometrySettings& s,
                   const std::atomic<bool>* cancel, bool& fromCache);
 std::filesystem::path geometryCacheFile(const GeometryCase& c, const GeometrySettings& s);
 
+// The integrator of one model's image of a case with the model set (GL context current;
+// core::Error as geometryModelImage), to be stepped by the caller, and the case's channel of its
+// image (core::Error naming the model when a covered pixel is not finite).
+std::unique_ptr<integrate::ImageIntegrator> geometryIntegrator(const bssrdf::ModelEntry& e,
+                                                               const MaterialSettings& material,
+                                                               const GeometryCase& c,
+                                                               const GeometrySettings& s);
+ChannelImage geometryChannelImage(const integrate::ImageIntegrator& ig, const GeometryCase& c,
+                                  const std::string& modelName);
 // One model's image of a case (GL context current); a model that cannot be integrated there
 // (its profile cannot be sampled, NaN, negative) throws core::Error naming it; nullopt when
 // cancelled.
@@ -131,6 +140,7 @@ std::optional<ChannelImage> geometryModelImage(const bssrdf::ModelEntry& e,
                                                const GeometryCase& c, const GeometrySettings& s,
                                                const std::atomic<bool>* cancel);
 // The case's medium in all three channels (the preset's η and g).
-MaterialSettings geometryMaterial(Workbench& wb, const GeometryCase& c);
+MaterialSettings geometryMaterial(const std::vector<material::Preset>& presetTable,
+                                  const GeometryCase& c);
 
 } // namespace app

@@ -40,6 +40,7 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     m_slice = std::make_unique<SliceStage>();
     m_scoreboard = std::make_unique<ScoreboardStage>();
     m_fit = std::make_unique<FitStage>();
+    m_geometry = std::make_unique<GeometryStage>();
     m_monteCarlo = std::make_unique<MonteCarloStage>();
     m_textureSpace = std::make_unique<TextureSpaceStage>(m_root);
     m_litSpheres = std::make_unique<LitSphereStage>(m_root / "shaders" / "pathtrace_sphere.comp");
@@ -111,6 +112,10 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
              m_fit->capture(
                  {m_library.get(), &snap, referenceInputs().params, m_rMax, m_plot.samples},
                  m_fitRequest, out);
+         }},
+        {m_geometry.get(),
+         [this] {
+             return m_geometry->update({&m_geometryTab, m_library.get(), &m_presets});
          }},
         {m_litSpheres.get(), [this] { return m_litSpheres->update(litSphereInputs(8.0)); },
          [this](CaptureEntries& out) { m_litSpheres->capture(litSphereInputs(-1), out); }},

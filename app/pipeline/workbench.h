@@ -7,6 +7,8 @@
 //   slice         — the whole BSSRDF at oblique incidence: path traced
 //                   (seed 001) and every model on the same bins             (slice_stage.h)
 //   scoreboard    — every model scored against the reference                (scoreboard_stage.h)
+//   geometry      — every model's image of the suite's shapes against the
+//                   mesh path tracer (the Scoreboard's geometry tab)         (geometry_stage.h)
 //   lit sphere    — path-traced and BSSRDF-integrated lit spheres           (lit_sphere_stage.h)
 //   scene         — mesh → point cloud → octree → irradiance → render       (scene_stage.h)
 //   monte carlo   — the scene's view integrated by probe rays               (monte_carlo_stage.h)
@@ -22,6 +24,7 @@
 #include "core/limits.h"
 #include "material/material.h"
 #include "pipeline/fit_stage.h"
+#include "pipeline/geometry_stage.h"
 #include "pipeline/lit_sphere_stage.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/monte_carlo_stage.h"
@@ -154,6 +157,9 @@ class Workbench {
     // pencil plot's reference. Runs while enabled (the GUI: while its panel shows).
     void setScoreboardEnabled(bool on) { m_scoreboardEnabled = on; }
     const ScoreboardStage& scoreboard() const { return *m_scoreboard; }
+    // The Scoreboard's geometry tab (geometry_stage.h): its request and its scores.
+    GeometryTabSettings& geometryTab() { return m_geometryTab; }
+    GeometryStage& geometry() { return *m_geometry; }
     // The Fit panel's fit (fit_stage.h) against the pencil plot's reference.
     FitStage& fit() { return *m_fit; }
     const FitStage& fit() const { return *m_fit; }
@@ -242,6 +248,8 @@ class Workbench {
     std::unique_ptr<SliceStage> m_slice;
     std::unique_ptr<ScoreboardStage> m_scoreboard;
     std::unique_ptr<FitStage> m_fit;
+    GeometryTabSettings m_geometryTab;
+    std::unique_ptr<GeometryStage> m_geometry;
     std::optional<McmlReference> m_mcml;
     FitRequestSettings m_fitRequest;
     bool m_scoreboardEnabled = false;

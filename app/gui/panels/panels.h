@@ -57,6 +57,8 @@ void pollRecording(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
 std::string lastStage(const std::string& output, const std::string& what);
 void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared& ui);
 void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui);
+// The Scoreboard's geometry tab (scoreboard_geometry.cpp).
+void drawGeometryScores(Workbench& wb, ScoreboardPanelState& ps);
 void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui);
 
 } // namespace app

@@ -1,9 +1,11 @@
-// Scoreboard panel: the table of `compare` for the current parameters (scoreboard_stage.h),
+// Scoreboard panel, two tabs. Profiles: the table of `compare` for the current parameters
+// (scoreboard_stage.h),
 // every model ranked against the pencil plot's path-traced reference per channel, ties within
 // the noise marked "=", rel_err cells coloured from green (0) to red (>= 30 %), each header and
 // rel_err cell explaining itself in a tooltip. A click on a
 // row solos that model in the pencil plot on that channel and brings the plot to the front;
-// the preset combo applies a preset to the shared parameters (the table follows).
+// the preset combo applies a preset to the shared parameters (the table follows). Geometry: the
+// scores of `compare --geometry` (scoreboard_geometry.cpp).
 #include "gui/panels/panels.h"
 #include "gui/preset_combo.h"
 #include "gui/widgets.h"
@@ -33,7 +35,9 @@ ImU32 relColour(double rel) {
 
 } // namespace
 
-void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
+namespace {
+
+void drawProfileScores(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
     MaterialSettings& s = wb.shared();
     ImGui::SetNextItemWidth(160);
     presetCombo("preset", wb, s);
@@ -125,6 +129,25 @@ void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) 
         ImGui::TextUnformatted(s2.rErr5Ld ? num(*s2.rErr5Ld).c_str() : "none");
     }
     ImGui::EndTable();
+}
+
+} // namespace
+
+void drawScoreboardPanel(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
+    ps.geometryTab = false;
+    if (!ImGui::BeginTabBar("scoreboard tabs")) return;
+    if (ImGui::BeginTabItem("Profiles")) {
+        drawProfileScores(wb, ps, ui);
+        ImGui::EndTabItem();
+    }
+    const bool geometry = ImGui::BeginTabItem("Geometry");
+    ps.geometryTabRect = lastItem();
+    if (geometry) {
+        ps.geometryTab = true;
+        drawGeometryScores(wb, ps);
+        ImGui::EndTabItem();
+    }
+    ImGui::EndTabBar();
 }
 
 } // namespace app
