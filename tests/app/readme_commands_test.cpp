@@ -64,10 +64,18 @@ std::vector<std::string> readmeCommands(const std::string& text) {
 
 // Small sizes for a test run.
 std::vector<std::string> smallArgs(std::vector<std::string> w, const fs::path& dir) {
-    const std::map<std::string, std::string> small = {
-        {"--paths", "20000"},        {"--points", "2000"},     {"--width", "64"},
-        {"--height", "36"},          {"--frames", "1"},        {"--brute-frames", "1"},
-        {"--turk-iterations", "10"}, {"--albedos", "0.3,0.8"}, {"--g", "0"}};
+    const std::map<std::string, std::string> small = {{"--paths", "20000"},
+                                                      {"--points", "2000"},
+                                                      {"--width", "64"},
+                                                      {"--height", "36"},
+                                                      {"--frames", "1"},
+                                                      {"--brute-frames", "1"},
+                                                      {"--turk-iterations", "10"},
+                                                      {"--albedos", "0.3,0.8"},
+                                                      {"--g", "0"},
+                                                      {"--size", "12"},
+                                                      {"--reference-spp", "4"},
+                                                      {"--model-spp", "4"}};
     std::vector<std::string> out;
     for (size_t i = 0; i < w.size(); ++i) {
         std::string a = std::regex_replace(w[i], std::regex("\\$\\{SLURM_ARRAY_TASK_ID\\}"), "1");
@@ -94,6 +102,15 @@ std::vector<std::string> smallArgs(std::vector<std::string> w, const fs::path& d
     if (out.size() >= 3 && out[1] == "bench" && out[2] == "pathtrace" &&
         std::find(out.begin(), out.end(), "--seconds") == out.end())
         out.insert(out.end(), {"--seconds", "0.5"});
+    // compare --geometry: small images, and of the whole suite one slab and one sphere
+    if (std::find(out.begin(), out.end(), "--geometry") != out.end() && out[1] == "compare") {
+        for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{
+                 {"--size", "12"}, {"--reference-spp", "4"}, {"--model-spp", "4"}})
+            if (std::find(out.begin(), out.end(), flag) == out.end())
+                out.insert(out.end(), {flag, value});
+        if (std::find(out.begin(), out.end(), "--shapes") == out.end())
+            out.insert(out.end(), {"--shapes", "slab:t=1", "sphere:r=1"});
+    }
     // bench texture-space: one case of each method
     if (out.size() >= 3 && out[1] == "bench" && out[2] == "texture-space") {
         const std::vector<std::pair<std::string, std::string>> one = {
@@ -136,6 +153,23 @@ TEST(ReadmeCommands, EveryCommandLineShownRuns) {
             w = mine;
         }
         previous = w;
+        // an array job's geometry shard: every task of the array, so the merge below has them
+        if (cmd.find("--geometry") != std::string::npos &&
+            cmd.find("${SLURM_ARRAY_TASK_ID}/") != std::string::npos) {
+            const size_t at = cmd.find("${SLURM_ARRAY_TASK_ID}/") + 23;
+            const int n = std::stoi(cmd.substr(at));
+            for (int k = 2; k <= n; ++k) {
+                std::vector<std::string> task = w;
+                for (std::string& a : task)
+                    a = std::regex_replace(a, std::regex("\\$\\{SLURM_ARRAY_TASK_ID\\}"),
+                                           std::to_string(k));
+                std::vector<std::string> full = smallArgs(task, dir.path());
+                full[0] = BW_EXE;
+                full.insert(full.begin() + 1, {"--root", BW_SOURCE_ROOT});
+                const clitest::RunResult r = clitest::runCommand(full, dir.path());
+                EXPECT_EQ(r.code, 0) << "README: " << cmd << " (task " << k << ")\n" << r.output;
+            }
+        }
         std::vector<std::string> full = smallArgs(w, dir.path());
         full[0] = BW_EXE;
         full.insert(full.begin() + 1, {"--root", BW_SOURCE_ROOT});
