@@ -179,7 +179,12 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
             for (auto& mf : m.models) // the hash and the recorded text, as `record` writes them
                 if (fs::exists(root / mf.path)) {
                     mf.hash = capture::hashFile(root / mf.path);
-                    if (!mf.source.empty()) mf.source = core::readFile(root / mf.path);
+                    if (mf.source.empty()) continue;
+                    const std::string text = core::readFile(root / mf.path);
+                    // a mesh is recorded by its size only (lit_sphere_stage, scene_capture)
+                    mf.source = mf.source.rfind("(mesh, ", 0) == 0
+                                    ? "(mesh, " + std::to_string(text.size()) + " bytes)"
+                                    : text;
                 }
             capture::writeManifest(captureDir, m);
         }

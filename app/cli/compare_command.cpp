@@ -297,7 +297,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
 
 namespace {
 
-void addGeometryOptions(CLI::App& cmd, bool& geometry, CompareArgs& a, GeometryArgs& g) {
+void addGeometryOptions(CLI::App& cmd, bool& geometry, GeometryArgs& g) {
     const GeometrySettings d;
     cmd.add_flag("--geometry", geometry,
                  "score images of the geometry suite's shapes against the volumetric path "
@@ -322,7 +322,7 @@ void addGeometryOptions(CLI::App& cmd, bool& geometry, CompareArgs& a, GeometryA
     cmd.add_option("--pictures", g.pictures,
                    "--geometry: the channels whose cases get a picture in the report, e.g. G "
                    "(default RGB; --no-plots: none)");
-    cmd.add_option("--shard", a.shard,
+    cmd.add_option("--shard", g.shard,
                    "--geometry: run shard K of N of the cases (1 <= K <= N) and write "
                    "DIR/shard.json; `merge --geometry DIR... --out D` combines them");
 }
@@ -360,10 +360,24 @@ Command compareCommand() {
                 cmd.add_option("--out", a->out,
                                "output folder: scores.json, report.md, report.html")
                     ->required();
-                addGeometryOptions(cmd, *geometry, *a, *g);
+                addGeometryOptions(cmd, *geometry, *g);
                 return [a, g, geometry](CommandContext& ctx) {
-                    return *geometry ? runCompareGeometryCli(ctx.root(), *a, *g)
-                                     : runCompareCli(ctx.root(), *a);
+                    if (!*geometry) return runCompareCli(ctx.root(), *a);
+                    if (!a->mco.empty())
+                        throw core::Error("--mco", 0,
+                                          "an MCML run scores radial profiles: leave out "
+                                          "--geometry");
+                    if (a->thetaI != std::vector<double>{0.0})
+                        throw core::Error("--theta-i", 0,
+                                          "the geometry suite has its own lights: leave out "
+                                          "--theta-i");
+                    g->models = a->models;
+                    g->presets = a->presets;
+                    g->plots = a->plots;
+                    g->baseline = a->baseline;
+                    g->failIfWorse = a->failIfWorse;
+                    g->out = a->out;
+                    return runCompareGeometryCli(ctx.root(), *g);
                 };
             }};
 }

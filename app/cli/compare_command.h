@@ -44,7 +44,6 @@ struct CompareArgs {
     std::string baseline;            // an earlier scores.json
     std::optional<double> failIfWorse; // percent
     std::string out;                   // output folder
-    std::string shard;                 // K/N (--geometry)
 };
 
 // What the report draws besides the table (compare_report.cpp).

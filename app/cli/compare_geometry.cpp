@@ -1,7 +1,6 @@
 // `bssrdf-workbench compare --geometry` and `merge --geometry` (compare_geometry.h).
 #include "cli/compare_geometry.h"
 #include "cli/args.h"
-#include "cli/compare_command.h"
 #include "cli/interrupt.h"
 #include "cli/output.h"
 
@@ -10,6 +9,7 @@
 #include "gl/gl.h"
 #include "mesh/suite.h"
 #include "pipeline/geometry_images.h"
+#include "pipeline/scoring.h"
 #include "pipeline/workbench.h"
 
 #include <nlohmann/json.hpp>
@@ -165,13 +165,9 @@ std::string geometryPictureName(const std::string& shape, const std::string& pre
     return name + ".png";
 }
 
-int runCompareGeometryCli(const fs::path& root, const CompareArgs& a, const GeometryArgs& g) {
+int runCompareGeometryCli(const fs::path& root, const GeometryArgs& a) {
+    const GeometryArgs& g = a;
     if (a.out.empty()) throw core::Error("--out", 0, "give the folder to write");
-    if (!a.mco.empty())
-        throw core::Error("--mco", 0, "an MCML run scores radial profiles: leave out --geometry");
-    if (a.thetaI != std::vector<double>{0.0})
-        throw core::Error("--theta-i", 0,
-                          "the geometry suite has its own lights: leave out --theta-i");
     if (a.failIfWorse && a.baseline.empty())
         throw core::Error("--fail-if-worse", 0, "needs --baseline FILE");
     if (!a.shard.empty() && !a.baseline.empty())

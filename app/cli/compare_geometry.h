@@ -14,8 +14,8 @@
 //   "rel_l2", "rel_l2_se", "mean_ratio", "mean_ratio_se", "pixels", "rank", "tie",
 //   "problem" (null, or why the model has no image of this case: its scores are then null)}],
 //   "skipped": [{"preset", "channel", "reason"}]}
-// Rows are in case order (shape, preset, channel), models in the library's (name) order within a case; rank 1
-// is the best of its (shape, preset, channel), ties as the scoreboard's.
+// Rows are in case order (shape, preset, channel), models in the library's (name) order within a
+// case; rank 1 is the best of its (shape, preset, channel), ties as the scoreboard's.
 //
 // --shard K/N runs cases K−1, K−1+N, … only and writes DIR/shard.json (the same rows, unranked,
 // with the run's "cases" count and "shard") and their pictures; `merge --geometry DIR… --out D`
@@ -34,18 +34,23 @@
 
 namespace app {
 
-struct CompareArgs;
-
+// The options of `compare --geometry` (compare_command.cpp fills the ones it shares with
+// `compare`: models, presets, baseline, fail-if-worse, out, plots).
 struct GeometryArgs {
-    std::vector<std::string> shapes; // default: mesh::defaultSuite()
+    std::vector<std::string> models;  // default: every materials/*.bssrdf
+    std::vector<std::string> presets; // default: Marble and Skin1
+    std::vector<std::string> shapes;  // default: mesh::defaultSuite()
     GeometrySettings settings;
-    std::string sampling; // uniform | disk (default: the settings')
-    std::string shard;    // K/N
+    std::string sampling;         // uniform | disk (default: the settings')
+    std::string shard;            // K/N
     std::string pictures = "RGB"; // the channels whose cases get a picture ("" none)
+    bool plots = true;
+    std::string baseline;
+    std::optional<double> failIfWorse;
+    std::string out;
 };
 
-int runCompareGeometryCli(const std::filesystem::path& root, const CompareArgs& a,
-                          const GeometryArgs& g);
+int runCompareGeometryCli(const std::filesystem::path& root, const GeometryArgs& a);
 int runMergeGeometryCli(const std::vector<std::string>& dirs, const std::string& out);
 
 // The report of a finished run (geometry_report.cpp): report.md and report.html in `dir`, the

@@ -214,6 +214,15 @@ TEST(CaptureReplay, LitMeshImageAndItsInputAreRecorded) {
     mesh::writeObj(root / "meshes/ball.obj", mesh::makeUvSphere(12, 24));
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
     EXPECT_NE(out.find("meshes/ball.obj: content hash changed"), std::string::npos) << out;
+    // --update takes the edited mesh, and keeps recording it by its size, not its text
+    EXPECT_EQ(app::replayCapture(dir, root, true, out), 0) << out;
+    m = capture::readManifest(dir);
+    for (const auto& f : m.models)
+        if (f.path == "meshes/ball.obj")
+            EXPECT_EQ(f.source,
+                      "(mesh, " + std::to_string(core::readFile(root / "meshes/ball.obj").size()) +
+                          " bytes)");
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     std::filesystem::remove_all(root);
 }
 
