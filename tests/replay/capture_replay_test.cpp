@@ -214,14 +214,15 @@ TEST(CaptureReplay, LitMeshImageAndItsInputAreRecorded) {
     mesh::writeObj(root / "meshes/ball.obj", mesh::makeUvSphere(12, 24));
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1);
     EXPECT_NE(out.find("meshes/ball.obj: content hash changed"), std::string::npos) << out;
-    // --update takes the edited mesh, and keeps recording it by its size, not its text
+    // --update takes the edited mesh: recorded as it was (text below 1 MiB, else its size only)
     EXPECT_EQ(app::replayCapture(dir, root, true, out), 0) << out;
     m = capture::readManifest(dir);
-    for (const auto& f : m.models)
-        if (f.path == "meshes/ball.obj")
-            EXPECT_EQ(f.source,
-                      "(mesh, " + std::to_string(core::readFile(root / "meshes/ball.obj").size()) +
-                          " bytes)");
+    const std::string text = core::readFile(root / "meshes/ball.obj");
+    for (const auto& f : m.models) {
+        if (f.path == "meshes/ball.obj") {
+            EXPECT_EQ(f.source, text);
+        }
+    }
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     std::filesystem::remove_all(root);
 }
