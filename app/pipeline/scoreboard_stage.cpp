@@ -13,8 +13,83 @@
 
 namespace app {
 
+bool ScoreboardStage::updateMcml(const ScoreboardInputs& in) {
+    if (!in.mcml || !in.mcmlMedium) {
+        const bool changed = !m_mcmlRows.empty() || !m_mcmlProblems.empty();
+        m_mcmlRows.clear();
+        m_mcmlProblems.clear();
+        m_mcmlKey.clear();
+        m_mcmlName.clear();
+        return changed;
+    }
+    const pathtrace::Medium& m = *in.mcmlMedium;
+    std::string key = in.mcmlName + core::keyOf(m) + std::to_string(in.mcml->paths) + "|" +
+                      std::to_string(in.mcml->totalRd);
+    for (const bssrdf::ModelEntry& e : in.library->entries())
+        if (e.usable())
+            key += e.displayPath + std::to_string(e.generation) + toJson(e.values).dump();
+    if (key == m_mcmlKey) return false;
+    m_mcmlKey = key;
+    m_mcmlName = in.mcmlName;
+    m_mcmlRows.clear();
+    m_mcmlProblems.clear();
+    // the run's medium in every channel, as `compare --mco` (cli/compare_command.cpp)
+    MaterialSettings s;
+    s.preset.clear();
+    s.params.sigmaA = glm::dvec3(m.sigmaA);
+    s.params.sigmaS = glm::dvec3(m.sigmaS);
+    s.params.g = m.g;
+    s.params.eta = m.eta;
+    const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
+    const pathtrace::SlabResult& r = *in.mcml;
+    const std::vector<double> edges = binEdges(r.rMid);
+    std::vector<ScoreboardRow> rows;
+    for (const bssrdf::ModelEntry& e : in.library->entries()) {
+        if (!e.usable()) continue;
+        try {
+            const bssrdf::Builtins b = builtinsOf(effectiveParams(e, s));
+            const GLuint program = e.programs.at("pencil_profile.comp").id();
+            std::string bad;
+            const bssrdf::Profile prof = binAverageProfile(program, e, b, edges, bad);
+            if (!bad.empty()) {
+                m_mcmlProblems.push_back(e.displayPath + ": " + m_mcmlName + ": " + bad);
+                continue;
+            }
+            ScoreboardRow row;
+            row.score = scoreAgainstReference(edges, r.rd, r.rdStderr, r.specular, r.totalRd,
+                                              r.totalRdStderr, ld, channelOf(prof, 0),
+                                              modelTotalRd(program, e, b, ld, 0));
+            std::string stem = e.displayPath.substr(e.displayPath.rfind('/') + 1);
+            row.score.model = stem.substr(0, stem.rfind('.'));
+            row.score.preset = m_mcmlName;
+            row.score.channel = "R";
+            row.displayPath = e.displayPath;
+            rows.push_back(row);
+        } catch (const std::exception& err) {
+            m_mcmlProblems.push_back(e.displayPath + ": " + m_mcmlName + ": " + err.what());
+        }
+    }
+    std::vector<capture::ScoreRow> scores;
+    for (const ScoreboardRow& row : rows)
+        scores.push_back(row.score);
+    rankRows(scores);
+    for (const capture::ScoreRow& sc : scores)
+        for (const ScoreboardRow& row : rows)
+            if (row.score.model == sc.model) {
+                m_mcmlRows.push_back(row);
+                m_mcmlRows.back().score = sc;
+                break;
+            }
+    return true;
+}
+
 bool ScoreboardStage::update(const ScoreboardInputs& in) {
     if (!in.enabled || !in.library || !in.views || !in.reference) return false;
+    const bool mcmlChanged = updateMcml(in);
+    return updateReference(in) || mcmlChanged;
+}
+
+bool ScoreboardStage::updateReference(const ScoreboardInputs& in) {
     if (!in.params) {
         const bool changed = !m_rows.empty() || m_key != "none";
         m_rows.clear();
@@ -127,6 +202,7 @@ bool ScoreboardStage::update(const ScoreboardInputs& in) {
 StageStatus ScoreboardStage::status() const {
     StageStatus st;
     st.problems = m_problems;
+    st.problems.insert(st.problems.end(), m_mcmlProblems.begin(), m_mcmlProblems.end());
     st.stats.emplace_back("rows", std::to_string(m_rows.size()));
     return st;
 }

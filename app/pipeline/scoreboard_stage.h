@@ -6,7 +6,9 @@
 // range is shorter: the row says so). Re-scored when a model changes (hot reload, parameters)
 // or the reference gains paths, at most every kRescoreSeconds while the reference runs. The
 // pencil plot's legend shows the same rows (pencil_series.h). Each model is evaluated once per
-// re-scoring, averaged over the reference's bins for all three channels.
+// re-scoring, averaged over the reference's bins for all three channels. When an MCML run is open
+// as a reference, every model is also scored against it (its medium, one channel: the rows of
+// `compare --mco`).
 #pragma once
 
 #include "bssrdf/program_library.h"
@@ -29,6 +31,11 @@ struct ScoreboardInputs {
     const ReferenceSnapshot* reference = nullptr;
     std::string referenceModel; // display path of the model whose σ the reference uses
     std::optional<material::MaterialParams> params; // that σ (the reference's media)
+    // An MCML run opened as a reference (File → Open MCML reference): every model is also scored
+    // against its R_d(r) with the medium the file declares, as `compare --mco` does.
+    const pathtrace::SlabResult* mcml = nullptr;
+    std::optional<pathtrace::Medium> mcmlMedium;
+    std::string mcmlName;
 };
 
 struct ScoreboardRow {
@@ -47,9 +54,16 @@ class ScoreboardStage : public StageOf<ScoreboardInputs> {
     const std::vector<ScoreboardRow>& rows() const { return m_rows; }
     uint64_t referencePaths() const { return m_paths; } // per channel, of the scored reference
     const std::vector<std::string>& notes() const { return m_notes; } // channels not scored
+    // The rows against the MCML run (empty when none is open), ranked; and its name.
+    const std::vector<ScoreboardRow>& mcmlRows() const { return m_mcmlRows; }
+    const std::string& mcmlName() const { return m_mcmlName; }
 
   private:
-    std::string m_key;
+    bool updateMcml(const ScoreboardInputs& in);
+    bool updateReference(const ScoreboardInputs& in);
+    std::string m_key, m_mcmlKey, m_mcmlName;
+    std::vector<ScoreboardRow> m_mcmlRows;
+    std::vector<std::string> m_mcmlProblems;
     double m_lastScored = -1e9;
     std::vector<ScoreboardRow> m_rows;
     std::vector<std::string> m_notes, m_problems;

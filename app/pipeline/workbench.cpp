@@ -93,12 +93,18 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
              const ReferenceSnapshot snap = m_reference->snapshot();
              const ReferenceInputs ri = referenceInputs();
              // the pencil legend shows the same scores, so they follow the reference too
-             ScoreboardInputs in{m_scoreboardEnabled || m_refSettings.enabled,
-                                 m_library.get(),
-                                 &m_views,
-                                 &snap,
-                                 ri.model,
-                                 ri.params};
+             ScoreboardInputs in;
+             in.enabled = m_scoreboardEnabled || m_refSettings.enabled;
+             in.library = m_library.get();
+             in.views = &m_views;
+             in.reference = &snap;
+             in.referenceModel = ri.model;
+             in.params = ri.params;
+             if (m_mcml) {
+                 in.mcml = &m_mcml->profile;
+                 in.mcmlMedium = m_mcml->medium;
+                 in.mcmlName = m_mcml->name;
+             }
              return m_scoreboard->update(in);
          }},
         {m_fit.get(),

@@ -5,6 +5,8 @@
 #include "../support/cli_fixture.h"
 #include "../support/gl_fixture.h"
 #include "core/core.h"
+#include "gl/gl.h"
+#include "gui/gui.h"
 #include "gui/panels/panels.h"
 #include "pathtrace/mco.h"
 #include "pipeline/pencil_series.h"
@@ -107,6 +109,33 @@ TEST_F(McoCli, CompareScoresTheModelsAgainstTwoMcmlRuns) {
     EXPECT_GT(row["rel_err_se"].get<double>(), 0.0); // from the two runs' difference
     // the classical dipole against the path tracer on this medium is within 30 % in total
     EXPECT_NEAR(row["total_ratio"].get<double>(), 1.0, 0.3);
+
+    // the Scoreboard panel, with the two runs opened as the reference, shows the same row
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("mcmlscores", {"dipole.bssrdf"});
+    {
+        app::Workbench wb(root, false);
+        wb.openMcmlReference(dir() / "mcml_1.mco", dir() / "mcml_2.mco");
+        app::HeadlessGui gui(wb, 1280, 860);
+        gui.ui().shared.show(app::PanelId::Scoreboard);
+        for (int k = 0; k < 4; ++k)
+            gui.frame();
+        const auto& rows = wb.scoreboard().mcmlRows();
+        ASSERT_EQ(rows.size(), 1u);
+        EXPECT_EQ(wb.scoreboard().mcmlName(), "mcml_1.mco");
+        EXPECT_EQ(rows[0].score.model, "dipole");
+        EXPECT_EQ(rows[0].score.rank, 1);
+        EXPECT_DOUBLE_EQ(rows[0].score.relErr, row["rel_err"].get<double>());
+        EXPECT_DOUBLE_EQ(rows[0].score.relErrSe, row["rel_err_se"].get<double>());
+        EXPECT_DOUBLE_EQ(rows[0].score.totalRatio, row["total_ratio"].get<double>());
+        if (const char* png = std::getenv("BW_MCML_SCORES_PNG"))
+            gl::writePng(png, gui.width(), gui.height(), gui.pixels());
+        // closing the run removes its table
+        wb.clearMcmlReference();
+        gui.frame();
+        EXPECT_TRUE(wb.scoreboard().mcmlRows().empty());
+    }
+    fs::remove_all(root);
     ::unsetenv("BSSRDF_WORKBENCH_CACHE");
 }
 

@@ -5,7 +5,8 @@
 // rel_err cell explaining itself in a tooltip. A click on a
 // row solos that model in the pencil plot on that channel and brings the plot to the front;
 // the preset combo applies a preset to the shared parameters (the table follows). Geometry: the
-// scores of `compare --geometry` (scoreboard_geometry.cpp).
+// scores of `compare --geometry` (scoreboard_geometry.cpp). An MCML run opened as a reference
+// (File → Open MCML reference) gets its own table above, the rows of `compare --mco`.
 #include "gui/panels/panels.h"
 #include "gui/preset_combo.h"
 #include "gui/widgets.h"
@@ -37,7 +38,52 @@ ImU32 relColour(double rel) {
 
 namespace {
 
+// The models against the MCML run opened as a reference (the rows of `compare --mco`); a click
+// on a row solos that model in the pencil plot, where the run is drawn.
+void drawMcmlScores(Workbench& wb, UiShared& ui) {
+    const ScoreboardStage& sb = wb.scoreboard();
+    const auto& run = wb.mcmlReference();
+    if (sb.mcmlRows().empty() || !run) return;
+    if (!ImGui::CollapsingHeader(("Against the MCML run " + sb.mcmlName()).c_str(),
+                                 ImGuiTreeNodeFlags_DefaultOpen))
+        return;
+    hintText("Its own medium (sigma_a %s, sigma_s %s 1/mm, g %s, eta %s), one channel, as "
+             "`compare --mco`.",
+             num(run->medium.sigmaA, 4).c_str(), num(run->medium.sigmaS, 4).c_str(),
+             num(run->medium.g, 3).c_str(), num(run->medium.eta, 3).c_str());
+    const ImGuiTableFlags flags =
+        ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit;
+    if (!ImGui::BeginTable("mcml scores", 6, flags)) return;
+    for (const char* h : {"model", "rank", "rel_err", "@1 l_d", "@4 l_d", "total"})
+        ImGui::TableSetupColumn(h);
+    ImGui::TableHeadersRow();
+    for (const ScoreboardRow& r : sb.mcmlRows()) {
+        const capture::ScoreRow& s2 = r.score;
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        if (ImGui::Selectable(s2.model.c_str(), wb.plotSettings().solo == r.displayPath,
+                              ImGuiSelectableFlags_SpanAllColumns)) {
+            wb.plotSettings().solo = r.displayPath;
+            ui.show(PanelId::Pencil);
+        }
+        ImGui::TableNextColumn();
+        ImGui::Text("%s%d", s2.tie ? "=" : "", s2.rank);
+        ImGui::TableNextColumn();
+        ImGui::TableSetBgColor(ImGuiTableBgTarget_CellBg, relColour(s2.relErr));
+        ImGui::Text("%s %% +- %s %%", num(100 * s2.relErr).c_str(),
+                    num(100 * s2.relErrSe, 2).c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(num(s2.ratio1).c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(num(s2.ratio4).c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(num(s2.totalRatio).c_str());
+    }
+    ImGui::EndTable();
+}
+
 void drawProfileScores(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
+    drawMcmlScores(wb, ui);
     MaterialSettings& s = wb.shared();
     ImGui::SetNextItemWidth(160);
     presetCombo("preset", wb, s);
