@@ -41,7 +41,9 @@ namespace {
 constexpr const char* kSchema = capture::kScoresSchema;
 constexpr int kSchemaVersion = capture::kScoresVersion;
 
-json rowJson(const ScoreRow& r) {
+} // namespace
+
+json scoreRowJson(const ScoreRow& r) {
     return {{"model", r.model},
             {"preset", r.preset},
             {"channel", r.channel},
@@ -62,14 +64,21 @@ json rowJson(const ScoreRow& r) {
             {"tie", r.tie}};
 }
 
-} // namespace
-
 int runCompareCli(const fs::path& root, const CompareArgs& a) {
     if (a.out.empty()) throw core::Error("--out", 0, "give the folder to write");
     if (a.failIfWorse && a.baseline.empty())
         throw core::Error("--fail-if-worse", 0, "needs --baseline FILE");
     if (a.failIfWorse && !(*a.failIfWorse >= 0))
         throw core::Error("--fail-if-worse", 0, "must be a percentage >= 0");
+    size_t shardK = 0, shardN = 1;
+    if (!a.shard.empty()) {
+        if (!a.mco.empty()) throw core::Error("--shard", 0, "an MCML run is one unit: no shards");
+        if (!a.baseline.empty())
+            throw core::Error("--baseline", 0, "compare the merged run (leave out --shard)");
+        const auto [k, n] = parseShard(a.shard, "--shard");
+        shardK = size_t(k);
+        shardN = size_t(n);
+    }
     const std::vector<ScoreRow> baseline =
         a.baseline.empty() ? std::vector<ScoreRow>{} : capture::readScores(a.baseline);
     // the output folder must be writable before any work is done
@@ -138,7 +147,8 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     report.thetaI = a.thetaI;
     std::vector<ScoreRow>& rows = report.rows;
     json skipped = json::array();
-    size_t cached = 0, traced = 0;
+    size_t cached = 0, traced = 0, units = 0;
+    std::vector<size_t> unitOfRow, unitOfProfile, unitOfSlice;
     auto stem = [](const std::string& displayPath) {
         std::string m = displayPath.substr(displayPath.rfind('/') + 1);
         return m.substr(0, m.rfind('.'));
@@ -168,6 +178,9 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                 continue;
             }
             for (double thetaI : a.thetaI) {
+                // a unit of work: one medium and angle (--shard runs every N-th)
+                const size_t unit = units++;
+                if (unit % shardN != shardK) continue;
                 if (thetaI == 0) {
                     const pathtrace::SlabSettings ss = scoringSlabSettings(ld, a.paths);
                     bool fromCache = false;
@@ -199,9 +212,11 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                         row.preset = preset;
                         row.channel = ch;
                         rows.push_back(row);
+                        unitOfRow.push_back(unit);
                         curves.models.emplace_back(row.model, std::move(mv));
                     }
                     report.profiles.push_back(std::move(curves));
+                    unitOfProfile.push_back(unit);
                     continue;
                 }
                 const pathtrace::EstimateSettings es = obliqueSettings(ld, thetaI, a.paths);
@@ -239,9 +254,11 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                     row.preset = preset;
                     row.channel = ch;
                     rows.push_back(row);
+                    unitOfRow.push_back(unit);
                     maps.models.emplace_back(row.model, ms.R);
                 }
                 report.slices.push_back(std::move(maps));
+                unitOfSlice.push_back(unit);
             }
         }
     }
@@ -251,28 +268,40 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                               r.preset + " " + r.channel + " at " + formatScore(r.thetaI, 3) +
                                   " deg: the reference has a bin without paths in [0.1, 4] l_d "
                                   "(give more --paths)");
-    rankRows(rows);
+    std::fprintf(stderr, "%zu references traced, %zu from the cache\n", traced, cached);
+    CompareRun run{report, skipped, unitOfRow, unitOfProfile, unitOfSlice, units, presets, {}};
+    for (const auto& e : wb.library().entries())
+        run.models.push_back(stem(e.displayPath));
+    if (!a.shard.empty()) {
+        writeCompareShard(a.out, run, shardK + 1, shardN);
+        return 0;
+    }
+    return finishCompare(a.out, run.report, run.skipped, a.plots, baseline, a.failIfWorse);
+}
 
+int finishCompare(const fs::path& out, CompareReport& report, const json& skipped, bool plots,
+                  const std::vector<ScoreRow>& baseline, std::optional<double> failIfWorse) {
+    std::vector<ScoreRow>& rows = report.rows;
+    rankRows(rows);
     json angles = json::array();
-    for (double t : a.thetaI)
+    for (double t : report.thetaI)
         angles.push_back(t);
     json j = {{"schema", kSchema},
               {"version", kSchemaVersion},
               {"theta_i", angles},
-              {"paths", a.paths},
+              {"paths", report.paths},
               {"rel_err", "RMS relative error over ln r in [0.1, 4] l_d, the reference's noise "
                           "removed (modules/core/relative_error.h)"},
               {"rel_err_range_ld", {core::kRelErrFromLd, core::kRelErrToLd}},
               {"rows", json::array()},
               {"skipped", skipped}};
     for (const ScoreRow& r : rows)
-        j["rows"].push_back(rowJson(r));
-    writeReports(a.out, report, a.plots);
-    core::writeFile(fs::path(a.out) / "scores.json", j.dump(2) + "\n");
-    std::printf("%zu rows (%zu references traced, %zu from the cache): %s\n", rows.size(), traced,
-                cached, (fs::path(a.out) / "scores.json").c_str());
+        j["rows"].push_back(scoreRowJson(r));
+    writeReports(out, report, plots);
+    core::writeFile(out / "scores.json", j.dump(2) + "\n");
+    std::printf("%zu rows: %s\n", rows.size(), (out / "scores.json").c_str());
 
-    if (!a.failIfWorse) return 0;
+    if (!failIfWorse) return 0;
     int worse = 0;
     for (const ScoreRow& r : rows)
         for (const ScoreRow& b : baseline) {
@@ -280,7 +309,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                 b.thetaI != r.thetaI)
                 continue;
             const double noise = 3 * std::sqrt(r.relErrSe * r.relErrSe + b.relErrSe * b.relErrSe);
-            if (r.relErr > b.relErr * (1 + *a.failIfWorse / 100) && r.relErr - b.relErr > noise) {
+            if (r.relErr > b.relErr * (1 + *failIfWorse / 100) && r.relErr - b.relErr > noise) {
                 std::fprintf(stderr, "worse: %s %s %s rel_err %s -> %s\n", r.model.c_str(),
                              r.preset.c_str(), r.channel.c_str(), formatScore(b.relErr).c_str(),
                              formatScore(r.relErr).c_str());
@@ -289,7 +318,7 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
         }
     if (worse) {
         std::fprintf(stderr, "error: %d rows worse than the baseline by more than %s %%\n", worse,
-                     formatScore(*a.failIfWorse).c_str());
+                     formatScore(*failIfWorse).c_str());
         return 1;
     }
     return 0;
@@ -323,8 +352,9 @@ void addGeometryOptions(CLI::App& cmd, bool& geometry, GeometryArgs& g) {
                    "--geometry: the channels whose cases get a picture in the report, e.g. G "
                    "(default RGB; --no-plots: none)");
     cmd.add_option("--shard", g.shard,
-                   "--geometry: run shard K of N of the cases (1 <= K <= N) and write "
-                   "DIR/shard.json; `merge --geometry DIR... --out D` combines them");
+                   "run shard K of N (1 <= K <= N): every N-th medium and angle (--geometry: "
+                   "case) from the K-th, into DIR/shard.json; `merge DIR... --out D` combines "
+                   "them");
 }
 
 } // namespace
@@ -362,7 +392,10 @@ Command compareCommand() {
                     ->required();
                 addGeometryOptions(cmd, *geometry, *g);
                 return [a, g, geometry](CommandContext& ctx) {
-                    if (!*geometry) return runCompareCli(ctx.root(), *a);
+                    if (!*geometry) {
+                        a->shard = g->shard;
+                        return runCompareCli(ctx.root(), *a);
+                    }
                     if (!a->mco.empty())
                         throw core::Error("--mco", 0,
                                           "an MCML run scores radial profiles: leave out "

@@ -27,6 +27,7 @@
 #include "pipeline/scoring.h"
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>
@@ -44,6 +45,7 @@ struct CompareArgs {
     std::string baseline;            // an earlier scores.json
     std::optional<double> failIfWorse; // percent
     std::string out;                   // output folder
+    std::string shard;                 // K/N: every N-th unit (medium and angle), from K
 };
 
 // What the report draws besides the table (compare_report.cpp).
@@ -81,5 +83,26 @@ std::string scoreCellColour(double rel);
 std::string htmlEscape(const std::string& s);
 
 int runCompareCli(const std::filesystem::path& root, const CompareArgs& a);
+
+// A run's results before ranking, with the unit (preset, channel, angle in enumeration order) of
+// each row, profile and slice: what a shard writes and `merge` reads back (compare_shards.cpp).
+struct CompareRun {
+    CompareReport report;
+    nlohmann::json skipped;
+    std::vector<size_t> unitOfRow, unitOfProfile, unitOfSlice;
+    size_t units = 0;
+    std::vector<std::string> presets, models;
+};
+nlohmann::json scoreRowJson(const ScoreRow& r);
+// Ranks, writes scores.json and the reports into `out`, and applies the baseline gate.
+int finishCompare(const std::filesystem::path& out, CompareReport& report,
+                  const nlohmann::json& skipped, bool plots, const std::vector<ScoreRow>& baseline,
+                  std::optional<double> failIfWorse);
+// --shard K/N: DIR/shard.json (schema bssrdf-workbench-scores-shard) with the unranked rows and
+// the report's curves of this shard's units.
+void writeCompareShard(const std::filesystem::path& out, const CompareRun& run, size_t k, size_t n);
+// `merge DIR... --out D` of `compare --shard` folders: checks they are the N shards of one run
+// and writes what one process writes (scores.json byte for byte, the reports).
+int runMergeCompareCli(const std::vector<std::string>& dirs, const std::string& out, bool plots);
 
 } // namespace app

@@ -2,6 +2,7 @@
 #include "cli/estimate_commands.h"
 #include "cli/args.h"
 #include "cli/command.h"
+#include "cli/compare_command.h"
 #include "cli/compare_geometry.h"
 
 #include "cli/interrupt.h"
@@ -204,6 +205,7 @@ void addMergeOptions(CLI::App* cmd, MergeArgs& a) {
         ->required();
     cmd->add_option("--out", a.out, "merged table file (--geometry: the output folder)")
         ->required();
+    cmd->add_flag("!--no-plots", a.plots, "compare shards: reports without the PNG plots");
     cmd->add_flag("--geometry", a.geometry,
                   "merge `compare --geometry --shard K/N` folders into one run's scores and "
                   "reports");
@@ -214,10 +216,17 @@ void addMergeOptions(CLI::App* cmd, MergeArgs& a) {
 }
 
 int runMergeCli(const MergeArgs& a) {
-    if (a.geometry) {
+    // folders of `compare --shard` or `compare --geometry --shard`: told apart by their shard.json
+    std::error_code ec;
+    const bool folders = !a.inputs.empty() && fs::is_directory(a.inputs.front(), ec);
+    if (a.geometry || folders) {
         if (!a.csv.empty() || !a.csvDir.empty() || !a.slabCsv.empty())
-            throw core::Error("--geometry", 0, "geometry shards merge into --out only");
-        return runMergeGeometryCli(a.inputs, a.out);
+            throw core::Error("merge", 0, "compare shards merge into --out only");
+        const std::string kind =
+            a.geometry ? "" : core::readFile(fs::path(a.inputs.front()) / "shard.json");
+        if (a.geometry || kind.find("bssrdf-workbench-geometry-shard") != std::string::npos)
+            return runMergeGeometryCli(a.inputs, a.out);
+        return runMergeCompareCli(a.inputs, a.out, a.plots);
     }
     checkWritable(a.out, "--out");
     checkWritable(a.csv, "--csv");

@@ -38,6 +38,7 @@ struct MergeArgs {
     std::string out, csv, csvDir;
     std::string slabCsv;   // slab-shaped tables (slab --shard): the CSV `slab` writes
     bool geometry = false; // the inputs are folders of `compare --geometry --shard`
+    bool plots = true;     // folders of `compare --shard`: the reports' plots
 };
 void addMergeOptions(CLI::App* cmd, MergeArgs& a);
 int runMergeCli(const MergeArgs& a);

@@ -421,3 +421,49 @@ TEST_F(CompareCli, IncidenceAnglesOutsideTheRangeAreRefused) {
                   {"--theta-i"});
     EXPECT_FALSE(fs::exists(dir() / "a1/scores.json"));
 }
+
+// `compare --shard K/N` run by GNU parallel, as a user would, merges into the single process's
+// scores.json and reports byte for byte (every medium and angle is a unit; units go round-robin
+// to the shards); a missing or repeated shard is refused.
+TEST_F(CompareCli, ShardsRunByGnuParallelMergeIntoTheSameScoresAndReports) {
+    ASSERT_EQ(std::system("command -v parallel >/dev/null"), 0)
+        << "GNU parallel (Debian package parallel) is needed: ./run installs it";
+    ::setenv("BSSRDF_WORKBENCH_CACHE", (dir() / "cache").c_str(), 1);
+    const std::vector<std::string> args = {"compare",
+                                           "--models",
+                                           "materials/dipole.bssrdf",
+                                           "materials/directional_dipole.bssrdf",
+                                           "--presets",
+                                           "Skin1",
+                                           "Marble",
+                                           "--theta-i",
+                                           "0,60",
+                                           "--paths",
+                                           "3000",
+                                           "--out"};
+    std::vector<std::string> one = args;
+    one.push_back("one");
+    RunResult r = run(one);
+    ASSERT_EQ(r.code, 0) << describe(one, r);
+    ::setenv("BSSRDF_WORKBENCH_CACHE", (dir() / "cache-shards").c_str(), 1);
+    std::string shardArgs;
+    for (const std::string& s : args)
+        shardArgs += " '" + s + "'";
+    const std::string cmd = "cd '" + dir().string() + "' && parallel -j 2 --halt now,fail=1 '" +
+                            BW_EXE + "' --root '" + BW_SOURCE_ROOT + "'" + shardArgs +
+                            " s{} --shard {}/5 ::: 1 2 3 4 5 >parallel.log 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(dir() / "parallel.log");
+    const std::vector<std::string> merge = {"merge", "s1", "s2", "s3", "s4", "s5", "--out", "m"};
+    r = run(merge);
+    ASSERT_EQ(r.code, 0) << describe(merge, r);
+    EXPECT_EQ(readText(dir() / "m/scores.json"), readText(dir() / "one/scores.json"));
+    EXPECT_EQ(readText(dir() / "m/report.md"), readText(dir() / "one/report.md"));
+    EXPECT_EQ(readText(dir() / "m/report.html"), readText(dir() / "one/report.html"));
+    expectFailure({"merge", "s1", "s2", "s4", "s5", "--out", "m2"}, {"missing shards of 5: 3"});
+    expectFailure({"merge", "s1", "s2", "s3", "s4", "s5", "s2", "--out", "m3"},
+                  {"shard 2/5 is also in s2"});
+    expectFailure(
+        {"compare", "--models", "materials/dipole.bssrdf", "--shard", "6/5", "--out", "bad"},
+        {"--shard", "6/5"});
+    ::unsetenv("BSSRDF_WORKBENCH_CACHE");
+}
