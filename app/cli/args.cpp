@@ -96,4 +96,21 @@ std::vector<fs::path> modelFiles(const fs::path& root, const std::vector<std::st
     return files;
 }
 
+void ShardSet::add(size_t k, size_t n, const std::string& file, const std::string& folder) {
+    m_n = n;
+    if (const auto it = m_folders.find(k); it != m_folders.end())
+        throw core::Error(file, 0,
+                          "shard " + std::to_string(k) + "/" + std::to_string(n) + " is also in " +
+                              it->second);
+    m_folders.emplace(k, folder);
+}
+
+void ShardSet::complete() const {
+    if (m_folders.size() == m_n) return;
+    std::string missing;
+    for (size_t k = 1; k <= m_n; ++k)
+        if (!m_folders.count(k)) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
+    throw core::Error("merge", 0, "missing shards of " + std::to_string(m_n) + ": " + missing);
+}
+
 } // namespace app

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -34,6 +35,18 @@ bool parseSize(const std::string& text, int& w, int& h, int minSide = 64);
 // in name order; throws core::Error("--models", …) when there are none.
 std::vector<std::filesystem::path> modelFiles(const std::filesystem::path& root,
                                               const std::vector<std::string>& models);
+
+// The shard folders given to `merge` for one run: add() refuses a shard K given twice (naming
+// both files), complete() names the missing ones.
+class ShardSet {
+  public:
+    void add(size_t k, size_t n, const std::string& file, const std::string& folder);
+    void complete() const;
+
+  private:
+    size_t m_n = 0;
+    std::map<size_t, std::string> m_folders;
+};
 
 std::pair<uint64_t, uint64_t> parseShard(const std::string& text, const std::string& flag);
 

@@ -307,7 +307,7 @@ int runMergeGeometryCli(const std::vector<std::string>& dirs, const std::string&
     checkWritable((fs::path(out) / "scores.json").string(), "--out");
     json run;
     size_t n = 0;
-    std::map<size_t, std::string> seen; // shard K → its folder
+    ShardSet shards;
     std::vector<std::pair<size_t, json>> rows;
     GeometryReport report;
     for (const std::string& d : dirs) {
@@ -331,22 +331,14 @@ int runMergeGeometryCli(const std::vector<std::string>& dirs, const std::string&
                               "differ from " +
                                   dirs.front() + ")");
         }
-        if (!seen.emplace(k, d).second)
-            throw core::Error(file.string(), 0,
-                              "shard " + std::to_string(k) + "/" + std::to_string(n) +
-                                  " is also in " + seen[k]);
+        shards.add(k, n, file.string(), d);
         for (const json& r : j.at("rows"))
             rows.emplace_back(r.at("case").get<size_t>(), r);
         for (const auto& pic : fs::directory_iterator(fs::path(d) / "images", ec))
             fs::copy_file(pic.path(), fs::path(out) / "images" / pic.path().filename(),
                           fs::copy_options::overwrite_existing, ec);
     }
-    if (seen.size() != n) {
-        std::string missing;
-        for (size_t k = 1; k <= n; ++k)
-            if (!seen.count(k)) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
-        throw core::Error("merge", 0, "missing shards of " + std::to_string(n) + ": " + missing);
-    }
+    shards.complete();
     std::stable_sort(rows.begin(), rows.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<size_t> caseOfRow;

@@ -6,6 +6,7 @@
 // NaN, which JSON lacks, is written as null and read back as NaN.
 #include "cli/compare_command.h"
 
+#include "cli/args.h"
 #include "core/core.h"
 #include "core/fields.h"
 #include "gl/gl.h"
@@ -127,7 +128,7 @@ int runMergeCompareCli(const std::vector<std::string>& dirs, const std::string& 
         throw core::Error("--out", 0, "cannot create the folder '" + out + "'");
     json run;
     size_t n = 0;
-    std::map<size_t, std::string> seen;
+    ShardSet shards;
     std::vector<std::pair<size_t, json>> rows, profiles, slices;
     for (const std::string& d : dirs) {
         const fs::path file = fs::path(d) / "shard.json";
@@ -147,10 +148,7 @@ int runMergeCompareCli(const std::vector<std::string>& dirs, const std::string& 
                               "from " +
                                   dirs.front() + ")");
         }
-        if (!seen.emplace(k, d).second)
-            throw core::Error(file.string(), 0,
-                              "shard " + std::to_string(k) + "/" + std::to_string(n) +
-                                  " is also in " + seen[k]);
+        shards.add(k, n, file.string(), d);
         for (const char* part : {"rows", "profiles", "slices"})
             for (const json& x : j.at(part))
                 (part[0] == 'r'   ? rows
@@ -158,12 +156,7 @@ int runMergeCompareCli(const std::vector<std::string>& dirs, const std::string& 
                                   : slices)
                     .emplace_back(x.at("unit").get<size_t>(), x);
     }
-    if (seen.size() != n) {
-        std::string missing;
-        for (size_t k = 1; k <= n; ++k)
-            if (!seen.count(k)) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
-        throw core::Error("merge", 0, "missing shards of " + std::to_string(n) + ": " + missing);
-    }
+    shards.complete();
     const auto byUnit = [](const auto& a, const auto& b) { return a.first < b.first; };
     for (auto* v : {&rows, &profiles, &slices})
         std::stable_sort(v->begin(), v->end(), byUnit);
