@@ -48,10 +48,11 @@ void pickableImage(gl::Texture& tex, const RgbaImage& img, float side, Scoreboar
 
 void shapeChoice(GeometryTabSettings& t) {
     if (!ImGui::CollapsingHeader("shapes")) return;
-    int column = 0;
-    for (const std::string& spec : mesh::defaultSuite()) {
+    const std::vector<std::string> suite = mesh::defaultSuite();
+    for (size_t k = 0; k < suite.size(); ++k) { // three columns
+        const std::string& spec = suite[k];
         bool on = std::find(t.shapes.begin(), t.shapes.end(), spec) != t.shapes.end();
-        if (column++ % 3) ImGui::SameLine(float(column % 3 == 2 ? 230 : 460));
+        if (k % 3) ImGui::SameLine(float(230 * (k % 3)));
         if (ImGui::Checkbox(spec.c_str(), &on)) {
             if (on) {
                 t.shapes.push_back(spec);
