@@ -16,6 +16,7 @@
 #include "core/text.h"
 #include "gl/gl.h"
 #include "material/material.h"
+#include "mesh/suite.h"
 #include "pathtrace/pathtrace.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/scoring_oblique.h"
@@ -331,9 +332,18 @@ void addGeometryOptions(CLI::App& cmd, bool& geometry, GeometryArgs& g) {
     cmd.add_flag("--geometry", geometry,
                  "score images of the geometry suite's shapes against the volumetric path "
                  "tracer instead of radial profiles (default presets Marble and Skin1)");
+    std::string kinds;
+    for (const mesh::SuiteKind& k : mesh::suiteKinds()) {
+        kinds += std::string(kinds.empty() ? "" : "; ") + k.name + " (";
+        for (size_t i = 0; i < k.params.size(); ++i)
+            kinds += std::string(i ? ", " : "") + k.params[i].name;
+        kinds += std::string(k.name) == "slab" ? ", view)" : ")";
+    }
     cmd.add_option("--shapes", g.shapes,
-                   "--geometry: shape specs, e.g. slab:t=0.3,view=back sphere:r=2 (default: the "
-                   "whole suite; see `defaults`)");
+                   "--geometry: shape specs KIND[:NAME=VALUE,...] in units of l_d, e.g. "
+                   "slab:t=0.3,view=back sphere:r=2; kinds: " +
+                       kinds + " (default: the whole suite, " +
+                       std::to_string(mesh::defaultSuite().size()) + " shapes)");
     addCountOption(&cmd, "--size", g.settings.size,
                    "--geometry: image side in pixels (default " + std::to_string(d.size) + ")",
                    core::Limits{8, 1024});
