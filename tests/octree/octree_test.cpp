@@ -344,7 +344,8 @@ TEST(OctreeBuild, SphereAndBunnyPointClouds) {
     const Octree ts = buildLit(sphere);
     checkTree(ts, sphere, true);
 
-    const std::filesystem::path bunnyPath = BW_SOURCE_ROOT "/third_party/bunny/bunny.obj";
+    const std::filesystem::path bunnyPath =
+        std::string(BW_SOURCE_ROOT) + "/third_party/bunny/bunny.obj";
     ASSERT_TRUE(std::filesystem::exists(bunnyPath));
     mesh::Mesh bunny = mesh::loadObj(bunnyPath);
     const Cloud bc = meshCloud(bunny, 30000, 12);
@@ -1083,7 +1084,8 @@ TEST(OctreeCluster, AccumulateMatchesTheFormula) {
 // receivers on the surface), the relative RMS error against brute force is far smaller with
 // second-order nodes than with one-point nodes at equal ε, for both criteria.
 TEST(OctreeCluster, SecondOrderReducesTheHierarchicalError) {
-    const std::filesystem::path bunnyPath = BW_SOURCE_ROOT "/third_party/bunny/bunny.obj";
+    const std::filesystem::path bunnyPath =
+        std::string(BW_SOURCE_ROOT) + "/third_party/bunny/bunny.obj";
     mesh::Mesh m = mesh::loadObj(bunnyPath);
     mesh::normalizeMesh(m, "bunny");
     const Cloud c = meshCloud(m, 20000, 35);
