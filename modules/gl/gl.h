@@ -50,6 +50,10 @@ WindowSize fitWindowSize(int wantW, int wantH, int areaW, int areaH, int frameW 
 
 // Routes KHR_debug messages to the core log (called by both context constructors).
 void installDebugOutput();
+// Also hands every debug message to `observer` (the tests fail on errors and undefined
+// behaviour: tests/support/gl_debug_guard.cpp); nullptr removes it.
+using DebugObserver = void (*)(GLenum source, GLenum type, GLenum severity, const char* message);
+void setDebugObserver(DebugObserver observer);
 
 // GL debug messages of medium or high severity (and every GL_DEBUG_TYPE_ERROR), grouped by
 // their text with numbers masked: the first message of each group, how often it came and when

@@ -1,6 +1,7 @@
 // gl RAII objects, render targets, program building and KHR_debug output.
 #include "gl.h"
 
+#include <atomic>
 #include <mutex>
 
 #include "core/core.h"
@@ -174,8 +175,11 @@ void recordProblem(const std::string& text) {
     if (st.groups.size() < 64) st.groups.push_back({key, DebugProblem{text, 1, now}});
 }
 
+std::atomic<DebugObserver> g_observer{nullptr};
+
 void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei,
                               const GLchar* message, const void*) {
+    if (const DebugObserver o = g_observer.load()) o(source, type, severity, message);
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
     core::LogLevel level = core::LogLevel::Debug;
     // shader compiler messages are reported through ProgramError, mapped to the user's file
@@ -210,6 +214,10 @@ void expireDebugProblems(double seconds) {
     DebugProblems& st = debugStore();
     std::lock_guard<std::mutex> lock(st.mutex);
     std::erase_if(st.groups, [&](const auto& g) { return now - g.second.lastSeconds > seconds; });
+}
+
+void setDebugObserver(DebugObserver observer) {
+    g_observer = observer;
 }
 
 void installDebugOutput() {

@@ -3,6 +3,7 @@
 // right after an orbit left a half-resolution frame on screen; a drag orbits and traces
 // nothing; GL debug messages and problems reach Errors once; the Render panel's model choice,
 // pixel probe and export.
+#include "../support/gl_debug_guard.h"
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "gui/gui.h"
@@ -114,9 +115,13 @@ TEST(Interactions, GlDebugMessagesAreOneErrorsEntryPerProblem) {
     app::Workbench wb(root, false);
     wb.clearActionErrors();
     ASSERT_TRUE(wb.errors().empty());
-    for (GLuint bogus : {987654u, 987655u, 987656u}) // never generated: GL_INVALID_OPERATION
-        glBindTexture(GL_TEXTURE_2D, bogus);
-    glBindTexture(GL_TEXTURE_2D, 0);
+    {
+        bwtest::ExpectedGlErrors expected;
+        for (GLuint bogus : {987654u, 987655u, 987656u}) // never generated: GL_INVALID_OPERATION
+            glBindTexture(GL_TEXTURE_2D, bogus);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        EXPECT_EQ(expected.count(), 3);
+    }
     const auto errors = wb.errors();
     ASSERT_EQ(errors.size(), 1u);
     EXPECT_EQ(errors[0].source, "GL");
@@ -139,7 +144,8 @@ TEST(Interactions, AGlErrorEntryLeavesWhenItsCauseIsGone) {
         std::this_thread::sleep_for(
             std::chrono::duration<double>(fraction * app::Workbench::kGlProblemSeconds));
     };
-    glUseProgram(987654u); // never generated: GL_INVALID_VALUE
+    bwtest::ExpectedGlErrors expected; // provoked on purpose below
+    glUseProgram(987654u);             // never generated: GL_INVALID_VALUE
     glUseProgram(0);
     wb.update();
     ASSERT_EQ(wb.errors().size(), 1u);
@@ -151,6 +157,7 @@ TEST(Interactions, AGlErrorEntryLeavesWhenItsCauseIsGone) {
         wb.update();
         EXPECT_EQ(wb.errors().size(), 1u) << "while the message keeps coming";
     }
+    EXPECT_EQ(expected.count(), 4);
     wait(1.2); // the cause is gone: the entry leaves
     wb.update();
     EXPECT_TRUE(wb.errors().empty()) << wb.errors()[0].text;

@@ -1,6 +1,8 @@
 // Headless GL context: OpenGL 4.5 core through EGL, compute shaders, FBO readback.
+#include "../support/gl_debug_guard.h"
 #include "gl/gl.h"
 
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
 TEST(HeadlessContext, GivesGl45CoreWithCompute) {
@@ -110,4 +112,16 @@ TEST(WindowSize, FitsTheWorkAreaWithItsDecorations) {
     EXPECT_EQ(fit(1600, 1000, 800, 600), std::make_pair(800, 500));          // width decides
     EXPECT_EQ(fit(1600, 1000, 1366, 768, 2, 32), std::make_pair(1178, 736));
     EXPECT_EQ(fit(1600, 1000, 600, 380), std::make_pair(600, 380)); // smaller than the floor
+}
+
+// The tests' guard (tests/support/gl_debug_guard.cpp): a GL error the test did not expect fails
+// it, naming the message; one it expects is counted instead.
+TEST(HeadlessContext, AnUnexpectedGlErrorFailsTheTest) {
+    static auto ctx = gl::createHeadlessContext();
+    ctx->makeCurrent();
+    EXPECT_NONFATAL_FAILURE(glUseProgram(987654u), "GL debug message of type ERROR");
+    bwtest::ExpectedGlErrors expected;
+    glUseProgram(987654u); // never generated: GL_INVALID_VALUE
+    EXPECT_EQ(expected.count(), 1);
+    glUseProgram(0);
 }

@@ -1,0 +1,49 @@
+// Linked into every `gl` test: a GL debug message of type ERROR or UNDEFINED_BEHAVIOR (what NVIDIA
+// reports for, e.g., a depth texture sampled without comparison through a shadow sampler) fails
+// the running test, on any driver. The compiler's own messages are left to the tests of shader
+// errors. A test that provokes GL errors on purpose holds a bwtest::ExpectedGlErrors.
+#include "gl_debug_guard.h"
+
+#include "gl/gl.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+
+namespace bwtest {
+namespace {
+
+std::atomic<int> g_expected{0};
+std::atomic<long> g_seen{0};
+
+void observe(GLenum source, GLenum type, GLenum, const char* message) {
+    if (source == GL_DEBUG_SOURCE_SHADER_COMPILER) return;
+    if (type != GL_DEBUG_TYPE_ERROR && type != GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR) return;
+    if (g_expected.load() > 0) {
+        ++g_seen;
+        return;
+    }
+    if (!::testing::UnitTest::GetInstance()->current_test_info()) return; // between tests
+    ADD_FAILURE() << "GL debug message of type "
+                  << (type == GL_DEBUG_TYPE_ERROR ? "ERROR" : "UNDEFINED_BEHAVIOR") << ": "
+                  << message;
+}
+
+const bool g_installed = [] {
+    gl::setDebugObserver(observe);
+    return true;
+}();
+
+} // namespace
+
+ExpectedGlErrors::ExpectedGlErrors() : m_before(g_seen.load()) {
+    ++g_expected;
+}
+ExpectedGlErrors::~ExpectedGlErrors() {
+    --g_expected;
+}
+long ExpectedGlErrors::count() const {
+    return g_seen.load() - m_before;
+}
+
+} // namespace bwtest
