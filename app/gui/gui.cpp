@@ -1,6 +1,7 @@
 // ImGui frame loop, windowed or headless, with layout + panel visibility persistence
 // (ImGui's ini file plus a custom settings section for the View menu toggles).
 #include "gui/gui.h"
+#include "gui/imgui_render.h"
 
 #include "gui/fonts.h"
 
@@ -199,7 +200,7 @@ bool HeadlessGui::frame() {
     m_target.bind();
     glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    renderImGuiDrawData();
     servicePngExport(m_wb, *g_ui, m_target.framebuffer(), m_height);
     // A headless frame is "presented" when its pixels exist: finish like a swap would, so
     // software rasterisers (llvmpipe) do not pile frames up until the next readback.
@@ -274,7 +275,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             glViewport(0, 0, w, h);
             glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
             glClear(GL_COLOR_BUFFER_BIT);
-            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            renderImGuiDrawData();
             servicePngExport(wb, ui, 0, h);
             glfwSwapBuffers(win);
             if (changed) wb.framePresented();

@@ -1,5 +1,6 @@
 // Headless pictures for reports (report_png.h).
 #include "gui/report_png.h"
+#include "gui/imgui_render.h"
 
 #include "core/core.h"
 #include "gl/gl.h"
@@ -45,7 +46,7 @@ std::string renderImGuiPng(int width, int height, const std::function<void()>& d
         glViewport(0, 0, width, height);
         glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
         glClear(GL_COLOR_BUFFER_BIT);
-        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        renderImGuiDrawData();
         glFinish();
         px = gl::readPixelsRGBA8(target.framebuffer(), 0, 0, width, height);
         ImGui_ImplOpenGL3_Shutdown();

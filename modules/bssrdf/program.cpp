@@ -107,6 +107,7 @@ std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, inBuf.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, outBuf.id());
     glDispatchCompute(static_cast<GLuint>((count + 63) / 64), 1, 1);
+    // barrier: the batch's values (pencil_profile.comp, invert_rdr.comp) → the readback below
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> out(count * 4);
     glGetNamedBufferSubData(outBuf.id(), 0, static_cast<GLsizeiptr>(bytes), out.data());

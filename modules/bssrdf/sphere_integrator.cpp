@@ -71,6 +71,7 @@ void SphereIntegrator::step(GLuint program, const Model& m, const ParamValues& v
                      static_cast<GLuint>(m_samples >> 32));
         glUniform1ui(loc("SphereSamples"), static_cast<GLuint>(k));
         glDispatchCompute(groupsX, groupsY, 1);
+        // barrier: sphere_bssrdf.comp's per-pixel sums → glGetNamedBufferSubData below
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glGetNamedBufferSubData(m_sums.id(), 0,
                                 static_cast<GLsizeiptr>(m_readback.size() * sizeof(float)),

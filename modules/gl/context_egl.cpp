@@ -41,6 +41,8 @@ class EglContext final : public Context {
                               std::to_string(epoxy_gl_version() / 10) + "." +
                               std::to_string(epoxy_gl_version() % 10));
         if (debug) installDebugOutput();
+        forgetBarrierState();
+        installBarrierChecks(eglGetProcAddress);
     }
     ~EglContext() override {
         if (m_display != EGL_NO_DISPLAY) {

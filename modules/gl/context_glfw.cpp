@@ -49,6 +49,8 @@ class GlfwContext final : public Context {
         makeCurrent();
         glfwSwapInterval(1);
         if (debug) installDebugOutput();
+        forgetBarrierState();
+        installBarrierChecks(glfwGetProcAddress);
     }
     ~GlfwContext() override {
         glfwDestroyWindow(m_window);

@@ -55,6 +55,22 @@ void installDebugOutput();
 using DebugObserver = void (*)(GLenum source, GLenum type, GLenum severity, const char* message);
 void setDebugObserver(DebugObserver observer);
 
+// Barrier checks (hazards.cpp): every dispatch, draw, buffer or texture read is checked against
+// the memory barriers OpenGL 4.5 §7.13.2 requires after a shader wrote what it reads; a missing
+// one is a debug message of type UNDEFINED_BEHAVIOR ("barrier missing: glGetNamedBufferSubData
+// reads buffer 7, which the glDispatchCompute of shaders/x.comp wrote, with no
+// glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT) in between"). Off unless requested (every test
+// does) or $BSSRDF_WORKBENCH_GL_BARRIERS is set; the contexts install them when created.
+void requestBarrierChecks();
+// By the context constructors, with the context current; `resolve` gives the driver's functions.
+using ProcResolver = void (*(*)(const char*))();
+void installBarrierChecks(ProcResolver resolve);
+bool barrierChecksActive();
+// For reads the checks cannot see (ImGui's backend has its own GL loader): `reader` is about to
+// sample `texture`, which needs GL_TEXTURE_FETCH_BARRIER_BIT after an image store to it.
+void checkTextureFetch(GLuint texture, const char* reader);
+void forgetBarrierState(); // of the current context (a new context may reuse an old one's key)
+
 // GL debug messages of medium or high severity (and every GL_DEBUG_TYPE_ERROR), grouped by
 // their text with numbers masked: the first message of each group, how often it came and when
 // it last came (core::secondsSinceStart). The workbench lists them under Errors while they keep

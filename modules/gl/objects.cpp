@@ -1,6 +1,8 @@
 // gl RAII objects, render targets, program building and KHR_debug output.
 #include "gl.h"
 
+#include "detail/hazards.h"
+
 #include <atomic>
 #include <mutex>
 
@@ -142,6 +144,7 @@ Program buildProgram(const std::vector<ShaderStage>& stages) {
         std::string log = programLog(program.id());
         throw ProgramError(0, log.empty() ? "link failed (empty log)" : log);
     }
+    detail::noteProgramSources(program.id(), stages);
     return program;
 }
 
@@ -177,8 +180,7 @@ void recordProblem(const std::string& text) {
 
 std::atomic<DebugObserver> g_observer{nullptr};
 
-void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei,
-                              const GLchar* message, const void*) {
+void onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity, const char* message) {
     if (const DebugObserver o = g_observer.load()) o(source, type, severity, message);
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
     core::LogLevel level = core::LogLevel::Debug;
@@ -192,7 +194,17 @@ void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum seve
     core::log(level, "GL debug [" + std::to_string(id) + "]: " + message);
     if (level == core::LogLevel::Error || level == core::LogLevel::Warn) recordProblem(message);
 }
+
+void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei,
+                              const GLchar* message, const void*) {
+    onDebugMessage(source, type, id, severity, message);
+}
 } // namespace
+
+void detail::reportDebugMessage(GLenum source, GLenum type, GLenum severity,
+                                const std::string& message) {
+    onDebugMessage(source, type, 0, severity, message.c_str());
+}
 
 std::vector<DebugProblem> debugProblems() {
     DebugProblems& st = debugStore();

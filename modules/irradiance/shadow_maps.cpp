@@ -66,6 +66,14 @@ void ShadowMaps::ensure(int size, int layers) {
     glTextureStorage3D(tex, 1, GL_DEPTH_COMPONENT32F, size, size, n);
     glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    // Only shadow samplers read the array: its own state compares too, so a dispatch that finds
+    // it bound without the comparison samplers (sampler 0) is still defined. NVIDIA reported
+    // "a sampler (0) that has depth comparisons disabled, with a texture object (2) with a depth
+    // format, by a shader that samples it with a shadow sampler" in the texture-space tests. The
+    // 2D view below, which the Irradiance panel shows through ImGui's plain sampler, keeps
+    // comparison off.
+    glTextureParameteri(tex, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTextureParameteri(tex, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
     m_view.reset();
     m_depth = gl::Texture(tex);
     glGenTextures(1, &view); // a view needs a name without storage
@@ -128,6 +136,8 @@ void ShadowMaps::bind() const {
 void ShadowMaps::unbind() const {
     glBindSampler(0, 0);
     glBindSampler(1, 0);
+    glBindTextureUnit(0, 0); // no later program finds the depth array on a unit
+    glBindTextureUnit(1, 0);
 }
 
 } // namespace irradiance

@@ -27,7 +27,7 @@ class ShadowMaps {
     void render(int layer, const LightFrame& frame);
     // Binds the depth array to texture units 0 (nearest sampler) and 1 (linear sampler).
     void bind() const;
-    void unbind() const; // unbinds the samplers (units 0 and 1 are shared with others)
+    void unbind() const; // unbinds the samplers and the depth array (units 0 and 1 are shared)
     int size() const { return m_size; }
     int layers() const { return m_layers; }
     GLuint view() const { return m_view.id(); } // GL_TEXTURE_2D view of layer 0

@@ -273,6 +273,7 @@ void Stage::ensureCubemap(float ior) {
         glProgramUniform1ui(p, gl::uniformLocation(m_cubeProgram, "NodeCount"),
                             static_cast<GLuint>(count));
         glDispatchCompute((texels + kGroup - 1) / kGroup, 1, 1);
+        // barrier: irradiance_cubemap.comp's sums → the next batch of nodes, which adds to them
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     GLuint id = 0;
@@ -283,6 +284,7 @@ void Stage::ensureCubemap(float ior) {
     glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    // barrier: irradiance_cubemap.comp's sums → glTextureSubImage3D's unpack from them
     glMemoryBarrier(GL_PIXEL_BUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, acc.id());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -314,6 +316,8 @@ void Stage::dispatchPoints(const gl::Program& prog) const {
         glProgramUniform1ui(prog.id(), offset, static_cast<GLuint>(first));
         glDispatchCompute(static_cast<GLuint>((count + kGroup - 1) / kGroup), 1, 1);
     }
+    // barrier: the irradiance programs' per-point values → their readback and the renderer's
+    // dispatches, which read them
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 

@@ -30,6 +30,7 @@ std::vector<glm::vec3> evaluatePairs(GLuint program, const bssrdf::Model& m,
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, inBuf.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, outBuf.id());
         glDispatchCompute(static_cast<GLuint>((count + 63) / 64), 1, 1);
+        // barrier: render_pairs.comp's values → the readback below
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         std::vector<glm::vec4> res(count);
         glGetNamedBufferSubData(outBuf.id(), 0, static_cast<GLsizeiptr>(count * sizeof(glm::vec4)),

@@ -362,6 +362,8 @@ void Renderer::State::gbuffer(const Settings& s) {
     if (cullWas) glEnable(GL_CULL_FACE);
     if (blendWas) glEnable(GL_BLEND);
     if (scissorWas) glEnable(GL_SCISSOR_TEST);
+    // barrier: render_gbuffer's draw → octree_render.comp's image loads of the G-buffer (draws
+    // are ordered before later commands anyway; the bits are what a shader read after one needs)
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 }
 
@@ -443,8 +445,11 @@ bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int 
     const GLuint zero = 0;
     glClearNamedBufferData(control.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glUniform1i(glGetUniformLocation(prog, "RenderFirst"), dispatch == 0 ? 1 : 0);
+    // barrier: the control word's clear and the previous dispatch's suspended stacks → this one
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glDispatchCompute(gx, gy, 1);
+    // barrier: octree_render.comp's control word, stacks and HDR image → the readback below, the
+    // next dispatch and the tone map
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     uint32_t ctl[2] = {0, 0};
@@ -469,6 +474,8 @@ InvalidPixels Renderer::State::tonemap(const Settings& s) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, invalidCounts.id());
     glDispatchCompute(static_cast<GLuint>((width + kLocal - 1) / kLocal),
                       static_cast<GLuint>((height + kLocal - 1) / kLocal), 1);
+    // barrier: render_tonemap.comp's LDR image and invalid-pixel counts → the readback below,
+    // the display (ImGui samples the image) and the image's readback
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(invalidCounts.id(), 0, sizeof(counts), counts);

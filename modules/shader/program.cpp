@@ -107,7 +107,12 @@ gl::Program link(const std::vector<StageSource>& stages, const std::string& blam
     for (const auto& s : stages)
         glStages.push_back({s.type, s.source.glsl});
     try {
-        return gl::buildProgram(glStages);
+        gl::Program program = gl::buildProgram(glStages);
+        // the program's name in driver messages and in the barrier checks: its template's path
+        const SourceMap& first = stages.front().source.map;
+        if (!first.files.empty())
+            glObjectLabel(GL_PROGRAM, program.id(), -1, first.files.front().c_str());
+        return program;
     } catch (const gl::ProgramError& e) {
         size_t which = 0;
         for (size_t i = 0; i < stages.size(); ++i)

@@ -50,6 +50,7 @@ std::vector<GpuSample> GpuSampler::draw(uint64_t count, uint64_t seed, uint64_t 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_levels.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
     glDispatchCompute(GLuint((count + 63) / 64), 1, 1);
+    // barrier: texspace_sample.comp's samples → the readback below
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<uint32_t> raw(count * 2);
     glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(raw.size() * sizeof(uint32_t)), raw.data());

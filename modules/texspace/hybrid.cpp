@@ -204,6 +204,7 @@ void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size) {
     if (cullWas) glEnable(GL_CULL_FACE);
     if (blendWas) glEnable(GL_BLEND);
     if (scissorWas) glEnable(GL_SCISSOR_TEST);
+    // barrier: the light-view G-buffer's draw → hybrid_local.comp's image loads of it
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 }
 
@@ -268,6 +269,7 @@ bool LocalTerm::step(int rows) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m_tapBuffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m_result.id());
     glDispatchCompute(GLuint((m_width + 7) / 8), GLuint((n + 7) / 8), 1);
+    // barrier: hybrid_local.comp's band of results → the readback and the next band's dispatch
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glFinish(); // the band's time is spent here, not in a later call
     m_row += n;

@@ -58,7 +58,7 @@ one() { # index: runs line `index` of the selection, appends its result line
   done
   mkdir -p "$out/work/$i"
   start=$(date +%s.%N)
-  (cd "$out/work/$i" && BSSRDF_WORKBENCH_CACHE=$out/work/$i/cache \
+  (cd "$out/work/$i" && BSSRDF_WORKBENCH_CACHE=$out/work/$i/cache BSSRDF_WORKBENCH_GL_BARRIERS=1 \
      timeout -k 5 "$limit" "${cmd[@]}") >"$out/logs/$i.log" 2>&1
   rc=$?
   secs=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN {printf "%.2f", b - a}')

@@ -5,7 +5,9 @@
 #include <atomic>
 #include <cerrno>
 #include <filesystem>
+
 #include <fstream>
+#include <gtest/gtest.h>
 #include <random>
 #include <sstream>
 #include <string>
@@ -106,6 +108,10 @@ inline RunResult runCommand(std::vector<std::string> full, const fs::path& cwd,
         r.code = WEXITSTATUS(status);
     else if (WIFSIGNALED(status))
         r.code = 128 + WTERMSIG(status);
+    // the tests run every command with $BSSRDF_WORKBENCH_GL_BARRIERS set (tests/CMakeLists.txt):
+    // a missing memory barrier in the command's GL work fails the test as in-process GL does
+    if (const size_t at = r.output.find("barrier missing:"); at != std::string::npos)
+        ADD_FAILURE() << r.output.substr(at, r.output.find('\n', at) - at);
     return r;
 }
 

@@ -1,6 +1,7 @@
 // Linked into every `gl` test: a GL debug message of type ERROR or UNDEFINED_BEHAVIOR (what NVIDIA
 // reports for, e.g., a depth texture sampled without comparison through a shadow sampler) fails
-// the running test, on any driver. The compiler's own messages are left to the tests of shader
+// the running test, on any driver; so does a missing memory barrier (gl/hazards.cpp checks them
+// in every test). The compiler's own messages are left to the tests of shader
 // errors. A test that provokes GL errors on purpose holds a bwtest::ExpectedGlErrors.
 #include "gl_debug_guard.h"
 
@@ -31,6 +32,7 @@ void observe(GLenum source, GLenum type, GLenum, const char* message) {
 
 const bool g_installed = [] {
     gl::setDebugObserver(observe);
+    gl::requestBarrierChecks(); // a missing glMemoryBarrier is undefined behaviour too
     return true;
 }();
 

@@ -100,7 +100,8 @@ void GpuWorkQueue::runRound(GLuint p, int inCountLoc, uint64_t count,
         glUseProgram(p);
         glDispatchCompute(static_cast<GLuint>(groups), 1, 1);
         glUseProgram(0);
-        // readback and clears below, suspended paths read by the next dispatch
+        // barrier: the tracer's queue, tallies and suspended paths → the readback and clears
+        // below and the next dispatch, which reads the suspended paths
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
         uint32_t queue[kQueueWords] = {};

@@ -1,0 +1,163 @@
+// The barrier checks (modules/gl/hazards.cpp), which run in every gl test: a read of what a
+// shader wrote, with no glMemoryBarrier of the bit for that kind of read in between, is reported
+// as undefined behaviour, naming the call, the object, the writer and the bit; the right
+// barrier, a readonly block or a read-only image unit make it go away.
+#include "../support/gl_debug_guard.h"
+#include "gl/gl.h"
+
+#include <gtest/gtest-spi.h>
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace {
+
+gl::Context& context() {
+    static auto ctx = gl::createHeadlessContext();
+    ctx->makeCurrent();
+    return *ctx;
+}
+
+const char* kWriter = R"(#version 450
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) writeonly buffer Out { float v[]; };
+layout(std430, binding = 1) readonly buffer In { float w[]; };
+void main() { v[gl_GlobalInvocationID.x] = w[gl_GlobalInvocationID.x] + 1.0; })";
+
+const char* kImageWriter = R"(#version 450
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(rgba32f, binding = 0) uniform writeonly image2D Target;
+void main() { imageStore(Target, ivec2(gl_GlobalInvocationID.xy), vec4(1.0)); })";
+
+const char* kSampler = R"(#version 450
+layout(local_size_x = 1) in;
+layout(binding = 3) uniform sampler2D Source;
+layout(std430, binding = 0) writeonly buffer Out { vec4 v[]; };
+void main() { v[0] = texelFetch(Source, ivec2(0), 0); })";
+
+struct Buffers {
+    gl::Buffer out = gl::createBuffer(64 * sizeof(float), nullptr);
+    gl::Buffer in = gl::createBuffer(64 * sizeof(float), std::vector<float>(64, 2.0f).data());
+};
+
+void dispatchWriter(const gl::Program& p, const Buffers& b) {
+    glUseProgram(p.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, b.out.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, b.in.id());
+    glDispatchCompute(1, 1, 1);
+}
+
+} // namespace
+
+TEST(BarrierChecks, AreOnInEveryTest) {
+    context();
+    EXPECT_TRUE(gl::barrierChecksActive());
+}
+
+TEST(BarrierChecks, AHostReadWithoutBufferUpdateBarrierIsReported) {
+    context();
+    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, kWriter}});
+    Buffers b;
+    std::vector<float> out(64);
+    dispatchWriter(p, b);
+    EXPECT_NONFATAL_FAILURE(glGetNamedBufferSubData(b.out.id(), 0, 64 * sizeof(float), out.data()),
+                            "barrier missing: glGetNamedBufferSubData reads buffer");
+    // a barrier of another kind does not help; the right one does
+    dispatchWriter(p, b);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    {
+        bwtest::ExpectedGlErrors expected;
+        glGetNamedBufferSubData(b.out.id(), 0, 64 * sizeof(float), out.data());
+        EXPECT_EQ(expected.count(), 0); // reported once per call site and writer, not again
+    }
+    dispatchWriter(p, b);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(b.out.id(), 0, 64 * sizeof(float), out.data());
+    EXPECT_EQ(out[5], 3.0f);
+    // the readonly block was never written: reading it needs no barrier
+    glGetNamedBufferSubData(b.in.id(), 0, 64 * sizeof(float), out.data());
+}
+
+TEST(BarrierChecks, ADispatchReadingAnotherDispatchsOutputNeedsShaderStorage) {
+    context();
+    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, kWriter}});
+    Buffers first, second;
+    dispatchWriter(p, first);
+    glUseProgram(p.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, second.out.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, first.out.id()); // the first one's output
+    EXPECT_NONFATAL_FAILURE(glDispatchCompute(1, 1, 1), "GL_SHADER_STORAGE_BARRIER_BIT");
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+TEST(BarrierChecks, ImageStoresNeedTheirBitBeforeSamplingOrReadingBack) {
+    context();
+    gl::Program writer = gl::buildProgram({{GL_COMPUTE_SHADER, kImageWriter}});
+    gl::Program sampler = gl::buildProgram({{GL_COMPUTE_SHADER, kSampler}});
+    gl::Texture t = gl::createTexture2D(GL_RGBA32F, 8, 8);
+    gl::Buffer out = gl::createBuffer(4 * sizeof(float), nullptr);
+    const auto write = [&] {
+        glUseProgram(writer.id());
+        glBindImageTexture(0, t.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glDispatchCompute(1, 1, 1);
+    };
+    write();
+    glUseProgram(sampler.id());
+    glBindTextureUnit(3, t.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());
+    EXPECT_NONFATAL_FAILURE(glDispatchCompute(1, 1, 1), "GL_TEXTURE_FETCH_BARRIER_BIT");
+    std::vector<float> px(8 * 8 * 4);
+    write();
+    EXPECT_NONFATAL_FAILURE(
+        glGetTextureImage(t.id(), 0, GL_RGBA, GL_FLOAT, int(px.size() * sizeof(float)), px.data()),
+        "GL_TEXTURE_UPDATE_BARRIER_BIT");
+    write();
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glUseProgram(sampler.id());
+    glDispatchCompute(1, 1, 1);
+    glGetTextureImage(t.id(), 0, GL_RGBA, GL_FLOAT, int(px.size() * sizeof(float)), px.data());
+    EXPECT_EQ(px[0], 1.0f);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+TEST(BarrierChecks, TheMessageNamesTheWritersTemplate) {
+    context();
+    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, kWriter}});
+    glObjectLabel(GL_PROGRAM, p.id(), -1, "shaders/example.comp");
+    Buffers b;
+    std::vector<float> out(64);
+    dispatchWriter(p, b);
+    EXPECT_NONFATAL_FAILURE(glGetNamedBufferSubData(b.out.id(), 0, 16, out.data()),
+                            "which the glDispatchCompute of shaders/example.comp wrote, with no "
+                            "glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT)");
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+// NVIDIA reports a shadow sampler that meets a depth texture with comparison off (Mesa does not):
+// the checks report it on every driver, naming the unit and where the state comes from.
+TEST(BarrierChecks, AShadowSamplerNeedsDepthComparisonOn) {
+    context();
+    const char* src = R"(#version 450
+layout(local_size_x = 1) in;
+layout(binding = 2) uniform sampler2DShadow Depth;
+layout(std430, binding = 0) writeonly buffer Out { float v[]; };
+void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
+    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, src}});
+    gl::Texture depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, 4, 4);
+    gl::Buffer out = gl::createBuffer(sizeof(float), nullptr);
+    glUseProgram(p.id());
+    glBindTextureUnit(2, depth.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());
+    EXPECT_NONFATAL_FAILURE(glDispatchCompute(1, 1, 1),
+                            "through a shadow sampler, but texture " + std::to_string(depth.id()) +
+                                "'s own state has depth comparison off");
+    glTextureParameteri(depth.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glDispatchCompute(1, 1, 1); // defined now
+    GLuint sampler = 0;
+    glCreateSamplers(1, &sampler); // a sampler object's state wins over the texture's
+    glBindSampler(2, sampler);
+    EXPECT_NONFATAL_FAILURE(glDispatchCompute(1, 1, 1), "but sampler object");
+    glBindSampler(2, 0);
+    glDeleteSamplers(1, &sampler);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
