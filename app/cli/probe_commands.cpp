@@ -114,8 +114,16 @@ int probeModel(const fs::path& root, const ProbeModelArgs& a) {
     if (inversion.id()) bssrdf::warmUp(inversion.id());
     std::printf("%s evaluating\n", kProbeTag);
     std::fflush(stdout);
-    const bssrdf::ProbeResult r = bssrdf::evaluateProbe(pencil.id(), inversion.id(), m, values, b,
-                                                        bssrdf::radiusGrid(a.rMax, a.samples));
+    bssrdf::ProbeResult r;
+    try {
+        r = bssrdf::evaluateProbe(pencil.id(), inversion.id(), m, values, b,
+                                  bssrdf::radiusGrid(a.rMax, a.samples));
+    } catch (const core::Error& e) {
+        if (e.file() != m.path) throw;
+        // a loop of the model ran past its budget (bssrdf/loop_budget.h)
+        std::printf("error: %s: %s\n", display.c_str(), e.message().c_str());
+        return kProbeLoopCut;
+    }
     if (r.notWritten > 0) {
         std::printf("error: %s: Bssrdf() never returned: %zu of %zu evaluations ended without a "
                     "value (the GLSL compiler dropped the code after a loop that never ends?)\n",

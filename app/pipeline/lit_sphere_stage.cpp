@@ -236,7 +236,12 @@ bool LitSphereStage::update(const LitSphereInputs& in) {
         changed = true;
     }
     if (!m_problem.empty()) return changed;
-    changed |= stepIntegration(in);
+    try {
+        changed |= stepIntegration(in);
+    } catch (const core::Error& err) { // a model loop past its budget: the integration stops
+        m_problem = err.what();        // here, with what it had (a new key starts it again)
+        changed = true;
+    }
     if (ls.gpu) m_pathTraced.stepGpu(in.budgetMs < 0 ? 1e9 : 0.5 * in.budgetMs);
     if (m_pathTraced.sppDone() != m_ptSppSeen) {
         m_ptSppSeen = m_pathTraced.sppDone();

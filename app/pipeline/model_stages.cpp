@@ -56,9 +56,14 @@ void computeProfile(bssrdf::ModelEntry& e, ModelView& v, double rMax, int sample
     if (key == v.profileKey) return;
     v.profileKey = key;
     gl::ScopedStageTimer timer("pencil plot");
-    v.profile =
-        bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model, e.values,
-                                builtinsOf(*v.effective), bssrdf::radiusGrid(rMax, samples));
+    try {
+        v.profile =
+            bssrdf::evaluateProfile(e.programs.at("pencil_profile.comp").id(), *e.model, e.values,
+                                    builtinsOf(*v.effective), bssrdf::radiusGrid(rMax, samples));
+    } catch (const core::Error& err) { // a loop past its budget: the last good profile stays
+        v.profileProblem = err.what();
+        return;
+    }
     v.profileProblem = bssrdf::profileProblem(v.profile);
 }
 
@@ -143,7 +148,10 @@ StageStatus PencilStage::status() const {
     StageStatus st;
     if (!m_views) return st;
     for (const auto& [path, v] : *m_views)
-        if (!v.profileProblem.empty()) st.problems.push_back(path + ": " + v.profileProblem);
+        if (!v.profileProblem.empty())
+            st.problems.push_back(v.profileProblem.rfind(path + ":", 0) == 0
+                                      ? v.profileProblem // names the file and line itself
+                                      : path + ": " + v.profileProblem);
     return st;
 }
 

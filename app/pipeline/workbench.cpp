@@ -257,8 +257,19 @@ bool Workbench::update() {
         it = alive ? std::next(it) : m_views.erase(it);
     }
     assignPlotSlots();
-    for (const PipelineStep& step : m_pipeline)
-        changed |= step.run();
+    for (PipelineStep& step : m_pipeline) {
+        // a stage's error is an Errors entry, never the end of the frame loop
+        try {
+            const bool ran = step.run();
+            if (ran) step.failed.clear();
+            changed |= ran;
+        } catch (const core::Error& e) {
+            if (step.failed != e.what())
+                core::logError(std::string(step.stage->name()) + ": " + e.what());
+            changed |= step.failed != e.what();
+            step.failed = e.what();
+        }
+    }
     return changed;
 }
 
@@ -452,9 +463,11 @@ std::vector<ErrorItem> Workbench::errors() const {
         }
     for (const auto& p : m_library->problems())
         out.push_back({"shader", p.text()});
-    for (const PipelineStep& step : m_pipeline)
+    for (const PipelineStep& step : m_pipeline) {
         for (const std::string& p : step.stage->status().problems)
             out.push_back({step.stage->name(), p});
+        if (!step.failed.empty()) out.push_back({step.stage->name(), step.failed});
+    }
     for (const auto& a : m_actionErrors)
         out.push_back({"action", a});
     for (const gl::DebugProblem& p : gl::debugProblems())

@@ -266,6 +266,10 @@ class Workbench {
         Stage* stage;
         std::function<bool()> run;
         std::function<void(CaptureEntries&)> capture = {};
+        // What the last run threw (core::Error: a model loop past its budget in a consumer
+        // that does not report it itself, bssrdf/loop_budget.h); kept until a run changes
+        // something without throwing.
+        std::string failed = {};
     };
     std::vector<PipelineStep> m_pipeline;
     bool m_interacting = false;

@@ -1,6 +1,7 @@
 // GLSL assembly of a model's sections into a template (see assembly.h).
 #include "bssrdf/assembly.h"
 
+#include "bssrdf/loop_budget.h"
 #include "core/core.h"
 
 #include <algorithm>
@@ -23,6 +24,14 @@ void emitModel(shader::Emitter& out, const Model& m, int lineNo, int source) {
     if (std::count(m.source.begin(), m.source.end(), '\n') >= shader::kLineStride - 1)
         throw core::Error(m.path, 0, "too long for the #line source map");
     const int ms = out.source(m.path);
+    // the loop budget (loop_budget.h): the guard before the model's code, its loops rewritten
+    const bool loops = !guardedLoopLines(m).empty();
+    if (loops) {
+        out.line(lineNo, source);
+        out.text(loopGuardPrelude());
+    }
+    unsigned site = 0;
+    std::vector<int> lines;
     for (const Param& p : m.params) {
         out.line(p.line, ms);
         out.text(std::string("uniform ") + glslType(p.type) + " " + p.name + ";\n");
@@ -30,7 +39,7 @@ void emitModel(shader::Emitter& out, const Model& m, int lineNo, int source) {
     auto emitSection = [&](const std::optional<Section>& s) {
         if (!s) return;
         out.line(s->firstLine, ms);
-        out.text(s->code);
+        out.text(loops ? guardLoops(s->code, s->firstLine, site, lines) : s->code);
     };
     if (m.initializer) {
         emitSection(m.initializer);
@@ -44,6 +53,10 @@ void emitModel(shader::Emitter& out, const Model& m, int lineNo, int source) {
         out.text("#if defined(BSSRDF_WANT_SAMPLE)\n");
         emitSection(m.sample);
         out.text("#endif\n");
+    }
+    if (loops) {
+        out.line(lineNo, source);
+        out.text(loopGuardEpilogue(m));
     }
     out.line(lineNo + 1, source);
 }

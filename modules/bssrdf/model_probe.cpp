@@ -42,7 +42,7 @@ ProbeResult evaluateProbe(GLuint pencilProgram, GLuint inversionProgram, const M
         in[4 * i] = static_cast<float>(radii[i]);
     const std::vector<float> unwritten(radii.size() * 4, kNotWritten);
     const auto out =
-        detail::runBatch(pencilProgram, in, radii.size(), 1, 0, kProbeSentinel, &unwritten);
+        detail::runBatch(m, pencilProgram, in, radii.size(), 1, 0, kProbeSentinel, &unwritten);
     res.profile.r = radii;
     for (size_t i = 0; i < radii.size(); ++i) {
         res.profile.value.push_back({out[4 * i], out[4 * i + 1], out[4 * i + 2]});
@@ -59,7 +59,7 @@ ProbeResult evaluateProbe(GLuint pencilProgram, GLuint inversionProgram, const M
     const size_t n = alpha.size() / 4;
     const std::vector<float> unwrittenRdr(n * 4, kNotWritten);
     const auto rdr =
-        detail::runBatch(inversionProgram, alpha, n, 1, 0, kProbeSentinel, &unwrittenRdr);
+        detail::runBatch(m, inversionProgram, alpha, n, 1, 0, kProbeSentinel, &unwrittenRdr);
     for (size_t i = 0; i < n; ++i) {
         res.loopsCut += rdr[4 * i + 3] == -1.0f;
         res.notWritten += rdr[4 * i + 3] == kNotWritten;

@@ -1,5 +1,7 @@
 // bssrdf GPU half: program building with #line source maps, uniforms, consumer dispatch.
 #include "bssrdf/program.h"
+
+#include "bssrdf/loop_budget.h"
 #include "detail/run_batch.h"
 
 #include "core/core.h"
@@ -47,8 +49,12 @@ ParamValues carryOver(const Model& newModel, const Model& oldModel, const ParamV
 
 gl::Program buildModelProgram(const Model& m, const std::string& templateName,
                               const shader::Sources& src, shader::Record& record) {
-    return shader::build(src, {{GL_COMPUTE_SHADER, templateName}}, record, modelExtension(&m),
-                         m.path);
+    gl::Program program =
+        shader::build(src, {{GL_COMPUTE_SHADER, templateName}}, record, modelExtension(&m), m.path);
+    // the loop budget holds from the start, even for a dispatch that forgets LoopFaults::arm
+    if (const GLint loc = glGetUniformLocation(program.id(), "BwLoopBudget"); loc >= 0)
+        glProgramUniform1ui(program.id(), loc, loopBudget());
+    return program;
 }
 
 gl::Program buildModelProgram(const Model& m, const std::string& templateName,
@@ -94,8 +100,8 @@ std::vector<double> radiusGrid(double rMaxMm, int samples) {
 }
 
 namespace detail {
-std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t count,
-                            size_t inVec4, GLuint queries, GLuint sentinel,
+std::vector<float> runBatch(const Model& m, GLuint program, const std::vector<float>& in,
+                            size_t count, size_t inVec4, GLuint queries, GLuint sentinel,
                             const std::vector<float>* outInit) {
     const size_t bytes = count * 4 * sizeof(float);
     gl::Buffer inBuf = gl::createBuffer(bytes * inVec4, in.data());
@@ -106,11 +112,14 @@ std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t
     if (GLint q = glGetUniformLocation(program, "Sentinel"); q >= 0) glUniform1ui(q, sentinel);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, inBuf.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, outBuf.id());
+    LoopFaults faults;
+    faults.arm(program);
     glDispatchCompute(static_cast<GLuint>((count + 63) / 64), 1, 1);
     // barrier: the batch's values (pencil_profile.comp, invert_rdr.comp) → the readback below
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> out(count * 4);
     glGetNamedBufferSubData(outBuf.id(), 0, static_cast<GLsizeiptr>(bytes), out.data());
+    faults.check(m);
     return out;
 }
 } // namespace detail
@@ -122,7 +131,7 @@ Profile evaluateProfile(GLuint program, const Model& m, const ParamValues& value
     std::vector<float> in(radii.size() * 4, 0.0f);
     for (size_t i = 0; i < radii.size(); ++i)
         in[4 * i] = static_cast<float>(radii[i]);
-    auto out = runBatch(program, in, radii.size());
+    auto out = runBatch(m, program, in, radii.size());
     Profile p;
     p.r = radii;
     p.value.resize(radii.size());
@@ -153,7 +162,7 @@ std::vector<glm::dvec3> evaluateQueries(GLuint program, const Model& m, const Pa
         const size_t n = std::min(kBatch, queries.size() - first);
         std::vector<float> part(in.begin() + std::ptrdiff_t(12 * first),
                                 in.begin() + std::ptrdiff_t(12 * (first + n)));
-        auto out = runBatch(program, part, n, 3, 1);
+        auto out = runBatch(m, program, part, n, 3, 1);
         for (size_t i = 0; i < n; ++i)
             r[first + i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};
     }
@@ -201,7 +210,7 @@ std::vector<glm::dvec3> evaluateDiffuseReflectance(GLuint program, const Model& 
     for (size_t i = 0; i < alphaPrime.size(); ++i)
         for (int c = 0; c < 3; ++c)
             in[4 * i + c] = static_cast<float>(alphaPrime[i][c]);
-    auto out = runBatch(program, in, alphaPrime.size());
+    auto out = runBatch(m, program, in, alphaPrime.size());
     std::vector<glm::dvec3> r(alphaPrime.size());
     for (size_t i = 0; i < r.size(); ++i)
         r[i] = {out[4 * i], out[4 * i + 1], out[4 * i + 2]};

@@ -5,6 +5,7 @@
 #include "core/core.h"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace bssrdf {
 namespace fs = std::filesystem;
@@ -158,6 +159,10 @@ bool ModelLibrary::finishProbes(bool block) {
         std::unique_ptr<PendingModel> c = std::move(e.pending);
         if (v.problem.empty()) {
             adopt(e, std::move(*c));
+        } else if (const size_t at = v.problem.find("at line ");
+                   v.problem.find("loop budget") != std::string::npos && at != std::string::npos) {
+            // a loop that ran past its budget (loop_budget.h) names itself
+            fail(e, core::Error(e.displayPath, std::atoi(v.problem.c_str() + at + 8), v.problem));
         } else if (v.problem.find("loop") != std::string::npos) {
             // a model that does not finish: name its loops, and put the entry at the first
             const std::vector<LoopSite> loops = loopSites(c->model);

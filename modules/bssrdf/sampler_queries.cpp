@@ -17,14 +17,15 @@ constexpr GLuint kSamplerMode = 2, kLobeMode = 3;
 constexpr size_t kBatch = size_t(1) << 16;
 
 // (x, y) per entry through query mode `mode`: the .xyzw of each result.
-std::vector<float> runQueries(GLuint program, GLuint mode, const std::vector<float>& in) {
+std::vector<float> runQueries(const Model& m, GLuint program, GLuint mode,
+                              const std::vector<float>& in) {
     const size_t count = in.size() / 4;
     std::vector<float> out(in.size());
     for (size_t first = 0; first < count; first += kBatch) {
         const size_t n = std::min(kBatch, count - first);
         std::vector<float> part(in.begin() + std::ptrdiff_t(4 * first),
                                 in.begin() + std::ptrdiff_t(4 * (first + n)));
-        const std::vector<float> r = detail::runBatch(program, part, n, 1, mode);
+        const std::vector<float> r = detail::runBatch(m, program, part, n, 1, mode);
         std::copy(r.begin(), r.end(), out.begin() + std::ptrdiff_t(4 * first));
     }
     return out;
@@ -42,7 +43,7 @@ std::vector<double> evaluateSampler(GLuint pencilProgram, const Model& m, const 
         in[4 * i + 1] = float(queries[i].channel);
         in[4 * i + 2] = float(int(queries[i].function));
     }
-    const std::vector<float> out = runQueries(pencilProgram, kSamplerMode, in);
+    const std::vector<float> out = runQueries(m, pencilProgram, kSamplerMode, in);
     std::vector<double> v(queries.size());
     for (size_t i = 0; i < v.size(); ++i)
         v[i] = out[4 * i];
@@ -54,7 +55,7 @@ std::array<std::vector<glm::dvec2>, 3> evaluateLobes(GLuint pencilProgram, const
     if (m.lobesLine <= 0)
         throw core::Error(m.path, 0, "the model does not define QdLobeCount() and QdLobe()");
     setUniforms(pencilProgram, m, values, b);
-    const std::vector<float> first = runQueries(pencilProgram, kLobeMode, {0, 0, 0, 0});
+    const std::vector<float> first = runQueries(m, pencilProgram, kLobeMode, {0, 0, 0, 0});
     const float count = first[2];
     if (!(count >= 1 && count <= float(kMaxLobes)))
         throw core::Error(m.path, m.lobesLine,
@@ -67,7 +68,7 @@ std::array<std::vector<glm::dvec2>, 3> evaluateLobes(GLuint pencilProgram, const
             in[4 * (c * n + k)] = float(k);
             in[4 * (c * n + k) + 1] = float(c);
         }
-    const std::vector<float> out = runQueries(pencilProgram, kLobeMode, in);
+    const std::vector<float> out = runQueries(m, pencilProgram, kLobeMode, in);
     std::array<std::vector<glm::dvec2>, 3> lobes;
     for (size_t c = 0; c < 3; ++c)
         for (size_t k = 0; k < n; ++k) {

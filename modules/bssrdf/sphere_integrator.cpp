@@ -1,6 +1,8 @@
 // bssrdf sphere integrator host side (see sphere_integrator.h): validation, uniforms,
 // dispatches and the double accumulation of the per-dispatch float sums.
 #include "bssrdf/sphere_integrator.h"
+
+#include "bssrdf/loop_budget.h"
 #include "core/text.h"
 
 #include "core/core.h"
@@ -65,17 +67,20 @@ void SphereIntegrator::step(GLuint program, const Model& m, const ParamValues& v
     const auto groupsY = static_cast<GLuint>((s.height + kLocalSize - 1) / kLocalSize);
     const size_t pixels = m_sum.size() / 3;
     glUniform1ui(loc("SphereSentinel"), 2u);
+    LoopFaults faults;
     for (int done = 0; done < samplesPerPixel;) {
         const int k = std::min(m_samplesPerDispatch, samplesPerPixel - done);
         glUniform2ui(loc("SphereFirstSample"), static_cast<GLuint>(m_samples),
                      static_cast<GLuint>(m_samples >> 32));
         glUniform1ui(loc("SphereSamples"), static_cast<GLuint>(k));
+        faults.arm(program);
         glDispatchCompute(groupsX, groupsY, 1);
         // barrier: sphere_bssrdf.comp's per-pixel sums → glGetNamedBufferSubData below
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glGetNamedBufferSubData(m_sums.id(), 0,
                                 static_cast<GLsizeiptr>(m_readback.size() * sizeof(float)),
                                 m_readback.data());
+        faults.check(m);
         bool complete = true;
         for (size_t p = 0; p < pixels && complete; ++p)
             complete = m_readback[8 * p + 3] == 1.0f && m_readback[8 * p + 7] == 1.0f;

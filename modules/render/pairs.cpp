@@ -2,6 +2,8 @@
 // the values the CPU replica of the traversal accumulates (see render.h).
 #include "render/render.h"
 
+#include "bssrdf/loop_budget.h"
+
 #include <algorithm>
 
 namespace render {
@@ -29,12 +31,15 @@ std::vector<glm::vec3> evaluatePairs(GLuint program, const bssrdf::Model& m,
         glUniform1ui(countLoc, static_cast<GLuint>(count));
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, inBuf.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, outBuf.id());
+        bssrdf::LoopFaults faults;
+        faults.arm(program);
         glDispatchCompute(static_cast<GLuint>((count + 63) / 64), 1, 1);
         // barrier: render_pairs.comp's values → the readback below
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         std::vector<glm::vec4> res(count);
         glGetNamedBufferSubData(outBuf.id(), 0, static_cast<GLsizeiptr>(count * sizeof(glm::vec4)),
                                 res.data());
+        faults.check(m);
         for (size_t i = 0; i < count; ++i)
             out[first + i] = glm::vec3(res[i]);
     }

@@ -3,6 +3,8 @@
 #include "core/text.h"
 #include "render/render.h"
 
+#include "bssrdf/loop_budget.h"
+
 #include "core/core.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -96,7 +98,8 @@ struct Renderer::State {
     gl::Texture position, normal, depth, hdr, ldr;
     gl::FramebufferId fbo;
     gl::Buffer stats, exitance, state, control;
-    gl::Buffer invalidCounts; // the tone map's counts: surface, NaN, Inf, negative pixels
+    bssrdf::LoopFaults loopFaults; // the model's loop budget (bssrdf/loop_budget.h)
+    gl::Buffer invalidCounts;      // the tone map's counts: surface, NaN, Inf, negative pixels
 
     void resize(int w, int h);
     void gbuffer(const Settings& s);
@@ -447,6 +450,7 @@ bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int 
     glUniform1i(glGetUniformLocation(prog, "RenderFirst"), dispatch == 0 ? 1 : 0);
     // barrier: the control word's clear and the previous dispatch's suspended stacks → this one
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    loopFaults.arm(prog);
     glDispatchCompute(gx, gy, 1);
     // barrier: octree_render.comp's control word, stacks and HDR image → the readback below, the
     // next dispatch and the tone map
@@ -454,6 +458,7 @@ bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int 
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     uint32_t ctl[2] = {0, 0};
     glGetNamedBufferSubData(control.id(), 0, sizeof(ctl), ctl);
+    loopFaults.check(*model);
     loopLimit = ctl[1] != 0;
     return !loopLimit && ctl[0] == 0;
 }

@@ -10,6 +10,7 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -327,10 +328,12 @@ TEST_F(Cli, ProfileOfAModelThatDoesNotFinishFailsWithinTheLimit) {
                     "}\n"
                     "::end shader\n");
     ::setenv("BSSRDF_WORKBENCH_PROBE_SECONDS", "1", 1);
+    ::setenv("BSSRDF_WORKBENCH_LOOP_BUDGET", "2147483648", 1); // the time limit acts first
     const std::vector<std::string> args = {"profile", "--model", slow.string(), "--preset",
                                            "Marble",  "--out",   "hang.csv"};
     RunResult r = run(args);
     ::unsetenv("BSSRDF_WORKBENCH_PROBE_SECONDS");
+    ::unsetenv("BSSRDF_WORKBENCH_LOOP_BUDGET");
     EXPECT_EQ(r.code, 1) << describe(args, r);
     // at the loop's line (the 8th of the file), which the message names
     EXPECT_TRUE(contains(r.output, "hanging.bssrdf:8: Bssrdf() did not finish within 1 s"))
@@ -338,6 +341,31 @@ TEST_F(Cli, ProfileOfAModelThatDoesNotFinishFailsWithinTheLimit) {
     EXPECT_TRUE(contains(r.output, "a loop that does not end? [the loop at line 8 (while)]"))
         << r.output;
     EXPECT_FALSE(fs::exists(dir() / "hang.csv"));
+}
+
+// The same loop under the default loop budget (bssrdf/loop_budget.h), on any driver: the loop
+// stops after the budget in the first evaluation, and the command fails at once naming the
+// loop's line and the budget (no waiting for the time limit).
+TEST_F(Cli, ProfileOfAModelWhoseLoopRunsAwayFailsAtTheLoopsLine) {
+    const fs::path slow = dir() / "runaway.bssrdf";
+    writeText(slow, "analytic radial no_wi no_wo\n"
+                    "::begin shader\n"
+                    "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                    "    float x = length(Xo - Xi);\n"
+                    "    for (int i = 0; i < 1000000000; ++i) { x = sin(x * 1.37 + 0.11); }\n"
+                    "    return vec3(x);\n"
+                    "}\n"
+                    "::end shader\n");
+    const std::vector<std::string> args = {"profile", "--model", slow.string(), "--preset",
+                                           "Marble",  "--out",   "runaway.csv"};
+    const auto start = std::chrono::steady_clock::now();
+    RunResult r = run(args);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+    EXPECT_EQ(r.code, 1) << describe(args, r);
+    EXPECT_TRUE(contains(r.output, "runaway.bssrdf:5: the loop at line 5 ran past the loop "
+                                   "budget of 16384 iterations per Bssrdf() call"))
+        << r.output;
+    EXPECT_FALSE(fs::exists(dir() / "runaway.csv"));
 }
 
 TEST_F(Cli, ProfileReportsShaderErrorAtModelFileLine) {

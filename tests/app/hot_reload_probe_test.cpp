@@ -64,6 +64,9 @@ struct ProbeFixture : ::testing::Test {
         testsupport::context();
         app::setModelProbeExecutable(BW_EXE);
         ::setenv("BSSRDF_WORKBENCH_PROBE_SECONDS", "1", 1);
+        // the check's time limit is what these tests see: no loop budget (bssrdf/loop_budget.h)
+        // stops the slow loop first (LoopBudget.* test the budget)
+        ::setenv("BSSRDF_WORKBENCH_LOOP_BUDGET", "2147483648", 1);
         root = testsupport::makeProjectRoot(
             "probe_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()),
             {"dipole.bssrdf"});
@@ -73,6 +76,7 @@ struct ProbeFixture : ::testing::Test {
     void TearDown() override {
         app::setModelProbeExecutable({});
         ::unsetenv("BSSRDF_WORKBENCH_PROBE_SECONDS");
+        ::unsetenv("BSSRDF_WORKBENCH_LOOP_BUDGET");
         fs::remove_all(root);
     }
     fs::path root, file;

@@ -2,6 +2,7 @@
 // consumers (program.cpp) and the check of a new model (model_probe.cpp).
 #pragma once
 
+#include "bssrdf/bssrdf.h"
 #include "gl/gl.h"
 
 #include <cstddef>
@@ -12,9 +13,10 @@ namespace bssrdf::detail {
 // Uploads `in` (`inVec4` vec4 per entry), dispatches, reads back one vec4 per entry. `queries`
 // and `sentinel` set pencil_profile.comp's Queries and Sentinel uniforms where the program has
 // them. `outInit` (one vec4 per entry) fills the output buffer before the dispatch, so an
-// invocation that never writes its value is seen.
-std::vector<float> runBatch(GLuint program, const std::vector<float>& in, size_t count,
-                            size_t inVec4 = 1, GLuint queries = 0, GLuint sentinel = 0,
-                            const std::vector<float>* outInit = nullptr);
+// invocation that never writes its value is seen. A loop of `m` that ran past its budget
+// (loop_budget.h) throws core::Error naming the loop's line.
+std::vector<float> runBatch(const Model& m, GLuint program, const std::vector<float>& in,
+                            size_t count, size_t inVec4 = 1, GLuint queries = 0,
+                            GLuint sentinel = 0, const std::vector<float>* outInit = nullptr);
 
 } // namespace bssrdf::detail

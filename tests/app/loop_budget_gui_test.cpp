@@ -1,0 +1,93 @@
+// A model whose loop runs away only for some parameter values passes its first check and is
+// adopted; moved there in the GUI, every consumer the workbench runs (the pencil plot, the lit
+// sphere's integration, the scene's renderer) stops at the loop budget (bssrdf/loop_budget.h)
+// and the Errors panel names the loop's line within 5 s, while frames keep coming (each frame's
+// time is measured); moved back, the error goes and the plot is what it was.
+#include "../support/gl_fixture.h"
+#include "../support/workbench_values.h"
+#include "core/core.h"
+#include "gui/gui.h"
+#include "pipeline/workbench.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+namespace {
+
+const char* kRunaway = "analytic radial no_wi no_wo\n"
+                       "::begin parameters\n"
+                       "float Knob 0.0 1.0 0.0\n"
+                       "::end parameters\n"
+                       "::begin shader\n"
+                       "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                       "    float x = length(Xo - Xi) + 0.1;\n"
+                       "    while (Knob > 0.5) { x = sin(x * 1.37 + 0.11) + cos(x * 0.73); }\n"
+                       "    return vec3(0.05 * exp(-x)) * (1.0 + 1e-30 * x);\n"
+                       "}\n"
+                       "::end shader\n";
+
+} // namespace
+
+TEST(LoopBudgetGui, ARunawayLoopIsAnErrorWhileFramesKeepComing) {
+    testsupport::context();
+    const auto root = testsupport::makeProjectRoot("loop_budget_gui", {"dipole.bssrdf"});
+    core::writeFile(root / "materials" / "runaway.bssrdf", kRunaway);
+    const std::string path = "materials/runaway.bssrdf";
+    app::Workbench wb(root, false);
+    wb.scene().settings().model = path; // the renderer's model
+    wb.plotSettings().solo = path;      // the lit sphere's
+    auto& ls = wb.litSphereSettings();
+    ls.enabled = true;
+    ls.size = 32;
+    app::HeadlessGui gui(wb, 1280, 800);
+    for (int i = 0; i < 3; ++i)
+        gui.frame();
+    ASSERT_TRUE(wb.library().find(path) && wb.library().find(path)->usable());
+    EXPECT_TRUE(testsupport::errorNaming(wb, "runaway").empty())
+        << testsupport::errorNaming(wb, "runaway");
+    const double before = testsupport::valueAt0(wb, path);
+    ASSERT_GT(before, 0.0);
+
+    wb.library().find(path)->values["Knob"] = {1.0f, 1.0f, 1.0f}; // the Models panel's slider
+    core::Stopwatch clock;
+    std::vector<double> frames;
+    std::string error;
+    while (clock.ms() < 10000 && error.empty()) {
+        core::Stopwatch frame;
+        gui.frame();
+        frames.push_back(frame.ms());
+        error = testsupport::errorNaming(wb, path + ":8:");
+    }
+    const double seconds = clock.ms() / 1000.0;
+    std::printf("the error came after %.2f s, %zu frames, the slowest %.0f ms\n", seconds,
+                frames.size(), *std::max_element(frames.begin(), frames.end()));
+    ASSERT_FALSE(error.empty()) << "no Errors entry at the loop's line after 10 s";
+    EXPECT_LT(seconds, 5.0);
+    EXPECT_NE(error.find("ran past the loop budget"), std::string::npos) << error;
+    // frames keep coming: a few more, each under a second
+    for (int i = 0; i < 5; ++i) {
+        core::Stopwatch frame;
+        gui.frame();
+        frames.push_back(frame.ms());
+    }
+    EXPECT_LT(*std::max_element(frames.begin(), frames.end()), 1000.0);
+    // every consumer said it: the plot (above), the renderer, the lit sphere's integration
+    int entries = 0;
+    for (const auto& e : wb.errors())
+        entries += e.text.find(path + ":8: the loop at line 8 ran past") != std::string::npos;
+    EXPECT_EQ(entries, 3);
+    EXPECT_NE(wb.litSpheres().problem().find(path + ":8:"), std::string::npos)
+        << wb.litSpheres().problem();
+    for (const auto& e : wb.errors())
+        std::printf("Errors panel: %s\n", e.text.c_str());
+
+    wb.library().find(path)->values["Knob"] = {0.0f, 0.0f, 0.0f};
+    EXPECT_TRUE(testsupport::waitFor(wb, [&] {
+        return testsupport::errorNaming(wb, path + ":8:").empty();
+    })) << testsupport::errorNaming(wb, path + ":8:");
+    EXPECT_NEAR(testsupport::valueAt0(wb, path), before, 1e-6 * before);
+    std::filesystem::remove_all(root);
+}
