@@ -418,6 +418,18 @@ void forget(std::map<GLuint, Pending>& objects, GLsizei n, const GLuint* ids) {
         objects.erase(ids[i]);
 }
 
+// ---- poison
+// -------------------------------------------------------------------------------------- Storage
+// made without data is undefined (OpenGL 4.5 §6.2, §8.19): Mesa hands out zeros, other drivers
+// whatever the memory held. With the checks on, new storage is filled with a pattern instead (a
+// quiet NaN in each 32-bit float, 0xAB in each byte of a normalized texel, 0xDEADBEEF in each
+// integer), so code that reads it before writing it fails here as it would elsewhere. Depth
+// textures are left as they are (every use clears them first).
+constexpr GLuint kPoisonWord = 0x7FC0DEADu; // a quiet NaN as a float
+
+void poisonBuffer(GLuint buffer, GLsizeiptr size);
+void poisonTexture(GLuint texture, GLenum internalFormat);
+
 // ---- the hooks ----------------------------------------------------------------------------------
 // Each replaces epoxy's pointer; g_<name> holds the driver's function. `before` runs with the
 // tracker's lock held, then the driver's function, then `after`.
@@ -535,12 +547,68 @@ BW_HOOK(
         if (static_cast<GLuint>(current) == framebuffer)
             framebufferAccess(GL_DRAW_FRAMEBUFFER_BINDING, "glClearNamedFramebufferfv");
     }, )
+BW_HOOK(glNamedBufferStorage, (GLuint buffer, GLsizeiptr size, const void* data, GLbitfield flags),
+        (buffer, size, data, flags), , {
+            if (!data) poisonBuffer(buffer, size);
+        })
+BW_HOOK(glTextureStorage2D, (GLuint texture, GLsizei levels, GLenum format, GLsizei w, GLsizei h),
+        (texture, levels, format, w, h), , poisonTexture(texture, format))
+BW_HOOK(glTextureStorage3D,
+        (GLuint texture, GLsizei levels, GLenum format, GLsizei w, GLsizei h, GLsizei d),
+        (texture, levels, format, w, h, d), , poisonTexture(texture, format))
 BW_HOOK(glCreateBuffers, (GLsizei n, GLuint* ids), (n, ids), , forget(state().buffers, n, ids))
 BW_HOOK(glCreateTextures, (GLenum target, GLsizei n, GLuint* ids), (target, n, ids), ,
         forget(state().textures, n, ids))
 BW_HOOK(glGenTextures, (GLsizei n, GLuint* ids), (n, ids), , forget(state().textures, n, ids))
 BW_HOOK(glLinkProgram, (GLuint program), (program), , state().programs.erase(program))
 #undef BW_HOOK
+
+void poisonBuffer(GLuint buffer, GLsizeiptr size) {
+    if (!g_glClearNamedBufferData || size <= 0) return;
+    if (size % 4 == 0) {
+        g_glClearNamedBufferData(buffer, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &kPoisonWord);
+    } else {
+        const GLubyte b = 0xAB;
+        g_glClearNamedBufferData(buffer, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &b);
+    }
+}
+
+void poisonTexture(GLuint texture, GLenum internalFormat) {
+    static const GLuint words[4] = {kPoisonWord, kPoisonWord, kPoisonWord, kPoisonWord};
+    static const GLuint integers[4] = {0xDEADBEEFu, 0xDEADBEEFu, 0xDEADBEEFu, 0xDEADBEEFu};
+    static const GLubyte bytes[4] = {0xAB, 0xAB, 0xAB, 0xAB};
+    switch (internalFormat) {
+    case GL_RGBA32F:
+    case GL_RGB32F:
+    case GL_RG32F:
+    case GL_R32F:
+    case GL_RGBA16F:
+    case GL_RGB16F:
+    case GL_RG16F:
+    case GL_R16F:
+        glClearTexImage(texture, 0, GL_RGBA, GL_FLOAT, words);
+        break;
+    case GL_RGBA8:
+    case GL_SRGB8_ALPHA8:
+    case GL_RGB8:
+    case GL_RG8:
+    case GL_R8:
+        glClearTexImage(texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, bytes);
+        break;
+    case GL_R32UI:
+    case GL_RG32UI:
+    case GL_RGBA32UI:
+        glClearTexImage(texture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, integers);
+        break;
+    case GL_R32I:
+    case GL_RG32I:
+    case GL_RGBA32I:
+        glClearTexImage(texture, 0, GL_RGBA_INTEGER, GL_INT, integers);
+        break;
+    default:
+        break; // depth and others: left undefined
+    }
+}
 
 template <typename Fn>
 void install(Fn& slot, Fn& driver, Fn hook, const char* name, ProcResolver resolve) {
@@ -629,6 +697,9 @@ void installBarrierChecks(ProcResolver resolve) {
     BW_INSTALL(glCopyImageSubData);
     BW_INSTALL(glReadPixels);
     BW_INSTALL(glClearNamedFramebufferfv);
+    BW_INSTALL(glNamedBufferStorage);
+    BW_INSTALL(glTextureStorage2D);
+    BW_INSTALL(glTextureStorage3D);
     BW_INSTALL(glCreateBuffers);
     BW_INSTALL(glCreateTextures);
     BW_INSTALL(glGenTextures);

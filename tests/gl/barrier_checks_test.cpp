@@ -8,6 +8,7 @@
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 namespace {
@@ -160,4 +161,28 @@ void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
     glBindSampler(2, 0);
     glDeleteSamplers(1, &sampler);
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+// Storage made without data is undefined: Mesa gives zeros, other drivers what the memory held.
+// With the checks on it holds a pattern (a NaN per float), so code that reads it first fails.
+TEST(BarrierChecks, StorageMadeWithoutDataIsPoisoned) {
+    context();
+    gl::Buffer b = gl::createBuffer(4 * sizeof(float), nullptr);
+    float v[4] = {0, 0, 0, 0};
+    glGetNamedBufferSubData(b.id(), 0, sizeof v, v);
+    for (float x : v)
+        EXPECT_TRUE(std::isnan(x)) << x;
+    gl::Texture t = gl::createTexture2D(GL_RGBA32F, 2, 2);
+    std::vector<float> px(16);
+    glGetTextureImage(t.id(), 0, GL_RGBA, GL_FLOAT, int(px.size() * sizeof(float)), px.data());
+    EXPECT_TRUE(std::isnan(px[0]));
+    gl::Texture u = gl::createTexture2D(GL_RGBA8, 2, 2);
+    std::vector<unsigned char> bytes(16);
+    glGetTextureImage(u.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, int(bytes.size()), bytes.data());
+    EXPECT_EQ(bytes[0], 0xAB);
+    // with data, the data
+    const float one[4] = {1, 1, 1, 1};
+    gl::Buffer c = gl::createBuffer(sizeof one, one);
+    glGetNamedBufferSubData(c.id(), 0, sizeof v, v);
+    EXPECT_EQ(v[2], 1.0f);
 }
