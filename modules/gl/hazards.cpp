@@ -12,10 +12,11 @@
 // glMemoryBarrier, and reports a read that comes before its bit as a GL debug message of type
 // UNDEFINED_BEHAVIOR (the tests fail on it: tests/support/gl_debug_guard.cpp). It also checks, at
 // each dispatch and draw, that every shadow sampler meets a depth texture with comparison on and
-// every plain sampler one with it off (NVIDIA reports the mismatch; Mesa says nothing). What is
-// only written is not read: a storage block declared `writeonly` or an image unit bound
-// GL_WRITE_ONLY may be written again by the next dispatch without a barrier (two dispatches' writes
-// to one location are not checked).
+// every plain sampler one with it off (NVIDIA reports the mismatch; Mesa says nothing), and it
+// fills storage made without data with a pattern ("poison" below). What is only written is not
+// read: a storage block declared `writeonly` or an image unit bound GL_WRITE_ONLY may be written
+// again by the next dispatch without a barrier (two dispatches' writes to one location are not
+// checked).
 //
 // It sits between the program and the driver by replacing libepoxy's function pointers of the
 // calls it watches (epoxy_glDispatchCompute, ...) with its own, which call the driver's
