@@ -171,6 +171,7 @@ void main() {
     // The traversal stack lives in registers / local memory during a dispatch; it is loaded
     // from and saved to the pixel's state only when a frame spans several dispatches.
     uint stack[OCTREE_STACK_SIZE];
+    sp = min(sp, uint(OCTREE_STACK_SIZE)); // every loop has a bound of its own
     if (!RenderFirst)
         for (uint i = 0u; i < sp; ++i) stack[i] = renderState[p].stack[i];
     init();

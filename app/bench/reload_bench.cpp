@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <thread>
 
 #include <sys/stat.h>
@@ -30,6 +31,43 @@ namespace app {
 namespace fs = std::filesystem;
 
 namespace {
+// Where a save's time goes, in the order it is spent: the timings the workbench records
+// (gl::recordTiming, ScopedStageTimer) under these names. The check runs in its own process
+// while this one compiles, so the parts overlap and do not add up to the latency.
+const char* const kParts[][2] = {
+    {"hot reload: file event", "file event (debounce included)"},
+    {"hot reload: parse", "parse"},
+    {"hot reload: compile (every consumer)", "compile"},
+    {"hot reload: driver code generation", "code generation"},
+    {"hot reload: model check", "model check"},
+    {"pencil plot", "first dispatch (pencil plot)"},
+};
+
+std::map<std::string, gl::StageTiming> timingsByName() {
+    std::map<std::string, gl::StageTiming> out;
+    for (const gl::StageTiming& t : gl::timings())
+        out[t.stage] = t;
+    return out;
+}
+
+// "file event 41.2, parse 0.3, ..." for the parts measured since `before`; the parts in `sums`.
+std::string partsSince(const std::map<std::string, gl::StageTiming>& before,
+                       std::map<std::string, std::vector<double>>& sums) {
+    const auto now = timingsByName();
+    std::string line;
+    for (const auto& [name, label] : kParts) {
+        const auto it = now.find(name);
+        const auto was = before.find(name);
+        if (it == now.end() || (was != before.end() && was->second.runs == it->second.runs))
+            continue;
+        char b[96];
+        std::snprintf(b, sizeof b, "%s%s %.1f", line.empty() ? "" : ", ", label, it->second.cpuMs);
+        line += b;
+        sums[label].push_back(it->second.cpuMs);
+    }
+    return line;
+}
+
 // Frames until five in a row change nothing (at most 60 s); returns the longest in ms.
 double settle(HeadlessGui& gui) {
     core::Stopwatch clock;
@@ -49,6 +87,7 @@ std::vector<double> timeEdits(Workbench& wb, HeadlessGui& gui, const fs::path& f
                               const std::string& model, int runs, int& serial,
                               double& longestFrame) {
     std::vector<double> latencies;
+    std::map<std::string, std::vector<double>> parts;
     const std::string anchor = "return Multiplier/(4.0*PI)";
     for (int run = 0; run < runs; ++run) {
         const size_t at = model.find(anchor);
@@ -64,6 +103,7 @@ std::vector<double> timeEdits(Workbench& wb, HeadlessGui& gui, const fs::path& f
         ::stat(file.c_str(), &st);
         const double saved = double(st.st_mtim.tv_sec) + 1e-9 * double(st.st_mtim.tv_nsec);
         const long long gen = wb.library().entries().at(0).generation;
+        const auto before = timingsByName();
         core::Stopwatch guard;
         int frames = 0;
         double lastFrameMs = 0;
@@ -83,10 +123,24 @@ std::vector<double> timeEdits(Workbench& wb, HeadlessGui& gui, const fs::path& f
         latencies.push_back((now - saved) * 1000.0);
         std::printf("run %2d  save -> new pixels %7.1f ms  (%d frames, last frame %.1f ms)\n",
                     run + 1, latencies.back(), frames, lastFrameMs);
+        std::printf("        ms: %s\n", partsSince(before, parts).c_str());
+        parts["last frame"].push_back(lastFrameMs);
         // what the edit set off finishes before the next one (the scene adopts a changed
         // model one frame after the plot, and renders it in slices)
         longestFrame = std::max(longestFrame, settle(gui));
     }
+    std::printf("where the time goes (median ms over the runs; the check overlaps the compile):");
+    std::vector<std::string> order;
+    for (const auto& part : kParts)
+        order.push_back(part[1]);
+    order.push_back("last frame");
+    for (const std::string& label : order) {
+        std::vector<double>& v = parts[label];
+        if (v.empty()) continue;
+        std::sort(v.begin(), v.end());
+        std::printf(" %s %.1f;", label.c_str(), v[v.size() / 2]);
+    }
+    std::printf("\n");
     std::sort(latencies.begin(), latencies.end());
     return latencies;
 }

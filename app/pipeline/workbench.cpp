@@ -242,6 +242,10 @@ bool Workbench::update() {
                     if (!m_pendingSaveTime || s < *m_pendingSaveTime) m_pendingSaveTime = s;
                 }
             }
+            // the first part of a save's latency (bench reload prints each part)
+            if (m_pendingSaveTime)
+                gl::recordTiming("hot reload: file event",
+                                 (epochSeconds() - *m_pendingSaveTime) * 1000.0);
             // Each owner rebuilds exactly its programs whose recorded files include a changed
             // path (templates, #include'd files, shaders/common/*); model files reload models.
             changed |= m_library->onFilesChanged(paths);

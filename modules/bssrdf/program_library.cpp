@@ -61,11 +61,14 @@ void fail(ModelEntry& e, const core::Error& err) {
 
 void ModelLibrary::load(ModelEntry& e) {
     Model parsed;
+    core::Stopwatch parse;
     try {
         parsed = loadModel(e.file, e.displayPath);
     } catch (const core::Error& err) {
         return fail(e, err);
     }
+    // the parts of a save's latency (bench reload prints them): parse, compile, code generation
+    gl::recordTiming("hot reload: parse", parse.ms());
     for (const auto& n : parsed.notes)
         core::logInfo(n);
     PendingModel c;
@@ -74,6 +77,7 @@ void ModelLibrary::load(ModelEntry& e) {
     // the consumers' programs (on another core), instead of after them.
     e.pending.reset(); // a newer version replaces one still under its check, which stops
     if (!startProbe(e, c)) return;
+    core::Stopwatch compile;
     for (const auto& consumer : m_consumers) {
         if (consumer == "invert_rdr.comp" && !c.model.diffuseReflectance) continue;
         try {
@@ -89,10 +93,13 @@ void ModelLibrary::load(ModelEntry& e) {
     // While the check runs, the driver's code generation for the pencil and inversion
     // programs, which the first frame after adoption dispatches (warmUp never calls the model):
     // on llvmpipe that is tens of ms of the save -> new pixels latency taken off the wait.
+    gl::recordTiming("hot reload: compile (every consumer)", compile.ms());
+    core::Stopwatch generate;
     if (c.probe)
         for (const char* consumer : {"pencil_profile.comp", "invert_rdr.comp"})
             if (auto it = c.programs.find(consumer); it != c.programs.end())
                 warmUp(it->second.id());
+    if (c.probe) gl::recordTiming("hot reload: driver code generation", generate.ms());
     propose(e, std::move(c));
 }
 
@@ -117,6 +124,7 @@ bool ModelLibrary::startProbe(ModelEntry& e, PendingModel& c) {
         const ParamValues values =
             e.model ? carryOver(c.model, *e.model, e.values) : defaultValues(c.model);
         c.probe = m_probe(e.file, c.model, values, probeKey(c.model, m_sources));
+        c.checkStartMs = core::secondsSinceStart() * 1000.0;
     } catch (const core::Error& err) {
         fail(e, err);
         return false;
@@ -157,6 +165,8 @@ bool ModelLibrary::finishProbes(bool block) {
         const ProbeVerdict v = block ? e.pending->probe->wait() : e.pending->probe->poll();
         if (!v.done) continue;
         std::unique_ptr<PendingModel> c = std::move(e.pending);
+        gl::recordTiming("hot reload: model check",
+                         core::secondsSinceStart() * 1000.0 - c->checkStartMs);
         if (v.problem.empty()) {
             adopt(e, std::move(*c));
         } else if (const size_t at = v.problem.find("at line ");

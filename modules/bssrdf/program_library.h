@@ -33,6 +33,7 @@ struct PendingModel {
     std::map<std::string, gl::Program> programs; // all consumers, or those rebuilt
     bool newModel = true;                        // false: programs rebuilt for new shader files
     std::unique_ptr<PendingProbe> probe;
+    double checkStartMs = 0; // core::secondsSinceStart() when the check started, in ms
 };
 
 struct ModelEntry {
