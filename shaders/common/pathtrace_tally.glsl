@@ -31,6 +31,9 @@ layout(std430, binding = 1) coherent buffer PtHeavy {
     uint ptHeavyPad;
     uvec2 ptHeavy[];
 };
+// The entries ptHeavy holds, set by the host: the .length() of a runtime-sized array is not to
+// be relied on (Mesa's zink returned too small a length, and every entry was dropped).
+uniform uint PtHeavyCapacity;
 
 // v in [0, 2^31) as 32.32 fixed point, stochastically rounded with xi in [0, 1).
 uvec2 ptFixed(float v, float xi) {
@@ -57,7 +60,7 @@ void ptTally(uint slot, float v, inout Rng rng) {
     if (v == 0.0) return;
     if (!(v > 0.0 && v <= PT_HEAVY_WEIGHT)) {
         uint i = atomicAdd(ptHeavyCount, 1u);
-        if (i < uint(ptHeavy.length())) ptHeavy[i] = uvec2(slot, floatBitsToUint(v));
+        if (i < PtHeavyCapacity) ptHeavy[i] = uvec2(slot, floatBitsToUint(v));
         return;
     }
     ptAdd64(4u * slot, ptFixed(v, rngUniform(rng)));
@@ -70,7 +73,7 @@ void ptTallySum(uint slot, float v, inout Rng rng) {
     if (v == 0.0) return;
     if (!(v > 0.0 && v <= PT_HEAVY_WEIGHT)) {
         uint i = atomicAdd(ptHeavyCount, 1u);
-        if (i < uint(ptHeavy.length())) ptHeavy[i] = uvec2(slot, floatBitsToUint(v));
+        if (i < PtHeavyCapacity) ptHeavy[i] = uvec2(slot, floatBitsToUint(v));
         return;
     }
     ptAdd64(4u * slot, ptFixed(v, rngUniform(rng)));

@@ -77,6 +77,8 @@ void GpuWorkQueue::clear(size_t slots) {
 void GpuWorkQueue::runRound(GLuint p, int inCountLoc, uint64_t count,
                             const std::filesystem::path& shaderFile) {
     glClearNamedBufferData(m_queue.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    glProgramUniform1ui(p, glGetUniformLocation(p, "PtHeavyCapacity"),
+                        static_cast<GLuint>(std::min<uint64_t>(m_heavyCapacity, 0xFFFFFFFFu)));
     uint64_t taken = 0;   // new items started so far
     uint32_t inCount = 0; // paths suspended by the previous dispatch
     for (int cur = 0;; cur ^= 1) {
