@@ -115,13 +115,16 @@ TEST_F(ProbeFixture, SlowModelTimesOutTheLastGoodVersionStaysThenTheFixIsAdopted
 }
 
 TEST_F(ProbeFixture, EndlessLoopIsRefusedNamingTheFile) {
+    // Under the default loop budget (bssrdf/loop_budget.h) the check's own evaluation stops
+    // both loops after the budget, on any driver, and names the loop. Without it, drivers
+    // differ: llvmpipe's compiler drops what follows `while (true)` and llvmpipe cuts a loop on
+    // a uniform after 65 535 iterations in all, Mesa's zink cuts each loop on its own after as
+    // many (so the check's sentinel does not see it, and the model passed), a GPU runs until
+    // the child is killed.
+    ::unsetenv("BSSRDF_WORKBENCH_LOOP_BUDGET");
     app::Workbench wb(root, true);
     const double base = valueAt0(wb, path);
     ASSERT_GT(base, 0.0);
-    // On llvmpipe the compiler drops what follows a loop that provably never ends (the value is
-    // never written); a loop on a uniform is stopped by the driver's iteration limit; a GPU
-    // runs either until the child is killed. Each is an Errors entry naming the file. (A loop
-    // on a uniform with an empty body is removed by the compiler: that model is fine.)
     for (const char* loop : {"    while (true) {}",
                              "    float spin = 0.0;\n    while (SigmaA.x >= 0.0) { spin += 1.0; }\n"
                              "    if (spin < 0.0) return vec3(spin);"}) {
@@ -131,17 +134,14 @@ TEST_F(ProbeFixture, EndlessLoopIsRefusedNamingTheFile) {
             error = errorNaming(wb, path);
             return !error.empty();
         });
-        EXPECT_TRUE(error.find("never returned") != std::string::npos ||
-                    error.find("did not end") != std::string::npos ||
-                    error.find("did not finish within") != std::string::npos)
-            << loop << ": " << error;
         // the entry is at the loop's line and names it
         const int line = whileLine(withLoop(good, loop));
         ASSERT_GT(line, 0);
         EXPECT_NE(error.find(path + ":" + std::to_string(line) + ":"), std::string::npos) << error;
-        EXPECT_NE(error.find("the loop at line " + std::to_string(line) + " (while)"),
-                  std::string::npos)
-            << error;
+        EXPECT_NE(
+            error.find("the loop at line " + std::to_string(line) + " ran past the loop budget"),
+            std::string::npos)
+            << loop << ": " << error;
         EXPECT_LT(longest, 2500.0);
         EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base) << loop;
         core::writeFile(file, good); // good again (known: adopted without a check)
