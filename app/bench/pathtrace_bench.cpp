@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 namespace app {
@@ -51,6 +52,45 @@ double timeTo1Percent(const pathtrace::SlabResult& r, const pathtrace::SlabSetti
     if (b < 0 || !(r.rd[size_t(b)] > 0)) return INFINITY;
     const double rel = r.rdStderr[size_t(b)] / r.rd[size_t(b)];
     return r.seconds * (rel / 0.01) * (rel / 0.01);
+}
+
+// The GL tracer's run of about `seconds` (after a warm-up round) as a result with standard
+// errors and its wall time.
+pathtrace::SlabResult gpuRun(pathtrace::GpuSlabTracer& gpu, const pathtrace::Medium& m,
+                             pathtrace::SlabSettings s, double seconds) {
+    s.paths = uint64_t(1) << 40;
+    gpu.reset(m, s);
+    gpu.step(pathtrace::GpuSlabTracer::kMaxPathsPerRound); // warm-up: compile, first dispatch
+    gpu.reset(m, s);
+    while (gpu.seconds() < seconds)
+        gpu.step(pathtrace::GpuSlabTracer::kMaxPathsPerRound);
+    pathtrace::SlabResult r = pathtrace::finalize(gpu.tally(), s);
+    r.seconds = gpu.seconds();
+    return r;
+}
+
+// Efficiency per radial range: 1/(relative variance per path × seconds per path) = 10^4 /
+// t(1 %), the geometric mean over the bins of each range of r/l_d ([0, 1), [1, 2), [2, 3),
+// [3, 4]), as "E0-1 E1-2 E2-3 E3-4" in 1/s. What a roulette or estimator choice is weighed by.
+std::string efficiencyByRange(const pathtrace::SlabResult& r, const pathtrace::SlabSettings& s,
+                              double ld) {
+    std::string out;
+    for (int k = 0; k < 4; ++k) {
+        double logSum = 0;
+        int n = 0;
+        for (int b = 0; b < s.bins; ++b) {
+            const double rc = (b + 0.5) * s.rMaxMm / s.bins;
+            if (rc < k * ld || rc >= (k + 1) * ld) continue;
+            const double rel = r.rdStderr[size_t(b)] / r.rd[size_t(b)];
+            if (!(r.rd[size_t(b)] > 0) || !(rel > 0)) continue;
+            logSum += std::log(1.0 / (rel * rel * r.seconds));
+            ++n;
+        }
+        char b[32];
+        std::snprintf(b, sizeof b, " %9.3g", n ? std::exp(logSum / n) : NAN);
+        out += b;
+    }
+    return out;
 }
 
 // Single-core connections run (pathtrace/bssrdf_estimate.h, θi = 0, one θs bin) on the radial
@@ -176,10 +216,13 @@ int benchPathtrace(const std::filesystem::path& root, double seconds) {
         s.rMaxMm = 4 * ld + 1.0;
         s.bins = int(std::ceil(s.rMaxMm / 0.15));
         s.rMaxMm = 0.15 * s.bins; // 0.15 mm bins beyond 4 l_d
-        std::printf("\n%s, 0.15 mm bins, l_d = %.3f mm, one core\n", c.name, ld);
+        std::printf(
+            "\n%s, 0.15 mm bins, l_d = %.3f mm; CPU lines: one core, GL lines: the GL device\n",
+            c.name, ld);
         std::printf("%-10s %12s %14s %14s %12s %12s %10s\n", "estimator", "paths/s", "t(1%) @ l_d",
                     "t(1%) @ 4 l_d", "vs analog @1", "vs analog @4", "ns/event");
         double analogAt1 = NAN, analogAt4 = NAN, implicitAt1 = NAN, implicitAt4 = NAN;
+        std::vector<std::string> efficiency; // per estimator line, printed below the table
         for (auto est : {pathtrace::Estimator::Analog, pathtrace::Estimator::Implicit}) {
             s.estimator = est;
             const auto r = cpuRun(c.m, s, seconds * 4);
@@ -189,7 +232,23 @@ int benchPathtrace(const std::filesystem::path& root, double seconds) {
             std::printf("%-10s %12.0f %13.1fs %13.1fs %11.2fx %11.2fx %10.1f\n", core::nameOf(est),
                         double(r.paths) / r.seconds, t1, t4, analogAt1 / t1, analogAt4 / t4,
                         1e9 * r.seconds / double(std::max<uint64_t>(r.events, 1)));
+            efficiency.push_back(std::string("CPU ") + core::nameOf(est) + ":" +
+                                 efficiencyByRange(r, s, ld));
         }
+        // The GL tracer on the same case, whichever device the context has (on llvmpipe: the
+        // CPU's cores through the GL compute path), against the CPU's one core above.
+        if (gpu)
+            for (auto est : {pathtrace::Estimator::Analog, pathtrace::Estimator::Implicit}) {
+                s.estimator = est;
+                const auto r = gpuRun(*gpu, c.m, s, seconds * 4);
+                const double t1 = timeTo1Percent(r, s, ld), t4 = timeTo1Percent(r, s, 4 * ld);
+                std::printf("%-10s %12.0f %13.3gs %13.3gs %11.2fx %11.2fx %10s\n",
+                            (std::string("GL ") + core::nameOf(est)).c_str(),
+                            double(r.paths) / r.seconds, t1, t4, analogAt1 / t1, analogAt4 / t4,
+                            "");
+                efficiency.push_back(std::string("GL ") + core::nameOf(est) + ":" +
+                                     efficiencyByRange(r, s, ld));
+            }
         // Connections on exactly the histogram's bin at each radius (a one-bin table: what a
         // user asks for when a radius matters), and on the whole profile of 0.15 mm bins.
         double c1 = NAN, c4 = NAN, rate = NAN;
@@ -219,6 +278,11 @@ int benchPathtrace(const std::filesystem::path& root, double seconds) {
                     "vs implicit)\n",
                     "connect-all", fr, f1, f4, analogAt1 / f1, analogAt4 / f4, s.bins,
                     implicitAt1 / f1, implicitAt4 / f4);
+        std::printf("efficiency 1/(rel. variance x s) = 1e4/t(1%%), geometric mean over the bins "
+                    "of r/l_d in [0,1) [1,2) [2,3) [3,4):\n");
+        for (const std::string& line : efficiency)
+            std::printf("  %-16s%s\n", line.substr(0, line.find(':') + 1).c_str(),
+                        line.substr(line.find(':') + 1).c_str());
     }
     std::printf("\nwhat limits it: one free flight per event costs a log (distance), a sqrt and "
                 "sin/cos (HG direction and azimuth), plus a Fresnel evaluation per boundary hit; "
