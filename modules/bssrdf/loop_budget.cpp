@@ -2,6 +2,7 @@
 // it and the host's counters.
 #include "bssrdf/loop_budget.h"
 
+#include "bssrdf/loop_sites.h"
 #include "core/core.h"
 
 #include <algorithm>
@@ -14,10 +15,6 @@ namespace bssrdf {
 namespace {
 
 constexpr int kCounters = 8; // [0]: invocations stopped; [1 + min(site, 6)]: by the loop's site
-
-bool guardIdentChar(char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
-}
 
 // The index of the `)` closing the `(` at `open`, or npos.
 size_t closing(const std::string& c, size_t open) {
@@ -49,55 +46,16 @@ unsigned loopBudget() {
 std::string guardLoops(const std::string& c, int firstLine, unsigned& site,
                        std::vector<int>& lines) {
     std::string out;
-    int line = firstLine;
-    bool inComment = false;
     size_t copied = 0;
-    for (size_t i = 0; i < c.size(); ++i) {
-        if (c[i] == '\n') {
-            ++line;
-            continue;
-        }
-        if (inComment) {
-            if (c[i] == '*' && i + 1 < c.size() && c[i + 1] == '/') {
-                inComment = false;
-                ++i;
-            }
-            continue;
-        }
-        if (c[i] == '/' && i + 1 < c.size() && (c[i + 1] == '/' || c[i + 1] == '*')) {
-            if (c[i + 1] == '*') {
-                inComment = true;
-                ++i;
-            } else {
-                while (i + 1 < c.size() && c[i + 1] != '\n')
-                    ++i;
-            }
-            continue;
-        }
-        if (c[i] == '#' && (i == 0 || c[i - 1] == '\n')) { // a preprocessor line
-            while (i + 1 < c.size() && c[i + 1] != '\n')
-                ++i;
-            continue;
-        }
-        if (!guardIdentChar(c[i]) || (i > 0 && guardIdentChar(c[i - 1]))) continue;
-        size_t j = i;
-        while (j < c.size() && guardIdentChar(c[j]))
-            ++j;
-        const std::string word = c.substr(i, j - i);
-        if (word != "for" && word != "while") {
-            i = j - 1;
-            continue;
-        }
-        size_t open = j;
+    forEachWord(c, firstLine, [&](const std::string& word, size_t at, int line, char) {
+        if (word != "for" && word != "while") return;
+        size_t open = at + word.size();
         while (open < c.size() && std::isspace(static_cast<unsigned char>(c[open])))
             ++open;
         const size_t close =
             open < c.size() && c[open] == '(' ? closing(c, open) : std::string::npos;
-        if (close == std::string::npos) { // not a loop header the compiler accepts: leave it
-            i = j - 1;
-            continue;
-        }
-        size_t from = open + 1, to = close; // the condition
+        if (close == std::string::npos || open < copied) return; // not a header to guard
+        size_t from = open + 1, to = close;                      // the condition
         if (word == "for") {
             int depth = 0;
             std::vector<size_t> semis;
@@ -106,10 +64,7 @@ std::string guardLoops(const std::string& c, int firstLine, unsigned& site,
                 if (c[k] == ')') --depth;
                 if (c[k] == ';' && depth == 0) semis.push_back(k);
             }
-            if (semis.size() != 2) {
-                i = j - 1;
-                continue;
-            }
+            if (semis.size() != 2) return;
             from = semis[0] + 1;
             to = semis[1];
         }
@@ -120,8 +75,7 @@ std::string guardLoops(const std::string& c, int firstLine, unsigned& site,
         copied = to;
         lines.push_back(line);
         ++site;
-        i = j - 1; // the header's own text is scanned on (a loop inside it is not GLSL)
-    }
+    });
     out += c.substr(copied);
     return out;
 }

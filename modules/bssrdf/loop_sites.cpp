@@ -12,12 +12,13 @@ bool identChar(char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
 }
 
-// Appends the loops of one section (a /* */ comment may span its lines).
-void scan(const Section& s, std::vector<LoopSite>& out) {
+} // namespace
+
+void forEachWord(const std::string& c, int firstLine,
+                 const std::function<void(const std::string&, size_t, int, char)>& onWord) {
     bool inComment = false;
-    int line = s.firstLine;
+    int line = firstLine;
     char lastCode = 0; // the last character of code outside comments, across lines
-    const std::string& c = s.code;
     for (size_t i = 0; i < c.size(); ++i) {
         if (c[i] == '\n') {
             ++line;
@@ -49,16 +50,23 @@ void scan(const Section& s, std::vector<LoopSite>& out) {
             size_t j = i;
             while (j < c.size() && identChar(c[j]))
                 ++j;
-            const std::string word = c.substr(i, j - i);
-            const bool closesDo = word == "while" && lastCode == '}';
-            if ((word == "for" || word == "while" || word == "do") && !closesDo)
-                out.push_back({line, word});
+            onWord(c.substr(i, j - i), i, line, lastCode);
             lastCode = c[j - 1];
             i = j - 1;
             continue;
         }
         if (!std::isspace(static_cast<unsigned char>(c[i]))) lastCode = c[i];
     }
+}
+
+namespace {
+// Appends the loops of one section (the `while` that closes a `do` block is the `do`'s).
+void scan(const Section& s, std::vector<LoopSite>& out) {
+    forEachWord(s.code, s.firstLine, [&](const std::string& word, size_t, int line, char lastCode) {
+        const bool closesDo = word == "while" && lastCode == '}';
+        if ((word == "for" || word == "while" || word == "do") && !closesDo)
+            out.push_back({line, word});
+    });
 }
 
 } // namespace

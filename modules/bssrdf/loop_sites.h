@@ -7,6 +7,7 @@
 
 #include "bssrdf/bssrdf.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,15 @@ struct LoopSite {
     int line = 0;        // 1-based line in the model file
     std::string keyword; // "for", "while" or "do"
 };
+
+// Calls onWord(word, at, line, lastCode) for every identifier or keyword of `code` outside
+// comments (a /* */ comment may span lines) and preprocessor lines: `at` is its index in `code`,
+// `line` its file line (`firstLine` is the code's first), `lastCode` the last character of
+// code before it (0 at the start). The one scan of a model's GLSL that loopSites and the loop
+// budget's rewrite (loop_budget.h) share.
+void forEachWord(
+    const std::string& code, int firstLine,
+    const std::function<void(const std::string& word, size_t at, int line, char lastCode)>& onWord);
 
 // Every loop statement of the model's code sections, in file order.
 std::vector<LoopSite> loopSites(const Model& m);
