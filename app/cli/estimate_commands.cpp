@@ -106,7 +106,11 @@ void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
                        {"estimator", "--estimator"},
                        {"termination.max_events", "--max-events"},
                        {"termination.roulette_weight", "--roulette-weight"},
-                       {"termination.roulette_survival", "--roulette-survival"}});
+                       {"termination.roulette_survival", "--roulette-survival"},
+                       {"splitting.levels", "--split-levels"},
+                       {"splitting.start_ld", "--split-start"},
+                       {"splitting.step_ld", "--split-step"},
+                       {"splitting.depth", "--split-depth"}});
     cmd->add_flag("--log-r", a.logR, "logarithmic radial bins (first bin [0, r-min))");
     cmd->add_option("--dir-bins", a.dirBins,
                     "exit-direction cells of equal solid angle: K (K rings x K sectors) or RxS")

@@ -58,6 +58,15 @@ std::function<void(uint64_t)> progressLine(const pathtrace::SlabSettings& s,
     };
 }
 
+// What radial splitting did (pathtrace.h, Splitting): off for analog walks and the GL tracer.
+std::string splittingText(const pathtrace::SlabSettings& s) {
+    const pathtrace::Splitting& p = s.splitting;
+    if (p.levels == 0 || s.estimator == pathtrace::Estimator::Analog) return "off";
+    return "levels " + std::to_string(p.levels) + ", start " + core::formatNumber(p.startLd) +
+           " l_d, step " + core::formatNumber(p.stepLd) + " l_d, depth " +
+           core::formatNumber(p.depth);
+}
+
 } // namespace
 
 int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
@@ -85,6 +94,7 @@ int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
         << "# roulette_weight " << core::formatNumber(s.termination.rouletteWeight) << "\n"
         << "# roulette_survival " << core::formatNumber(s.termination.rouletteSurvival) << "\n"
         << "# max_events " << s.termination.maxEvents << "\n"
+        << "# splitting " << splittingText(s) << "\n"
         << "# paths " << r.paths << "\n"
         << (partial ? "# partial: interrupted after " + std::to_string(r.paths) + " of " +
                           std::to_string(s.paths) + " paths\n"
@@ -138,7 +148,11 @@ void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
                        {"estimator", "--estimator"},
                        {"termination.max_events", "--max-events"},
                        {"termination.roulette_weight", "--roulette-weight"},
-                       {"termination.roulette_survival", "--roulette-survival"}});
+                       {"termination.roulette_survival", "--roulette-survival"},
+                       {"splitting.levels", "--split-levels"},
+                       {"splitting.start_ld", "--split-start"},
+                       {"splitting.step_ld", "--split-step"},
+                       {"splitting.depth", "--split-depth"}});
     addCountOption(cmd, "--threads", a.settings.threads,
                    "worker threads, 0 … 1024 (default 0: all cores)", kThreadLimits);
     cmd->add_flag("--analog", a.analog, "same as --estimator analog (thesis Algorithm 1)");
@@ -201,7 +215,9 @@ int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a) {
     std::fprintf(stderr, "\n");
     pathtrace::SlabResult r = pathtrace::finalize(tracer.tally(), k.s);
     r.seconds = tracer.seconds();
-    return writeSlabCsv(a.out, k.m, k.s, r, std::string("GPU (") + ctx->renderer() + ")");
+    pathtrace::SlabSettings traced = k.s;
+    traced.splitting.levels = 0; // the GL tracer does not split (same expectation)
+    return writeSlabCsv(a.out, k.m, traced, r, std::string("GPU (") + ctx->renderer() + ")");
 }
 
 Command slabCommand() {

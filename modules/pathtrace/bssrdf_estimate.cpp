@@ -96,6 +96,7 @@ void validate(const EstimateSettings& s) {
         fail("paths: absurd path count " + std::to_string(s.paths) + " (> 10^13)");
     if (s.threads < 0) fail("threads must be >= 0 (0: all hardware threads)");
     validate(s.termination, what);
+    validate(s.splitting, what);
 }
 
 BssrdfTally makeTally(const BssrdfBins& b) {

@@ -94,6 +94,7 @@ struct EstimateSettings {
     Termination termination;
     BssrdfEstimator estimator = BssrdfEstimator::Connections;
     ScatterOrders orders = ScatterOrders::All;
+    Splitting splitting; // CPU walk only (pathtrace.h)
 };
 template <class V> void fields(V& v, EstimateSettings& s) {
     v("theta_i_deg", s.thetaIDeg, "incidence angles, degrees");
@@ -104,6 +105,7 @@ template <class V> void fields(V& v, EstimateSettings& s) {
     v("termination", s.termination, "roulette and event limit");
     v("estimator", s.estimator, "estimator");
     v("orders", s.orders, "scattering orders tallied");
+    v("splitting", s.splitting, "radial splitting (CPU)");
 }
 // Throws core::Error naming the setting: θi outside [0°, 90°) or not finite, no angle, bins
 // < 1 or absurd (more than 1e4 radial or θs bins, 1e3 direction rings or sectors, 4e6 cells in

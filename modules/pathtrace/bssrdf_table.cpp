@@ -163,11 +163,14 @@ BssrdfTable readTable(const std::filesystem::path& path) {
     }
     if (!h.is_object() || !h.contains("version") || !h["version"].is_number_integer())
         throw core::Error(file, 2, "header: no integer 'version'");
-    if (h["version"].get<long long>() != kTableVersion)
+    const long long version = h["version"].get<long long>();
+    if (version != kTableVersion && version != 1)
         throw core::Error(file, 2,
-                          "table version " + h["version"].dump() + "; this build reads version " +
+                          "table version " + h["version"].dump() +
+                              "; this build reads versions 1 " + "and " +
                               std::to_string(kTableVersion));
     BssrdfTable t;
+    if (version == 1) t.settings.splitting.levels = 0; // version 1 walks did not split
     for (const char* key : {"medium", "settings", "chunks", "values", "payload_bytes"})
         if (!h.contains(key)) throw core::Error(file, 2, std::string("header: no '") + key + "'");
     core::fromJson(h["medium"], t.medium, file, "medium");
@@ -295,6 +298,7 @@ SlabResult slabResultOf(const BssrdfTable& t, SlabSettings& s, const std::string
     s.paths = e.paths;
     s.seed = e.seed;
     s.termination = e.termination;
+    s.splitting = e.splitting;
     s.estimator = e.estimator == BssrdfEstimator::Analog     ? Estimator::Analog
                   : e.estimator == BssrdfEstimator::Implicit ? Estimator::Implicit
                                                              : Estimator::Connections;

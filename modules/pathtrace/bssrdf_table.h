@@ -25,7 +25,8 @@
 
 namespace pathtrace {
 
-constexpr int kTableVersion = 1;
+// Version 2 added settings.splitting; a version-1 table reads as a walk without splitting.
+constexpr int kTableVersion = 2;
 
 struct BssrdfTable {
     Medium medium;

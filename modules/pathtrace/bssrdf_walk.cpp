@@ -118,6 +118,18 @@ class Walker {
         maxEvents = std::max<uint32_t>(1, s.termination.maxEvents);
         rouletteWeight = s.termination.rouletteWeight;
         rouletteSurvival = s.termination.rouletteSurvival;
+        // Radial splitting (implicit and connections; analog weights stay 1).
+        const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
+        m_split = s.splitting.levels > 0 && m_est != BssrdfEstimator::Analog && std::isfinite(ld);
+        if (m_split) {
+            m_splitLevels = s.splitting.levels;
+            m_splitStart = s.splitting.startLd * ld;
+            m_splitStep = s.splitting.stepLd * ld;
+            m_splitDepth = s.splitting.depth;
+        }
+        // The weight window: roulette below roulette_weight / 2^level.
+        for (int k = 0; k <= (m_split ? m_splitLevels : 0); ++k)
+            m_rouletteWeight.push_back(std::ldexp(rouletteWeight, -k));
         m_edges = m_bins.rEdges();
         m_nT = m_bins.thetaSBins;
         m_dTheta = std::numbers::pi / m_nT;
@@ -131,54 +143,104 @@ class Walker {
     uint32_t maxEvents = 0;
     double rouletteWeight = 0, rouletteSurvival = 0;
 
-    // One path into `t`; `record` (may be null) receives its accounting.
+    // One path (with every copy radial splitting makes of it) into `t`; `record` (may be null)
+    // receives its accounting.
     void trace(Pcg32 rng, detail::ChunkTally& t, PathRecord* record = nullptr) {
-        double w = m_w0, absorbed = 0, loss = 0, truncated = 0, exitInside = 0;
-        double exitWeight = 0, exitR = -1;
-        double x = 0, y = 0, z = 0;
-        Dir u = m_entry;
-        uint32_t events = 0;
+        double absorbed = 0, loss = 0, truncated = 0, exitInside = 0, exitWeight = 0, exitR = -1;
+        uint32_t work = 0, longest = 0; // interactions of every copy, of the longest
+        if (record) *record = PathRecord{};
         const bool analog = m_est == BssrdfEstimator::Analog;
         const bool connect = m_est == BssrdfEstimator::Connections;
+        // The current copy, in locals (kept in registers; the stack holds the others).
+        double x = 0, y = 0, z = 0, w = m_w0;
+        Dir u = m_entry;
+        uint32_t events = 0;
+        int level = 0;
+        bool atCollision = false; // a copy taken from the stack starts at its collision
+        m_stack.clear();
         for (;;) {
-            const double s = sampleDistance(1.0, rng.uniform()) * m_invSigmaT;
-            if (u.z > 0.0 && z + s * u.z >= 0.0) { // boundary hit
-                const double tHit = -z / u.z;
-                x += tHit * u.x;
-                y += tHit * u.y;
-                const double f = fresnelDielectric(u.z, m_etaOut);
-                if (f < 1.0 && (f <= 0.0 || rng.uniform32() >= f)) { // exit
-                    t.exitSum += w;
-                    t.exitSumSq += w * w;
-                    if (ordered(events)) exitInside += exitTally(x, y, u, w, !connect);
-                    exitWeight = w;
-                    exitR = std::sqrt(x * x + y * y);
-                    break;
+            bool ended = false;
+            if (!atCollision) {
+                const double s = sampleDistance(1.0, rng.uniform()) * m_invSigmaT;
+                if (u.z > 0.0 && z + s * u.z >= 0.0) { // boundary hit
+                    const double tHit = -z / u.z;
+                    x += tHit * u.x;
+                    y += tHit * u.y;
+                    const double f = fresnelDielectric(u.z, m_etaOut);
+                    if (f < 1.0 && (f <= 0.0 || rng.uniform32() >= f)) { // exit
+                        if (ordered(events)) exitInside += exitTally(x, y, u, w, !connect);
+                        exitWeight += w;
+                        exitR = std::sqrt(x * x + y * y);
+                        if (record) record->exits.emplace_back(exitR, w);
+                        ended = true;
+                    } else {
+                        u.z = -u.z;
+                        const double rest = std::max(0.0, s - tHit);
+                        x += rest * u.x;
+                        y += rest * u.y;
+                        z = rest * u.z;
+                    }
+                } else {
+                    x += s * u.x;
+                    y += s * u.y;
+                    z += s * u.z;
                 }
-                u.z = -u.z;
-                const double rest = std::max(0.0, s - tHit);
-                x += rest * u.x;
-                y += rest * u.y;
-                z = rest * u.z;
-            } else {
-                x += s * u.x;
-                y += s * u.y;
-                z += s * u.z;
-            }
-            ++events;
-            if (connect && ordered(events)) connectVertex(x, y, z, u, albedo * w, rng);
-            if (m_orders == ScatterOrders::SingleOnly && (connect || events >= 2)) break;
-            if (analog) {
-                if (rng.uniform32() >= albedo) {
-                    absorbed += w;
-                    break;
+                if (!ended) {
+                    ++events;
+                    ++work;
+                    if (connect && ordered(events)) connectVertex(x, y, z, u, albedo * w, rng);
+                    ended = m_orders == ScatterOrders::SingleOnly && (connect || events >= 2);
                 }
-            } else if (!detail::absorbAndRoulette(w, absorbed, loss, *this, rng)) {
-                break;
+                // Radial splitting (Splitting in pathtrace.h): split on the way out, roulette
+                // on the way in.
+                if (!ended && m_split && !inLevel(x, y, z, level)) {
+                    const int k = levelOf(x, y, z);
+                    if (k > level) {
+                        const int n = 1 << (k - level);
+                        w /= n;
+                        level = k;
+                        for (int i = 1; i < n; ++i)
+                            m_stack.push_back({x, y, z, u, w, events, k});
+                    } else if (k < level) {
+                        const double survive = std::ldexp(1.0, k - level);
+                        if (rng.uniform32() < survive) {
+                            const double ws = w / survive;
+                            loss -= ws - w;
+                            w = ws;
+                            level = k;
+                        } else {
+                            loss += w;
+                            ended = true;
+                        }
+                    }
+                }
             }
-            if (!detail::belowEventLimit(w, truncated, events, *this)) break;
+            atCollision = false;
+            if (!ended) {
+                if (analog) {
+                    if (rng.uniform32() >= albedo) {
+                        absorbed += w;
+                        ended = true;
+                    }
+                } else {
+                    rouletteWeight = m_rouletteWeight[size_t(level)];
+                    ended = !detail::absorbAndRoulette(w, absorbed, loss, *this, rng);
+                }
+                if (!ended) ended = !detail::belowEventLimit(w, truncated, events, *this);
+            }
+            if (ended) {
+                longest = std::max(longest, events);
+                if (m_stack.empty()) break;
+                const Copy& c = m_stack.back();
+                x = c.x, y = c.y, z = c.z, u = c.u, w = c.w, events = c.events, level = c.level;
+                m_stack.pop_back();
+                atCollision = true;
+                continue;
+            }
             u = m_g == 0.0 ? sampleSphere(rng) : scatterHg(u, m_g, rng);
         }
+        t.exitSum += exitWeight;
+        t.exitSumSq += exitWeight * exitWeight;
         const double binTotal = m_binAcc.flush(t.binSum, t.binSumSq);
         if (m_nD > 1) m_dirAcc.flush(t.dirSum, t.dirSumSq);
         // Single-only connections end the walk at its first collision: no exits to compare.
@@ -193,14 +255,45 @@ class Walker {
         t.truncSum += truncated;
         t.truncSumSq += truncated * truncated;
         if (truncated > 0) ++t.truncatedPaths;
-        t.events += events;
+        t.events += work;
         ++t.paths;
-        if (record)
-            *record = {m_specular, exitWeight, absorbed, loss,
-                       truncated,  exitR,      events,   exitR >= 0};
+        if (record) {
+            record->specular = m_specular;
+            record->reflected = exitWeight;
+            record->absorbed = absorbed;
+            record->rouletteLoss = loss;
+            record->truncated = truncated;
+            record->exitR = exitR;
+            record->events = work;
+            record->longestCopy = longest;
+            record->exited = exitR >= 0;
+        };
     }
 
   private:
+    // The state of one copy of a path at a collision (or, for the first, at entry).
+    struct Copy {
+        double x, y, z;
+        Dir u;
+        double w;
+        uint32_t events;
+        int level;
+    };
+    // Radial splitting's level of a point (pathtrace.h, Splitting).
+    int levelOf(double x, double y, double z) const {
+        const double v = std::sqrt(x * x + y * y) + m_splitDepth * z; // z <= 0
+        if (!(v >= m_splitStart)) return 0;
+        return int(
+            std::min(double(m_splitLevels), 1.0 + std::floor((v - m_splitStart) / m_splitStep)));
+    }
+    // Whether (x, y, z) is still at `level`, without a square root: ρ + depth·z lies in
+    // [start + (level − 1)·step, start + level·step) (the last level has no upper end).
+    bool inLevel(double x, double y, double z, int level) const {
+        const double rho2 = x * x + y * y, base = m_splitStart - m_splitDepth * z; // >= 0
+        const double lo = level == 0 ? 0.0 : base + (level - 1) * m_splitStep;
+        const double hi = base + level * m_splitStep;
+        return rho2 >= lo * lo && (level == m_splitLevels || rho2 < hi * hi);
+    }
     // Whether a collision (or an exit after `events` collisions) belongs to the tallied orders.
     bool ordered(uint32_t events) const {
         switch (m_orders) {
@@ -315,6 +408,11 @@ class Walker {
     int m_nT = 1, m_nD = 1;
     double m_dTheta = std::numbers::pi;
     PathAcc m_binAcc, m_dirAcc;
+    bool m_split = false;
+    int m_splitLevels = 0;
+    double m_splitStart = 0, m_splitStep = 1, m_splitDepth = 0;
+    std::vector<double> m_rouletteWeight; // per level
+    std::vector<Copy> m_stack;            // copies waiting to be traced
 };
 
 } // namespace

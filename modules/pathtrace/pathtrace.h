@@ -89,6 +89,34 @@ template <class V> void fields(V& v, Termination& t) {
 // rouletteSurvival not in (0, 1], maxEvents < 1.
 void validate(const Termination& t, const std::string& what);
 
+// Radial splitting of the slab walk (bssrdf_walk.cpp; CPU only): importance splitting by
+// position (geometry splitting, Kahn & Harris 1951) with Russian roulette on the way back, so
+// that the walk spends its time where the pencil profile is hardest to resolve, far from the
+// beam. A collision at radius ρ from the entry point and depth |z| has level
+//     k = min(levels, 1 + ⌊(ρ − depth·|z| − start·l_d) / (step·l_d)⌋)  (0 below start),
+// l_d = 1/√(3σa σt') the diffusion length (σa = 0: no splitting). Importance is 2^k: a path
+// that climbs from level k to k' > k goes on as 2^{k'−k} copies of weight w/2^{k'−k}; one that
+// falls to k' < k survives with probability 2^{k'−k} and weight w·2^{k−k'}; the weight roulette
+// compares w·2^k with roulette_weight (a weight window). Unbiased, and w·2^k never grows, so
+// weights stay bounded. A path's copies belong to its history: they are tallied into the same
+// per-path sums (second moments per history, so standard errors stay honest) and draw from its
+// one random stream, so results stay independent of threads and shards. Analog walks do not
+// split (their weights are 1). The defaults were chosen by `bench pathtrace`'s efficiency per
+// radial range on the cases of its tables (docs/ARCHITECTURE.md, "Radial splitting").
+struct Splitting {
+    int levels = 5;       // 0: off
+    double startLd = 0.5; // first level at ρ − depth·|z| = start·l_d
+    double stepLd = 1.0;  // one level more every step·l_d
+    double depth = 3.0;   // weight of depth against radius
+};
+template <class V> void fields(V& v, Splitting& s) {
+    v("levels", s.levels, "splitting levels (importance x2 each; 0: off)", core::Limits{0, 10});
+    v("start_ld", s.startLd, "first level at rho - depth*|z| = start * l_d", core::Limits{0, 1e6});
+    v("step_ld", s.stepLd, "one more level every step * l_d", core::Limits{1e-3, 1e6});
+    v("depth", s.depth, "weight of depth |z| against radius rho", core::Limits{0, 1e6});
+}
+void validate(const Splitting& s, const std::string& what);
+
 enum class Estimator {
     Implicit,    // absorption by weight + weight roulette (efficient; the default)
     Analog,      // thesis Algorithm 1 as printed: absorption by roulette
@@ -109,6 +137,7 @@ struct SlabSettings {
     int threads = 0; // 0: all hardware threads
     Termination termination;
     Estimator estimator = Estimator::Implicit;
+    Splitting splitting; // CPU walk only (the GL tracer ignores it: same expectation)
 };
 // The description of SlabSettings' members (core/fields.h).
 template <class V> void fields(V& v, SlabSettings& s) {
@@ -119,6 +148,7 @@ template <class V> void fields(V& v, SlabSettings& s) {
     v.skip(s.threads, "worker threads; results do not depend on it");
     v("termination", s.termination, "roulette and event limit");
     v("estimator", s.estimator, "absorption estimator");
+    v("splitting", s.splitting, "radial splitting (CPU)");
 }
 // Throws core::Error naming the field: rMax <= 0 or non-finite, bins < 1 or too many
 // (> 1e7), paths == 0 or absurd (> 1e13), threads < 0, a bad termination (see above).
@@ -143,15 +173,19 @@ struct SlabTally {
 
 // What one path did (tracePath): the per-path accounting identity
 //   specular + reflected + absorbed + truncated + rouletteLoss == 1 holds up to rounding.
+// A path split by radial splitting (Splitting) is one record with all its copies: their exits,
+// weights and interactions add up.
 struct PathRecord {
-    double specular = 0;     // R_sp
-    double reflected = 0;    // weight that left through the surface (0 when it did not)
-    double absorbed = 0;     // absorbed weight (expected, under Estimator::Implicit)
-    double rouletteLoss = 0; // weight removed minus weight added by roulettes
-    double truncated = 0;    // weight of the path when it was truncated at maxEvents
-    double exitR = -1;       // radius of the exit point, mm (-1: did not exit)
-    uint32_t events = 0;     // interactions
+    double specular = 0;      // R_sp
+    double reflected = 0;     // weight that left through the surface (0 when it did not)
+    double absorbed = 0;      // absorbed weight (expected, under Estimator::Implicit)
+    double rouletteLoss = 0;  // weight removed minus weight added by roulettes
+    double truncated = 0;     // weight of the path when it was truncated at maxEvents
+    double exitR = -1;        // radius of the last exit point, mm (-1: did not exit)
+    uint32_t events = 0;      // interactions, every copy's
+    uint32_t longestCopy = 0; // interactions of its longest copy (<= maxEvents)
     bool exited = false;
+    std::vector<std::pair<double, double>> exits; // (radius mm, weight) of every exit, in order
 };
 // Paths are tallied and merged in chunks of this many, whatever the thread count.
 constexpr uint64_t kChunkPaths = 16384;

@@ -31,6 +31,7 @@ EstimateSettings estimateSettingsOf(const SlabSettings& s) {
     e.seed = s.seed;
     e.threads = s.threads;
     e.termination = s.termination;
+    e.splitting = s.splitting;
     e.estimator = s.estimator == Estimator::Analog     ? BssrdfEstimator::Analog
                   : s.estimator == Estimator::Implicit ? BssrdfEstimator::Implicit
                                                        : BssrdfEstimator::Connections;

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <string>
 
@@ -36,15 +37,19 @@ void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s) {
     ++t.paths;
     t.specular = p.specular;
     t.events += p.events;
-    if (p.exited) {
-        const double w = p.reflected;
-        t.rdSum += w;
-        t.rdSumSq += w * w;
-        const int b = binOf(p.exitR, s);
-        if (b >= 0 && static_cast<size_t>(b) < t.binSum.size()) {
-            t.binSum[static_cast<size_t>(b)] += w;
-            t.binSumSq[static_cast<size_t>(b)] += w * w;
-        }
+    // As the walk sums a path: each bin's exits in order, then the bins in index order.
+    std::map<int, double> perBin;
+    double total = 0;
+    for (const auto& [r, w] : p.exits) {
+        total += w;
+        const int b = binOf(r, s);
+        if (b >= 0 && static_cast<size_t>(b) < t.binSum.size()) perBin[b] += w;
+    }
+    t.rdSum += total;
+    t.rdSumSq += total * total;
+    for (const auto& [b, w] : perBin) {
+        t.binSum[static_cast<size_t>(b)] += w;
+        t.binSumSq[static_cast<size_t>(b)] += w * w;
     }
     t.absSum += p.absorbed;
     t.absSumSq += p.absorbed * p.absorbed;

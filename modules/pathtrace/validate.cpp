@@ -37,6 +37,23 @@ void validate(const Termination& t, const std::string& what) {
         throw core::Error(what, 0, "maxEvents must be >= 1, got " + std::to_string(t.maxEvents));
 }
 
+void validate(const Splitting& s, const std::string& what) {
+    if (s.levels < 0 || s.levels > 10)
+        throw core::Error(what, 0,
+                          "splitting levels must lie in [0, 10], got " + std::to_string(s.levels));
+    if (!(std::isfinite(s.startLd) && s.startLd >= 0))
+        throw core::Error(what, 0,
+                          "splitting start must be finite and >= 0 (diffusion lengths), got " +
+                              core::formatNumber(s.startLd));
+    if (!(std::isfinite(s.stepLd) && s.stepLd >= 1e-3))
+        throw core::Error(what, 0,
+                          "splitting step must be finite and >= 0.001 (diffusion lengths), got " +
+                              core::formatNumber(s.stepLd));
+    if (!(std::isfinite(s.depth) && s.depth >= 0))
+        throw core::Error(
+            what, 0, "splitting depth must be finite and >= 0, got " + core::formatNumber(s.depth));
+}
+
 void validate(const SlabSettings& s) {
     const std::string what = "slab settings";
     if (!std::isfinite(s.rMaxMm) || s.rMaxMm <= 0)
@@ -55,6 +72,7 @@ void validate(const SlabSettings& s) {
                           "threads must be >= 0 (0: all hardware threads), got " +
                               std::to_string(s.threads));
     validate(s.termination, what);
+    validate(s.splitting, what);
     if (s.estimator != Estimator::Implicit && s.estimator != Estimator::Analog &&
         s.estimator != Estimator::Connections)
         throw core::Error(what, 0, "estimator: unknown value");

@@ -1,9 +1,9 @@
 // End-to-end tests of `estimate` and `merge` (app/cli/estimate_commands.h) on the real executable:
 // the table and its CSVs, shards merged into bitwise the file of one run, and every bad input the
 // reference issue lists — incidence angles, bin counts, shard specs, unwritable outputs, and
-// table files that are truncated, of another version, not tables, with a NaN in the header or
-// a negative value, or of another medium — each failing with a message naming the argument or
-// file.
+// table files that are truncated, of another version (version 1 still reads), not tables, with a
+// NaN in the header or a negative value, or of another medium — each failing with a message naming
+// the argument or file.
 #include "../support/cli_fixture.h"
 
 #include <gtest/gtest.h>
@@ -276,10 +276,22 @@ TEST_F(Estimate, RejectsBadTableFiles) {
     expectFailure(merge("header.bwtable"), {"header.bwtable"});
     write("long.bwtable", good + "extra");
     expectFailure(merge("long.bwtable"), {"long.bwtable", "after the payload"});
-    std::string v2 = good;
-    v2.replace(v2.find("\"version\":1"), 11, "\"version\":2");
-    write("v2.bwtable", v2);
-    expectFailure(merge("v2.bwtable"), {"v2.bwtable", "version 2", "reads version 1"});
+    // A version-1 table (before radial splitting) has no `splitting`: it reads, and merges,
+    // as a walk without splitting.
+    std::string v1 = good;
+    const size_t split = v1.find(",\"splitting\":{");
+    ASSERT_NE(split, std::string::npos);
+    v1.erase(split, v1.find('}', split) + 1 - split);
+    v1.replace(v1.find("\"version\":2"), 11, "\"version\":1");
+    write("v1.bwtable", v1);
+    ASSERT_EQ(run(merge("v1.bwtable")).code, 0);
+    const std::string merged = bytes("x.bwtable");
+    EXPECT_NE(merged.find("\"splitting\":{\"depth\":3.0,\"levels\":0"), std::string::npos)
+        << merged.substr(0, merged.find('\n', merged.find('\n') + 1));
+    std::string v3 = good;
+    v3.replace(v3.find("\"version\":2"), 11, "\"version\":3");
+    write("v3.bwtable", v3);
+    expectFailure(merge("v3.bwtable"), {"v3.bwtable", "version 3", "reads versions 1 and 2"});
     std::string nan = good;
     nan.replace(nan.find("\"sigma_a\":0.2"), 13, "\"sigma_a\":NaN");
     write("nan.bwtable", nan);

@@ -49,54 +49,76 @@ void expectBitwiseEqual(const SlabResult& a, const SlabResult& b) {
 
 // (a) specular + reflected + absorbed + truncated + rouletteLoss == 1 for every path, to 1e-12;
 // every weight stays bounded (≤ 1 here: entry weight ≤ 1, roulette survivors ≤ 0.1/0.5), and a
-// path truncated at the event limit ends there with its weight as `truncated`.
+// path truncated at the event limit ends there with its weight as `truncated`. With radial
+// splitting (on by default) a path's copies add up: its exits, and the weights and roulette
+// changes of every copy, in the same identity.
 TEST(Slab, EnergyAccountingPerPath) {
-    int checked = 0, exited = 0, truncatedPaths = 0;
-    for (Estimator est : {Estimator::Implicit, Estimator::Analog})
-        for (double eta : {1.0, 1.3})
-            for (double g : {0.0, 0.9})
-                for (double albedo : {0.5, 0.99, 1.0})
-                    for (uint32_t limit : {1u << 20, 20u}) {
-                        const Medium m = medium(albedo, g, eta);
-                        SlabSettings s;
-                        s.estimator = est;
-                        s.termination.maxEvents = limit;
-                        s.seed = 77;
-                        for (uint64_t i = 0; i < 2000; ++i) {
-                            const PathRecord p = tracePath(m, s, i);
-                            const double sum = p.specular + p.reflected + p.absorbed + p.truncated +
-                                               p.rouletteLoss;
-                            ASSERT_NEAR(sum, 1.0, 1e-12) << "eta " << eta << " g " << g
-                                                         << " albedo " << albedo << " path " << i;
-                            ASSERT_GE(p.reflected, 0.0);
-                            ASSERT_GE(p.absorbed, 0.0);
-                            ASSERT_GE(p.events, 1u);
-                            ASSERT_LE(p.events, limit);
-                            ASSERT_LE(p.reflected, 1.0);
-                            ASSERT_LE(p.truncated, 1.0);
-                            ASSERT_LE(std::fabs(p.rouletteLoss), 1.0);
-                            if (p.truncated > 0) {
-                                ASSERT_EQ(p.events, limit);
-                                ASSERT_FALSE(p.exited);
-                                ++truncatedPaths;
+    int checked = 0, exited = 0, truncatedPaths = 0, splitPaths = 0;
+    for (int levels : {0, Splitting{}.levels})
+        for (Estimator est : {Estimator::Implicit, Estimator::Analog})
+            for (double eta : {1.0, 1.3})
+                for (double g : {0.0, 0.9})
+                    for (double albedo : {0.5, 0.99, 1.0})
+                        for (uint32_t limit : {1u << 20, 20u}) {
+                            // σa = 0: l_d is infinite and nothing splits (and such paths are long)
+                            if (levels > 0 && albedo == 1.0) continue;
+                            const Medium m = medium(albedo, g, eta);
+                            SlabSettings s;
+                            s.estimator = est;
+                            s.termination.maxEvents = limit;
+                            s.splitting.levels = levels;
+                            s.seed = 77;
+                            for (uint64_t i = 0; i < 2000; ++i) {
+                                const PathRecord p = tracePath(m, s, i);
+                                const double sum = p.specular + p.reflected + p.absorbed +
+                                                   p.truncated + p.rouletteLoss;
+                                ASSERT_NEAR(sum, 1.0, 1e-12)
+                                    << "eta " << eta << " g " << g << " albedo " << albedo
+                                    << " path " << i;
+                                ASSERT_GE(p.reflected, 0.0);
+                                ASSERT_GE(p.absorbed, 0.0);
+                                ASSERT_GE(p.events, 1u);
+                                ASSERT_LE(p.longestCopy, limit);
+                                ASSERT_GE(p.events, p.longestCopy);
+                                if (levels == 0) { // one copy: its weights are bounded by 1
+                                    ASSERT_EQ(p.events, p.longestCopy);
+                                    ASSERT_LE(p.reflected, 1.0);
+                                    ASSERT_LE(p.truncated, 1.0);
+                                    ASSERT_LE(std::fabs(p.rouletteLoss), 1.0);
+                                }
+                                if (p.truncated > 0) {
+                                    ASSERT_EQ(p.longestCopy, limit);
+                                    if (levels == 0) { // one copy: one end
+                                        ASSERT_FALSE(p.exited);
+                                    }
+                                    ++truncatedPaths;
+                                }
+                                ASSERT_EQ(p.exits.size() > 1, p.exits.size() > 1 && levels > 0);
+                                double exitSum = 0;
+                                for (const auto& e : p.exits) {
+                                    ASSERT_LE(e.second, 1.0); // each copy's weight is bounded
+                                    exitSum += e.second;
+                                }
+                                ASSERT_EQ(exitSum, p.reflected);
+                                splitPaths += p.exits.size() > 1;
+                                ASSERT_EQ(p.exited, p.exitR >= 0);
+                                if (p.exited) {
+                                    ASSERT_GT(p.reflected, 0.0);
+                                } else {
+                                    ASSERT_EQ(p.reflected, 0.0);
+                                }
+                                if (albedo == 1.0) {
+                                    ASSERT_EQ(p.absorbed, 0.0);
+                                }
+                                if (est == Estimator::Analog && p.absorbed > 0) {
+                                    ASSERT_FALSE(p.exited);
+                                }
+                                exited += p.exited;
+                                ++checked;
                             }
-                            ASSERT_EQ(p.exited, p.exitR >= 0);
-                            if (p.exited) {
-                                ASSERT_GT(p.reflected, 0.0);
-                            } else {
-                                ASSERT_EQ(p.reflected, 0.0);
-                            }
-                            if (albedo == 1.0) {
-                                ASSERT_EQ(p.absorbed, 0.0);
-                            }
-                            if (est == Estimator::Analog && p.absorbed > 0) {
-                                ASSERT_FALSE(p.exited);
-                            }
-                            exited += p.exited;
-                            ++checked;
                         }
-                    }
-    EXPECT_EQ(checked, 2 * 2 * 2 * 3 * 2 * 2000);
+    EXPECT_EQ(checked, 2 * 2 * 2 * (3 + 2) * 2 * 2000);
+    EXPECT_GT(splitPaths, 100); // radial splitting was exercised
     EXPECT_GT(exited, checked / 4);
     EXPECT_GT(truncatedPaths, 100); // the event limit was exercised
 }

@@ -34,7 +34,7 @@ inline bool absorbAndRoulette(double& w, double& absorbed, double& loss, const C
 template <class Consts>
 inline bool belowEventLimit(double w, double& truncated, uint32_t events, const Consts& c) {
     if (events < c.maxEvents) return true;
-    truncated = w;
+    truncated += w; // a path's copies (radial splitting) add up
     return false;
 }
 
