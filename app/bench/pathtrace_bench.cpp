@@ -1,5 +1,6 @@
 // bench pathtrace: throughput and time-to-1 % of the volumetric path tracers.
 #include "bench/bench.h"
+#include "bench/mcml_peer.h"
 
 #include "core/core.h"
 #include "core/fields.h"
@@ -44,13 +45,26 @@ double gpuRate(pathtrace::GpuSlabTracer& gpu, const pathtrace::Medium& m, pathtr
     return double(gpu.pathsDone() - before) / std::max(gpu.seconds() - t0, 1e-9);
 }
 
-// Time for this single-core run to reach 1 % relative standard error in the bin holding r
-// (the variance per path is what a run measures; time scales with 1/variance).
+// The mean relative standard error of the 11 bins around the one holding r (±5 bins: one bin
+// alone would make the figure as noisy as its own error estimate).
+double meanRelativeError(const std::vector<double>& v, const std::vector<double>& se, int b) {
+    double sum = 0;
+    int n = 0;
+    for (int i = std::max(0, b - 5); i <= std::min(int(v.size()) - 1, b + 5); ++i) {
+        if (!(v[size_t(i)] > 0)) return INFINITY;
+        sum += se[size_t(i)] / v[size_t(i)];
+        ++n;
+    }
+    return n ? sum / n : INFINITY;
+}
+
+// Time for this single-core run to reach 1 % relative standard error at r (mean of the ±5 bins
+// around it; the variance per path is what a run measures; time scales with 1/variance).
 double timeTo1Percent(const pathtrace::SlabResult& r, const pathtrace::SlabSettings& s,
                       double rMm) {
     const int b = pathtrace::binOf(rMm, s);
-    if (b < 0 || !(r.rd[size_t(b)] > 0)) return INFINITY;
-    const double rel = r.rdStderr[size_t(b)] / r.rd[size_t(b)];
+    if (b < 0) return INFINITY;
+    const double rel = meanRelativeError(r.rd, r.rdStderr, b);
     return r.seconds * (rel / 0.01) * (rel / 0.01);
 }
 
@@ -148,7 +162,8 @@ std::pair<double, double> estimateRates(const pathtrace::Medium& m, pathtrace::E
 
 } // namespace
 
-int benchPathtrace(const std::filesystem::path& root, double seconds) {
+int benchPathtrace(const std::filesystem::path& root, double seconds,
+                   const std::filesystem::path& mcml) {
     std::unique_ptr<gl::Context> ctx;
     std::unique_ptr<pathtrace::GpuSlabTracer> gpu;
     std::unique_ptr<pathtrace::GpuBssrdfEstimator> gpuWalk;
@@ -223,18 +238,42 @@ int benchPathtrace(const std::filesystem::path& root, double seconds) {
                     "t(1%) @ 4 l_d", "vs analog @1", "vs analog @4", "ns/event");
         double analogAt1 = NAN, analogAt4 = NAN, implicitAt1 = NAN, implicitAt4 = NAN;
         std::vector<std::string> efficiency; // per estimator line, printed below the table
-        for (auto est : {pathtrace::Estimator::Analog, pathtrace::Estimator::Implicit}) {
-            s.estimator = est;
+        // CPU lines: analog, implicit without radial splitting, implicit with the default
+        // splitting (pathtrace.h, Splitting), and MCML's own roulette (w < 10^-4, survival 0.1)
+        // on our walk: MCML's estimator, so its variance per path is MCML's.
+        struct Line {
+            const char* name;
+            pathtrace::Estimator est;
+            int levels;
+            double rouletteWeight, rouletteSurvival;
+        };
+        const pathtrace::Termination term;
+        const Line lines[] = {
+            {"analog", pathtrace::Estimator::Analog, 0, term.rouletteWeight, term.rouletteSurvival},
+            {"implicit", pathtrace::Estimator::Implicit, 0, term.rouletteWeight,
+             term.rouletteSurvival},
+            {"split", pathtrace::Estimator::Implicit, pathtrace::Splitting{}.levels,
+             term.rouletteWeight, term.rouletteSurvival},
+            {"mcml-rr", pathtrace::Estimator::Implicit, 0, 1e-4, 0.1}};
+        std::vector<std::pair<std::string, std::pair<double, double>>> cpuTimes;
+        for (const Line& line : lines) {
+            s.estimator = line.est;
+            s.splitting.levels = line.levels;
+            s.termination.rouletteWeight = line.rouletteWeight;
+            s.termination.rouletteSurvival = line.rouletteSurvival;
             const auto r = cpuRun(c.m, s, seconds * 4);
             const double t1 = timeTo1Percent(r, s, ld), t4 = timeTo1Percent(r, s, 4 * ld);
-            if (est == pathtrace::Estimator::Analog) analogAt1 = t1, analogAt4 = t4;
-            if (est == pathtrace::Estimator::Implicit) implicitAt1 = t1, implicitAt4 = t4;
-            std::printf("%-10s %12.0f %13.1fs %13.1fs %11.2fx %11.2fx %10.1f\n", core::nameOf(est),
+            if (line.est == pathtrace::Estimator::Analog) analogAt1 = t1, analogAt4 = t4;
+            if (std::string(line.name) == "implicit") implicitAt1 = t1, implicitAt4 = t4;
+            std::printf("%-10s %12.0f %13.2fs %13.2fs %11.2fx %11.2fx %10.1f\n", line.name,
                         double(r.paths) / r.seconds, t1, t4, analogAt1 / t1, analogAt4 / t4,
                         1e9 * r.seconds / double(std::max<uint64_t>(r.events, 1)));
-            efficiency.push_back(std::string("CPU ") + core::nameOf(est) + ":" +
+            efficiency.push_back(std::string("CPU ") + line.name + ":" +
                                  efficiencyByRange(r, s, ld));
+            cpuTimes.push_back({line.name, {t1, t4}});
         }
+        s.splitting = {};
+        s.termination = term;
         // The GL tracer on the same case, whichever device the context has (on llvmpipe: the
         // CPU's cores through the GL compute path), against the CPU's one core above.
         if (gpu)
@@ -278,6 +317,30 @@ int benchPathtrace(const std::filesystem::path& root, double seconds) {
                     "vs implicit)\n",
                     "connect-all", fr, f1, f4, analogAt1 / f1, analogAt4 / f4, s.bins,
                     implicitAt1 / f1, implicitAt4 / f4);
+        if (!mcml.empty() && &c == &cases[0]) {
+            McmlCase mc;
+            mc.bins = std::max(400, int(std::ceil(4 * ld / mc.binMm)) + 10);
+            std::printf("running MCML (%s): %lld photons in %d runs of one process ...\n",
+                        mcml.string().c_str(), mc.photonsPerBatch * mc.batches, mc.batches);
+            std::fflush(stdout);
+            const McmlPeer p = runMcmlPeer(mcml, c.m, mc);
+            std::vector<double> ones(p.relVar.size(), 1.0), se(p.relVar.size());
+            for (size_t i = 0; i < se.size(); ++i)
+                se[i] = std::sqrt(p.relVar[i] / p.photons);
+            auto t = [&](double r) {
+                const double rel = meanRelativeError(ones, se, int(r / mc.binMm));
+                return p.seconds * (rel / 0.01) * (rel / 0.01);
+            };
+            const double m1 = t(ld), m4 = t(4 * ld);
+            std::printf("%-10s %12.0f %13.2fs %13.2fs   (MCML 1.2.2 here, one core; its variance "
+                        "per photon from %d independent runs)\n",
+                        "MCML", p.photonsPerSecond, m1, m4, mc.batches);
+            std::printf("MCML's time to 1 %% over ours (targets 20x at l_d, 10x at 4 l_d):");
+            for (const auto& [name, times] : cpuTimes)
+                std::printf("  %s %.2fx, %.2fx;", name.c_str(), m1 / times.first,
+                            m4 / times.second);
+            std::printf("\n");
+        }
         std::printf("efficiency 1/(rel. variance x s) = 1e4/t(1%%), geometric mean over the bins "
                     "of r/l_d in [0,1) [1,2) [2,3) [3,4):\n");
         for (const std::string& line : efficiency)

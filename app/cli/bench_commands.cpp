@@ -28,10 +28,15 @@ Command benchPathtraceCommand() {
     return {"bench pathtrace", "path tracer: paths/s and time to 1% error", false,
             [](CLI::App& cmd) -> CommandRun {
                 auto seconds = std::make_shared<double>(4.0);
+                auto mcml = std::make_shared<std::string>();
                 cmd.add_option("--seconds", *seconds, "seconds per case and tracer (default 4)")
                     ->check(CLI::Range(0.5, 600.0));
-                return
-                    [seconds](CommandContext& ctx) { return benchPathtrace(ctx.root(), *seconds); };
+                cmd.add_option("--mcml", *mcml,
+                               "MCML 1.2.2's mcml binary: time it here on the reference case "
+                               "(2e6 photons) beside our tracer");
+                return [seconds, mcml](CommandContext& ctx) {
+                    return benchPathtrace(ctx.root(), *seconds, *mcml);
+                };
             }};
 }
 
