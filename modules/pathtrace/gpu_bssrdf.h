@@ -1,6 +1,7 @@
 // pathtrace GPU half of the oblique-incidence BSSRDF estimate (bssrdf_estimate.h): the random
 // walk of Dal Corso & Frisvad ("On BSSRDF estimation", 2018; seed 001) with the estimators
 // analog, implicit and connections, as an OpenGL 4.5 compute shader, shaders/bssrdf_walk.comp.
+//   No radial splitting (its tables say levels 0; same expectation).
 //   Same physics, conventions, bins, orders and termination as the CPU walk (bssrdf_walk.cpp),
 //   traced in float with a Philox4x32-10 stream per (seed of the angle, path index): equal to
 //   the CPU estimate in distribution, not bitwise. The result is a BssrdfTally of the same

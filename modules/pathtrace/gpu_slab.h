@@ -3,6 +3,7 @@
 //   Same physics, conventions, estimators (Implicit / Analog) and tally as the CPU tracer,
 //   traced in float with a Philox4x32-10 stream per path index
 //   (shaders/common/pathtrace_rng.glsl): statistically, not bitwise, equal to the CPU result.
+//   No radial splitting (SlabSettings::splitting is the CPU walk's; same expectation).
 //   Work: step() cuts its paths into rounds of ≤ kMaxPathsPerRound new paths; each dispatch
 //   of a round gives every invocation an event budget (paths one after another, one event per
 //   loop iteration); a path still running when the budget is spent is saved whole and resumed
