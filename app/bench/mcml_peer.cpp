@@ -10,6 +10,7 @@
 #include "pathtrace/mco.h"
 #include "probe/child_process.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>

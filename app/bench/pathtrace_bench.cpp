@@ -10,6 +10,7 @@
 #include "pathtrace/gpu_slab.h"
 #include "pathtrace/pathtrace.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -33,26 +34,37 @@ pathtrace::SlabResult cpuRun(const pathtrace::Medium& m, pathtrace::SlabSettings
     return pathtrace::runSlab(m, s);
 }
 
+// A warm-up of a few paths (compile, first dispatch), then the step size for a timed run of
+// about `seconds`: an eighth of what the warm-up's rate would trace in that time (at least
+// 1024 paths, at most a full round), so that a run ends near its time on a slow device too.
+template <class Tracer> uint64_t warmUp(Tracer& gpu, double seconds) {
+    gpu.step(1024);
+    const uint64_t before = gpu.pathsDone();
+    const double t0 = gpu.seconds();
+    gpu.step(1024);
+    const double rate = double(gpu.pathsDone() - before) / std::max(gpu.seconds() - t0, 1e-6);
+    return std::clamp<uint64_t>(uint64_t(rate * seconds / 8), 1024, Tracer::kMaxPathsPerRound);
+}
+
 double gpuRate(pathtrace::GpuSlabTracer& gpu, const pathtrace::Medium& m, pathtrace::SlabSettings s,
                double seconds) {
     s.paths = uint64_t(1) << 40;
     gpu.reset(m, s);
-    gpu.step(pathtrace::GpuSlabTracer::kMaxPathsPerRound); // warm-up: compile, first dispatch
+    const uint64_t stepPaths = warmUp(gpu, seconds);
     const uint64_t before = gpu.pathsDone();
     const double t0 = gpu.seconds();
     while (gpu.seconds() - t0 < seconds)
-        gpu.step(pathtrace::GpuSlabTracer::kMaxPathsPerRound);
+        gpu.step(stepPaths);
     return double(gpu.pathsDone() - before) / std::max(gpu.seconds() - t0, 1e-9);
 }
 
-// The mean relative standard error of the 11 bins around the one holding r (±5 bins: one bin
-// alone would make the figure as noisy as its own error estimate).
-double meanRelativeError(const std::vector<double>& v, const std::vector<double>& se, int b) {
+// The mean of the relative standard errors `rel` over the 11 bins around bin b (±5 bins: one
+// bin alone would make the figure as noisy as its own error estimate).
+double meanAround(const std::vector<double>& rel, int b) {
     double sum = 0;
     int n = 0;
-    for (int i = std::max(0, b - 5); i <= std::min(int(v.size()) - 1, b + 5); ++i) {
-        if (!(v[size_t(i)] > 0)) return INFINITY;
-        sum += se[size_t(i)] / v[size_t(i)];
+    for (int i = std::max(0, b - 5); i <= std::min(int(rel.size()) - 1, b + 5); ++i) {
+        sum += rel[size_t(i)];
         ++n;
     }
     return n ? sum / n : INFINITY;
@@ -64,20 +76,23 @@ double timeTo1Percent(const pathtrace::SlabResult& r, const pathtrace::SlabSetti
                       double rMm) {
     const int b = pathtrace::binOf(rMm, s);
     if (b < 0) return INFINITY;
-    const double rel = meanRelativeError(r.rd, r.rdStderr, b);
-    return r.seconds * (rel / 0.01) * (rel / 0.01);
+    std::vector<double> rel(r.rd.size());
+    for (size_t i = 0; i < rel.size(); ++i)
+        rel[i] = r.rd[i] > 0 ? r.rdStderr[i] / r.rd[i] : INFINITY;
+    const double mean = meanAround(rel, b);
+    return r.seconds * (mean / 0.01) * (mean / 0.01);
 }
 
-// The GL tracer's run of about `seconds` (after a warm-up round) as a result with standard
+// The GL tracer's run of about `seconds` (after a warm-up) as a result with standard
 // errors and its wall time.
 pathtrace::SlabResult gpuRun(pathtrace::GpuSlabTracer& gpu, const pathtrace::Medium& m,
                              pathtrace::SlabSettings s, double seconds) {
     s.paths = uint64_t(1) << 40;
     gpu.reset(m, s);
-    gpu.step(pathtrace::GpuSlabTracer::kMaxPathsPerRound); // warm-up: compile, first dispatch
+    const uint64_t stepPaths = warmUp(gpu, seconds);
     gpu.reset(m, s);
     while (gpu.seconds() < seconds)
-        gpu.step(pathtrace::GpuSlabTracer::kMaxPathsPerRound);
+        gpu.step(stepPaths);
     pathtrace::SlabResult r = pathtrace::finalize(gpu.tally(), s);
     r.seconds = gpu.seconds();
     return r;
@@ -152,11 +167,11 @@ std::pair<double, double> estimateRates(const pathtrace::Medium& m, pathtrace::E
     if (!gpu) return {cpu, NAN};
     e.paths = uint64_t(1) << 40;
     gpu->reset(m, e);
-    gpu->step(pathtrace::GpuBssrdfEstimator::kMaxPathsPerRound); // warm-up
+    const uint64_t stepPaths = warmUp(*gpu, seconds);
     const uint64_t before = gpu->pathsDone();
     const double t0 = gpu->seconds();
     while (gpu->seconds() - t0 < seconds)
-        gpu->step(pathtrace::GpuBssrdfEstimator::kMaxPathsPerRound);
+        gpu->step(stepPaths);
     return {cpu, double(gpu->pathsDone() - before) / std::max(gpu->seconds() - t0, 1e-9)};
 }
 
@@ -324,12 +339,12 @@ int benchPathtrace(const std::filesystem::path& root, double seconds,
                         mcml.string().c_str(), mc.photonsPerBatch * mc.batches, mc.batches);
             std::fflush(stdout);
             const McmlPeer p = runMcmlPeer(mcml, c.m, mc);
-            std::vector<double> ones(p.relVar.size(), 1.0), se(p.relVar.size());
-            for (size_t i = 0; i < se.size(); ++i)
-                se[i] = std::sqrt(p.relVar[i] / p.photons);
+            std::vector<double> rel(p.relVar.size()); // relative standard errors of its run
+            for (size_t i = 0; i < rel.size(); ++i)
+                rel[i] = std::sqrt(p.relVar[i] / p.photons);
             auto t = [&](double r) {
-                const double rel = meanRelativeError(ones, se, int(r / mc.binMm));
-                return p.seconds * (rel / 0.01) * (rel / 0.01);
+                const double mean = meanAround(rel, int(r / mc.binMm));
+                return p.seconds * (mean / 0.01) * (mean / 0.01);
             };
             const double m1 = t(ld), m4 = t(4 * ld);
             std::printf("%-10s %12.0f %13.2fs %13.2fs   (MCML 1.2.2 here, one core; its variance "

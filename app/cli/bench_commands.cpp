@@ -30,7 +30,7 @@ Command benchPathtraceCommand() {
                 auto seconds = std::make_shared<double>(4.0);
                 auto mcml = std::make_shared<std::string>();
                 cmd.add_option("--seconds", *seconds, "seconds per case and tracer (default 4)")
-                    ->check(CLI::Range(0.5, 600.0));
+                    ->check(CLI::Range(0.05, 600.0));
                 cmd.add_option("--mcml", *mcml,
                                "MCML 1.2.2's mcml binary: time it here on the reference case "
                                "(2e6 photons) beside our tracer");

@@ -101,7 +101,7 @@ std::vector<std::string> smallArgs(std::vector<std::string> w, const fs::path& d
                         16384ull * std::stoull(out[i + 1].substr(out[i + 1].find('/') + 1)));
     if (out.size() >= 3 && out[1] == "bench" && out[2] == "pathtrace" &&
         std::find(out.begin(), out.end(), "--seconds") == out.end())
-        out.insert(out.end(), {"--seconds", "0.5"});
+        out.insert(out.end(), {"--seconds", "0.1"});
     // compare --geometry: small images, and of the whole suite one slab and one sphere
     if (std::find(out.begin(), out.end(), "--geometry") != out.end() && out[1] == "compare") {
         for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{
