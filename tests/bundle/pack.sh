@@ -43,7 +43,7 @@ cp "$build/app/bssrdf-workbench" "$root/bin/"
 cut -f3 "$root/tests.tsv" | sort -u | while read -r exe; do
   f=${exe#@BIN@/}
   [[ $f == bssrdf-workbench ]] && continue
-  p=$(find "$build/tests" -type f -name "$f" -perm -u+x | head -n 1)
+  p=$(find "$build/tests" -type f -name "$f" -perm -u+x -print -quit)
   [[ -n $p ]] || { echo "pack: test executable $f not found" >&2; exit 1; }
   cp "$p" "$root/bin/"
 done
@@ -65,7 +65,8 @@ done
 strip --strip-unneeded "$root"/bin/* "$root"/lib/* 2>/dev/null || true
 cp "$src/tests/bundle/run-tests.sh" "$root/"
 chmod +x "$root/run-tests.sh"
-glibcVersion=$(ldd --version | head -n 1 | awk '{print $NF}')
+# (awk reads to the end: `head` would leave ldd writing into a closed pipe, SIGPIPE, exit 141)
+glibcVersion=$(ldd --version | awk 'NR == 1 {print $NF}')
 cat >"$root/BUNDLE.txt" <<TXT
 bssrdf-workbench test bundle
 commit $(cd "$src" && git rev-parse --short HEAD) $(cd "$src" && git status --porcelain | grep -q . && echo "(with local changes)")

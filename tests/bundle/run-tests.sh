@@ -83,7 +83,7 @@ skipped=$(grep -c '^skipped' "$out/results.tsv" || true)
 echo
 echo "summary: $passed passed, $failed failed, $timedout timed out, $skipped skipped, of $total, in ${wall} s"
 echo "slowest:"
-sort -t$'\t' -k2,2 -g -r "$out/results.tsv" | head -n 10 | awk -F'\t' '{printf "  %7ss  %s  %s\n", $2, $1, $3}'
+sort -t$'\t' -k2,2 -g -r "$out/results.tsv" | awk -F'\t' 'NR <= 10 {printf "  %7ss  %s  %s\n", $2, $1, $3}'
 if [[ $((failed + timedout)) -gt 0 ]]; then
   echo "not passed (log: $out/logs/<n>.log):"
   grep -E '^(failed|timeout)' "$out/results.tsv" | awk -F'\t' '{printf "  %s  %s  (logs/%s.log)\n", $1, $3, $4}'
