@@ -44,6 +44,14 @@ void applySettingsJson(Workbench& wb, const json& settings, const std::string& f
             traceY = t[1].get<int>();
             value.erase("trace_pixel");
         }
+        if (key == "reference" && value.is_object() && value.contains("gpu") &&
+            !value.contains("device")) {
+            // format 1 before `device`: "gpu": true/false chose the GL or the CPU tracer
+            const json& g = value["gpu"];
+            if (!g.is_boolean()) throw core::Error(file, 0, path + ".gpu: expected true or false");
+            value["device"] = g.get<bool>() ? "gpu" : "cpu";
+            value.erase("gpu");
+        }
         s->fromJson(value, file, path);
     }
 }

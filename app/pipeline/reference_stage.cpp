@@ -224,7 +224,17 @@ bool ReferenceStage::update(const ReferenceInputs& in) {
             m_key = key;
             m_model = in.model;
             cancel();
-            m_gpuMode = in.settings.gpu;
+            // connections are CPU only: auto keeps them there, gpu names the problem
+            const ReferenceSettings& rs = in.settings;
+            m_gpuMode = rs.device == TracerDevice::Gpu ||
+                        (rs.device == TracerDevice::Auto &&
+                         rs.estimator != pathtrace::Estimator::Connections &&
+                         chooseGpu(rs.device, m_gpu.shaderFile()));
+            m_auto = rs.device == TracerDevice::Auto;
+            if (m_auto)
+                m_choice = rs.estimator == pathtrace::Estimator::Connections
+                               ? std::string("CPU (connections run on the CPU only)")
+                               : slabThroughput(m_gpu.shaderFile()).summary();
             if (m_gpuMode)
                 m_gpu.start(mediaOf(p), s, in.settings.paths);
             else
@@ -263,6 +273,7 @@ StageStatus ReferenceStage::status() const {
     if (!snap.energy.empty()) st.problems.push_back(snap.energy);
     st.stats.push_back({"paths per channel", std::to_string(snap.pathsDone)});
     st.stats.push_back({"device", snap.device});
+    if (m_auto) st.stats.push_back({"device choice", m_choice});
     return st;
 }
 

@@ -6,6 +6,7 @@
 #include "core/limits.h"
 #include "pipeline/capture_entries.h"
 #include "pipeline/stage.h"
+#include "pipeline/tracer_device.h"
 
 #include "material/material.h"
 #include "pathtrace/gpu_slab.h"
@@ -27,7 +28,9 @@ struct ReferenceSettings {
     uint64_t paths = 2000000; // per channel
     int bins = 200;
     uint64_t seed = 1;
-    bool gpu = false; // GL compute tracer, sliced per frame on the GL thread, instead of the CPU
+    // auto: the GL compute tracer (sliced per frame on the GL thread) where it measured faster
+    // than the CPU walk on this machine (tracer_device.h), else the CPU in a background thread
+    TracerDevice device = TracerDevice::Auto;
     // Implicit stays the default: on whole profiles (every bin at once) connections cost one
     // connection per bin per collision and reach 1 % far later (bench pathtrace, connect-all).
     pathtrace::Estimator estimator = pathtrace::Estimator::Implicit;
@@ -38,7 +41,7 @@ template <class V> void fields(V& v, ReferenceSettings& s) {
     v("paths", s.paths, "photon paths per channel", core::Limits{1, 1e18});
     v("bins", s.bins, "radial bins", core::Limits{1, 1e5});
     v("seed", s.seed, "random seed");
-    v("gpu", s.gpu, "GL compute tracer instead of the CPU");
+    v("device", s.device, "auto: the GPU where it measured faster than the CPU, else the CPU");
     v("estimator", s.estimator, "slab estimator (connections: CPU only)");
 }
 
@@ -107,6 +110,7 @@ class GpuReference {
     // The tracers' programs by channel ("pathtrace_slab.comp[R]", …), once started.
     shader::Records shaderRecords() const;
     void cancel() { m_target = m_done; }
+    const std::filesystem::path& shaderFile() const { return m_shaderFile; }
     ReferenceSnapshot snapshot() const;
 
   private:
@@ -159,6 +163,8 @@ class ReferenceStage : public StageOf<ReferenceInputs> {
     ReferenceRunner m_cpu;
     GpuReference m_gpu;
     bool m_gpuMode = false;
+    bool m_auto = false;  // the device was chosen by measurement
+    std::string m_choice; // what the measurement found (status)
     std::string m_key, m_model;
     uint64_t m_seen = 0, m_gpuSteps = 0;
 };

@@ -148,7 +148,7 @@ TEST(HotReloadDependencies, GpuTracersRebuildForTheirOwnFiles) {
     ASSERT_TRUE(wb.watching());
     auto& rs = wb.referenceSettings();
     rs.enabled = true;
-    rs.gpu = true;
+    rs.device = app::TracerDevice::Gpu;
     rs.paths = 2000;
     rs.bins = 10;
     auto& ls = wb.litSphereSettings();

@@ -13,6 +13,7 @@
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "core/core.h"
+#include "core/statistics.h"
 #include "gui/gui.h"
 #include "pipeline/model_stages.h"
 #include "pipeline/param_mappings.h"

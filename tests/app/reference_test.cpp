@@ -162,7 +162,7 @@ TEST(Reference, ConnectionsEstimatorOnCpuAndRefusedOnGpu) {
         EXPECT_LT(a.rdStderr[0], b.rdStderr[0]) << "channel " << c;
     }
     rs.estimator = pathtrace::Estimator::Connections;
-    rs.gpu = true;
+    rs.device = app::TracerDevice::Gpu;
     wb.update();
     const app::ReferenceSnapshot gpu = wb.finishReference();
     EXPECT_NE(gpu.problem.find("connections"), std::string::npos) << gpu.problem;
@@ -281,7 +281,7 @@ TEST(Reference, GpuTracerIsSlicedPerFrameAndHotReloads) {
     wb.applyPreset(wb.shared(), "Skin1");
     wb.plotSettings().fixedRange = true;
     wb.plotSettings().rMaxMm = 6.0;
-    wb.referenceSettings() = {true, 30000, 30, 3, true};
+    wb.referenceSettings() = {true, 30000, 30, 3, app::TracerDevice::Gpu};
     // one update = one frame: a slice of the run, not all of it
     wb.update();
     auto first = wb.reference().snapshot();
@@ -294,7 +294,7 @@ TEST(Reference, GpuTracerIsSlicedPerFrameAndHotReloads) {
     EXPECT_EQ(plotSeries(wb).size(), 2u);
 
     // the same run on the CPU estimates the same profile: z-test per bin, Bonferroni over 30
-    wb.referenceSettings().gpu = false;
+    wb.referenceSettings().device = app::TracerDevice::Cpu;
     auto cpu = wb.finishReference();
     ASSERT_EQ(cpu.pathsDone, 30000u);
     double worst = 0;
@@ -308,7 +308,7 @@ TEST(Reference, GpuTracerIsSlicedPerFrameAndHotReloads) {
     EXPECT_LT(worst, core::normalUpperQuantile(0.001 / (2 * 90)));
 
     // a broken shader edit keeps the old program running and names file:line; a fix recovers
-    wb.referenceSettings().gpu = true;
+    wb.referenceSettings().device = app::TracerDevice::Gpu;
     wb.update();
     const auto file = root / "shaders/pathtrace_slab.comp";
     const std::string good = testsupport::readText(file);

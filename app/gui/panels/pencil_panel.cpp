@@ -51,11 +51,17 @@ void drawReferenceControls(Workbench& wb) {
         ImGui::SetTooltip("implicit: absorption by weight (default)\nanalog: thesis Algorithm 1 "
                           "as printed\nconnections: every collision connected to every bin "
                           "(seed 001; CPU only)");
-    sameLineIfFits(checkboxWidth("GPU"));
-    ImGui::Checkbox("GPU", &rs.gpu);
+    sameLineIfFits(itemWidth(70, "device"));
+    ImGui::SetNextItemWidth(70);
+    if (ImGui::BeginCombo("device", core::nameOf(rs.device))) {
+        for (const auto& [d, name] : enumNames(TracerDevice{}))
+            if (ImGui::Selectable(name, rs.device == d)) rs.device = d;
+        ImGui::EndCombo();
+    }
     if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_slab.comp, hot-reloaded), a slice "
-                          "per frame;\noff: CPU tracer in a background thread");
+        ImGui::SetTooltip("gpu: GL compute tracer (shaders/pathtrace_slab.comp, hot-reloaded), a "
+                          "slice per frame\ncpu: CPU tracer in a background thread\nauto: the "
+                          "GPU where it measured faster than the CPU here (once per run)");
     ReferenceSnapshot snap = wb.reference().snapshot();
     if (!snap.problem.empty()) {
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
