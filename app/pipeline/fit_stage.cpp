@@ -3,6 +3,7 @@
 
 #include "core/core.h"
 #include "core/relative_error.h"
+#include "pipeline/model_stages.h"
 #include "pipeline/scoring.h"
 
 #include <chrono>

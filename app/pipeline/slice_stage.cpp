@@ -72,11 +72,12 @@ void SliceRunner::start(const pathtrace::Medium& m, const pathtrace::EstimateSet
             m_runKey = key;
             m_doneTally = pathtrace::makeTally(s.bins);
             m_doneChunk = 0;
-            m_snapshot = SliceSnapshot{};
-            m_snapshot.medium = m;
-            m_snapshot.settings = s;
-            m_snapshot.settings.paths = 0;
-            m_snapshot.pathsTarget = s.paths;
+            SliceSnapshot fresh;
+            fresh.medium = m;
+            fresh.settings = s;
+            fresh.settings.paths = 0;
+            fresh.pathsTarget = s.paths;
+            m_snapshot = std::move(fresh);
         }
         m_snapshot.problem.clear();
         m_snapshot.running = true;
@@ -142,7 +143,7 @@ SliceSnapshot SliceRunner::snapshot() const {
 
 bool SliceStage::update(const SliceInputs& in) {
     if (!in.settings.enabled || !in.params) {
-        if (!m_key.empty()) m_runner.cancel();
+        if (!m_key.empty()) cancel();
         m_key.clear(); // shown again with the same inputs: the run resumes where it stopped
         return false;
     }
@@ -157,16 +158,25 @@ bool SliceStage::update(const SliceInputs& in) {
     }
     const pathtrace::Medium medium = mediaOf(*in.params)[size_t(c)];
     const pathtrace::EstimateSettings est = estimateSettings(in.settings, medium);
-    const std::string key = core::keyOf(medium, est);
+    // the device is part of the run: a change of it restarts on the other one
+    const bool gpu = chooseGpu(in.settings.device, m_slabShader);
+    const std::string key = core::keyOf(medium, est) + (gpu ? "gpu" : "cpu");
     if (!m_problem.empty()) changed = true;
     m_problem.clear();
     if (key != m_key) {
         m_key = key;
         m_model = in.model;
-        m_runner.start(medium, est);
+        if (gpu != m_gpuMode) cancel(); // the other device's run stops
+        m_gpuMode = gpu;
+        if (gpu)
+            m_gpu.start(medium, est);
+        else
+            m_runner.start(medium, est);
         changed = true;
     }
-    if (const uint64_t v = m_runner.version(); v != m_seen) {
+    if (m_gpuMode) {
+        changed |= m_gpu.step(8.0); // GL work is sliced per frame on this (the GL) thread
+    } else if (const uint64_t v = m_runner.version(); v != m_seen) {
         m_seen = v;
         changed = true;
     }
@@ -238,7 +248,7 @@ bool SliceStage::evaluateModels(const SliceInputs& in) {
 
 StageStatus SliceStage::status() const {
     StageStatus st;
-    const SliceSnapshot snap = m_runner.snapshot();
+    const SliceSnapshot snap = snapshot();
     st.running = snap.running;
     st.progress = snap.pathsTarget ? double(snap.pathsDone) / double(snap.pathsTarget) : 1.0;
     if (!m_problem.empty()) st.problems.push_back(m_problem);
@@ -248,16 +258,29 @@ StageStatus SliceStage::status() const {
     for (const auto& [path, r] : m_models)
         if (!r.problem.empty()) st.problems.push_back(r.problem);
     st.stats.emplace_back("paths/s", core::formatNumber(snap.pathsPerSecond, 3));
+    st.stats.emplace_back("device", snap.device);
     return st;
+}
+
+shader::Records SliceStage::shaderRecords() const {
+    shader::Records out;
+    for (const auto& [name, record] : m_gpu.shaderRecords())
+        out["slice:" + name] = record;
+    return out;
 }
 
 SliceSnapshot SliceStage::finish(const SliceInputs& in) {
     SliceInputs on = in;
     on.settings.enabled = true;
     update(on);
-    m_runner.wait();
+    if (m_gpuMode) {
+        while (m_gpu.step(1000.0)) {
+        }
+    } else {
+        m_runner.wait();
+    }
     update(on);
-    return m_runner.snapshot();
+    return snapshot();
 }
 
 void SliceStage::capture(const SliceInputs& in, CaptureEntries& out) {

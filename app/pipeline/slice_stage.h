@@ -3,10 +3,11 @@
 // connections estimator by default) for one colour channel of the source model's medium, run
 // progressively in a background thread chunk by chunk, so the UI never waits and the table at
 // any moment is exactly the table of the paths done so far (bitwise the CLI `estimate` of that
-// many paths). Every usable model is evaluated on the same bins on the GPU with its own
-// parameters and σ (slice_model.h), whenever its key changes. Problems (bad settings, a failed
-// energy check, a model that cannot be evaluated) go to the Errors panel; the last good table
-// stays on screen.
+// many paths); or, where the GL tracer measured faster (device auto, tracer_device.h) or the
+// user chose gpu, on the GL walk a slice per frame (slice_gpu.h). Every usable model is evaluated
+// on the same bins on the GPU with its own parameters and σ (slice_model.h), whenever its key
+// changes. Problems (bad settings, a failed energy check, a model that cannot be evaluated) go to
+// the Errors panel; the last good table stays on screen.
 #pragma once
 
 #include "core/limits.h"
@@ -16,7 +17,10 @@
 #include "material/material.h"
 #include "pathtrace/bssrdf_estimate.h"
 #include "pipeline/model_stages.h"
+#include "pipeline/slice_gpu.h"
 #include "pipeline/slice_model.h"
+#include "pipeline/slice_settings.h"
+#include "pipeline/tracer_device.h"
 
 #include <atomic>
 #include <map>
@@ -26,53 +30,6 @@
 #include <thread>
 
 namespace app {
-
-struct SliceSettings {
-    bool enabled = false; // the GUI sets it while the slice panel shows
-    int channel = 0;      // the medium of colour channel 0 R, 1 G, 2 B
-    double thetaIDeg = 45.0;
-    double rangeLd = 3.0; // r_max = range_ld · l_d of the channel
-    int rBins = 16;
-    bool logR = false;
-    int thetaSBins = 12;
-    int dirCosBins = 2, dirPhiBins = 6;
-    uint64_t paths = 200000;
-    uint64_t seed = 1;
-    pathtrace::BssrdfEstimator estimator = pathtrace::BssrdfEstimator::Connections;
-    pathtrace::ScatterOrders orders = pathtrace::ScatterOrders::All;
-};
-template <class V> void fields(V& v, SliceSettings& s) {
-    v("enabled", s.enabled, "path-trace the BSSRDF slice");
-    v("channel", s.channel, "medium of colour channel 0 R, 1 G, 2 B", core::Limits{0, 2});
-    v("theta_i_deg", s.thetaIDeg, "incidence angle, degrees [0, 90)", core::Limits{0, 90});
-    v("range_ld", s.rangeLd, "radius of the last bin edge in l_d of the channel",
-      core::Limits{0.01, 1000});
-    v("r_bins", s.rBins, "radial bins", core::Limits{1, 1e4});
-    v("log_r", s.logR, "logarithmic radial bins");
-    v("theta_s_bins", s.thetaSBins, "bins of theta_s over [0, 180] deg", core::Limits{1, 1e4});
-    v("dir_cos_bins", s.dirCosBins, "exit-direction rings (equal solid angle)",
-      core::Limits{1, 1e3});
-    v("dir_phi_bins", s.dirPhiBins, "exit-direction azimuth sectors", core::Limits{1, 1e3});
-    v("paths", s.paths, "photon paths", core::Limits{1, 1e18});
-    v("seed", s.seed, "random seed");
-    v("estimator", s.estimator, "estimator");
-    v("orders", s.orders, "scattering orders tallied");
-}
-
-// The estimate settings and medium of a slice (validated by the runner, not here). r_max is
-// range_ld · l_d; where l_d is infinite (σa = 0) it is range_ld · 10 transport mean free paths.
-pathtrace::EstimateSettings estimateSettings(const SliceSettings& s, const pathtrace::Medium& m);
-
-struct SliceSnapshot {
-    bool running = false;
-    uint64_t pathsDone = 0, pathsTarget = 0;
-    double pathsPerSecond = 0;
-    pathtrace::Medium medium;
-    pathtrace::EstimateSettings settings;        // of the table below (paths = pathsDone)
-    std::optional<pathtrace::BssrdfSlice> slice; // none until the first chunks are done
-    std::string problem;                         // bad settings: nothing new runs
-    std::string energy;                          // the table's own energy check failed
-};
 
 // The background estimate (one medium, one incidence angle).
 class SliceRunner {
@@ -120,12 +77,19 @@ struct SliceInputs {
 
 class SliceStage : public StageOf<SliceInputs> {
   public:
+    // walkShader: the GL walk (shaders/bssrdf_walk.comp); slabShader: the GL slab tracer whose
+    // measured throughput decides `auto` (tracer_device.h)
+    SliceStage(std::filesystem::path walkShader, std::filesystem::path slabShader)
+        : m_gpu(std::move(walkShader)), m_slabShader(std::move(slabShader)) {}
     const char* name() const override { return "slice"; }
     // Restarts the estimate when the medium or the settings changed, and evaluates the
     // models whose key changed (on the calling GL thread). True when anything changed.
     bool update(const SliceInputs& in) override;
     StageStatus status() const override;
-    void cancel() override { m_runner.cancel(); }
+    void cancel() override {
+        m_runner.cancel();
+        m_gpu.cancel();
+    }
     void restart() { m_key.clear(); }
     // Runs to the target and evaluates the models (captures, CLI, tests).
     SliceSnapshot finish(const SliceInputs& in);
@@ -134,7 +98,12 @@ class SliceStage : public StageOf<SliceInputs> {
     // reflectance), and slice_model.<model>, every model on its bins (float32 GPU evaluations
     // summed in double). core::Error with the run's problem.
     void capture(const SliceInputs& in, CaptureEntries& out);
-    SliceSnapshot snapshot() const { return m_runner.snapshot(); }
+    SliceSnapshot snapshot() const { return m_gpuMode ? m_gpu.snapshot() : m_runner.snapshot(); }
+    // Hot reload of the GL walk when one of `changed` is a file its program was built from.
+    bool reloadShaders(const std::vector<std::filesystem::path>& changed) override {
+        return m_gpu.reloadShaders(changed);
+    }
+    shader::Records shaderRecords() const override; // "slice:PROGRAM"
     const std::map<std::string, ModelSliceResult>& models() const { return m_models; }
     const std::string& model() const { return m_model; }
 
@@ -143,6 +112,9 @@ class SliceStage : public StageOf<SliceInputs> {
     bool evaluateModels(const SliceInputs& in);
 
     SliceRunner m_runner;
+    GpuSliceRunner m_gpu;
+    std::filesystem::path m_slabShader;
+    bool m_gpuMode = false;
     std::string m_key, m_model, m_problem;
     uint64_t m_seen = 0;
     std::map<std::string, ModelSliceResult> m_models; // by display path

@@ -37,7 +37,8 @@ Workbench::Workbench(fs::path root, bool watch, const std::vector<fs::path>& mod
     if (const auto* p = material::findPreset(m_presets, m_shared.preset))
         m_shared.params = material::applyPreset(*p, m_shared.params);
     m_reference = std::make_unique<ReferenceStage>(m_root / "shaders" / "pathtrace_slab.comp");
-    m_slice = std::make_unique<SliceStage>();
+    m_slice = std::make_unique<SliceStage>(m_root / "shaders" / "bssrdf_walk.comp",
+                                           m_root / "shaders" / "pathtrace_slab.comp");
     m_scoreboard = std::make_unique<ScoreboardStage>();
     m_fit = std::make_unique<FitStage>();
     m_geometry = std::make_unique<GeometryStage>();

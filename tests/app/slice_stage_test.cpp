@@ -5,6 +5,7 @@
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "bssrdf/program.h"
+#include "core/statistics.h"
 #include "core/text.h"
 #include "gui/gui.h"
 #include "pathtrace/bssrdf_table.h"
@@ -33,7 +34,8 @@ void smallSlice(app::SliceSettings& s) {
     s.thetaSBins = 4;
     s.dirCosBins = 2;
     s.dirPhiBins = 3;
-    s.paths = 40000; // three chunks: the last one partial
+    s.paths = 40000;                   // three chunks: the last one partial
+    s.device = app::TracerDevice::Cpu; // bitwise the CLI's estimate (the GL walk: its own test)
 }
 
 void writeModel(const std::filesystem::path& file, const std::string& body) {
@@ -305,4 +307,74 @@ TEST(SliceStage, ObliqueTableModelIsEvaluatedLikeAnyModel) {
         EXPECT_TRUE(std::isfinite(r.slice->R[size_t(bin)]));
         EXPECT_GT(r.slice->R[size_t(bin)], 0.0) << bin;
     }
+}
+
+TEST(SliceStage, GlWalkIsSlicedPerFrameAndEstimatesTheSameTable) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("slice_gpu", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::SliceSettings& s = wb.sliceSettings();
+    smallSlice(s);
+    s.paths = 20000;
+    s.device = app::TracerDevice::Gpu;
+    // one update = one frame: a slice of the run, not all of it
+    wb.update();
+    const app::SliceSnapshot first = wb.slice().snapshot();
+    EXPECT_TRUE(first.problem.empty()) << first.problem;
+    EXPECT_EQ(first.device, "GPU");
+    EXPECT_LT(first.pathsDone, 20000u);
+    const app::SliceSnapshot gpu = wb.finishSlice();
+    ASSERT_TRUE(gpu.problem.empty()) << gpu.problem;
+    ASSERT_TRUE(gpu.slice);
+    EXPECT_EQ(gpu.pathsDone, 20000u);
+    EXPECT_TRUE(gpu.energy.empty()) << gpu.energy;
+    EXPECT_EQ(gpu.settings.splitting.levels, 0); // the table says what the GL walk traced
+    bool listed = false;
+    for (const auto& [k, v] : wb.slice().status().stats)
+        listed |= k == "device" && v == "GPU";
+    EXPECT_TRUE(listed);
+
+    // the same slice on the CPU: every bin and exit cell agrees within the errors
+    s.device = app::TracerDevice::Cpu;
+    const app::SliceSnapshot cpu = wb.finishSlice();
+    ASSERT_TRUE(cpu.slice);
+    EXPECT_EQ(cpu.device, "CPU");
+    ASSERT_EQ(cpu.slice->R.size(), gpu.slice->R.size());
+    ASSERT_EQ(cpu.slice->S.size(), gpu.slice->S.size());
+    const size_t n = cpu.slice->R.size() + cpu.slice->S.size();
+    const double zMax = core::normalUpperQuantile(0.001 / (2.0 * double(n)));
+    double worst = 0;
+    size_t compared = 0;
+    auto check = [&](const std::vector<double>& a, const std::vector<double>& ae,
+                     const std::vector<double>& b, const std::vector<double>& be) {
+        for (size_t i = 0; i < a.size(); ++i) {
+            const double se = std::hypot(ae[i], be[i]);
+            if (se <= 0) continue;
+            worst = std::max(worst, std::abs(a[i] - b[i]) / se);
+            ++compared;
+        }
+    };
+    check(gpu.slice->R, gpu.slice->RStderr, cpu.slice->R, cpu.slice->RStderr);
+    check(gpu.slice->S, gpu.slice->SStderr, cpu.slice->S, cpu.slice->SStderr);
+    EXPECT_LT(worst, zMax);
+    EXPECT_GT(compared, n / 2);
+    const double seTotal = std::hypot(gpu.slice->totalRdStderr, cpu.slice->totalRdStderr);
+    EXPECT_LT(std::abs(gpu.slice->totalRd - cpu.slice->totalRd) / seTotal, 3.29);
+
+    // a broken edit of the walk keeps the last program and names file:line
+    s.device = app::TracerDevice::Gpu;
+    wb.update();
+    const auto file = root / "shaders/bssrdf_walk.comp";
+    const std::string good = testsupport::readText(file);
+    const int line = testsupport::lineOf(good, "void main()");
+    core::writeFile(file, testsupport::replaced(good, "void main()",
+                                                "void main() { brokenCall(); }\nvoid main2()"));
+    EXPECT_TRUE(wb.slice().reloadShaders({file}));
+    EXPECT_NE(wb.slice().snapshot().problem.find("bssrdf_walk.comp:" + std::to_string(line)),
+              std::string::npos)
+        << wb.slice().snapshot().problem;
+    core::writeFile(file, good);
+    EXPECT_TRUE(wb.slice().reloadShaders({file}));
+    EXPECT_TRUE(wb.slice().snapshot().problem.empty()) << wb.slice().snapshot().problem;
+    std::filesystem::remove_all(root);
 }

@@ -131,7 +131,7 @@ void diffColourBar(float range, float width) {
     ImGui::Text("-%.0f%% model low   +%.0f%% model high", double(range) * 100, double(range) * 100);
 }
 
-// Run controls: channel, θi, range, bins, paths, estimator; progress and cancel.
+// Run controls: channel, θi, range, bins, paths, estimator, device; progress and cancel.
 void drawControls(Workbench& wb, SlicePanelState& ps) {
     SliceSettings& s = wb.sliceSettings();
     const char* channels[] = {"R", "G", "B"};
@@ -191,6 +191,17 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
             if (ImGui::Selectable(name, s.orders == o)) s.orders = o;
         ImGui::EndCombo();
     }
+    sameLineIfFits(itemWidth(70, "device"));
+    ImGui::SetNextItemWidth(70);
+    if (ImGui::BeginCombo("device", core::nameOf(s.device))) {
+        for (const auto& [d, name] : enumNames(TracerDevice{}))
+            if (ImGui::Selectable(name, s.device == d)) s.device = d;
+        ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("gpu: GL walk (shaders/bssrdf_walk.comp, hot-reloaded), a slice per "
+                          "frame\ncpu: CPU walk in a background thread\nauto: the GPU where it "
+                          "measured faster than the CPU here (once per run)");
     const SliceSnapshot snap = wb.slice().snapshot();
     const float frac =
         snap.pathsTarget ? float(double(snap.pathsDone) / double(snap.pathsTarget)) : 0.0f;
@@ -206,7 +217,8 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
         wb.slice().restart();
     }
     sameLineIfFits(200);
-    hintText("%.3g paths/s | sigma of %s", snap.pathsPerSecond, wb.slice().model().c_str());
+    hintText("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
+             wb.slice().model().c_str());
     if (!snap.problem.empty()) ImGui::TextColored(kProblemColour, "%s", snap.problem.c_str());
     if (!snap.energy.empty())
         ImGui::TextColored(kProblemColour, "energy check failed: %s (no error figures)",
