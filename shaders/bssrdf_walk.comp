@@ -39,7 +39,6 @@ layout(local_size_x = 64) in;
 uniform uvec2 Seed;            // 64-bit seed of this incidence angle (lo, hi)
 uniform uvec2 FirstPath;       // index of this round's first path (lo, hi)
 uniform uint PathCount;        // new paths in this round
-uniform uint InCount;          // suspended paths handed over from the previous dispatch
 uniform uint EventBudget;      // loop iterations per invocation and dispatch
 uniform int Estimator;         // 0 analog, 1 implicit, 2 connections
 uniform int Orders;            // 0 all, 1 all but the first collision, 2 the first only
@@ -82,13 +81,7 @@ uint slotEnergyNeg() { return ExtraBase + 7u; }
 
 const uint BSSRDF_STREAM = 0x42535344u; // 'BSSD': the counter's 4th word for this walk
 
-layout(std430, binding = 2) coherent buffer PtQueue {
-    uint ptNextPath;   // next new path of this round (relative to FirstPath)
-    uint ptInTaken;    // suspended paths taken from PtIn
-    uint ptOutCount;   // paths suspended into PtOut
-    uint ptEventsLo;   // collisions, 64-bit (diagnostics)
-    uint ptEventsHi;
-};
+#include "common/pathtrace_queue.glsl"
 layout(std430, binding = 3) readonly buffer PtIn { uvec4 ptIn[]; };
 layout(std430, binding = 4) writeonly buffer PtOut { uvec4 ptOut[]; };
 
@@ -395,14 +388,14 @@ void main() {
     uint eventsLo = 0u;
     for (uint it = 0u; it < EventBudget; ++it) {
         if (!busy) {
-            uint k = atomicAdd(ptInTaken, 1u);
-            if (k < InCount) {
+            uint k;
+            uint kind = ptTake(PathCount, k);
+            if (kind == 0u) break;
+            if (kind == 1u) {
                 p = loadPath(k);
             } else {
-                uint i = atomicAdd(ptNextPath, 1u);
-                if (i >= PathCount) break;
-                uint lo = FirstPath.x + i;
-                p = startPath(uvec2(lo, FirstPath.y + (lo < i ? 1u : 0u)));
+                uint lo = FirstPath.x + k;
+                p = startPath(uvec2(lo, FirstPath.y + (lo < k ? 1u : 0u)));
             }
             busy = true;
         }
@@ -411,7 +404,5 @@ void main() {
         eventsLo += p.events - before;
     }
     if (busy) savePath(atomicAdd(ptOutCount, 1u), p);
-    // eventsLo <= EventBudget: one 64-bit add per invocation
-    uint old = atomicAdd(ptEventsLo, eventsLo);
-    if (old + eventsLo < old) atomicAdd(ptEventsHi, 1u);
+    ptFinish(eventsLo, PathCount); // eventsLo <= EventBudget
 }

@@ -15,7 +15,8 @@
 // iterations in total (LP_MAX_TGSI_LOOP_ITERATIONS, Mesa 22.3), which dropped long paths
 // without a trace in a loop-per-path design. The budget stays below that limit, and since a
 // path is saved whatever ended the loop, a driver cutting it short loses nothing either.
-// No other loops (Philox is unrolled). The host dispatches until no path is left.
+// No other loops (Philox is unrolled). Each dispatch's last invocation plans the next
+// (common/pathtrace_queue.glsl); the host issues them indirectly until no path is left.
 // Path p's random numbers are Philox(seed, p) only and the tallies are integer sums, so the
 // result does not depend on budgets, dispatches or scheduling.
 //
@@ -38,14 +39,15 @@
 // All of these are far below the statistical error of any run this tracer can make.
 layout(local_size_x = 64) in;
 
+#define PT_SHARED_SLOTS 512u // workgroup-shared tallies up to 506 bins (common/pathtrace_tally.glsl)
 #include "common/pathtrace_rng.glsl"
 #include "common/pathtrace_scatter.glsl"
 #include "common/pathtrace_tally.glsl"
+#include "common/pathtrace_queue.glsl"
 
 uniform uvec2 Seed;            // 64-bit seed (lo, hi)
 uniform uvec2 FirstPath;       // index of this round's first path (lo, hi)
 uniform uint PathCount;        // new paths in this round
-uniform uint InCount;          // suspended paths handed over from the previous dispatch
 uniform uint EventBudget;      // loop iterations (events) per invocation and dispatch
 uniform float SigmaT;          // σa + σs, 1/mm
 uniform float AbsorbFraction;  // σa / σt (Implicit)
@@ -72,14 +74,6 @@ uint slotTruncatedPaths() { return Bins + 5u; } // 1 per truncated path
 
 const uint SLAB_STREAM = 0x534C4142u; // 'SLAB': the counter's 4th word for this tracer
 
-layout(std430, binding = 5) buffer Dbg { uint dbg[8]; };
-layout(std430, binding = 2) coherent buffer PtQueue {
-    uint ptNextPath;   // next new path of this round (relative to FirstPath)
-    uint ptInTaken;    // suspended paths taken from PtIn
-    uint ptOutCount;   // paths suspended into PtOut
-    uint ptEventsLo;   // interaction events, 64-bit (diagnostics)
-    uint ptEventsHi;
-};
 // A suspended path: 5 uvec4 (see save/load).
 layout(std430, binding = 3) readonly buffer PtIn { uvec4 ptIn[]; };
 layout(std430, binding = 4) writeonly buffer PtOut { uvec4 ptOut[]; };
@@ -200,19 +194,20 @@ bool advance(inout Path p) {
 }
 
 void main() {
+    ptSharedBegin();
     Path p;
     bool busy = false;
     uint eventsLo = 0u;
     for (uint it = 0u; it < EventBudget; ++it) {
         if (!busy) {
-            uint k = atomicAdd(ptInTaken, 1u);
-            if (k < InCount) {
+            uint k;
+            uint kind = ptTake(PathCount, k);
+            if (kind == 0u) break;
+            if (kind == 1u) {
                 p = loadPath(k);
             } else {
-                uint i = atomicAdd(ptNextPath, 1u);
-                if (i >= PathCount) break;
-                uint lo = FirstPath.x + i;
-                p = startPath(uvec2(lo, FirstPath.y + (lo < i ? 1u : 0u)));
+                uint lo = FirstPath.x + k;
+                p = startPath(uvec2(lo, FirstPath.y + (lo < k ? 1u : 0u)));
             }
             busy = true;
         }
@@ -221,7 +216,6 @@ void main() {
         eventsLo += p.events - before;
     }
     if (busy) savePath(atomicAdd(ptOutCount, 1u), p);
-    // eventsLo <= EventBudget: one 64-bit add per invocation
-    uint old = atomicAdd(ptEventsLo, eventsLo);
-    if (old + eventsLo < old) atomicAdd(ptEventsHi, 1u);
+    ptSharedFlush(Bins + 6u); // the radial bins and the six slots after them
+    ptFinish(eventsLo, PathCount); // eventsLo <= EventBudget
 }

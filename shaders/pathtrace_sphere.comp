@@ -30,7 +30,6 @@ layout(local_size_x = 64) in;
 uniform uvec2 Seed;           // 64-bit seed (lo, hi)
 uniform uvec2 FirstPath;      // index of this round's first path (lo, hi)
 uniform uint ItemCount;       // new work items in this round (3 per path)
-uniform uint InCount;         // suspended paths handed over from the previous dispatch
 uniform uint EventBudget;     // loop iterations per invocation and dispatch
 uniform vec3 SigmaT;          // per channel: σa + σs, 1/mm
 uniform vec3 AbsorbFraction;  // per channel: σa / σt
@@ -51,13 +50,7 @@ uniform float WeightGain;     // ... and then w *= 2^32 / SurviveWeight
 const uint SPHERE_STREAM = 0x53504830u; // 'SPH0' + channel: the counter's 4th word
 const uint MAX_BOUNDARY_HITS = 1048576u;
 
-layout(std430, binding = 2) coherent buffer PtQueue {
-    uint ptNextItem;  // next new work item of this round
-    uint ptInTaken;   // suspended paths taken from PtIn
-    uint ptOutCount;  // paths suspended into PtOut
-    uint ptEventsLo;  // collisions, 64-bit (diagnostics)
-    uint ptEventsHi;
-};
+#include "common/pathtrace_queue.glsl"
 layout(std430, binding = 3) readonly buffer PtIn { uvec4 ptIn[]; };
 layout(std430, binding = 4) writeonly buffer PtOut { uvec4 ptOut[]; };
 
@@ -197,12 +190,12 @@ void main() {
     uint eventsLo = 0u;
     for (uint it = 0u; it < EventBudget; ++it) {
         if (!busy) {
-            uint k = atomicAdd(ptInTaken, 1u);
-            if (k < InCount) {
-                p = loadPath(k);
+            uint item;
+            uint kind = ptTake(ItemCount, item);
+            if (kind == 0u) break;
+            if (kind == 1u) {
+                p = loadPath(item);
             } else {
-                uint item = atomicAdd(ptNextItem, 1u);
-                if (item >= ItemCount) break;
                 uint i = item / 3u;
                 uint lo = FirstPath.x + i;
                 if (!startPath(uvec2(lo, FirstPath.y + (lo < i ? 1u : 0u)), item % 3u, p))
@@ -215,6 +208,5 @@ void main() {
         eventsLo += p.events - before;
     }
     if (busy) savePath(atomicAdd(ptOutCount, 1u), p);
-    uint old = atomicAdd(ptEventsLo, eventsLo);
-    if (old + eventsLo < old) atomicAdd(ptEventsHi, 1u);
+    ptFinish(eventsLo, ItemCount);
 }

@@ -291,17 +291,27 @@ int benchPathtrace(const std::filesystem::path& root, double seconds,
         s.termination = term;
         // The GL tracer on the same case, whichever device the context has (on llvmpipe: the
         // CPU's cores through the GL compute path), against the CPU's one core above.
+        // "GL global": implicit with every exit added to the global tally instead of the
+        // workgroup-shared one (the same sums bitwise; what the shared tallies save).
+        struct GlLine {
+            const char* name;
+            pathtrace::Estimator est;
+            bool shared;
+        };
+        const GlLine glLines[] = {{"GL analog", pathtrace::Estimator::Analog, true},
+                                  {"GL implicit", pathtrace::Estimator::Implicit, true},
+                                  {"GL global", pathtrace::Estimator::Implicit, false}};
         if (gpu)
-            for (auto est : {pathtrace::Estimator::Analog, pathtrace::Estimator::Implicit}) {
-                s.estimator = est;
+            for (const GlLine& line : glLines) {
+                s.estimator = line.est;
+                gpu->setSharedTallies(line.shared);
                 const auto r = gpuRun(*gpu, c.m, s, seconds * 4);
+                gpu->setSharedTallies(true);
                 const double t1 = timeTo1Percent(r, s, ld), t4 = timeTo1Percent(r, s, 4 * ld);
-                std::printf("%-10s %12.0f %13.3gs %13.3gs %11.2fx %11.2fx %10s\n",
-                            (std::string("GL ") + core::nameOf(est)).c_str(),
+                std::printf("%-10s %12.0f %13.3gs %13.3gs %11.2fx %11.2fx %10s\n", line.name,
                             double(r.paths) / r.seconds, t1, t4, analogAt1 / t1, analogAt4 / t4,
                             "");
-                efficiency.push_back(std::string("GL ") + core::nameOf(est) + ":" +
-                                     efficiencyByRange(r, s, ld));
+                efficiency.push_back(std::string(line.name) + ":" + efficiencyByRange(r, s, ld));
             }
         // Connections on exactly the histogram's bin at each radius (a one-bin table: what a
         // user asks for when a radius matters), and on the whole profile of 0.15 mm bins.

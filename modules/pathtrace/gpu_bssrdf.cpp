@@ -34,7 +34,6 @@ enum Uniform {
     uSeed,
     uFirstPath,
     uPathCount,
-    uInCount,
     uEventBudget,
     uEstimator,
     uOrders,
@@ -64,37 +63,15 @@ enum Uniform {
     uRouletteDistance,
     uCount
 };
-constexpr const char* kUniformNames[uCount] = {"Seed",
-                                               "FirstPath",
-                                               "PathCount",
-                                               "InCount",
-                                               "EventBudget",
-                                               "Estimator",
-                                               "Orders",
-                                               "SigmaT",
-                                               "Albedo",
-                                               "SurviveAlbedo",
-                                               "AlwaysScatter",
-                                               "G",
-                                               "Eta",
-                                               "EntryWeight",
-                                               "EntryDir",
-                                               "MaxEvents",
-                                               "RouletteWeight",
-                                               "SurviveWeight",
-                                               "WeightGain",
-                                               "RBins",
-                                               "RSpacing",
-                                               "RGuess0",
-                                               "RGuessScale",
-                                               "ThetaSBins",
-                                               "DirCos",
-                                               "DirPhi",
-                                               "Batches",
-                                               "DirBase",
-                                               "ExtraBase",
-                                               "TallyScale",
-                                               "RouletteDistance"};
+constexpr const char* kUniformNames[uCount] = {
+    "Seed",          "FirstPath",       "PathCount",  "EventBudget",
+    "Estimator",     "Orders",          "SigmaT",     "Albedo",
+    "SurviveAlbedo", "AlwaysScatter",   "G",          "Eta",
+    "EntryWeight",   "EntryDir",        "MaxEvents",  "RouletteWeight",
+    "SurviveWeight", "WeightGain",      "RBins",      "RSpacing",
+    "RGuess0",       "RGuessScale",     "ThetaSBins", "DirCos",
+    "DirPhi",        "Batches",         "DirBase",    "ExtraBase",
+    "TallyScale",    "RouletteDistance"};
 } // namespace bssrdf_uniforms
 
 // The fixed-point sum `units`·2^−fracBits as an exact sum (fracBits in [−32, 127]).
@@ -126,7 +103,8 @@ uint64_t batchPaths(uint64_t n, uint64_t b, uint64_t batches) {
 } // namespace
 
 GpuBssrdfEstimator::GpuBssrdfEstimator(std::filesystem::path shaderFile)
-    : m_shaderFile(std::move(shaderFile)), m_work(kHeavyPerWalk, kMaxPathsPerRound) {
+    : m_shaderFile(std::move(shaderFile)),
+      m_work(kHeavyPerWalk, kMaxPathsPerRound, detail::TallyReads::EveryDispatch) {
     reload();
     reset(Medium{}, EstimateSettings{});
 }
@@ -287,7 +265,7 @@ uint64_t GpuBssrdfEstimator::step(uint64_t maxPaths) {
             glProgramUniform2ui(p, at(uFirstPath), static_cast<GLuint>(first),
                                 static_cast<GLuint>(first >> 32));
             glProgramUniform1ui(p, at(uPathCount), static_cast<GLuint>(n));
-            m_work.runRound(p, at(uInCount), n, m_shaderFile);
+            m_work.runRound(p, n, m_shaderFile);
             m_tally.paths += n;
             done += n;
         }

@@ -10,7 +10,9 @@
 //   dispatch, unfinished paths suspended and resumed: llvmpipe's loop limit drops nothing);
 //   a connection walk spends one loop iteration per connection sample (r_bins + 1 per
 //   collision), so no iteration is long. Sums: exact 64-bit fixed-point integer tallies
-//   (shaders/common/pathtrace_tally.glsl) read back after every dispatch into 128-bit host sums.
+//   (shaders/common/pathtrace_tally.glsl) read back after every dispatch into 128-bit host sums
+//   (a connection walk adds a value per loop iteration: only a dispatch bounds the sums; the
+//   dispatches themselves are planned on the GPU, common/pathtrace_queue.glsl).
 //   On one device and driver the tally is a function of (medium, settings, angle, seed, paths
 //   done), bitwise: not of step sizes, budgets or scheduling.
 //

@@ -19,8 +19,9 @@ using detail::u128;
 using detail::wordThreshold;
 
 // Must match shaders/pathtrace_slab.comp and common/pathtrace_tally.glsl.
-constexpr uint64_t kExtraSlots = 6;   // beyond rMax, absorbed, loss+, loss−, truncated (w, count)
-constexpr uint64_t kHeavyPerPath = 3; // exit, absorbed, loss
+constexpr uint64_t kExtraSlots = 6; // beyond rMax, absorbed, loss+, loss−, truncated (w, count)
+constexpr uint64_t kSharedSlots = 512; // PT_SHARED_SLOTS in shaders/pathtrace_slab.comp
+constexpr uint64_t kHeavyPerPath = 3;  // exit, absorbed, loss
 
 // The program's uniforms, by name (a namespace of their own: each tracer has its table).
 namespace slab_uniforms {
@@ -28,7 +29,6 @@ enum Uniform {
     uSeed,
     uFirstPath,
     uPathCount,
-    uInCount,
     uEventBudget,
     uSigmaT,
     uAbsorbFraction,
@@ -44,33 +44,26 @@ enum Uniform {
     uRouletteWeight,
     uSurviveWeight,
     uWeightGain,
+    uSharedTally,
     uCount
 };
-constexpr const char* kUniformNames[uCount] = {"Seed",
-                                               "FirstPath",
-                                               "PathCount",
-                                               "InCount",
-                                               "EventBudget",
-                                               "SigmaT",
-                                               "AbsorbFraction",
-                                               "Analog",
-                                               "SurviveAlbedo",
-                                               "AlwaysScatter",
-                                               "G",
-                                               "Eta",
-                                               "EntryWeight",
-                                               "BinsPerMm",
-                                               "Bins",
-                                               "MaxEvents",
-                                               "RouletteWeight",
-                                               "SurviveWeight",
-                                               "WeightGain"};
+constexpr const char* kUniformNames[uCount] = {"Seed",          "FirstPath",
+                                               "PathCount",     "EventBudget",
+                                               "SigmaT",        "AbsorbFraction",
+                                               "Analog",        "SurviveAlbedo",
+                                               "AlwaysScatter", "G",
+                                               "Eta",           "EntryWeight",
+                                               "BinsPerMm",     "Bins",
+                                               "MaxEvents",     "RouletteWeight",
+                                               "SurviveWeight", "WeightGain",
+                                               "PtSharedTally"};
 } // namespace slab_uniforms
 
 } // namespace
 
 GpuSlabTracer::GpuSlabTracer(std::filesystem::path shaderFile)
-    : m_shaderFile(std::move(shaderFile)), m_work(kHeavyPerPath, kMaxPathsPerRound) {
+    : m_shaderFile(std::move(shaderFile)),
+      m_work(kHeavyPerPath, kMaxPathsPerRound, detail::TallyReads::EndOfRound) {
     reload();
     reset(Medium{}, SlabSettings{});
 }
@@ -125,6 +118,10 @@ uint64_t GpuSlabTracer::step(uint64_t maxPaths) {
     return m_tally.paths;
 }
 
+bool GpuSlabTracer::sharedTallies() const {
+    return m_sharedTallies && uint64_t(m_settings.bins) + kExtraSlots <= kSharedSlots;
+}
+
 void GpuSlabTracer::setEventBudget(uint32_t events) {
     m_eventBudget = std::clamp<uint32_t>(events, 1, kMaxEventBudget);
 }
@@ -169,7 +166,8 @@ void GpuSlabTracer::runRound(uint64_t first, uint64_t count) {
                         static_cast<GLuint>(first >> 32));
     glProgramUniform1ui(p, at(uPathCount), static_cast<GLuint>(count));
     glProgramUniform1ui(p, at(uEventBudget), m_eventBudget);
-    m_work.runRound(p, at(uInCount), count, m_shaderFile);
+    glProgramUniform1i(p, at(uSharedTally), sharedTallies() ? 1 : 0);
+    m_work.runRound(p, count, m_shaderFile);
 }
 
 void GpuSlabTracer::publish() {

@@ -12,9 +12,11 @@
 //   Tallies (shaders/common/pathtrace_tally.glsl): per slot Σw and Σw² as exact 64-bit
 //   fixed-point sums (unit 2^-32) made of 32-bit integer atomics with carries; values
 //   rounded to 2^-32 stochastically (unbiased); values above 16 (possible only when
-//   rouletteWeight / rouletteSurvival > 16) go through a side list of floats. The host reads the
-//   integers back after every dispatch (at most 2^17 paths end in one; 2^23 could wrap a 64-bit
-//   sum), adds them exactly into 128-bit integers and converts to the double SlabTally. On one
+//   rouletteWeight / rouletteSurvival > 16) go through a side list of floats. The dispatches of
+//   a round hand over on the GPU (common/pathtrace_queue.glsl): the host issues them by
+//   glDispatchComputeIndirect in batches and reads the queue once per batch; it reads the
+//   integers once per round (≤ 2^16 paths, one value per slot each: no 64-bit sum can wrap),
+//   adds them exactly into 128-bit integers and converts to the double SlabTally. On one
 //   device and driver the tally is a function of (medium, settings, seed, paths done), bitwise: not
 //   of step sizes, budgets, dispatches or scheduling.
 //   Needs the same current OpenGL 4.5 context on the calling thread for every call.
@@ -63,8 +65,15 @@ class GpuSlabTracer {
     // devices; the result does not depend on it.
     void setEventBudget(uint32_t events);
     uint32_t eventBudget() const { return m_eventBudget; }
+    // Workgroup-shared tallies (common/pathtrace_tally.glsl), on by default; they apply when
+    // bins + 6 ≤ 512, else every exit adds to the global tally. The result is bitwise the same
+    // (integer sums); the switch is for measuring them (bench pathtrace) and tests.
+    void setSharedTallies(bool on) { m_sharedTallies = on; }
+    bool sharedTallies() const; // whether the next dispatch sums in shared memory
     // Path values tallied through the heavy-weight list (above 16) since reset (diagnostics).
     uint64_t heavyTallies() const { return m_work.heavyTallies(); }
+    // Dispatches and host reads since construction (the dispatches hand over on the GPU).
+    const detail::GpuWorkQueue& workQueue() const { return m_work; }
 
     // Recompiles the shader from disk. On failure throws core::Error
     // ("shaders/pathtrace_slab.comp:LINE: message", or the shaders/common/… file that has the
@@ -92,6 +101,7 @@ class GpuSlabTracer {
     // absorbed, loss+, loss−).
     detail::GpuWorkQueue m_work;
     uint32_t m_eventBudget = kDefaultEventBudget;
+    bool m_sharedTallies = true;
     Medium m_medium;
     SlabSettings m_settings;
     SlabTally m_tally;

@@ -31,7 +31,6 @@ enum Uniform {
     uSeed,
     uFirstPath,
     uItemCount,
-    uInCount,
     uEventBudget,
     uSigmaT,
     uAbsorbFraction,
@@ -51,17 +50,18 @@ enum Uniform {
     uCount
 };
 constexpr const char* kUniformNames[uCount] = {
-    "Seed",        "FirstPath",      "ItemCount",      "InCount",
-    "EventBudget", "SigmaT",         "AbsorbFraction", "G",
-    "Eta",         "Radius",         "Light",          "E1",
-    "E2",          "Extent",         "PixelSize",      "ImageSize",
-    "MaxEvents",   "RouletteWeight", "SurviveWeight",  "WeightGain"};
+    "Seed",           "FirstPath",      "ItemCount", "EventBudget",
+    "SigmaT",         "AbsorbFraction", "G",         "Eta",
+    "Radius",         "Light",          "E1",        "E2",
+    "Extent",         "PixelSize",      "ImageSize", "MaxEvents",
+    "RouletteWeight", "SurviveWeight",  "WeightGain"};
 } // namespace sphere_uniforms
 
 } // namespace
 
 GpuSphereTracer::GpuSphereTracer(std::filesystem::path shaderFile)
-    : m_shaderFile(std::move(shaderFile)), m_work(kHeavyPerItem, kMaxItemsPerRound) {
+    : m_shaderFile(std::move(shaderFile)),
+      m_work(kHeavyPerItem, kMaxItemsPerRound, detail::TallyReads::EndOfRound) {
     reload();
     reset(m_media, LitSphereSetup{});
 }
@@ -182,7 +182,7 @@ void GpuSphereTracer::runRound(uint64_t first, uint64_t paths) {
                         static_cast<GLuint>(first >> 32));
     glProgramUniform1ui(p, at(uItemCount), static_cast<GLuint>(count));
     glProgramUniform1ui(p, at(uEventBudget), m_eventBudget);
-    m_work.runRound(p, at(uInCount), count, m_shaderFile);
+    m_work.runRound(p, count, m_shaderFile);
 }
 
 Image GpuSphereTracer::image() const {

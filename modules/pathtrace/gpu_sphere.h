@@ -2,8 +2,8 @@
 // pixel definition: lit_sphere.h) as an OpenGL 4.5 compute shader,
 // shaders/pathtrace_sphere.comp, run like the GPU slab tracer (gpu_slab.h): flat event loop
 // with a per-dispatch event budget and suspended paths (safe under llvmpipe's 65535-iteration
-// loop limit), Philox4x32-10 streams, 64-bit fixed-point integer tallies read back after every
-// dispatch into 128-bit host sums.
+// loop limit; dispatches planned on the GPU), Philox4x32-10 streams, 64-bit fixed-point integer
+// tallies read back once per round (one value per pixel per path) into 128-bit host sums.
 //   Estimator: that of traceLitSphere (entry uniform on the light's projected disk, each path
 //   power πR²/N, Fresnel at entry dropped as specular, refraction with weight 1 − F, implicit
 //   absorption with weight roulette, truncation at the event limit, Fresnel roulette at boundary

@@ -15,8 +15,9 @@
 //
 // Overflow: a path adds at most one value per slot and atomic adds take only v ≤ HEAVY (16),
 // so v² ≤ 256 and a slot grows by < (256 + 1)·2^32 per path: 2^23 paths between host
-// readbacks cannot wrap 64 bits (the host reads back after every dispatch, in which at most
-// 2^16 new + 2^16 resumed paths end).
+// readbacks cannot wrap 64 bits (the slab and sphere tracers' host reads back once per round,
+// in which at most 2^16 paths end; the BSSRDF walk, which adds per loop iteration, after every
+// dispatch: modules/pathtrace/detail/gpu_work_queue.h, TallyReads).
 // Heavier values (possible only for a weight-roulette survival probability below 1/160, whose
 // survivors carry rouletteWeight/p), and anything non-finite or negative, go to the heavy list
 // as float bits (slot, bits) for the host to add exactly; the host sizes it for every slot a
@@ -55,6 +56,45 @@ void ptAdd64(uint word, uvec2 v) {
     if (v.y + carry != 0u) atomicAdd(ptAcc[word + 1u], v.y + carry);
 }
 
+#ifdef PT_SHARED_SLOTS
+// Workgroup-shared tallies (a tracer that defines PT_SHARED_SLOTS before this file: the slab
+// tracer). Most paths leave within a few bins of the beam, so the global atomics of every
+// workgroup meet on a handful of words; instead each workgroup sums into its own copy of the
+// slots in shared memory (the same 64-bit words, the same carries) and adds its nonzero sums to
+// the global ones once, at the end of the dispatch. Integer sums in any order: the tally is
+// bitwise the same. Overflow: one workgroup and dispatch adds at most 64 invocations ×
+// 32768 events × 256 · 2^32 < 2^61 per word. The host sets PtSharedTally only when every slot
+// fits (slots ≤ PT_SHARED_SLOTS); the tracer calls ptSharedBegin() first and ptSharedFlush()
+// last, both in uniform control flow (they hold barrier()s).
+shared uint ptShared[4u * PT_SHARED_SLOTS];
+uniform bool PtSharedTally;
+
+void ptAdd64Shared(uint word, uvec2 v) {
+    uint old = atomicAdd(ptShared[word], v.x);
+    uint carry = (old + v.x < old) ? 1u : 0u;
+    if (v.y + carry != 0u) atomicAdd(ptShared[word + 1u], v.y + carry);
+}
+
+void ptSharedBegin() {
+    if (!PtSharedTally) return;
+    for (uint i = gl_LocalInvocationIndex; i < 4u * PT_SHARED_SLOTS; i += gl_WorkGroupSize.x)
+        ptShared[i] = 0u;
+    barrier();
+}
+
+// Adds the workgroup's sums of slots [0, slots) to the global tally.
+void ptSharedFlush(uint slots) {
+    if (!PtSharedTally) return;
+    barrier(); // every invocation's last shared add before anyone reads the sums
+    for (uint s = gl_LocalInvocationIndex; s < slots; s += gl_WorkGroupSize.x)
+        for (uint m = 0u; m < 2u; ++m) {
+            uint w = 4u * s + 2u * m;
+            uvec2 v = uvec2(ptShared[w], ptShared[w + 1u]);
+            if (v != uvec2(0u)) ptAdd64(w, v);
+        }
+}
+#endif
+
 // Adds one path's value v to slot `slot` (first and second moment).
 void ptTally(uint slot, float v, inout Rng rng) {
     if (v == 0.0) return;
@@ -63,8 +103,17 @@ void ptTally(uint slot, float v, inout Rng rng) {
         if (i < PtHeavyCapacity) ptHeavy[i] = uvec2(slot, floatBitsToUint(v));
         return;
     }
-    ptAdd64(4u * slot, ptFixed(v, rngUniform(rng)));
-    ptAdd64(4u * slot + 2u, ptFixed(v * v, rngUniform(rng)));
+    uvec2 first = ptFixed(v, rngUniform(rng));
+    uvec2 second = ptFixed(v * v, rngUniform(rng));
+#ifdef PT_SHARED_SLOTS
+    if (PtSharedTally) {
+        ptAdd64Shared(4u * slot, first);
+        ptAdd64Shared(4u * slot + 2u, second);
+        return;
+    }
+#endif
+    ptAdd64(4u * slot, first);
+    ptAdd64(4u * slot + 2u, second);
 }
 
 // Adds a value to the first moment of slot `slot` only (for tallies whose second moments are

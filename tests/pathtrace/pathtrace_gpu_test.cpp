@@ -361,6 +361,49 @@ TEST(PathtraceGpu, DeterministicForAnyStepsAndBudgets) {
     EXPECT_NE(a.rdSum, d.rdSum) << "another seed, other paths";
 }
 
+TEST(PathtraceGpu, DispatchesHandOverOnTheGpuAndTheHostReadsOncePerBatch) {
+    testsupport::context();
+    const Medium m{0.02, 1.0, 0.3, 1.4};
+    SlabSettings s;
+    s.bins = 40;
+    s.rMaxMm = 5;
+    s.paths = 50000; // one round
+    GpuSlabTracer tracer(slabShader());
+    tracer.setEventBudget(37); // paths suspended many times: many dispatches
+    tracer.reset(m, s);
+    tracer.step(s.paths);
+    const auto& q = tracer.workQueue();
+    EXPECT_GE(q.dispatches(), 10u);
+    // batches of 4 dispatches per read of the queue (the last batch may end early), and the
+    // tallies once for the round
+    EXPECT_LE(q.queueReads(), (q.dispatches() + 3) / 4 + 1);
+    EXPECT_EQ(q.tallyReads(), 1u);
+    EXPECT_TRUE(bitwiseEqual(tracer.tally(), traceGpu(m, s))) << "the default budget";
+}
+
+TEST(PathtraceGpu, WorkgroupSharedTalliesGiveTheSameSumsAsGlobalOnes) {
+    testsupport::context();
+    const Medium m{0.02, 1.0, 0.3, 1.4};
+    SlabSettings s;
+    s.rMaxMm = 5;
+    s.paths = 30000;
+    for (int bins : {40, 506, 507}) { // 506 + 6 slots fill shared memory; 507 do not fit
+        SCOPED_TRACE(bins);
+        s.bins = bins;
+        SlabTally t[2];
+        for (int shared = 0; shared < 2; ++shared) {
+            GpuSlabTracer tracer(slabShader());
+            tracer.setSharedTallies(shared == 1);
+            tracer.reset(m, s);
+            EXPECT_EQ(tracer.sharedTallies(), shared == 1 && bins <= 506);
+            tracer.step(s.paths);
+            t[shared] = tracer.tally();
+        }
+        EXPECT_TRUE(bitwiseEqual(t[0], t[1]));
+        EXPECT_LT(std::abs(accountingError(t[1])), 1e-6);
+    }
+}
+
 TEST(PathtraceGpu, StepStopsAtThePathCountAndResetStartsOver) {
     testsupport::context();
     GpuSlabTracer tracer(slabShader());

@@ -17,10 +17,29 @@ namespace {
 constexpr GLuint kAccBinding = 0, kHeavyBinding = 1, kQueueBinding = 2, kInBinding = 3,
                  kOutBinding = 4;
 constexpr uint64_t kLocalSize = 64;
-constexpr uint64_t kSuspendedWords = 20;    // 5 uvec4 per suspended path
-constexpr uint64_t kQueueWords = 5;         // next, inTaken, outCount, events lo/hi
+constexpr uint64_t kSuspendedWords = 20; // 5 uvec4 per suspended path
+// common/pathtrace_queue.glsl: PtQueue's words and the planner's constants
+enum QueueWord : uint32_t {
+    qNext,
+    qInTaken,
+    qOutCount,
+    qEventsLo,
+    qEventsHi,
+    qInCount,
+    qFinished,
+    qFault,
+    qFaultValue,
+    qFaultCount,
+    qDispatches,
+    qPad,
+    qGroups, // (groups, 1, 1, pad): glDispatchComputeIndirect's arguments
+    kQueueWords = qGroups + 4
+};
 constexpr uint64_t kItemsPerInvocation = 4; // invocations launched per item of work
 constexpr uint64_t kMaxGroups = 1024;       // at most 65536 invocations per dispatch
+// Dispatches issued between two reads of the queue when the tallies need no read per dispatch:
+// a round of the slab tracer takes 2–6 on the reference case; the surplus ones have 0 groups.
+constexpr int kDispatchBatch = 4;
 constexpr uint64_t kMaxInvocations = kMaxGroups * kLocalSize;
 constexpr double kMaxHeavy = 35184372088832.0; // 2^45: beyond it a square could overflow u128
 
@@ -52,10 +71,11 @@ void buildTracerProgram(const std::filesystem::path& shaderFile, shader::Record&
     loc = std::move(found);
 }
 
-GpuWorkQueue::GpuWorkQueue(uint64_t heavyPerItem, uint64_t maxItemsPerRound)
-    // Items ending in one dispatch: at most the round's new items plus the suspended ones.
+GpuWorkQueue::GpuWorkQueue(uint64_t heavyPerItem, uint64_t maxItemsPerRound, TallyReads reads)
+    // Items ending in one dispatch: at most the round's new items plus the suspended ones; in a
+    // round: its new items.
     : m_heavyPerItem(heavyPerItem),
-      m_heavyCapacity(heavyPerItem * (maxItemsPerRound + kMaxInvocations)) {}
+      m_heavyCapacity(heavyPerItem * (maxItemsPerRound + kMaxInvocations)), m_reads(reads) {}
 
 void GpuWorkQueue::allocate(size_t slots) {
     m_acc = gl::createBuffer(slots * 4 * sizeof(uint32_t), nullptr);
@@ -74,55 +94,52 @@ void GpuWorkQueue::clear(size_t slots) {
         glClearNamedBufferData(m_acc.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
 }
 
-void GpuWorkQueue::runRound(GLuint p, int inCountLoc, uint64_t count,
-                            const std::filesystem::path& shaderFile) {
-    glClearNamedBufferData(m_queue.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+void GpuWorkQueue::runRound(GLuint p, uint64_t count, const std::filesystem::path& shaderFile) {
     glProgramUniform1ui(p, glGetUniformLocation(p, "PtHeavyCapacity"),
                         static_cast<GLuint>(std::min<uint64_t>(m_heavyCapacity, 0xFFFFFFFFu)));
-    uint64_t taken = 0;   // new items started so far
-    uint32_t inCount = 0; // paths suspended by the previous dispatch
-    for (int cur = 0;; cur ^= 1) {
-        glProgramUniform1ui(p, inCountLoc, inCount);
-        const uint32_t zeros[4] = {0, 0, 0, 0}; // inTaken, outCount, events (next stays)
-        glNamedBufferSubData(m_queue.id(), 4, 16, zeros);
-        glNamedBufferSubData(m_heavy.id(), 0, 8, zeros);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccBinding, m_acc.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeavyBinding, m_heavy.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kQueueBinding, m_queue.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kInBinding, m_suspended[cur].id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOutBinding, m_suspended[cur ^ 1].id());
-        // Every invocation takes one piece of work on its first iteration, suspended paths
-        // first: at least one invocation per suspended path takes them all (inCount never
-        // exceeds the previous dispatch's invocations, so this fits in kMaxGroups).
-        const uint64_t perGroup = kLocalSize * kItemsPerInvocation;
-        const uint64_t groups =
-            std::clamp<uint64_t>(std::max((inCount + kLocalSize - 1) / kLocalSize,
-                                          (inCount + (count - taken) + perGroup - 1) / perGroup),
-                                 1, kMaxGroups);
-        glUseProgram(p);
-        glDispatchCompute(static_cast<GLuint>(groups), 1, 1);
-        glUseProgram(0);
-        // barrier: the tracer's queue, tallies and suspended paths → the readback and clears
-        // below and the next dispatch, which reads the suspended paths
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-
-        uint32_t queue[kQueueWords] = {};
+    // The first dispatch: no suspended paths, about kItemsPerInvocation items per invocation.
+    // Every later one is planned by the last invocation of the one before
+    // (common/pathtrace_queue.glsl).
+    uint32_t queue[kQueueWords] = {};
+    const uint64_t perGroup = kLocalSize * kItemsPerInvocation;
+    queue[qGroups] = static_cast<uint32_t>(
+        std::clamp<uint64_t>((count + perGroup - 1) / perGroup, 1, kMaxGroups));
+    queue[qGroups + 1] = queue[qGroups + 2] = 1;
+    glNamedBufferSubData(m_queue.id(), 0, sizeof queue, queue);
+    const uint32_t zeros[2] = {0, 0};
+    glNamedBufferSubData(m_heavy.id(), 0, 8, zeros);
+    const bool everyDispatch = m_reads == TallyReads::EveryDispatch;
+    const int batch = everyDispatch ? 1 : kDispatchBatch;
+    for (int cur = 0;;) {
+        for (int b = 0; b < batch; ++b, cur ^= 1) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccBinding, m_acc.id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeavyBinding, m_heavy.id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kQueueBinding, m_queue.id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kInBinding, m_suspended[cur].id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOutBinding, m_suspended[cur ^ 1].id());
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, m_queue.id());
+            glUseProgram(p);
+            glDispatchComputeIndirect(static_cast<GLintptr>(qGroups * sizeof(uint32_t)));
+            glUseProgram(0);
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+            // barrier: the tracer's queue (with the next dispatch's group count), tallies and
+            // suspended paths → the next glDispatchComputeIndirect, the next dispatch, which
+            // reads the suspended paths, and the readbacks and clears below
+            glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                            GL_BUFFER_UPDATE_BARRIER_BIT);
+            if (everyDispatch) readTallies(shaderFile);
+        }
         glGetNamedBufferSubData(m_queue.id(), 0, sizeof queue, queue);
-        readTallies(shaderFile);
-        m_events += (uint64_t(queue[4]) << 32) | queue[3];
-        taken = std::min<uint64_t>(queue[0], count);
-        if (queue[1] < inCount)
+        ++m_queueReads;
+        if (queue[qFault] != 0)
             throw core::Error(shaderFile.string(), 0,
-                              "suspended paths left behind (" + std::to_string(queue[1]) + " of " +
-                                  std::to_string(inCount) + " resumed)");
-        inCount = queue[2];
-        if (inCount > groups * kLocalSize)
-            throw core::Error(shaderFile.string(), 0,
-                              "suspended-path list overflowed (" + std::to_string(inCount) +
-                                  " paths from " + std::to_string(groups * kLocalSize) +
-                                  " invocations)");
-        if (taken >= count && inCount == 0) return;
+                              "suspended paths left behind (" + std::to_string(queue[qFaultValue]) +
+                                  " of " + std::to_string(queue[qFaultCount]) + " resumed)");
+        if (queue[qGroups] == 0) break; // the round is done
     }
+    m_dispatches += queue[qDispatches];
+    m_events += (uint64_t(queue[qEventsHi]) << 32) | queue[qEventsLo];
+    if (!everyDispatch) readTallies(shaderFile);
 }
 
 void GpuWorkQueue::readTallies(const std::filesystem::path& shaderFile) {
@@ -130,6 +147,7 @@ void GpuWorkQueue::readTallies(const std::filesystem::path& shaderFile) {
     std::vector<uint32_t> acc(slots * 4);
     glGetNamedBufferSubData(m_acc.id(), 0, static_cast<GLsizeiptr>(acc.size() * 4), acc.data());
     glClearNamedBufferData(m_acc.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    ++m_tallyReads;
     for (size_t i = 0; i < slots; ++i) {
         m_sum[i] += (u128(acc[4 * i + 1]) << 32) | acc[4 * i];
         m_sumSq[i] += (u128(acc[4 * i + 3]) << 32) | acc[4 * i + 2];
@@ -137,6 +155,8 @@ void GpuWorkQueue::readTallies(const std::filesystem::path& shaderFile) {
     uint32_t heavyCount = 0;
     glGetNamedBufferSubData(m_heavy.id(), 0, 4, &heavyCount);
     if (heavyCount == 0) return;
+    const uint32_t zero = 0;
+    glNamedBufferSubData(m_heavy.id(), 0, 4, &zero); // the list starts over after this read
     if (heavyCount > m_heavyCapacity)
         throw core::Error(shaderFile.string(), 0,
                           "heavy-weight list overflowed (" + std::to_string(heavyCount) +
