@@ -37,8 +37,6 @@ layout(local_size_x = 64) in;
 #include "common/bssrdf_ring.glsl"
 
 uniform uvec2 Seed;            // 64-bit seed of this incidence angle (lo, hi)
-uniform uvec2 FirstPath;       // index of this round's first path (lo, hi)
-uniform uint PathCount;        // new paths in this round
 uniform uint EventBudget;      // loop iterations per invocation and dispatch
 uniform int Estimator;         // 0 analog, 1 implicit, 2 connections
 uniform int Orders;            // 0 all, 1 all but the first collision, 2 the first only
@@ -389,13 +387,12 @@ void main() {
     for (uint it = 0u; it < EventBudget; ++it) {
         if (!busy) {
             uint k;
-            uint kind = ptTake(PathCount, k);
+            uint kind = ptTake(k);
             if (kind == 0u) break;
             if (kind == 1u) {
                 p = loadPath(k);
             } else {
-                uint lo = FirstPath.x + k;
-                p = startPath(uvec2(lo, FirstPath.y + (lo < k ? 1u : 0u)));
+                p = startPath(ptPathOf(k));
             }
             busy = true;
         }
@@ -404,5 +401,5 @@ void main() {
         eventsLo += p.events - before;
     }
     if (busy) savePath(atomicAdd(ptOutCount, 1u), p);
-    ptFinish(eventsLo, PathCount); // eventsLo <= EventBudget
+    ptFinish(eventsLo); // eventsLo <= EventBudget
 }

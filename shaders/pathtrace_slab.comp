@@ -39,15 +39,14 @@
 // All of these are far below the statistical error of any run this tracer can make.
 layout(local_size_x = 64) in;
 
-#define PT_SHARED_SLOTS 512u // workgroup-shared tallies up to 506 bins (common/pathtrace_tally.glsl)
+// PT_SHARED_SLOTS (512u) is defined by the host when workgroup-shared tallies are on: up to 506
+// bins (common/pathtrace_tally.glsl, modules/pathtrace/gpu_slab.h)
 #include "common/pathtrace_rng.glsl"
 #include "common/pathtrace_scatter.glsl"
 #include "common/pathtrace_tally.glsl"
 #include "common/pathtrace_queue.glsl"
 
 uniform uvec2 Seed;            // 64-bit seed (lo, hi)
-uniform uvec2 FirstPath;       // index of this round's first path (lo, hi)
-uniform uint PathCount;        // new paths in this round
 uniform uint EventBudget;      // loop iterations (events) per invocation and dispatch
 uniform float SigmaT;          // σa + σs, 1/mm
 uniform float AbsorbFraction;  // σa / σt (Implicit)
@@ -194,20 +193,21 @@ bool advance(inout Path p) {
 }
 
 void main() {
+#ifdef PT_SHARED_SLOTS
     ptSharedBegin();
+#endif
     Path p;
     bool busy = false;
     uint eventsLo = 0u;
     for (uint it = 0u; it < EventBudget; ++it) {
         if (!busy) {
             uint k;
-            uint kind = ptTake(PathCount, k);
+            uint kind = ptTake(k);
             if (kind == 0u) break;
             if (kind == 1u) {
                 p = loadPath(k);
             } else {
-                uint lo = FirstPath.x + k;
-                p = startPath(uvec2(lo, FirstPath.y + (lo < k ? 1u : 0u)));
+                p = startPath(ptPathOf(k));
             }
             busy = true;
         }
@@ -216,6 +216,8 @@ void main() {
         eventsLo += p.events - before;
     }
     if (busy) savePath(atomicAdd(ptOutCount, 1u), p);
+#ifdef PT_SHARED_SLOTS
     ptSharedFlush(Bins + 6u); // the radial bins and the six slots after them
-    ptFinish(eventsLo, PathCount); // eventsLo <= EventBudget
+#endif
+    ptFinish(eventsLo); // eventsLo <= EventBudget
 }

@@ -4,7 +4,7 @@
 // numbers and tallies of pathtrace_slab.comp (see there: flat event loop with a per-dispatch
 // budget and whole-path suspension, Philox streams, 64-bit fixed-point integer tallies).
 //
-// Work items: item k of a round is channel k % 3 of path FirstPath + k / 3. Channel c of path
+// Work items: item k of a round is channel k % 3 of path (round's first) + k / 3. Channel c of path
 // i draws from Philox(key = Seed, counter = (i lo, i hi, block, SPHERE_STREAM + c)): its own
 // stream per channel, a pure function of (seed, path, channel).
 // Source: entry point uniform on the light's projected disk (radius R), polar mapping
@@ -28,8 +28,6 @@ layout(local_size_x = 64) in;
 #include "common/pathtrace_tally.glsl"
 
 uniform uvec2 Seed;           // 64-bit seed (lo, hi)
-uniform uvec2 FirstPath;      // index of this round's first path (lo, hi)
-uniform uint ItemCount;       // new work items in this round (3 per path)
 uniform uint EventBudget;     // loop iterations per invocation and dispatch
 uniform vec3 SigmaT;          // per channel: σa + σs, 1/mm
 uniform vec3 AbsorbFraction;  // per channel: σa / σt
@@ -191,14 +189,12 @@ void main() {
     for (uint it = 0u; it < EventBudget; ++it) {
         if (!busy) {
             uint item;
-            uint kind = ptTake(ItemCount, item);
+            uint kind = ptTake(item);
             if (kind == 0u) break;
             if (kind == 1u) {
                 p = loadPath(item);
             } else {
-                uint i = item / 3u;
-                uint lo = FirstPath.x + i;
-                if (!startPath(uvec2(lo, FirstPath.y + (lo < i ? 1u : 0u)), item % 3u, p))
+                if (!startPath(ptPathOf(item), item % 3u, p))
                     continue; // nothing entered: the path is done
             }
             busy = true;
@@ -208,5 +204,5 @@ void main() {
         eventsLo += p.events - before;
     }
     if (busy) savePath(atomicAdd(ptOutCount, 1u), p);
-    ptFinish(eventsLo, ItemCount);
+    ptFinish(eventsLo);
 }

@@ -291,22 +291,25 @@ int benchPathtrace(const std::filesystem::path& root, double seconds,
         s.termination = term;
         // The GL tracer on the same case, whichever device the context has (on llvmpipe: the
         // CPU's cores through the GL compute path), against the CPU's one core above.
-        // "GL global": implicit with every exit added to the global tally instead of the
-        // workgroup-shared one (the same sums bitwise; what the shared tallies save).
+        // "GL shared" / "GL global": implicit with the exits summed per workgroup in shared
+        // memory / added to the global tally one by one (the same sums bitwise; the default
+        // takes shared where the driver plans dispatches on the GPU: gpu_slab.h).
         struct GlLine {
             const char* name;
             pathtrace::Estimator est;
-            bool shared;
+            int shared; // -1: the default
         };
-        const GlLine glLines[] = {{"GL analog", pathtrace::Estimator::Analog, true},
-                                  {"GL implicit", pathtrace::Estimator::Implicit, true},
-                                  {"GL global", pathtrace::Estimator::Implicit, false}};
+        const GlLine glLines[] = {{"GL analog", pathtrace::Estimator::Analog, -1},
+                                  {"GL implicit", pathtrace::Estimator::Implicit, -1},
+                                  {"GL shared", pathtrace::Estimator::Implicit, 1},
+                                  {"GL global", pathtrace::Estimator::Implicit, 0}};
+        const bool sharedDefault = gpu && gpu->sharedTalliesCompiled();
         if (gpu)
             for (const GlLine& line : glLines) {
                 s.estimator = line.est;
-                gpu->setSharedTallies(line.shared);
+                gpu->setSharedTallies(line.shared < 0 ? sharedDefault : line.shared == 1);
                 const auto r = gpuRun(*gpu, c.m, s, seconds * 4);
-                gpu->setSharedTallies(true);
+                gpu->setSharedTallies(sharedDefault);
                 const double t1 = timeTo1Percent(r, s, ld), t4 = timeTo1Percent(r, s, 4 * ld);
                 std::printf("%-10s %12.0f %13.3gs %13.3gs %11.2fx %11.2fx %10s\n", line.name,
                             double(r.paths) / r.seconds, t1, t4, analogAt1 / t1, analogAt4 / t4,

@@ -32,8 +32,6 @@ using detail::kRouletteMfp;
 namespace bssrdf_uniforms {
 enum Uniform {
     uSeed,
-    uFirstPath,
-    uPathCount,
     uEventBudget,
     uEstimator,
     uOrders,
@@ -63,15 +61,34 @@ enum Uniform {
     uRouletteDistance,
     uCount
 };
-constexpr const char* kUniformNames[uCount] = {
-    "Seed",          "FirstPath",       "PathCount",  "EventBudget",
-    "Estimator",     "Orders",          "SigmaT",     "Albedo",
-    "SurviveAlbedo", "AlwaysScatter",   "G",          "Eta",
-    "EntryWeight",   "EntryDir",        "MaxEvents",  "RouletteWeight",
-    "SurviveWeight", "WeightGain",      "RBins",      "RSpacing",
-    "RGuess0",       "RGuessScale",     "ThetaSBins", "DirCos",
-    "DirPhi",        "Batches",         "DirBase",    "ExtraBase",
-    "TallyScale",    "RouletteDistance"};
+constexpr const char* kUniformNames[uCount] = {"Seed",
+                                               "EventBudget",
+                                               "Estimator",
+                                               "Orders",
+                                               "SigmaT",
+                                               "Albedo",
+                                               "SurviveAlbedo",
+                                               "AlwaysScatter",
+                                               "G",
+                                               "Eta",
+                                               "EntryWeight",
+                                               "EntryDir",
+                                               "MaxEvents",
+                                               "RouletteWeight",
+                                               "SurviveWeight",
+                                               "WeightGain",
+                                               "RBins",
+                                               "RSpacing",
+                                               "RGuess0",
+                                               "RGuessScale",
+                                               "ThetaSBins",
+                                               "DirCos",
+                                               "DirPhi",
+                                               "Batches",
+                                               "DirBase",
+                                               "ExtraBase",
+                                               "TallyScale",
+                                               "RouletteDistance"};
 } // namespace bssrdf_uniforms
 
 // The fixed-point sum `units`·2^−fracBits as an exact sum (fracBits in [−32, 127]).
@@ -104,7 +121,7 @@ uint64_t batchPaths(uint64_t n, uint64_t b, uint64_t batches) {
 
 GpuBssrdfEstimator::GpuBssrdfEstimator(std::filesystem::path shaderFile)
     : m_shaderFile(std::move(shaderFile)),
-      m_work(kHeavyPerWalk, kMaxPathsPerRound, detail::TallyReads::EveryDispatch) {
+      m_work(kHeavyPerWalk, kMaxPathsPerRound, 1, detail::TallyReads::EveryDispatch) {
     reload();
     reset(Medium{}, EstimateSettings{});
 }
@@ -248,24 +265,18 @@ void GpuBssrdfEstimator::setUniforms() {
 }
 
 uint64_t GpuBssrdfEstimator::step(uint64_t maxPaths) {
-    using namespace bssrdf_uniforms;
     const uint64_t todo =
         std::min(maxPaths, m_settings.paths - std::min(m_settings.paths, m_tally.paths));
     if (todo == 0) return m_tally.paths;
     core::Stopwatch clock;
     const GLuint p = m_program.id();
-    const auto at = [&](Uniform u) { return m_loc[static_cast<size_t>(u)]; };
     try {
         gl::ScopedStageTimer timer("BSSRDF estimate (GPU)");
         setUniforms();
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m_edges.id());
         for (uint64_t done = 0; done < todo;) {
-            const uint64_t n = std::min(kMaxPathsPerRound, todo - done);
-            const uint64_t first = m_tally.paths;
-            glProgramUniform2ui(p, at(uFirstPath), static_cast<GLuint>(first),
-                                static_cast<GLuint>(first >> 32));
-            glProgramUniform1ui(p, at(uPathCount), static_cast<GLuint>(n));
-            m_work.runRound(p, n, m_shaderFile);
+            const uint64_t n = std::min(m_work.maxPathsPerRun(), todo - done);
+            m_work.run(p, m_tally.paths, n, m_shaderFile);
             m_tally.paths += n;
             done += n;
         }

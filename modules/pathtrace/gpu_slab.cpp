@@ -27,8 +27,6 @@ constexpr uint64_t kHeavyPerPath = 3;  // exit, absorbed, loss
 namespace slab_uniforms {
 enum Uniform {
     uSeed,
-    uFirstPath,
-    uPathCount,
     uEventBudget,
     uSigmaT,
     uAbsorbFraction,
@@ -47,23 +45,20 @@ enum Uniform {
     uSharedTally,
     uCount
 };
-constexpr const char* kUniformNames[uCount] = {"Seed",          "FirstPath",
-                                               "PathCount",     "EventBudget",
-                                               "SigmaT",        "AbsorbFraction",
-                                               "Analog",        "SurviveAlbedo",
-                                               "AlwaysScatter", "G",
-                                               "Eta",           "EntryWeight",
-                                               "BinsPerMm",     "Bins",
-                                               "MaxEvents",     "RouletteWeight",
-                                               "SurviveWeight", "WeightGain",
-                                               "PtSharedTally"};
+constexpr const char* kUniformNames[uCount] = {
+    "Seed",         "EventBudget",    "SigmaT",        "AbsorbFraction",
+    "Analog",       "SurviveAlbedo",  "AlwaysScatter", "G",
+    "Eta",          "EntryWeight",    "BinsPerMm",     "Bins",
+    "MaxEvents",    "RouletteWeight", "SurviveWeight", "WeightGain",
+    "PtSharedTally"};
 } // namespace slab_uniforms
 
 } // namespace
 
 GpuSlabTracer::GpuSlabTracer(std::filesystem::path shaderFile)
     : m_shaderFile(std::move(shaderFile)),
-      m_work(kHeavyPerPath, kMaxPathsPerRound, detail::TallyReads::EndOfRound) {
+      m_sharedTallies(detail::GpuWorkQueue::planning() == detail::GpuWorkQueue::Planning::Gpu),
+      m_work(kHeavyPerPath, kMaxPathsPerRound, 1, detail::TallyReads::EndOfRun) {
     reload();
     reset(Medium{}, SlabSettings{});
 }
@@ -72,7 +67,10 @@ GpuSlabTracer::~GpuSlabTracer() = default;
 
 void GpuSlabTracer::reload() {
     using namespace slab_uniforms;
-    detail::buildTracerProgram(m_shaderFile, m_shader, kUniformNames, m_program, m_loc);
+    // the workgroup-shared tallies are compiled in only when on (see gpu_slab.h)
+    detail::buildTracerProgram(
+        m_shaderFile, m_shader, kUniformNames, m_program, m_loc,
+        m_sharedTallies ? "#define PT_SHARED_SLOTS " + std::to_string(kSharedSlots) + "u\n" : "");
     clearSums();
 }
 
@@ -104,8 +102,8 @@ uint64_t GpuSlabTracer::step(uint64_t maxPaths) {
         gl::ScopedStageTimer timer("path tracer (GPU)");
         setMediumUniforms();
         for (uint64_t done = 0; done < todo;) {
-            const uint64_t n = std::min(kMaxPathsPerRound, todo - done);
-            runRound(m_tally.paths, n);
+            const uint64_t n = std::min(m_work.maxPathsPerRun(), todo - done);
+            runPaths(m_tally.paths, n);
             m_tally.paths += n;
             done += n;
         }
@@ -116,6 +114,17 @@ uint64_t GpuSlabTracer::step(uint64_t maxPaths) {
     publish();
     m_seconds += clock.ms() * 1e-3;
     return m_tally.paths;
+}
+
+void GpuSlabTracer::setSharedTallies(bool on) {
+    if (on == m_sharedTallies) return;
+    m_sharedTallies = on;
+    try {
+        reload(); // the other variant of the program; the tally starts over
+    } catch (...) {
+        m_sharedTallies = !on; // the program that is kept
+        throw;
+    }
 }
 
 bool GpuSlabTracer::sharedTallies() const {
@@ -158,16 +167,13 @@ void GpuSlabTracer::setMediumUniforms() {
                        weightRoulette ? static_cast<float>(kFixedOne / surviveWeight) : 1.0f);
 }
 
-void GpuSlabTracer::runRound(uint64_t first, uint64_t count) {
+void GpuSlabTracer::runPaths(uint64_t first, uint64_t count) {
     using namespace slab_uniforms;
     const GLuint p = m_program.id();
     const auto at = [&](Uniform u) { return m_loc[static_cast<size_t>(u)]; };
-    glProgramUniform2ui(p, at(uFirstPath), static_cast<GLuint>(first),
-                        static_cast<GLuint>(first >> 32));
-    glProgramUniform1ui(p, at(uPathCount), static_cast<GLuint>(count));
     glProgramUniform1ui(p, at(uEventBudget), m_eventBudget);
     glProgramUniform1i(p, at(uSharedTally), sharedTallies() ? 1 : 0);
-    m_work.runRound(p, count, m_shaderFile);
+    m_work.run(p, first, count, m_shaderFile);
 }
 
 void GpuSlabTracer::publish() {

@@ -65,11 +65,16 @@ class GpuSlabTracer {
     // devices; the result does not depend on it.
     void setEventBudget(uint32_t events);
     uint32_t eventBudget() const { return m_eventBudget; }
-    // Workgroup-shared tallies (common/pathtrace_tally.glsl), on by default; they apply when
-    // bins + 6 ≤ 512, else every exit adds to the global tally. The result is bitwise the same
-    // (integer sums); the switch is for measuring them (bench pathtrace) and tests.
-    void setSharedTallies(bool on) { m_sharedTallies = on; }
+    // Workgroup-shared tallies (common/pathtrace_tally.glsl; compiled in only when on). They
+    // apply when bins + 6 ≤ 512, else every exit adds to the global tally. The result is
+    // bitwise the same (integer sums). On by default where the GL tracers' dispatches are
+    // planned on the GPU (detail::GpuWorkQueue::planning(), a measured driver cost): a driver
+    // with real parallel workgroups. Off on Mesa llvmpipe, which runs a workgroup's invocations
+    // as coroutines around every barrier() and loses half its speed to them. A change rebuilds
+    // the program (throws like reload()) and starts the tally over: call it before reset().
+    void setSharedTallies(bool on);
     bool sharedTallies() const; // whether the next dispatch sums in shared memory
+    bool sharedTalliesCompiled() const { return m_sharedTallies; } // the switch itself
     // Path values tallied through the heavy-weight list (above 16) since reset (diagnostics).
     uint64_t heavyTallies() const { return m_work.heavyTallies(); }
     // Dispatches and host reads since construction (the dispatches hand over on the GPU).
@@ -90,10 +95,11 @@ class GpuSlabTracer {
   private:
     void clearSums();
     void setMediumUniforms();
-    void runRound(uint64_t first, uint64_t count);
+    void runPaths(uint64_t first, uint64_t count);
     void publish();
 
     std::filesystem::path m_shaderFile;
+    bool m_sharedTallies;
     shader::Record m_shader;
     gl::Program m_program;
     std::vector<int> m_loc; // uniform locations, indexed by the Uniform enum in gpu_slab.cpp
@@ -101,7 +107,6 @@ class GpuSlabTracer {
     // absorbed, loss+, loss−).
     detail::GpuWorkQueue m_work;
     uint32_t m_eventBudget = kDefaultEventBudget;
-    bool m_sharedTallies = true;
     Medium m_medium;
     SlabSettings m_settings;
     SlabTally m_tally;

@@ -29,8 +29,6 @@ constexpr uint64_t kMaxItemsPerRound = 3 * GpuSphereTracer::kMaxPathsPerRound;
 namespace sphere_uniforms {
 enum Uniform {
     uSeed,
-    uFirstPath,
-    uItemCount,
     uEventBudget,
     uSigmaT,
     uAbsorbFraction,
@@ -50,18 +48,18 @@ enum Uniform {
     uCount
 };
 constexpr const char* kUniformNames[uCount] = {
-    "Seed",           "FirstPath",      "ItemCount", "EventBudget",
-    "SigmaT",         "AbsorbFraction", "G",         "Eta",
-    "Radius",         "Light",          "E1",        "E2",
-    "Extent",         "PixelSize",      "ImageSize", "MaxEvents",
-    "RouletteWeight", "SurviveWeight",  "WeightGain"};
+    "Seed",      "EventBudget", "SigmaT",         "AbsorbFraction",
+    "G",         "Eta",         "Radius",         "Light",
+    "E1",        "E2",          "Extent",         "PixelSize",
+    "ImageSize", "MaxEvents",   "RouletteWeight", "SurviveWeight",
+    "WeightGain"};
 } // namespace sphere_uniforms
 
 } // namespace
 
 GpuSphereTracer::GpuSphereTracer(std::filesystem::path shaderFile)
     : m_shaderFile(std::move(shaderFile)),
-      m_work(kHeavyPerItem, kMaxItemsPerRound, detail::TallyReads::EndOfRound) {
+      m_work(kHeavyPerItem, kMaxItemsPerRound, 3, detail::TallyReads::EndOfRun) {
     reload();
     reset(m_media, LitSphereSetup{});
 }
@@ -110,8 +108,8 @@ uint64_t GpuSphereTracer::step(uint64_t maxPathsPerChannel) {
         gl::ScopedStageTimer timer("lit sphere path tracer (GPU)");
         setUniforms();
         for (uint64_t done = 0; done < todo;) {
-            const uint64_t n = std::min(kMaxPathsPerRound, todo - done);
-            runRound(m_paths, n);
+            const uint64_t n = std::min(m_work.maxPathsPerRun(), todo - done);
+            runPaths(m_paths, n);
             m_paths += n;
             done += n;
         }
@@ -173,16 +171,13 @@ void GpuSphereTracer::setUniforms() {
     glProgramUniform1f(p, at(uWeightGain), weightRoulette ? f(kFixedOne / surviveWeight) : 1.0f);
 }
 
-void GpuSphereTracer::runRound(uint64_t first, uint64_t paths) {
+void GpuSphereTracer::runPaths(uint64_t first, uint64_t paths) {
     using namespace sphere_uniforms;
     const GLuint p = m_program.id();
     const auto at = [&](Uniform u) { return m_loc[static_cast<size_t>(u)]; };
-    const uint64_t count = 3 * paths; // work items: every channel of every path
-    glProgramUniform2ui(p, at(uFirstPath), static_cast<GLuint>(first),
-                        static_cast<GLuint>(first >> 32));
-    glProgramUniform1ui(p, at(uItemCount), static_cast<GLuint>(count));
     glProgramUniform1ui(p, at(uEventBudget), m_eventBudget);
-    m_work.runRound(p, count, m_shaderFile);
+    // work items: every channel of every path
+    m_work.run(p, first, paths, m_shaderFile);
 }
 
 Image GpuSphereTracer::image() const {

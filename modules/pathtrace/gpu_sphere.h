@@ -82,7 +82,7 @@ class GpuSphereTracer {
     void clearSums();
     std::array<double, 3> slotPower(size_t offset, std::array<double, 3>* stderrOut) const;
     void setUniforms();
-    void runRound(uint64_t first, uint64_t count);
+    void runPaths(uint64_t first, uint64_t paths);
 
     std::filesystem::path m_shaderFile;
     shader::Record m_shader;

@@ -363,22 +363,35 @@ TEST(PathtraceGpu, DeterministicForAnyStepsAndBudgets) {
 
 TEST(PathtraceGpu, DispatchesHandOverOnTheGpuAndTheHostReadsOncePerBatch) {
     testsupport::context();
+    using Queue = pathtrace::detail::GpuWorkQueue;
+    const Queue::Planning measured = Queue::planning(); // this driver's choice, restored below
     const Medium m{0.02, 1.0, 0.3, 1.4};
     SlabSettings s;
     s.bins = 40;
     s.rMaxMm = 5;
-    s.paths = 50000; // one round
-    GpuSlabTracer tracer(slabShader());
-    tracer.setEventBudget(37); // paths suspended many times: many dispatches
-    tracer.reset(m, s);
-    tracer.step(s.paths);
-    const auto& q = tracer.workQueue();
-    EXPECT_GE(q.dispatches(), 10u);
-    // batches of 4 dispatches per read of the queue (the last batch may end early), and the
-    // tallies once for the round
-    EXPECT_LE(q.queueReads(), (q.dispatches() + 3) / 4 + 1);
-    EXPECT_EQ(q.tallyReads(), 1u);
-    EXPECT_TRUE(bitwiseEqual(tracer.tally(), traceGpu(m, s))) << "the default budget";
+    s.paths = 70000; // two rounds of 2^16 paths, the last one partial
+    SlabTally planned[2];
+    for (Queue::Planning planning : {Queue::Planning::Gpu, Queue::Planning::Host}) {
+        SCOPED_TRACE(planning == Queue::Planning::Gpu ? "planned on the GPU" : "on the host");
+        Queue::setPlanning(planning);
+        GpuSlabTracer tracer(slabShader());
+        tracer.setEventBudget(37); // paths suspended many times: many dispatches per round
+        tracer.reset(m, s);
+        tracer.step(s.paths);
+        const auto& q = tracer.workQueue();
+        EXPECT_EQ(q.rounds(), 2u); // planned on the GPU, one after another
+        EXPECT_GE(q.dispatches(), 20u);
+        if (planning == Queue::Planning::Gpu) // batches of 1, 2, 4, 8, then 16 dispatches
+            EXPECT_LE(q.queueReads(), 6 + q.dispatches() / 16);
+        else // the host reads the planner's group count after every dispatch
+            EXPECT_EQ(q.queueReads(), q.dispatches());
+        EXPECT_EQ(q.tallyReads(), 1u); // once for the whole step
+        planned[planning == Queue::Planning::Gpu ? 0 : 1] = tracer.tally();
+    }
+    Queue::setPlanning(measured);
+    EXPECT_TRUE(bitwiseEqual(planned[0], planned[1]));
+    // the same paths in steps that cut rounds anywhere, with the default budget
+    EXPECT_TRUE(bitwiseEqual(planned[0], traceGpu(m, s, 30001)));
 }
 
 TEST(PathtraceGpu, WorkgroupSharedTalliesGiveTheSameSumsAsGlobalOnes) {

@@ -3,8 +3,10 @@
 #include "pathtrace/detail/gpu_work_queue.h"
 
 #include "core/core.h"
+#include "core/text.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <string>
@@ -31,15 +33,22 @@ enum QueueWord : uint32_t {
     qFaultValue,
     qFaultCount,
     qDispatches,
-    qPad,
+    qRounds,
     qGroups, // (groups, 1, 1, pad): glDispatchComputeIndirect's arguments
-    kQueueWords = qGroups + 4
+    qFirstLo = qGroups + 4,
+    qFirstHi,
+    qRoundCount,
+    qItemsLeft,
+    qItemsPerPath,
+    qMaxRound,
+    kQueueWords
 };
 constexpr uint64_t kItemsPerInvocation = 4; // invocations launched per item of work
 constexpr uint64_t kMaxGroups = 1024;       // at most 65536 invocations per dispatch
-// Dispatches issued between two reads of the queue when the tallies need no read per dispatch:
-// a round of the slab tracer takes 2–6 on the reference case; the surplus ones have 0 groups.
-constexpr int kDispatchBatch = 4;
+// Dispatches issued between two reads of the queue: 1 after the first dispatch of a run, then
+// doubling to this many (a run of many rounds reads the queue a few times; a short one issues
+// few surplus dispatches, which have 0 groups and still cost a driver round on llvmpipe).
+constexpr int kMaxDispatchBatch = 16;
 constexpr uint64_t kMaxInvocations = kMaxGroups * kLocalSize;
 constexpr double kMaxHeavy = 35184372088832.0; // 2^45: beyond it a square could overflow u128
 
@@ -59,11 +68,17 @@ double toDouble(i128 units) {
 
 void buildTracerProgram(const std::filesystem::path& shaderFile, shader::Record& record,
                         std::span<const char* const> names, gl::Program& program,
-                        std::vector<int>& loc) {
+                        std::vector<int>& loc, const std::string& defines) {
     // throws core::Error; nothing changed yet
+    shader::Extension ext;
+    if (!defines.empty())
+        ext.afterVersion = [&](shader::Emitter& e) {
+            e.text(defines);
+            e.line(2, 0); // the template's own line numbers go on after its #version
+        };
     gl::Program built =
         shader::build(shader::Sources::forFile(shaderFile),
-                      {{GL_COMPUTE_SHADER, shaderFile.filename().string()}}, record);
+                      {{GL_COMPUTE_SHADER, shaderFile.filename().string()}}, record, ext);
     std::vector<int> found(names.size());
     for (size_t i = 0; i < names.size(); ++i)
         found[i] = gl::uniformLocation(built, names[i]);
@@ -71,11 +86,62 @@ void buildTracerProgram(const std::filesystem::path& shaderFile, shader::Record&
     loc = std::move(found);
 }
 
-GpuWorkQueue::GpuWorkQueue(uint64_t heavyPerItem, uint64_t maxItemsPerRound, TallyReads reads)
-    // Items ending in one dispatch: at most the round's new items plus the suspended ones; in a
-    // round: its new items.
-    : m_heavyPerItem(heavyPerItem),
-      m_heavyCapacity(heavyPerItem * (maxItemsPerRound + kMaxInvocations)), m_reads(reads) {}
+GpuWorkQueue::GpuWorkQueue(uint64_t heavyPerItem, uint64_t itemsPerRound, uint64_t itemsPerPath,
+                           TallyReads reads)
+    : m_heavyPerItem(heavyPerItem), m_itemsPerRound(itemsPerRound), m_itemsPerPath(itemsPerPath),
+      m_reads(reads) {
+    // Items whose values one read of the heavy list can hold: those ending in one dispatch
+    // (the round's new items plus the suspended ones), or in one run of rounds.
+    m_heavyCapacity =
+        heavyPerItem * (reads == TallyReads::EveryDispatch ? itemsPerRound + kMaxInvocations
+                                                           : maxPathsPerRun() * itemsPerPath);
+}
+
+namespace {
+std::atomic<int> g_planning{-1}; // -1: not measured yet, else a Planning
+} // namespace
+
+void GpuWorkQueue::setPlanning(Planning p) {
+    g_planning = static_cast<int>(p);
+}
+
+GpuWorkQueue::Planning GpuWorkQueue::planning() {
+    if (const int p = g_planning.load(); p >= 0) return static_cast<Planning>(p);
+    // Measured once per process: an indirect dispatch of 0 groups (what a planned dispatch
+    // adds), against a 4-byte readback (what the host's planning adds per dispatch). A driver
+    // where the first is far dearer (Mesa llvmpipe flushes and waits to read the arguments:
+    // ~2 ms empty, more under load) plans on the host; every other plans on the GPU.
+    const gl::Program empty = gl::buildProgram(
+        {{GL_COMPUTE_SHADER, "#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n"}});
+    const uint32_t none[3] = {0, 1, 1};
+    const gl::Buffer args = gl::createBuffer(sizeof none, none);
+    glFinish();
+    core::Stopwatch indirect;
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, args.id());
+    glUseProgram(empty.id());
+    for (int i = 0; i < 2; ++i)
+        glDispatchComputeIndirect(0);
+    glUseProgram(0);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glFinish();
+    const double indirectMs = indirect.ms() / 2;
+    core::Stopwatch readback;
+    uint32_t word = 0;
+    for (int i = 0; i < 2; ++i)
+        glGetNamedBufferSubData(args.id(), 0, 4, &word);
+    const double readbackMs = readback.ms() / 2;
+    const Planning p = indirectMs < std::max(1.0, 4 * readbackMs) ? Planning::Gpu : Planning::Host;
+    core::logInfo(std::string("GL tracers: dispatches planned on the ") +
+                  (p == Planning::Gpu ? "GPU" : "host") + " (an empty indirect dispatch " +
+                  core::formatNumber(indirectMs, 3) + " ms, a readback " +
+                  core::formatNumber(readbackMs, 3) + " ms)");
+    g_planning = static_cast<int>(p);
+    return p;
+}
+
+uint64_t GpuWorkQueue::maxPathsPerRun() const {
+    return kRoundsPerRun * (m_itemsPerRound / m_itemsPerPath);
+}
 
 void GpuWorkQueue::allocate(size_t slots) {
     m_acc = gl::createBuffer(slots * 4 * sizeof(uint32_t), nullptr);
@@ -94,23 +160,39 @@ void GpuWorkQueue::clear(size_t slots) {
         glClearNamedBufferData(m_acc.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
 }
 
-void GpuWorkQueue::runRound(GLuint p, uint64_t count, const std::filesystem::path& shaderFile) {
+void GpuWorkQueue::run(GLuint p, uint64_t firstPath, uint64_t paths,
+                       const std::filesystem::path& shaderFile) {
+    if (paths == 0) return;
+    if (paths > maxPathsPerRun())
+        throw core::Error(shaderFile.string(), 0,
+                          "internal: " + std::to_string(paths) + " paths in one run (at most " +
+                              std::to_string(maxPathsPerRun()) + ")");
+    const bool gpuPlanned = planning() == Planning::Gpu;
     glProgramUniform1ui(p, glGetUniformLocation(p, "PtHeavyCapacity"),
                         static_cast<GLuint>(std::min<uint64_t>(m_heavyCapacity, 0xFFFFFFFFu)));
-    // The first dispatch: no suspended paths, about kItemsPerInvocation items per invocation.
-    // Every later one is planned by the last invocation of the one before
-    // (common/pathtrace_queue.glsl).
+    // The first round and its first dispatch (no suspended paths, about kItemsPerInvocation
+    // items per invocation); every later dispatch and round is planned by the last invocation of
+    // the dispatch before (common/pathtrace_queue.glsl).
+    const uint64_t items = paths * m_itemsPerPath;
+    const uint64_t round = std::min(items, m_itemsPerRound);
     uint32_t queue[kQueueWords] = {};
     const uint64_t perGroup = kLocalSize * kItemsPerInvocation;
+    queue[qRounds] = 1;
     queue[qGroups] = static_cast<uint32_t>(
-        std::clamp<uint64_t>((count + perGroup - 1) / perGroup, 1, kMaxGroups));
+        std::clamp<uint64_t>((round + perGroup - 1) / perGroup, 1, kMaxGroups));
     queue[qGroups + 1] = queue[qGroups + 2] = 1;
+    queue[qFirstLo] = static_cast<uint32_t>(firstPath);
+    queue[qFirstHi] = static_cast<uint32_t>(firstPath >> 32);
+    queue[qRoundCount] = static_cast<uint32_t>(round);
+    queue[qItemsLeft] = static_cast<uint32_t>(items - round);
+    queue[qItemsPerPath] = static_cast<uint32_t>(m_itemsPerPath);
+    queue[qMaxRound] = static_cast<uint32_t>(m_itemsPerRound);
     glNamedBufferSubData(m_queue.id(), 0, sizeof queue, queue);
     const uint32_t zeros[2] = {0, 0};
     glNamedBufferSubData(m_heavy.id(), 0, 8, zeros);
     const bool everyDispatch = m_reads == TallyReads::EveryDispatch;
-    const int batch = everyDispatch ? 1 : kDispatchBatch;
-    for (int cur = 0;;) {
+    for (int cur = 0, batch = 1;; batch = std::min(2 * batch, kMaxDispatchBatch)) {
+        if (!gpuPlanned) batch = 1;
         for (int b = 0; b < batch; ++b, cur ^= 1) {
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccBinding, m_acc.id());
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeavyBinding, m_heavy.id());
@@ -119,7 +201,10 @@ void GpuWorkQueue::runRound(GLuint p, uint64_t count, const std::filesystem::pat
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kOutBinding, m_suspended[cur ^ 1].id());
             glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, m_queue.id());
             glUseProgram(p);
-            glDispatchComputeIndirect(static_cast<GLintptr>(qGroups * sizeof(uint32_t)));
+            if (gpuPlanned)
+                glDispatchComputeIndirect(static_cast<GLintptr>(qGroups * sizeof(uint32_t)));
+            else // the planner's group count, read back below after the previous dispatch
+                glDispatchCompute(queue[qGroups], 1, 1);
             glUseProgram(0);
             glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
             // barrier: the tracer's queue (with the next dispatch's group count), tallies and
@@ -135,8 +220,14 @@ void GpuWorkQueue::runRound(GLuint p, uint64_t count, const std::filesystem::pat
             throw core::Error(shaderFile.string(), 0,
                               "suspended paths left behind (" + std::to_string(queue[qFaultValue]) +
                                   " of " + std::to_string(queue[qFaultCount]) + " resumed)");
-        if (queue[qGroups] == 0) break; // the round is done
+        if (queue[qGroups] == 0) break; // every round is done
     }
+    const uint64_t rounds = (items + m_itemsPerRound - 1) / m_itemsPerRound;
+    if (queue[qRounds] != rounds || queue[qItemsLeft] != 0)
+        throw core::Error(shaderFile.string(), 0,
+                          "the queue ran " + std::to_string(queue[qRounds]) + " rounds of " +
+                              std::to_string(rounds));
+    m_rounds += queue[qRounds];
     m_dispatches += queue[qDispatches];
     m_events += (uint64_t(queue[qEventsHi]) << 32) | queue[qEventsLo];
     if (!everyDispatch) readTallies(shaderFile);

@@ -27,42 +27,61 @@ double toDouble(u128 units);
 double toDouble(i128 units);
 
 // Loads and compiles `shaderFile` (shader::build: includes relative to its folder, errors as
-// file:line, the files read go into `record`) and looks up `names`. Throws core::Error; on
-// failure `program` and `loc` are left unchanged.
+// file:line, the files read go into `record`; `defines`, "#define …" lines, right after its
+// #version) and looks up `names`. Throws core::Error; on failure `program` and `loc` are left
+// unchanged.
 void buildTracerProgram(const std::filesystem::path& shaderFile, shader::Record& record,
                         std::span<const char* const> names, gl::Program& program,
-                        std::vector<int>& loc);
+                        std::vector<int>& loc, const std::string& defines = {});
 
-// When the host reads the 64-bit tallies. EndOfRound: a work item adds at most one value per
-// slot (slab, sphere), so a round of ≤ 2^16 items adds < 2^16 · 256 · 2^32 = 2^56 per slot and
-// cannot wrap 64 bits: the host reads once per round. EveryDispatch: an item may add a value
-// per loop iteration (the BSSRDF walk's connections), bounded per dispatch only.
-enum class TallyReads { EndOfRound, EveryDispatch };
+// When the host reads the 64-bit tallies. EndOfRun: a path adds at most one value per slot
+// (slab, sphere: ≤ 3 items of ≤ 1 value each), so a run of ≤ kRoundsPerRun rounds of ≤ 2^16
+// paths adds < 2^19 · 3 · 256 · 2^32 < 2^62 per slot and cannot wrap 64 bits: the host reads
+// once per run. EveryDispatch: an item may add a value per loop iteration (the BSSRDF walk's
+// connections), bounded per dispatch only.
+enum class TallyReads { EndOfRun, EveryDispatch };
 
 class GpuWorkQueue {
   public:
-    // heavyPerItem: values one work item may tally through the heavy list; maxItemsPerRound:
-    // the most new work items one round starts.
-    GpuWorkQueue(uint64_t heavyPerItem, uint64_t maxItemsPerRound, TallyReads reads);
+    static constexpr uint64_t kRoundsPerRun = 8;
+
+    // heavyPerItem: values one work item may tally through the heavy list; itemsPerRound: the
+    // most new work items one round starts (a multiple of itemsPerPath, the items of one path).
+    GpuWorkQueue(uint64_t heavyPerItem, uint64_t itemsPerRound, uint64_t itemsPerPath,
+                 TallyReads reads);
 
     // (Re)creates the tally buffer for `slots` slots and, once, the other buffers.
     void allocate(size_t slots);
     // Zeroes the host sums (`slots` slots), the counters and the tally buffer.
     void clear(size_t slots);
-    // Runs one round of `count` new work items to completion with `program` (the caller has
-    // set its uniforms). The dispatches hand over on the GPU (common/pathtrace_queue.glsl): the
-    // host issues them in batches by glDispatchComputeIndirect and reads the queue once per
-    // batch, and the tallies once per round (or per dispatch, see TallyReads). Adds the tallies
-    // into sum/sumSq. Throws core::Error naming `shaderFile` for an impossible queue or tally.
-    void runRound(GLuint program, uint64_t count, const std::filesystem::path& shaderFile);
+    // Who issues the planned dispatches. Gpu: the host issues glDispatchComputeIndirect in
+    // batches without reading anything in between. Host: it reads the planner's group count
+    // after each dispatch and issues glDispatchCompute with it (the same dispatches, the same
+    // tally). Chosen once per process by measuring both costs (planning()); tests may set it.
+    enum class Planning { Host, Gpu };
+    static void setPlanning(Planning p);
+    // Measures on the first call in the process (needs a current GL context).
+    static Planning planning();
+
+    // The most paths one run() takes: kRoundsPerRun rounds.
+    uint64_t maxPathsPerRun() const;
+    // Traces paths [firstPath, firstPath + paths) to completion with `program` (the caller has
+    // set its uniforms), in rounds of itemsPerRound items. Dispatches and rounds hand over on
+    // the GPU (common/pathtrace_queue.glsl): the host issues dispatches in growing batches by
+    // glDispatchComputeIndirect and reads the queue once per batch, and the tallies once per
+    // run (or per dispatch, see TallyReads). Adds the tallies into sum/sumSq. Throws
+    // core::Error naming `shaderFile` for an impossible queue or tally.
+    void run(GLuint program, uint64_t firstPath, uint64_t paths,
+             const std::filesystem::path& shaderFile);
 
     // Exact sums in units of 2^-32 per slot.
     const std::vector<u128>& sum() const { return m_sum; }
     const std::vector<u128>& sumSq() const { return m_sumSq; }
     uint64_t events() const { return m_events; }
     uint64_t heavyTallies() const { return m_heavyTallies; }
-    // Since construction (diagnostics, tests): dispatches that ran, reads of the queue and of
-    // the tallies by the host.
+    // Since construction (diagnostics, tests): rounds and dispatches that ran, reads of the
+    // queue and of the tallies by the host.
+    uint64_t rounds() const { return m_rounds; }
     uint64_t dispatches() const { return m_dispatches; }
     uint64_t queueReads() const { return m_queueReads; }
     uint64_t tallyReads() const { return m_tallyReads; }
@@ -71,14 +90,15 @@ class GpuWorkQueue {
     void readTallies(const std::filesystem::path& shaderFile);
 
     uint64_t m_heavyPerItem;
-    uint64_t m_heavyCapacity;
+    uint64_t m_heavyCapacity = 0;
     gl::Buffer m_acc, m_heavy, m_queue;
     gl::Buffer m_suspended[2]; // ping-pong lists of paths suspended between dispatches
     std::vector<u128> m_sum, m_sumSq;
     uint64_t m_events = 0;
     uint64_t m_heavyTallies = 0;
+    uint64_t m_itemsPerRound, m_itemsPerPath;
     TallyReads m_reads;
-    uint64_t m_dispatches = 0, m_queueReads = 0, m_tallyReads = 0;
+    uint64_t m_rounds = 0, m_dispatches = 0, m_queueReads = 0, m_tallyReads = 0;
 };
 
 } // namespace pathtrace::detail
