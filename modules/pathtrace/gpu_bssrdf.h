@@ -92,6 +92,8 @@ class GpuBssrdfEstimator {
     uint64_t pathsDone() const { return m_tally.paths; }
     bool finished() const { return m_tally.paths >= m_settings.paths; }
     double seconds() const { return m_seconds; } // wall time spent in step() since reset
+    // Dispatches, rounds and host reads since construction (diagnostics, tests).
+    const detail::GpuWorkQueue& workQueue() const { return m_work; }
     // Batches per bin and cell of the current settings (1 for the histogram estimators).
     uint32_t batches() const { return m_batches; }
 

@@ -3,10 +3,13 @@
 #include "pathtrace/gpu_slab.h"
 
 #include "core/core.h"
+#include "core/text.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <mutex>
+#include <string>
 
 namespace pathtrace {
 
@@ -22,6 +25,11 @@ using detail::wordThreshold;
 constexpr uint64_t kExtraSlots = 6; // beyond rMax, absorbed, loss+, loss−, truncated (w, count)
 constexpr uint64_t kSharedSlots = 512; // PT_SHARED_SLOTS in shaders/pathtrace_slab.comp
 constexpr uint64_t kHeavyPerPath = 3;  // exit, absorbed, loss
+
+// Whether workgroup-shared tallies pay on this driver: -1 not measured yet (see
+// GpuSlabTracer::measureSharedTallies), else 0 / 1.
+std::mutex g_sharedMutex;
+int g_sharedPays = -1;
 
 // The program's uniforms, by name (a namespace of their own: each tracer has its table).
 namespace slab_uniforms {
@@ -56,10 +64,49 @@ constexpr const char* kUniformNames[uCount] = {
 } // namespace
 
 GpuSlabTracer::GpuSlabTracer(std::filesystem::path shaderFile)
-    : m_shaderFile(std::move(shaderFile)),
-      m_sharedTallies(detail::GpuWorkQueue::planning() == detail::GpuWorkQueue::Planning::Gpu),
+    : m_shaderFile(std::move(shaderFile)), m_sharedTallies(false),
       m_work(kHeavyPerPath, kMaxPathsPerRound, 1, detail::TallyReads::EndOfRun) {
     reload();
+    reset(Medium{}, SlabSettings{});
+    measureSharedTallies();
+}
+
+void GpuSlabTracer::measureSharedTallies() {
+    std::lock_guard lock(g_sharedMutex);
+    if (g_sharedPays < 0) {
+        // Once per process: MCML's case traced both ways, 4096 paths after a warm-up of 1024,
+        // the faster kept. A GPU with parallel workgroups saves the contended global atomics
+        // of the hot bins; Mesa llvmpipe runs a group's invocations as coroutines around each
+        // barrier() and traces a third slower with them.
+        SlabSettings probe;
+        probe.bins = 160;
+        probe.rMaxMm = 24;
+        probe.paths = 5120;
+        double ms[2] = {0, 0};
+        g_sharedPays = 0;
+        try {
+            for (int shared = 0; shared < 2; ++shared) {
+                setSharedTallies(shared == 1);
+                reset(Medium{0.01, 1.0, 0.0, 1.3}, probe);
+                step(1024);
+                core::Stopwatch clock;
+                step(4096);
+                ms[shared] = clock.ms();
+            }
+            g_sharedPays = ms[1] < ms[0] ? 1 : 0;
+            core::logInfo("GL slab tracer: workgroup-shared tallies " +
+                          std::string(g_sharedPays ? "on" : "off") + " (4096 paths in " +
+                          core::formatNumber(ms[1], 3) + " ms with them, " +
+                          core::formatNumber(ms[0], 3) + " ms without)");
+        } catch (const core::Error& e) { // the shared variant does not build: off
+            core::logWarn(std::string("GL slab tracer: workgroup-shared tallies off: ") + e.what());
+        }
+    }
+    try {
+        setSharedTallies(g_sharedPays == 1);
+    } catch (const core::Error&) {
+        m_sharedTallies = false; // the global variant, built above, is the program
+    }
     reset(Medium{}, SlabSettings{});
 }
 

@@ -67,11 +67,12 @@ class GpuSlabTracer {
     uint32_t eventBudget() const { return m_eventBudget; }
     // Workgroup-shared tallies (common/pathtrace_tally.glsl; compiled in only when on). They
     // apply when bins + 6 ≤ 512, else every exit adds to the global tally. The result is
-    // bitwise the same (integer sums). On by default where the GL tracers' dispatches are
-    // planned on the GPU (detail::GpuWorkQueue::planning(), a measured driver cost): a driver
-    // with real parallel workgroups. Off on Mesa llvmpipe, which runs a workgroup's invocations
-    // as coroutines around every barrier() and loses half its speed to them. A change rebuilds
-    // the program (throws like reload()) and starts the tally over: call it before reset().
+    // bitwise the same (integer sums). On by default where the first tracer of the process
+    // measured MCML's case faster with them (a GPU with parallel workgroups, whose global
+    // atomics on the hot bins contend); off where not (Mesa llvmpipe runs a workgroup's
+    // invocations as coroutines around every barrier() and traces a third slower with them).
+    // A change rebuilds the program (throws like reload()) and starts the tally over: call it
+    // before reset().
     void setSharedTallies(bool on);
     bool sharedTallies() const; // whether the next dispatch sums in shared memory
     bool sharedTalliesCompiled() const { return m_sharedTallies; } // the switch itself
@@ -96,6 +97,7 @@ class GpuSlabTracer {
     void clearSums();
     void setMediumUniforms();
     void runPaths(uint64_t first, uint64_t count);
+    void measureSharedTallies(); // the default of setSharedTallies, once per process
     void publish();
 
     std::filesystem::path m_shaderFile;

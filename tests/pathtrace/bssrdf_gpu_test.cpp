@@ -265,6 +265,35 @@ TEST(BssrdfGpu, DeterministicForAnyStepsAndBudgets) {
     EXPECT_TRUE(traceGpu(m, s, 1, 0, 4096) == traceGpu(m, s, 1, 999, 7));
 }
 
+TEST(BssrdfGpu, TalliesAreFoldedOnTheGpuAndReadOncePerRun) {
+    testsupport::context();
+    using Queue = detail::GpuWorkQueue;
+    const Medium m{0.2, 1.0, 0.6, 1.4};
+    EstimateSettings s = smallSettings(BssrdfEstimator::Connections, 60.0, true);
+    s.paths = 6000;
+    BssrdfTally t[2];
+    for (int folded = 1; folded >= 0; --folded) {
+        SCOPED_TRACE(folded ? "folded on the GPU" : "read after every dispatch");
+        Queue::setMaxFoldSlots(folded ? uint64_t(1) << 20 : 0);
+        GpuBssrdfEstimator gpu(walkShader());
+        gpu.setEventBudget(29); // many dispatches
+        gpu.reset(m, s, 0);
+        gpu.step(s.paths);
+        const Queue& q = gpu.workQueue();
+        EXPECT_EQ(q.folds(), folded == 1);
+        EXPECT_GE(q.dispatches(), 10u);
+        // folded: one read for the run; else one after every dispatch issued (GPU-planned
+        // batches may end with dispatches of 0 groups)
+        if (folded)
+            EXPECT_EQ(q.tallyReads(), 1u);
+        else
+            EXPECT_GE(q.tallyReads(), q.dispatches());
+        t[folded] = gpu.tally();
+    }
+    Queue::setMaxFoldSlots(uint64_t(1) << 20);
+    EXPECT_TRUE(t[0] == t[1]) << "the same 128-bit sums either way";
+}
+
 TEST(BssrdfGpu, StepStopsAtThePathCountAndBadSettingsThrow) {
     testsupport::context();
     GpuBssrdfEstimator gpu(walkShader());

@@ -45,6 +45,48 @@ enum QueueWord : uint32_t {
 };
 constexpr uint64_t kItemsPerInvocation = 4; // invocations launched per item of work
 constexpr uint64_t kMaxGroups = 1024;       // at most 65536 invocations per dispatch
+// The fold (TallyReads::EveryDispatch with at most g_maxFoldSlots slots): after each dispatch,
+// every slot's 64-bit sums (4 words: Σ lo, hi, Σ² lo, hi) are added exactly into 128-bit ones
+// (8 words: Σ in 4, Σ² in 4, least significant first) and zeroed, on the GPU. A utility kernel
+// of the queue, not a tracer: it has no file of its own to edit.
+constexpr GLuint kWideBinding = 7;
+std::atomic<uint64_t> g_maxFoldSlots{uint64_t(1) << 20}; // 32 MiB of 128-bit sums
+constexpr const char* kFoldSource = R"(#version 450
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) buffer PtTally { uint acc[]; };
+layout(std430, binding = 7) buffer PtWide { uint wide[]; };
+uniform uint Slots;
+// wide[w .. w + 3] += (hi, lo), exactly (carries through all four words)
+void add128(uint w, uint lo, uint hi) {
+    uint a = wide[w];
+    uint s = a + lo;
+    uint c = s < a ? 1u : 0u;
+    wide[w] = s;
+    a = wide[w + 1u];
+    s = a + hi;
+    uint c2 = s < a ? 1u : 0u;
+    uint t = s + c;
+    c2 += t < s ? 1u : 0u;
+    wide[w + 1u] = t;
+    a = wide[w + 2u];
+    s = a + c2;
+    wide[w + 2u] = s;
+    wide[w + 3u] += s < a ? 1u : 0u;
+}
+void main() {
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x; // at most 2^20 / 2^16 passes
+    for (uint slot = gl_GlobalInvocationID.x; slot < Slots; slot += stride)
+        for (uint m = 0u; m < 2u; ++m) {
+            uint w = 4u * slot + 2u * m;
+            uint lo = acc[w], hi = acc[w + 1u];
+            if ((lo | hi) == 0u) continue;
+            add128(8u * slot + 4u * m, lo, hi);
+            acc[w] = 0u;
+            acc[w + 1u] = 0u;
+        }
+}
+)";
+
 // Dispatches issued between two reads of the queue: 1 after the first dispatch of a run, then
 // doubling to this many (a run of many rounds reads the queue a few times; a short one issues
 // few surplus dispatches, which have 0 groups and still cost a driver round on llvmpipe).
@@ -90,16 +132,18 @@ GpuWorkQueue::GpuWorkQueue(uint64_t heavyPerItem, uint64_t itemsPerRound, uint64
                            TallyReads reads)
     : m_heavyPerItem(heavyPerItem), m_itemsPerRound(itemsPerRound), m_itemsPerPath(itemsPerPath),
       m_reads(reads) {
-    // Items whose values one read of the heavy list can hold: those ending in one dispatch
-    // (the round's new items plus the suspended ones), or in one run of rounds.
-    m_heavyCapacity =
-        heavyPerItem * (reads == TallyReads::EveryDispatch ? itemsPerRound + kMaxInvocations
-                                                           : maxPathsPerRun() * itemsPerPath);
+    // Items whose values one read of the heavy list can hold: those ending in one run of
+    // rounds (read once per run, also when the tallies are read per dispatch).
+    m_heavyCapacity = heavyPerItem * maxPathsPerRun() * itemsPerPath;
 }
 
 namespace {
 std::atomic<int> g_planning{-1}; // -1: not measured yet, else a Planning
 } // namespace
+
+void GpuWorkQueue::setMaxFoldSlots(uint64_t slots) {
+    g_maxFoldSlots = slots;
+}
 
 void GpuWorkQueue::setPlanning(Planning p) {
     g_planning = static_cast<int>(p);
@@ -107,34 +151,57 @@ void GpuWorkQueue::setPlanning(Planning p) {
 
 GpuWorkQueue::Planning GpuWorkQueue::planning() {
     if (const int p = g_planning.load(); p >= 0) return static_cast<Planning>(p);
-    // Measured once per process: an indirect dispatch of 0 groups (what a planned dispatch
-    // adds), against a 4-byte readback (what the host's planning adds per dispatch). A driver
-    // where the first is far dearer (Mesa llvmpipe flushes and waits to read the arguments:
-    // ~2 ms empty, more under load) plans on the host; every other plans on the GPU.
-    const gl::Program empty = gl::buildProgram(
-        {{GL_COMPUTE_SHADER, "#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n"}});
-    const uint32_t none[3] = {0, 1, 1};
-    const gl::Buffer args = gl::createBuffer(sizeof none, none);
-    glFinish();
-    core::Stopwatch indirect;
+    // Measured once per process: the same small workload (256 groups of a loop of 512
+    // iterations that also writes the arguments, as the planner does) dispatched directly and
+    // through glDispatchComputeIndirect, four back to back with their barriers, the fastest of
+    // three such runs of each. Planning on the GPU saves a readback per dispatch but needs
+    // indirect dispatches about as fast as direct ones; a driver that runs them much slower
+    // gets the host's planning. (Mesa llvmpipe and zink: equal.)
+    const gl::Program busy = gl::buildProgram({{GL_COMPUTE_SHADER, R"(#version 450
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) writeonly buffer Out { float outv[]; };
+layout(std430, binding = 1) buffer Args { uint args[3]; };
+void main() {
+    float x = float(gl_GlobalInvocationID.x);
+    for (int i = 0; i < 512; ++i) x = x * 0.999 + 1.0;
+    outv[gl_GlobalInvocationID.x] = x;
+    if (gl_GlobalInvocationID.x == 0u) args[0] = gl_NumWorkGroups.x; // as the planner does
+}
+)"}});
+    const uint32_t groups[3] = {256, 1, 1};
+    const gl::Buffer args = gl::createBuffer(sizeof groups, groups);
+    const gl::Buffer out = gl::createBuffer(256 * 64 * sizeof(float), nullptr);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, args.id());
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, args.id());
-    glUseProgram(empty.id());
-    for (int i = 0; i < 2; ++i)
-        glDispatchComputeIndirect(0);
+    glUseProgram(busy.id());
+    auto time = [&](bool indirect) {
+        double best = 1e30;
+        for (int i = 0; i < 4; ++i) {
+            glFinish();
+            core::Stopwatch clock;
+            for (int k = 0; k < 4; ++k) { // back to back, as the tracers issue them
+                if (indirect)
+                    glDispatchComputeIndirect(0);
+                else
+                    glDispatchCompute(groups[0], 1, 1);
+                glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+            }
+            glFinish();
+            if (i > 0) best = std::min(best, clock.ms() / 4);
+        }
+        return best;
+    };
+    const double directMs = time(false), indirectMs = time(true);
     glUseProgram(0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-    glFinish();
-    const double indirectMs = indirect.ms() / 2;
-    core::Stopwatch readback;
-    uint32_t word = 0;
-    for (int i = 0; i < 2; ++i)
-        glGetNamedBufferSubData(args.id(), 0, 4, &word);
-    const double readbackMs = readback.ms() / 2;
-    const Planning p = indirectMs < std::max(1.0, 4 * readbackMs) ? Planning::Gpu : Planning::Host;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
+    const Planning p = indirectMs < 1.5 * directMs + 0.2 ? Planning::Gpu : Planning::Host;
     core::logInfo(std::string("GL tracers: dispatches planned on the ") +
-                  (p == Planning::Gpu ? "GPU" : "host") + " (an empty indirect dispatch " +
-                  core::formatNumber(indirectMs, 3) + " ms, a readback " +
-                  core::formatNumber(readbackMs, 3) + " ms)");
+                  (p == Planning::Gpu ? "GPU" : "host") + " (a test dispatch " +
+                  core::formatNumber(directMs, 3) + " ms direct, " +
+                  core::formatNumber(indirectMs, 3) + " ms indirect)");
     g_planning = static_cast<int>(p);
     return p;
 }
@@ -145,6 +212,12 @@ uint64_t GpuWorkQueue::maxPathsPerRun() const {
 
 void GpuWorkQueue::allocate(size_t slots) {
     m_acc = gl::createBuffer(slots * 4 * sizeof(uint32_t), nullptr);
+    m_fold = m_reads == TallyReads::EveryDispatch && slots <= g_maxFoldSlots.load();
+    m_wide = m_fold ? gl::createBuffer(slots * 8 * sizeof(uint32_t), nullptr) : gl::Buffer{};
+    if (m_fold && !m_foldProgram) {
+        m_foldProgram = gl::buildProgram({{GL_COMPUTE_SHADER, kFoldSource}});
+        m_foldSlotsLoc = gl::uniformLocation(m_foldProgram, "Slots");
+    }
     if (!m_heavy) m_heavy = gl::createBuffer(8 + m_heavyCapacity * 8, nullptr);
     if (!m_queue) m_queue = gl::createBuffer(kQueueWords * sizeof(uint32_t), nullptr);
     for (auto& list : m_suspended)
@@ -158,6 +231,23 @@ void GpuWorkQueue::clear(size_t slots) {
     m_heavyTallies = 0;
     if (m_acc)
         glClearNamedBufferData(m_acc.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    if (m_wide)
+        glClearNamedBufferData(m_wide.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+}
+
+void GpuWorkQueue::fold() {
+    const uint64_t slots = m_sum.size();
+    glProgramUniform1ui(m_foldProgram.id(), m_foldSlotsLoc, static_cast<GLuint>(slots));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccBinding, m_acc.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kWideBinding, m_wide.id());
+    glUseProgram(m_foldProgram.id());
+    glDispatchCompute(
+        static_cast<GLuint>(std::clamp<uint64_t>((slots + kLocalSize - 1) / kLocalSize, 1, 1024)),
+        1, 1);
+    glUseProgram(0);
+    // barrier: the fold's zeroed 64-bit sums → the tracer's next dispatch, which adds to them;
+    // its 128-bit sums → the readback at the end of the run
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 void GpuWorkQueue::run(GLuint p, uint64_t firstPath, uint64_t paths,
@@ -190,7 +280,8 @@ void GpuWorkQueue::run(GLuint p, uint64_t firstPath, uint64_t paths,
     glNamedBufferSubData(m_queue.id(), 0, sizeof queue, queue);
     const uint32_t zeros[2] = {0, 0};
     glNamedBufferSubData(m_heavy.id(), 0, 8, zeros);
-    const bool everyDispatch = m_reads == TallyReads::EveryDispatch;
+    // tallies read after every dispatch only where they cannot be folded on the GPU
+    const bool everyDispatch = m_reads == TallyReads::EveryDispatch && !m_fold;
     for (int cur = 0, batch = 1;; batch = std::min(2 * batch, kMaxDispatchBatch)) {
         if (!gpuPlanned) batch = 1;
         for (int b = 0; b < batch; ++b, cur ^= 1) {
@@ -212,6 +303,7 @@ void GpuWorkQueue::run(GLuint p, uint64_t firstPath, uint64_t paths,
             // reads the suspended paths, and the readbacks and clears below
             glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                             GL_BUFFER_UPDATE_BARRIER_BIT);
+            if (m_fold) fold();
             if (everyDispatch) readTallies(shaderFile);
         }
         glGetNamedBufferSubData(m_queue.id(), 0, sizeof queue, queue);
@@ -235,13 +327,26 @@ void GpuWorkQueue::run(GLuint p, uint64_t firstPath, uint64_t paths,
 
 void GpuWorkQueue::readTallies(const std::filesystem::path& shaderFile) {
     const size_t slots = m_sum.size();
-    std::vector<uint32_t> acc(slots * 4);
-    glGetNamedBufferSubData(m_acc.id(), 0, static_cast<GLsizeiptr>(acc.size() * 4), acc.data());
-    glClearNamedBufferData(m_acc.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
     ++m_tallyReads;
-    for (size_t i = 0; i < slots; ++i) {
-        m_sum[i] += (u128(acc[4 * i + 1]) << 32) | acc[4 * i];
-        m_sumSq[i] += (u128(acc[4 * i + 3]) << 32) | acc[4 * i + 2];
+    if (m_fold) { // the 128-bit sums of the run
+        std::vector<uint32_t> w(slots * 8);
+        glGetNamedBufferSubData(m_wide.id(), 0, static_cast<GLsizeiptr>(w.size() * 4), w.data());
+        glClearNamedBufferData(m_wide.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+        auto wide = [&](size_t k) {
+            return (u128(w[k + 3]) << 96) | (u128(w[k + 2]) << 64) | (u128(w[k + 1]) << 32) | w[k];
+        };
+        for (size_t i = 0; i < slots; ++i) {
+            m_sum[i] += wide(8 * i);
+            m_sumSq[i] += wide(8 * i + 4);
+        }
+    } else {
+        std::vector<uint32_t> acc(slots * 4);
+        glGetNamedBufferSubData(m_acc.id(), 0, static_cast<GLsizeiptr>(acc.size() * 4), acc.data());
+        glClearNamedBufferData(m_acc.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+        for (size_t i = 0; i < slots; ++i) {
+            m_sum[i] += (u128(acc[4 * i + 1]) << 32) | acc[4 * i];
+            m_sumSq[i] += (u128(acc[4 * i + 3]) << 32) | acc[4 * i + 2];
+        }
     }
     uint32_t heavyCount = 0;
     glGetNamedBufferSubData(m_heavy.id(), 0, 4, &heavyCount);

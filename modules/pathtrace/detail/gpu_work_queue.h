@@ -34,11 +34,13 @@ void buildTracerProgram(const std::filesystem::path& shaderFile, shader::Record&
                         std::span<const char* const> names, gl::Program& program,
                         std::vector<int>& loc, const std::string& defines = {});
 
-// When the host reads the 64-bit tallies. EndOfRun: a path adds at most one value per slot
+// When the 64-bit tallies must be emptied. EndOfRun: a path adds at most one value per slot
 // (slab, sphere: ≤ 3 items of ≤ 1 value each), so a run of ≤ kRoundsPerRun rounds of ≤ 2^16
 // paths adds < 2^19 · 3 · 256 · 2^32 < 2^62 per slot and cannot wrap 64 bits: the host reads
 // once per run. EveryDispatch: an item may add a value per loop iteration (the BSSRDF walk's
-// connections), bounded per dispatch only.
+// connections), bounded per dispatch only: a small kernel folds them into 128-bit sums on the
+// GPU after each dispatch and the host reads those once per run (tables of up to 2^20 slots;
+// bigger ones are read by the host after every dispatch).
 enum class TallyReads { EndOfRun, EveryDispatch };
 
 class GpuWorkQueue {
@@ -60,6 +62,10 @@ class GpuWorkQueue {
     // tally). Chosen once per process by measuring both costs (planning()); tests may set it.
     enum class Planning { Host, Gpu };
     static void setPlanning(Planning p);
+    // Tables of more slots than this (default 2^20) are read after every dispatch instead of
+    // folded on the GPU (EveryDispatch; tests compare the two). Applies from the next allocate().
+    static void setMaxFoldSlots(uint64_t slots);
+    bool folds() const { return m_fold; }
     // Measures on the first call in the process (needs a current GL context).
     static Planning planning();
 
@@ -88,10 +94,15 @@ class GpuWorkQueue {
 
   private:
     void readTallies(const std::filesystem::path& shaderFile);
+    void fold(); // the 64-bit sums into the 128-bit ones, on the GPU
 
     uint64_t m_heavyPerItem;
     uint64_t m_heavyCapacity = 0;
     gl::Buffer m_acc, m_heavy, m_queue;
+    gl::Buffer m_wide; // 128-bit sums when folding
+    bool m_fold = false;
+    gl::Program m_foldProgram;
+    int m_foldSlotsLoc = -1;
     gl::Buffer m_suspended[2]; // ping-pong lists of paths suspended between dispatches
     std::vector<u128> m_sum, m_sumSq;
     uint64_t m_events = 0;
