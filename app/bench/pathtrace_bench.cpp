@@ -253,9 +253,10 @@ int benchPathtrace(const std::filesystem::path& root, double seconds,
                     "t(1%) @ 4 l_d", "vs analog @1", "vs analog @4", "ns/event");
         double analogAt1 = NAN, analogAt4 = NAN, implicitAt1 = NAN, implicitAt4 = NAN;
         std::vector<std::string> efficiency; // per estimator line, printed below the table
-        // CPU lines: analog, implicit without radial splitting, implicit with the default
-        // splitting (pathtrace.h, Splitting), and MCML's own roulette (w < 10^-4, survival 0.1)
-        // on our walk: MCML's estimator, so its variance per path is MCML's.
+        // CPU lines: analog (Algorithm 1 as printed) and with the default radial splitting
+        // (pathtrace.h, Splitting), implicit without and with it, and MCML's own roulette
+        // (w < 10^-4, survival 0.1) on our walk: MCML's estimator, so its variance per path is
+        // MCML's.
         struct Line {
             const char* name;
             pathtrace::Estimator est;
@@ -265,6 +266,8 @@ int benchPathtrace(const std::filesystem::path& root, double seconds,
         const pathtrace::Termination term;
         const Line lines[] = {
             {"analog", pathtrace::Estimator::Analog, 0, term.rouletteWeight, term.rouletteSurvival},
+            {"an-split", pathtrace::Estimator::Analog, pathtrace::Splitting{}.levels,
+             term.rouletteWeight, term.rouletteSurvival},
             {"implicit", pathtrace::Estimator::Implicit, 0, term.rouletteWeight,
              term.rouletteSurvival},
             {"split", pathtrace::Estimator::Implicit, pathtrace::Splitting{}.levels,

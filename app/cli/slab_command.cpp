@@ -58,10 +58,10 @@ std::function<void(uint64_t)> progressLine(const pathtrace::SlabSettings& s,
     };
 }
 
-// What radial splitting did (pathtrace.h, Splitting): off for analog walks and the GL tracer.
+// What radial splitting did (pathtrace.h, Splitting): off for the GL tracer.
 std::string splittingText(const pathtrace::SlabSettings& s) {
     const pathtrace::Splitting& p = s.splitting;
-    if (p.levels == 0 || s.estimator == pathtrace::Estimator::Analog) return "off";
+    if (p.levels == 0) return "off";
     return "levels " + std::to_string(p.levels) + ", start " + core::formatNumber(p.startLd) +
            " l_d, step " + core::formatNumber(p.stepLd) + " l_d, depth " +
            core::formatNumber(p.depth);

@@ -118,9 +118,10 @@ class Walker {
         maxEvents = std::max<uint32_t>(1, s.termination.maxEvents);
         rouletteWeight = s.termination.rouletteWeight;
         rouletteSurvival = s.termination.rouletteSurvival;
-        // Radial splitting (implicit and connections; analog weights stay 1).
+        // Radial splitting (every estimator: an analog copy carries w/2^k and is still absorbed
+        // by roulette, so its weight only changes where it splits or comes back).
         const double ld = 1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1.0 - m.g)));
-        m_split = s.splitting.levels > 0 && m_est != BssrdfEstimator::Analog && std::isfinite(ld);
+        m_split = s.splitting.levels > 0 && std::isfinite(ld);
         if (m_split) {
             m_splitLevels = s.splitting.levels;
             m_splitStart = s.splitting.startLd * ld;

@@ -106,16 +106,31 @@ TEST(Splitting, LowersTheVariancePerPathInTheTail) {
     EXPECT_NEAR(nearSplit / nearPlain, 1.0, 0.2);
 }
 
-// Splitting is a walk setting: `estimate` tables carry it, and the analog walk (weights 1)
-// ignores it — bitwise the same table with and without.
-TEST(Splitting, AnalogWalksDoNotSplit) {
-    EstimateSettings e;
-    e.paths = 3000;
-    e.bins.rBins = 8;
-    e.bins.rMaxMm = 8;
-    e.estimator = BssrdfEstimator::Analog;
-    const BssrdfTally a = estimateChunks(kMedium, e, 0, 0, chunkCount(e));
-    e.splitting.levels = 0;
-    const BssrdfTally b = estimateChunks(kMedium, e, 0, 0, chunkCount(e));
-    EXPECT_TRUE(a == b);
+// The analog walk splits too (its copies carry w/2^k; absorption stays a roulette): the same
+// expectation as without splitting in every bin (z-tests, χ²) and a lower variance per path in
+// the tail.
+TEST(Splitting, AnalogWalksSplitWithTheSameExpectation) {
+    SlabSettings a0 = settings(0, 200000, 3), a5 = settings(Splitting{}.levels, 100000, 4);
+    a0.estimator = a5.estimator = Estimator::Analog;
+    const SlabResult plain = runSlab(kMedium, a0);
+    const SlabResult split = runSlab(kMedium, a5);
+    ASSERT_TRUE(energyProblem(split).empty()) << energyProblem(split);
+    double chi2 = 0;
+    for (size_t b = 0; b < plain.rd.size(); ++b) {
+        const double se = std::hypot(plain.rdStderr[b], split.rdStderr[b]);
+        ASSERT_GT(se, 0.0) << "bin " << b;
+        const double z = (split.rd[b] - plain.rd[b]) / se;
+        EXPECT_LT(std::fabs(z), 4.0) << "bin " << b;
+        chi2 += z * z;
+    }
+    EXPECT_LT(chi2, 51.0); // 24 degrees of freedom: P(χ² > 51) < 1e-3
+    EXPECT_LT(std::fabs(split.absorbed - plain.absorbed) /
+                  std::hypot(split.absorbedStderr, plain.absorbedStderr),
+              4.0);
+    double tailPlain = 0, tailSplit = 0;
+    for (size_t b = 18; b < 24; ++b) {
+        tailPlain += std::pow(plain.rdStderr[b] / plain.rd[b], 2) * double(plain.paths);
+        tailSplit += std::pow(split.rdStderr[b] / split.rd[b], 2) * double(split.paths);
+    }
+    EXPECT_LT(tailSplit, tailPlain / 2) << tailSplit << " vs " << tailPlain;
 }

@@ -48,9 +48,10 @@ void drawReferenceControls(Workbench& wb) {
         ImGui::EndCombo();
     }
     if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("implicit: absorption by weight (default)\nanalog: thesis Algorithm 1 "
-                          "as printed\nconnections: every collision connected to every bin "
-                          "(seed 001; CPU only)");
+        ImGui::SetTooltip("implicit: absorption by weight (default)\nanalog: absorption by "
+                          "roulette (thesis Algorithm 1; the CPU walk splits radially)\n"
+                          "connections: every collision connected to every bin (seed 001; CPU "
+                          "only)");
     sameLineIfFits(itemWidth(70, "device"));
     ImGui::SetNextItemWidth(70);
     if (ImGui::BeginCombo("device", core::nameOf(rs.device))) {
