@@ -35,21 +35,30 @@ class EglContext final : public Context {
         if (m_context == EGL_NO_CONTEXT)
             throw core::Error("EGL: cannot create an OpenGL 4.5 core context (error 0x" +
                               hex(eglGetError()) + ")");
-        makeCurrent();
-        if (epoxy_gl_version() < 45)
-            throw core::Error("EGL: OpenGL 4.5 required, driver gives " +
-                              std::to_string(epoxy_gl_version() / 10) + "." +
-                              std::to_string(epoxy_gl_version() % 10));
+        try {
+            makeCurrent();
+            if (epoxy_gl_version() < 45)
+                throw core::Error("EGL: OpenGL 4.5 required, driver gives " +
+                                  std::to_string(epoxy_gl_version() / 10) + "." +
+                                  std::to_string(epoxy_gl_version() % 10));
+            requireLimits();
+        } catch (...) {
+            release(); // no destructor runs for a constructor that throws
+            throw;
+        }
         if (debug) installDebugOutput();
         forgetBarrierState();
         installBarrierChecks(eglGetProcAddress);
     }
-    ~EglContext() override {
+    ~EglContext() override { release(); }
+    void release() {
         if (m_display != EGL_NO_DISPLAY) {
             eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
             if (m_context != EGL_NO_CONTEXT) eglDestroyContext(m_display, m_context);
             eglTerminate(m_display);
         }
+        m_display = EGL_NO_DISPLAY;
+        m_context = EGL_NO_CONTEXT;
     }
     void makeCurrent() override {
         if (!eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, m_context))

@@ -48,6 +48,13 @@ class GlfwContext final : public Context {
         glfwShowWindow(m_window);
         makeCurrent();
         glfwSwapInterval(1);
+        try {
+            requireLimits();
+        } catch (...) {
+            glfwDestroyWindow(m_window);
+            glfwTerminate();
+            throw;
+        }
         if (debug) installDebugOutput();
         forgetBarrierState();
         installBarrierChecks(glfwGetProcAddress);

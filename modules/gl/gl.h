@@ -7,7 +7,9 @@
 
 #include <epoxy/gl.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -47,6 +49,21 @@ struct WindowSize {
 };
 WindowSize fitWindowSize(int wantW, int wantH, int areaW, int areaH, int frameW = 0,
                          int frameH = 0);
+
+// What the workbench needs of a driver beyond "OpenGL 4.5 core" (limits.cpp): each limit, the
+// least value it needs and what needs it. Both contexts call requireLimits() when created, which
+// throws core::Error("<renderer>: the OpenGL driver falls short …: NAME is V, needs N (use); …").
+struct RequiredLimit {
+    const char* name;
+    GLenum pname;
+    int index; // indexed query (glGetInteger64i_v) when >= 0
+    int64_t needed;
+    const char* use;
+};
+const std::vector<RequiredLimit>& requiredLimits();
+// "" when every limit is met by `query`, else the message naming every shortfall.
+std::string limitsProblem(const std::function<int64_t(const RequiredLimit&)>& query);
+void requireLimits(); // with the current context; throws core::Error
 
 // Routes KHR_debug messages to the core log (called by both context constructors).
 void installDebugOutput();

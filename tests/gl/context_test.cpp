@@ -125,3 +125,33 @@ TEST(HeadlessContext, AnUnexpectedGlErrorFailsTheTest) {
     EXPECT_EQ(expected.count(), 1);
     glUseProgram(0);
 }
+
+// The limits a driver must meet (gl/limits.cpp): this driver meets them all, and one that falls
+// short gets one message naming each limit, its value, what is needed and what needs it.
+TEST(HeadlessContext, DriverLimitsAreCheckedAndShortfallsNamed) {
+    auto ctx = gl::createHeadlessContext(); // requireLimits() passed in the constructor
+    EXPECT_NO_THROW(gl::requireLimits());
+    ASSERT_FALSE(gl::requiredLimits().empty());
+    for (const gl::RequiredLimit& l : gl::requiredLimits()) {
+        GLint64 v = 0;
+        if (l.index >= 0)
+            glGetInteger64i_v(l.pname, GLuint(l.index), &v);
+        else
+            glGetInteger64v(l.pname, &v);
+        EXPECT_GE(v, l.needed) << l.name;
+    }
+    // a driver with half the shared memory needed and a 2048-pixel texture limit
+    const std::string problem = gl::limitsProblem([](const gl::RequiredLimit& l) -> int64_t {
+        if (l.pname == GL_MAX_COMPUTE_SHARED_MEMORY_SIZE) return 4096;
+        if (l.pname == GL_MAX_TEXTURE_SIZE) return 2048;
+        return l.needed;
+    });
+    EXPECT_NE(problem.find("GL_MAX_COMPUTE_SHARED_MEMORY_SIZE is 4096, needs 8192 (the slab "
+                           "tracer's workgroup-shared tallies"),
+              std::string::npos)
+        << problem;
+    EXPECT_NE(problem.find("GL_MAX_TEXTURE_SIZE is 2048, needs 4096"), std::string::npos)
+        << problem;
+    EXPECT_EQ(problem.find("GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS"), std::string::npos);
+    EXPECT_EQ(gl::limitsProblem([](const gl::RequiredLimit& l) { return l.needed; }), "");
+}
