@@ -158,6 +158,8 @@ class ReferenceStage : public StageOf<ReferenceInputs> {
     }
     shader::Records shaderRecords() const override; // "reference:PROGRAM"
     const std::string& model() const { return m_model; }
+    // With device auto: what the measurement found ("CPU … paths/s, GPU … paths/s: CPU"), else "".
+    std::string deviceChoice() const { return m_auto ? m_choice : std::string(); }
 
   private:
     ReferenceRunner m_cpu;

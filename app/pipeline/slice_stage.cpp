@@ -160,6 +160,8 @@ bool SliceStage::update(const SliceInputs& in) {
     const pathtrace::EstimateSettings est = estimateSettings(in.settings, medium);
     // the device is part of the run: a change of it restarts on the other one
     const bool gpu = chooseGpu(in.settings.device, m_slabShader);
+    m_choice = in.settings.device == TracerDevice::Auto ? slabThroughput(m_slabShader).summary()
+                                                        : std::string();
     const std::string key = core::keyOf(medium, est) + (gpu ? "gpu" : "cpu");
     if (!m_problem.empty()) changed = true;
     m_problem.clear();
@@ -259,6 +261,7 @@ StageStatus SliceStage::status() const {
         if (!r.problem.empty()) st.problems.push_back(r.problem);
     st.stats.emplace_back("paths/s", core::formatNumber(snap.pathsPerSecond, 3));
     st.stats.emplace_back("device", snap.device);
+    if (!m_choice.empty()) st.stats.emplace_back("device choice", m_choice);
     return st;
 }
 

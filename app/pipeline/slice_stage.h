@@ -106,6 +106,8 @@ class SliceStage : public StageOf<SliceInputs> {
     shader::Records shaderRecords() const override; // "slice:PROGRAM"
     const std::map<std::string, ModelSliceResult>& models() const { return m_models; }
     const std::string& model() const { return m_model; }
+    // With device auto: what the measurement found (tracer_device.h), else "".
+    std::string deviceChoice() const { return m_choice; }
 
   private:
     // Evaluates the models whose key changed; true when any result was recomputed or removed.
@@ -115,6 +117,7 @@ class SliceStage : public StageOf<SliceInputs> {
     GpuSliceRunner m_gpu;
     std::filesystem::path m_slabShader;
     bool m_gpuMode = false;
+    std::string m_choice;
     std::string m_key, m_model, m_problem;
     uint64_t m_seen = 0;
     std::map<std::string, ModelSliceResult> m_models; // by display path

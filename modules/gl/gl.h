@@ -65,6 +65,13 @@ const std::vector<RequiredLimit>& requiredLimits();
 std::string limitsProblem(const std::function<int64_t(const RequiredLimit&)>& query);
 void requireLimits(); // with the current context; throws core::Error
 
+// Waits until the GPU has finished every command issued so far: a fence polled every 50 ms,
+// and core::Error("<what>: the GPU did not finish within S s …") once `seconds` have passed,
+// instead of a readback that blocks without end (fence.cpp). `poll` replaces glClientWaitSync
+// (tests of the deadline on drivers that finish everything at once).
+using FencePoll = std::function<GLenum(GLsync, GLbitfield, GLuint64)>;
+void finishWithin(const std::string& what, double seconds, const FencePoll& poll = {});
+
 // Routes KHR_debug messages to the core log (called by both context constructors).
 void installDebugOutput();
 // Also hands every debug message to `observer` (the tests fail on errors and undefined

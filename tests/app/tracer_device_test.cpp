@@ -46,6 +46,16 @@ TEST(TracerDevice, AutoTakesTheDeviceThatMeasuredFaster) {
     EXPECT_EQ(snap.device, probe.gpuFaster() ? "GPU" : "CPU");
     EXPECT_EQ(statOf(wb.reference().status(), "device choice"), probe.summary());
 
+    // the slice takes the same measured choice and shows it
+    wb.sliceSettings().enabled = true;
+    wb.sliceSettings().paths = 20000;
+    wb.update();
+    EXPECT_EQ(wb.slice().deviceChoice(), probe.summary());
+    EXPECT_EQ(statOf(wb.slice().status(), "device choice"), probe.summary());
+    EXPECT_EQ(wb.slice().snapshot().device, probe.gpuFaster() ? "GPU" : "CPU");
+    wb.sliceSettings().enabled = false;
+    wb.update();
+
     // connections have no GL tracer: auto keeps them on the CPU and says why
     rs.estimator = pathtrace::Estimator::Connections;
     wb.update();

@@ -1,9 +1,13 @@
 // Headless GL context: OpenGL 4.5 core through EGL, compute shaders, FBO readback.
 #include "../support/gl_debug_guard.h"
+#include "core/core.h"
 #include "gl/gl.h"
 
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
 
 TEST(HeadlessContext, GivesGl45CoreWithCompute) {
     auto ctx = gl::createHeadlessContext();
@@ -154,4 +158,31 @@ TEST(HeadlessContext, DriverLimitsAreCheckedAndShortfallsNamed) {
         << problem;
     EXPECT_EQ(problem.find("GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS"), std::string::npos);
     EXPECT_EQ(gl::limitsProblem([](const gl::RequiredLimit& l) { return l.needed; }), "");
+}
+
+// Waiting for the GPU has a deadline (gl/fence.cpp): finished work returns at once; work that
+// does not finish in time (a fence that never signals, as a hung driver's would) is an error
+// naming the work after the deadline, not a wait without end; a failed wait is an error too.
+TEST(HeadlessContext, WaitingForTheGpuHasADeadline) {
+    auto ctx = gl::createHeadlessContext();
+    gl::Buffer buf = gl::createBuffer(1024, nullptr);
+    glClearNamedBufferData(buf.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    EXPECT_NO_THROW(gl::finishWithin("clear", 10.0));
+    int polls = 0;
+    const auto never = [&](GLsync, GLbitfield, GLuint64) {
+        ++polls;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5)); // the wait a poll would take
+        return GLenum(GL_TIMEOUT_EXPIRED);
+    };
+    try {
+        gl::finishWithin("the tracer", 0.2, never);
+        ADD_FAILURE() << "no error after the deadline";
+    } catch (const core::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("the tracer: the GPU did not finish within 0.2 s"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_GE(polls, 1);
+    const auto failed = [](GLsync, GLbitfield, GLuint64) { return GLenum(GL_WAIT_FAILED); };
+    EXPECT_THROW(gl::finishWithin("the tracer", 10.0, failed), core::Error);
 }

@@ -80,6 +80,9 @@ void drawReferenceControls(Workbench& wb) {
     ImGui::SameLine();
     hintText("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
              wb.reference().model().c_str());
+    if (const std::string choice = wb.reference().deviceChoice();
+        !choice.empty() && ImGui::IsItemHovered())
+        ImGui::SetTooltip("device auto, measured once at start: %s", choice.c_str());
     ImGui::SameLine();
     if (snap.running) {
         if (ImGui::SmallButton("cancel")) wb.reference().cancel();

@@ -219,6 +219,9 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
     sameLineIfFits(200);
     hintText("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
              wb.slice().model().c_str());
+    if (const std::string choice = wb.slice().deviceChoice();
+        !choice.empty() && ImGui::IsItemHovered())
+        ImGui::SetTooltip("device auto, measured once at start: %s", choice.c_str());
     if (!snap.problem.empty()) ImGui::TextColored(kProblemColour, "%s", snap.problem.c_str());
     if (!snap.energy.empty())
         ImGui::TextColored(kProblemColour, "energy check failed: %s (no error figures)",

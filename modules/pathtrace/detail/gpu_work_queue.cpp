@@ -91,6 +91,7 @@ void main() {
 // doubling to this many (a run of many rounds reads the queue a few times; a short one issues
 // few surplus dispatches, which have 0 groups and still cost a driver round on llvmpipe).
 constexpr int kMaxDispatchBatch = 16;
+constexpr double kBatchDeadlineS = 60.0; // see run()
 constexpr uint64_t kMaxInvocations = kMaxGroups * kLocalSize;
 constexpr double kMaxHeavy = 35184372088832.0; // 2^45: beyond it a square could overflow u128
 
@@ -306,6 +307,9 @@ void GpuWorkQueue::run(GLuint p, uint64_t firstPath, uint64_t paths,
             if (m_fold) fold();
             if (everyDispatch) readTallies(shaderFile);
         }
+        // the batch with a deadline: a hung driver is a message, not a frozen program (each
+        // dispatch's work is bounded by its event budget, so a batch takes well under this)
+        gl::finishWithin(shaderFile.filename().string() + " (GL path tracer)", kBatchDeadlineS);
         glGetNamedBufferSubData(m_queue.id(), 0, sizeof queue, queue);
         ++m_queueReads;
         if (queue[qFault] != 0)
