@@ -8,6 +8,7 @@
 #include "render/frame_analysis.h"
 
 #include "core/color.h"
+#include "core/fields.h"
 
 #include <imgui.h>
 
@@ -57,11 +58,29 @@ void histogram(const char* id, const std::vector<float>& values, ImVec2 size, co
                int xFirst, const char* yName);
 // A hint or status line: the disabled text colour, wrapped at the panel's edge.
 void hintText(const char* fmt, ...) IM_FMTARGS(1);
+
 // Widths of widgets, for sameLineIfFits: a checkbox (or radio button) with `label`, a button,
 // and a framed item of `frame` pixels with its label.
 float checkboxWidth(const char* label);
 float buttonWidth(const char* label);
 float itemWidth(float frame, const char* label);
+
+// A combo of every value of a named enum (core/fields.h: enumNames), `width` pixels wide, on
+// the same line as the item before when it fits; true when the user picked another value.
+template <core::NamedEnum E> bool enumCombo(const char* label, E& value, float width) {
+    sameLineIfFits(itemWidth(width, label));
+    ImGui::SetNextItemWidth(width);
+    bool changed = false;
+    if (ImGui::BeginCombo(label, core::nameOf(value))) {
+        for (const auto& [v, name] : enumNames(E{}))
+            if (ImGui::Selectable(name, value == v) && value != v) {
+                value = v;
+                changed = true;
+            }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
 // The BSSRDF integration's sampling (uniform area | disk probe rays) and, for disk sampling, its
 // probe-axis scheme, as the Lit spheres and Render panels offer them.
 void samplingChoice(const char* label, integrate::Sampling& sampling, sampling::AxisScheme& axes);

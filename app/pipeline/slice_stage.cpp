@@ -160,14 +160,15 @@ bool SliceStage::update(const SliceInputs& in) {
     const pathtrace::EstimateSettings est = estimateSettings(in.settings, medium);
     // the device is part of the run: a change of it restarts on the other one
     const bool gpu = chooseGpu(in.settings.device, m_slabShader);
-    m_choice = in.settings.device == TracerDevice::Auto ? slabThroughput(m_slabShader).summary()
-                                                        : std::string();
-    const std::string key = core::keyOf(medium, est) + (gpu ? "gpu" : "cpu");
+    const std::string key =
+        core::keyOf(medium, est) + core::nameOf(in.settings.device) + (gpu ? ":gpu" : ":cpu");
     if (!m_problem.empty()) changed = true;
     m_problem.clear();
     if (key != m_key) {
         m_key = key;
         m_model = in.model;
+        m_choice = in.settings.device == TracerDevice::Auto ? slabThroughput(m_slabShader).summary()
+                                                            : std::string();
         if (gpu != m_gpuMode) cancel(); // the other device's run stops
         m_gpuMode = gpu;
         if (gpu)

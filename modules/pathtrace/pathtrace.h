@@ -102,8 +102,9 @@ void validate(const Termination& t, const std::string& what);
 // per-path sums (second moments per history, so standard errors stay honest) and draw from its
 // one random stream, so results stay independent of threads and shards. Analog walks split too:
 // a copy carries w/2^k and absorption stays a roulette (Estimator::Analog is then Algorithm 1
-// with splitting; levels 0 gives Algorithm 1 as printed). The defaults were chosen by `bench pathtrace`'s efficiency per
-// radial range on the cases of its tables (docs/ARCHITECTURE.md, "Radial splitting").
+// with splitting; levels 0 gives Algorithm 1 as printed). The defaults were chosen by `bench
+// pathtrace`'s efficiency per radial range on the cases of its tables (docs/ARCHITECTURE.md,
+// "Radial splitting").
 struct Splitting {
     int levels = 5;       // 0: off
     double startLd = 0.5; // first level at ρ − depth·|z| = start·l_d

@@ -32,14 +32,9 @@ SlabSettings settings(int levels, uint64_t paths, uint64_t seed) {
     return s;
 }
 
-} // namespace
-
-// The same expectation: every bin, the total diffuse reflectance and the absorbed fraction of a
-// split run agree with a run without splitting (independent seeds) within |z| < 4.
-TEST(Splitting, LeavesTheExpectationOfEveryBinUnchanged) {
-    const SlabResult plain = runSlab(kMedium, settings(0, 200000, 1));
-    const SlabResult split = runSlab(kMedium, settings(Splitting{}.levels, 100000, 2));
-    ASSERT_TRUE(energyProblem(split).empty()) << energyProblem(split);
+// Every bin of `split` agrees with `plain` (independent runs): |z| < 4 per bin, and over the 24
+// bins χ² < 51 (P < 1e-3 for 24 degrees of freedom).
+void expectSameProfile(const SlabResult& plain, const SlabResult& split) {
     double chi2 = 0;
     for (size_t b = 0; b < plain.rd.size(); ++b) {
         const double se = std::hypot(plain.rdStderr[b], split.rdStderr[b]);
@@ -48,8 +43,18 @@ TEST(Splitting, LeavesTheExpectationOfEveryBinUnchanged) {
         EXPECT_LT(std::fabs(z), 4.0) << "bin " << b << ": " << split.rd[b] << " vs " << plain.rd[b];
         chi2 += z * z;
     }
-    // 24 degrees of freedom: P(χ² > 51) < 1e-3.
     EXPECT_LT(chi2, 51.0);
+}
+
+} // namespace
+
+// The same expectation: every bin, the total diffuse reflectance and the absorbed fraction of a
+// split run agree with a run without splitting (independent seeds) within |z| < 4.
+TEST(Splitting, LeavesTheExpectationOfEveryBinUnchanged) {
+    const SlabResult plain = runSlab(kMedium, settings(0, 200000, 1));
+    const SlabResult split = runSlab(kMedium, settings(Splitting{}.levels, 100000, 2));
+    ASSERT_TRUE(energyProblem(split).empty()) << energyProblem(split);
+    expectSameProfile(plain, split);
     EXPECT_LT(std::fabs(split.totalRd - plain.totalRd) /
                   std::hypot(split.totalRdStderr, plain.totalRdStderr),
               4.0);
@@ -115,15 +120,7 @@ TEST(Splitting, AnalogWalksSplitWithTheSameExpectation) {
     const SlabResult plain = runSlab(kMedium, a0);
     const SlabResult split = runSlab(kMedium, a5);
     ASSERT_TRUE(energyProblem(split).empty()) << energyProblem(split);
-    double chi2 = 0;
-    for (size_t b = 0; b < plain.rd.size(); ++b) {
-        const double se = std::hypot(plain.rdStderr[b], split.rdStderr[b]);
-        ASSERT_GT(se, 0.0) << "bin " << b;
-        const double z = (split.rd[b] - plain.rd[b]) / se;
-        EXPECT_LT(std::fabs(z), 4.0) << "bin " << b;
-        chi2 += z * z;
-    }
-    EXPECT_LT(chi2, 51.0); // 24 degrees of freedom: P(χ² > 51) < 1e-3
+    expectSameProfile(plain, split);
     EXPECT_LT(std::fabs(split.absorbed - plain.absorbed) /
                   std::hypot(split.absorbedStderr, plain.absorbedStderr),
               4.0);

@@ -40,25 +40,13 @@ void drawReferenceControls(Workbench& wb) {
     int seed = int(rs.seed);
     ImGui::SetNextItemWidth(80);
     if (inputIntCommitted("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
-    sameLineIfFits(itemWidth(110, "estimator"));
-    ImGui::SetNextItemWidth(110);
-    if (ImGui::BeginCombo("estimator", core::nameOf(rs.estimator))) {
-        for (const auto& [e, name] : enumNames(pathtrace::Estimator{}))
-            if (ImGui::Selectable(name, rs.estimator == e)) rs.estimator = e;
-        ImGui::EndCombo();
-    }
+    enumCombo("estimator", rs.estimator, 110);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("implicit: absorption by weight (default)\nanalog: absorption by "
                           "roulette (thesis Algorithm 1; the CPU walk splits radially)\n"
                           "connections: every collision connected to every bin (seed 001; CPU "
                           "only)");
-    sameLineIfFits(itemWidth(70, "device"));
-    ImGui::SetNextItemWidth(70);
-    if (ImGui::BeginCombo("device", core::nameOf(rs.device))) {
-        for (const auto& [d, name] : enumNames(TracerDevice{}))
-            if (ImGui::Selectable(name, rs.device == d)) rs.device = d;
-        ImGui::EndCombo();
-    }
+    enumCombo("device", rs.device, 70);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("gpu: GL compute tracer (shaders/pathtrace_slab.comp, hot-reloaded), a "
                           "slice per frame\ncpu: CPU tracer in a background thread\nauto: the "

@@ -177,27 +177,9 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
     ImGui::SetNextItemWidth(100);
     if (inputIntCommitted("x1e4 paths", &tenK, 5))
         s.paths = uint64_t(std::clamp(tenK, 1, 1000000)) * 10000;
-    sameLineIfFits(itemWidth(110, "estimator"));
-    ImGui::SetNextItemWidth(110);
-    if (ImGui::BeginCombo("estimator", core::nameOf(s.estimator))) {
-        for (const auto& [e, name] : enumNames(pathtrace::BssrdfEstimator{}))
-            if (ImGui::Selectable(name, s.estimator == e)) s.estimator = e;
-        ImGui::EndCombo();
-    }
-    sameLineIfFits(itemWidth(100, "orders"));
-    ImGui::SetNextItemWidth(100);
-    if (ImGui::BeginCombo("orders", core::nameOf(s.orders))) {
-        for (const auto& [o, name] : enumNames(pathtrace::ScatterOrders{}))
-            if (ImGui::Selectable(name, s.orders == o)) s.orders = o;
-        ImGui::EndCombo();
-    }
-    sameLineIfFits(itemWidth(70, "device"));
-    ImGui::SetNextItemWidth(70);
-    if (ImGui::BeginCombo("device", core::nameOf(s.device))) {
-        for (const auto& [d, name] : enumNames(TracerDevice{}))
-            if (ImGui::Selectable(name, s.device == d)) s.device = d;
-        ImGui::EndCombo();
-    }
+    enumCombo("estimator", s.estimator, 110);
+    enumCombo("orders", s.orders, 100);
+    enumCombo("device", s.device, 70);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("gpu: GL walk (shaders/bssrdf_walk.comp, hot-reloaded), a slice per "
                           "frame\ncpu: CPU walk in a background thread\nauto: the GPU where it "
