@@ -254,29 +254,31 @@ int benchPathtrace(const std::filesystem::path& root, double seconds,
         double analogAt1 = NAN, analogAt4 = NAN, implicitAt1 = NAN, implicitAt4 = NAN;
         std::vector<std::string> efficiency; // per estimator line, printed below the table
         // CPU lines: analog (Algorithm 1 as printed) and with the default radial splitting
-        // (pathtrace.h, Splitting), implicit without and with it, and MCML's own roulette
-        // (w < 10^-4, survival 0.1) on our walk: MCML's estimator, so its variance per path is
-        // MCML's.
+        // (pathtrace.h, Splitting), then with expected-value exits too (ExpectedExits, a switch:
+        // kExpectedExitSamples); implicit the same three ways (`split` is the default walk); and
+        // MCML's own roulette (w < 10^-4, survival 0.1) on our walk: MCML's estimator, so its
+        // variance per path is MCML's.
         struct Line {
             const char* name;
             pathtrace::Estimator est;
-            int levels;
+            int levels, exitSamples;
             double rouletteWeight, rouletteSurvival;
         };
         const pathtrace::Termination term;
-        const Line lines[] = {
-            {"analog", pathtrace::Estimator::Analog, 0, term.rouletteWeight, term.rouletteSurvival},
-            {"an-split", pathtrace::Estimator::Analog, pathtrace::Splitting{}.levels,
-             term.rouletteWeight, term.rouletteSurvival},
-            {"implicit", pathtrace::Estimator::Implicit, 0, term.rouletteWeight,
-             term.rouletteSurvival},
-            {"split", pathtrace::Estimator::Implicit, pathtrace::Splitting{}.levels,
-             term.rouletteWeight, term.rouletteSurvival},
-            {"mcml-rr", pathtrace::Estimator::Implicit, 0, 1e-4, 0.1}};
+        const int split = pathtrace::Splitting{}.levels, ev = pathtrace::kExpectedExitSamples;
+        const double rw = term.rouletteWeight, rs = term.rouletteSurvival;
+        const Line lines[] = {{"analog", pathtrace::Estimator::Analog, 0, 0, rw, rs},
+                              {"an-split", pathtrace::Estimator::Analog, split, 0, rw, rs},
+                              {"an-ev", pathtrace::Estimator::Analog, split, ev, rw, rs},
+                              {"implicit", pathtrace::Estimator::Implicit, 0, 0, rw, rs},
+                              {"split", pathtrace::Estimator::Implicit, split, 0, rw, rs},
+                              {"split-ev", pathtrace::Estimator::Implicit, split, ev, rw, rs},
+                              {"mcml-rr", pathtrace::Estimator::Implicit, 0, 0, 1e-4, 0.1}};
         std::vector<std::pair<std::string, std::pair<double, double>>> cpuTimes;
         for (const Line& line : lines) {
             s.estimator = line.est;
             s.splitting.levels = line.levels;
+            s.exits.samples = line.exitSamples;
             s.termination.rouletteWeight = line.rouletteWeight;
             s.termination.rouletteSurvival = line.rouletteSurvival;
             const auto r = cpuRun(c.m, s, seconds * 4);
@@ -291,6 +293,7 @@ int benchPathtrace(const std::filesystem::path& root, double seconds,
             cpuTimes.push_back({line.name, {t1, t4}});
         }
         s.splitting = {};
+        s.exits = {};
         s.termination = term;
         // The GL tracer on the same case, whichever device the context has (on llvmpipe: the
         // CPU's cores through the GL compute path), against the CPU's one core above.

@@ -110,7 +110,9 @@ void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
                        {"splitting.levels", "--split-levels"},
                        {"splitting.start_ld", "--split-start"},
                        {"splitting.step_ld", "--split-step"},
-                       {"splitting.depth", "--split-depth"}});
+                       {"splitting.depth", "--split-depth"},
+                       {"exits.samples", "--exit-samples"},
+                       {"exits.depth_mfp", "--exit-depth"}});
     cmd->add_flag("--log-r", a.logR, "logarithmic radial bins (first bin [0, r-min))");
     cmd->add_option("--dir-bins", a.dirBins,
                     "exit-direction cells of equal solid angle: K (K rings x K sectors) or RxS")

@@ -67,6 +67,15 @@ std::string splittingText(const pathtrace::SlabSettings& s) {
            core::formatNumber(p.depth);
 }
 
+// How exits were tallied (pathtrace.h, ExpectedExits): actual for the GL tracer and the
+// connections estimator.
+std::string exitsText(const pathtrace::SlabSettings& s) {
+    const pathtrace::ExpectedExits& e = s.exits;
+    if (e.samples == 0 || s.estimator == pathtrace::Estimator::Connections) return "actual";
+    return "expected, " + std::to_string(e.samples) + " samples within " +
+           core::formatNumber(e.depthMfp) + " mfp";
+}
+
 } // namespace
 
 int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
@@ -95,6 +104,7 @@ int writeSlabCsv(const std::string& path, const pathtrace::Medium& m,
         << "# roulette_survival " << core::formatNumber(s.termination.rouletteSurvival) << "\n"
         << "# max_events " << s.termination.maxEvents << "\n"
         << "# splitting " << splittingText(s) << "\n"
+        << "# exits " << exitsText(s) << "\n"
         << "# paths " << r.paths << "\n"
         << (partial ? "# partial: interrupted after " + std::to_string(r.paths) + " of " +
                           std::to_string(s.paths) + " paths\n"
@@ -152,7 +162,9 @@ void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
                        {"splitting.levels", "--split-levels"},
                        {"splitting.start_ld", "--split-start"},
                        {"splitting.step_ld", "--split-step"},
-                       {"splitting.depth", "--split-depth"}});
+                       {"splitting.depth", "--split-depth"},
+                       {"exits.samples", "--exit-samples"},
+                       {"exits.depth_mfp", "--exit-depth"}});
     addCountOption(cmd, "--threads", a.settings.threads,
                    "worker threads, 0 … 1024 (default 0: all cores)", kThreadLimits);
     cmd->add_flag("--analog", a.analog, "same as --estimator analog (thesis Algorithm 1)");
@@ -217,6 +229,7 @@ int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a) {
     r.seconds = tracer.seconds();
     pathtrace::SlabSettings traced = k.s;
     traced.splitting.levels = 0; // the GL tracer does not split (same expectation)
+    traced.exits.samples = 0;    // and tallies the actual exits
     return writeSlabCsv(a.out, k.m, traced, r, std::string("GPU (") + ctx->renderer() + ")");
 }
 

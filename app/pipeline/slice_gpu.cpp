@@ -26,6 +26,7 @@ void GpuSliceRunner::start(const pathtrace::Medium& m, const pathtrace::Estimate
     m_medium = m;
     m_settings = s;
     m_settings.splitting.levels = 0; // what the GL walk traces
+    m_settings.exits.samples = 0;
     m_target = s.paths;
     SliceSnapshot fresh;
     fresh.device = "GPU";

@@ -97,6 +97,7 @@ void validate(const EstimateSettings& s) {
     if (s.threads < 0) fail("threads must be >= 0 (0: all hardware threads)");
     validate(s.termination, what);
     validate(s.splitting, what);
+    validate(s.exits, what);
 }
 
 BssrdfTally makeTally(const BssrdfBins& b) {

@@ -95,6 +95,7 @@ struct EstimateSettings {
     BssrdfEstimator estimator = BssrdfEstimator::Connections;
     ScatterOrders orders = ScatterOrders::All;
     Splitting splitting; // CPU walk only (pathtrace.h)
+    ExpectedExits exits; // CPU histogram walks only (pathtrace.h)
 };
 template <class V> void fields(V& v, EstimateSettings& s) {
     v("theta_i_deg", s.thetaIDeg, "incidence angles, degrees");
@@ -106,6 +107,7 @@ template <class V> void fields(V& v, EstimateSettings& s) {
     v("estimator", s.estimator, "estimator");
     v("orders", s.orders, "scattering orders tallied");
     v("splitting", s.splitting, "radial splitting (CPU)");
+    v("exits", s.exits, "expected-value exits (CPU histogram walks)");
 }
 // Throws core::Error naming the setting: θi outside [0°, 90°) or not finite, no angle, bins
 // < 1 or absurd (more than 1e4 radial or θs bins, 1e3 direction rings or sectors, 4e6 cells in

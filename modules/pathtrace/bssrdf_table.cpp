@@ -164,13 +164,13 @@ BssrdfTable readTable(const std::filesystem::path& path) {
     if (!h.is_object() || !h.contains("version") || !h["version"].is_number_integer())
         throw core::Error(file, 2, "header: no integer 'version'");
     const long long version = h["version"].get<long long>();
-    if (version != kTableVersion && version != 1)
+    if (version < 1 || version > kTableVersion)
         throw core::Error(file, 2,
                           "table version " + h["version"].dump() +
-                              "; this build reads versions 1 " + "and " +
-                              std::to_string(kTableVersion));
+                              "; this build reads versions 1 to " + std::to_string(kTableVersion));
     BssrdfTable t;
     if (version == 1) t.settings.splitting.levels = 0; // version 1 walks did not split
+    if (version <= 2) t.settings.exits.samples = 0;    // before version 3: actual exits
     for (const char* key : {"medium", "settings", "chunks", "values", "payload_bytes"})
         if (!h.contains(key)) throw core::Error(file, 2, std::string("header: no '") + key + "'");
     core::fromJson(h["medium"], t.medium, file, "medium");
@@ -299,6 +299,7 @@ SlabResult slabResultOf(const BssrdfTable& t, SlabSettings& s, const std::string
     s.seed = e.seed;
     s.termination = e.termination;
     s.splitting = e.splitting;
+    s.exits = e.exits;
     s.estimator = e.estimator == BssrdfEstimator::Analog     ? Estimator::Analog
                   : e.estimator == BssrdfEstimator::Implicit ? Estimator::Implicit
                                                              : Estimator::Connections;

@@ -26,7 +26,8 @@
 namespace pathtrace {
 
 // Version 2 added settings.splitting; a version-1 table reads as a walk without splitting.
-constexpr int kTableVersion = 2;
+// Version 3 added settings.exits; an older table reads as a walk that tallied actual exits.
+constexpr int kTableVersion = 3;
 
 struct BssrdfTable {
     Medium medium;

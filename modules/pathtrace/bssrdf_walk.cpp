@@ -10,7 +10,12 @@
 //
 // Histogram estimators (analog, implicit): a path that exits at x with internal direction u is
 // tallied with its weight in the (folded) spatial bin of x and the cell of the refracted
-// direction ω_t (cos θo = sqrt(1 − η²(1 − u_z²)), azimuth of u).
+// direction ω_t (cos θo = sqrt(1 − η²(1 − u_z²)), azimuth of u). With expected-value exits
+// (pathtrace.h, ExpectedExits; a switch) each flight that leaves a collision upward is
+// tallied instead with its probability of leaving, e^{−σt d} T₂₁, where it would leave: the
+// exit's expectation given the collision (the flight reaches the surface with probability
+// e^{−σt d} and passes with T₂₁), so every bin keeps its expectation, and the exits that happen
+// are not tallied again.
 //
 // Connections: derivation. Let w_p be the weight with which the walk arrives at its p-th
 // collision x_p, moving along ω_p; E[Σ_p w_p δ(x − x_p)] is the collision density of the
@@ -132,9 +137,17 @@ class Walker {
         for (int k = 0; k <= (m_split ? m_splitLevels : 0); ++k)
             m_rouletteWeight.push_back(std::ldexp(rouletteWeight, -k));
         m_edges = m_bins.rEdges();
+        m_uniformBins = m_bins.spacing == RadialSpacing::Uniform;
+        m_invBinWidth = m_bins.rBins / (m_edges.back() - m_edges.front());
         m_nT = m_bins.thetaSBins;
         m_dTheta = std::numbers::pi / m_nT;
         m_nD = m_bins.dirBins();
+        // Expected-value exits (pathtrace.h, ExpectedExits): the histogram walks only (the
+        // connections estimator has its own phase-sampled technique).
+        m_expected = s.exits.samples > 0 && m_est != BssrdfEstimator::Connections;
+        m_exitSamples = std::max(1, s.exits.samples);
+        m_exitDepth = s.exits.depthMfp * m_invSigmaT;
+        m_exitRouletteBelow = std::exp(-kRouletteMfp);
         m_binAcc.resize(size_t(m_bins.spatialBins()));
         if (m_nD > 1) m_dirAcc.resize(size_t(m_bins.spatialBins()) * size_t(m_nD));
     }
@@ -157,6 +170,7 @@ class Walker {
         Dir u = m_entry;
         uint32_t events = 0;
         int level = 0;
+        m_record = record;
         bool atCollision = false; // a copy taken from the stack starts at its collision
         m_stack.clear();
         for (;;) {
@@ -169,10 +183,17 @@ class Walker {
                     y += tHit * u.y;
                     const double f = fresnelDielectric(u.z, m_etaOut);
                     if (f < 1.0 && (f <= 0.0 || rng.uniform32() >= f)) { // exit
-                        if (ordered(events)) exitInside += exitTally(x, y, u, w, !connect);
+                        // Tallied only as they happen where the walk does not tally their
+                        // expectation at the collisions (ExpectedExits).
+                        if (ordered(events))
+                            exitInside += exitTally(x, y, u, w, !connect && !m_expected);
                         exitWeight += w;
                         exitR = std::sqrt(x * x + y * y);
-                        if (record) record->exits.emplace_back(exitR, w);
+                        if (record) {
+                            record->exits.emplace_back(exitR, w);
+                            if (!connect && !m_expected && ordered(events))
+                                record->tallied.emplace_back(exitR, w);
+                        }
                         ended = true;
                     } else {
                         u.z = -u.z;
@@ -238,7 +259,9 @@ class Walker {
                 atCollision = true;
                 continue;
             }
+            const Dir uIn = u;
             u = m_g == 0.0 ? sampleSphere(rng) : scatterHg(u, m_g, rng);
+            if (m_expected && ordered(events)) expectedExits(x, y, z, uIn, u, w, rng);
         }
         t.exitSum += exitWeight;
         t.exitSumSq += exitWeight * exitWeight;
@@ -306,12 +329,27 @@ class Walker {
             return events >= 1;
         }
     }
+    // The radial bin holding r (edges[i] <= r < edges[i + 1]), -1 outside the bins. Uniform
+    // bins: a division, then the edges settle the rounding; others: a binary search.
     int radialBin(double r) const {
         if (!(r < m_edges.back()) || r < m_edges.front()) return -1;
+        const int last = m_bins.rBins - 1;
+        if (m_uniformBins) {
+            int i = std::min(int((r - m_edges.front()) * m_invBinWidth), last);
+            while (i > 0 && r < m_edges[size_t(i)])
+                --i;
+            while (i < last && r >= m_edges[size_t(i) + 1])
+                ++i;
+            return i;
+        }
         const auto it = std::upper_bound(m_edges.begin(), m_edges.end(), r);
-        return std::clamp(int(it - m_edges.begin()) - 1, 0, m_bins.rBins - 1);
+        return std::clamp(int(it - m_edges.begin()) - 1, 0, last);
     }
-    int thetaBin(double thetaS) const { return std::min(int(thetaS / m_dTheta), m_nT - 1); }
+    // The θs bin of the surface point (px, py) (no arctangent when there is one bin).
+    int thetaBin(double px, double py) const {
+        if (m_nT == 1) return 0;
+        return std::min(int(std::atan2(std::fabs(py), px) / m_dTheta), m_nT - 1);
+    }
 
     // Tallies flux `v` leaving in bin (ir, it) at a surface point on the side `py` along the
     // internal direction `dir` (dir.z > 0); returns v.
@@ -330,7 +368,41 @@ class Walker {
         const int ir = radialBin(std::sqrt(px * px + py * py));
         if (ir < 0) return 0.0;
         if (!histogram) return w;
-        return tally(py, dir, w, ir, thetaBin(std::atan2(std::fabs(py), px)));
+        return tally(py, dir, w, ir, thetaBin(px, py));
+    }
+
+    // Expected-value exits (pathtrace.h, ExpectedExits) of the flight that leaves the collision
+    // at (x, y, z) with weight w along `out` (drawn from the phase function about `in`): the
+    // walk's own direction, and near the surface m_exitSamples − 1 more from the same law, each
+    // tallied with w e^{−σt d} T / n where it would meet the surface (d = |z| / ω_z).
+    void expectedExits(double x, double y, double z, const Dir& in, const Dir& out, double w,
+                       Pcg32& rng) {
+        const int n = z >= -m_exitDepth ? m_exitSamples : 1;
+        const double wn = w / n;
+        expectedExit(x, y, z, out, wn, rng);
+        for (int i = 1; i < n; ++i)
+            expectedExit(x, y, z, m_g == 0.0 ? sampleSphere(rng) : scatterHg(in, m_g, rng), wn,
+                         rng);
+    }
+    // One of them. A flight longer than d₀ = 2 mean free paths is tallied with probability
+    // p = e^{−σt (d − d₀)} and weight 1/p (so its term is w e^{−σt d₀} T, bounded, and the
+    // deep ones, which add almost nothing, cost one exponential).
+    void expectedExit(double x, double y, double z, const Dir& v, double w, Pcg32& rng) {
+        if (v.z <= 0.0) return;
+        const double tHit = -z / v.z;
+        double reach = std::exp(-m_sigmaT * tHit);
+        if (reach < m_exitRouletteBelow) {
+            if (rng.uniform32() * m_exitRouletteBelow >= reach) return;
+            reach = m_exitRouletteBelow;
+        }
+        const double t21 = 1.0 - fresnelDielectric(v.z, m_etaOut);
+        if (t21 <= 0.0) return;
+        const double px = x + tHit * v.x, py = y + tHit * v.y;
+        const double r = std::sqrt(px * px + py * py);
+        const int ir = radialBin(r);
+        if (ir < 0) return;
+        const double value = tally(py, v, w * reach * t21, ir, thetaBin(px, py));
+        if (m_record) m_record->tallied.emplace_back(r, value);
     }
 
     // f/(q_a + q_p) for a connection from (x, y, z) arriving along u with scattered weight aw
@@ -383,7 +455,7 @@ class Walker {
             ring.sampleRing(rng.uniform32(), ct, st, density);
             const double px = r * ct, py = r * st;
             const double c = connection(x, y, z, u, aw, px, py, density / (r * (r1 - r0)), dir);
-            if (c > 0.0) tally(py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
+            if (c > 0.0) tally(py, dir, c, ir, thetaBin(px, py));
         }
         // (b) one phase-sampled direction, if it meets the surface inside the bins.
         const Dir v = m_g == 0.0 ? sampleSphere(rng) : scatterHg(u, m_g, rng);
@@ -396,7 +468,7 @@ class Walker {
         const detail::RingSampler ring(x, y, z, r);
         const double qa = areaDensity(ring, r, px, py, ir);
         const double c = connection(x, y, z, u, aw, px, py, qa, dir);
-        if (c > 0.0) tally(py, dir, c, ir, thetaBin(std::atan2(std::fabs(py), px)));
+        if (c > 0.0) tally(py, dir, c, ir, thetaBin(px, py));
     }
 
     BssrdfBins m_bins;
@@ -406,12 +478,19 @@ class Walker {
     double m_specular = 0, m_w0 = 1;
     Dir m_entry{0, 0, -1};
     std::vector<double> m_edges;
+    bool m_uniformBins = false;
+    double m_invBinWidth = 0;
     int m_nT = 1, m_nD = 1;
     double m_dTheta = std::numbers::pi;
     PathAcc m_binAcc, m_dirAcc;
     bool m_split = false;
     int m_splitLevels = 0;
     double m_splitStart = 0, m_splitStep = 1, m_splitDepth = 0;
+    PathRecord* m_record = nullptr; // the traced path's record (may be null)
+    bool m_expected = false;        // expected-value exits
+    int m_exitSamples = 1;
+    double m_exitDepth = 0;               // mm
+    double m_exitRouletteBelow = 0;       // e^{−d₀σt}: roulette for flights longer than d₀
     std::vector<double> m_rouletteWeight; // per level
     std::vector<Copy> m_stack;            // copies waiting to be traced
 };

@@ -356,6 +356,7 @@ BssrdfTable estimateTableGpu(GpuBssrdfEstimator& gpu, const Medium& m, const Est
     t.medium = m;
     t.settings = s;
     t.settings.splitting.levels = 0; // the GL walk does not split: the table says what it traced
+    t.settings.exits.samples = 0;    // and tallies the actual exits
     t.chunks = {{0, chunkCount(s)}};
     uint64_t before = 0;
     bool stopped = false;

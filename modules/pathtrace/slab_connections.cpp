@@ -32,6 +32,7 @@ EstimateSettings estimateSettingsOf(const SlabSettings& s) {
     e.threads = s.threads;
     e.termination = s.termination;
     e.splitting = s.splitting;
+    e.exits = s.exits;
     e.estimator = s.estimator == Estimator::Analog     ? BssrdfEstimator::Analog
                   : s.estimator == Estimator::Implicit ? BssrdfEstimator::Implicit
                                                        : BssrdfEstimator::Connections;

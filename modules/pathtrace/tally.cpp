@@ -37,11 +37,12 @@ void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s) {
     ++t.paths;
     t.specular = p.specular;
     t.events += p.events;
-    // As the walk sums a path: each bin's exits in order, then the bins in index order.
+    // As the walk sums a path: each bin's terms in order, then the bins in index order.
     std::map<int, double> perBin;
     double total = 0;
-    for (const auto& [r, w] : p.exits) {
-        total += w;
+    for (const auto& e : p.exits)
+        total += e.second;
+    for (const auto& [r, w] : p.tallied) {
         const int b = binOf(r, s);
         if (b >= 0 && static_cast<size_t>(b) < t.binSum.size()) perBin[b] += w;
     }

@@ -54,6 +54,17 @@ void validate(const Splitting& s, const std::string& what) {
             what, 0, "splitting depth must be finite and >= 0, got " + core::formatNumber(s.depth));
 }
 
+void validate(const ExpectedExits& e, const std::string& what) {
+    if (e.samples < 0 || e.samples > 64)
+        throw core::Error(what, 0,
+                          "exit samples must lie in [0, 64] (0: actual exits), got " +
+                              std::to_string(e.samples));
+    if (!(std::isfinite(e.depthMfp) && e.depthMfp >= 0))
+        throw core::Error(what, 0,
+                          "exit depth must be finite and >= 0 (mean free paths), got " +
+                              core::formatNumber(e.depthMfp));
+}
+
 void validate(const SlabSettings& s) {
     const std::string what = "slab settings";
     if (!std::isfinite(s.rMaxMm) || s.rMaxMm <= 0)
@@ -73,6 +84,7 @@ void validate(const SlabSettings& s) {
                               std::to_string(s.threads));
     validate(s.termination, what);
     validate(s.splitting, what);
+    validate(s.exits, what);
     if (s.estimator != Estimator::Implicit && s.estimator != Estimator::Analog &&
         s.estimator != Estimator::Connections)
         throw core::Error(what, 0, "estimator: unknown value");

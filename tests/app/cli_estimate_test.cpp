@@ -263,7 +263,11 @@ TEST_F(Estimate, RejectsBadArguments) {
 }
 
 TEST_F(Estimate, RejectsBadTableFiles) {
-    ASSERT_EQ(run(estimate({"--out", "good.bwtable"})).code, 0);
+    // (expected-value exits switched on, so that an older table's reading as `samples 0` shows)
+    ASSERT_EQ(
+        run(estimate({"--out", "good.bwtable", "--estimator", "implicit", "--exit-samples", "3"}))
+            .code,
+        0);
     const std::string good = bytes("good.bwtable");
     const size_t headerEnd = good.find('\n', good.find('\n') + 1);
     ASSERT_NE(headerEnd, std::string::npos);
@@ -276,22 +280,39 @@ TEST_F(Estimate, RejectsBadTableFiles) {
     expectFailure(merge("header.bwtable"), {"header.bwtable"});
     write("long.bwtable", good + "extra");
     expectFailure(merge("long.bwtable"), {"long.bwtable", "after the payload"});
-    // A version-1 table (before radial splitting) has no `splitting`: it reads, and merges,
-    // as a walk without splitting.
-    std::string v1 = good;
-    const size_t split = v1.find(",\"splitting\":{");
-    ASSERT_NE(split, std::string::npos);
-    v1.erase(split, v1.find('}', split) + 1 - split);
-    v1.replace(v1.find("\"version\":2"), 11, "\"version\":1");
+    // Older tables read, and merge, as what their walks did: a version-1 table (before radial
+    // splitting) has no `splitting` and no `exits`, a version-2 one no `exits` (before
+    // expected-value exits): walks without splitting / tallying their actual exits.
+    auto erase = [](std::string& t, const std::string& key) {
+        const size_t at = t.find(",\"" + key + "\":{");
+        ASSERT_NE(at, std::string::npos) << key;
+        t.erase(at, t.find('}', at) + 1 - at);
+    };
+    auto header = [](const std::string& t) { return t.substr(0, t.find('\n', t.find('\n') + 1)); };
+    std::string v1 = good, v2 = good;
+    erase(v1, "splitting");
+    erase(v1, "exits");
+    v1.replace(v1.find("\"version\":3"), 11, "\"version\":1");
     write("v1.bwtable", v1);
     ASSERT_EQ(run(merge("v1.bwtable")).code, 0);
-    const std::string merged = bytes("x.bwtable");
+    std::string merged = bytes("x.bwtable");
     EXPECT_NE(merged.find("\"splitting\":{\"depth\":3.0,\"levels\":0"), std::string::npos)
-        << merged.substr(0, merged.find('\n', merged.find('\n') + 1));
-    std::string v3 = good;
-    v3.replace(v3.find("\"version\":2"), 11, "\"version\":3");
-    write("v3.bwtable", v3);
-    expectFailure(merge("v3.bwtable"), {"v3.bwtable", "version 3", "reads versions 1 and 2"});
+        << header(merged);
+    EXPECT_NE(merged.find("\"exits\":{\"depth_mfp\":2.0,\"samples\":0}"), std::string::npos)
+        << header(merged);
+    erase(v2, "exits");
+    v2.replace(v2.find("\"version\":3"), 11, "\"version\":2");
+    write("v2.bwtable", v2);
+    ASSERT_EQ(run(merge("v2.bwtable")).code, 0);
+    merged = bytes("x.bwtable");
+    EXPECT_NE(merged.find("\"exits\":{\"depth_mfp\":2.0,\"samples\":0}"), std::string::npos)
+        << header(merged);
+    EXPECT_NE(merged.find("\"splitting\":{\"depth\":3.0,\"levels\":5"), std::string::npos)
+        << header(merged);
+    std::string v4 = good;
+    v4.replace(v4.find("\"version\":3"), 11, "\"version\":4");
+    write("v4.bwtable", v4);
+    expectFailure(merge("v4.bwtable"), {"v4.bwtable", "version 4", "reads versions 1 to 3"});
     std::string nan = good;
     nan.replace(nan.find("\"sigma_a\":0.2"), 13, "\"sigma_a\":NaN");
     write("nan.bwtable", nan);

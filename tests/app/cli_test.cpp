@@ -652,6 +652,8 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     expectFailure({"slab", "--paths", "0", "--out", "x.csv"}, {"path"});
     expectFailure({"slab", "--paths", "1000", "--out", "/proc/nope/x.csv"}, {"/proc/nope/x.csv"});
     expectFailure(with({"--max-events", "0"}), {"--max-events", "between 1 and 4294967295"});
+    expectFailure(with({"--exit-samples", "65"}), {"--exit-samples", "between 0 and 64"});
+    expectFailure(with({"--exit-depth", "-1"}), {"--exit-depth"});
     // sigma_a = 0 (no absorption) is valid and terminates; the few paths of the heavy tail of
     // return times that reach the event limit are truncated, and since their weight exceeds the
     // standard error the CSV is written but the energy check fails: exit status 3, saying so
@@ -666,6 +668,12 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     r = run({"slab", "--sigma-a", "0.05", "--paths", "2000", "--out", "ok2.csv"});
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_NE(readText(dir() / "ok2.csv").find("# energy_check ok"), std::string::npos);
+    EXPECT_NE(readText(dir() / "ok2.csv").find("# exits actual\n"), std::string::npos);
+    r = run(
+        {"slab", "--sigma-a", "0.05", "--paths", "2000", "--exit-samples", "3", "--out", "ev.csv"});
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(readText(dir() / "ev.csv").find("# exits expected, 3 samples within 2 mfp\n"),
+              std::string::npos);
 }
 
 // Numbers on the command line are refused when not finite, negative where a count is meant or

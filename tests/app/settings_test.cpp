@@ -249,8 +249,10 @@ TEST(Settings, CliDefaultsAreTheGuiDefaults) {
         app::SlabArgs b;
         app::addSlabOptions(&cli2, b);
         cli2.parse("--out o.csv --sigma-a 0.5 --eta 1.5 --max-events 77 --estimator analog "
-                   "--roulette-survival 0.25",
+                   "--roulette-survival 0.25 --exit-samples 5 --exit-depth 0.5",
                    false);
+        EXPECT_EQ(b.settings.exits.samples, 5);
+        EXPECT_EQ(b.settings.exits.depthMfp, 0.5);
         EXPECT_EQ(b.medium.sigmaA, 0.5);
         EXPECT_EQ(b.medium.eta, 1.5);
         EXPECT_EQ(b.settings.termination.maxEvents, 77u);

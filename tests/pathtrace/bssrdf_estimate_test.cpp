@@ -183,6 +183,7 @@ void compareWithAnalog(const Case& c, bool directions) {
     s.seed = 11;
     const BssrdfSlice conn = finalize(runAll(m, s), s.bins, c.thetaI, m);
     s.estimator = BssrdfEstimator::Analog;
+    s.exits.samples = 0; // Algorithm 1's histogram of the actual exits
     s.paths = nAnalog;
     s.seed = 12;
     const BssrdfSlice ana = finalize(runAll(m, s), s.bins, c.thetaI, m);
