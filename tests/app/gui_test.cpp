@@ -375,7 +375,7 @@ TEST(CapturesPanel, RecordingRunsInTheBackgroundShowsItsStageAndCancels) {
     auto root = testsupport::makeProjectRoot("caprecord", {"dipole.bssrdf"});
     app::Workbench wb(root, false);
     wb.referenceSettings().enabled = true;
-    wb.referenceSettings().paths = 400000; // a second or so in the child
+    wb.referenceSettings().paths = 40000; // a second or so in the child (2 cores, llvmpipe)
     app::HeadlessGui gui(wb, 1280, 720);
     app::UiState& ui = gui.ui();
     ui.captures.exe = BW_EXE;
