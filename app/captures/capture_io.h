@@ -56,11 +56,12 @@ struct ExternalModels {
 };
 // A workbench with a manifest's recorded inputs: the project's models by path, the others from
 // their recorded text written under `externalDir`; params and settings applied (errors name
-// `where`); the traced pixel, if any, in traceX/traceY.
+// `where`); the traced pixel, if any, in traceX/traceY. `watch`: hot reload (the GUI).
 std::unique_ptr<Workbench> workbenchFromInputs(const capture::Manifest& m,
                                                const std::filesystem::path& root,
                                                const std::filesystem::path& externalDir,
-                                               const std::string& where, int& traceX, int& traceY);
+                                               const std::string& where, int& traceX, int& traceY,
+                                               bool watch = false);
 
 // Records the current state as <root>/captures/<name> (File → Record capture); returns that
 // folder relative to the root.

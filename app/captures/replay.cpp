@@ -117,7 +117,8 @@ ExternalModels::~ExternalModels() {
 
 std::unique_ptr<Workbench> workbenchFromInputs(const capture::Manifest& m, const fs::path& root,
                                                const fs::path& externalDir,
-                                               const std::string& where, int& traceX, int& traceY) {
+                                               const std::string& where, int& traceX, int& traceY,
+                                               bool watch) {
     std::vector<fs::path> models;
     for (const auto& mf : m.models) {
         if (fs::path(mf.path).extension() != ".bssrdf") continue;
@@ -130,7 +131,7 @@ std::unique_ptr<Workbench> workbenchFromInputs(const capture::Manifest& m, const
             models.push_back(root / mf.path);
         }
     }
-    auto wb = std::make_unique<Workbench>(root, false, models);
+    auto wb = std::make_unique<Workbench>(root, watch, models);
     applyParams(*wb, m.params, where);
     if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
     applySettingsJson(*wb, m.settings, where, traceX, traceY);

@@ -8,8 +8,15 @@
 #include "gl/gl.h"
 #include "gui/gui.h"
 #include "pipeline/workbench.h"
+#include "probe/child_process.h"
 
+#include <GLFW/glfw3.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <tuple>
 
@@ -17,6 +24,30 @@ namespace app {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Starts the program again after a GPU driver reset (gui.h, kGlResetRestart): the same command
+// with --restore-after-reset, on a new context, from the state runGui saved. Returns only when
+// it cannot (exit 1 with the reason).
+int restartAfterReset(const fs::path& root, std::vector<std::string> args) {
+    args.insert(args.begin(), {selfExecutable().string(), "--root", root.string()});
+    args.push_back("--restore-after-reset");
+    gl::stopSimulatedResetsInChildren();
+    std::fflush(nullptr);
+    std::vector<char*> argv;
+    for (std::string& a : args)
+        argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    std::fprintf(stderr,
+                 "error: cannot start %s again after the GPU reset: %s (the state is in %s)\n",
+                 argv[0], std::strerror(errno), glResetRequest(root).c_str());
+    return 1;
+}
+
+std::unique_ptr<Workbench> guiWorkbench(const fs::path& root, bool restore, bool watch) {
+    if (restore) return workbenchAfterReset(root, watch);
+    return std::make_unique<Workbench>(root, watch);
+}
 
 int runHeadlessDefault(const fs::path& root, const std::string& outDir) {
     fs::path out = outDir.empty() ? fs::path("out") / "default" : fs::path(outDir);
@@ -41,7 +72,12 @@ int runHeadlessDefault(const fs::path& root, const std::string& outDir) {
     opt.persistLayout = false;
     opt.screenshotPath = (out / "workbench.png").string();
     Workbench full(root, false);
-    rc |= runGui(full, *ctx, opt);
+    const int gui = runGui(full, *ctx, opt);
+    if (gui == kGlResetRestart)
+        throw core::Error("gui", 0,
+                          "the GPU driver reset the OpenGL context (state saved in " +
+                              glResetRequest(root).string() + ")");
+    rc |= gui;
     std::printf("outputs:\n  capture    %s\n  screenshot %s\n",
                 fs::absolute(out / "capture").string().c_str(),
                 fs::absolute(out / "workbench.png").string().c_str());
@@ -54,7 +90,7 @@ Command guiCommand() {
     return {
         "gui", "interactive workbench (default)", false, [](CLI::App& cmd) -> CommandRun {
             struct Args {
-                bool headless = false;
+                bool headless = false, restore = false;
                 std::string out, size;
             };
             auto a = std::make_shared<Args>();
@@ -64,6 +100,9 @@ Command guiCommand() {
                          "no window: record + replay the default capture and save a screenshot");
             top.add_option("--out-dir", a->out, "where --headless writes (default out/default)");
             cmd.add_flag("--headless", a->headless, "same as the top-level --headless");
+            cmd.add_flag("--restore-after-reset", a->restore,
+                         "start from the state saved when the GPU driver reset the context")
+                ->group(""); // the program passes it to itself
             cmd.add_option("--size", a->size,
                            "window WxH (default: the size it had last time, else 1600x1000; "
                            "shrunk to fit the screen's work area)");
@@ -84,9 +123,15 @@ Command guiCommand() {
                 if (headless) return runHeadlessDefault(root, a->out);
                 std::fprintf(stderr, "resources: %s\n", root.c_str());
                 auto window = gl::createWindowContext(width, height, "BSSRDF Workbench");
-                Workbench wb(root, true);
+                std::unique_ptr<Workbench> wb = guiWorkbench(root, a->restore, true);
                 GuiOptions opt;
-                return runGui(wb, *window, opt);
+                const int rc = runGui(*wb, *window, opt);
+                if (rc != kGlResetRestart) return rc;
+                int w = width, h = height;
+                glfwGetWindowSize(window->window(), &w, &h);
+                return restartAfterReset(root, {"gui", "--size",
+                                                std::to_string(std::max(w, 320)) + "x" +
+                                                    std::to_string(std::max(h, 320))});
             };
         }};
 }
@@ -97,12 +142,16 @@ Command screenshotCommand() {
                 struct Args {
                     std::string out, size = "1600x1000";
                     int frames = 3;
+                    bool restore = false;
                 };
                 auto a = std::make_shared<Args>();
                 cmd.add_option("--out", a->out, "PNG file")->required();
                 cmd.add_option("--frames", a->frames, "frames to run before saving")
                     ->check(CLI::Range(1, 10000));
                 cmd.add_option("--size", a->size, "WxH in pixels");
+                cmd.add_flag("--restore-after-reset", a->restore,
+                             "start from the state saved when the GPU driver reset the context")
+                    ->group("");
                 return [a](CommandContext& ctx) {
                     const fs::path& root = ctx.root();
                     GuiOptions opt;
@@ -113,8 +162,12 @@ Command screenshotCommand() {
                     opt.screenshotPath = a->out;
                     opt.persistLayout = false;
                     auto gl = gl::createHeadlessContext();
-                    Workbench wb(root, false);
-                    int rc = runGui(wb, *gl, opt);
+                    std::unique_ptr<Workbench> wb = guiWorkbench(root, a->restore, false);
+                    const int rc = runGui(*wb, *gl, opt);
+                    if (rc == kGlResetRestart)
+                        return restartAfterReset(root,
+                                                 {"screenshot", "--out", a->out, "--frames",
+                                                  std::to_string(a->frames), "--size", a->size});
                     if (rc == 0) std::printf("wrote %s\n", a->out.c_str());
                     return rc;
                 };

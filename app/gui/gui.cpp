@@ -5,6 +5,8 @@
 
 #include "gui/fonts.h"
 
+#include "capture/capture.h"
+#include "captures/capture_io.h"
 #include "core/core.h"
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
@@ -235,6 +237,45 @@ std::vector<unsigned char> HeadlessGui::pixels() const {
     return px;
 }
 
+namespace {
+
+constexpr const char* kGlResetName = "gl-reset";
+
+// After a driver reset nothing on this context works any more: the state goes to
+// glResetRequest(root) with the reason, for the restarted program to rebuild (runGui's caller).
+int saveStateAfterReset(Workbench& wb, gl::ResetStatus reset) {
+    const std::string reason = gl::describe(reset);
+    core::logError(reason + ": the workbench starts again on a new context with its state");
+    const std::filesystem::path request = writeRecordRequest(wb, kGlResetName);
+    core::writeFile(request.parent_path() / "reason.txt", reason);
+    return kGlResetRestart;
+}
+
+} // namespace
+
+std::filesystem::path glResetRequest(const std::filesystem::path& root) {
+    return root / "captures" / (std::string(".") + kGlResetName + ".request") / "request.json";
+}
+
+std::unique_ptr<Workbench> workbenchAfterReset(const std::filesystem::path& root, bool watch) {
+    const std::filesystem::path request = glResetRequest(root);
+    const capture::Manifest m = capture::readInputs(request);
+    std::string reason = "the GPU driver reset the OpenGL context";
+    std::error_code ec;
+    if (std::filesystem::exists(request.parent_path() / "reason.txt", ec))
+        reason = core::readFile(request.parent_path() / "reason.txt");
+    // models from outside the project were saved with the state: they live for the session
+    static ExternalModels external;
+    int traceX = -1, traceY = -1;
+    std::unique_ptr<Workbench> wb =
+        workbenchFromInputs(m, root, external.dir, request.string(), traceX, traceY, watch);
+    std::filesystem::remove_all(request.parent_path(), ec);
+    wb->reportActionError("GPU: " + reason +
+                          "; the workbench started again on a new OpenGL context with the state "
+                          "it had (models, parameters, settings)");
+    return wb;
+}
+
 int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     UiState ui;
     g_ui = &ui;
@@ -280,6 +321,11 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             glfwSwapBuffers(win);
             if (changed) wb.framePresented();
             gl::collectTimings();
+            if (const gl::ResetStatus reset = gl::graphicsResetStatus();
+                reset != gl::ResetStatus::None) {
+                rc = saveStateAfterReset(wb, reset);
+                break;
+            }
         }
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
@@ -290,11 +336,16 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             ui.shared.windowHeight = opt.height;
             for (int f = 0; f < std::max(1, opt.frames) && !ui.shared.quit; ++f) {
                 gui.frame();
+                if (const gl::ResetStatus reset = gl::graphicsResetStatus();
+                    reset != gl::ResetStatus::None) {
+                    rc = saveStateAfterReset(wb, reset);
+                    break;
+                }
                 // The first frame enables the scene when its panels are open; headless runs
                 // wait for it (point cloud, occluded IBL) so the image shows the result.
                 if (f == 0 && wb.scene().settings().enabled) wb.finishScene();
             }
-            if (!opt.screenshotPath.empty()) {
+            if (rc == 0 && !opt.screenshotPath.empty()) {
                 try {
                     gl::writePng(opt.screenshotPath, opt.width, opt.height, gui.pixels());
                 } catch (const core::Error& e) {

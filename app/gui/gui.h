@@ -6,6 +6,8 @@
 #include "gui/ui_state.h"
 #include "pipeline/workbench.h"
 
+#include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -19,6 +21,15 @@ struct GuiOptions {
     std::string screenshotPath; // headless: PNG of what a user would see
     bool persistLayout = true;  // load/save window layout and panel visibility
 };
+
+// After a GPU driver reset (gl::graphicsResetStatus, checked after every frame) runGui saves the
+// workbench's state (models, parameters, settings: a capture's inputs, with the reason) to
+// glResetRequest(root) and returns kGlResetRestart; the command then starts the program again
+// on a new context (--restore-after-reset), where workbenchAfterReset() rebuilds the workbench
+// from it with an Errors entry naming the reset.
+constexpr int kGlResetRestart = 75;
+std::filesystem::path glResetRequest(const std::filesystem::path& root);
+std::unique_ptr<Workbench> workbenchAfterReset(const std::filesystem::path& root, bool watch);
 
 // The window size the last session saved (Window=W,H in the layout file, imgui.ini under
 // $XDG_CONFIG_HOME or ~/.config/bssrdf-workbench), when it holds two sizes in [320, 16384].

@@ -21,17 +21,35 @@ class EglContext final : public Context {
         EGLConfig config = nullptr;
         EGLint count = 0;
         eglChooseConfig(m_display, cfgAttribs, &config, 1, &count);
-        const EGLint ctxAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
-                                     4,
-                                     EGL_CONTEXT_MINOR_VERSION,
-                                     5,
-                                     EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                     EGL_CONTEXT_OPENGL_DEBUG,
-                                     debug ? EGL_TRUE : EGL_FALSE,
-                                     EGL_NONE};
-        m_context = eglCreateContext(m_display, count > 0 ? config : EGL_NO_CONFIG_KHR,
-                                     EGL_NO_CONTEXT, ctxAttribs);
+        // Reset notification where the driver offers it (reset.cpp): a context lost after a GPU
+        // hang says so instead of doing nothing in silence. EGL 1.5's attribute, else
+        // EGL_EXT_create_context_robustness's (Mesa refuses the latter for desktop OpenGL), else
+        // a context without it.
+        const bool egl15 = major > 1 || (major == 1 && minor >= 5);
+        const bool ext = epoxy_has_egl_extension(m_display, "EGL_EXT_create_context_robustness");
+        const EGLint strategies[][2] = {
+            {egl15 ? EGL_CONTEXT_OPENGL_RESET_NOTIFICATION_STRATEGY : EGL_NONE,
+             EGL_LOSE_CONTEXT_ON_RESET},
+            {ext ? EGL_CONTEXT_OPENGL_RESET_NOTIFICATION_STRATEGY_EXT : EGL_NONE,
+             EGL_LOSE_CONTEXT_ON_RESET_EXT},
+            {EGL_NONE, EGL_NONE}};
+        for (const auto& strategy : strategies) {
+            if (strategy[0] == EGL_NONE && &strategy != &strategies[2]) continue;
+            const EGLint ctxAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                         4,
+                                         EGL_CONTEXT_MINOR_VERSION,
+                                         5,
+                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                         EGL_CONTEXT_OPENGL_DEBUG,
+                                         debug ? EGL_TRUE : EGL_FALSE,
+                                         strategy[0],
+                                         strategy[1],
+                                         EGL_NONE};
+            m_context = eglCreateContext(m_display, count > 0 ? config : EGL_NO_CONFIG_KHR,
+                                         EGL_NO_CONTEXT, ctxAttribs);
+            if (m_context != EGL_NO_CONTEXT) break;
+        }
         if (m_context == EGL_NO_CONTEXT)
             throw core::Error("EGL: cannot create an OpenGL 4.5 core context (error 0x" +
                               hex(eglGetError()) + ")");

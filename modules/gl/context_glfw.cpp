@@ -33,7 +33,13 @@ class GlfwContext final : public Context {
         WindowSize size =
             aw > 0 && ah > 0 ? fitWindowSize(width, height, aw, ah) : WindowSize{width, height};
         glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+        // Reset notification (reset.cpp) where the driver grants it; else a context without.
+        glfwWindowHint(GLFW_CONTEXT_ROBUSTNESS, GLFW_LOSE_CONTEXT_ON_RESET);
         m_window = glfwCreateWindow(size.width, size.height, title.c_str(), nullptr, nullptr);
+        if (!m_window) {
+            glfwWindowHint(GLFW_CONTEXT_ROBUSTNESS, GLFW_NO_ROBUSTNESS);
+            m_window = glfwCreateWindow(size.width, size.height, title.c_str(), nullptr, nullptr);
+        }
         if (!m_window) {
             glfwTerminate();
             throw core::Error("GLFW: cannot open an OpenGL 4.5 core window");

@@ -2,7 +2,7 @@
 // glGetNamedBufferSubData blocks until the GPU is done, however long that takes; a hung driver
 // or a shader that never ends then freezes the program without a word. Waiting on a fence
 // (glFenceSync / glClientWaitSync) in short polls instead lets the caller give up after a
-// deadline with a message naming the work.
+// deadline with a message naming the work, and notice a driver reset (reset.cpp) while it waits.
 #include "gl.h"
 
 #include "core/core.h"
@@ -21,6 +21,11 @@ void finishWithin(const std::string& what, double seconds, const FencePoll& poll
             poll ? poll(fence, flags, kPollNs) : glClientWaitSync(fence, flags, kPollNs);
         flags = 0;
         if (r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED) break;
+        // a lost context never signals: say so rather than wait out the deadline
+        if (const ResetStatus reset = graphicsResetStatus(); reset != ResetStatus::None) {
+            glDeleteSync(fence);
+            throw core::Error(what + ": " + describe(reset));
+        }
         if (r != GL_TIMEOUT_EXPIRED) {
             glDeleteSync(fence);
             throw core::Error(what + ": waiting for the GPU failed (lost context?)");

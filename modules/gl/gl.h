@@ -72,6 +72,21 @@ void requireLimits(); // with the current context; throws core::Error
 using FencePoll = std::function<GLenum(GLsync, GLbitfield, GLuint64)>;
 void finishWithin(const std::string& what, double seconds, const FencePoll& poll = {});
 
+// The driver's graphics-reset status (reset.cpp): None while the context is usable; after a
+// GPU hang or driver reset the context is lost (where reset notification was granted:
+// resetNotificationRequested()) and every GL call does nothing. finishWithin() throws naming it;
+// the GUI restarts on a new context with its state. $BSSRDF_WORKBENCH_SIMULATE_GL_RESET=N
+// reports a reset (Guilty) from the N-th query on (tests).
+enum class ResetStatus { None, Guilty, Innocent, Unknown };
+ResetStatus graphicsResetStatus();
+// "the GPU driver reset the OpenGL context, after GPU work of this program hung or faulted" …
+std::string describe(ResetStatus s);
+// Whether the current context was created with reset notification (lose context on reset).
+bool resetNotificationRequested();
+// Clears $BSSRDF_WORKBENCH_SIMULATE_GL_RESET for processes started from here on (a restart after
+// a simulated reset must not simulate another).
+void stopSimulatedResetsInChildren();
+
 // Routes KHR_debug messages to the core log (called by both context constructors).
 void installDebugOutput();
 // Also hands every debug message to `observer` (the tests fail on errors and undefined
