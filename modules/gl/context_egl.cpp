@@ -67,6 +67,7 @@ class EglContext final : public Context {
         if (debug) installDebugOutput();
         forgetBarrierState();
         installBarrierChecks(eglGetProcAddress);
+        installWaitDeadlines(eglGetProcAddress);
     }
     ~EglContext() override { release(); }
     void release() {

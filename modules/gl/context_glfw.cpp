@@ -64,6 +64,7 @@ class GlfwContext final : public Context {
         if (debug) installDebugOutput();
         forgetBarrierState();
         installBarrierChecks(glfwGetProcAddress);
+        installWaitDeadlines(glfwGetProcAddress);
     }
     ~GlfwContext() override {
         glfwDestroyWindow(m_window);

@@ -21,11 +21,12 @@ void finishWithin(const std::string& what, double seconds, const FencePoll& poll
             poll ? poll(fence, flags, kPollNs) : glClientWaitSync(fence, flags, kPollNs);
         flags = 0;
         if (r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED) break;
-        // a lost context never signals: say so rather than wait out the deadline
-        if (const ResetStatus reset = graphicsResetStatus(); reset != ResetStatus::None) {
-            glDeleteSync(fence);
-            throw core::Error(what + ": " + describe(reset));
-        }
+        // still waiting: a reset is named at once rather than waited out
+        if (r == GL_TIMEOUT_EXPIRED)
+            if (const ResetStatus reset = graphicsResetStatus(); reset != ResetStatus::None) {
+                glDeleteSync(fence);
+                throw core::Error(what + ": " + describe(reset));
+            }
         if (r != GL_TIMEOUT_EXPIRED) {
             glDeleteSync(fence);
             throw core::Error(what + ": waiting for the GPU failed (lost context?)");

@@ -104,6 +104,16 @@ void requestBarrierChecks();
 // By the context constructors, with the context current; `resolve` gives the driver's functions.
 using ProcResolver = void (*(*)(const char*))();
 void installBarrierChecks(ProcResolver resolve);
+// Every host wait has a deadline (waits.cpp): glFinish and the readbacks (glGetNamedBufferSubData,
+// glGetBufferSubData, glGetTextureImage, glGetTextureSubImage, glReadPixels) first wait with
+// finishWithin(call name, hostWaitSeconds()), so a GPU that never finishes is a core::Error
+// naming the call instead of a frozen program. Installed by both contexts, once per process,
+// after the barrier checks. hostWaitSeconds(): 60, or $BSSRDF_WORKBENCH_GPU_WAIT_SECONDS (a
+// bad value is a core::Error naming the variable). setWaitPollForTesting replaces the fence
+// poll of these waits (tests of the deadline on drivers that finish everything at once).
+void installWaitDeadlines(ProcResolver resolve);
+double hostWaitSeconds();
+void setWaitPollForTesting(FencePoll poll);
 bool barrierChecksActive();
 // For reads the checks cannot see (ImGui's backend has its own GL loader): `reader` is about to
 // sample `texture`, which needs GL_TEXTURE_FETCH_BARRIER_BIT after an image store to it.

@@ -82,5 +82,17 @@ TEST(GlReset, TheProgramStartsAgainOnANewContextAndFinishes) {
     r = run("soon");
     EXPECT_NE(r.code, 0);
     EXPECT_NE(r.output.find("BSSRDF_WORKBENCH_SIMULATE_GL_RESET"), std::string::npos) << r.output;
+    // and so is a bad deadline for the GPU waits (gl/waits.cpp)
+    setenv("BSSRDF_WORKBENCH_GPU_WAIT_SECONDS", "-1", 1);
+    r = clitest::runCommand({BW_EXE, "--root", root.string(), "screenshot", "--out", "shot2.png",
+                             "--size", "640x400", "--frames", "1"},
+                            root);
+    unsetenv("BSSRDF_WORKBENCH_GPU_WAIT_SECONDS");
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.output.find("BSSRDF_WORKBENCH_GPU_WAIT_SECONDS: expected seconds in (0, 86400], "
+                            "got '-1'"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(root / "shot2.png"));
     fs::remove_all(root);
 }

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <functional>
 #include <thread>
 
 TEST(HeadlessContext, GivesGl45CoreWithCompute) {
@@ -218,4 +219,46 @@ TEST(HeadlessContext, ADriverResetIsNamedByTheWaitThatSeesIt) {
     EXPECT_EQ(polls, 1);
     EXPECT_LT(clock.ms(), 5000.0); // not the 30 s deadline
     unsetenv("BSSRDF_WORKBENCH_SIMULATE_GL_RESET");
+}
+
+// Every host wait has a deadline (gl/waits.cpp): glFinish and the readbacks wait on a fence
+// first, so a GPU that never finishes (a fence that never signals, as a hung driver's would) is
+// an error naming the call after $BSSRDF_WORKBENCH_GPU_WAIT_SECONDS, not a frozen program. With
+// the fences signalling, the same calls read what they read before.
+TEST(HeadlessContext, EveryReadbackAndFinishWaitsWithADeadline) {
+    ASSERT_EQ(setenv("BSSRDF_WORKBENCH_GPU_WAIT_SECONDS", "0.2", 1), 0);
+    auto ctx = gl::createHeadlessContext();
+    EXPECT_EQ(gl::hostWaitSeconds(), 0.2);
+    const uint32_t seven = 7;
+    gl::Buffer buf = gl::createBuffer(sizeof seven, &seven);
+    gl::setWaitPollForTesting([](GLsync, GLbitfield, GLuint64) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        return GLenum(GL_TIMEOUT_EXPIRED);
+    });
+    uint32_t read = 0;
+    unsigned char pixel[4];
+    const std::vector<std::pair<const char*, std::function<void()>>> waits = {
+        {"glGetNamedBufferSubData",
+         [&] { glGetNamedBufferSubData(buf.id(), 0, sizeof read, &read); }},
+        {"glReadPixels", [&] { glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel); }},
+        {"glFinish", [] { glFinish(); }}};
+    for (const auto& [call, run] : waits) {
+        core::Stopwatch clock;
+        try {
+            run();
+            ADD_FAILURE() << call << ": no error after the deadline";
+        } catch (const core::Error& e) {
+            EXPECT_NE(std::string(e.what()).find(std::string(call) +
+                                                 ": the GPU did not finish within 0.2 s"),
+                      std::string::npos)
+                << e.what();
+        }
+        EXPECT_LT(clock.ms(), 5000.0) << call;
+    }
+    EXPECT_EQ(read, 0u); // the read did not happen
+    gl::setWaitPollForTesting({});
+    glGetNamedBufferSubData(buf.id(), 0, sizeof read, &read);
+    EXPECT_EQ(read, 7u);
+    glFinish();
+    unsetenv("BSSRDF_WORKBENCH_GPU_WAIT_SECONDS");
 }
