@@ -22,6 +22,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 
 namespace app {
 namespace fs = std::filesystem;
@@ -251,6 +252,22 @@ int saveStateAfterReset(Workbench& wb, gl::ResetStatus reset) {
     return kGlResetRestart;
 }
 
+// Runs one frame; true when the driver reset the context during or after it, the state then
+// saved and rc set. A GPU wait inside the frame that met the reset throws (gl/fence.cpp): that
+// error is the reset's, and the frame is closed for ImGui.
+bool frameMetReset(Workbench& wb, const std::function<void()>& frame, int& rc) {
+    try {
+        frame();
+    } catch (const core::Error&) {
+        if (gl::graphicsResetStatus() == gl::ResetStatus::None) throw;
+        if (ImGui::GetCurrentContext()->WithinFrameScope) ImGui::EndFrame();
+    }
+    const gl::ResetStatus reset = gl::graphicsResetStatus();
+    if (reset == gl::ResetStatus::None) return false;
+    rc = saveStateAfterReset(wb, reset);
+    return true;
+}
+
 } // namespace
 
 std::filesystem::path glResetRequest(const std::filesystem::path& root) {
@@ -303,29 +320,27 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         ImGui_ImplOpenGL3_Init("#version 450");
         while (!glfwWindowShouldClose(win) && !ui.shared.quit) {
             glfwWaitEventsTimeout(0.03); // idle without spinning; the watcher is polled below
-            bool changed = wb.update();
-            ImGui_ImplOpenGL3_NewFrame();
-            ImGui_ImplGlfw_NewFrame();
-            ImGui::NewFrame();
-            drawPanels(wb, ui);
-            ImGui::Render();
-            int w = 0, h = 0;
-            glfwGetWindowSize(win, &ui.shared.windowWidth, &ui.shared.windowHeight);
-            glfwGetFramebufferSize(win, &w, &h);
-            glBindFramebuffer(GL_FRAMEBUFFER, 0);
-            glViewport(0, 0, w, h);
-            glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
-            glClear(GL_COLOR_BUFFER_BIT);
-            renderImGuiDrawData();
-            servicePngExport(wb, ui, 0, h);
-            glfwSwapBuffers(win);
-            if (changed) wb.framePresented();
-            gl::collectTimings();
-            if (const gl::ResetStatus reset = gl::graphicsResetStatus();
-                reset != gl::ResetStatus::None) {
-                rc = saveStateAfterReset(wb, reset);
-                break;
-            }
+            const auto frame = [&] {
+                bool changed = wb.update();
+                ImGui_ImplOpenGL3_NewFrame();
+                ImGui_ImplGlfw_NewFrame();
+                ImGui::NewFrame();
+                drawPanels(wb, ui);
+                ImGui::Render();
+                int w = 0, h = 0;
+                glfwGetWindowSize(win, &ui.shared.windowWidth, &ui.shared.windowHeight);
+                glfwGetFramebufferSize(win, &w, &h);
+                glBindFramebuffer(GL_FRAMEBUFFER, 0);
+                glViewport(0, 0, w, h);
+                glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+                glClear(GL_COLOR_BUFFER_BIT);
+                renderImGuiDrawData();
+                servicePngExport(wb, ui, 0, h);
+                glfwSwapBuffers(win);
+                if (changed) wb.framePresented();
+                gl::collectTimings();
+            };
+            if (frameMetReset(wb, frame, rc)) break;
         }
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
@@ -335,12 +350,9 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             ui.shared.windowWidth = opt.width;
             ui.shared.windowHeight = opt.height;
             for (int f = 0; f < std::max(1, opt.frames) && !ui.shared.quit; ++f) {
-                gui.frame();
-                if (const gl::ResetStatus reset = gl::graphicsResetStatus();
-                    reset != gl::ResetStatus::None) {
-                    rc = saveStateAfterReset(wb, reset);
+                if (frameMetReset(
+                        wb, [&] { gui.frame(); }, rc))
                     break;
-                }
                 // The first frame enables the scene when its panels are open; headless runs
                 // wait for it (point cloud, occluded IBL) so the image shows the result.
                 if (f == 0 && wb.scene().settings().enabled) wb.finishScene();
