@@ -19,8 +19,9 @@ int benchReload(const std::filesystem::path& root, int runs);
 // the CPU tracer and paths/s of the GL compute tracer; then, for the reference case (η 1.3,
 // σa 0.01, σs 1, g 0, 0.15 mm bins) and marble, the single-core time to 1 % relative standard
 // error at r = l_d and 4 l_d for every estimator (with and without radial splitting and
-// expected-value exits), the GL tracer's, and the efficiency per radial range. With `mcml` (MCML 1.2.2's binary), MCML is run
-// on the reference case here and its time to 1 % printed beside ours (bench/mcml_peer.h).
+// expected-value exits), the GL tracer's, and the efficiency per radial range. With `mcml`
+// (MCML 1.2.2's binary), MCML is run on the reference case here and its time to 1 % printed beside
+// ours (bench/mcml_peer.h).
 int benchPathtrace(const std::filesystem::path& root, double secondsPerRun,
                    const std::filesystem::path& mcml = {});
 

@@ -9,6 +9,7 @@
 #include "core/statistics.h"
 #include "pathtrace/bssrdf_estimate.h"
 #include "pathtrace/pathtrace.h"
+#include "spread_check.h"
 
 #include <gtest/gtest.h>
 
@@ -103,20 +104,7 @@ TEST(ExpectedExits, StandardErrorsMatchTheSpreadOfIndependentRuns) {
     for (int i = 0; i < runs; ++i)
         r.push_back(runSlab(ev::kMedium, ev::settings(Estimator::Implicit, kExpectedExitSamples,
                                                       4000, 200 + uint64_t(i))));
-    double sum = 0;
-    int dof = 0;
-    for (size_t b = 0; b < r[0].rd.size(); ++b) {
-        double mean = 0, se2 = 0;
-        for (const SlabResult& x : r) {
-            mean += x.rd[b] / runs;
-            se2 += x.rdStderr[b] * x.rdStderr[b] / runs;
-        }
-        for (const SlabResult& x : r)
-            sum += (x.rd[b] - mean) * (x.rd[b] - mean) / se2;
-        dof += runs - 1;
-    }
-    const double ratio = sum / dof, sd = std::sqrt(2.0 / dof);
-    EXPECT_LT(std::fabs(ratio - 1.0), 5 * sd) << "spread / reported error² = " << ratio;
+    expectSpreadMatchesStandardErrors(r, 0);
 }
 
 // The purpose: per path, the variance is lower at every radius, near the beam, at l_d and in

@@ -5,6 +5,7 @@
 // variance per path in the tail, where the pencil profile is hardest to resolve.
 #include "pathtrace/bssrdf_estimate.h"
 #include "pathtrace/pathtrace.h"
+#include "spread_check.h"
 
 #include <gtest/gtest.h>
 
@@ -75,20 +76,8 @@ TEST(Splitting, StandardErrorsMatchTheSpreadOfIndependentRuns) {
     std::vector<SlabResult> r;
     for (int i = 0; i < runs; ++i)
         r.push_back(runSlab(kMedium, settings(Splitting{}.levels, 8000, 100 + uint64_t(i))));
-    double sum = 0;
-    int dof = 0;
-    for (size_t b = r[0].rd.size() / 2; b < r[0].rd.size(); ++b) { // the split region
-        double mean = 0, se2 = 0;
-        for (const SlabResult& x : r) {
-            mean += x.rd[b] / runs;
-            se2 += x.rdStderr[b] * x.rdStderr[b] / runs;
-        }
-        for (const SlabResult& x : r)
-            sum += (x.rd[b] - mean) * (x.rd[b] - mean) / se2;
-        dof += runs - 1;
-    }
-    const double ratio = sum / dof, sd = std::sqrt(2.0 / dof);
-    EXPECT_LT(std::fabs(ratio - 1.0), 5 * sd) << "spread / reported error² = " << ratio;
+    // the split region
+    expectSpreadMatchesStandardErrors(r, r[0].rd.size() / 2);
 }
 
 // The purpose: in the outer quarter (3–4 l_d) the variance per path is far lower with splitting
