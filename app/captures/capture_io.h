@@ -37,6 +37,8 @@ void recordCaptureTo(Workbench& wb, const std::filesystem::path& dir, const std:
 capture::Manifest captureInputs(Workbench& wb, const std::string& name, int traceX = -1,
                                 int traceY = -1);
 
+// Where writeRecordRequest(wb, name) writes: <root>/captures/.<name>.request/request.json.
+std::filesystem::path recordRequestPath(const std::filesystem::path& root, const std::string& name);
 // A recording done by another process (the GUI records in a child, so it never waits): the
 // current state's inputs written as <root>/captures/.<name>.request/request.json (returned),
 // and in the child the workbench made from them (as replay makes it) recorded into `dir`.

@@ -93,9 +93,13 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
         core::logWarn("capture " + name + ": not recorded: " + s);
 }
 
+fs::path recordRequestPath(const fs::path& root, const std::string& name) {
+    return root / "captures" / ("." + name + ".request") / "request.json";
+}
+
 fs::path writeRecordRequest(Workbench& wb, const std::string& name, int traceX, int traceY) {
     const capture::Manifest m = captureInputs(wb, name, traceX, traceY);
-    const fs::path dir = wb.root() / "captures" / ("." + name + ".request");
+    const fs::path dir = recordRequestPath(wb.root(), name).parent_path();
     std::error_code ec;
     fs::remove_all(dir, ec);
     fs::create_directories(dir, ec);

@@ -271,7 +271,7 @@ bool frameMetReset(Workbench& wb, const std::function<void()>& frame, int& rc) {
 } // namespace
 
 std::filesystem::path glResetRequest(const std::filesystem::path& root) {
-    return root / "captures" / (std::string(".") + kGlResetName + ".request") / "request.json";
+    return recordRequestPath(root, kGlResetName);
 }
 
 std::unique_ptr<Workbench> workbenchAfterReset(const std::filesystem::path& root, bool watch) {
