@@ -69,6 +69,8 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
         throw core::Error(dir.string(), 0, "nothing to record: no model produced output");
     for (auto& input : captured.inputs) // meshes: path and content hash
         m.models.push_back(std::move(input));
+    for (const CaptureEntries::Resolved& r : captured.resolved) // `auto` → what ran
+        if (m.settings.contains(r.section)) m.settings[r.section][r.key] = r.value;
     // Written into a temporary folder beside `dir` and renamed over it when complete: a capture
     // folder never exists without its manifest, a failed record leaves nothing behind, and a
     // capture recorded again holds none of the previous recording's files.

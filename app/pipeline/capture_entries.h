@@ -52,6 +52,14 @@ struct CaptureEntries {
     std::vector<CaptureEntry> entries;      // in pipeline order
     std::vector<capture::ModelFile> inputs; // input files besides the models (meshes)
     std::vector<std::string> missing;       // "model: why" for outputs a stage could not make
+    // Settings as they ran where the settings left the choice to the machine: `auto` tracer
+    // devices become the device that traced ("reference", "device", "cpu"). The manifest keeps
+    // these, so a replay runs the same estimator on any machine (the CPU walk splits paths, the
+    // GL tracer does not: their far bins differ in variance though not in mean).
+    struct Resolved {
+        std::string section, key, value;
+    };
+    std::vector<Resolved> resolved;
 };
 
 // GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in

@@ -289,6 +289,7 @@ void ReferenceStage::capture(const ReferenceInputs& in, CaptureEntries& out) {
     const ReferenceSnapshot snap = finish(in);
     if (!snap.problem.empty()) throw core::Error("reference", 0, snap.problem);
     if (snap.pathsDone == 0) return;
+    out.resolved.push_back({"reference", "device", m_gpuMode ? "gpu" : "cpu"});
     CaptureEntry e = captureEntry(CaptureEntry::Kind::CsvStat, "reference", "r_mm");
     e.alpha = kMonteCarloAlpha;
     e.note = "Monte Carlo: per-value z-test, Bonferroni over all bins and channels";

@@ -292,6 +292,7 @@ void SliceStage::capture(const SliceInputs& in, CaptureEntries& out) {
     const SliceSnapshot snap = finish(in);
     if (!snap.problem.empty()) throw core::Error("slice", 0, snap.problem);
     if (!snap.slice) return;
+    out.resolved.push_back({"slice", "device", m_gpuMode ? "gpu" : "cpu"});
     const pathtrace::BssrdfBins& b = snap.settings.bins;
     const pathtrace::BssrdfSlice& s = *snap.slice;
     const std::vector<double> edges = b.rEdges();

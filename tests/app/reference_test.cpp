@@ -253,18 +253,24 @@ TEST(Reference, CaptureRecordsAndReplaysItStatistically) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("refcap", {"dipole.bssrdf"});
     const auto dir = root / "captures/ref";
+    std::string ranOn;
     {
         app::Workbench wb(root, false);
         wb.applyPreset(wb.shared(), "Skin1");
         wb.referenceSettings() = {true, 5000, 30, 7};
+        ASSERT_EQ(wb.referenceSettings().device, app::TracerDevice::Auto);
         app::recordCaptureTo(wb, dir, "ref");
+        ranOn = wb.finishReference().device == "GPU" ? "gpu" : "cpu";
     }
     auto m = capture::readManifest(dir);
     ASSERT_EQ(m.outputs.back().stage, "reference");
     EXPECT_EQ(m.outputs.back().kind, "csv_stat");
+    // `auto` is recorded as the device that traced: the replay runs the same walk (with the
+    // same seed, so the same values) whichever device this machine would pick
+    EXPECT_EQ(m.settings["reference"]["device"], ranOn);
     std::string out;
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
-    EXPECT_NE(out.find("PASS reference"), std::string::npos) << out;
+    EXPECT_NE(out.find("PASS reference  124 values, identical"), std::string::npos) << out;
     // a bin moved by 10 standard errors fails, naming the stage
     auto t = capture::readCsv(dir / "reference.csv");
     t.rows[3][1] += 10 * t.rows[3][2];

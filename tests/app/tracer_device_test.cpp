@@ -3,6 +3,7 @@
 // on the CPU, a GL tracer that cannot build leaves the CPU in charge, and captures written
 // before the setting existed ("gpu": true/false) still load.
 #include "../support/gl_fixture.h"
+#include "captures/capture_io.h"
 #include "captures/settings_json.h"
 #include "pipeline/tracer_device.h"
 #include "pipeline/workbench.h"
@@ -53,6 +54,17 @@ TEST(TracerDevice, AutoTakesTheDeviceThatMeasuredFaster) {
     EXPECT_EQ(wb.slice().deviceChoice(), probe.summary());
     EXPECT_EQ(statOf(wb.slice().status(), "device choice"), probe.summary());
     EXPECT_EQ(wb.slice().snapshot().device, probe.gpuFaster() ? "GPU" : "CPU");
+    // a capture writes the devices that ran, not `auto`
+    const capture::Manifest m = app::captureInputs(wb, "devices", -1, -1);
+    EXPECT_EQ(m.settings["reference"]["device"], "auto");
+    app::CaptureEntries ran;
+    wb.capture(ran);
+    const std::string traced = probe.gpuFaster() ? "gpu" : "cpu";
+    ASSERT_EQ(ran.resolved.size(), 2u);
+    EXPECT_EQ(ran.resolved[0].section + "." + ran.resolved[0].key + "=" + ran.resolved[0].value,
+              "reference.device=" + traced);
+    EXPECT_EQ(ran.resolved[1].section + "." + ran.resolved[1].key + "=" + ran.resolved[1].value,
+              "slice.device=" + traced);
     wb.sliceSettings().enabled = false;
     wb.update();
 
