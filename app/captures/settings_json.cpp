@@ -52,6 +52,9 @@ void applySettingsJson(Workbench& wb, const json& settings, const std::string& f
             value["device"] = g.get<bool>() ? "gpu" : "cpu";
             value.erase("gpu");
         }
+        if ((key == "reference" || key == "slice") && value.is_object() &&
+            !value.contains("device") && !value.contains("gpu"))
+            value["device"] = "cpu"; // recorded before the GL tracers: the CPU walk traced it
         s->fromJson(value, file, path);
     }
 }

@@ -1,7 +1,7 @@
 // The references' device: `auto` picks the device that traced more paths per second here
 // (app/pipeline/tracer_device.h), not a vendor string; the choice is shown, connections stay
 // on the CPU, a GL tracer that cannot build leaves the CPU in charge, and captures written
-// before the setting existed ("gpu": true/false) still load.
+// before the setting existed ("gpu": true/false, or neither: the CPU then) still load.
 #include "../support/gl_fixture.h"
 #include "captures/capture_io.h"
 #include "captures/settings_json.h"
@@ -107,6 +107,10 @@ TEST(TracerDevice, CapturesWrittenWithTheGpuSwitchStillLoad) {
     app::applySettingsJson(wb, nlohmann::json::parse(R"({"reference": {"device": "auto"}})"),
                            "m.json", x, y);
     EXPECT_EQ(wb.referenceSettings().device, app::TracerDevice::Auto);
+    // without either key the capture predates the GL tracers: the CPU walk recorded it
+    app::applySettingsJson(wb, nlohmann::json::parse(R"({"reference": {"paths": 100}})"), "m.json",
+                           x, y);
+    EXPECT_EQ(wb.referenceSettings().device, app::TracerDevice::Cpu);
     try {
         app::applySettingsJson(wb, nlohmann::json::parse(R"({"reference": {"gpu": 3}})"), "m.json",
                                x, y);
