@@ -8,6 +8,7 @@
 #include "pipeline/param_json.h"
 #include "pipeline/scoring.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -178,7 +179,14 @@ bool ScoreboardStage::updateReference(const ScoreboardInputs& in) {
                 row.coveredLd = std::min(4.0, covered);
                 rows.push_back(row);
             } catch (const std::exception& err) {
-                m_problems.push_back(e.displayPath + ": " + err.what());
+                // once per model (the other channels skip it), named once: a model's own error
+                // (core::Error at its file and line) already starts with its path
+                averages.try_emplace(e.displayPath);
+                const std::string what = err.what();
+                std::string problem =
+                    what.rfind(e.displayPath, 0) == 0 ? what : e.displayPath + ": " + what;
+                if (std::find(m_problems.begin(), m_problems.end(), problem) == m_problems.end())
+                    m_problems.push_back(std::move(problem));
             }
         }
     }
