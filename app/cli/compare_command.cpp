@@ -208,7 +208,8 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
                         std::vector<double> mv = channelOf(prof, c);
                         ScoreRow row = scoreAgainstReference(
                             edges, ref.rd, ref.rdStderr, ref.specular, ref.totalRd,
-                            ref.totalRdStderr, ld, mv, modelTotalRd(program, e, b, ld, c));
+                            ref.totalRdStderr, ld, mv, modelTotalRd(program, e, b, ld, c),
+                            ref.rdBatches);
                         row.model = stem(e.displayPath);
                         row.preset = preset;
                         row.channel = ch;

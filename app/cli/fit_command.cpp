@@ -75,6 +75,10 @@ std::vector<FitTarget> makeTargets(const std::vector<FitMedium>& media,
                     t.ref.push_back(ref.rd[i] / (1 - ref.specular));
                     t.refSe.push_back(ref.rdStderr[i] / (1 - ref.specular));
                 }
+                t.refBatches = ref.rdBatches; // per unit power entering, as ref
+                for (auto& b : t.refBatches.mean)
+                    for (double& x : b)
+                        x /= 1 - ref.specular;
                 t.totalRd = ref.totalRd / (1 - ref.specular);
                 t.totalRdSe = ref.totalRdStderr / (1 - ref.specular);
                 targets.push_back(std::move(t));

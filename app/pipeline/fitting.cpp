@@ -320,7 +320,7 @@ std::vector<double> relErrOnTargets(const bssrdf::ModelEntry& e, const bssrdf::P
         }
         const core::RelativeError err =
             core::radialRelativeError(t.edges, t.ref, t.refSe, model, core::kRelErrFromLd * t.ldMm,
-                                      core::kRelErrToLd * t.ldMm);
+                                      core::kRelErrToLd * t.ldMm, t.refBatches);
         if (!err.valid() && problem)
             *problem = t.preset + " " + "RGB"[t.channel] + ": " + err.problem;
         out.push_back(err.valid() ? err.value : std::numeric_limits<double>::quiet_NaN());

@@ -36,6 +36,7 @@ struct FitTarget {
     double ldMm = 0;
     material::MaterialParams params; // the medium (the model's builtins)
     std::vector<double> edges, ref, refSe;
+    core::BatchMeans refBatches;           // ref's batch means (may be empty)
     double totalRd = NAN, totalRdSe = NAN; // θi = 0: 2π∫R_ref r dr per unit power entering
     double thetaI = 0;
     pathtrace::BssrdfBins bins;   // thetaI > 0

@@ -169,7 +169,7 @@ bool ScoreboardStage::updateReference(const ScoreboardInputs& in) {
                     cached != m_totals.end() ? cached->second : modelTotalRd(program, e, b, ld, c);
                 totals[totalKey] = total;
                 row.score = scoreAgainstReference(edges, r.rd, r.rdStderr, r.specular, r.totalRd,
-                                                  r.totalRdStderr, ld, mv, total);
+                                                  r.totalRdStderr, ld, mv, total, r.rdBatches);
                 std::string stem = e.displayPath.substr(e.displayPath.rfind('/') + 1);
                 row.score.model = stem.substr(0, stem.rfind('.'));
                 row.score.preset = "current";

@@ -35,7 +35,9 @@ json resultJson(const pathtrace::SlabResult& r) {
             {"total_rd", r.totalRd},
             {"total_rd_se", r.totalRdStderr},
             {"specular", r.specular},
-            {"paths", r.paths}};
+            {"paths", r.paths},
+            {"batch_fraction", r.rdBatches.fraction},
+            {"batch_means", r.rdBatches.mean}};
 }
 
 std::optional<pathtrace::SlabResult> cachedResult(const fs::path& file) {
@@ -52,6 +54,7 @@ std::optional<pathtrace::SlabResult> cachedResult(const fs::path& file) {
         r.specular = j.at("specular").get<double>();
         r.paths = j.at("paths").get<uint64_t>();
         if (r.rd.size() != r.rMid.size() || r.rdStderr.size() != r.rMid.size()) return std::nullopt;
+        if (!readBatchMeans(j, r.rd.size(), r.rdBatches)) return std::nullopt;
         return r;
     } catch (const std::exception&) { // a damaged cache entry is traced again
         return std::nullopt;
@@ -59,6 +62,17 @@ std::optional<pathtrace::SlabResult> cachedResult(const fs::path& file) {
 }
 
 } // namespace
+
+bool readBatchMeans(const nlohmann::json& j, size_t bins, core::BatchMeans& out) {
+    out = {};
+    if (!j.contains("batch_fraction")) return true; // written before batch means: none
+    out.fraction = j.at("batch_fraction").get<std::vector<double>>();
+    out.mean = j.at("batch_means").get<std::vector<std::vector<double>>>();
+    bool ok = out.mean.size() == out.fraction.size();
+    for (const auto& b : out.mean)
+        ok = ok && b.size() == bins;
+    return ok;
+}
 
 pathtrace::SlabSettings scoringSlabSettings(double ldMm, uint64_t paths) {
     pathtrace::SlabSettings s;
@@ -176,7 +190,7 @@ std::vector<double> channelOf(const bssrdf::Profile& p, int channel) {
 ScoreRow scoreAgainstReference(const std::vector<double>& edges, const std::vector<double>& rd,
                                const std::vector<double>& rdSe, double specular, double totalRd,
                                double totalRdSe, double ldMm, const std::vector<double>& model,
-                               double modelTotal) {
+                               double modelTotal, const core::BatchMeans& rdBatches) {
     ScoreRow s;
     s.ldMm = ldMm;
     const double entering = 1.0 - specular;
@@ -187,8 +201,12 @@ ScoreRow scoreAgainstReference(const std::vector<double>& edges, const std::vect
         ref[i] = rd[i] / entering;
         refSe[i] = rdSe[i] / entering;
     }
+    core::BatchMeans batches = rdBatches; // per photon entering, as ref
+    for (auto& b : batches.mean)
+        for (double& x : b)
+            x /= entering;
     const core::RelativeError e = core::radialRelativeError(
-        edges, ref, refSe, model, core::kRelErrFromLd * ldMm, core::kRelErrToLd * ldMm);
+        edges, ref, refSe, model, core::kRelErrFromLd * ldMm, core::kRelErrToLd * ldMm, batches);
     s.relErr = e.valid() ? e.value : std::numeric_limits<double>::infinity();
     s.relErrSe = e.valid() ? e.se : 0.0;
     s.relErrSquared = e.squared;

@@ -25,6 +25,8 @@
 #include "gl/gl.h"
 #include "pathtrace/pathtrace.h"
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -42,6 +44,11 @@ pathtrace::SlabSettings scoringSlabSettings(double ldMm, uint64_t paths);
 // The path-traced reference of one medium, from the disk cache (compareCacheDir) or traced and
 // cached; `what` prefixes its progress line on stderr. Throws core::Error when the trace fails
 // its own energy check.
+// The batch means a reference cache entry holds ("batch_fraction", "batch_means"; an entry
+// written before them has none: `out` empty, true). False when they are malformed or not `bins`
+// long (the entry is then traced again). Throws nlohmann::json's exceptions on wrong types.
+bool readBatchMeans(const nlohmann::json& j, size_t bins, core::BatchMeans& out);
+
 pathtrace::SlabResult slabReference(const pathtrace::Medium& m, const pathtrace::SlabSettings& s,
                                     const std::string& what, bool& fromCache);
 
@@ -62,11 +69,12 @@ std::vector<double> channelOf(const bssrdf::Profile& p, int channel);
 
 // Scores from one model's profile against one reference channel (exposed for tests):
 // edges, rd, rdSe: the reference's bins; specular R_sp; totalRd, totalRdSe; model: R_m,i (the
-// model's bin averages); modelTotal: 2π∫R_m r dr.
+// model's bin averages); modelTotal: 2π∫R_m r dr; rdBatches: the reference's batch means (may be
+// empty: rel_err then takes its bins as independent).
 ScoreRow scoreAgainstReference(const std::vector<double>& edges, const std::vector<double>& rd,
                                const std::vector<double>& rdSe, double specular, double totalRd,
                                double totalRdSe, double ldMm, const std::vector<double>& model,
-                               double modelTotal);
+                               double modelTotal, const core::BatchMeans& rdBatches = {});
 // 2π∫₀^∞ R r dr of one channel of a model (the pencil program), on 2048 points in ln r from
 // 1e-6 l_d to 60 l_d.
 double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::Builtins& b,

@@ -44,7 +44,9 @@ json sliceJson(const pathtrace::BssrdfSlice& s) {
             {"S", s.S},
             {"S_se", s.SStderr},
             {"total_rd", s.totalRd},
-            {"total_rd_se", s.totalRdStderr}};
+            {"total_rd_se", s.totalRdStderr},
+            {"batch_fraction", s.RBatches.fraction},
+            {"batch_means", s.RBatches.mean}};
 }
 
 std::optional<pathtrace::BssrdfSlice> cachedSlice(const fs::path& file,
@@ -65,7 +67,7 @@ std::optional<pathtrace::BssrdfSlice> cachedSlice(const fs::path& file,
         s.totalRdStderr = j.at("total_rd_se").get<double>();
         const size_t bins = size_t(b.spatialBins()), cells = bins * size_t(b.dirBins());
         if (s.R.size() != bins || s.RStderr.size() != bins || s.S.size() != cells ||
-            s.SStderr.size() != cells)
+            s.SStderr.size() != cells || !readBatchMeans(j, bins, s.RBatches))
             return std::nullopt;
         return s;
     } catch (const std::exception&) { // a damaged cache entry is estimated again
@@ -78,17 +80,24 @@ std::optional<pathtrace::BssrdfSlice> cachedSlice(const fs::path& file,
 // each series (core/relative_error.h).
 core::RelativeError relErr(const pathtrace::BssrdfBins& b, const std::vector<double>& model,
                            const std::vector<double>& ref, const std::vector<double>& se, int cells,
-                           const std::function<double(int)>& weight, double ldMm) {
+                           const std::function<double(int)>& weight, double ldMm,
+                           const core::BatchMeans& batches = {}) {
     std::vector<core::RadialSeries> series;
     for (int it = 0; it < b.thetaSBins; ++it)
         for (int ic = 0; ic < cells; ++ic) {
             core::RadialSeries s;
             s.weight = weight(ic);
+            if (!batches.empty()) {
+                s.batches.fraction = batches.fraction;
+                s.batches.mean.resize(batches.mean.size());
+            }
             for (int ir = 0; ir < b.rBins; ++ir) {
                 const size_t i = size_t((ir * b.thetaSBins + it) * cells + ic);
                 s.ref.push_back(ref[i]);
                 s.refSe.push_back(se[i]);
                 s.model.push_back(model[i]);
+                for (size_t k = 0; k < s.batches.mean.size(); ++k)
+                    s.batches.mean[k].push_back(batches.mean[k][i]);
             }
             series.push_back(std::move(s));
         }
@@ -147,7 +156,7 @@ capture::ScoreRow scoreSlice(const pathtrace::BssrdfBins& b, const pathtrace::Bs
         area[size_t(ib)] = pathtrace::binArea(b, ib / b.thetaSBins);
     // over (ln r, θs): the θs sectors are equal, so each sector's series weighs 1
     const core::RelativeError plane = relErr(
-        b, model.R, ref.R, ref.RStderr, 1, [](int) { return 1.0; }, ldMm);
+        b, model.R, ref.R, ref.RStderr, 1, [](int) { return 1.0; }, ldMm, ref.RBatches);
     row.relErr = plane.value;
     row.relErrSe = plane.se;
     row.relErrSquared = plane.squared;

@@ -20,7 +20,8 @@ RelativeError failed(std::string why, int bin) {
 }
 } // namespace
 
-RelativeError relativeError(const std::vector<ErrorBin>& bins) {
+RelativeError relativeError(const std::vector<ErrorBin>& bins,
+                            const std::vector<double>& batchFraction) {
     double W = 0, sum = 0;
     for (size_t i = 0; i < bins.size(); ++i) {
         const ErrorBin& b = bins[i];
@@ -45,6 +46,32 @@ RelativeError relativeError(const std::vector<ErrorBin>& bins) {
         const double g2 = 4 * x * x * t - 4 * x * (x - 1) * c2 * h + c2 * c2 * h * h;
         var += k * k * (g2 * c2 + 2 * q * q * c2 * c2);
         floor += k * k * 2 * q * q * c2 * c2;
+    }
+    const size_t B = batchFraction.size();
+    bool batched = B >= 2;
+    for (const ErrorBin& b : bins)
+        batched = batched && (!(b.weight > 0) || b.batch.size() == B);
+    if (batched) { // the linear part from the batches' spread: the bins' covariance counts
+        std::vector<double> L(B, 0.0);
+        double chi2 = 0;
+        for (const ErrorBin& b : bins) {
+            if (!(b.weight > 0)) continue;
+            const double x = b.model / b.ref, c = b.refSe / b.ref, k = b.weight / W;
+            const double c2 = c * c, q = 3 * x * x - 2 * x;
+            // g with |x − 1| taken as √t, as in g² above (x̂ − 1 would count the noise twice)
+            const double t = (x - 1) * (x - 1) - c2 * q;
+            const double d = std::copysign(std::sqrt(std::max(t, 0.0)), x - 1);
+            const double g = -2 * x * d + c2 * (12 * x * x - 6 * x);
+            for (size_t j = 0; j < B; ++j)
+                L[j] += k * g * (b.batch[j] - b.ref) / b.ref;
+            chi2 += k * k * 2 * q * q * c2 * c2;
+        }
+        double mean = 0, spread = 0;
+        for (size_t j = 0; j < B; ++j)
+            mean += batchFraction[j] * L[j];
+        for (size_t j = 0; j < B; ++j)
+            spread += batchFraction[j] * (L[j] - mean) * (L[j] - mean);
+        var = spread / double(B - 1) + chi2;
     }
     var = std::max(var, floor);
     const double e2 = sum / W, seE2 = std::sqrt(var);
@@ -83,7 +110,14 @@ RelativeError radialRelativeError(const std::vector<double>& edges,
     struct Group {
         size_t series, first, last;
         double area, refSum, varSum, modelSum;
+        std::vector<double> batchSum; // Σ a·R^b per batch (when every series has batches)
     };
+    const std::vector<double>& fraction =
+        series.empty() ? std::vector<double>{} : series[0].batches.fraction;
+    bool batched = !fraction.empty();
+    for (const RadialSeries& s : series)
+        batched = batched && s.batches.fraction.size() == fraction.size() &&
+                  s.batches.mean.size() == fraction.size();
     std::vector<Group> groups;
     auto areaOf = [&](size_t i) { return edges[i + 1] * edges[i + 1] - edges[i] * edges[i]; };
     for (size_t k = 0; k < series.size(); ++k) {
@@ -98,12 +132,16 @@ RelativeError radialRelativeError(const std::vector<double>& edges,
             g.refSum += s.ref[i] * a;
             g.varSum += s.refSe[i] * s.refSe[i] * a * a;
             g.modelSum += s.model[i] * a;
+            if (!batched) return;
+            g.batchSum.resize(fraction.size(), 0.0);
+            for (size_t b = 0; b < fraction.size(); ++b)
+                g.batchSum[b] += (i < s.batches.mean[b].size() ? s.batches.mean[b][i] : NAN) * a;
         };
         const size_t begin = groups.size();
         bool pending = false; // the last group is still too noisy
         for (size_t i = 0; i < n; ++i) {
             if (!(logOverlap(edges[i], edges[i + 1], from, to) > 0)) continue;
-            if (!pending) groups.push_back(Group{k, i, i, 0, 0, 0, 0});
+            if (!pending) groups.push_back(Group{k, i, i, 0, 0, 0, 0, {}});
             add(groups.back(), i);
             const Group& g = groups.back();
             pending = !(g.refSum > 0 && std::sqrt(g.varSum) <= kRelErrMaxBinNoise * g.refSum);
@@ -116,11 +154,16 @@ RelativeError radialRelativeError(const std::vector<double>& edges,
         }
     }
     std::vector<ErrorBin> bins;
-    for (const Group& g : groups)
+    for (const Group& g : groups) {
+        std::vector<double> batch = g.batchSum;
+        for (double& x : batch)
+            x /= g.area;
         bins.push_back(
             {series[g.series].weight * logOverlap(edges[g.first], edges[g.last + 1], from, to),
-             g.modelSum / g.area, g.refSum / g.area, std::sqrt(g.varSum) / g.area});
-    RelativeError e = relativeError(bins);
+             g.modelSum / g.area, g.refSum / g.area, std::sqrt(g.varSum) / g.area,
+             std::move(batch)});
+    }
+    RelativeError e = relativeError(bins, batched ? fraction : std::vector<double>{});
     if (e.badBin >= 0) {
         const Group& g = groups[size_t(e.badBin)];
         e.problem +=
@@ -133,8 +176,9 @@ RelativeError radialRelativeError(const std::vector<double>& edges,
 
 RelativeError radialRelativeError(const std::vector<double>& edges, const std::vector<double>& ref,
                                   const std::vector<double>& refSe,
-                                  const std::vector<double>& model, double from, double to) {
-    return radialRelativeError(edges, {RadialSeries{ref, refSe, model, 1.0}}, from, to);
+                                  const std::vector<double>& model, double from, double to,
+                                  const BatchMeans& refBatches) {
+    return radialRelativeError(edges, {RadialSeries{ref, refSe, model, 1.0, refBatches}}, from, to);
 }
 
 } // namespace core

@@ -11,12 +11,13 @@
 // with M_i the model averaged over bin i (as the reference is: area-weighted), R_i the bin's
 // reference mean and s_i its standard error. The second term removes the reference's own noise:
 // for R̂ = R(1 + ε), ε ~ N(0, c²), E[(M/R̂ − 1)²] = (x − 1)² + c²(3x² − 2x) + O(c⁴), so a model
-// equal to the truth scores 0 in expectation however few paths the reference has (the bins are
-// taken as independent: the slab tally puts each path in one bin).
+// equal to the truth scores 0 in expectation however few paths the reference has.
 // Its standard error: to second order in ε, t_i = t̄_i + g ε + q(ε² − c²) with
 // g = −2x(x − 1) + c²(12x² − 6x) and q = 3x² − 2x, so Var t_i = g²c² + 2q²c⁴, where (x − 1)² in g²
 // is estimated by t_i itself (the raw (x̂ − 1)² would count the noise twice); the sum is kept at
-// least its χ² part Σ(w_i/W)² 2q²c⁴. se(e²) = √Σ(w_i/W)² Var t_i, and, since e = √e² is not
+// least its χ² part Σ(w_i/W)² 2q²c⁴. se(e²) = √Σ(w_i/W)² Var t_i for independent bins; where the
+// reference has batch means (BatchMeans below) the linear part's variance comes from the
+// batches' spread instead, so the bins' covariance counts. And, since e = √e² is not
 // differentiable at 0, se(e) = √(e² + se(e²)) − e (→ se(e²)/2e for e ≫ √se(e²), → √se(e²) at 0).
 // A negative e² (all the difference is noise) reports e = 0.
 // Written by hand: no packaged library computes this measure.
@@ -31,10 +32,21 @@ namespace core {
 // The radial range of rel_err in units of the channel's diffuse mean free path l_d.
 inline constexpr double kRelErrFromLd = 0.1, kRelErrToLd = 4.0;
 
+// Batch means of a Monte Carlo reference: its paths split into B batches (the slab and BSSRDF
+// walks: path i in batch i mod 32), mean[b][i] the mean of bin i over batch b's paths (in the
+// bins' units), fraction[b] = N_b / N, so the reference's mean is Σ_b fraction[b]·mean[b][i].
+// Empty: not known.
+struct BatchMeans {
+    std::vector<double> fraction;
+    std::vector<std::vector<double>> mean;
+    bool empty() const { return fraction.empty(); }
+};
+
 // One bin of the sum above: its weight w_i, the model's mean over it M_i, the reference's
-// mean R_i and standard error s_i.
+// mean R_i and standard error s_i; `batch` its batch means (all bins or none).
 struct ErrorBin {
     double weight = 0, model = 0, ref = 0, refSe = 0;
+    std::vector<double> batch; // R_i over each batch (BatchMeans::mean[b][i]); empty: not known
 };
 
 struct RelativeError {
@@ -47,8 +59,15 @@ struct RelativeError {
 };
 
 // rel_err of `bins` (weights > 0 count; a counted bin whose reference is not > 0 or whose model
-// is not finite sets `problem` and `badBin`; so do no counted bins).
-RelativeError relativeError(const std::vector<ErrorBin>& bins);
+// is not finite sets `problem` and `badBin`; so do no counted bins). With `batchFraction` (the
+// reference's BatchMeans::fraction) and every counted bin's batch means, the linear part of the
+// variance, Var Σ_i k_i g_i ε_i (k_i = w_i/W, ε_i the reference's relative error in bin i), is
+// taken from the batches' spread, Σ_b f_b (L_b − L̄)² / (B − 1) with L_b = Σ_i k_i g_i
+// (R_i^b − R_i)/R_i: the bins' covariance counts (a path that adds to several bins, as with
+// expected-value exits, makes them positively correlated; one that leaves through one bin,
+// negatively). Without batches the bins are taken as independent (Σ k_i² g_i² c_i²).
+RelativeError relativeError(const std::vector<ErrorBin>& bins,
+                            const std::vector<double>& batchFraction = {});
 
 // The measure of [lo, hi] within [a, b] on the log axis: ln(min(hi, b) / max(lo, a)), 0 when
 // they do not overlap (lo may be 0).
@@ -67,7 +86,8 @@ BinNodes areaAverageNodes(double lo, double hi);
 inline constexpr double kRelErrMaxBinNoise = 0.1;
 
 // rel_err of a radial profile: bins [edges[i], edges[i+1]) with reference means `ref` and standard
-// errors `refSe`, and the model's bin averages `model`, over r ∈ [from, to] (the same units). A
+// errors `refSe` (and batch means `refBatches`, may be empty), and the model's bin averages
+// `model`, over r ∈ [from, to] (the same units). A
 // bin without reference paths or with c > kRelErrMaxBinNoise (far out, or a short run) is merged
 // with the next ones (at the end of the range, with the previous group) into one bin whose means
 // are area-weighted, so the measure stays defined and its noise correction holds; the measure
@@ -75,7 +95,8 @@ inline constexpr double kRelErrMaxBinNoise = 0.1;
 // without any paths is a problem.
 RelativeError radialRelativeError(const std::vector<double>& edges, const std::vector<double>& ref,
                                   const std::vector<double>& refSe,
-                                  const std::vector<double>& model, double from, double to);
+                                  const std::vector<double>& model, double from, double to,
+                                  const BatchMeans& refBatches = {});
 
 // Several radial profiles on the same bin edges, each with its own weight (e.g. the θs sectors and
 // exit cells of a BSSRDF slice, weighted by Δθs and solid angle): bins are merged within each
@@ -83,6 +104,7 @@ RelativeError radialRelativeError(const std::vector<double>& edges, const std::v
 struct RadialSeries {
     std::vector<double> ref, refSe, model;
     double weight = 1;
+    BatchMeans batches; // of `ref` (all series of one reference share the fractions); may be empty
 };
 RelativeError radialRelativeError(const std::vector<double>& edges,
                                   const std::vector<RadialSeries>& series, double from, double to);

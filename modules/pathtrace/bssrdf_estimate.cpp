@@ -104,6 +104,7 @@ BssrdfTally makeTally(const BssrdfBins& b) {
     BssrdfTally t;
     t.binSum.resize(size_t(b.spatialBins()));
     t.binSumSq.resize(size_t(b.spatialBins()));
+    if (b.spatialBins() <= kMaxBatchedBins) t.batchSum.resize(kBatches * size_t(b.spatialBins()));
     if (b.dirBins() > 1) {
         t.dirSum.resize(size_t(b.spatialBins()) * size_t(b.dirBins()));
         t.dirSumSq.resize(t.dirSum.size());
@@ -123,6 +124,12 @@ void BssrdfTally::merge(const BssrdfTally& o) {
         dirSum[i].add(o.dirSum[i]);
         dirSumSq[i].add(o.dirSumSq[i]);
     }
+    // batches only where both kept them (a table written before them has none)
+    if (o.batchSum.size() != batchSum.size()) batchSum.clear();
+    for (size_t i = 0; i < batchSum.size(); ++i)
+        batchSum[i].add(o.batchSum[i]);
+    for (size_t b = 0; b < kBatches; ++b)
+        batchPaths[b] += o.batchPaths[b];
     for (auto [a, b] : {std::pair{&exitSum, &o.exitSum},
                         {&exitSumSq, &o.exitSumSq},
                         {&absSum, &o.absSum},
@@ -153,6 +160,12 @@ BssrdfSlice finalize(const BssrdfTally& t, const BssrdfBins& b, double thetaIDeg
         detail::meanStderr(t.binSum[size_t(i)].value(), t.binSumSq[size_t(i)].value(), t.paths,
                            1.0 / area, r.R[size_t(i)], r.RStderr[size_t(i)], false);
     }
+    std::vector<double> batchSums;
+    for (const detail::ExactSum& x : t.batchSum)
+        batchSums.push_back(x.value());
+    r.RBatches = detail::batchMeans(batchSums, t.batchPaths, size_t(nS), [&](size_t i) {
+        return 1.0 / areaBetween(edges, int(i) / b.thetaSBins, b.thetaSBins);
+    });
     if (nD > 1) {
         r.S.resize(t.dirSum.size());
         r.SStderr.resize(t.dirSum.size());

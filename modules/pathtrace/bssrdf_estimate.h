@@ -119,6 +119,9 @@ void validate(const EstimateSettings& s);
 struct BssrdfTally {
     uint64_t paths = 0;
     std::vector<detail::ExactSum> binSum, binSumSq; // per spatial bin: Σ Φ, Σ Φ² over paths
+    // Σ Φ per (batch, spatial bin), batch-major; empty when not kept (older tables, > 4096 bins)
+    std::vector<detail::ExactSum> batchSum;
+    std::array<uint64_t, kBatches> batchPaths{};    // paths per batch
     std::vector<detail::ExactSum> dirSum, dirSumSq; // per (spatial bin, cell); empty if 1 cell
     detail::ExactSum exitSum, exitSumSq;            // weight that left through the surface
     detail::ExactSum absSum, absSumSq;              // absorbed
@@ -142,6 +145,7 @@ struct BssrdfSlice {
     uint64_t paths = 0;
     std::vector<double> R, RStderr; // per spatial bin [ir·thetaSBins + it], 1/mm²
     std::vector<double> S, SStderr; // per [bin·dirBins + cell], 1/(mm²·sr); empty if 1 cell
+    core::BatchMeans RBatches;      // R per batch (kBatches); empty when the tally has none
     double totalRd = 0, totalRdStderr = 0; // walk's exits (all radii)
     double absorbed = 0, absorbedStderr = 0;
     double rouletteNet = 0, rouletteNetStderr = 0;

@@ -36,10 +36,17 @@ template <class T, class F> void forEachSum(T& t, F&& f) {
     f(t.energySum, false);
     f(t.energySumSq, true);
     f(t.events, false);
+    for (auto& s : t.batchSum) // version 4 on: the batch sums, batch-major
+        f(s, false);
 }
-size_t sumsPerAngle(const BssrdfBins& b) {
+// Exact sums per angle, with the batch sums when the table has them.
+size_t sumsPerAngle(const BssrdfBins& b, bool batches) {
     const size_t nS = size_t(b.spatialBins()), nD = b.dirBins() > 1 ? nS * size_t(b.dirBins()) : 0;
-    return 2 * nS + 2 * nD + 11;
+    return 2 * nS + 2 * nD + 11 + (batches ? kBatches * nS : 0);
+}
+// Bytes per angle before the sums: paths, truncated paths and, with batches, paths per batch.
+size_t countBytes(bool batches) {
+    return 16 + (batches ? 8 * kBatches : 0);
 }
 // Sums that can never be negative: squares, bins, exits, absorbed, truncated, events.
 bool nonNegative(const BssrdfTally& t, const detail::ExactSum& s, bool square) {
@@ -121,10 +128,23 @@ BssrdfTable estimateTable(const Medium& m, const EstimateSettings& s, uint64_t f
 
 void writeTable(const std::filesystem::path& path, const BssrdfTable& t) {
     std::string payload;
+    // batches when every angle's tally kept them (the GL walk and older tables keep none)
+    bool batches = !t.tallies.empty();
+    for (const BssrdfTally& tally : t.tallies)
+        batches = batches && !tally.batchSum.empty();
     for (const BssrdfTally& tally : t.tallies) {
         put64(payload, tally.paths);
         put64(payload, tally.truncatedPaths);
-        forEachSum(tally, [&](const detail::ExactSum& s, bool) {
+        if (batches)
+            for (uint64_t n : tally.batchPaths)
+                put64(payload, n);
+        BssrdfTally unbatched;
+        if (!batches && !tally.batchSum.empty()) {
+            unbatched = tally;
+            unbatched.batchSum.clear();
+        }
+        forEachSum(unbatched.binSum.empty() ? tally : unbatched, [&](const detail::ExactSum& s,
+                                                                     bool) {
             if (s.overflow)
                 throw core::Error(path.string(), 0, "a sum overflowed; the table cannot be stored");
             const auto hi = static_cast<unsigned __int128>(s.hi);
@@ -141,7 +161,8 @@ void writeTable(const std::filesystem::path& path, const BssrdfTable& t) {
     h["chunks"] = nlohmann::json::array();
     for (const auto& [a, b] : t.chunks)
         h["chunks"].push_back({a, b});
-    h["values"] = sumsPerAngle(t.settings.bins);
+    h["batches"] = batches ? kBatches : 0;
+    h["values"] = sumsPerAngle(t.settings.bins, batches);
     h["payload_bytes"] = payload.size();
     core::writeFile(path, std::string(kMagic) + "\n" + h.dump() + "\n" + payload);
 }
@@ -197,12 +218,24 @@ BssrdfTable readTable(const std::filesystem::path& path) {
         t.chunks.emplace_back(a, b);
         expectPaths += std::min(b * kChunkPaths, t.settings.paths) - a * kChunkPaths;
     }
-    const size_t k = sumsPerAngle(t.settings.bins);
+    bool batches = false; // version 4 on: "batches" is 32 (kept) or 0
+    if (version >= 4) {
+        if (!h.contains("batches") || !h["batches"].is_number_unsigned() ||
+            (h["batches"].get<uint64_t>() != kBatches && h["batches"].get<uint64_t>() != 0))
+            throw core::Error(file, 2,
+                              "header: 'batches' must be " + std::to_string(kBatches) + " or 0");
+        batches = h["batches"].get<uint64_t>() == kBatches;
+        if (batches && t.settings.bins.spatialBins() > kMaxBatchedBins)
+            throw core::Error(file, 2,
+                              "header: batches are kept for at most " +
+                                  std::to_string(kMaxBatchedBins) + " spatial bins");
+    }
+    const size_t k = sumsPerAngle(t.settings.bins, batches);
     if (!h["values"].is_number_unsigned() || h["values"].get<uint64_t>() != k)
         throw core::Error(file, 2,
                           "header: 'values' must be " + std::to_string(k) + " for these bins");
     const size_t angles = t.settings.thetaIDeg.size();
-    const size_t expect = angles * (16 + 32 * k);
+    const size_t expect = angles * (countBytes(batches) + 32 * k);
     const size_t have = bytes.size() - (l2 + 1);
     if (!h["payload_bytes"].is_number_unsigned() || h["payload_bytes"].get<uint64_t>() != expect)
         throw core::Error(file, 2, "header: 'payload_bytes' must be " + std::to_string(expect));
@@ -220,6 +253,20 @@ BssrdfTable readTable(const std::filesystem::path& path) {
             fail("theta_i " + core::formatNumber(t.settings.thetaIDeg[a]) + ": " +
                  std::to_string(tally.paths) + " paths, but the chunk ranges hold " +
                  std::to_string(expectPaths));
+        if (batches) {
+            uint64_t inBatches = 0;
+            for (uint64_t& n : tally.batchPaths) {
+                n = get64(p);
+                p += 8;
+                inBatches += n;
+            }
+            if (inBatches != tally.paths)
+                fail("theta_i " + core::formatNumber(t.settings.thetaIDeg[a]) + ": " +
+                     std::to_string(inBatches) + " paths in the batches, but " +
+                     std::to_string(tally.paths) + " in all");
+        } else {
+            tally.batchSum.clear(); // none kept (the GL walk, or a table before version 4)
+        }
         size_t index = 0;
         forEachSum(tally, [&](detail::ExactSum& s, bool square) {
             const unsigned __int128 hi =

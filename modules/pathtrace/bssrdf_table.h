@@ -6,10 +6,12 @@
 //            EstimateSettings description, threads omitted), "chunks": [[first, last), ...]
 //            (chunk ranges of kChunkPaths paths traced, sorted and disjoint), "values": K
 //            (exact sums per angle), "payload_bytes": N}
-//   payload  per angle: paths (u64), truncated paths (u64), then K exact sums in the order
+//   payload  per angle: paths (u64), truncated paths (u64), paths per batch (32 × u64, when
+//            the header's "batches" (version 4 on) is 32), then K exact sums in the order
 //            binSum, binSumSq, dirSum, dirSumSq, exit, exit², absorbed, absorbed², roulette,
-//            roulette², truncated, truncated², energy, energy², events; each exact sum is
-//            hi (i128) then lo (u128), 32 bytes, little-endian.
+//            roulette², truncated, truncated², energy, energy², events, and (with batches) the
+//            batch sums batch-major; each exact sum is hi (i128) then lo (u128), 32 bytes,
+//            little-endian.
 // Shards of one run (`--shard K/N`) are tables over disjoint chunk ranges; mergeTables adds
 // their exact sums, so the merge of all shards is bitwise the table of one run.
 #pragma once
@@ -27,7 +29,8 @@ namespace pathtrace {
 
 // Version 2 added settings.splitting; a version-1 table reads as a walk without splitting.
 // Version 3 added settings.exits; an older table reads as a walk that tallied actual exits.
-constexpr int kTableVersion = 3;
+// Version 4 added the batch sums (BssrdfTally::batchSum, batchPaths); an older table has none.
+constexpr int kTableVersion = 4;
 
 struct BssrdfTable {
     Medium medium;

@@ -87,14 +87,16 @@ struct PathAcc {
         if (v[size_t(i)] == 0.0) touched.push_back(i);
         v[size_t(i)] += x; // x > 0, so a touched entry never returns to 0
     }
-    // Adds every touched value and its square into the sums and clears; returns the total.
-    double flush(std::vector<double>& sum, std::vector<double>& sumSq) {
+    // Adds every touched value and its square into the sums (and the value into `batch`, the
+    // sums of the path's batch, when given) and clears; returns the total.
+    double flush(std::vector<double>& sum, std::vector<double>& sumSq, double* batch = nullptr) {
         double total = 0;
         std::sort(touched.begin(), touched.end()); // a fixed order for the total
         for (int i : touched) {
             const double x = v[size_t(i)];
             sum[size_t(i)] += x;
             sumSq[size_t(i)] += x * x;
+            if (batch) batch[i] += x;
             total += x;
             v[size_t(i)] = 0.0;
         }
@@ -159,7 +161,8 @@ class Walker {
 
     // One path (with every copy radial splitting makes of it) into `t`; `record` (may be null)
     // receives its accounting.
-    void trace(Pcg32 rng, detail::ChunkTally& t, PathRecord* record = nullptr) {
+    // `path` is the path's index: it picks its batch (detail::batchOf).
+    void trace(Pcg32 rng, uint64_t path, detail::ChunkTally& t, PathRecord* record = nullptr) {
         double absorbed = 0, loss = 0, truncated = 0, exitInside = 0, exitWeight = 0, exitR = -1;
         uint32_t work = 0, longest = 0; // interactions of every copy, of the longest
         if (record) *record = PathRecord{};
@@ -265,7 +268,11 @@ class Walker {
         }
         t.exitSum += exitWeight;
         t.exitSumSq += exitWeight * exitWeight;
-        const double binTotal = m_binAcc.flush(t.binSum, t.binSumSq);
+        const size_t batch = detail::batchOf(path);
+        const double binTotal = m_binAcc.flush(
+            t.binSum, t.binSumSq,
+            t.batchSum.empty() ? nullptr : t.batchSum.data() + batch * t.binSum.size());
+        ++t.batchPaths[batch];
         if (m_nD > 1) m_dirAcc.flush(t.dirSum, t.dirSumSq);
         // Single-only connections end the walk at its first collision: no exits to compare.
         const double d =
@@ -506,7 +513,7 @@ PathRecord traceBssrdfPath(const Medium& m, const EstimateSettings& s, size_t an
     t.reset(s.bins);
     Walker walker(m, s, s.thetaIDeg[angleIndex]);
     PathRecord record;
-    walker.trace(Pcg32::forPath(bssrdfStreamSeed(s.seed, angleIndex), path), t, &record);
+    walker.trace(Pcg32::forPath(bssrdfStreamSeed(s.seed, angleIndex), path), path, t, &record);
     return record;
 }
 
@@ -518,7 +525,7 @@ uint64_t traceBssrdfChunk(const Medium& m, const EstimateSettings& s, size_t ang
     const uint64_t seed = bssrdfStreamSeed(s.seed, angleIndex);
     for (uint64_t i = 0; i < count; ++i) {
         if ((i & 63u) == 0 && cancel && cancel->load(std::memory_order_relaxed)) return i;
-        walker.trace(Pcg32::forPath(seed, first + i), t);
+        walker.trace(Pcg32::forPath(seed, first + i), first + i, t);
     }
     return count;
 }

@@ -190,6 +190,7 @@ void GpuBssrdfEstimator::clearSums() {
     m_work.clear(static_cast<size_t>(cells * m_batches + kWalkExtraSlots));
     m_seconds = 0;
     m_tally = makeTally(b);
+    m_tally.batchSum.clear(); // the GL walk keeps no batch sums
 }
 
 void GpuBssrdfEstimator::setEventBudget(uint32_t iterations) {

@@ -138,6 +138,7 @@ void GpuSlabTracer::clearSums() {
     m_work.clear(static_cast<size_t>(std::max(m_settings.bins, 0)) + kExtraSlots);
     m_seconds = 0;
     m_tally = makeTally(m_settings);
+    m_tally.batchSum.clear(); // the GL tracer keeps no batch sums
 }
 
 uint64_t GpuSlabTracer::step(uint64_t maxPaths) {

@@ -44,6 +44,7 @@
 #pragma once
 
 #include "core/limits.h"
+#include "core/relative_error.h"
 
 #include <array>
 #include <atomic>
@@ -192,6 +193,15 @@ template <class V> void fields(V& v, SlabSettings& s) {
 // (> 1e7), paths == 0 or absurd (> 1e13), threads < 0, a bad termination (see above).
 void validate(const SlabSettings& s);
 
+// Batch means. The paths are split into kBatches batches by index (path i in batch
+// i mod kBatches) and each spatial bin's sum is kept per batch besides the total: the spread of
+// the batches' means gives the covariance of any linear combination of bins (rel_err's standard
+// error, core/relative_error.h), which the per-bin second moments cannot where one path adds to
+// several bins (expected-value exits, connections, splitting). Kept while the spatial bins are
+// at most kMaxBatchedBins (the sums cost kBatches times the bins' memory).
+inline constexpr size_t kBatches = 32;
+inline constexpr int kMaxBatchedBins = 4096;
+
 // Mergeable sums over paths (per-path first and second moments of every figure).
 struct SlabTally {
     uint64_t paths = 0;
@@ -205,6 +215,10 @@ struct SlabTally {
     uint64_t truncatedPaths = 0;
     uint64_t events = 0;             // interactions (scattering or absorption) traced
     double gapSum = 0, gapSumSq = 0; // Connections: Σ over paths of (Σ bins − exit in rMax)
+    // Σ w per (batch, bin), batch-major (kBatches below); empty where the tracer keeps none (the
+    // GL tracer, older tables): then rel_err takes the bins as independent.
+    std::vector<double> batchSum;
+    std::array<uint64_t, kBatches> batchPaths{}; // paths per batch
     // Adds the other's sums (bins must agree; an empty tally adopts the other's size).
     void merge(const SlabTally& other);
 };
@@ -235,8 +249,8 @@ constexpr uint64_t kChunkPaths = 16384;
 PathRecord tracePath(const Medium& m, const SlabSettings& s, uint64_t pathIndex);
 // An empty tally sized for s.bins.
 SlabTally makeTally(const SlabSettings& s);
-// Adds one path to a tally (in this order every sum is formed path by path).
-void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s);
+// Adds path `pathIndex` to a tally (in this order every sum is formed path by path).
+void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s, uint64_t pathIndex);
 // Radial bin of an exit radius, or -1 beyond rMax.
 int binOf(double r, const SlabSettings& s);
 
@@ -255,6 +269,7 @@ struct SlabResult {
     uint64_t events = 0;
     // Connections only: mean per path of (Σ bins − exit weight inside rMax), expected 0.
     double connectionGap = 0, connectionGapStderr = 0;
+    core::BatchMeans rdBatches; // rd per batch (kBatches); empty when the tally has none
 };
 
 // The reference's own energy check. Empty when it holds, else one sentence saying what failed:

@@ -46,6 +46,9 @@ SlabTally slabTallyOf(const BssrdfTally& b, const Medium& m) {
         t.binSum.push_back(b.binSum[i].value());
         t.binSumSq.push_back(b.binSumSq[i].value());
     }
+    for (const detail::ExactSum& x : b.batchSum)
+        t.batchSum.push_back(x.value());
+    t.batchPaths = b.batchPaths;
     t.rdSum = b.exitSum.value();
     t.rdSumSq = b.exitSumSq.value();
     t.absSum = b.absSum.value();

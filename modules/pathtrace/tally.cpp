@@ -24,6 +24,7 @@ SlabTally makeTally(const SlabSettings& s) {
     SlabTally t;
     t.binSum.assign(static_cast<size_t>(s.bins), 0.0);
     t.binSumSq.assign(static_cast<size_t>(s.bins), 0.0);
+    if (s.bins <= kMaxBatchedBins) t.batchSum.assign(kBatches * static_cast<size_t>(s.bins), 0.0);
     return t;
 }
 
@@ -33,8 +34,10 @@ int binOf(double r, const SlabSettings& s) {
     return b < s.bins ? b : s.bins - 1; // r just below rMax rounding up
 }
 
-void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s) {
+void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s, uint64_t pathIndex) {
     ++t.paths;
+    const size_t batch = size_t(pathIndex % kBatches);
+    ++t.batchPaths[batch];
     t.specular = p.specular;
     t.events += p.events;
     // As the walk sums a path: each bin's terms in order, then the bins in index order.
@@ -51,6 +54,7 @@ void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s) {
     for (const auto& [b, w] : perBin) {
         t.binSum[static_cast<size_t>(b)] += w;
         t.binSumSq[static_cast<size_t>(b)] += w * w;
+        if (!t.batchSum.empty()) t.batchSum[batch * t.binSum.size() + static_cast<size_t>(b)] += w;
     }
     t.absSum += p.absorbed;
     t.absSumSq += p.absorbed * p.absorbed;
@@ -67,6 +71,7 @@ void SlabTally::merge(const SlabTally& o) {
     if (binSum.empty() && paths == 0) {
         binSum.assign(o.binSum.size(), 0.0);
         binSumSq.assign(o.binSumSq.size(), 0.0);
+        batchSum.assign(o.batchSum.size(), 0.0);
     }
     if (binSum.size() != o.binSum.size() || binSumSq.size() != o.binSumSq.size())
         throw core::Error("slab tally", 0,
@@ -79,6 +84,12 @@ void SlabTally::merge(const SlabTally& o) {
         binSum[i] += o.binSum[i];
         binSumSq[i] += o.binSumSq[i];
     }
+    // batches only where both kept them (the GL tracer and older tables keep none)
+    if (o.batchSum.size() != batchSum.size()) batchSum.clear();
+    for (size_t i = 0; i < batchSum.size(); ++i)
+        batchSum[i] += o.batchSum[i];
+    for (size_t b = 0; b < kBatches; ++b)
+        batchPaths[b] += o.batchPaths[b];
     rdSum += o.rdSum;
     rdSumSq += o.rdSumSq;
     absSum += o.absSum;
@@ -123,6 +134,10 @@ SlabResult finalize(const SlabTally& t, const SlabSettings& s) {
         r.rd[i] = mean / area;
         r.rdStderr[i] = err / area;
     }
+    r.rdBatches = detail::batchMeans(t.batchSum, t.batchPaths, n, [&](size_t i) {
+        const double r0 = dr * static_cast<double>(i), r1 = dr * static_cast<double>(i + 1);
+        return 1.0 / (std::numbers::pi * (r1 * r1 - r0 * r0));
+    });
     meanStderr(t.rdSum, t.rdSumSq, t.paths, r.totalRd, r.totalRdStderr);
     meanStderr(t.absSum, t.absSumSq, t.paths, r.absorbed, r.absorbedStderr);
     meanStderr(t.rouletteSum, t.rouletteSumSq, t.paths, r.rouletteNet, r.rouletteNetStderr);

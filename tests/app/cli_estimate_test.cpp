@@ -7,6 +7,7 @@
 #include "../support/cli_fixture.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstring>
@@ -289,7 +290,31 @@ TEST_F(Estimate, RejectsBadTableFiles) {
         t.erase(at, t.find('}', at) + 1 - at);
     };
     auto header = [](const std::string& t) { return t.substr(0, t.find('\n', t.find('\n') + 1)); };
-    std::string v1 = good, v2 = good;
+    // The table as version 3 wrote it: no "batches", no paths per batch, no batch sums.
+    auto version3 = [&](const std::string& t) {
+        const size_t l1 = t.find('\n'), l2 = t.find('\n', l1 + 1);
+        nlohmann::json h = nlohmann::json::parse(t.substr(l1 + 1, l2 - l1 - 1));
+        EXPECT_EQ(h["version"], 4);
+        EXPECT_EQ(h["batches"], 32);
+        const size_t nS = 5 * 2, batchSums = 32 * nS, k = h["values"].get<size_t>();
+        std::string payload;
+        for (size_t a = 0, at = l2 + 1; a < 2; ++a) {
+            payload += t.substr(at, 16);
+            payload += t.substr(at + 16 + 8 * 32, 32 * (k - batchSums));
+            at += 16 + 8 * 32 + 32 * k;
+        }
+        h.erase("batches");
+        h["version"] = 3;
+        h["values"] = k - batchSums;
+        h["payload_bytes"] = payload.size();
+        return t.substr(0, l1 + 1) + h.dump() + "\n" + payload;
+    };
+    const std::string v3 = version3(good);
+    write("v3.bwtable", v3);
+    ASSERT_EQ(run(merge("v3.bwtable")).code, 0) << "a table before batch sums reads";
+    EXPECT_NE(bytes("x.bwtable").find("\"batches\":0"), std::string::npos)
+        << header(bytes("x.bwtable"));
+    std::string v1 = v3, v2 = v3;
     erase(v1, "splitting");
     erase(v1, "exits");
     v1.replace(v1.find("\"version\":3"), 11, "\"version\":1");
@@ -309,10 +334,19 @@ TEST_F(Estimate, RejectsBadTableFiles) {
         << header(merged);
     EXPECT_NE(merged.find("\"splitting\":{\"depth\":3.0,\"levels\":5"), std::string::npos)
         << header(merged);
-    std::string v4 = good;
-    v4.replace(v4.find("\"version\":3"), 11, "\"version\":4");
-    write("v4.bwtable", v4);
-    expectFailure(merge("v4.bwtable"), {"v4.bwtable", "version 4", "reads versions 1 to 3"});
+    std::string v5 = good;
+    v5.replace(v5.find("\"version\":4"), 11, "\"version\":5");
+    write("v5.bwtable", v5);
+    expectFailure(merge("v5.bwtable"), {"v5.bwtable", "version 5", "reads versions 1 to 4"});
+    std::string batches = good;
+    batches.replace(batches.find("\"batches\":32"), 12, "\"batches\":16");
+    write("batches.bwtable", batches);
+    expectFailure(merge("batches.bwtable"), {"batches.bwtable", "'batches' must be 32 or 0"});
+    // the paths of the batches must add up to the angle's paths: batch 0's count + 1
+    std::string batchPaths = good;
+    batchPaths[headerEnd + 1 + 16] = char(batchPaths[headerEnd + 1 + 16] + 1);
+    write("batchpaths.bwtable", batchPaths);
+    expectFailure(merge("batchpaths.bwtable"), {"batchpaths.bwtable", "paths in the batches"});
     std::string nan = good;
     nan.replace(nan.find("\"sigma_a\":0.2"), 13, "\"sigma_a\":NaN");
     write("nan.bwtable", nan);
@@ -322,9 +356,9 @@ TEST_F(Estimate, RejectsBadTableFiles) {
     write("eta.bwtable", badMedium);
     expectFailure(merge("eta.bwtable"), {"eta.bwtable", "eta"});
     // A negative bin sum of squares: the first squared sum of the first angle (after the two
-    // counts and the 10 bin sums), its top byte set.
+    // counts, the 32 batch counts and the 10 bin sums), its top byte set.
     std::string neg = good;
-    neg[headerEnd + 1 + 16 + 10 * 32 + 15] = char(0xff);
+    neg[headerEnd + 1 + 16 + 32 * 8 + 10 * 32 + 15] = char(0xff);
     write("neg.bwtable", neg);
     expectFailure(merge("neg.bwtable"), {"neg.bwtable", "negative"});
     std::string paths = good;

@@ -67,7 +67,7 @@ TEST(ScoreboardPanel, ScoresEveryModelFollowsHotReloadAndAClickOpensThePencilPlo
         const std::vector<double> mv = app::channelOf(p, c);
         const app::ScoreRow want = app::scoreAgainstReference(
             edges, ref.rd, ref.rdStderr, ref.specular, ref.totalRd, ref.totalRdStderr, ld, mv,
-            app::modelTotalRd(program, *e, b, ld, c));
+            app::modelTotalRd(program, *e, b, ld, c), ref.rdBatches);
         const app::ScoreboardRow* got = findRow(rows, "dipole", std::string(1, "RGB"[c]));
         ASSERT_NE(got, nullptr);
         EXPECT_DOUBLE_EQ(got->score.relErr, want.relErr);

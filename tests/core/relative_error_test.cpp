@@ -86,7 +86,7 @@ TEST(RelativeError, NoiseOfTheReferenceIsRemovedAndTheStandardErrorIsItsSpread) 
             std::vector<core::ErrorBin> bins(static_cast<size_t>(n));
             for (int i = 0; i < n; ++i) {
                 const double truth = std::exp(-0.02 * i), s = 0.04 * truth;
-                bins[size_t(i)] = {1.0, truth * (1 + offset), truth + s * z(rng), s};
+                bins[size_t(i)] = {1.0, truth * (1 + offset), truth + s * z(rng), s, {}};
             }
             const core::RelativeError e = core::relativeError(bins);
             ASSERT_TRUE(e.valid());

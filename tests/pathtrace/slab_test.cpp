@@ -180,9 +180,12 @@ TEST(Slab, TraceSlabIsTheSumOfItsPaths) {
     const SlabTally t = traceSlab(m, s, first, count);
     SlabTally u = makeTally(s);
     for (uint64_t i = first; i < first + count; ++i)
-        accumulate(u, tracePath(m, s, i), s);
+        accumulate(u, tracePath(m, s, i), s, i);
     EXPECT_EQ(t.paths, count);
     EXPECT_TRUE(sameBits(t.binSum, u.binSum));
+    ASSERT_EQ(t.batchSum.size(), kBatches * 16u);
+    EXPECT_TRUE(sameBits(t.batchSum, u.batchSum)); // path i's terms in batch i mod kBatches
+    EXPECT_EQ(t.batchPaths, u.batchPaths);
     EXPECT_TRUE(sameBits(t.binSumSq, u.binSumSq));
     EXPECT_TRUE(sameBits(t.rdSum, u.rdSum));
     EXPECT_TRUE(sameBits(t.absSum, u.absSum));

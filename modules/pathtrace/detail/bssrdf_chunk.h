@@ -6,6 +6,7 @@
 #include "pathtrace/bssrdf_estimate.h"
 #include "pathtrace/rng.h"
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <vector>
@@ -22,10 +23,17 @@ inline uint64_t bssrdfStreamSeed(uint64_t seed, size_t angleIndex) {
     return angleIndex == 0 ? seed : splitmix64(seed ^ (0x9e3779b97f4a7c15ull * angleIndex));
 }
 
+// The batch of path `path` (BssrdfTally::batchSum): the paths' indices modulo kBatches.
+inline size_t batchOf(uint64_t path) {
+    return size_t(path % kBatches);
+}
+
 // Sums of one chunk in doubles, formed path by path.
 struct ChunkTally {
     uint64_t paths = 0;
     std::vector<double> binSum, binSumSq, dirSum, dirSumSq;
+    std::vector<double> batchSum; // kBatches × spatial bins (empty beyond kMaxBatchedBins)
+    std::array<uint64_t, kBatches> batchPaths{};
     double exitSum = 0, exitSumSq = 0, absSum = 0, absSumSq = 0, rouletteSum = 0, rouletteSumSq = 0,
            truncSum = 0, truncSumSq = 0, energySum = 0, energySumSq = 0, events = 0;
     uint64_t truncatedPaths = 0;
@@ -34,6 +42,8 @@ struct ChunkTally {
         *this = ChunkTally{};
         binSum.assign(size_t(b.spatialBins()), 0.0);
         binSumSq.assign(size_t(b.spatialBins()), 0.0);
+        if (b.spatialBins() <= kMaxBatchedBins)
+            batchSum.assign(kBatches * size_t(b.spatialBins()), 0.0);
         if (b.dirBins() > 1) {
             dirSum.assign(size_t(b.spatialBins()) * size_t(b.dirBins()), 0.0);
             dirSumSq.assign(dirSum.size(), 0.0);
@@ -49,6 +59,10 @@ struct ChunkTally {
             t.dirSum[i].add(dirSum[i]);
             t.dirSumSq[i].add(dirSumSq[i]);
         }
+        for (size_t i = 0; i < batchSum.size() && i < t.batchSum.size(); ++i)
+            t.batchSum[i].add(batchSum[i]);
+        for (size_t b = 0; b < kBatches; ++b)
+            t.batchPaths[b] += batchPaths[b];
         t.exitSum.add(exitSum);
         t.exitSumSq.add(exitSumSq);
         t.absSum.add(absSum);

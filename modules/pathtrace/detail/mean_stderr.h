@@ -5,10 +5,15 @@
 // (image pixels nothing reached are exactly 0 with no uncertainty).
 #pragma once
 
+#include "core/relative_error.h"
+#include "pathtrace/pathtrace.h"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace pathtrace::detail {
 
@@ -28,6 +33,33 @@ inline void meanStderr(double sum, double sumSq, uint64_t n, double scale, doubl
         return;
     }
     err = std::fabs(scale) * std::sqrt(std::max(0.0, sumSq / N - m * m) / (N - 1.0));
+}
+
+} // namespace pathtrace::detail
+
+namespace pathtrace::detail {
+
+// The batch means of bins from their per-batch sums (batch-major, `bins` per batch) and the
+// batches' path counts: mean[b][i] = scale(i)·Σ_b,i / N_b. Empty (not known) without sums or
+// while a batch has fewer than 2 paths.
+template <class Scale>
+core::BatchMeans batchMeans(const std::vector<double>& sums,
+                            const std::array<uint64_t, kBatches>& n, size_t bins, Scale&& scale) {
+    core::BatchMeans out;
+    if (sums.size() != kBatches * bins || bins == 0) return out;
+    uint64_t total = 0;
+    for (uint64_t k : n) {
+        if (k < 2) return out;
+        total += k;
+    }
+    out.fraction.resize(kBatches);
+    out.mean.assign(kBatches, std::vector<double>(bins));
+    for (size_t b = 0; b < kBatches; ++b) {
+        out.fraction[b] = double(n[b]) / double(total);
+        for (size_t i = 0; i < bins; ++i)
+            out.mean[b][i] = scale(i) * sums[b * bins + i] / double(n[b]);
+    }
+    return out;
 }
 
 } // namespace pathtrace::detail
