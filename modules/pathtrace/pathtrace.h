@@ -133,18 +133,16 @@ void validate(const Splitting& s, const std::string& what);
 // at the collision), a lower variance per path: `bench pathtrace`'s time to 1 % per bin is 1.1–2.4x
 // shorter on its cases with kExpectedExitSamples (docs/ARCHITECTURE.md, "Expected-value exits").
 // The energy checks per path still use the actual exits.
-// Off by default (samples 0: the actual exits, Algorithm 1 as printed), because a path's terms
-// make neighbouring bins positively correlated: each bin's standard error stays honest, but an
-// error of a sum over bins computed as if the bins were independent (rel_err's,
-// core/relative_error.h) comes out too small with it (1.2–1.4x for the log-radius mean over
-// [0.1, 4] l_d, against 0.5–0.8x, conservative, with the actual exits, one bin per exit).
+// On by default with kExpectedExitSamples (2–4 within 1–2 mean free paths were within the noise
+// on bench pathtrace's cases); samples 0 tallies the actual exits (Algorithm 1 as printed). A
+// path's terms make neighbouring bins positively correlated: each bin's standard error stays
+// honest, and an error of a sum over bins (rel_err's, core/relative_error.h) takes the
+// covariance from the batch means (kBatches below).
+inline constexpr int kExpectedExitSamples = 2;
 struct ExpectedExits {
-    int samples = 0;       // 0: tally the actual exits
+    int samples = kExpectedExitSamples; // 0: tally the actual exits
     double depthMfp = 2.0; // collisions this close to the surface average `samples` directions
 };
-// The sample count `bench pathtrace` found best when expected-value exits are switched on (2–4
-// within 1–2 mean free paths were within the noise on its cases).
-inline constexpr int kExpectedExitSamples = 2;
 template <class V> void fields(V& v, ExpectedExits& e) {
     v("samples", e.samples,
       "phase directions scored per collision near the surface (0: actual exits)",
