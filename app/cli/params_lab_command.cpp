@@ -253,7 +253,8 @@ Command paramsLabCommand() {
             addNumberOption(&cmd, "--length", a->lab.lengthMm,
                             "the asked length d in mm (default 1)", core::Limits{1e-6, 1e6});
             addCountOption(&cmd, "--paths", a->lab.paths,
-                           "reference paths per case (default 100000)", core::Limits{1000, 1e12});
+                           "reference paths per case (default " + std::to_string(kLabPaths) + ")",
+                           core::Limits{1000, 1e12});
             cmd.add_option("--out", a->out, "output folder: lab.csv, report.md, plots")->required();
             return [a](CommandContext& ctx) { return runLab(ctx.root(), *a); };
         }};

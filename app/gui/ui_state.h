@@ -119,7 +119,8 @@ struct ArtistMappingState {
     glm::dvec3 albedo{0.8, 0.6, 0.4}, lengthMm{4.0, 2.0, 1.0};
     std::string problem; // the mapping could not make σ from these values
     std::shared_ptr<ArtistMeasurement> measurement;
-    std::string measuredKey; // mapping, values, g and η the measurement was made for
+    uint64_t measurePaths = kLabPaths; // reference paths per channel of Measure
+    std::string measuredKey;           // mapping, values, g and η the measurement was made for
     Rect header, applyButton, measureButton; // last frame (screen px)
 };
 

@@ -27,13 +27,16 @@ namespace app {
 
 class Workbench;
 
+// Reference paths per measured case: the CLI's --paths default and the Parameters panel's.
+inline constexpr uint64_t kLabPaths = 100000;
+
 struct LabSettings {
     std::vector<std::string> mappings; // ids; empty: every mapping
     std::vector<double> albedos{0.1, 0.3, 0.5, 0.7, 0.9};
     std::vector<double> etas{1.0, 1.3, 1.5};
     std::vector<double> gs{0.0, 0.8};
     double lengthMm = 1.0;
-    uint64_t paths = 100000;
+    uint64_t paths = kLabPaths;
     bool diffuse = true; // also the albedo under diffuse light (8 incidence angles)
 };
 

@@ -510,7 +510,7 @@ namespace detail {
 PathRecord traceBssrdfPath(const Medium& m, const EstimateSettings& s, size_t angleIndex,
                            uint64_t path) {
     ChunkTally t;
-    t.reset(s.bins);
+    t.reset(s.bins, false);
     Walker walker(m, s, s.thetaIDeg[angleIndex]);
     PathRecord record;
     walker.trace(Pcg32::forPath(bssrdfStreamSeed(s.seed, angleIndex), path), path, t, &record);

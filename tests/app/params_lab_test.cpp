@@ -225,6 +225,8 @@ TEST(ParamsLabPanel, AppliesTheMappingAndMeasuresItWithoutHoldingTheFrames) {
     gui.frame();
     gui.frame();
     app::ArtistMappingState& st = ui.parameters.artist;
+    EXPECT_EQ(st.measurePaths, app::LabSettings{}.paths); // the CLI's default
+    st.measurePaths = 20000;                              // enough for the ±50 % asked below
     ASSERT_GT(st.header.width(), 5.0f);
     testsupport::click(gui, st.header); // open the section
     gui.frame();

@@ -93,13 +93,13 @@ void drawArtistMapping(Workbench& wb, MaterialSettings& s, ArtistMappingState& s
             lc.albedo = st.albedo[c];
             lc.lengthMm = st.lengthMm[c];
         }
-        std::thread([job, p] {
+        std::thread([job, p, paths = st.measurePaths] {
             for (int c = 0; c < 3 && !job->cancel.load(); ++c) {
                 material::MaterialParams one = p;
                 one.sigmaA = glm::dvec3(p.sigmaA[c]);
                 one.sigmaS = glm::dvec3(p.sigmaS[c]);
                 try {
-                    measureLabCase(one, 100000, job->cases[size_t(c)]);
+                    measureLabCase(one, paths, job->cases[size_t(c)]);
                 } catch (const core::Error& e) {
                     job->cases[size_t(c)].problem = e.what();
                 }

@@ -38,11 +38,12 @@ struct ChunkTally {
            truncSum = 0, truncSumSq = 0, energySum = 0, energySumSq = 0, events = 0;
     uint64_t truncatedPaths = 0;
 
-    void reset(const BssrdfBins& b) {
+    // `batches`: keep the batch sums (a single path's record needs none)
+    void reset(const BssrdfBins& b, bool batches = true) {
         *this = ChunkTally{};
         binSum.assign(size_t(b.spatialBins()), 0.0);
         binSumSq.assign(size_t(b.spatialBins()), 0.0);
-        if (b.spatialBins() <= kMaxBatchedBins)
+        if (batches && b.spatialBins() <= kMaxBatchedBins)
             batchSum.assign(kBatches * size_t(b.spatialBins()), 0.0);
         if (b.dirBins() > 1) {
             dirSum.assign(size_t(b.spatialBins()) * size_t(b.dirBins()), 0.0);
