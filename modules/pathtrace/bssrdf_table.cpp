@@ -20,8 +20,8 @@ namespace {
 
 constexpr const char* kMagic = "bssrdf-workbench table";
 
-// The exact sums of a tally in file order.
-template <class T, class F> void forEachSum(T& t, F&& f) {
+// The exact sums of a tally in file order (the batch sums when `batches`).
+template <class T, class F> void forEachSum(T& t, bool batches, F&& f) {
     for (auto* v : {&t.binSum, &t.binSumSq, &t.dirSum, &t.dirSumSq})
         for (auto& s : *v)
             f(s, v == &t.binSumSq || v == &t.dirSumSq);
@@ -36,8 +36,9 @@ template <class T, class F> void forEachSum(T& t, F&& f) {
     f(t.energySum, false);
     f(t.energySumSq, true);
     f(t.events, false);
-    for (auto& s : t.batchSum) // version 4 on: the batch sums, batch-major
-        f(s, false);
+    if (batches)
+        for (auto& s : t.batchSum) // version 4 on: the batch sums, batch-major
+            f(s, false);
 }
 // Exact sums per angle, with the batch sums when the table has them.
 size_t sumsPerAngle(const BssrdfBins& b, bool batches) {
@@ -138,13 +139,7 @@ void writeTable(const std::filesystem::path& path, const BssrdfTable& t) {
         if (batches)
             for (uint64_t n : tally.batchPaths)
                 put64(payload, n);
-        BssrdfTally unbatched;
-        if (!batches && !tally.batchSum.empty()) {
-            unbatched = tally;
-            unbatched.batchSum.clear();
-        }
-        forEachSum(unbatched.binSum.empty() ? tally : unbatched, [&](const detail::ExactSum& s,
-                                                                     bool) {
+        forEachSum(tally, batches, [&](const detail::ExactSum& s, bool) {
             if (s.overflow)
                 throw core::Error(path.string(), 0, "a sum overflowed; the table cannot be stored");
             const auto hi = static_cast<unsigned __int128>(s.hi);
@@ -268,7 +263,7 @@ BssrdfTable readTable(const std::filesystem::path& path) {
             tally.batchSum.clear(); // none kept (the GL walk, or a table before version 4)
         }
         size_t index = 0;
-        forEachSum(tally, [&](detail::ExactSum& s, bool square) {
+        forEachSum(tally, batches, [&](detail::ExactSum& s, bool square) {
             const unsigned __int128 hi =
                 (static_cast<unsigned __int128>(get64(p + 8)) << 64) | get64(p);
             s.hi = static_cast<__int128>(hi);
