@@ -75,10 +75,7 @@ std::vector<FitTarget> makeTargets(const std::vector<FitMedium>& media,
                     t.ref.push_back(ref.rd[i] / (1 - ref.specular));
                     t.refSe.push_back(ref.rdStderr[i] / (1 - ref.specular));
                 }
-                t.refBatches = ref.rdBatches; // per unit power entering, as ref
-                for (auto& b : t.refBatches.mean)
-                    for (double& x : b)
-                        x /= 1 - ref.specular;
+                t.refBatches = ref.rdBatches.scaled(1 / (1 - ref.specular)); // as ref
                 t.totalRd = ref.totalRd / (1 - ref.specular);
                 t.totalRdSe = ref.totalRdStderr / (1 - ref.specular);
                 targets.push_back(std::move(t));

@@ -80,10 +80,7 @@ void FitStage::start(const FitInputs& in, const std::string& model,
             t.ref.push_back(r.rd[i] / (1 - r.specular));
             t.refSe.push_back(r.rdStderr[i] / (1 - r.specular));
         }
-        t.refBatches = r.rdBatches; // per unit power entering, as ref
-        for (auto& b : t.refBatches.mean)
-            for (double& x : b)
-                x /= 1 - r.specular;
+        t.refBatches = r.rdBatches.scaled(1 / (1 - r.specular)); // as ref
         targets.push_back(std::move(t));
         names.push_back(std::string(1, "RGB"[c]));
     }

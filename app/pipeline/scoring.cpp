@@ -201,12 +201,9 @@ ScoreRow scoreAgainstReference(const std::vector<double>& edges, const std::vect
         ref[i] = rd[i] / entering;
         refSe[i] = rdSe[i] / entering;
     }
-    core::BatchMeans batches = rdBatches; // per photon entering, as ref
-    for (auto& b : batches.mean)
-        for (double& x : b)
-            x /= entering;
-    const core::RelativeError e = core::radialRelativeError(
-        edges, ref, refSe, model, core::kRelErrFromLd * ldMm, core::kRelErrToLd * ldMm, batches);
+    const core::RelativeError e =
+        core::radialRelativeError(edges, ref, refSe, model, core::kRelErrFromLd * ldMm,
+                                  core::kRelErrToLd * ldMm, rdBatches.scaled(1 / entering));
     s.relErr = e.valid() ? e.value : std::numeric_limits<double>::infinity();
     s.relErrSe = e.valid() ? e.se : 0.0;
     s.relErrSquared = e.squared;

@@ -40,6 +40,14 @@ struct BatchMeans {
     std::vector<double> fraction;
     std::vector<std::vector<double>> mean;
     bool empty() const { return fraction.empty(); }
+    // The same with every mean times `factor` (a change of units, e.g. per photon entering).
+    BatchMeans scaled(double factor) const {
+        BatchMeans out = *this;
+        for (auto& batch : out.mean)
+            for (double& x : batch)
+                x *= factor;
+        return out;
+    }
 };
 
 // One bin of the sum above: its weight w_i, the model's mean over it M_i, the reference's

@@ -674,7 +674,6 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_NE(readText(dir() / "ev.csv").find("# exits expected, 3 samples within 2 mfp\n"),
               std::string::npos);
-
 }
 
 // Numbers on the command line are refused when not finite, negative where a count is meant or

@@ -55,10 +55,7 @@ TEST(RelErrGrid, GridsAndBoundsAgreeWithinTheStandardError) {
             out.r.push_back(ref.rd[i] / (1 - ref.specular));
             out.se.push_back(ref.rdStderr[i] / (1 - ref.specular));
         }
-        out.batches = ref.rdBatches;
-        for (auto& batch : out.batches.mean)
-            for (double& x : batch)
-                x /= 1 - ref.specular;
+        out.batches = ref.rdBatches.scaled(1 / (1 - ref.specular));
         return out;
     };
     auto score = [&](const Reference& ref, double from, double to) {
