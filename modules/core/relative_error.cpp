@@ -115,9 +115,12 @@ RelativeError radialRelativeError(const std::vector<double>& edges,
     const std::vector<double>& fraction =
         series.empty() ? std::vector<double>{} : series[0].batches.fraction;
     bool batched = !fraction.empty();
-    for (const RadialSeries& s : series)
+    for (const RadialSeries& s : series) {
         batched = batched && s.batches.fraction.size() == fraction.size() &&
                   s.batches.mean.size() == fraction.size();
+        for (size_t b = 0; batched && b < s.batches.mean.size(); ++b)
+            batched = s.batches.mean[b].size() == s.ref.size();
+    }
     std::vector<Group> groups;
     auto areaOf = [&](size_t i) { return edges[i + 1] * edges[i + 1] - edges[i] * edges[i]; };
     for (size_t k = 0; k < series.size(); ++k) {
@@ -135,7 +138,7 @@ RelativeError radialRelativeError(const std::vector<double>& edges,
             if (!batched) return;
             g.batchSum.resize(fraction.size(), 0.0);
             for (size_t b = 0; b < fraction.size(); ++b)
-                g.batchSum[b] += (i < s.batches.mean[b].size() ? s.batches.mean[b][i] : NAN) * a;
+                g.batchSum[b] += s.batches.mean[b][i] * a;
         };
         const size_t begin = groups.size();
         bool pending = false; // the last group is still too noisy

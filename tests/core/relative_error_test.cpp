@@ -116,6 +116,44 @@ TEST(RelativeError, NoiseOfTheReferenceIsRemovedAndTheStandardErrorIsItsSpread) 
     }
 }
 
+// With batch means the linear part's variance is the batches' spread, so the bins' covariance
+// counts: 40 bins whose batches all move together (one path lifting every bin) give √40 times
+// the independent-bins error; bins whose batches move against each other in pairs cancel in
+// the sum, leaving only the χ² part. Exact arithmetic on constructed batches (32, ±5 %).
+TEST(RelativeError, BatchMeansCarryTheBinsCovariance) {
+    const size_t n = 40, B = 32;
+    const std::vector<double> fraction(B, 1.0 / B);
+    auto bins = [&](bool together) {
+        std::vector<core::ErrorBin> out(n);
+        for (size_t i = 0; i < n; ++i) {
+            const double truth = std::exp(-0.05 * double(i));
+            core::ErrorBin& b = out[i];
+            b.weight = 1;
+            b.model = 1.1 * truth;
+            b.ref = truth;
+            // batch j: +5 % for even j, −5 % for odd (the mean stays `truth`); the bins move
+            // together, or bin pairs (2k, 2k+1) against each other
+            for (size_t j = 0; j < B; ++j) {
+                const double sign = (j % 2 ? -1.0 : 1.0) * (together || i % 2 == 0 ? 1.0 : -1.0);
+                b.batch.push_back(truth * (1 + 0.05 * sign));
+            }
+            b.refSe = 0.05 * truth / std::sqrt(double(B - 1)); // each bin's own spread
+        }
+        return out;
+    };
+    const core::RelativeError independent = core::relativeError(bins(true));
+    const core::RelativeError together = core::relativeError(bins(true), fraction);
+    const core::RelativeError against = core::relativeError(bins(false), fraction);
+    EXPECT_DOUBLE_EQ(together.value, independent.value); // the errors, not the value
+    EXPECT_NEAR(together.se / independent.se, std::sqrt(double(n)), 0.05 * std::sqrt(double(n)));
+    EXPECT_LT(against.se, 0.2 * independent.se);
+    // batches missing from a bin, or fewer than two: the independent-bins figure
+    std::vector<core::ErrorBin> partial = bins(true);
+    partial[3].batch.clear();
+    EXPECT_DOUBLE_EQ(core::relativeError(partial, fraction).se, independent.se);
+    EXPECT_DOUBLE_EQ(core::relativeError(bins(true), {1.0}).se, independent.se);
+}
+
 TEST(RelativeError, BinsWithoutPathsAreMergedWithTheirNeighbours) {
     // a model 5 % high everywhere: merged bins keep the ratio, so e stays 0.05 exactly
     const std::vector<double> edges = uniformEdges(4.5, 90);
