@@ -83,7 +83,7 @@ void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name
     if (ec) throw core::Error(dir.string(), 0, "cannot create capture folder: " + ec.message());
     try {
         for (const CaptureEntry& e : captured.entries)
-            m.outputs.push_back(writeCaptureEntry(tmp, e));
+            if (e.recorded) m.outputs.push_back(writeCaptureEntry(tmp, e));
         capture::writeManifest(tmp, m);
         if (fs::exists(dir, ec)) fs::remove_all(dir);
         fs::rename(tmp, dir);

@@ -3,7 +3,11 @@
 //   scene.mesh         csv, exact   vertices, triangles, area, hash of the prepared mesh
 //   scene.pointcloud   csv, exact   count, nearest-neighbour metrics, content hash
 //   scene.octree       csv, exact   node/leaf counts, depth, bytes, hash, nodes per depth
-//   scene.irradiance   csv, tol     per-point E_t (GPU)
+//   scene.irradiance_unshadowed  csv, tol   per-point E_u, E_t = E_u · V (GPU; directional and
+//                                           filtered light)
+//   scene.visibility   csv, tol     per-point shadow-map visibility V (GPU; the same lights)
+//   scene.irradiance   csv, tol     per-point E_t (GPU): recorded for the other lights; made for
+//                                   the replay of captures from before the split otherwise
 //   scene.render       exr, tol     the rendered HDR radiance (GPU)
 //   scene.trace_steps  csv, exact   one pixel's traversal steps (CPU replica): node, decision,
 //                                   depth, stack after each step
@@ -24,7 +28,10 @@ namespace {
 
 // Float tolerances (stated in the manifest):
 // per-point irradiance: Ft, cos and the PCF average in float32, a handful of roundings of
-// 2^-24 each; 1e-5 relative, plus 1e-7 absolute for values that are ~0 in shadow.
+// 2^-24 each; 1e-5 relative, plus 1e-7 absolute for values that are ~0 in shadow. That holds
+// for E_u; the visibility V of a filtered shadow lookup moves by up to
+// irradiance::kVisibilityTolerance (absolute) between samplers that round the bilinear weights
+// differently, so with a shadow map E_t is recorded as those two factors.
 constexpr double kIrradianceRel = 1e-5, kIrradianceAbs = 1e-7;
 // render: a float32 sum of up to ~10^4 contributions (each Bssrdf() within a few ulp: GLSL
 // exp is (3 + 2|x|) ulp) — worst case n·2^-24 ≈ 6e-4 relative for the longest sums, typically
@@ -104,16 +111,45 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
         ot.table.rows.push_back({double(d), double(t.stats.nodesPerDepth[d]), 0, 0, 0, 0, 0, 0});
     out.entries.push_back(std::move(ot));
 
+    const auto& e = irradiance();
+    const bool factored = m_settings.light.mode == irradiance::LightMode::Directional ||
+                          m_settings.light.mode == irradiance::LightMode::Filtered;
     CaptureEntry it = captureEntry(CaptureEntry::Kind::Csv, "scene.irradiance", "point");
     it.absTol = kIrradianceAbs;
     it.relTol = kIrradianceRel;
     it.note = "GPU float32 Ft*cos*visibility per point: 1e-5 relative + 1e-7";
     it.table.comments = {"transmitted irradiance E_t per point (input order)"};
     it.table.columns = {"point", "R", "G", "B"};
-    const auto& e = irradiance();
     for (size_t i = 0; i < e.size(); ++i)
         it.table.rows.push_back({double(i), e[i].x, e[i].y, e[i].z});
+    it.recorded = !factored;
     out.entries.push_back(std::move(it));
+    if (factored) {
+        irradiance::Settings light = m_settings.light;
+        light.ior = lightIor(model);
+        const irradiance::Stage::Factors f = m_irradiance_stage->factors(light);
+        CaptureEntry eu =
+            captureEntry(CaptureEntry::Kind::Csv, "scene.irradiance_unshadowed", "point");
+        eu.absTol = kIrradianceAbs;
+        eu.relTol = kIrradianceRel;
+        eu.note = "GPU float32 Ft*cos per point (E_t = this times the visibility): 1e-5 "
+                  "relative + 1e-7";
+        eu.table.comments = {"unshadowed transmitted irradiance E_u per point (input order)"};
+        eu.table.columns = {"point", "R", "G", "B"};
+        for (size_t i = 0; i < f.unshadowed.size(); ++i)
+            eu.table.rows.push_back(
+                {double(i), f.unshadowed[i].x, f.unshadowed[i].y, f.unshadowed[i].z});
+        out.entries.push_back(std::move(eu));
+        CaptureEntry v = captureEntry(CaptureEntry::Kind::Csv, "scene.visibility", "point");
+        v.absTol = irradiance::kVisibilityTolerance;
+        v.note = "shadow-map visibility, a mean of bilinear depth comparisons: 2^-7 absolute "
+                 "(2^-8 per weight axis, the samplers' subtexel precision)";
+        v.table.comments = {"visibility V per point (input order)"};
+        v.table.columns = {"point", "V"};
+        for (size_t i = 0; i < f.visibility.size(); ++i)
+            v.table.rows.push_back({double(i), f.visibility[i]});
+        out.entries.push_back(std::move(v));
+    }
 
     const render::Readback rb = readback();
     CaptureEntry img = captureEntry(CaptureEntry::Kind::Exr, "scene.render");

@@ -231,7 +231,12 @@ constexpr double kEprimeRel = 2e-5, kEprimeAbs = 1e-7;
 // Captures (format v1, captures/README.md):
 //   texture_space.texels   csv, exact   K, layout size, UVs or atlas, covered texels, triangles
 //                                       with texels, largest stretch
-//   texture_space.eprime   csv, tol     E′ (RGB) of every 8th covered texel (GPU irradiance)
+//   texture_space.eprime_unshadowed  csv, tol  E′_u (RGB) of every 8th covered texel, E′ =
+//                                              E′_u · V (GPU irradiance; directional and
+//                                              filtered light; scene_capture.cpp says why)
+//   texture_space.visibility  csv, tol  V of the same texels (the same lights)
+//   texture_space.eprime   csv, tol     E′ (RGB) of those texels: recorded for the other lights;
+//                                       made for the replay of older captures otherwise
 //   texture_space.samples  csv, exact   the first 256 texels of sample set 0 (the GPU descent)
 //   texture_space.render   exr_stat     the render averaged over its sample sets
 void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& out) {
@@ -261,12 +266,39 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     ep.relTol = kEprimeRel;
     ep.note = "GPU irradiance (float32) times the area ratio: 2e-5 relative + 1e-7";
     ep.table.columns = {"texel", "R", "G", "B"};
+    std::vector<size_t> shown; // every 8th covered texel
+    for (size_t texel = 0, k = 0; texel < t.triangle.size(); ++texel)
+        if (t.triangle[texel] >= 0 && k++ % 8 == 0) shown.push_back(texel);
     const std::vector<glm::vec3> e = p.eprime();
-    size_t k = 0;
-    for (size_t texel = 0; texel < e.size(); ++texel)
-        if (t.triangle[texel] >= 0 && k++ % 8 == 0)
-            ep.table.rows.push_back({double(texel), e[texel].x, e[texel].y, e[texel].z});
+    for (size_t texel : shown)
+        ep.table.rows.push_back({double(texel), e[texel].x, e[texel].y, e[texel].z});
+    const irradiance::LightMode mode = in.scene->settings().light.mode;
+    const bool factored =
+        mode == irradiance::LightMode::Directional || mode == irradiance::LightMode::Filtered;
+    ep.recorded = !factored;
     out.entries.push_back(std::move(ep));
+    if (factored) {
+        const texspace::Pipeline::EprimeFactors f = pipeline()->eprimeFactors();
+        CaptureEntry eu =
+            captureEntry(CaptureEntry::Kind::Csv, "texture_space.eprime_unshadowed", "texel");
+        eu.absTol = kEprimeAbs;
+        eu.relTol = kEprimeRel;
+        eu.note = "GPU irradiance without shadows (float32) times the area ratio: 2e-5 "
+                  "relative + 1e-7";
+        eu.table.columns = {"texel", "R", "G", "B"};
+        CaptureEntry v = captureEntry(CaptureEntry::Kind::Csv, "texture_space.visibility", "texel");
+        v.absTol = irradiance::kVisibilityTolerance;
+        v.note = "shadow-map visibility, a mean of bilinear depth comparisons: 2^-7 absolute "
+                 "(2^-8 per weight axis, the samplers' subtexel precision)";
+        v.table.columns = {"texel", "V"};
+        for (size_t texel : shown) {
+            const glm::vec3& u = f.unshadowed[texel];
+            eu.table.rows.push_back({double(texel), u.x, u.y, u.z});
+            v.table.rows.push_back({double(texel), f.visibility[texel]});
+        }
+        out.entries.push_back(std::move(eu));
+        out.entries.push_back(std::move(v));
+    }
 
     CaptureEntry sm = captureEntry(CaptureEntry::Kind::Csv, "texture_space.samples", "draw");
     sm.note = "the GPU descent of Algorithm 3.1 over the float CDF: exact on one "

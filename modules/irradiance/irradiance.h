@@ -15,7 +15,7 @@
 //                the light; normalised here), V from a shadow map (light_frame.h) filtered by
 //                Settings::filter, the four methods of thesis Fig. 3.3 (naive, offset, offset +
 //                hardware PCF, offset + PCF + jittered lookups; common/irradiance_shadow.glsl
-//                states the slope-scaled offset).
+//                states the slope-scaled offset), or none (V = 1).
 //   Filtered     Directional times a projected texture T(uv) looked up in light space (uv of
 //                light_frame.h; texture row 0 = the image's top = v near 1, linear filtering,
 //                clamped at the edges). Default: a checkerboard of 8 × 8 squares of 8 texels,
@@ -69,7 +69,16 @@
 namespace irradiance {
 
 enum class LightMode { Directional, Filtered, Ibl, OccludedIbl };
-enum class ShadowFilter { Naive, Offset, OffsetPcf, OffsetPcfJitter }; // thesis Fig. 3.3 a–d
+// thesis Fig. 3.3 a–d, and None (V = 1: the lighting without shadows)
+enum class ShadowFilter { Naive, Offset, OffsetPcf, OffsetPcfJitter, None };
+// How far two conforming GL implementations' V of one filter may differ at a point: a PCF
+// lookup is a bilinear blend of 0/1 comparisons, so |ΔV| <= |Δα| + |Δβ| for weight errors Δα,
+// Δβ; samplers compute the weights in fixed point with 8 fractional bits (Direct3D 11's
+// D3D11_SUBTEXEL_FRACTIONAL_BIT_COUNT; NVIDIA's texture units, CUDA Programming Guide,
+// "Linear Filtering"), a weight error of up to 2^-8 per axis, and the mean of jittered lookups
+// keeps that bound (Vulkan allows samplers with as few as 4 bits, which would need 2^-3).
+// Float samplers (llvmpipe, lavapipe) differ by N·ulp(uv) per ulp of uv instead, far less.
+inline constexpr double kVisibilityTolerance = 2.0 / 256.0;
 constexpr auto enumNames(LightMode) {
     return std::array{std::pair{LightMode::Directional, "directional"},
                       std::pair{LightMode::Filtered, "filtered"}, std::pair{LightMode::Ibl, "ibl"},
@@ -79,7 +88,8 @@ constexpr auto enumNames(ShadowFilter) {
     return std::array{std::pair{ShadowFilter::Naive, "naive"},
                       std::pair{ShadowFilter::Offset, "offset"},
                       std::pair{ShadowFilter::OffsetPcf, "offset-pcf"},
-                      std::pair{ShadowFilter::OffsetPcfJitter, "offset-pcf-jitter"}};
+                      std::pair{ShadowFilter::OffsetPcfJitter, "offset-pcf-jitter"},
+                      std::pair{ShadowFilter::None, "none"}};
 }
 
 inline constexpr int kCubeFaceSize = 32;
@@ -173,6 +183,18 @@ class Stage {
     // beginOccluded + stepOccluded to the end. One value per point, input order. Also left on
     // the GPU in resultBuffer(). Ibl modes throw core::Error when no environment is set.
     std::vector<glm::vec3> compute(const Settings& s);
+
+    // Directional / Filtered E_t as its two factors, E_t = E_u · V: the unshadowed E_u (the
+    // same settings with ShadowFilter::None) and the visibility V of s.filter (the result's
+    // w). They have different precisions across drivers: E_u is float32 arithmetic (a few
+    // ulp), V a mean of bilinear depth comparisons whose weights another sampler rounds
+    // differently (kVisibilityTolerance). Runs compute twice, `s` last, so resultBuffer()
+    // holds what compute(s) leaves. Other modes: core::Error.
+    struct Factors {
+        std::vector<glm::vec3> unshadowed;
+        std::vector<float> visibility;
+    };
+    Factors factors(const Settings& s);
 
     // Occluded IBL, incremental. beginOccluded draws the samples and clears the sums;
     // stepOccluded processes the next occludedSamplesPerStep samples and returns true when all

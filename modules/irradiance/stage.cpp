@@ -377,6 +377,25 @@ std::vector<glm::vec3> Stage::computeIbl(const Settings& s) {
     return readResult();
 }
 
+Stage::Factors Stage::factors(const Settings& s) {
+    if (s.mode != LightMode::Directional && s.mode != LightMode::Filtered)
+        throw core::Error("irradiance: only directional and filtered light have a visibility "
+                          "factor");
+    Settings unshadowed = s;
+    unshadowed.filter = ShadowFilter::None;
+    Factors f;
+    f.unshadowed = compute(unshadowed);
+    compute(s);
+    std::vector<glm::vec4> v(m_pointCount);
+    if (!v.empty()) // compute() read the same buffer after its barrier
+        glGetNamedBufferSubData(m_result.id(), 0,
+                                static_cast<GLsizeiptr>(v.size() * sizeof(glm::vec4)), v.data());
+    f.visibility.resize(v.size());
+    for (size_t i = 0; i < v.size(); ++i)
+        f.visibility[i] = v[i].w;
+    return f;
+}
+
 std::vector<glm::vec3> Stage::compute(const Settings& s) {
     validateSettings(s, maxTextureSize());
     if (!m_points) throw core::Error("irradiance: no scene (call setScene first)");

@@ -147,6 +147,20 @@ std::vector<glm::vec3> Pipeline::eprime() const {
     return e;
 }
 
+Pipeline::EprimeFactors Pipeline::eprimeFactors() {
+    if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
+    const irradiance::Stage::Factors f = m_irradiance->factors(m_light);
+    EprimeFactors out;
+    out.unshadowed.assign(m_et.size(), glm::vec3(0.0f));
+    out.visibility.assign(m_et.size(), 0.0f);
+    for (size_t k = 0; k < m_covered.size(); ++k) {
+        const uint32_t t = m_covered[k];
+        out.unshadowed[t] = f.unshadowed[k] * float(m_texels.areaRatio[t]);
+        out.visibility[t] = f.visibility[k];
+    }
+    return out;
+}
+
 SampleSet Pipeline::drawSet(int samples, uint64_t seed, uint64_t index) const {
     if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
     if (samples < 1) throw core::Error("texture space", 0, "samples N must be at least 1");

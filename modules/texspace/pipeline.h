@@ -119,6 +119,14 @@ class Pipeline {
     std::vector<glm::vec3> eprime() const;                             // E′ per texel
     double totalWeight() const { return m_total; }                     // W
     const MipCdf& cdf() const { return m_cdf; }
+    // E′ as its two factors, E′ = E′_u · V (irradiance::Stage::factors, which says why): per
+    // texel the unshadowed E′_u and the shadow-map visibility V (0 off the chart). Directional
+    // and filtered light only (core::Error otherwise, or before the light is computed).
+    struct EprimeFactors {
+        std::vector<glm::vec3> unshadowed;
+        std::vector<float> visibility;
+    };
+    EprimeFactors eprimeFactors();
 
     // Stage 2: set `index` of N draws under `seed`. Empty when W = 0 (no light on the surface:
     // every pixel is 0). Throws when the light is not ready.

@@ -8,6 +8,8 @@
 //   ShadowFilter 3 jitter:  the mean of JitterSamples PCF lookups at uv + R·d_k·r·texel, d_k
 //                           the first entries of a 16-point Poisson disk (|d_k| <= 1.234),
 //                           R a rotation by an angle hashed from `salt`, r = JitterRadius  (d)
+//   ShadowFilter 4 none:    V = 1, no shadowing (the lighting alone; a capture records E_t as
+//                           this times V, each within its own precision)
 // The offset (world units) is slope scaled, bias = DepthOffset + SlopeOffset·f·t·min(tan θ, 10)
 // with t = 2e/size the texel size, θ the angle between normal and light and f the footprint
 // radius of the filter in texels (the farthest texel centre it reads: √2/2, √2, 1.234·r + √2),
@@ -39,6 +41,7 @@ uint irradianceHash(uint x) { // PCG output hash
 float shadowVisibility(vec3 lc, float extent, float cosTheta, float layer, uint salt) {
     vec2 uv = 0.5 + 0.5 * lc.xy / extent;
     float depth = 0.5 - 0.5 * lc.z / extent;
+    if (ShadowFilter == 4) return 1.0;
     if (ShadowFilter == 0) return texture(ShadowNearest, vec4(uv, layer, depth));
     float footprint = ShadowFilter == 1   ? 0.70710678
                       : ShadowFilter == 2 ? 1.41421356

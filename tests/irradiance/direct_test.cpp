@@ -218,6 +218,39 @@ TEST(IrradianceDirectional, PlateShadowsTheBoxAndOffsetRemovesAcne) {
             EXPECT_LT(wrong, wrongNaive);
         }
     }
+
+    // E_t as its two factors (what a capture records, each within its own precision): the
+    // unshadowed E_u (filter none) is the closed form at every point, the plate's shadow
+    // included; V is 0 in the shadow, 1 where lit and between at the blurred edge; E_u·V is E_t
+    // to float rounding, and the result buffer holds E_t afterwards.
+    s.filter = ShadowFilter::OffsetPcfJitter;
+    const std::vector<glm::vec3> Et = st.compute(s);
+    const Stage::Factors fs = st.factors(s);
+    ASSERT_EQ(fs.unshadowed.size(), sc.P.size());
+    ASSERT_EQ(fs.visibility.size(), sc.P.size());
+    int partial = 0;
+    for (size_t i = 0; i < sc.P.size(); ++i) {
+        const float V = fs.visibility[i];
+        EXPECT_TRUE(matches(fs.unshadowed[i], closedForm(sc.N[i], glm::vec3(L), s.ior))) << i;
+        EXPECT_TRUE(V >= 0.0f && V <= 1.0f) << i << ": V " << V;
+        if (state[i] == 1) {
+            EXPECT_EQ(V, 0.0f) << i;
+        } else if (state[i] == 0) {
+            EXPECT_EQ(V, 1.0f) << i;
+        }
+        partial += state[i] == -1 && V > 0.0f && V < 1.0f;
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(Et[i][c], fs.unshadowed[i][c] * V, 3 * 0x1p-24 * fs.unshadowed[i][c]) << i;
+    }
+    EXPECT_GT(partial, 10);
+    std::vector<glm::vec4> buffer(sc.P.size());
+    glGetNamedBufferSubData(st.resultBuffer(), 0,
+                            static_cast<GLsizeiptr>(buffer.size() * sizeof(glm::vec4)),
+                            buffer.data());
+    for (size_t i = 0; i < sc.P.size(); ++i)
+        EXPECT_EQ(glm::vec3(buffer[i]), Et[i]) << i;
+    s.mode = LightMode::Ibl; // no visibility factor
+    EXPECT_THROW(st.factors(s), core::Error);
 }
 
 // Bilinear lookup with clamp-to-edge of an RGB image (row 0 = top = v near 1).

@@ -547,3 +547,76 @@ TEST(CaptureReplay, SceneRecordedFromTheCacheReplays) {
         ::unsetenv("BSSRDF_WORKBENCH_CACHE");
     fs::remove_all(root);
 }
+
+// Under a directional light a capture records E_t = E_u · V as its factors, each with its own
+// tolerance (captures/README.md, Tolerances): the unshadowed E_u and the visibility V. A capture
+// recorded before that split (its E_t as `scene.irradiance`) still replays, and its E_t made here
+// from the factors passes at E_t's own 1e-5: the factors multiply back to what the shader
+// computes. V's tolerance can fail: a point moved by 0.02 is named.
+TEST(CaptureReplay, IrradianceIsRecordedAsItsFactorsAndOlderCapturesStillReplay) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("factors", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::SceneSettings& s = wb.scene().settings();
+    s.enabled = true;
+    s.points.points = 1500;
+    s.render.width = 48;
+    s.render.height = 27;
+    wb.finishScene();
+    const fs::path dir = root / "captures" / "factors";
+    app::recordCaptureTo(wb, dir, "factors", -1, -1);
+    capture::Manifest m = capture::readManifest(dir);
+    auto has = [&](const std::string& stage) {
+        return std::any_of(m.outputs.begin(), m.outputs.end(),
+                           [&](const capture::StageOutput& o) { return o.stage == stage; });
+    };
+    ASSERT_TRUE(has("scene.irradiance_unshadowed"));
+    ASSERT_TRUE(has("scene.visibility"));
+    EXPECT_FALSE(has("scene.irradiance"));
+    std::string out;
+    ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+
+    const capture::Table eu = capture::readCsv(dir / "scene_irradiance_unshadowed.csv");
+    capture::Table v = capture::readCsv(dir / "scene_visibility.csv");
+    ASSERT_EQ(eu.rows.size(), v.rows.size());
+    capture::Table et = eu;
+    size_t partial = eu.rows.size();
+    for (size_t i = 0; i < et.rows.size(); ++i) {
+        for (int c = 1; c <= 3; ++c)
+            et.rows[i][size_t(c)] = double(float(eu.rows[i][size_t(c)]) * float(v.rows[i][1]));
+        if (partial == eu.rows.size() && v.rows[i][1] > 0.1 && v.rows[i][1] < 0.9) partial = i;
+    }
+    ASSERT_LT(partial, eu.rows.size()) << "no partly shadowed point";
+
+    // The same capture as recorded before the split: E_t in place of its factors.
+    capture::Manifest old = m;
+    old.outputs.erase(std::remove_if(old.outputs.begin(), old.outputs.end(),
+                                     [](const capture::StageOutput& o) {
+                                         return o.stage == "scene.irradiance_unshadowed" ||
+                                                o.stage == "scene.visibility";
+                                     }),
+                      old.outputs.end());
+    old.outputs.push_back(capture::writeCsvStage(dir, "scene.irradiance", "scene_irradiance.csv",
+                                                 et, 1e-7, 1e-5, "E_t, recorded whole"));
+    fs::remove(dir / "scene_irradiance_unshadowed.csv");
+    fs::remove(dir / "scene_visibility.csv");
+    capture::writeManifest(dir, old);
+    ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    EXPECT_NE(out.find("PASS scene.irradiance "), std::string::npos) << out;
+
+    // Back to the factors, with one partly shadowed point's V moved by 0.02 (2.6× V's 2^-7).
+    fs::remove(dir / "scene_irradiance.csv");
+    v.rows[partial][1] += 0.02;
+    capture::Manifest moved = m;
+    for (capture::StageOutput& o : moved.outputs) {
+        if (o.stage == "scene.irradiance_unshadowed")
+            o = capture::writeCsvStage(dir, o.stage, o.file, eu, o.absTol, o.relTol, o.tolNote);
+        if (o.stage == "scene.visibility")
+            o = capture::writeCsvStage(dir, o.stage, o.file, v, o.absTol, o.relTol, o.tolNote);
+    }
+    capture::writeManifest(dir, moved);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL scene.visibility  1 of"), std::string::npos) << out;
+    EXPECT_NE(out.find("PASS scene.irradiance_unshadowed"), std::string::npos) << out;
+    fs::remove_all(root);
+}

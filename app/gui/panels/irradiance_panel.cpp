@@ -61,10 +61,11 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         ImGui::SetNextItemWidth(240);
         if (ImGui::DragFloat3("E0 (RGB)", e, 0.01f, 0.0f, 1000.0f, "%.3g"))
             l.irradiance = glm::max(glm::vec3(e[0], e[1], e[2]), glm::vec3(0.0f));
-        const char* filters[] = {"naive", "offset", "offset + PCF", "offset + PCF + jitter"};
+        const char* filters[] = {"naive", "offset", "offset + PCF", "offset + PCF + jitter",
+                                 "none (no shadows)"};
         int f = int(l.filter);
         ImGui::SetNextItemWidth(200);
-        if (ImGui::Combo("shadow filter (Fig. 3.3)", &f, filters, 4))
+        if (ImGui::Combo("shadow filter (Fig. 3.3)", &f, filters, IM_ARRAYSIZE(filters)))
             l.filter = irradiance::ShadowFilter(f);
         ImGui::SetNextItemWidth(120);
         if (inputIntCommitted("shadow map", &l.shadowMapSize, 256))
