@@ -76,14 +76,19 @@ struct Tri {
     bool valid = false;               // non-degenerate
 };
 
-// The triangles with their projection candidates: for triangle t, every triangle whose
-// bounding box overlaps t's box grown by `reach` (every triangle within distance `reach` of t).
+// The triangles and their projection candidates. Triangle t's candidates are the triangles whose
+// bounding boxes, each grown by reach/2, overlap t's (every triangle within distance `reach` of
+// t). They are looked up per query point: a uniform grid lists in each cell the triangles whose
+// grown box overlaps it, and a query q near triangle t reads q's cell, keeping the entries whose
+// box overlaps t's. Lists kept per triangle instead made a long sliver (a stray far vertex: the
+// rest of the mesh is a speck at one of its ends, inside its box) test every triangle of the
+// mesh for every point on it, n · T per iteration.
 class Surface {
   public:
     Surface(const mesh::Mesh& m, double reach) : m_mesh(m) {
         const size_t nt = m.triangles.size();
         m_tris.resize(nt);
-        std::vector<std::array<V3, 2>> box(nt);
+        m_box.resize(nt);
         V3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
         double sumDiag = 0;
         for (size_t t = 0; t < nt; ++t) {
@@ -104,96 +109,74 @@ class Surface {
                 T.edgeOffset[k] = dot(T.edgeNormal[k], v[k]);
             }
             for (int k = 0; k < 3; ++k) {
-                box[t][0][k] = std::min({T.a[k], T.b[k], T.c[k]}) - 0.5 * reach;
-                box[t][1][k] = std::max({T.a[k], T.b[k], T.c[k]}) + 0.5 * reach;
-                lo[k] = std::min(lo[k], box[t][0][k]);
-                hi[k] = std::max(hi[k], box[t][1][k]);
+                m_box[t][0][k] = std::min({T.a[k], T.b[k], T.c[k]}) - 0.5 * reach;
+                m_box[t][1][k] = std::max({T.a[k], T.b[k], T.c[k]}) + 0.5 * reach;
+                lo[k] = std::min(lo[k], m_box[t][0][k]);
+                hi[k] = std::max(hi[k], m_box[t][1][k]);
             }
-            sumDiag += length(sub(box[t][1], box[t][0]));
+            sumDiag += length(sub(m_box[t][1], m_box[t][0]));
         }
         // Uniform grid of the grown boxes, cell ~ the mean grown-box diagonal.
         double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-30});
-        double cell = std::max(sumDiag / double(std::max<size_t>(nt, 1)), extent / 128);
-        std::array<int64_t, 3> dim;
+        m_cell = std::max(sumDiag / double(std::max<size_t>(nt, 1)), extent / 128);
+        m_lo = lo;
         for (int k = 0; k < 3; ++k)
-            dim[k] = int64_t((hi[k] - lo[k]) / cell) + 1;
-        auto cellRange = [&](const std::array<V3, 2>& b, std::array<int64_t, 3>& c0,
-                             std::array<int64_t, 3>& c1) {
-            for (int k = 0; k < 3; ++k) {
-                c0[k] = std::clamp<int64_t>(int64_t((b[0][k] - lo[k]) / cell), 0, dim[k] - 1);
-                c1[k] = std::clamp<int64_t>(int64_t((b[1][k] - lo[k]) / cell), 0, dim[k] - 1);
-            }
-        };
-        std::vector<uint32_t> start(size_t(dim[0] * dim[1] * dim[2]) + 1, 0);
+            m_dim[k] = int64_t((hi[k] - lo[k]) / m_cell) + 1;
+        m_start.assign(size_t(m_dim[0] * m_dim[1] * m_dim[2]) + 1, 0);
         auto forCells = [&](size_t t, auto&& f) {
-            std::array<int64_t, 3> c0, c1;
-            cellRange(box[t], c0, c1);
+            const std::array<int64_t, 3> c0 = cellOf(m_box[t][0]), c1 = cellOf(m_box[t][1]);
             for (int64_t z = c0[2]; z <= c1[2]; ++z)
                 for (int64_t y = c0[1]; y <= c1[1]; ++y)
                     for (int64_t x = c0[0]; x <= c1[0]; ++x)
-                        f(size_t((z * dim[1] + y) * dim[0] + x));
+                        f(size_t((z * m_dim[1] + y) * m_dim[0] + x));
         };
         for (size_t t = 0; t < nt; ++t)
-            if (m_tris[t].valid) forCells(t, [&](size_t c) { ++start[c + 1]; });
-        for (size_t c = 0; c + 1 < start.size(); ++c)
-            start[c + 1] += start[c];
-        std::vector<uint32_t> items(start.back()), fill(start.begin(), start.end() - 1);
-        for (size_t t = 0; t < nt; ++t)
-            if (m_tris[t].valid) forCells(t, [&](size_t c) { items[fill[c]++] = uint32_t(t); });
-        // Candidates: boxes grown by reach/2 each overlapping; triangle t first, then ascending.
-        std::vector<std::vector<uint32_t>> cand(nt);
-        parallelFor(nt, 0, [&](size_t begin, size_t end) {
-            for (size_t t = begin; t < end; ++t) {
-                if (!m_tris[t].valid) continue;
-                auto& list = cand[t];
-                forCells(t, [&](size_t c) {
-                    for (uint32_t k = start[c]; k < start[c + 1]; ++k) {
-                        uint32_t u = items[k];
-                        bool overlap = true;
-                        for (int a = 0; a < 3; ++a)
-                            overlap = overlap && box[u][0][a] <= box[t][1][a] &&
-                                      box[t][0][a] <= box[u][1][a];
-                        if (overlap) list.push_back(u);
-                    }
-                });
-                std::sort(list.begin(), list.end());
-                list.erase(std::unique(list.begin(), list.end()), list.end());
-                auto self = std::find(list.begin(), list.end(), uint32_t(t));
-                if (self != list.end()) std::rotate(list.begin(), self, self + 1);
-            }
-        });
-        m_start.assign(nt + 1, 0);
-        for (size_t t = 0; t < nt; ++t)
-            m_start[t + 1] = m_start[t] + uint32_t(cand[t].size());
-        m_cand.reserve(m_start.back());
-        for (auto& c : cand)
-            m_cand.insert(m_cand.end(), c.begin(), c.end());
+            if (m_tris[t].valid) forCells(t, [&](size_t c) { ++m_start[c + 1]; });
+        for (size_t c = 0; c + 1 < m_start.size(); ++c)
+            m_start[c + 1] += m_start[c];
+        m_items.resize(m_start.back());
+        std::vector<uint32_t> fill(m_start.begin(), m_start.end() - 1);
+        for (size_t t = 0; t < nt; ++t) // each cell's list in ascending triangle order
+            if (m_tris[t].valid) forCells(t, [&](size_t c) { m_items[fill[c]++] = uint32_t(t); });
     }
 
-    // Closest point to q on the candidates of triangle `from` that do not face away from
-    // `normal` (face normal · normal >= −0.5); false when there is none. A candidate is skipped
-    // when a lower bound of its distance — the largest distance of q outside its plane or its
-    // three edge planes (the triangle lies inside all four half-spaces) — is no better than the
-    // best so far; when q projects inside the triangle, the closest point is that projection.
+    // Closest point to q on the candidates of triangle `from` (itself first, then ascending)
+    // that do not face away from `normal` (face normal · normal >= −0.5); false when there is
+    // none. q is within reach/2 of `from`, so every candidate closer to q than `from` has a
+    // grown box holding q and is listed in q's cell. A candidate is skipped when a lower bound
+    // of its distance — the largest distance of q outside its plane or its three edge planes
+    // (the triangle lies inside all four half-spaces) — is no better than the best so far.
     bool closest(const V3& q, const V3& normal, uint32_t from, V3& outP, V3& outBary,
                  uint32_t& outTri) const {
         double best = std::numeric_limits<double>::infinity();
-        for (uint32_t k = m_start[from]; k < m_start[from + 1]; ++k) {
-            const uint32_t t = m_cand[k];
+        auto consider = [&](uint32_t t) {
             const Tri& T = m_tris[t];
             const double h = dot(T.unitNormal, q) - T.planeOffset;
             const double s0 = dot(T.edgeNormal[0], q) - T.edgeOffset[0];
             const double s1 = dot(T.edgeNormal[1], q) - T.edgeOffset[1];
             const double s2 = dot(T.edgeNormal[2], q) - T.edgeOffset[2];
             const double lb = std::max({std::abs(h), s0, s1, s2});
-            if (lb * lb >= best && !(lb * lb == best && t < outTri)) continue;
-            if (dot(T.unitNormal, normal) < -0.5) continue;
+            if (lb * lb >= best && !(lb * lb == best && t < outTri)) return;
+            if (dot(T.unitNormal, normal) < -0.5) return;
             V3 bc = closestBarycentric(q, T.a, T.b, T.c);
             V3 p = add(add(mul(T.a, bc[0]), mul(T.b, bc[1])), mul(T.c, bc[2]));
             V3 d = sub(p, q);
             double d2 = dot(d, d);
             if (d2 < best || (d2 == best && t < outTri))
                 best = d2, outP = p, outBary = bc, outTri = t;
+        };
+        if (!m_tris[from].valid) return false; // (no point lies on a degenerate triangle)
+        consider(from);
+        const std::array<int64_t, 3> c = cellOf(q);
+        const size_t cell = size_t((c[2] * m_dim[1] + c[1]) * m_dim[0] + c[0]);
+        const std::array<V3, 2>& bf = m_box[from];
+        for (uint32_t k = m_start[cell]; k < m_start[cell + 1]; ++k) {
+            const uint32_t t = m_items[k];
+            const std::array<V3, 2>& bt = m_box[t];
+            if (t == from || bt[0][0] > bf[1][0] || bf[0][0] > bt[1][0] || bt[0][1] > bf[1][1] ||
+                bf[0][1] > bt[1][1] || bt[0][2] > bf[1][2] || bf[0][2] > bt[1][2])
+                continue;
+            consider(t);
         }
         return best < std::numeric_limits<double>::infinity();
     }
@@ -212,9 +195,23 @@ class Surface {
     const Tri& tri(size_t t) const { return m_tris[t]; }
 
   private:
+    // The grid cell of p, clamped to the grid (NaN: cell 0).
+    std::array<int64_t, 3> cellOf(const V3& p) const {
+        std::array<int64_t, 3> c{};
+        for (int k = 0; k < 3; ++k) {
+            const double x = (p[k] - m_lo[k]) / m_cell;
+            c[k] = x >= 0 ? std::min<int64_t>(int64_t(std::min(x, 1e18)), m_dim[k] - 1) : 0;
+        }
+        return c;
+    }
+
     const mesh::Mesh& m_mesh;
     std::vector<Tri> m_tris;
-    std::vector<uint32_t> m_start, m_cand;
+    std::vector<std::array<V3, 2>> m_box; // bounding boxes grown by reach/2
+    V3 m_lo{};
+    double m_cell = 1;
+    std::array<int64_t, 3> m_dim{};
+    std::vector<uint32_t> m_start, m_items; // triangles per grid cell (CSR)
 };
 
 using F4 = std::array<float, 4>; // x, y, z, unused
@@ -234,27 +231,38 @@ struct NeighbourLists {
             buckets *= 2;
         const uint64_t mask = buckets - 1;
         const float inv = 1 / radius;
-        auto bucketOf = [&](int32_t x, int32_t y, int32_t z) {
-            return size_t((uint64_t(int64_t(x)) + uint64_t(int64_t(y)) * 0x9E3779B97F4A7C15ull +
-                           uint64_t(int64_t(z)) * 0xC2B2AE3D27D4EB4Full) &
+        // Cells beyond ±2^15 (points spread over 10^4 neighbour radii or more: a stray far
+        // vertex) add their high bits, multiplied, to the low ones: a cell index that came from
+        // a large float is a multiple of a power of two, which the mask alone maps to one bucket.
+        // Within ±2^15, as every cloud of up to ~10^9 points on a normalised mesh, the hash is
+        // the linear one.
+        auto high = [](int64_t v) { return v >= 32768 || v < -32768 ? uint64_t(v >> 15) : 0; };
+        auto bucketOf = [&](int64_t x, int64_t y, int64_t z) {
+            constexpr uint64_t P1 = 0x9E3779B97F4A7C15ull, P2 = 0xC2B2AE3D27D4EB4Full,
+                               P3 = 0xD6E8FEB86659FD93ull;
+            return size_t((uint64_t(x) + uint64_t(y) * P1 + uint64_t(z) * P2 +
+                           (high(x) + high(y) * P1 + high(z) * P2) * P3) &
                           mask);
         };
         struct Entry {
             float p[3];
             uint32_t index;
-            int32_t c[3];
+            int64_t c[3];
         };
         std::vector<Entry> own(n);
         std::vector<uint32_t> bucket(n), bstart(buckets + 1, 0);
-        // Cells clamped to ±2^30 so that a cell ± 1 (the loops below) stays an int32 even for a
-        // point far out (a stray vertex at 1e20): the clamp is monotone, so two points within
-        // `radius` still have cells at most 1 apart and the exact cell filter still holds.
-        constexpr float kCellLimit = 1073741824.0f;
+        // 64-bit cells, clamped to ±2^62 so that a cell ± 1 (the loops below) never overflows:
+        // the clamp is monotone, so two points within `radius` still have cells at most 1 apart
+        // and the exact cell filter still holds. A mesh with a stray vertex far out (at 1e20) is
+        // normalised to a speck beside one long sliver, whose points are ~1e12 cells apart:
+        // 32-bit cells clamped at 2^30 put them all into one cell, n² pairs per rebuild.
+        constexpr double kCellLimit = 4611686018427387904.0; // 2^62
         for (size_t i = 0; i < n; ++i) {
             Entry& e = own[i];
             for (int a = 0; a < 3; ++a) {
                 e.p[a] = pos[i][a];
-                e.c[a] = int32_t(std::clamp(std::floor(pos[i][a] * inv), -kCellLimit, kCellLimit));
+                e.c[a] = int64_t(
+                    std::clamp(double(std::floor(pos[i][a] * inv)), -kCellLimit, kCellLimit));
             }
             e.index = uint32_t(i);
             bucket[i] = uint32_t(bucketOf(e.c[0], e.c[1], e.c[2]));
@@ -282,7 +290,7 @@ struct NeighbourLists {
                     for (int dz = -1; dz <= 1; ++dz)
                         for (int dy = -1; dy <= 1; ++dy)
                             for (int dx = -1; dx <= 1; ++dx) {
-                                const int32_t x = q.c[0] + dx, y = q.c[1] + dy, z = q.c[2] + dz;
+                                const int64_t x = q.c[0] + dx, y = q.c[1] + dy, z = q.c[2] + dz;
                                 const size_t b = bucketOf(x, y, z);
                                 for (uint32_t e = bstart[b]; e < bstart[b + 1]; ++e) {
                                     const Entry& en = sorted[e];
