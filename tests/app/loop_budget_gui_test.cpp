@@ -163,7 +163,11 @@ TEST(LoopBudgetGui, TextureSpaceHybridSliceAndScoreboardStopToo) {
         for (const std::string& s : sources)
             EXPECT_EQ(named(s), 1) << s << " (once per consumer)";
         EXPECT_LT(seconds, 5.0);
-        EXPECT_LT(*std::max_element(frames.begin(), frames.end()), 1000.0);
+        // A frame may hold one dispatch of the runaway model, which the budget bounds, and the
+        // consumers' handling of its error: the slowest frame took 0.06 s in Release and 1.28 s
+        // under ASan + UBSan beside another test. A frame waiting on an unbounded loop would not
+        // end on a GPU (llvmpipe cuts it at 4× the budget).
+        EXPECT_LT(*std::max_element(frames.begin(), frames.end()), 2000.0);
 
         wb.library().find(path)->values["Knob"] = {0.0f, 0.0f, 0.0f};
         clock = core::Stopwatch();
