@@ -6,6 +6,7 @@
 #pragma once
 
 #include "capture/capture.h"
+#include "irradiance/irradiance.h"
 #include "pathtrace/lit_sphere.h"
 
 #include <algorithm>
@@ -64,6 +65,17 @@ struct CaptureEntries {
     };
     std::vector<Resolved> resolved;
 };
+
+// The shadow-map visibility V per point or texel (`key`: its index column), recorded apart from
+// the unshadowed irradiance (irradiance::Stage::factors) with V's own tolerance.
+inline CaptureEntry visibilityEntry(const std::string& stage, const std::string& key) {
+    CaptureEntry v = captureEntry(CaptureEntry::Kind::Csv, stage, key);
+    v.absTol = irradiance::kVisibilityTolerance;
+    v.note = "shadow-map visibility, a mean of bilinear depth comparisons: 2^-7 absolute (2^-8 "
+             "per weight axis, the samplers' subtexel precision)";
+    v.table.columns = {key, "V"};
+    return v;
+}
 
 // GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in
 // the profile's tail that is ~63 ulp, i.e. 63 · 2^-24 ≈ 3.8e-6 relative, plus the same again

@@ -112,8 +112,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
     out.entries.push_back(std::move(ot));
 
     const auto& e = irradiance();
-    const bool factored = m_settings.light.mode == irradiance::LightMode::Directional ||
-                          m_settings.light.mode == irradiance::LightMode::Filtered;
+    const bool factored = irradiance::hasVisibilityFactor(m_settings.light.mode);
     CaptureEntry it = captureEntry(CaptureEntry::Kind::Csv, "scene.irradiance", "point");
     it.absTol = kIrradianceAbs;
     it.relTol = kIrradianceRel;
@@ -140,12 +139,8 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
             eu.table.rows.push_back(
                 {double(i), f.unshadowed[i].x, f.unshadowed[i].y, f.unshadowed[i].z});
         out.entries.push_back(std::move(eu));
-        CaptureEntry v = captureEntry(CaptureEntry::Kind::Csv, "scene.visibility", "point");
-        v.absTol = irradiance::kVisibilityTolerance;
-        v.note = "shadow-map visibility, a mean of bilinear depth comparisons: 2^-7 absolute "
-                 "(2^-8 per weight axis, the samplers' subtexel precision)";
+        CaptureEntry v = visibilityEntry("scene.visibility", "point");
         v.table.comments = {"visibility V per point (input order)"};
-        v.table.columns = {"point", "V"};
         for (size_t i = 0; i < f.visibility.size(); ++i)
             v.table.rows.push_back({double(i), f.visibility[i]});
         out.entries.push_back(std::move(v));

@@ -272,9 +272,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     const std::vector<glm::vec3> e = p.eprime();
     for (size_t texel : shown)
         ep.table.rows.push_back({double(texel), e[texel].x, e[texel].y, e[texel].z});
-    const irradiance::LightMode mode = in.scene->settings().light.mode;
-    const bool factored =
-        mode == irradiance::LightMode::Directional || mode == irradiance::LightMode::Filtered;
+    const bool factored = irradiance::hasVisibilityFactor(in.scene->settings().light.mode);
     ep.recorded = !factored;
     out.entries.push_back(std::move(ep));
     if (factored) {
@@ -286,11 +284,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
         eu.note = "GPU irradiance without shadows (float32) times the area ratio: 2e-5 "
                   "relative + 1e-7";
         eu.table.columns = {"texel", "R", "G", "B"};
-        CaptureEntry v = captureEntry(CaptureEntry::Kind::Csv, "texture_space.visibility", "texel");
-        v.absTol = irradiance::kVisibilityTolerance;
-        v.note = "shadow-map visibility, a mean of bilinear depth comparisons: 2^-7 absolute "
-                 "(2^-8 per weight axis, the samplers' subtexel precision)";
-        v.table.columns = {"texel", "V"};
+        CaptureEntry v = visibilityEntry("texture_space.visibility", "texel");
         for (size_t texel : shown) {
             const glm::vec3& u = f.unshadowed[texel];
             eu.table.rows.push_back({double(texel), u.x, u.y, u.z});

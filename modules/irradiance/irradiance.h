@@ -69,6 +69,10 @@
 namespace irradiance {
 
 enum class LightMode { Directional, Filtered, Ibl, OccludedIbl };
+// The lights whose E_t is one shadow-map visibility V times the unshadowed E_u (Stage::factors).
+constexpr bool hasVisibilityFactor(LightMode m) {
+    return m == LightMode::Directional || m == LightMode::Filtered;
+}
 // thesis Fig. 3.3 a–d, and None (V = 1: the lighting without shadows)
 enum class ShadowFilter { Naive, Offset, OffsetPcf, OffsetPcfJitter, None };
 // How far two conforming GL implementations' V of one filter may differ at a point: a PCF

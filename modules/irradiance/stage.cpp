@@ -378,7 +378,7 @@ std::vector<glm::vec3> Stage::computeIbl(const Settings& s) {
 }
 
 Stage::Factors Stage::factors(const Settings& s) {
-    if (s.mode != LightMode::Directional && s.mode != LightMode::Filtered)
+    if (!hasVisibilityFactor(s.mode))
         throw core::Error("irradiance: only directional and filtered light have a visibility "
                           "factor");
     Settings unshadowed = s;

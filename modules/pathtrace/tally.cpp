@@ -36,7 +36,7 @@ int binOf(double r, const SlabSettings& s) {
 
 void accumulate(SlabTally& t, const PathRecord& p, const SlabSettings& s, uint64_t pathIndex) {
     ++t.paths;
-    const size_t batch = size_t(pathIndex % kBatches);
+    const size_t batch = detail::batchOf(pathIndex);
     ++t.batchPaths[batch];
     t.specular = p.specular;
     t.events += p.events;
@@ -125,19 +125,20 @@ SlabResult finalize(const SlabTally& t, const SlabSettings& s) {
     r.rd.resize(n);
     r.rdStderr.resize(n);
     const double dr = s.rMaxMm / s.bins;
-    for (size_t i = 0; i < n; ++i) {
+    auto annulusArea = [&](size_t i) { // π(r_{i+1}² − r_i²)
         const double r0 = dr * static_cast<double>(i), r1 = dr * static_cast<double>(i + 1);
-        const double area = std::numbers::pi * (r1 * r1 - r0 * r0);
-        r.rMid[i] = 0.5 * (r0 + r1);
+        return std::numbers::pi * (r1 * r1 - r0 * r0);
+    };
+    for (size_t i = 0; i < n; ++i) {
+        const double area = annulusArea(i);
+        r.rMid[i] = 0.5 * (dr * static_cast<double>(i) + dr * static_cast<double>(i + 1));
         double mean, err;
         meanStderr(t.binSum[i], t.binSumSq[i], t.paths, mean, err);
         r.rd[i] = mean / area;
         r.rdStderr[i] = err / area;
     }
-    r.rdBatches = detail::batchMeans(t.batchSum, t.batchPaths, n, [&](size_t i) {
-        const double r0 = dr * static_cast<double>(i), r1 = dr * static_cast<double>(i + 1);
-        return 1.0 / (std::numbers::pi * (r1 * r1 - r0 * r0));
-    });
+    r.rdBatches = detail::batchMeans(t.batchSum, t.batchPaths, n,
+                                     [&](size_t i) { return 1.0 / annulusArea(i); });
     meanStderr(t.rdSum, t.rdSumSq, t.paths, r.totalRd, r.totalRdStderr);
     meanStderr(t.absSum, t.absSumSq, t.paths, r.absorbed, r.absorbedStderr);
     meanStderr(t.rouletteSum, t.rouletteSumSq, t.paths, r.rouletteNet, r.rouletteNetStderr);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "pathtrace/bssrdf_estimate.h"
+#include "pathtrace/detail/mean_stderr.h"
 #include "pathtrace/rng.h"
 
 #include <array>
@@ -21,11 +22,6 @@ inline constexpr double kRouletteMfp = 2.0;
 // the GL walk's Philox streams are both keyed by it and the path index).
 inline uint64_t bssrdfStreamSeed(uint64_t seed, size_t angleIndex) {
     return angleIndex == 0 ? seed : splitmix64(seed ^ (0x9e3779b97f4a7c15ull * angleIndex));
-}
-
-// The batch of path `path` (BssrdfTally::batchSum): the paths' indices modulo kBatches.
-inline size_t batchOf(uint64_t path) {
-    return size_t(path % kBatches);
 }
 
 // Sums of one chunk in doubles, formed path by path.

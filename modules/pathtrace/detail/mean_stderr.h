@@ -39,6 +39,11 @@ inline void meanStderr(double sum, double sumSq, uint64_t n, double scale, doubl
 
 namespace pathtrace::detail {
 
+// The batch of path `path` (the tallies' batchSum): the paths' indices modulo kBatches.
+inline size_t batchOf(uint64_t path) {
+    return size_t(path % kBatches);
+}
+
 // The batch means of bins from their per-batch sums (batch-major, `bins` per batch) and the
 // batches' path counts: mean[b][i] = scale(i)·Σ_b,i / N_b. Empty (not known) without sums or
 // while a batch has fewer than 2 paths.
