@@ -150,6 +150,8 @@ class Walker {
         m_exitSamples = std::max(1, s.exits.samples);
         m_exitDepth = s.exits.depthMfp * m_invSigmaT;
         m_exitRouletteBelow = std::exp(-kRouletteMfp);
+        m_muC = m_etaOut < 1.0 ? std::sqrt(1.0 - m_etaOut * m_etaOut) : 0.0;
+        m_coneFraction = 0.5 * (1.0 - m_muC);
         m_binAcc.resize(size_t(m_bins.spatialBins()));
         if (m_nD > 1) m_dirAcc.resize(size_t(m_bins.spatialBins()) * size_t(m_nD));
     }
@@ -385,11 +387,32 @@ class Walker {
     void expectedExits(double x, double y, double z, const Dir& in, const Dir& out, double w,
                        Pcg32& rng) {
         const int n = z >= -m_exitDepth ? m_exitSamples : 1;
+        if (m_g == 0.0) { // isotropic: every direction from the escape cone
+            const double wn = w * m_coneFraction / n;
+            expectedExit(x, y, z, intoEscapeCone(out), wn, rng);
+            for (int i = 1; i < n; ++i)
+                expectedExit(x, y, z, intoEscapeCone(sampleSphere(rng)), wn, rng);
+            return;
+        }
         const double wn = w / n;
         expectedExit(x, y, z, out, wn, rng);
         for (int i = 1; i < n; ++i)
             expectedExit(x, y, z, m_g == 0.0 ? sampleSphere(rng) : scatterHg(in, m_g, rng), wn,
                          rng);
+    }
+    // Isotropic scattering (g = 0): a uniform direction v on the sphere mapped to one uniform in
+    // the escape cone ω_z in (μc, 1] (μc = √(1 − 1/η²), the critical cosine; 0 when η <= 1):
+    // ω_z = μc + (1 − μc)|v_z| (|v_z| is uniform in [0, 1] and independent of v's azimuth,
+    // which is kept). The sphere's other directions meet the surface under total internal
+    // reflection or not at all and transmit nothing, so E[term] over the sphere is
+    // m_coneFraction = (1 − μc)/2 times its mean over the cone: every sample tallies, where a
+    // phase-sampled one is in the cone with probability (1 − μc)/2 (18 % at η = 1.3). The walk's
+    // own direction is the first: it is uniform whatever the walk did before.
+    Dir intoEscapeCone(const Dir& v) const {
+        const double mu = m_muC + (1.0 - m_muC) * std::fabs(v.z);
+        const double h2 = v.x * v.x + v.y * v.y;
+        const double k = h2 > 0.0 ? std::sqrt(std::max(0.0, 1.0 - mu * mu) / h2) : 0.0;
+        return {k * v.x, k * v.y, mu};
     }
     // One of them. A flight longer than d₀ = 2 mean free paths is tallied with probability
     // p = e^{−σt (d − d₀)} and weight 1/p (so its term is w e^{−σt d₀} T, bounded, and the
@@ -496,10 +519,11 @@ class Walker {
     PathRecord* m_record = nullptr; // the traced path's record (may be null)
     bool m_expected = false;        // expected-value exits
     int m_exitSamples = 1;
-    double m_exitDepth = 0;               // mm
-    double m_exitRouletteBelow = 0;       // e^{−d₀σt}: roulette for flights longer than d₀
-    std::vector<double> m_rouletteWeight; // per level
-    std::vector<Copy> m_stack;            // copies waiting to be traced
+    double m_exitDepth = 0;                 // mm
+    double m_exitRouletteBelow = 0;         // e^{−d₀σt}: roulette for flights longer than d₀
+    double m_muC = 0, m_coneFraction = 0.5; // escape cone cos θc, its share of the sphere
+    std::vector<double> m_rouletteWeight;   // per level
+    std::vector<Copy> m_stack;              // copies waiting to be traced
 };
 
 } // namespace
