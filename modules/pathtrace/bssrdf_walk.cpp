@@ -15,7 +15,8 @@
 // tallied instead with its probability of leaving, e^{−σt d} T₂₁, where it would leave: the
 // exit's expectation given the collision (the flight reaches the surface with probability
 // e^{−σt d} and passes with T₂₁), so every bin keeps its expectation, and the exits that happen
-// are not tallied again.
+// are not tallied again. In an isotropic medium the directions are drawn from the escape cone
+// (those that transmit) with the cone's share of the sphere as their weight (intoEscapeCone).
 //
 // Connections: derivation. Let w_p be the weight with which the walk arrives at its p-th
 // collision x_p, moving along ω_p; E[Σ_p w_p δ(x − x_p)] is the collision density of the
