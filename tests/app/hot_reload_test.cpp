@@ -258,6 +258,7 @@ TEST(HotReload, ModelOpenedFromAnywhereIsWatched) {
     const fs::path outside =
         fs::temp_directory_path() / ("bw_outside_" + std::to_string(::getpid()));
     fs::create_directories(outside);
+    testsupport::removeAtExit(outside);
     const fs::path file = outside / "mine.bssrdf";
     const std::string good =
         testsupport::readText(testsupport::sourceRoot() / "materials/dipole.bssrdf");

@@ -1,3 +1,4 @@
+#include "../support/scratch_dir.h"
 #include "core/core.h"
 #include "core/file_watcher.h"
 
@@ -25,6 +26,7 @@ TEST(FileWatcher, SeesWriteRenameAndDelete) {
     fs::path dir = fs::temp_directory_path() / ("bw_watch_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
+    testsupport::removeAtExit(dir);
     core::FileWatcher w({dir}, 30.0);
     ASSERT_TRUE(w.poll().empty());
 

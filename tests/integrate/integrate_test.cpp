@@ -319,6 +319,7 @@ TEST(IntegrateBadInput, OpenMeshAndUnsampleableProfilesAreNamed) {
     // a profile that never decays: its energy does not converge in any table
     const fs::path dir = fs::temp_directory_path() / ("bw_integrate_" + std::to_string(::getpid()));
     fs::create_directories(dir);
+    testsupport::removeAtExit(dir);
     core::writeFile(dir / "flat.bssrdf", "analytic radial no_wi no_wo\n::begin shader\n"
                                          "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
                                          "    return vec3(1.0);\n}\n::end shader\n");

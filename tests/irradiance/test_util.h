@@ -4,6 +4,7 @@
 #pragma once
 
 #include "../support/raw_exr.h"
+#include "../support/scratch_dir.h"
 
 #include "irradiance/irradiance.h"
 #include "pathtrace/fresnel.h"
@@ -44,6 +45,7 @@ inline std::filesystem::path tempDir(const std::string& tag) {
     const auto d = std::filesystem::temp_directory_path() /
                    ("bw_irr_" + tag + "_" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
+    testsupport::removeAtExit(d);
     return d;
 }
 

@@ -2,6 +2,7 @@
 // with a message naming the file — NaN/Inf vertices, degenerate triangles (dropped and counted),
 // a mesh with no area, a point-only OBJ, an empty and a binary file — and normalisation of a
 // good mesh.
+#include "../support/scratch_dir.h"
 #include "core/core.h"
 #include "mesh/mesh.h"
 
@@ -18,6 +19,7 @@ namespace {
 fs::path writeTemp(const std::string& name, const std::string& text) {
     fs::path dir = fs::temp_directory_path() / ("bw_prepare_" + std::to_string(::getpid()));
     fs::create_directories(dir);
+    testsupport::removeAtExit(dir);
     std::ofstream(dir / name, std::ios::binary) << text;
     return dir / name;
 }

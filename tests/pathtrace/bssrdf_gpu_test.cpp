@@ -340,6 +340,7 @@ TEST(BssrdfGpu, BrokenShaderNamesFileAndLineAndKeepsTheProgram) {
         fs::temp_directory_path() / ("bw_bssrdfgpu_reload_" + std::to_string(::getpid()));
     fs::remove_all(root);
     fs::create_directories(root);
+    testsupport::removeAtExit(root);
     fs::copy(testsupport::sourceRoot() / "shaders", root / "shaders", fs::copy_options::recursive);
     const fs::path file = root / "shaders/bssrdf_walk.comp";
     const std::string good = testsupport::readText(file);

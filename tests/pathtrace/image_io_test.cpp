@@ -1,5 +1,6 @@
 // pathtrace image_io: EXR round trip is bitwise exact (means, variances, sample count,
 // non-square, infinities), unwritable and unreadable paths give errors naming them.
+#include "../support/scratch_dir.h"
 #include "core/core.h"
 #include "pathtrace/image_io.h"
 #include "pathtrace/rng.h"
@@ -18,7 +19,10 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path tempPath(const std::string& name) {
-    return fs::temp_directory_path() / ("bw_exr_test_" + std::to_string(::getpid()) + "_" + name);
+    const fs::path p =
+        fs::temp_directory_path() / ("bw_exr_test_" + std::to_string(::getpid()) + "_" + name);
+    testsupport::removeAtExit(p);
+    return p;
 }
 void expectErrorNaming(const std::function<void()>& f, const std::string& path) {
     try {

@@ -43,6 +43,7 @@ fs::path shaderRoot(const std::string& tag) {
         fs::temp_directory_path() / ("bw_ptgpu_" + tag + "_" + std::to_string(::getpid()));
     fs::remove_all(root);
     fs::create_directories(root);
+    testsupport::removeAtExit(root);
     fs::copy(testsupport::sourceRoot() / "shaders", root / "shaders", fs::copy_options::recursive);
     return root;
 }

@@ -2,6 +2,7 @@
 // cache — a miss writes the file, a hit returns the same points bitwise, a corrupt or
 // mismatched cache file is regenerated and rewritten, the key depends on the method's
 // parameters.
+#include "../support/scratch_dir.h"
 #include "pointcloud/generate.h"
 
 #include "core/core.h"
@@ -40,6 +41,7 @@ std::string errorOf(const pointcloud::GenerateOptions& o) {
 TEST(PointCloudGenerate, CacheMissWritesHitReadsCorruptRegenerates) {
     const fs::path dir = fs::temp_directory_path() / ("bw_pc_cache_" + std::to_string(::getpid()));
     fs::remove_all(dir);
+    testsupport::removeAtExit(dir);
     const mesh::Mesh m = mesh::makeTorus(0.35, 0.12, 32, 16);
     pointcloud::GenerateOptions o;
     o.points = 1500;

@@ -3,6 +3,7 @@
 
 #include "core/core.h"
 #include "gl/gl.h"
+#include "scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -22,12 +23,14 @@ inline std::filesystem::path sourceRoot() {
     return BW_SOURCE_ROOT;
 }
 
-// A fresh project root in /tmp with a copy of shaders/ and materials/ (only the listed models).
+// A fresh project root in /tmp with a copy of shaders/ and materials/ (only the listed models),
+// removed when the test process ends (scratch_dir.h).
 inline std::filesystem::path makeProjectRoot(const std::string& tag,
                                              const std::vector<std::string>& models) {
     namespace fs = std::filesystem;
     fs::path root = fs::temp_directory_path() / ("bw_" + tag + "_" + std::to_string(::getpid()));
     fs::remove_all(root);
+    removeAtExit(root);
     fs::create_directories(root / "materials");
     fs::create_directories(root / "captures");
     fs::copy(sourceRoot() / "shaders", root / "shaders", fs::copy_options::recursive);
