@@ -151,6 +151,7 @@ class Walker {
         m_exitSamples = std::max(1, s.exits.samples);
         m_exitDepth = s.exits.depthMfp * m_invSigmaT;
         m_exitRouletteBelow = std::exp(-kRouletteMfp);
+        m_exitRouletteDepth = -kRouletteMfp * m_invSigmaT;
         m_muC = m_etaOut < 1.0 ? std::sqrt(1.0 - m_etaOut * m_etaOut) : 0.0;
         m_coneFraction = 0.5 * (1.0 - m_muC);
         m_binAcc.resize(size_t(m_bins.spatialBins()));
@@ -387,19 +388,27 @@ class Walker {
     // tallied with w e^{−σt d} T / n where it would meet the surface (d = |z| / ω_z).
     void expectedExits(double x, double y, double z, const Dir& in, const Dir& out, double w,
                        Pcg32& rng) {
+        // Below d₀ every flight reaches the surface with at most top = e^{−σt|z|} < e^{−σt d₀}:
+        // the collision takes one roulette first, survival top/e^{−σt d₀}, and each flight's own
+        // (expectedExit) the rest, reach/top: the same survival, reach/e^{−σt d₀}, in all, at
+        // one exponential for the many deep collisions that add nothing.
+        double top = 1.0;
+        if (z < m_exitRouletteDepth) {
+            top = std::exp(m_sigmaT * z);
+            if (rng.uniform32() * m_exitRouletteBelow >= top) return;
+        }
         const int n = z >= -m_exitDepth ? m_exitSamples : 1;
         if (m_g == 0.0) { // isotropic: every direction from the escape cone
             const double wn = w * m_coneFraction / n;
-            expectedExit(x, y, z, intoEscapeCone(out), wn, rng);
+            expectedExit(x, y, z, intoEscapeCone(out), wn, top, rng);
             for (int i = 1; i < n; ++i)
-                expectedExit(x, y, z, intoEscapeCone(sampleSphere(rng)), wn, rng);
+                expectedExit(x, y, z, intoEscapeCone(sampleSphere(rng)), wn, top, rng);
             return;
         }
         const double wn = w / n;
-        expectedExit(x, y, z, out, wn, rng);
+        expectedExit(x, y, z, out, wn, top, rng);
         for (int i = 1; i < n; ++i)
-            expectedExit(x, y, z, m_g == 0.0 ? sampleSphere(rng) : scatterHg(in, m_g, rng), wn,
-                         rng);
+            expectedExit(x, y, z, scatterHg(in, m_g, rng), wn, top, rng);
     }
     // Isotropic scattering (g = 0): a uniform direction v on the sphere mapped to one uniform in
     // the escape cone ω_z in (μc, 1] (μc = √(1 − 1/η²), the critical cosine; 0 when η <= 1):
@@ -418,12 +427,14 @@ class Walker {
     // One of them. A flight longer than d₀ = 2 mean free paths is tallied with probability
     // p = e^{−σt (d − d₀)} and weight 1/p (so its term is w e^{−σt d₀} T, bounded, and the
     // deep ones, which add almost nothing, cost one exponential).
-    void expectedExit(double x, double y, double z, const Dir& v, double w, Pcg32& rng) {
+    // `top`: the survival the collision's own roulette gave it, times e^{−σt d₀} (1: none).
+    void expectedExit(double x, double y, double z, const Dir& v, double w, double top,
+                      Pcg32& rng) {
         if (v.z <= 0.0) return;
         const double tHit = -z / v.z;
         double reach = std::exp(-m_sigmaT * tHit);
         if (reach < m_exitRouletteBelow) {
-            if (rng.uniform32() * m_exitRouletteBelow >= reach) return;
+            if (rng.uniform32() * std::min(top, m_exitRouletteBelow) >= reach) return;
             reach = m_exitRouletteBelow;
         }
         const double t21 = 1.0 - fresnelDielectric(v.z, m_etaOut);
@@ -522,6 +533,7 @@ class Walker {
     int m_exitSamples = 1;
     double m_exitDepth = 0;                 // mm
     double m_exitRouletteBelow = 0;         // e^{−d₀σt}: roulette for flights longer than d₀
+    double m_exitRouletteDepth = 0;         // −d₀: collisions below it take one roulette first
     double m_muC = 0, m_coneFraction = 0.5; // escape cone cos θc, its share of the sphere
     std::vector<double> m_rouletteWeight;   // per level
     std::vector<Copy> m_stack;              // copies waiting to be traced
