@@ -254,8 +254,8 @@ int benchPathtrace(const std::filesystem::path& root, double seconds,
         double analogAt1 = NAN, analogAt4 = NAN, implicitAt1 = NAN, implicitAt4 = NAN;
         std::vector<std::string> efficiency; // per estimator line, printed below the table
         // CPU lines: analog (Algorithm 1 as printed) and with the default radial splitting
-        // (pathtrace.h, Splitting), then with expected-value exits too (ExpectedExits, a switch:
-        // kExpectedExitSamples); implicit the same three ways (`split` is the default walk); and
+        // (pathtrace.h, Splitting), then with expected-value exits too (ExpectedExits,
+        // kExpectedExitSamples); implicit the same three ways (`split-ev` is the default walk); and
         // MCML's own roulette (w < 10^-4, survival 0.1) on our walk: MCML's estimator, so its
         // variance per path is MCML's.
         struct Line {

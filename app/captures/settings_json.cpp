@@ -55,6 +55,9 @@ void applySettingsJson(Workbench& wb, const json& settings, const std::string& f
         if ((key == "reference" || key == "slice") && value.is_object() &&
             !value.contains("device") && !value.contains("gpu"))
             value["device"] = "cpu"; // recorded before the GL tracers: the CPU walk traced it
+        if ((key == "reference" || key == "slice") && value.is_object() &&
+            !value.contains("exit_samples"))
+            value["exit_samples"] = 0; // recorded before the setting: the actual exits
         s->fromJson(value, file, path);
     }
 }

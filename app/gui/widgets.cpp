@@ -105,6 +105,19 @@ bool inputIntCommitted(const char* label, int* v, int step, int stepFast) {
                             [&](int* x) { return ImGui::InputInt(label, x, step, stepFast); });
 }
 
+bool exitSamplesInput(int& samples) {
+    sameLineIfFits(itemWidth(90, "exit samples"));
+    ImGui::SetNextItemWidth(90);
+    const bool changed = inputIntCommitted("exit samples", &samples);
+    if (changed) samples = std::clamp(samples, 0, 64);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("expected-value exits (CPU analog and implicit walks): each collision "
+                          "near the surface\nscores this many directions with their probability "
+                          "of leaving, where they would leave;\n0: the exits that happen "
+                          "(thesis Algorithm 1). Same expectation, less noise per path.");
+    return changed;
+}
+
 bool inputInt2Committed(const char* label, int v[2]) {
     return committedInts<2>(label, v, [&](int* x) { return ImGui::InputInt2(label, x); });
 }

@@ -81,6 +81,10 @@ template <core::NamedEnum E> bool enumCombo(const char* label, E& value, float w
     }
     return changed;
 }
+// The directions scored per collision by the expected-value exits of the CPU histogram walks
+// (pathtrace.h, ExpectedExits; 0: the actual exits), as the pencil plot's reference and the
+// slice offer it, with its tooltip; on the same line when it fits.
+bool exitSamplesInput(int& samples);
 // The BSSRDF integration's sampling (uniform area | disk probe rays) and, for disk sampling, its
 // probe-axis scheme, as the Lit spheres and Render panels offer them.
 void samplingChoice(const char* label, integrate::Sampling& sampling, sampling::AxisScheme& axes);

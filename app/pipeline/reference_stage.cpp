@@ -217,6 +217,7 @@ bool ReferenceStage::update(const ReferenceInputs& in) {
         s.bins = in.settings.bins;
         s.seed = in.settings.seed;
         s.estimator = in.settings.estimator;
+        s.exits.samples = in.settings.exitSamples;
         material::MaterialParams keyed = p;
         keyed.scale = 0; // lengths of the slab are in mm: the mesh scale is no input
         const std::string key = core::keyOf(keyed, in.rMaxMm, in.settings);

@@ -34,6 +34,10 @@ struct ReferenceSettings {
     // Implicit stays the default: on whole profiles (every bin at once) connections cost one
     // connection per bin per collision and reach 1 % far later (bench pathtrace, connect-all).
     pathtrace::Estimator estimator = pathtrace::Estimator::Implicit;
+    // Expected-value exits of the CPU histogram walks (pathtrace.h, ExpectedExits): directions
+    // scored per collision near the surface, 0 for the actual exits. The GL tracer and the
+    // connections estimator tally their own way and ignore it.
+    int exitSamples = pathtrace::ExpectedExits{}.samples;
 };
 // The description of ReferenceSettings' members (core/fields.h).
 template <class V> void fields(V& v, ReferenceSettings& s) {
@@ -43,6 +47,10 @@ template <class V> void fields(V& v, ReferenceSettings& s) {
     v("seed", s.seed, "random seed");
     v("device", s.device, "auto: the GPU where it measured faster than the CPU, else the CPU");
     v("estimator", s.estimator, "slab estimator (connections: CPU only)");
+    v("exit_samples", s.exitSamples,
+      "expected-value exits: directions scored per collision near the surface (0: the actual "
+      "exits; CPU histogram walks)",
+      core::Limits{0, 64});
 }
 
 struct ReferenceSnapshot {

@@ -24,6 +24,9 @@ struct SliceSettings {
     uint64_t seed = 1;
     pathtrace::BssrdfEstimator estimator = pathtrace::BssrdfEstimator::Connections;
     pathtrace::ScatterOrders orders = pathtrace::ScatterOrders::All;
+    // Expected-value exits of the CPU histogram walks (pathtrace.h, ExpectedExits; analog and
+    // implicit): directions scored per collision near the surface, 0 for the actual exits.
+    int exitSamples = pathtrace::ExpectedExits{}.samples;
     // auto: the GL walk (a slice per frame) where the GL tracer measured faster than the CPU
     // walk on this machine (tracer_device.h; the slab probe decides for both walks)
     TracerDevice device = TracerDevice::Auto;
@@ -44,6 +47,10 @@ template <class V> void fields(V& v, SliceSettings& s) {
     v("seed", s.seed, "random seed");
     v("estimator", s.estimator, "estimator");
     v("orders", s.orders, "scattering orders tallied");
+    v("exit_samples", s.exitSamples,
+      "expected-value exits: directions scored per collision near the surface (0: the actual "
+      "exits; CPU histogram walks)",
+      core::Limits{0, 64});
     v("device", s.device, "auto: the GPU where it measured faster than the CPU, else the CPU");
 }
 

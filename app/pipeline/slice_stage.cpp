@@ -28,6 +28,7 @@ pathtrace::EstimateSettings estimateSettings(const SliceSettings& s, const patht
     e.seed = s.seed;
     e.estimator = s.estimator;
     e.orders = s.orders;
+    e.exits.samples = s.exitSamples;
     return e;
 }
 

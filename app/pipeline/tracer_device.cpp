@@ -47,6 +47,10 @@ ThroughputProbe measureSlabThroughput(const std::filesystem::path& slabShader,
     const pathtrace::Medium m = probeMedium();
     pathtrace::SlabSettings cpu = s;
     cpu.estimator = pathtrace::Estimator::Implicit;
+    // The walk's own rate, as the GL tracer's is: with the actual exits. Expected-value exits
+    // (the CPU default) cost about twice as much per path and give more per path, so the CPU
+    // is at least this good a choice; the GPU is taken only where it outruns even this.
+    cpu.exits.samples = 0;
     cpu.paths = uint64_t(1) << 40;
     p.cpuPathsPerSecond =
         rateOf([&](uint64_t first, uint64_t n) { (void)pathtrace::traceSlab(m, cpu, first, n); },

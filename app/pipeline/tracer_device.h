@@ -9,6 +9,10 @@
 // also carries radial splitting (pathtrace.h, Splitting), which makes its far bins several
 // times cheaper per path: a card has to beat that by throughput to win there too, and every
 // real card measured did so by a wide margin (README, bench pathtrace), so no factor is added.
+// The CPU walk is measured with the actual exits, as the GL tracer tallies them: its default,
+// expected-value exits, costs about twice as much per path for a variance per path lower by
+// more than that (docs/ARCHITECTURE.md, Expected-value exits), so a card that outruns the plain
+// walk is the better device either way, and llvmpipe stays behind it.
 #pragma once
 
 #include "pathtrace/pathtrace.h"

@@ -136,18 +136,17 @@ void validate(const Splitting& s, const std::string& what);
 // at the collision), a lower variance per path: `bench pathtrace`'s time to 1 % per bin is 1.1–2.4x
 // shorter on its cases with kExpectedExitSamples (docs/ARCHITECTURE.md, "Expected-value exits").
 // The energy checks per path still use the actual exits.
-// A switch: samples 0 (the default) tallies the actual exits (Algorithm 1 as printed);
-// kExpectedExitSamples is what `bench pathtrace` found best when it is on (2–4 within 1–2 mean
-// free paths were within the noise on its cases). A path's terms make neighbouring bins
-// positively correlated: each bin's standard error stays honest, and an error of a sum over
-// bins (rel_err's, core/relative_error.h) takes the covariance from the batch means (kBatches
-// below). Not the default yet: a path costs about twice as much (K directions, each with its
-// Fresnel and exponential, at most collisions of a high-albedo walk), so every test and README
-// command that traces a fixed number of paths takes twice as long — 80 s more of CI's Release
-// tests — until their path counts are set for the lower variance per path.
+// On by default with kExpectedExitSamples, what `bench pathtrace` found best (2–4 within 1–2
+// mean free paths were within the noise on its cases); samples 0 tallies the actual exits
+// (Algorithm 1 as printed), as the GL tracers do. A path costs about twice as much (K
+// directions, each with its Fresnel and exponential) and reaches 1 % per bin sooner at every
+// radius measured. A path's terms make neighbouring bins positively correlated: each bin's
+// standard error stays honest, and an error of a sum over bins (rel_err's,
+// core/relative_error.h) takes the covariance from the batch means (kBatches below); a fit that
+// weighs bins as independent wants the actual exits.
 inline constexpr int kExpectedExitSamples = 2;
 struct ExpectedExits {
-    int samples = 0;       // 0: tally the actual exits
+    int samples = kExpectedExitSamples; // 0: tally the actual exits
     double depthMfp = 2.0; // collisions this close to the surface average `samples` directions
 };
 template <class V> void fields(V& v, ExpectedExits& e) {

@@ -668,12 +668,18 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     r = run({"slab", "--sigma-a", "0.05", "--paths", "2000", "--out", "ok2.csv"});
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_NE(readText(dir() / "ok2.csv").find("# energy_check ok"), std::string::npos);
-    EXPECT_NE(readText(dir() / "ok2.csv").find("# exits actual\n"), std::string::npos);
+    // the default: expected-value exits, 2 samples
+    EXPECT_NE(readText(dir() / "ok2.csv").find("# exits expected, 2 samples within 2 mfp\n"),
+              std::string::npos);
     r = run(
         {"slab", "--sigma-a", "0.05", "--paths", "2000", "--exit-samples", "3", "--out", "ev.csv"});
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_NE(readText(dir() / "ev.csv").find("# exits expected, 3 samples within 2 mfp\n"),
               std::string::npos);
+    r = run(
+        {"slab", "--sigma-a", "0.05", "--paths", "2000", "--exit-samples", "0", "--out", "an.csv"});
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(readText(dir() / "an.csv").find("# exits actual\n"), std::string::npos);
 }
 
 // Numbers on the command line are refused when not finite, negative where a count is meant or

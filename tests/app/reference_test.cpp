@@ -4,6 +4,7 @@
 #include "../support/gl_fixture.h"
 #include "capture/capture.h"
 #include "captures/capture_io.h"
+#include "captures/settings_json.h"
 #include "core/color.h"
 #include "core/statistics.h"
 #include "pathtrace/bssrdf_table.h"
@@ -128,8 +129,8 @@ TEST(Reference, BadMaterialIsAnErrorNotACrash) {
 }
 
 // The connections estimator (seed 001) as the pencil plot's reference on the CPU: a band
-// whose error per path is below the implicit one's near the source; on the GL tracer, which
-// has no connections, a message in Errors instead of a band.
+// whose error per path is below the implicit histogram's of the actual exits near the source; on
+// the GL tracer, which has no connections, a message in Errors instead of a band.
 TEST(Reference, ConnectionsEstimatorOnCpuAndRefusedOnGpu) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("refconn", {"dipole.bssrdf"});
@@ -148,6 +149,7 @@ TEST(Reference, ConnectionsEstimatorOnCpuAndRefusedOnGpu) {
     EXPECT_TRUE(conn.energy.empty()) << conn.energy;
     EXPECT_EQ(conn.pathsDone, 4000u);
     rs.estimator = pathtrace::Estimator::Implicit;
+    rs.exitSamples = 0; // the histogram of the exits themselves (expected-value exits: below)
     wb.update();
     const app::ReferenceSnapshot imp = wb.finishReference();
     for (int c = 0; c < 3; ++c) {
@@ -175,6 +177,71 @@ TEST(Reference, ConnectionsEstimatorOnCpuAndRefusedOnGpu) {
 
 // A path-traced table as a model (materials/README.md): drawn in the pencil plot; a material
 // other than the table's medium is an Errors entry naming both, and matching clears it.
+// Expected-value exits are the reference's default (pathtrace.h, ExpectedExits), a setting of
+// the reference and of the slice that reaches the CPU walk: the same profile within the errors
+// as the actual exits, a smaller error near the source. Captures record it; a capture written
+// before the setting existed traced the actual exits and replays them.
+TEST(Reference, ExpectedValueExitsAreASettingThatCapturesRecord) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("refexits", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    wb.plotSettings().fixedRange = true;
+    wb.plotSettings().rMaxMm = 4.0;
+    auto& rs = wb.referenceSettings();
+    // one default, in the GUI, the CLI (slab, estimate) and captures
+    EXPECT_EQ(rs.exitSamples, pathtrace::kExpectedExitSamples);
+    EXPECT_EQ(rs.exitSamples, pathtrace::SlabSettings{}.exits.samples);
+    EXPECT_EQ(wb.sliceSettings().exitSamples, pathtrace::EstimateSettings{}.exits.samples);
+    rs.enabled = true;
+    rs.paths = 4000;
+    rs.bins = 8;
+    rs.device = app::TracerDevice::Cpu;
+    wb.update();
+    const app::ReferenceSnapshot ev = wb.finishReference();
+    ASSERT_TRUE(ev.problem.empty()) << ev.problem;
+    EXPECT_TRUE(ev.energy.empty()) << ev.energy;
+    rs.exitSamples = 0;
+    wb.update();
+    const app::ReferenceSnapshot actual = wb.finishReference();
+    ASSERT_TRUE(actual.problem.empty()) << actual.problem;
+    for (int c = 0; c < 3; ++c) {
+        const auto& a = ev.channel[c];
+        const auto& b = actual.channel[c];
+        ASSERT_EQ(a.rd.size(), 8u);
+        for (size_t i = 0; i < a.rd.size(); ++i)
+            EXPECT_LT(std::fabs(a.rd[i] - b.rd[i]) / std::hypot(a.rdStderr[i], b.rdStderr[i]),
+                      core::bonferroniZ(1e-3, 24))
+                << "channel " << c << " bin " << i;
+        EXPECT_LT(a.rdStderr[0], b.rdStderr[0]) << "channel " << c;
+    }
+    // captures: recorded as set; missing (written before the setting) means the actual exits
+    rs.exitSamples = 3;
+    const capture::Manifest m = app::captureInputs(wb, "exits", -1, -1);
+    EXPECT_EQ(m.settings["reference"]["exit_samples"], 3);
+    EXPECT_EQ(m.settings["slice"]["exit_samples"], pathtrace::kExpectedExitSamples);
+    int x = 0, y = 0;
+    app::applySettingsJson(wb, nlohmann::json::parse(R"({"reference": {"paths": 100}})"), "m.json",
+                           x, y);
+    EXPECT_EQ(wb.referenceSettings().exitSamples, 0);
+    app::applySettingsJson(wb, nlohmann::json::parse(R"({"slice": {"paths": 100}})"), "m.json", x,
+                           y);
+    EXPECT_EQ(wb.sliceSettings().exitSamples, 0);
+    app::applySettingsJson(wb, nlohmann::json::parse(R"({"slice": {"exit_samples": 4}})"), "m.json",
+                           x, y);
+    EXPECT_EQ(wb.sliceSettings().exitSamples, 4);
+    try {
+        app::applySettingsJson(wb, nlohmann::json::parse(R"({"reference": {"exit_samples": 65}})"),
+                               "m.json", x, y);
+        ADD_FAILURE() << "65 exit samples were accepted";
+    } catch (const core::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("m.json"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("settings.reference.exit_samples"), std::string::npos)
+            << e.what();
+    }
+    std::filesystem::remove_all(root);
+}
+
 TEST(Reference, TableModelNamesAMediumMismatch) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("reftable", {});

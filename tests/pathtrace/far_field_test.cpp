@@ -87,6 +87,10 @@ TEST(FarField, DecayRateIsTheTransportEigenvalue) {
     s.bins = 52;
     s.paths = 20000000;
     s.seed = 5;
+    // The fit weighs the bins as independent, which holds for the actual exits (one bin per
+    // exit); expected-value exits spread a path over neighbouring bins and correlate them
+    // (their own tests: expected_exits_test.cpp).
+    s.exits.samples = 0;
     const auto r = pathtrace::runSlab(m, s);
 
     std::array<std::array<double, 4>, 4> normal{};

@@ -46,6 +46,7 @@ void drawReferenceControls(Workbench& wb) {
                           "roulette (thesis Algorithm 1; the CPU walk splits radially)\n"
                           "connections: every collision connected to every bin (seed 001; CPU "
                           "only)");
+    exitSamplesInput(rs.exitSamples);
     enumCombo("device", rs.device, 70);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("gpu: GL compute tracer (shaders/pathtrace_slab.comp, hot-reloaded), a "

@@ -179,6 +179,7 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
         s.paths = uint64_t(std::clamp(tenK, 1, 1000000)) * 10000;
     enumCombo("estimator", s.estimator, 110);
     enumCombo("orders", s.orders, 100);
+    exitSamplesInput(s.exitSamples);
     enumCombo("device", s.device, 70);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("gpu: GL walk (shaders/bssrdf_walk.comp, hot-reloaded), a slice per "
