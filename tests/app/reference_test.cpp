@@ -15,6 +15,26 @@
 #include <cmath>
 #include <fstream>
 
+namespace {
+
+// Two references of 8 bins per channel: the same profile within the errors (Bonferroni over 8
+// bins x 3 channels at 1e-3), and a smaller standard error of `a` in the bin at the source.
+void expectSameProfileLessNoisyAtTheSource(const app::ReferenceSnapshot& refA,
+                                           const app::ReferenceSnapshot& refB) {
+    for (int c = 0; c < 3; ++c) {
+        const auto& a = refA.channel[c];
+        const auto& b = refB.channel[c];
+        ASSERT_EQ(a.rd.size(), 8u);
+        for (size_t i = 0; i < a.rd.size(); ++i)
+            EXPECT_LT(std::fabs(a.rd[i] - b.rd[i]) / std::hypot(a.rdStderr[i], b.rdStderr[i]),
+                      core::bonferroniZ(1e-3, 24))
+                << "channel " << c << " bin " << i;
+        EXPECT_LT(a.rdStderr[0], b.rdStderr[0]) << "channel " << c;
+    }
+}
+
+} // namespace
+
 TEST(Reference, SeriesBandAndModelErrors) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("ref", {"dipole.bssrdf"});
@@ -152,17 +172,7 @@ TEST(Reference, ConnectionsEstimatorOnCpuAndRefusedOnGpu) {
     rs.exitSamples = 0; // the histogram of the exits themselves (expected-value exits: below)
     wb.update();
     const app::ReferenceSnapshot imp = wb.finishReference();
-    for (int c = 0; c < 3; ++c) {
-        const auto& a = conn.channel[c];
-        const auto& b = imp.channel[c];
-        ASSERT_EQ(a.rd.size(), 8u);
-        // the same profile within the errors (Bonferroni over 8 bins x 3 channels at 1e-3)
-        for (size_t i = 0; i < a.rd.size(); ++i)
-            EXPECT_LT(std::fabs(a.rd[i] - b.rd[i]) / std::hypot(a.rdStderr[i], b.rdStderr[i]),
-                      core::bonferroniZ(1e-3, 24))
-                << "channel " << c << " bin " << i;
-        EXPECT_LT(a.rdStderr[0], b.rdStderr[0]) << "channel " << c;
-    }
+    expectSameProfileLessNoisyAtTheSource(conn, imp);
     rs.estimator = pathtrace::Estimator::Connections;
     rs.device = app::TracerDevice::Gpu;
     wb.update();
@@ -205,16 +215,7 @@ TEST(Reference, ExpectedValueExitsAreASettingThatCapturesRecord) {
     wb.update();
     const app::ReferenceSnapshot actual = wb.finishReference();
     ASSERT_TRUE(actual.problem.empty()) << actual.problem;
-    for (int c = 0; c < 3; ++c) {
-        const auto& a = ev.channel[c];
-        const auto& b = actual.channel[c];
-        ASSERT_EQ(a.rd.size(), 8u);
-        for (size_t i = 0; i < a.rd.size(); ++i)
-            EXPECT_LT(std::fabs(a.rd[i] - b.rd[i]) / std::hypot(a.rdStderr[i], b.rdStderr[i]),
-                      core::bonferroniZ(1e-3, 24))
-                << "channel " << c << " bin " << i;
-        EXPECT_LT(a.rdStderr[0], b.rdStderr[0]) << "channel " << c;
-    }
+    expectSameProfileLessNoisyAtTheSource(ev, actual);
     // captures: recorded as set; missing (written before the setting) means the actual exits
     rs.exitSamples = 3;
     const capture::Manifest m = app::captureInputs(wb, "exits", -1, -1);
