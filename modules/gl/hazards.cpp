@@ -242,7 +242,15 @@ void need(State& st, std::map<GLuint, Pending>& objects, GLuint id, GLbitfield b
 // The comparison mode comes from the sampler object bound to the unit, else from the texture.
 void checkComparison(State& st, const std::string& by, bool shadow, GLuint texture,
                      GLuint samplerObject, GLint unit) {
-    if (texture == 0) return;
+    if (texture == 0) {
+        if (!shadow) return;
+        const std::string message = "sampler state: " + by + " has a shadow sampler on unit " +
+                                    std::to_string(unit) + ", which has no texture bound";
+        if (!st.reported.insert(message).second) return;
+        detail::reportDebugMessage(GL_DEBUG_SOURCE_APPLICATION, GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR,
+                                   GL_DEBUG_SEVERITY_HIGH, message);
+        return;
+    }
     GLint depthBits = 0;
     glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_DEPTH_SIZE, &depthBits);
     if (depthBits == 0) return; // comparisons apply to depth textures only
@@ -318,6 +326,31 @@ void programAccess(const std::string& call) {
             st.buffers[id] = {kBufferWrite, "the " + call + " of " + io.name};
     for (GLuint id : writtenImages)
         st.textures[id] = {kTextureWrite, "the " + call + " of " + io.name};
+}
+
+// NVIDIA validates the current program's sampler state at clears as at draws (seen: "a sampler
+// (0) that has depth comparisons disabled, with a texture object (0) ... shadow sampler" at the
+// shadow pass's depth clear while the irradiance program stayed current with its maps unbound).
+void currentProgramSamplers(const std::string& call) {
+    GLint program = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    if (program == 0) return;
+    State& st = state();
+    const ProgramIo& io = programIo(st, static_cast<GLuint>(program));
+    const std::string by = call + " while " + io.name + " is current";
+    GLint active = 0;
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    for (const ProgramIo::Sampler& sampler : io.samplers) {
+        GLint unit = 0;
+        glGetUniformiv(static_cast<GLuint>(program), sampler.location, &unit);
+        glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+        GLint texture = 0, samplerObject = 0;
+        glGetIntegerv(sampler.binding, &texture);
+        glGetIntegerv(GL_SAMPLER_BINDING, &samplerObject);
+        checkComparison(st, by, sampler.shadow, static_cast<GLuint>(texture),
+                        static_cast<GLuint>(samplerObject), unit);
+    }
+    glActiveTexture(static_cast<GLenum>(active));
 }
 
 void framebufferAccess(GLenum binding, const std::string& call) {
@@ -547,6 +580,12 @@ BW_HOOK(
         glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &current);
         if (static_cast<GLuint>(current) == framebuffer)
             framebufferAccess(GL_DRAW_FRAMEBUFFER_BINDING, "glClearNamedFramebufferfv");
+        currentProgramSamplers("glClearNamedFramebufferfv");
+    }, )
+BW_HOOK(
+    glClear, (GLbitfield mask), (mask), {
+        framebufferAccess(GL_DRAW_FRAMEBUFFER_BINDING, "glClear");
+        currentProgramSamplers("glClear");
     }, )
 BW_HOOK(glNamedBufferStorage, (GLuint buffer, GLsizeiptr size, const void* data, GLbitfield flags),
         (buffer, size, data, flags), , {
@@ -698,6 +737,7 @@ void installBarrierChecks(ProcResolver resolve) {
     BW_INSTALL(glCopyImageSubData);
     BW_INSTALL(glReadPixels);
     BW_INSTALL(glClearNamedFramebufferfv);
+    BW_INSTALL(glClear);
     BW_INSTALL(glNamedBufferStorage);
     BW_INSTALL(glTextureStorage2D);
     BW_INSTALL(glTextureStorage3D);

@@ -108,9 +108,12 @@ void ShadowMaps::render(int layer, const LightFrame& frame) {
     glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
     glDisable(GL_SCISSOR_TEST);
+    // the pass's program is current before its clear: NVIDIA validates the current program's
+    // sampler state at clears too, and the irradiance programs' shadow samplers have no maps on
+    // their units between dispatches (docs/ARCHITECTURE.md, "State a driver validates")
+    glUseProgram(m_program.id());
     const float one = 1.0f;
     glClearNamedFramebufferfv(m_fbo.id(), GL_DEPTH, 0, &one);
-    glUseProgram(m_program.id());
     const glm::mat4 m = frame.clipFromWorld();
     glUniformMatrix4fv(m_clipFromWorld, 1, GL_FALSE, glm::value_ptr(m));
     glBindVertexArray(m_vao.id());

@@ -355,6 +355,7 @@ std::vector<glm::vec3> Stage::computeDirect(const Settings& s) {
     m_shadow->bind();
     glBindTextureUnit(2, m_projected.id());
     dispatchPoints(m_direct);
+    glUseProgram(0); // no program stays current whose shadow samplers meet unbound units
     m_shadow->unbind();
     return readResult();
 }

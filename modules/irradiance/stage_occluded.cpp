@@ -86,6 +86,7 @@ bool Stage::stepOccluded() {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, blockBuf.id());
     m_shadow->bind();
     dispatchPoints(m_occluded);
+    glUseProgram(0); // no program stays current whose shadow samplers meet unbound units
     m_shadow->unbind();
     m_occ.current = 1 - m_occ.current;
     m_occ.done += count;

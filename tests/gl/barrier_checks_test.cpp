@@ -149,7 +149,8 @@ void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
     glUseProgram(p.id());
     glBindTextureUnit(2, depth.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());
-    EXPECT_NONFATAL_FAILURE(glDispatchCompute(1, 1, 1),
+    // (NVIDIA adds its own message: "a sampler (0) that has depth comparisons disabled")
+    bwtest::expectGlProblem([] { glDispatchCompute(1, 1, 1); },
                             "through a shadow sampler, but texture " + std::to_string(depth.id()) +
                                 "'s own state has depth comparison off");
     glTextureParameteri(depth.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
@@ -157,10 +158,38 @@ void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
     GLuint sampler = 0;
     glCreateSamplers(1, &sampler); // a sampler object's state wins over the texture's
     glBindSampler(2, sampler);
-    EXPECT_NONFATAL_FAILURE(glDispatchCompute(1, 1, 1), "but sampler object");
+    bwtest::expectGlProblem([] { glDispatchCompute(1, 1, 1); }, "but sampler object");
     glBindSampler(2, 0);
     glDeleteSamplers(1, &sampler);
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+// NVIDIA checks the current program's samplers at clears too: the irradiance program, left
+// current after its dispatch with its shadow maps unbound, made the shadow pass's depth clear
+// report "a sampler (0) ... with a texture object (0) ... shadow sampler", and its next dispatch
+// read zeros (then the context was reset). The checks report it at every clear, on any driver.
+TEST(BarrierChecks, AClearWhileAShadowSamplingProgramIsCurrentNeedsItsMaps) {
+    context();
+    const char* src = R"(#version 450
+layout(local_size_x = 1) in;
+layout(binding = 3) uniform sampler2DShadow Depth;
+layout(std430, binding = 0) writeonly buffer Out { float v[]; };
+void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
+    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, src}});
+    gl::Texture depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, 4, 4);
+    GLuint fbo = 0;
+    glCreateFramebuffers(1, &fbo);
+    glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth.id(), 0);
+    const float one = 1.0f;
+    glUseProgram(p.id());
+    glBindTextureUnit(3, 0);
+    bwtest::expectGlProblem([&] { glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one); },
+                            "glClearNamedFramebufferfv while program " + std::to_string(p.id()) +
+                                " is current has a shadow sampler on unit 3, which has no "
+                                "texture bound");
+    glUseProgram(0); // what the irradiance stage does after its dispatch: nothing to check
+    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
+    glDeleteFramebuffers(1, &fbo);
 }
 
 // Storage made without data is undefined: Mesa gives zeros, other drivers what the memory held.
