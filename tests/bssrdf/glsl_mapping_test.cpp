@@ -60,28 +60,23 @@ TEST(GlslMapping, TypeErrorsAndUndeclaredNamesLandOnTheirLines) {
     EXPECT_EQ(f.problem->line, lineOf(typed, "vec2(1.0, Fdr)")) << f.problem->text();
 }
 
-// A syntax error is one line (it was listed twice: the mapped message and the driver's line
-// again); an undeclared name is one headline with its cascade after it, each distinct message
-// once with its count (it was six and more lines, repeats included).
-TEST(GlslMapping, AnErrorIsOneHeadlineAndItsCascadeIsFoldedBelowIt) {
-    std::string text = replaced(dipole(), "    vec3 Zr = Lu;", "    vec3 Zr = Lu +* ;");
-    auto p = loadModelText("syntax_once", "broken.bssrdf", text);
-    const std::string syntax = p.lib->entries().at(0).problem->text();
-    EXPECT_EQ(syntax.find('\n'), std::string::npos) << syntax;
-
-    text = replaced(dipole(), "    vec3 Dr = sqrt(R + Zr*Zr);",
-                    "    vec3 Dr = sqrt(R + UndeclaredThing*UndeclaredThing);");
-    auto q = loadModelText("cascade", "undeclared.bssrdf", text);
-    const std::string all = q.lib->entries().at(0).problem->text();
+// An error is one headline, never listed twice (it was: the mapped message and the driver's line
+// again), with what the compiler said after it folded below it: "N more compiler messages", then
+// each distinct message once with its count (it was six and more lines, repeats included). How
+// much follows depends on the compiler: Mesa stops at a syntax error and follows an undeclared
+// name with more errors; NVIDIA goes on after a syntax error (undefined names that follow from
+// it) and says an undeclared name once, "(2 times)".
+static void expectOneHeadlineAndFoldedCascade(const std::string& all,
+                                              const std::string& inHeadline) {
     const std::string headline = all.substr(0, all.find('\n'));
-    EXPECT_NE(headline.find("UndeclaredThing"), std::string::npos) << all;
+    EXPECT_NE(headline.find(inHeadline), std::string::npos) << all;
     std::vector<std::string> rest;
     for (size_t at = all.find('\n'); at != std::string::npos;) {
         const size_t next = all.find('\n', at + 1);
         rest.push_back(all.substr(at + 1, next == std::string::npos ? next : next - at - 1));
         at = next;
     }
-    ASSERT_FALSE(rest.empty()) << all; // Mesa follows an undeclared name with more errors
+    if (rest.empty()) return;
     EXPECT_NE(rest[0].find("more compiler message"), std::string::npos) << all;
     std::set<std::string> distinct(rest.begin(), rest.end());
     EXPECT_EQ(distinct.size(), rest.size()) << "a message repeated instead of counted:\n" << all;
@@ -89,6 +84,19 @@ TEST(GlslMapping, AnErrorIsOneHeadlineAndItsCascadeIsFoldedBelowIt) {
         EXPECT_EQ(line.find(headline.substr(headline.find(": ") + 2)), std::string::npos)
             << "the headline again:\n"
             << all;
+}
+
+TEST(GlslMapping, AnErrorIsOneHeadlineAndItsCascadeIsFoldedBelowIt) {
+    std::string text = replaced(dipole(), "    vec3 Zr = Lu;", "    vec3 Zr = Lu +* ;");
+    auto p = loadModelText("syntax_once", "broken.bssrdf", text);
+    const std::string syntax = p.lib->entries().at(0).problem->text();
+    expectOneHeadlineAndFoldedCascade(syntax, "syntax error");
+
+    text = replaced(dipole(), "    vec3 Dr = sqrt(R + Zr*Zr);",
+                    "    vec3 Dr = sqrt(R + UndeclaredThing*UndeclaredThing);");
+    auto q = loadModelText("cascade", "undeclared.bssrdf", text);
+    const std::string all = q.lib->entries().at(0).problem->text();
+    expectOneHeadlineAndFoldedCascade(all, "UndeclaredThing");
 }
 
 TEST(GlslMapping, ErrorInDiffuseReflectanceSectionLandsOnItsLine) {

@@ -126,11 +126,14 @@ TEST(WindowSize, FitsTheWorkAreaWithItsDecorations) {
 TEST(HeadlessContext, AnUnexpectedGlErrorFailsTheTest) {
     static auto ctx = gl::createHeadlessContext();
     ctx->makeCurrent();
-    EXPECT_NONFATAL_FAILURE(glUseProgram(987654u), "GL debug message of type ERROR");
+    // never generated: GL_INVALID_OPERATION, one message on Mesa and on NVIDIA
+    EXPECT_NONFATAL_FAILURE(glBindTexture(GL_TEXTURE_2D, 987654u),
+                            "GL debug message of type ERROR");
+    bwtest::expectGlProblem([] { glBindTexture(GL_TEXTURE_2D, 987655u); }, "GL_INVALID_OPERATION");
     bwtest::ExpectedGlErrors expected;
-    glUseProgram(987654u); // never generated: GL_INVALID_VALUE
+    glBindTexture(GL_TEXTURE_2D, 987656u);
     EXPECT_EQ(expected.count(), 1);
-    glUseProgram(0);
+    glBindTexture(GL_TEXTURE_2D, 0);
 }
 
 // The limits a driver must meet (gl/limits.cpp): this driver meets them all, and one that falls

@@ -298,10 +298,14 @@ TEST(IrradianceFiltered, ProjectedTextureInLightSpace) {
         const glm::vec3 want = closedForm(N[i], b.w, s.ior) * bilinear(img, W, H, uv);
         const glm::vec3 base = closedForm(N[i], b.w, s.ior);
         for (int k = 0; k < 3; ++k) {
-            // texture filtering weights: at least 8 fractional bits (1/256 of the texel range)
+            // texture filtering weights: at least 8 fractional bits per axis (Direct3D 11's
+            // rule, which NVIDIA's samplers follow), so each axis's weight is off by less than
+            // 2^-8 and the lookup by less than 2^-8 of the two axes' texel differences: 2·0.9/256
+            // for this image's range of 0.9. (The bound was 0.9/256, one axis's share: NVIDIA's
+            // H200 came to 0.00381, 1.08 of it; llvmpipe filters in float, 6e-7.)
             const double err = std::abs(E[i][k] - want[k]) / base[k];
             maxErr = std::max(maxErr, err);
-            EXPECT_LT(err, 0.9 / 256 + 1e-5) << i << " channel " << k;
+            EXPECT_LT(err, 2 * 0.9 / 256 + 1e-5) << i << " channel " << k;
         }
         ++checked;
     }

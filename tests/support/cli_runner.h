@@ -13,8 +13,10 @@
 #include <string>
 #include <vector>
 
+#include <chrono>
 #include <csignal>
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -57,9 +59,12 @@ inline std::string describe(const std::vector<std::string>& args, const RunResul
 }
 
 // Runs the command line `full` (program first) in `cwd` (fork/exec, no shell); with
-// signalAfterMs > 0, sends `sig` to it after that many milliseconds.
+// signalAfterMs > 0, sends `sig` to it after that many milliseconds; with `signalWhen` not empty,
+// as soon as its output contains that text instead (or after signalAfterMs, if it never does):
+// how a test interrupts work once it has started, however long the start takes on a driver.
 inline RunResult runCommand(std::vector<std::string> full, const fs::path& cwd,
-                            int signalAfterMs = 0, int sig = 0) {
+                            int signalAfterMs = 0, int sig = 0,
+                            const std::string& signalWhen = "") {
     std::vector<char*> argv;
     for (auto& a : full)
         argv.push_back(a.data());
@@ -85,13 +90,27 @@ inline RunResult runCommand(std::vector<std::string> full, const fs::path& cwd,
         ::_exit(127);
     }
     ::close(fds[1]);
-    if (signalAfterMs > 0) {
+    if (signalAfterMs > 0 && signalWhen.empty()) {
         ::usleep(useconds_t(signalAfterMs) * 1000u);
         ::kill(pid, sig);
     }
     RunResult r;
     char buf[4096];
+    bool signalled = signalWhen.empty();
+    const auto start = std::chrono::steady_clock::now();
     for (;;) {
+        if (!signalled) { // wait for output at most until the deadline, in steps of 50 ms
+            const double ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                    .count();
+            if (r.output.find(signalWhen) != std::string::npos || ms > signalAfterMs) {
+                ::kill(pid, sig);
+                signalled = true;
+            } else {
+                pollfd p{fds[0], POLLIN, 0};
+                if (::poll(&p, 1, 50) == 0) continue;
+            }
+        }
         ssize_t n = ::read(fds[0], buf, sizeof buf);
         if (n > 0)
             r.output.append(buf, static_cast<size_t>(n));

@@ -7,6 +7,7 @@
 
 #include "gl/gl.h"
 
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -46,6 +47,26 @@ ExpectedGlErrors::~ExpectedGlErrors() {
 }
 long ExpectedGlErrors::count() const {
     return g_seen.load() - m_before;
+}
+
+void expectGlProblem(const std::function<void()>& provoke, const std::string& text) {
+    ::testing::TestPartResultArray results;
+    {
+        ::testing::ScopedFakeTestPartResultReporter reporter(
+            ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &results);
+        provoke();
+    }
+    bool named = false;
+    std::string all;
+    for (int i = 0; i < results.size(); ++i) {
+        const std::string m = results.GetTestPartResult(i).message();
+        all += m + "\n";
+        EXPECT_NE(m.find("GL debug message of type"), std::string::npos)
+            << "a failure that is not a GL debug message: " << m;
+        named = named || m.find(text) != std::string::npos;
+    }
+    EXPECT_GE(results.size(), 1) << "no GL debug message failed the test";
+    EXPECT_TRUE(named) << "no GL debug message said \"" << text << "\"; they said:\n" << all;
 }
 
 } // namespace bwtest

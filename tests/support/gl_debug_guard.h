@@ -2,7 +2,17 @@
 // for the tests that provoke them on purpose; count() says how many came.
 #pragma once
 
+#include <functional>
+#include <string>
+
 namespace bwtest {
+
+// Runs `provoke` and expects the guard to fail the test for it: at least one failure, every one
+// of them a GL debug message, one containing `text`; the failures are swallowed. Drivers differ
+// in how many messages one bad call gets (NVIDIA: two for glUseProgram of a name never made; its
+// own report beside ours for a shadow sampler without comparison), which EXPECT_NONFATAL_FAILURE
+// (exactly one) cannot take.
+void expectGlProblem(const std::function<void()>& provoke, const std::string& text);
 
 class ExpectedGlErrors {
   public:
