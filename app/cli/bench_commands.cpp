@@ -6,9 +6,18 @@
 #include "cli/options.h"
 #include "core/core.h"
 
+#include <cstdio>
 #include <memory>
 
 namespace app {
+
+namespace {
+// each line as it is measured, also into a file or pipe: a bench stopped by a time limit (or
+// Ctrl-C) keeps what it printed
+void lineBuffered() {
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);
+}
+} // namespace
 
 Command benchGroup() {
     return {"bench", "benchmarks (print measured ratios; not tests)", false, {}};
@@ -20,7 +29,10 @@ Command benchReloadCommand() {
                 auto runs = std::make_shared<int>(10);
                 cmd.add_option("--runs", *runs, "edits to time (default 10)")
                     ->check(CLI::Range(1, 1000));
-                return [runs](CommandContext& ctx) { return benchReload(ctx.root(), *runs); };
+                return [runs](CommandContext& ctx) {
+                    lineBuffered();
+                    return benchReload(ctx.root(), *runs);
+                };
             }};
 }
 
@@ -35,6 +47,7 @@ Command benchPathtraceCommand() {
                                "MCML 1.2.2's mcml binary: time it here on the reference case "
                                "(2e6 photons) beside our tracer");
                 return [seconds, mcml](CommandContext& ctx) {
+                    lineBuffered();
                     return benchPathtrace(ctx.root(), *seconds, *mcml);
                 };
             }};
@@ -57,6 +70,7 @@ Command benchSamplingCommand() {
                                "the reference runs this many times longer (default 10)")
                     ->check(CLI::Range(1.0, 1000.0));
                 return [a](CommandContext& ctx) {
+                    lineBuffered();
                     return benchSampling(ctx.root(), a->seconds, a->size, a->reference);
                 };
             }};
@@ -79,7 +93,10 @@ Command benchConvergenceCommand() {
                 cmd.add_option("--max-spp", a->maxSpp, "last Monte Carlo point (default 256)")
                     ->check(CLI::Range(1, 1000000));
                 cmd.add_option("--out", a->out, "folder for convergence.csv and convergence.png");
-                return [a](CommandContext& ctx) { return benchConvergence(ctx.root(), *a); };
+                return [a](CommandContext& ctx) {
+                    lineBuffered();
+                    return benchConvergence(ctx.root(), *a);
+                };
             }};
 }
 
@@ -102,6 +119,7 @@ Command benchTextureSpaceCommand() {
             cmd.add_option("--sets", a->sets, "sample sets per case (default 4)")
                 ->check(CLI::Range(1, 10000));
             return [a](CommandContext& ctx) {
+                lineBuffered();
                 const std::filesystem::path& root = ctx.root();
                 for (int k : a->textures)
                     if (k < 16 || k > 2048 || (k & (k - 1)) != 0)
@@ -137,7 +155,10 @@ Command benchHierarchyCommand() {
                                "solid-angle criterion eps values (default 0.8 0.4 0.2 0.1)");
                 cmd.add_option("--box-eps", a->boxEps,
                                "bounding-box criterion eps values (default 12.8 6.4 3.2 1.6)");
-                return [a](CommandContext& ctx) { return benchHierarchy(ctx.root(), *a); };
+                return [a](CommandContext& ctx) {
+                    lineBuffered();
+                    return benchHierarchy(ctx.root(), *a);
+                };
             }};
 }
 

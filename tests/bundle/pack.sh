@@ -47,6 +47,9 @@ cut -f3 "$root/tests.tsv" | sort -u | while read -r exe; do
   [[ -n $p ]] || { echo "pack: test executable $f not found" >&2; exit 1; }
   cp "$p" "$root/bin/"
 done
+# GNU parallel (a Perl script; the target needs perl): the sharding tests run the README's
+# `parallel` command lines
+if p=$(command -v parallel); then cp -L "$p" "$root/bin/"; fi
 if grep -q "$src\|$build" "$root/tests.tsv"; then
   echo "pack: a test command still names $src or $build" >&2
   exit 1

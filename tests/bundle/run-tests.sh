@@ -28,6 +28,7 @@ done
 [[ $limit =~ ^[1-9][0-9]*$ ]] || { echo "run-tests.sh: --timeout: expected seconds, got '$limit'" >&2; exit 2; }
 
 export LD_LIBRARY_PATH=$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+export PATH=$here/bin:$PATH # GNU parallel, packed beside the executables
 export BW_TEST_SOURCE_ROOT=$here/src BW_TEST_EXE=$here/bin/bssrdf-workbench
 # glvnd finds the vendor's EGL library through its JSON; NVIDIA containers keep it here
 nvidiaEgl=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
