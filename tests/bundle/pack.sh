@@ -47,9 +47,6 @@ cut -f3 "$root/tests.tsv" | sort -u | while read -r exe; do
   [[ -n $p ]] || { echo "pack: test executable $f not found" >&2; exit 1; }
   cp "$p" "$root/bin/"
 done
-# GNU parallel (a Perl script; the target needs perl): the sharding tests run the README's
-# `parallel` command lines
-if p=$(command -v parallel); then cp -L "$p" "$root/bin/"; fi
 if grep -q "$src\|$build" "$root/tests.tsv"; then
   echo "pack: a test command still names $src or $build" >&2
   exit 1
@@ -66,6 +63,9 @@ for lib in libEGL.so.1 libGL.so.1 libOpenGL.so.0 libGLdispatch.so.0 libGLX.so.0;
 done
 
 strip --strip-unneeded "$root"/bin/* "$root"/lib/* 2>/dev/null || true
+# GNU parallel (a Perl script; the target needs perl), after ldd and strip, which take ELF files
+# only: the sharding tests run the README's `parallel` command lines
+if p=$(command -v parallel); then cp -L "$p" "$root/bin/"; fi
 cp "$src/tests/bundle/run-tests.sh" "$root/"
 chmod +x "$root/run-tests.sh"
 # (awk reads to the end: `head` would leave ldd writing into a closed pipe, SIGPIPE, exit 141)
