@@ -23,10 +23,8 @@ void finishWithin(const std::string& what, double seconds, const FencePoll& poll
         if (r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED) break;
         // still waiting: a reset is named at once rather than waited out
         if (r == GL_TIMEOUT_EXPIRED)
-            if (const ResetStatus reset = graphicsResetStatus(); reset != ResetStatus::None) {
-                glDeleteSync(fence);
-                throw core::Error(what + ": " + describe(reset));
-            }
+            if (const ResetStatus reset = graphicsResetStatus(); reset != ResetStatus::None)
+                throw core::Error(what + ": " + describe(reset)); // the fence went with it
         if (r != GL_TIMEOUT_EXPIRED) {
             glDeleteSync(fence);
             throw core::Error(what + ": waiting for the GPU failed (lost context?)");

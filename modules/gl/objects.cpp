@@ -13,16 +13,18 @@
 
 namespace gl {
 
+// After a reset the objects went with the context: nothing to delete (contextLost()).
 void deleteBuffer(GLuint id) {
-    glDeleteBuffers(1, &id);
+    if (!contextLost()) glDeleteBuffers(1, &id);
 }
 void deleteTexture(GLuint id) {
-    glDeleteTextures(1, &id);
+    if (!contextLost()) glDeleteTextures(1, &id);
 }
 void deleteFramebuffer(GLuint id) {
-    glDeleteFramebuffers(1, &id);
+    if (!contextLost()) glDeleteFramebuffers(1, &id);
 }
 void deleteProgram(GLuint id) {
+    if (contextLost()) return;
     // A program deleted while it is current stays in use under a name that is no longer valid:
     // whoever saves and restores GL_CURRENT_PROGRAM (ImGui's renderer does, every frame) then
     // calls glUseProgram with it, GL_INVALID_VALUE. Unbind it first.
@@ -32,7 +34,7 @@ void deleteProgram(GLuint id) {
     glDeleteProgram(id);
 }
 void deleteVertexArray(GLuint id) {
-    glDeleteVertexArrays(1, &id);
+    if (!contextLost()) glDeleteVertexArrays(1, &id);
 }
 
 Buffer createBuffer(size_t bytes, const void* data, GLbitfield flags) {

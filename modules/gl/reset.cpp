@@ -35,10 +35,9 @@ long simulatedFrom() {
 }
 
 std::atomic<long> g_queries{0};
+std::atomic<bool> g_lost{false};
 
-} // namespace
-
-ResetStatus graphicsResetStatus() {
+ResetStatus queryResetStatus() {
     const long from = simulatedFrom();
     if (from > 0 && ++g_queries >= from) return ResetStatus::Guilty;
     switch (glGetGraphicsResetStatus()) {
@@ -51,6 +50,18 @@ ResetStatus graphicsResetStatus() {
     default:
         return ResetStatus::Unknown;
     }
+}
+
+} // namespace
+
+ResetStatus graphicsResetStatus() {
+    const ResetStatus s = queryResetStatus();
+    if (s != ResetStatus::None) g_lost = true;
+    return s;
+}
+
+bool contextLost() {
+    return g_lost;
 }
 
 std::string describe(ResetStatus s) {

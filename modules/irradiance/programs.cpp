@@ -4,7 +4,7 @@
 namespace irradiance::detail {
 
 void deleteSampler(GLuint id) {
-    glDeleteSamplers(1, &id);
+    if (!gl::contextLost()) glDeleteSamplers(1, &id);
 }
 
 } // namespace irradiance::detail

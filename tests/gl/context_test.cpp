@@ -224,6 +224,30 @@ TEST(HeadlessContext, ADriverResetIsNamedByTheWaitThatSeesIt) {
     unsetenv("BSSRDF_WORKBENCH_SIMULATE_GL_RESET");
 }
 
+// No GL object survives a reset: once graphicsResetStatus() has seen one, the objects' deleters
+// call nothing (gl::contextLost()). After resets on an NVIDIA H200 the processes aborted in that
+// teardown, in libepoxy ("Couldn't find current GLX or EGL context"), instead of ending with
+// the reset's message.
+TEST(HeadlessContext, AfterAResetTheObjectsAreNotDeleted) {
+    ASSERT_EQ(setenv("BSSRDF_WORKBENCH_SIMULATE_GL_RESET", "1", 1), 0);
+    auto ctx = gl::createHeadlessContext();
+    GLuint before = 0, after = 0;
+    {
+        gl::Buffer b = gl::createBuffer(16, nullptr);
+        before = b.id();
+    }
+    EXPECT_FALSE(glIsBuffer(before)) << "deleted while the context is good";
+    EXPECT_FALSE(gl::contextLost());
+    {
+        gl::Buffer b = gl::createBuffer(16, nullptr);
+        after = b.id();
+        EXPECT_EQ(gl::graphicsResetStatus(), gl::ResetStatus::Guilty);
+        EXPECT_TRUE(gl::contextLost());
+    }
+    EXPECT_TRUE(glIsBuffer(after)) << "a deleter called GL after the reset";
+    unsetenv("BSSRDF_WORKBENCH_SIMULATE_GL_RESET");
+}
+
 // Every host wait has a deadline (gl/waits.cpp): glFinish and the readbacks wait on a fence
 // first, so a GPU that never finishes (a fence that never signals, as a hung driver's would) is
 // an error naming the call after $BSSRDF_WORKBENCH_GPU_WAIT_SECONDS, not a frozen program. With
