@@ -4,7 +4,10 @@
 # timed out, with each test's seconds (results.tsv) and the output of the ones that did not pass
 # (logs/). Needs bash, coreutils and a GL driver with EGL; nothing of the build machine.
 #   ./run-tests.sh [--jobs N] [--timeout S] [--label gl|unit|replay|slow] [--filter REGEX]
-#                  [--out DIR]
+#                  [--serial REGEX] [--out DIR]
+# --serial: the selected tests whose names match run one at a time after the others (tests
+# that keep the GPU busy for seconds on purpose, e.g. 'ProbeFixture|LoopBudget|RunsAway'), so
+# their stalls and the driver's recovery from a killed dispatch do not reach the other tests.
 # Exit status: 0 when every selected test passed, 1 otherwise.
 set -uo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -12,6 +15,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 limit=300
 label=""
 filter=""
+serial=""
 out=$PWD/bundle-results
 while [[ $# -gt 0 ]]; do
   case $1 in
@@ -19,8 +23,9 @@ while [[ $# -gt 0 ]]; do
     --timeout) limit=$2; shift 2 ;;
     --label) label=$2; shift 2 ;;
     --filter) filter=$2; shift 2 ;;
+    --serial) serial=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
-    -h|--help) sed -n 2,8p "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h|--help) sed -n 2,11p "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "run-tests.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -74,7 +79,13 @@ one() { # index: runs line `index` of the selection, appends its result line
 export -f one
 export here out selected limit
 begin=$(date +%s)
-seq 1 "$total" | xargs -P "$jobs" -I{} bash -c 'one {}'
+if [[ -z $serial ]]; then
+  seq 1 "$total" | xargs -P "$jobs" -I{} bash -c 'one {}'
+else
+  awk -F'\t' -v re="$serial" '$1 !~ re {print NR}' "$selected" | xargs -r -P "$jobs" -I{} bash -c 'one {}'
+  echo "one at a time: the tests matching '$serial'"
+  awk -F'\t' -v re="$serial" '$1 ~ re {print NR}' "$selected" | xargs -r -P 1 -I{} bash -c 'one {}'
+fi
 wall=$(( $(date +%s) - begin ))
 
 passed=$(grep -c '^passed' "$out/results.tsv" || true)
