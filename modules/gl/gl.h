@@ -82,9 +82,9 @@ ResetStatus graphicsResetStatus();
 // "the GPU driver reset the OpenGL context, after GPU work of this program hung or faulted" …
 std::string describe(ResetStatus s);
 // Whether graphicsResetStatus() has seen a reset in this process. No GL object survives one, so
-// the objects' deleters (and the GUI's teardown) then call nothing: after resets on an NVIDIA
-// H200 the processes aborted in that teardown, in libepoxy ("Couldn't find current GLX or EGL
-// context"), instead of ending with the reset's message.
+// the objects' deleters (objects.cpp, the irradiance samplers, the waiting fence) then call
+// nothing: after resets on an NVIDIA H200 the processes aborted in their teardown, in libepoxy
+// ("Couldn't find current GLX or EGL context"), instead of ending with the reset's message.
 bool contextLost();
 // Whether the current context was created with reset notification (lose context on reset).
 bool resetNotificationRequested();
