@@ -279,6 +279,29 @@ GLuint indexedBinding(GLenum target, GLuint index) {
     return static_cast<GLuint>(id);
 }
 
+// The texture and sampler on each of the program's sampler units: their comparison mode, and
+// with `fetch` (a dispatch or draw, which reads them) the texture-fetch barrier owed.
+void samplerState(State& st, GLuint program, const ProgramIo& io, const std::string& by,
+                  bool fetch) {
+    if (io.samplers.empty()) return;
+    GLint active = 0;
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    for (const ProgramIo::Sampler& sampler : io.samplers) {
+        GLint unit = 0;
+        glGetUniformiv(program, sampler.location, &unit);
+        glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+        GLint texture = 0, samplerObject = 0;
+        glGetIntegerv(sampler.binding, &texture);
+        glGetIntegerv(GL_SAMPLER_BINDING, &samplerObject);
+        if (fetch)
+            need(st, st.textures, static_cast<GLuint>(texture), GL_TEXTURE_FETCH_BARRIER_BIT, by,
+                 "texture");
+        checkComparison(st, by, sampler.shadow, static_cast<GLuint>(texture),
+                        static_cast<GLuint>(samplerObject), unit);
+    }
+    glActiveTexture(static_cast<GLenum>(active));
+}
+
 // What the current program reads (checked) and may write (recorded) in a dispatch or draw.
 void programAccess(const std::string& call) {
     GLint program = 0;
@@ -304,23 +327,7 @@ void programAccess(const std::string& call) {
         if (texture && access != static_cast<GLuint>(GL_READ_ONLY))
             writtenImages.push_back(texture);
     }
-    if (!io.samplers.empty()) {
-        GLint active = 0;
-        glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
-        for (const ProgramIo::Sampler& sampler : io.samplers) {
-            GLint unit = 0;
-            glGetUniformiv(static_cast<GLuint>(program), sampler.location, &unit);
-            glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
-            GLint texture = 0, samplerObject = 0;
-            glGetIntegerv(sampler.binding, &texture);
-            glGetIntegerv(GL_SAMPLER_BINDING, &samplerObject);
-            need(st, st.textures, static_cast<GLuint>(texture), GL_TEXTURE_FETCH_BARRIER_BIT, by,
-                 "texture");
-            checkComparison(st, by, sampler.shadow, static_cast<GLuint>(texture),
-                            static_cast<GLuint>(samplerObject), unit);
-        }
-        glActiveTexture(static_cast<GLenum>(active));
-    }
+    samplerState(st, static_cast<GLuint>(program), io, by, true);
     for (GLuint b : io.writtenBindings)
         if (GLuint id = indexedBinding(GL_SHADER_STORAGE_BUFFER_BINDING, b))
             st.buffers[id] = {kBufferWrite, "the " + call + " of " + io.name};
@@ -337,20 +344,8 @@ void currentProgramSamplers(const std::string& call) {
     if (program == 0) return;
     State& st = state();
     const ProgramIo& io = programIo(st, static_cast<GLuint>(program));
-    const std::string by = call + " while " + io.name + " is current";
-    GLint active = 0;
-    glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
-    for (const ProgramIo::Sampler& sampler : io.samplers) {
-        GLint unit = 0;
-        glGetUniformiv(static_cast<GLuint>(program), sampler.location, &unit);
-        glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
-        GLint texture = 0, samplerObject = 0;
-        glGetIntegerv(sampler.binding, &texture);
-        glGetIntegerv(GL_SAMPLER_BINDING, &samplerObject);
-        checkComparison(st, by, sampler.shadow, static_cast<GLuint>(texture),
-                        static_cast<GLuint>(samplerObject), unit);
-    }
-    glActiveTexture(static_cast<GLenum>(active));
+    samplerState(st, static_cast<GLuint>(program), io, call + " while " + io.name + " is current",
+                 false);
 }
 
 void framebufferAccess(GLenum binding, const std::string& call) {
