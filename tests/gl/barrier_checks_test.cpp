@@ -134,16 +134,22 @@ TEST(BarrierChecks, TheMessageNamesTheWritersTemplate) {
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
 }
 
+// A compute program that samples a depth texture through a shadow sampler on `unit`.
+static gl::Program shadowSamplingProgram(int unit) {
+    const std::string src = R"(#version 450
+layout(local_size_x = 1) in;
+layout(binding = )" + std::to_string(unit) +
+                            R"() uniform sampler2DShadow Depth;
+layout(std430, binding = 0) writeonly buffer Out { float v[]; };
+void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
+    return gl::buildProgram({{GL_COMPUTE_SHADER, src}});
+}
+
 // NVIDIA reports a shadow sampler that meets a depth texture with comparison off (Mesa does not):
 // the checks report it on every driver, naming the unit and where the state comes from.
 TEST(BarrierChecks, AShadowSamplerNeedsDepthComparisonOn) {
     context();
-    const char* src = R"(#version 450
-layout(local_size_x = 1) in;
-layout(binding = 2) uniform sampler2DShadow Depth;
-layout(std430, binding = 0) writeonly buffer Out { float v[]; };
-void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
-    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, src}});
+    gl::Program p = shadowSamplingProgram(2);
     gl::Texture depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, 4, 4);
     gl::Buffer out = gl::createBuffer(sizeof(float), nullptr);
     glUseProgram(p.id());
@@ -170,12 +176,7 @@ void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
 // read zeros (then the context was reset). The checks report it at every clear, on any driver.
 TEST(BarrierChecks, AClearWhileAShadowSamplingProgramIsCurrentNeedsItsMaps) {
     context();
-    const char* src = R"(#version 450
-layout(local_size_x = 1) in;
-layout(binding = 3) uniform sampler2DShadow Depth;
-layout(std430, binding = 0) writeonly buffer Out { float v[]; };
-void main() { v[0] = texture(Depth, vec3(0.5, 0.5, 0.5)); })";
-    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, src}});
+    gl::Program p = shadowSamplingProgram(3);
     gl::Texture depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, 4, 4);
     GLuint fbo = 0;
     glCreateFramebuffers(1, &fbo);
