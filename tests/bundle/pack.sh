@@ -58,7 +58,9 @@ for exe in "$root"/bin/*; do ldd "$exe"; done | awk '/=> \// {print $3}' | sort 
   grep -Ev "$glibc" | while read -r lib; do cp -L "$lib" "$root/lib/"; done
 # what libepoxy opens by name at run time: glvnd's loaders
 for lib in libEGL.so.1 libGL.so.1 libOpenGL.so.0 libGLdispatch.so.0 libGLX.so.0; do
-  p=$(ldconfig -p | awk -v l="$lib" '$1 == l && /x86-64/ {print $NF; exit}')
+  # (awk reads to the end: an early exit leaves ldconfig writing into a closed pipe, SIGPIPE, and
+  # under pipefail the pack stopped without a word, now and then)
+  p=$(ldconfig -p | awk -v l="$lib" '$1 == l && /x86-64/ && !f {f = $NF} END {if (f) print f}')
   [[ -n $p ]] && cp -L "$p" "$root/lib/"
 done
 
