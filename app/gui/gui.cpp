@@ -318,6 +318,13 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         GLFWwindow* win = ctx.window();
         ImGui_ImplGlfw_InitForOpenGL(win, true);
         ImGui_ImplOpenGL3_Init("#version 450");
+        // a save wakes the loop at once instead of at the end of its wait; stopped before the
+        // window goes, however this loop ends
+        wb.wakeOnFileChanges([] { glfwPostEmptyEvent(); });
+        struct StopWake {
+            Workbench& wb;
+            ~StopWake() { wb.wakeOnFileChanges({}); }
+        } stopWake{wb};
         while (!glfwWindowShouldClose(win) && !ui.shared.quit) {
             glfwWaitEventsTimeout(0.03); // idle without spinning; the watcher is polled below
             const auto frame = [&] {

@@ -106,6 +106,11 @@ class Workbench {
     const std::filesystem::path& root() const { return m_root; }
     double rMaxMm() const { return m_rMax; }
     bool watching() const { return m_watcher != nullptr; }
+    // A loop that sleeps between frames is woken by `wake` (any thread) when a watched file
+    // changes (core::FileWatcher::setWake); an empty function stops that.
+    void wakeOnFileChanges(std::function<void()> wake) {
+        if (m_watcher) m_watcher->setWake(std::move(wake));
+    }
 
     // Captures: updates, then runs every stage with outputs to record to completion in pipeline
     // order and collects its entries (pipeline/capture_entries.h; captures/ writes and

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <condition_variable>
 #include <fstream>
 #include <thread>
 
@@ -52,5 +53,83 @@ TEST(FileWatcher, SeesWriteRenameAndDelete) {
     r = waitFor(w);
     ASSERT_EQ(r.size(), 1u);
     EXPECT_FALSE(fs::exists(r[0]));
+    fs::remove_all(dir);
+}
+
+// A write that ends with the file's close is reported without waiting for the debounce (here
+// longer than the test's patience); a file still open for writing is not, until it is closed.
+TEST(FileWatcher, AClosedWriteSettlesBeforeTheDebounceAnOpenOneWaitsForItsClose) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("bw_watch_close_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    testsupport::removeAtExit(dir);
+    core::FileWatcher w({dir}, 600000.0);
+    ASSERT_TRUE(w.usingInotify());
+
+    { std::ofstream(dir / "a.bssrdf") << "x"; }
+    auto r = waitFor(w);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].filename(), "a.bssrdf");
+
+    std::ofstream open(dir / "a.bssrdf");
+    open << "partial" << std::flush;
+    EXPECT_TRUE(waitFor(w, 300).empty()) << "reported while still open for writing";
+    open << " and the rest" << std::flush;
+    open.close();
+    r = waitFor(w);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].filename(), "a.bssrdf");
+
+    // Saved by renaming a temporary over it, and deleted: both complete at once.
+    { std::ofstream(dir / "b.tmp") << "y"; }
+    fs::rename(dir / "b.tmp", dir / "a.bssrdf");
+    r = waitFor(w);
+    ASSERT_EQ(r.size(), 1u);
+    fs::remove(dir / "a.bssrdf");
+    r = waitFor(w);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_FALSE(fs::exists(r[0]));
+    fs::remove_all(dir);
+}
+
+// setWake: a write wakes a sleeping loop from the watcher's thread, once per arrival, and the
+// thread stops with the watcher (or with an empty function).
+TEST(FileWatcher, AWriteWakesASleepingLoop) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("bw_watch_wake_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    testsupport::removeAtExit(dir);
+    core::FileWatcher w({dir});
+    ASSERT_TRUE(w.usingInotify());
+    std::mutex m;
+    std::condition_variable cv;
+    int wakes = 0;
+    w.setWake([&] {
+        std::lock_guard<std::mutex> lock(m);
+        ++wakes;
+        cv.notify_all();
+    });
+    const auto wokenWithin = [&](int atLeast, int ms) {
+        std::unique_lock<std::mutex> lock(m);
+        return cv.wait_for(lock, std::chrono::milliseconds(ms), [&] { return wakes >= atLeast; });
+    };
+    EXPECT_FALSE(wokenWithin(1, 100)) << "woken with nothing written";
+
+    { std::ofstream(dir / "a.bssrdf") << "x"; }
+    ASSERT_TRUE(wokenWithin(1, 5000));
+    // not read yet: no second wake for the same events however long the loop sleeps
+    EXPECT_FALSE(wokenWithin(2, 200));
+    auto r = waitFor(w);
+    ASSERT_EQ(r.size(), 1u);
+
+    { std::ofstream(dir / "a.bssrdf") << "y"; }
+    ASSERT_TRUE(wokenWithin(2, 5000));
+    EXPECT_EQ(waitFor(w).size(), 1u);
+
+    w.setWake({});
+    { std::ofstream(dir / "a.bssrdf") << "z"; }
+    EXPECT_FALSE(wokenWithin(3, 200)) << "woken after the wake was stopped";
     fs::remove_all(dir);
 }
