@@ -85,7 +85,10 @@ capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captu
         c.message = "updated";
         return c;
     }
-    if (!recordedImage) return capture::compareCsvStage(rec, captureDir, it->table, it->key);
+    if (!recordedImage)
+        return capture::compareCsvStage(rec, captureDir, it->table, it->key,
+                                        it->conditioning.rows.empty() ? nullptr : &it->conditioning,
+                                        it->conditioningNote);
     try {
         const pathtrace::Image recorded = pathtrace::readExr(captureDir / rec.file);
         if (rec.kind == "exr_stat")

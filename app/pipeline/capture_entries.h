@@ -30,6 +30,11 @@ struct CaptureEntry {
     double absTol = 0, relTol = 0;
     double alpha = 0; // the statistical kinds' false-alarm rate, Bonferroni over all values
     std::string note; // why this tolerance
+    // Csv: one more absolute tolerance per value (same shape as `table`), made on the replaying
+    // driver: the spread the GLSL precision rules allow the model's values (bssrdf/conditioning.h),
+    // doubled; empty: none. Not recorded; `conditioningNote` says what it is, or why there is none.
+    capture::Table conditioning;
+    std::string conditioningNote;
     // false: made only to replay captures recorded before the stage was split into others
     // (record leaves it out; a replay compares it where the manifest lists it)
     bool recorded = true;
@@ -79,8 +84,9 @@ inline CaptureEntry visibilityEntry(const std::string& stage, const std::string&
 
 // GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in
 // the profile's tail that is ~63 ulp, i.e. 63 · 2^-24 ≈ 3.8e-6 relative, plus the same again
-// for the arithmetic around it. 1e-5 relative covers a different driver; on the same driver
-// replays are bit-exact.
+// for the arithmetic around it. 1e-5 relative covers a different driver where the model does not
+// cancel; where it does, the pencil plot adds each value's conditioning (CaptureEntry::
+// conditioning, bssrdf/conditioning.h). On the same driver replays are bit-exact.
 inline constexpr double kProfileRelTol = 1e-5;
 // Monte Carlo outputs (path-traced reference, slice, images): per-value z-tests, Bonferroni over
 // every value of the output.

@@ -1,12 +1,11 @@
 // The material and pencil stages (model_stages.h).
 #include "pipeline/model_stages.h"
 
-#include "core/text.h"
-
+#include "bssrdf/conditioning.h"
 #include "core/core.h"
-#include "gl/gl.h"
-
 #include "core/fields.h"
+#include "core/text.h"
+#include "gl/gl.h"
 
 namespace app {
 namespace {
@@ -185,6 +184,28 @@ std::string captureName(const bssrdf::ModelEntry& e) {
     return e.model ? e.model->name : e.file.stem().string();
 }
 
+// The pencil plot's per-value allowance for another driver: twice the spread of each value under
+// the errors GLSL allows the model's transcendental functions (bssrdf/conditioning.h). Without it
+// (the perturbed program does not build) the replay keeps the relative floor alone, and says why.
+void addConditioning(const bssrdf::ModelLibrary& library, const bssrdf::ModelEntry& e,
+                     const ModelView& v, CaptureEntry& p) {
+    try {
+        const std::vector<glm::dvec3> spread = bssrdf::profileSpread(
+            *e.model, library.sources(), e.values, builtinsOf(*v.effective), v.profile.r);
+        p.conditioning.columns = p.table.columns;
+        for (size_t i = 0; i < spread.size(); ++i)
+            p.conditioning.rows.push_back(
+                {0.0, 2.0 * spread[i].x, 2.0 * spread[i].y, 2.0 * spread[i].z});
+        p.conditioningNote = "2x the spread of each value under the errors GLSL 4.50 allows the "
+                             "model's exp, log, pow and sqrt (" +
+                             std::to_string(bssrdf::kConditioningPatterns) + " sign patterns)";
+    } catch (const core::Error& err) {
+        p.conditioningNote.clear();
+        core::logInfo(e.displayPath + ": no per-value tolerance for another driver (" + err.what() +
+                      "); the replay allows the relative floor alone");
+    }
+}
+
 } // namespace
 
 void MaterialStage::capture(const ModelStageInputs& in, CaptureEntries& out) const {
@@ -229,6 +250,7 @@ void PencilStage::capture(const PencilInputs& in, CaptureEntries& out) const {
         for (size_t i = 0; i < v->profile.r.size(); ++i)
             p.table.rows.push_back({v->profile.r[i], v->profile.value[i].x, v->profile.value[i].y,
                                     v->profile.value[i].z});
+        addConditioning(*in.library, e, *v, p);
         out.entries.push_back(std::move(p));
     }
 }

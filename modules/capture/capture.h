@@ -132,15 +132,22 @@ struct Comparison {
     // At the value with the worst excess (valid when `where` is non-empty):
     std::string where; // e.g. "row 37 (r_mm=1.23), column G"; rows count from 1
     double expected = 0, actual = 0, diff = 0, limit = 0;
-    std::string message;      // why it failed without a value location (shape, names, file)
-    bool statistical = false; // csv_stat: worstExcess = max|z| / zLimit, limit = zLimit
-    std::string artifacts;    // where images of a failure were written (printed after it)
-    double alpha = 0;         // csv_stat: family-wise false-alarm probability
+    std::string message;          // why it failed without a value location (shape, names, file)
+    bool statistical = false;     // csv_stat: worstExcess = max|z| / zLimit, limit = zLimit
+    std::string artifacts;        // where images of a failure were written (printed after it)
+    double alpha = 0;             // csv_stat: family-wise false-alarm probability
+    std::string conditioningNote; // what the per-value tolerances were (empty: none)
 };
 
 // `keyColumn` (optional) names a column whose expected value is shown in `where`.
+// `conditioning` (optional): one more absolute tolerance per value, a table of the same shape as
+// `actual` (a value passes when |a − b| <= absTol + relTol·|b| + conditioning), made by the
+// replaying program: how far the value may lie apart on two drivers (bssrdf/conditioning.h), with
+// `conditioningNote` saying so in the report.
 Comparison compareTables(const std::string& stage, const Table& expected, const Table& actual,
-                         double absTol, double relTol, const std::string& keyColumn = "");
+                         double absTol, double relTol, const std::string& keyColumn = "",
+                         const Table* conditioning = nullptr,
+                         const std::string& conditioningNote = "");
 // One line, e.g.
 //   "PASS pencil_plot  600 values, worst diff 3.1e-07 (limit 1e-05, 3.1% of tolerance) at row
 //    12 (r_mm=0.5), column R"
@@ -175,9 +182,12 @@ StageOutput describeFileStage(const std::filesystem::path& captureDir, const std
                               const std::string& file, const std::string& kind, double alpha,
                               const std::string& tolNote);
 // Reads the recorded CSV of `output` from `captureDir` and compares `actual` against it with
-// the recorded tolerance. An unreadable recorded file gives a failing Comparison (message).
+// the recorded tolerance (plus `conditioning` per value: compareTables). An unreadable recorded
+// file gives a failing Comparison (message).
 Comparison compareCsvStage(const StageOutput& output, const std::filesystem::path& captureDir,
-                           const Table& actual, const std::string& keyColumn = "");
+                           const Table& actual, const std::string& keyColumn = "",
+                           const Table* conditioning = nullptr,
+                           const std::string& conditioningNote = "");
 
 // Checks the manifest's recorded inputs against the files now on disk:
 //   model missing            -> "materials/x.bssrdf: missing"

@@ -1,5 +1,6 @@
-// capture comparison: per-value tolerance test |a-b| <= absTol + relTol*|b| (b = expected),
-// reporting the worst value (by excess over its limit) with its location.
+// capture comparison: per-value tolerance test |a-b| <= absTol + relTol*|b| (b = expected), plus
+// a per-value conditioning term where the replaying program supplies one, reporting the worst value
+// (by excess over its limit) with its location.
 #include "capture.h"
 #include "core/statistics.h"
 #include "core/text.h"
@@ -54,13 +55,28 @@ std::string structuralProblem(const Table& expected, const Table& actual, double
 } // namespace
 
 Comparison compareTables(const std::string& stage, const Table& expected, const Table& actual,
-                         double absTol, double relTol, const std::string& keyColumn) {
+                         double absTol, double relTol, const std::string& keyColumn,
+                         const Table* conditioning, const std::string& conditioningNote) {
     Comparison c;
     c.stage = stage;
     c.absTol = absTol;
     c.relTol = relTol;
     c.message = structuralProblem(expected, actual, absTol, relTol, keyColumn);
     if (!c.message.empty()) return c;
+    if (conditioning) {
+        c.conditioningNote = conditioningNote;
+        const std::string shape = structuralProblem(actual, *conditioning, 0, 0, "");
+        if (!shape.empty()) {
+            c.message = "the per-value tolerances do not fit the table: " + shape;
+            return c;
+        }
+        for (const auto& row : conditioning->rows)
+            for (double t : row)
+                if (!(t >= 0) || !std::isfinite(t)) {
+                    c.message = "invalid per-value tolerance " + core::formatNumber(t, 6);
+                    return c;
+                }
+    }
 
     const int key = keyColumn.empty() ? -1 : expected.columnIndex(keyColumn);
     bool worstFails = false;
@@ -68,7 +84,10 @@ Comparison compareTables(const std::string& stage, const Table& expected, const 
         for (size_t col = 0; col < expected.columns.size(); ++col) {
             const double b = expected.rows[r][col];
             const double a = actual.rows[r][col];
-            const double limit = std::isfinite(b) ? absTol + relTol * std::fabs(b) : 0.0;
+            const double limit = std::isfinite(b)
+                                     ? absTol + relTol * std::fabs(b) +
+                                           (conditioning ? conditioning->rows[r][col] : 0)
+                                     : 0.0;
             double diff = 0, excess = 0;
             bool ok = true;
             if ((std::isnan(a) && std::isnan(b)) || a == b) {
@@ -201,12 +220,14 @@ std::string formatComparisonBody(const Comparison& c) {
     const std::string values = std::to_string(c.values) + (c.values == 1 ? " value" : " values");
     if (c.values == 0) return out + "no values to compare (empty tables)";
     if (c.where.empty()) return out + values + ", exact match";
-    const std::string tol =
+    std::string tol =
         "absTol " + core::formatNumber(c.absTol, 6) + ", relTol " + core::formatNumber(c.relTol, 6);
+    if (!c.conditioningNote.empty()) tol += ", plus " + c.conditioningNote;
     if (c.pass)
         return out + values + ", worst diff " + core::formatNumber(c.diff, 3) + " (limit " +
                core::formatNumber(c.limit, 3) + ", " + core::formatNumber(100 * c.worstExcess, 3) +
-               "% of tolerance) at " + c.where;
+               "% of tolerance) at " + c.where +
+               (c.conditioningNote.empty() ? "" : " [" + tol + "]");
     out += std::to_string(c.failing) + " of " + values + " out of tolerance; worst at " + c.where +
            ": expected " + core::formatNumber(c.expected, 17) + ", got " +
            core::formatNumber(c.actual, 17);

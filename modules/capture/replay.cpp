@@ -75,7 +75,8 @@ StageOutput writeCsvStatStage(const std::filesystem::path& captureDir, const std
 }
 
 Comparison compareCsvStage(const StageOutput& output, const std::filesystem::path& captureDir,
-                           const Table& actual, const std::string& keyColumn) {
+                           const Table& actual, const std::string& keyColumn,
+                           const Table* conditioning, const std::string& conditioningNote) {
     Comparison failed;
     failed.stage = output.stage;
     failed.absTol = output.absTol;
@@ -93,7 +94,8 @@ Comparison compareCsvStage(const StageOutput& output, const std::filesystem::pat
     }
     if (output.kind == "csv_stat")
         return compareStatTables(output.stage, expected, actual, output.alpha, keyColumn);
-    return compareTables(output.stage, expected, actual, output.absTol, output.relTol, keyColumn);
+    return compareTables(output.stage, expected, actual, output.absTol, output.relTol, keyColumn,
+                         conditioning, conditioningNote);
 }
 
 std::string modelTokens(std::string_view text) {
