@@ -209,3 +209,38 @@ TEST(CompareStat, DeterministicColumnsMustMatchExactly) {
     EXPECT_FALSE(bad.pass);
     EXPECT_NE(bad.message.find("alpha"), std::string::npos);
 }
+
+// Per-value conditioning (the replaying driver's allowance for a model that cancels): each value
+// gets its own extra room, which can still fail; a table of another shape or a negative or
+// non-finite allowance is refused, and the report says the allowance was there.
+TEST(Compare, ConditioningAddsItsOwnRoomPerValue) {
+    const double relTol = 1e-5;
+    Table cond{{}, profile().columns, {{0, 0, 0}, {0, 1e-3, 0}, {0, 0, 0}}};
+    const double limit = relTol * 2.0 + 1e-3; // row 2, column R (b = 2)
+    Table a = with(profile(), 1, 1, 2.0 + 0.99 * limit);
+    capture::Comparison c = compareTables("s", profile(), a, 0, relTol, "r_mm", &cond, "spread");
+    EXPECT_TRUE(c.pass) << capture::formatComparison(c);
+    EXPECT_NEAR(c.limit, limit, 1e-15);
+    EXPECT_NE(capture::formatComparison(c).find("plus spread"), std::string::npos)
+        << capture::formatComparison(c);
+    // beyond it, and the same difference on a value without room
+    a = with(profile(), 1, 1, 2.0 + 1.01 * limit);
+    EXPECT_FALSE(compareTables("s", profile(), a, 0, relTol, "r_mm", &cond, "spread").pass);
+    a = with(profile(), 1, 2, -3.0 + 0.5 * limit);
+    c = compareTables("s", profile(), a, 0, relTol, "r_mm", &cond, "spread");
+    EXPECT_FALSE(c.pass);
+    EXPECT_EQ(c.where, "row 2 (r_mm=0.5), column G");
+
+    Table shorter = cond;
+    shorter.rows.pop_back();
+    c = compareTables("s", profile(), profile(), 0, relTol, "", &shorter, "spread");
+    EXPECT_FALSE(c.pass);
+    EXPECT_NE(c.message.find("per-value tolerances do not fit"), std::string::npos) << c.message;
+    for (double bad : {-1e-9, std::numeric_limits<double>::quiet_NaN(), double(INFINITY)}) {
+        Table b = cond;
+        b.rows[2][2] = bad;
+        c = compareTables("s", profile(), profile(), 0, relTol, "", &b, "spread");
+        EXPECT_FALSE(c.pass) << bad;
+        EXPECT_NE(c.message.find("invalid per-value tolerance"), std::string::npos) << c.message;
+    }
+}
