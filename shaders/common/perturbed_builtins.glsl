@@ -46,6 +46,7 @@ float bw_pow(float x, float y) {
 float bw_inversesqrt(float x) { return inversesqrt(x) * (1.0 + bw_sign(x, 6u) * 2.0 * BW_ULP); }
 float bw_sqrt(float x) { return sqrt(x) * (1.0 + bw_sign(x, 7u) * 4.5 * BW_ULP); }
 
+// the vector forms, component by component (GLSL has no generic functions)
 vec2 bw_exp(vec2 x) { return vec2(bw_exp(x.x), bw_exp(x.y)); }
 vec3 bw_exp(vec3 x) { return vec3(bw_exp(x.x), bw_exp(x.y), bw_exp(x.z)); }
 vec4 bw_exp(vec4 x) { return vec4(bw_exp(x.xyz), bw_exp(x.w)); }

@@ -21,13 +21,18 @@ std::vector<fs::path> waitFor(core::FileWatcher& w, int ms = 2000) {
     }
     return {};
 }
-} // namespace
-
-TEST(FileWatcher, SeesWriteRenameAndDelete) {
-    fs::path dir = fs::temp_directory_path() / ("bw_watch_" + std::to_string(::getpid()));
+// An empty folder of this process under the temporary directory, removed at exit.
+fs::path emptyFolder(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     testsupport::removeAtExit(dir);
+    return dir;
+}
+} // namespace
+
+TEST(FileWatcher, SeesWriteRenameAndDelete) {
+    const fs::path dir = emptyFolder("bw_watch");
     core::FileWatcher w({dir}, 30.0);
     ASSERT_TRUE(w.poll().empty());
 
@@ -59,11 +64,7 @@ TEST(FileWatcher, SeesWriteRenameAndDelete) {
 // A write that ends with the file's close is reported without waiting for the debounce (here
 // longer than the test's patience); a file still open for writing is not, until it is closed.
 TEST(FileWatcher, AClosedWriteSettlesBeforeTheDebounceAnOpenOneWaitsForItsClose) {
-    const fs::path dir =
-        fs::temp_directory_path() / ("bw_watch_close_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    testsupport::removeAtExit(dir);
+    const fs::path dir = emptyFolder("bw_watch_close");
     core::FileWatcher w({dir}, 600000.0);
     ASSERT_TRUE(w.usingInotify());
 
@@ -96,11 +97,7 @@ TEST(FileWatcher, AClosedWriteSettlesBeforeTheDebounceAnOpenOneWaitsForItsClose)
 // setWake: a write wakes a sleeping loop from the watcher's thread, once per arrival, and the
 // thread stops with the watcher (or with an empty function).
 TEST(FileWatcher, AWriteWakesASleepingLoop) {
-    const fs::path dir =
-        fs::temp_directory_path() / ("bw_watch_wake_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    testsupport::removeAtExit(dir);
+    const fs::path dir = emptyFolder("bw_watch_wake");
     core::FileWatcher w({dir});
     ASSERT_TRUE(w.usingInotify());
     std::mutex m;
