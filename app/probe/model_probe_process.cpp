@@ -146,8 +146,10 @@ class ServedProbe : public bssrdf::PendingProbe {
         m_child->poll();
         const std::string out = m_child->output().substr(m_from);
         const std::string tag(kProbeTag);
-        if (m_evalStartMs < 0 && out.find(tag + " evaluating") != std::string::npos)
+        if (m_evalStartMs < 0 && out.find(tag + " evaluating") != std::string::npos) {
             m_evalStartMs = nowMs();
+            ++server().counts.evaluating;
+        }
         // the answer's last line, `probe-model: done CODE`, at the start of a line (an error
         // message quoting a path cannot fake it)
         size_t done = out.rfind("\n" + tag + " done ");
@@ -274,8 +276,10 @@ bssrdf::ProbeVerdict ModelProbeProcess::poll() {
     if (!m_child.done()) {
         m_child.poll();
         if (m_evalStartMs < 0 &&
-            m_child.output().find(std::string(kProbeTag) + " evaluating") != std::string::npos)
+            m_child.output().find(std::string(kProbeTag) + " evaluating") != std::string::npos) {
             m_evalStartMs = nowMs();
+            ++server().counts.evaluating;
+        }
     }
     if (m_child.done()) return probeVerdict(m_child.exitCode(), m_child.output(), m_display, m_key);
     const std::string late = overTime(m_startMs, m_evalStartMs, m_limit, m_evaluations);

@@ -56,10 +56,11 @@ bssrdf::ProbeVerdict probeVerdict(int code, const std::string& output, const std
                                   const std::string& key);
 
 // The process id of the warm server, -1 when none runs, and counts since the process started:
-// checks the server took, checks run in their own process, servers started (tests, bench).
+// checks the server took, checks run in their own process, servers started, and checks (of
+// either kind) seen evaluating, their model file read and built (tests, bench).
 int probeServerPid();
 struct ProbeCounts {
-    long served = 0, ownProcess = 0, serverStarts = 0;
+    long served = 0, ownProcess = 0, serverStarts = 0, evaluating = 0;
 };
 ProbeCounts probeCounts();
 

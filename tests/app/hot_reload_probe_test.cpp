@@ -222,9 +222,12 @@ TEST_F(ProbeFixture, ASaveDuringACheckReplacesItAndTheNewestVersionWins) {
     app::Workbench wb(root, true);
     const double base = valueAt0(wb, path);
     ASSERT_GT(base, 0.0);
+    const long evaluating = app::probeCounts().evaluating;
     core::writeFile(file, withLoop(good, kSlowLoop)); // would take about 5 s
+    // until the check has read and built this version (had the next save landed before the
+    // server read the file, the server would check that one, quickly, and stay)
     updateUntil(
-        wb, [&] { return wb.library().checking(); }, 5000);
+        wb, [&] { return app::probeCounts().evaluating > evaluating; }, 5000);
     ASSERT_TRUE(wb.library().checking());
     const int busy = app::probeServerPid();
     core::writeFile(file,
