@@ -1,6 +1,7 @@
 // The BSSRDF slice stage (slice_stage.h).
 #include "pipeline/slice_stage.h"
 
+#include "bssrdf/conditioning.h"
 #include "core/core.h"
 #include "core/fields.h"
 #include "core/text.h"
@@ -288,6 +289,67 @@ SliceSnapshot SliceStage::finish(const SliceInputs& in) {
     return snapshot();
 }
 
+namespace {
+
+// The model slice's per-value allowance for another driver (capture_entries.h): the slice made
+// again from the model's values with its transcendental functions moved by the errors GLSL allows
+// them (bssrdf/conditioning.h), twice the largest change of each bin's R and cell's S over the
+// seeds; the geometry columns none. Without it (the perturbed program does not build) the replay
+// keeps the floor alone, and the log says why.
+void addSliceConditioning(const SliceInputs& in, const std::string& path, CaptureEntry& m) {
+    const bssrdf::ModelEntry* e = nullptr;
+    for (const bssrdf::ModelEntry& x : in.library->entries())
+        if (x.displayPath == path) e = &x;
+    const auto v = in.views->find(path);
+    if (!e || !e->usable() || v == in.views->end() || !v->second.effective) return;
+    const int c = in.settings.channel;
+    const pathtrace::EstimateSettings est =
+        estimateSettings(in.settings, mediaOf(*in.params)[size_t(c)]);
+    const material::MaterialParams& p = *v->second.effective;
+    const bool readsWo = !e->model->attrs.noWo;
+    try {
+        const SliceSampling n = sliceSampling(est.bins, readsWo);
+        const auto evals =
+            bssrdf::perturbedQueries(*e->model, in.library->sources(), e->values, builtinsOf(p),
+                                     sliceQueries(est.bins, in.settings.thetaIDeg, readsWo, n));
+        std::vector<ModelSlice> slices;
+        for (const std::vector<glm::dvec3>& rgb : evals) {
+            std::vector<double> values(rgb.size());
+            for (size_t i = 0; i < rgb.size(); ++i)
+                values[i] = rgb[i][c];
+            slices.push_back(modelSlice(est.bins, in.settings.thetaIDeg, mediaOf(p)[size_t(c)].eta,
+                                        readsWo, n, values));
+        }
+        const size_t geometry = 5, bins = slices[0].R.size();
+        const size_t cells = m.table.columns.size() - geometry - 1;
+        if (m.table.rows.size() != bins) return;
+        const auto spread = [&](auto member, size_t i) {
+            double d = 0;
+            for (size_t k = 1; k < slices.size(); ++k) {
+                const double x = std::fabs((slices[k].*member)[i] - (slices[0].*member)[i]);
+                if (std::isfinite(x)) d = std::max(d, x);
+            }
+            return 2 * d;
+        };
+        m.conditioning.columns = m.table.columns;
+        for (size_t bin = 0; bin < bins; ++bin) {
+            std::vector<double> row(geometry, 0.0);
+            row.push_back(spread(&ModelSlice::R, bin));
+            for (size_t k = 0; k < cells; ++k)
+                row.push_back(spread(&ModelSlice::S, bin * cells + k));
+            m.conditioning.rows.push_back(std::move(row));
+        }
+        m.conditioningNote = "2x the spread of each value under the errors GLSL 4.50 allows the "
+                             "model's exp, log, pow and sqrt (" +
+                             std::to_string(bssrdf::kConditioningPatterns) + " sign patterns)";
+    } catch (const core::Error& err) {
+        core::logInfo(path + ": no per-value slice tolerance for another driver (" + err.what() +
+                      "); the replay allows the relative floor alone");
+    }
+}
+
+} // namespace
+
 void SliceStage::capture(const SliceInputs& in, CaptureEntries& out) {
     if (!in.settings.enabled) return;
     const SliceSnapshot snap = finish(in);
@@ -351,6 +413,7 @@ void SliceStage::capture(const SliceInputs& in, CaptureEntries& out) {
                 row.push_back(r.slice->S[bin * cells + k]);
             m.table.rows.push_back(std::move(row));
         }
+        addSliceConditioning(in, path, m);
         out.entries.push_back(std::move(m));
     }
 }

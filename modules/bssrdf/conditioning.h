@@ -32,4 +32,12 @@ std::vector<glm::dvec3> profileSpread(const Model& m, const shader::Sources& src
                                       const std::vector<double>& radii,
                                       int patterns = kConditioningPatterns);
 
+// Bssrdf(0, Wi, Xo, Wo) at `queries` (as evaluateQueries), unperturbed ([0]) and under seeds
+// 1 … patterns ([1] …), for callers that reduce the values before they compare (the BSSRDF slice
+// averages many queries per bin). Throws as profileSpread.
+std::vector<std::vector<glm::dvec3>> perturbedQueries(const Model& m, const shader::Sources& src,
+                                                      const ParamValues& values, const Builtins& b,
+                                                      const std::vector<Query>& queries,
+                                                      int patterns = kConditioningPatterns);
+
 } // namespace bssrdf
