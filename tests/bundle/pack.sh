@@ -68,8 +68,8 @@ strip --strip-unneeded "$root"/bin/* "$root"/lib/* 2>/dev/null || true
 # GNU parallel (a Perl script; the target needs perl), after ldd and strip, which take ELF files
 # only: the sharding tests run the README's `parallel` command lines
 if p=$(command -v parallel); then cp -L "$p" "$root/bin/"; fi
-cp "$src/tests/bundle/run-tests.sh" "$root/"
-chmod +x "$root/run-tests.sh"
+cp "$src/tests/bundle/run-tests.sh" "$src/tests/bundle/card-checks.sh" "$root/"
+chmod +x "$root/run-tests.sh" "$root/card-checks.sh"
 # (awk reads to the end: `head` would leave ldd writing into a closed pipe, SIGPIPE, exit 141)
 glibcVersion=$(ldd --version | awk 'NR == 1 {print $NF}')
 cat >"$root/BUNDLE.txt" <<TXT
