@@ -68,14 +68,8 @@ std::vector<std::vector<glm::dvec3>> perturbedQueries(const Model& m, const shad
                                                       const ParamValues& values, const Builtins& b,
                                                       const std::vector<Query>& queries,
                                                       int patterns) {
-    std::vector<float> in(queries.size() * 12, 0.0f);
-    for (size_t i = 0; i < queries.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            in[12 * i + c] = queries[i].xo[c];
-            in[12 * i + 4 + c] = queries[i].wi[c];
-            in[12 * i + 8 + c] = queries[i].wo[c];
-        }
-    return perturbed(m, src, values, b, in, queries.size(), 3, 1, patterns);
+    return perturbed(m, src, values, b, detail::queryInputs(queries), queries.size(), 3, 1,
+                     patterns);
 }
 
 } // namespace bssrdf

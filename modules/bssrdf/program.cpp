@@ -122,6 +122,16 @@ std::vector<float> runBatch(const Model& m, GLuint program, const std::vector<fl
     faults.check(m);
     return out;
 }
+std::vector<float> queryInputs(const std::vector<Query>& queries) {
+    std::vector<float> in(queries.size() * 12, 0.0f);
+    for (size_t i = 0; i < queries.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            in[12 * i + c] = queries[i].xo[c];
+            in[12 * i + 4 + c] = queries[i].wi[c];
+            in[12 * i + 8 + c] = queries[i].wo[c];
+        }
+    return in;
+}
 } // namespace detail
 using detail::runBatch;
 
@@ -148,13 +158,7 @@ std::vector<glm::dvec3> evaluateQueries(GLuint program, const Model& m, const Pa
                           "the template has no `Queries` uniform: it cannot evaluate at given "
                           "directions");
     setUniforms(program, m, values, b);
-    std::vector<float> in(queries.size() * 12, 0.0f);
-    for (size_t i = 0; i < queries.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            in[12 * i + c] = queries[i].xo[c];
-            in[12 * i + 4 + c] = queries[i].wi[c];
-            in[12 * i + 8 + c] = queries[i].wo[c];
-        }
+    const std::vector<float> in = detail::queryInputs(queries);
     std::vector<glm::dvec3> r(queries.size());
     // batches keep one dispatch short on a software rasteriser
     constexpr size_t kBatch = size_t(1) << 16;

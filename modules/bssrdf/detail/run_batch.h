@@ -1,8 +1,10 @@
 // bssrdf/detail: one dispatch of a consumer program over a batch of vec4 inputs, shared by the
-// consumers (program.cpp) and the check of a new model (model_probe.cpp).
+// consumers (program.cpp), the check of a new model (model_probe.cpp) and the conditioning
+// (conditioning.cpp).
 #pragma once
 
 #include "bssrdf/bssrdf.h"
+#include "bssrdf/program.h"
 #include "gl/gl.h"
 
 #include <cstddef>
@@ -18,5 +20,8 @@ namespace bssrdf::detail {
 std::vector<float> runBatch(const Model& m, GLuint program, const std::vector<float>& in,
                             size_t count, size_t inVec4 = 1, GLuint queries = 0,
                             GLuint sentinel = 0, const std::vector<float>* outInit = nullptr);
+
+// The input of the query mode (Queries = 1): three vec4 per query, Xo, Wi and Wo in .xyz.
+std::vector<float> queryInputs(const std::vector<Query>& queries);
 
 } // namespace bssrdf::detail
