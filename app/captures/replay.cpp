@@ -174,6 +174,7 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         CaptureEntries captured;
         captured.traceX = traceX;
         captured.traceY = traceY;
+        captured.forReplay = true;
         wb.capture(captured, onStage);
         for (auto& rec : m.outputs)
             report.stages.push_back(replayStage(rec, captureDir, captured, update));

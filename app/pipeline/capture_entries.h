@@ -57,7 +57,10 @@ inline CaptureEntry captureEntry(CaptureEntry::Kind kind, const std::string& sta
 }
 
 struct CaptureEntries {
-    int traceX = -1, traceY = -1;           // the scene's traced pixel (-1: none is recorded)
+    int traceX = -1, traceY = -1; // the scene's traced pixel (-1: none is recorded)
+    // Set by a replay: the stages also make what only a comparison uses (CaptureEntry::
+    // conditioning, one more program and several dispatches per model); a record leaves it out.
+    bool forReplay = false;
     std::vector<CaptureEntry> entries;      // in pipeline order
     std::vector<capture::ModelFile> inputs; // input files besides the models (meshes)
     std::vector<std::string> missing;       // "model: why" for outputs a stage could not make

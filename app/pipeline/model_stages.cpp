@@ -250,7 +250,7 @@ void PencilStage::capture(const PencilInputs& in, CaptureEntries& out) const {
         for (size_t i = 0; i < v->profile.r.size(); ++i)
             p.table.rows.push_back({v->profile.r[i], v->profile.value[i].x, v->profile.value[i].y,
                                     v->profile.value[i].z});
-        addConditioning(*in.library, e, *v, p);
+        if (out.forReplay) addConditioning(*in.library, e, *v, p);
         out.entries.push_back(std::move(p));
     }
 }

@@ -413,7 +413,7 @@ void SliceStage::capture(const SliceInputs& in, CaptureEntries& out) {
                 row.push_back(r.slice->S[bin * cells + k]);
             m.table.rows.push_back(std::move(row));
         }
-        addSliceConditioning(in, path, m);
+        if (out.forReplay) addSliceConditioning(in, path, m);
         out.entries.push_back(std::move(m));
     }
 }

@@ -135,6 +135,7 @@ TEST(Conditioning, CoversWhatAnNvidiaCardGaveWhereTheModelsCancel) {
         auto wb = app::workbenchFromInputs(m, testsupport::sourceRoot(), external.dir, dir.string(),
                                            traceX, traceY, false);
         app::CaptureEntries out;
+        out.forReplay = true;
         wb->capture(out);
         const app::CaptureEntry* p = nullptr;
         for (const auto& e : out.entries)
