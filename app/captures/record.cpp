@@ -27,6 +27,9 @@ capture::StageOutput writeCaptureEntry(const fs::path& dir, const CaptureEntry& 
         o.relTol = e.relTol;
         return o;
     }
+    case CaptureEntry::Kind::ExrInput:
+        pathtrace::writeExr(dir / e.file, e.image);
+        return capture::describeFileStage(dir, e.stage, e.file, "exr_input", 0, e.note);
     case CaptureEntry::Kind::ExrStat:
         pathtrace::writeExr(dir / e.file, e.image);
         return capture::describeFileStage(dir, e.stage, e.file, "exr_stat", e.alpha, e.note);

@@ -43,13 +43,15 @@ void checkCaptureInputs(Workbench& wb, const fs::path& captureDir, const std::st
 }
 
 bool isImage(CaptureEntry::Kind k) {
-    return k == CaptureEntry::Kind::Exr || k == CaptureEntry::Kind::ExrStat;
+    return k == CaptureEntry::Kind::Exr || k == CaptureEntry::Kind::ExrStat ||
+           k == CaptureEntry::Kind::ExrInput;
 }
 
 // One recorded output against this run's: compared, or with `update` rewritten from it.
 capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captureDir,
                                 const CaptureEntries& captured, bool update) {
-    const bool recordedImage = rec.kind == "exr" || rec.kind == "exr_stat";
+    const bool recordedImage =
+        rec.kind == "exr" || rec.kind == "exr_stat" || capture::isInputKind(rec.kind);
     auto it =
         std::find_if(captured.entries.begin(), captured.entries.end(), [&](const CaptureEntry& e) {
             return e.stage == rec.stage && isImage(e.kind) == recordedImage;
@@ -68,7 +70,9 @@ capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captu
         return c;
     }
     if (update) {
-        if (rec.kind == "exr") {
+        if (capture::isInputKind(rec.kind)) {
+            rec = writeCaptureEntry(captureDir, *it);
+        } else if (rec.kind == "exr") {
             pathtrace::writeExr(captureDir / rec.file, it->image);
             rec = capture::describeFileStage(captureDir, rec.stage, rec.file, rec.kind, 0,
                                              rec.tolNote);
@@ -85,6 +89,18 @@ capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captu
         c.message = "updated";
         return c;
     }
+    if (capture::isInputKind(rec.kind)) { // given to the stage, not made again: unchanged?
+        try {
+            const std::string now = capture::hashFile(captureDir / rec.file);
+            c.pass = now == rec.hash;
+            c.message = c.pass ? "recorded input, given to the stage (hash matches)"
+                               : "recorded input changed since it was recorded (hash " + now +
+                                     ", recorded " + rec.hash + ")";
+        } catch (const core::Error& e) {
+            c.message = std::string("cannot read the recorded input: ") + e.what();
+        }
+        return c;
+    }
     if (!recordedImage)
         return capture::compareCsvStage(rec, captureDir, it->table, it->key,
                                         it->conditioning.rows.empty() ? nullptr : &it->conditioning,
@@ -94,8 +110,9 @@ capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captu
         if (rec.kind == "exr_stat")
             return capture::compareStatTables(rec.stage, imageTable(recorded),
                                               imageTable(it->image), rec.alpha);
-        c = capture::compareTables(rec.stage, renderTable(recorded), renderTable(it->image),
-                                   rec.absTol, rec.relTol);
+        c = capture::compareTables(
+            rec.stage, renderTable(recorded), renderTable(it->image), rec.absTol, rec.relTol, "",
+            it->conditioning.rows.empty() ? nullptr : &it->conditioning, it->conditioningNote);
         if (!c.pass && c.message.empty())
             c.artifacts = writeImageDifference(captureDir, rec.stage, recorded, it->image,
                                                rec.absTol, rec.relTol);
@@ -175,9 +192,31 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         captured.traceX = traceX;
         captured.traceY = traceY;
         captured.forReplay = true;
+        if (!update) // --update rewrites from this driver's own rasterisation
+            captured.recordedImage =
+                [&](const std::string& stage) -> std::optional<pathtrace::Image> {
+                for (const capture::StageOutput& rec : m.outputs)
+                    if (rec.stage == stage && capture::isInputKind(rec.kind))
+                        return pathtrace::readExr(captureDir / rec.file);
+                return std::nullopt;
+            };
         wb.capture(captured, onStage);
         for (auto& rec : m.outputs)
             report.stages.push_back(replayStage(rec, captureDir, captured, update));
+        if (update) // outputs this program makes that the capture lacks are added
+            for (const CaptureEntry& e : captured.entries) {
+                const bool listed = std::any_of(m.outputs.begin(), m.outputs.end(),
+                                                [&](const capture::StageOutput& o) {
+                                                    return o.stage == e.stage && o.file == e.file;
+                                                });
+                if (!e.recorded || listed) continue;
+                m.outputs.push_back(writeCaptureEntry(captureDir, e));
+                capture::Comparison c;
+                c.stage = e.stage;
+                c.pass = true;
+                c.message = "added";
+                report.stages.push_back(c);
+            }
         if (update) {
             m.glRenderer = glRendererString();
             m.glVersion = glVersionString();

@@ -10,6 +10,8 @@
 #include "pathtrace/lit_sphere.h"
 
 #include <algorithm>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,9 @@ struct CaptureEntry {
         CsvStat, // a Monte Carlo table (values with standard errors): z-tests at alpha
         Exr,     // an image (EXR), compared pixel by pixel within absTol + relTol·|recorded|
         ExrStat, // a Monte Carlo image with a variance per pixel: per-pixel z-tests at alpha
+        // an image recorded as the stage's input for replays (CaptureEntries::recordedImage):
+        // not compared, its hash checked
+        ExrInput,
     };
     Kind kind = Kind::Csv;
     std::string stage, file; // "pencil_plot.dipole", "pencil_plot_dipole.csv"
@@ -50,7 +55,8 @@ inline CaptureEntry captureEntry(CaptureEntry::Kind kind, const std::string& sta
     e.stage = stage;
     e.file = stage;
     std::replace(e.file.begin(), e.file.end(), '.', '_');
-    const bool image = kind == CaptureEntry::Kind::Exr || kind == CaptureEntry::Kind::ExrStat;
+    const bool image = kind == CaptureEntry::Kind::Exr || kind == CaptureEntry::Kind::ExrStat ||
+                       kind == CaptureEntry::Kind::ExrInput;
     e.file += image ? ".exr" : ".csv";
     e.key = key;
     return e;
@@ -61,6 +67,11 @@ struct CaptureEntries {
     // Set by a replay: the stages also make what only a comparison uses (CaptureEntry::
     // conditioning, one more program and several dispatches per model); a record leaves it out.
     bool forReplay = false;
+    // Set by a replay (not by --update): the recorded image of an output of kind exr_input, or
+    // none, for a stage that takes its own recorded output as an input (the scene's G-buffer: a
+    // different rasteriser's sub-pixel placement must not move what is traced from it).
+    // Throws core::Error when the recorded file cannot be read.
+    std::function<std::optional<pathtrace::Image>(const std::string& stage)> recordedImage;
     std::vector<CaptureEntry> entries;      // in pipeline order
     std::vector<capture::ModelFile> inputs; // input files besides the models (meshes)
     std::vector<std::string> missing;       // "model: why" for outputs a stage could not make

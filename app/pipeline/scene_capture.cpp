@@ -8,6 +8,12 @@
 //   scene.visibility   csv, tol     per-point shadow-map visibility V (GPU; the same lights)
 //   scene.irradiance   csv, tol     per-point E_t (GPU): recorded for the other lights; made for
 //                                   the replay of captures from before the split otherwise
+//   scene.gbuffer_position, scene.gbuffer_normal  exr_input
+//                                   the G-buffer the traversal read (GPU): surface point and
+//                                   normal per pixel (a miss: 0, 0, 0 in both); a replay gives
+//                                   the recorded one to the traversal (hash checked)
+//   scene.gbuffer_rule csv, exact   pixels breaking the raster rule (render/raster_rule.h) in
+//                                   the traced G-buffer and in this run's rasterisation
 //   scene.render       exr, tol     the rendered HDR radiance (GPU)
 //   scene.trace_steps  csv, exact   one pixel's traversal steps (CPU replica): node, decision,
 //                                   depth, stack after each step
@@ -17,7 +23,9 @@
 #include "pipeline/scene_stage.h"
 
 #include "core/core.h"
+#include "core/text.h"
 #include "pointcloud/pointcloud.h"
+#include "render/raster_rule.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,6 +46,62 @@ constexpr double kIrradianceRel = 1e-5, kIrradianceAbs = 1e-7;
 // √n·2^-24; 1e-4 relative plus an absolute floor of 1e-6 of the image maximum.
 constexpr double kRenderRel = 1e-4;
 constexpr double kTraceRel = 1e-4;
+constexpr const char* kGbufferStages[2] = {"scene.gbuffer_position", "scene.gbuffer_normal"};
+
+// The recorded G-buffer of a capture, when it has both images (a miss: a zero normal; a hit's
+// normal is never zero, render_gbuffer.frag).
+std::optional<render::Gbuffer> recordedGbuffer(const CaptureEntries& out) {
+    if (!out.recordedImage) return std::nullopt;
+    const std::optional<pathtrace::Image> pos = out.recordedImage(kGbufferStages[0]);
+    const std::optional<pathtrace::Image> nrm = out.recordedImage(kGbufferStages[1]);
+    if (!pos || !nrm) return std::nullopt;
+    if (pos->width != nrm->width || pos->height != nrm->height)
+        throw core::Error("scene", 0,
+                          "the recorded G-buffer's position and normal images differ in size");
+    render::Gbuffer g;
+    g.width = pos->width;
+    g.height = pos->height;
+    const size_t n = size_t(g.width) * size_t(g.height);
+    g.position.resize(n);
+    g.normal.resize(n);
+    for (size_t p = 0; p < n; ++p) {
+        const glm::vec3 x(pos->mean[3 * p], pos->mean[3 * p + 1], pos->mean[3 * p + 2]);
+        const glm::vec3 nv(nrm->mean[3 * p], nrm->mean[3 * p + 1], nrm->mean[3 * p + 2]);
+        const bool hit = nv != glm::vec3(0.0f);
+        g.position[p] = glm::vec4(x, hit ? 1.0f : 0.0f);
+        g.normal[p] = glm::vec4(nv, 0.0f);
+    }
+    return g;
+}
+
+// One image of the G-buffer the traversal read, recorded as the replay's input.
+CaptureEntry gbufferEntry(int which, const render::Readback& rb) {
+    CaptureEntry e = captureEntry(CaptureEntry::Kind::ExrInput, kGbufferStages[which]);
+    const std::vector<glm::vec4>& v = which == 0 ? rb.position : rb.normal;
+    e.image.width = rb.width;
+    e.image.height = rb.height;
+    e.image.samples = 1;
+    for (const glm::vec4& x : v)
+        for (int c = 0; c < 3; ++c)
+            e.image.mean.push_back(x[c]);
+    e.image.variance.assign(e.image.mean.size(), 0.0f);
+    e.note = std::string("the G-buffer's ") + (which == 0 ? "surface points" : "normals") +
+             " the traversal read (a miss: 0), given to it again on replay; checked against the "
+             "mesh and camera in scene.gbuffer_rule";
+    return e;
+}
+
+// The raster rule's counts (render/raster_rule.h) as a table row.
+std::vector<double> ruleRow(int which, const render::RasterCheck& c) {
+    return {double(which),    double(c.pixels),      double(c.offCentre),      double(c.offSurface),
+            double(c.hidden), double(c.wrongNormal), double(c.uncoveredInside)};
+}
+std::string ruleComment(const char* what, const render::RasterCheck& c) {
+    return std::string(what) + ": " + std::to_string(c.covered) + " covered pixels, worst " +
+           core::formatNumber(c.worstOffCentre, 3) + " px off centre, " +
+           core::formatNumber(c.worstDepth, 3) + " off the plane (relative), normal " +
+           core::formatNumber(c.worstNormal, 3);
+}
 
 // Appends a content hash as four 16-bit integers.
 void pushHash(std::vector<double>& row, const std::string& hash) {
@@ -59,6 +123,24 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
         out.inputs.push_back({m_settings.meshFile, core::hashHex(text),
                               "(mesh, " + std::to_string(text.size()) + " bytes)"});
     }
+    // On replay the traversal reads the recorded G-buffer (its size checked against the
+    // settings' frame); the renderer goes back to its own rasterisation afterwards.
+    const std::optional<render::Gbuffer> given = recordedGbuffer(out);
+    if (given &&
+        (given->width != m_settings.render.width || given->height != m_settings.render.height))
+        throw core::Error(std::string(kGbufferStages[0]) + ": the recorded G-buffer is " +
+                          std::to_string(given->width) + "x" + std::to_string(given->height) +
+                          ", settings.scene.render renders " +
+                          std::to_string(m_settings.render.width) + "x" +
+                          std::to_string(m_settings.render.height));
+    struct Restore {
+        SceneStage& s;
+        bool active;
+        ~Restore() {
+            if (active) s.setGivenGbuffer(std::nullopt);
+        }
+    } restore{*this, given.has_value()};
+    if (given) setGivenGbuffer(given);
     finish(model);
     for (const auto& p : problems())
         throw core::Error(p);
@@ -147,6 +229,32 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
     }
 
     const render::Readback rb = readback();
+    // The G-buffer: recorded as the traversal read it (on replay the recorded one), and that
+    // and this run's own rasterisation checked against the mesh and camera by the raster rule:
+    // independent of where another driver places its samples, so the counts compare exactly.
+    for (int which = 0; which < 2; ++which)
+        out.entries.push_back(gbufferEntry(which, rb));
+    {
+        const render::Gbuffer traced{rb.width, rb.height, rb.position, rb.normal};
+        const render::RasterCheck a =
+            render::checkRasterisation(traced, m, m_settings.render.camera);
+        const render::RasterCheck b =
+            m_renderer->hasGivenGbuffer()
+                ? render::checkRasterisation(m_renderer->rasterisedGbuffer(), m,
+                                             m_settings.render.camera)
+                : a;
+        CaptureEntry rule = captureEntry(CaptureEntry::Kind::Csv, "scene.gbuffer_rule", "gbuffer");
+        rule.note = "raster rule (render/raster_rule.h): pixels breaking it, counted against the "
+                    "mesh and camera by a CPU ray caster: exact";
+        rule.table.comments = {"gbuffer 0: the one traced (the recorded one on replay), 1: this "
+                               "run's rasterisation",
+                               ruleComment("traced", a), ruleComment("rasterised", b)};
+        rule.table.columns = {"gbuffer", "pixels",       "off_centre",      "off_surface",
+                              "hidden",  "wrong_normal", "uncovered_inside"};
+        rule.table.rows = {ruleRow(0, a), ruleRow(1, b)};
+        out.entries.push_back(std::move(rule));
+    }
+
     CaptureEntry img = captureEntry(CaptureEntry::Kind::Exr, "scene.render");
     img.image.width = rb.width;
     img.image.height = rb.height;

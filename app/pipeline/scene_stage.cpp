@@ -55,6 +55,12 @@ void SceneStage::ensureGl() {
     if (!m_renderer) m_renderer = std::make_unique<render::Renderer>(shader::Sources{m_root});
 }
 
+void SceneStage::setGivenGbuffer(std::optional<render::Gbuffer> g) {
+    ensureGl();
+    m_renderer->setGivenGbuffer(std::move(g));
+    m_renderKey.clear();
+}
+
 std::string SceneStage::meshHash() const {
     if (!m_mesh) return "";
     std::string bytes;

@@ -135,6 +135,10 @@ class SceneStage : public Stage {
     // Reads the mesh, point-cloud, environment and texture files again (after the user fixed
     // one on disk); stages re-run only where the content changed.
     void reloadFiles();
+    // The G-buffer the renderer traverses instead of its own rasterisation (a replayed
+    // capture's recorded one; a test's emulating another rasteriser), std::nullopt: its own
+    // again. The frame is rendered again at the next update or finish.
+    void setGivenGbuffer(std::optional<render::Gbuffer> g);
     // Keep settings().render.camera as it is when the mesh loads (captures set it).
     void keepCamera() { m_cameraFitted = true; }
 

@@ -77,7 +77,12 @@ nlohmann::json toJson(const Manifest& manifest);
 Manifest fromJson(const nlohmann::json& json, const std::string& fileForErrors);
 
 // "exr": a deterministic image (GPU render) compared per pixel and channel with absTol/relTol.
-std::vector<std::string> knownOutputKinds(); // {"csv", "csv_stat", "exr_stat", "exr"}
+// "exr_input": an image a stage made when recording that a replay gives back to it as an input
+// instead of making it again (the scene's G-buffer: another rasteriser's sub-pixel placement must
+// not move what is traced from it); not compared with this run's, its hash must match; no
+// tolerance keys.
+std::vector<std::string> knownOutputKinds(); // {"csv", "csv_stat", "exr_stat", "exr", "exr_input"}
+bool isInputKind(std::string_view kind);
 // Kinds compared by z-test at `alpha` (csv_stat; exr_stat: images with a variance per pixel,
 // read and converted to tables by the app, which owns the image format).
 bool isStatisticalKind(std::string_view kind);

@@ -122,8 +122,12 @@ class Reader {
     StageOutput output(const json& j, const JsonPath& at) {
         const bool stat = j.is_object() && j.contains("kind") && j["kind"].is_string() &&
                           isStatisticalKind(j["kind"].get<std::string>());
+        const bool input = j.is_object() && j.contains("kind") && j["kind"].is_string() &&
+                           isInputKind(j["kind"].get<std::string>());
         if (stat)
             expectKeys(j, at, {"stage", "file", "kind", "alpha", "tolNote", "hash"});
+        else if (input)
+            expectKeys(j, at, {"stage", "file", "kind", "tolNote", "hash"});
         else
             expectKeys(j, at, {"stage", "file", "kind", "absTol", "relTol", "tolNote", "hash"});
         StageOutput o;
@@ -145,7 +149,7 @@ class Reader {
         if (stat) {
             o.alpha = number(j, at, "alpha");
             if (!(o.alpha > 0 && o.alpha < 1)) fail(child(at, "alpha"), "must lie in (0, 1)");
-        } else {
+        } else if (!input) {
             o.absTol = number(j, at, "absTol");
             o.relTol = number(j, at, "relTol");
             for (const char* key : {"absTol", "relTol"}) {
@@ -220,7 +224,11 @@ std::string parseErrorMessage(const std::string& what) {
 } // namespace
 
 std::vector<std::string> knownOutputKinds() {
-    return {"csv", "csv_stat", "exr_stat", "exr"};
+    return {"csv", "csv_stat", "exr_stat", "exr", "exr_input"};
+}
+
+bool isInputKind(std::string_view kind) {
+    return kind == "exr_input";
 }
 
 bool isStatisticalKind(std::string_view kind) {
@@ -291,7 +299,7 @@ nlohmann::json toJson(const Manifest& m) {
                     {"hash", o.hash}};
         if (isStatisticalKind(o.kind)) {
             out["alpha"] = o.alpha;
-        } else {
+        } else if (!isInputKind(o.kind)) {
             out["absTol"] = o.absTol;
             out["relTol"] = o.relTol;
         }

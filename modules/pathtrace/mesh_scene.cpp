@@ -48,8 +48,12 @@ MeshScene::MeshScene(const Mesh& m) {
         rtcReleaseDevice(m_device);
         throw core::Error("embree", 0, "cannot allocate the mesh buffers: " + e);
     }
-    for (size_t i = 0; i < nv; ++i)
+    m_vertices.resize(nv);
+    for (size_t i = 0; i < nv; ++i) {
         std::memcpy(vb + 3 * i, m.vertices[i].data(), 3 * sizeof(float));
+        m_vertices[i] = {m.vertices[i][0], m.vertices[i][1], m.vertices[i][2]};
+    }
+    m_triangles = m.triangles;
     m_normals.resize(nt);
     for (size_t i = 0; i < nt; ++i) {
         const auto& t = m.triangles[i];
@@ -111,6 +115,78 @@ bool MeshScene::intersect(const double org[3], const double dir[3], double tnear
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     t = rh.ray.tfar;
     prim = rh.hit.primID;
+    return true;
+}
+
+std::array<double, 3> MeshScene::closestPoint(uint32_t prim, const double pt[3]) const {
+    using V = std::array<double, 3>;
+    auto sub = [](const V& x, const V& y) { return V{x[0] - y[0], x[1] - y[1], x[2] - y[2]}; };
+    auto dot = [](const V& x, const V& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+    auto along = [](const V& o, const V& d, double s) {
+        return V{o[0] + s * d[0], o[1] + s * d[1], o[2] + s * d[2]};
+    };
+    const auto& t = m_triangles[prim];
+    const V a = m_vertices[t[0]], b = m_vertices[t[1]], c = m_vertices[t[2]];
+    const V p{pt[0], pt[1], pt[2]};
+    const V ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    const V bp = sub(p, b);
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return along(a, ab, d1 / (d1 - d3));
+    const V cp = sub(p, c);
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return along(a, ac, d2 / (d2 - d6));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return along(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    const double den = 1.0 / (va + vb + vc);
+    const V q = along(a, ab, vb * den);
+    return along(q, ac, vc * den);
+}
+
+namespace {
+struct NearestQuery {
+    const MeshScene* scene;
+    double p[3];
+    double best2;
+    uint32_t prim;
+    std::array<double, 3> q;
+};
+
+bool nearestCallback(RTCPointQueryFunctionArguments* args) {
+    auto* n = static_cast<NearestQuery*>(args->userPtr);
+    const std::array<double, 3> q = n->scene->closestPoint(args->primID, n->p);
+    const double d[3] = {q[0] - n->p[0], q[1] - n->p[1], q[2] - n->p[2]};
+    const double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (!(d2 < n->best2)) return false;
+    n->best2 = d2;
+    n->prim = args->primID;
+    n->q = q;
+    args->query->radius = static_cast<float>(std::sqrt(d2)) * (1.0f + 1e-6f) + 1e-12f;
+    return true; // the query's radius shrank
+}
+} // namespace
+
+bool MeshScene::nearest(const double p[3], double radius, uint32_t& prim, double q[3]) const {
+    NearestQuery n{this, {p[0], p[1], p[2]}, radius * radius, RTC_INVALID_GEOMETRY_ID, {}};
+    RTCPointQuery query;
+    query.x = static_cast<float>(p[0]);
+    query.y = static_cast<float>(p[1]);
+    query.z = static_cast<float>(p[2]);
+    query.time = 0.0f;
+    query.radius = static_cast<float>(radius);
+    RTCPointQueryContext ctx;
+    rtcInitPointQueryContext(&ctx);
+    rtcPointQuery(m_scene, &query, &ctx, nearestCallback, &n);
+    if (n.prim == RTC_INVALID_GEOMETRY_ID) return false;
+    prim = n.prim;
+    for (int k = 0; k < 3; ++k)
+        q[k] = n.q[size_t(k)];
     return true;
 }
 

@@ -11,6 +11,9 @@
 //      second-order cluster rule (octree.h) unless !Settings::secondOrder.
 //   3. Tone map (shaders/render_tonemap.comp): exposure (stops) and gamma into RGBA8.
 // Images: pixel (x, y), y = 0 the top row; index p = y·width + x.
+// A G-buffer may be given from outside (a capture's recorded one, captures/README.md): the
+// traversal then reads it instead of the rasterised one, which is still drawn and kept
+// (rasterisedGbuffer), so a replay on another rasteriser traces the recorded pixels.
 // Mesa llvmpipe stops every loop of an invocation after 65535 iterations in total (nested
 // loops included), so the traversal runs in dispatches of at most kIterationsPerDispatch loop
 // iterations per pixel and resumes unfinished pixels (see the shader). If the driver's limit
@@ -29,12 +32,14 @@
 #include "render/profile_table.h"
 #include "shader/program.h"
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace render {
@@ -127,6 +132,13 @@ struct Readback {
     size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
 };
 
+// A G-buffer's two images as the traversal reads them (Readback's layout).
+struct Gbuffer {
+    int width = 0, height = 0;
+    std::vector<glm::vec4> position; // xo (mesh units), w = 1 hit / 0 miss
+    std::vector<glm::vec4> normal;   // no, 0 (0 everywhere at a miss)
+};
+
 // One BSSRDF argument set in mm (positions) and unit directions.
 struct BssrdfPair {
     glm::vec3 xi, wi, xo, wo;
@@ -167,6 +179,17 @@ class Renderer {
     // or when not ready().
     Frame render(const Settings& s);
     Readback readback() const; // of the last frame
+    // The G-buffer the traversal reads instead of the rasterised one, from the next begin() on
+    // (std::nullopt: the rasterised one again). begin() throws core::Error("render", 0, …)
+    // when its size is not the frame's. Readback::position/normal are the given images.
+    void setGivenGbuffer(std::optional<Gbuffer> g);
+    bool hasGivenGbuffer() const;
+    // The last frame's rasterised G-buffer (the given one does not replace it here).
+    Gbuffer rasterisedGbuffer() const;
+    // The G-buffer of settings `s` rasterised apart from any frame (its own targets), its image
+    // moved by `offset` pixels (+x right, +y down: each sample point moves by −offset), what
+    // another rasteriser's sub-pixel placement does (render/raster_rule.h). Needs a mesh.
+    Gbuffer rasteriseGbuffer(const Settings& s, glm::vec2 offset = {});
 
     // Progressive rendering, so an interactive caller never blocks for a whole frame: begin()
     // runs the G-buffer (and profile table) and starts the traversal; advance(budgetMs) runs

@@ -96,13 +96,25 @@ struct Renderer::State {
     // targets
     int width = 0, height = 0;
     gl::Texture position, normal, depth, hdr, ldr;
+    // The given G-buffer (setGivenGbuffer) and, while one is given, the rasterised images
+    // copied aside before it is uploaded over them.
+    std::optional<Gbuffer> given;
+    gl::Texture rasterPosition, rasterNormal;
+    int rasterWidth = 0, rasterHeight = 0;
+    bool frameGiven = false; // the last begin() uploaded the given G-buffer
     gl::FramebufferId fbo;
     gl::Buffer stats, exitance, state, control;
     bssrdf::LoopFaults loopFaults; // the model's loop budget (bssrdf/loop_budget.h)
     gl::Buffer invalidCounts;      // the tone map's counts: surface, NaN, Inf, negative pixels
 
     void resize(int w, int h);
-    void gbuffer(const Settings& s);
+    // The G-buffer pass into `target` (w×h attachments: position, normal, depth), its image
+    // moved by `offset` pixels.
+    void gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset = {});
+    gl::Texture auxPosition, auxNormal, auxDepth; // rasteriseGbuffer's own targets
+    gl::FramebufferId auxFbo;
+    int auxWidth = 0, auxHeight = 0;
+    void useGiven(); // the given G-buffer over the rasterised one (that kept aside)
     void ensureProfile();
     // One traversal dispatch (uniforms set for `perDispatch` iterations): returns true when
     // every pixel finished; sets loopLimit when the driver cut a loop short.
@@ -121,6 +133,13 @@ struct Renderer::State {
 };
 
 namespace {
+// An RGBA32F texture of n texels read back into `out`.
+void readTexels(GLuint id, size_t n, std::vector<glm::vec4>& out) {
+    out.resize(n);
+    glGetTextureImage(id, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec4)),
+                      out.data());
+}
+
 const std::vector<std::pair<GLenum, std::string>> kGbufferStages = {
     {GL_VERTEX_SHADER, "render_gbuffer.vert"}, {GL_FRAGMENT_SHADER, "render_gbuffer.frag"}};
 const std::vector<std::pair<GLenum, std::string>> kTonemapStages = {
@@ -323,7 +342,7 @@ void Renderer::State::resize(int w, int h) {
     height = h;
 }
 
-void Renderer::State::gbuffer(const Settings& s) {
+void Renderer::State::gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset) {
     gl::ScopedStageTimer timer("render.gbuffer");
     GLint oldFbo = 0, oldViewport[4] = {};
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &oldFbo);
@@ -333,8 +352,8 @@ void Renderer::State::gbuffer(const Settings& s) {
     const GLboolean blendWas = glIsEnabled(GL_BLEND);
     const GLboolean scissorWas = glIsEnabled(GL_SCISSOR_TEST);
 
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo.id());
-    glViewport(0, 0, width, height);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    glViewport(0, 0, w, h);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -343,15 +362,18 @@ void Renderer::State::gbuffer(const Settings& s) {
     glDisable(GL_SCISSOR_TEST);
     const float zero[4] = {0, 0, 0, 0};
     const float one = 1.0f;
-    glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero);
-    glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 1, zero);
-    glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
+    glClearNamedFramebufferfv(target, GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(target, GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(target, GL_DEPTH, 0, &one);
 
     Camera cam = s.camera;
-    cam.aspect = float(width) / float(height);
-    // y flipped so that texture row 0 is the top of the image
+    cam.aspect = float(w) / float(h);
+    // y flipped so that texture row 0 is the top of the image; `offset` moves the image by that
+    // many pixels (+x right, +y down), i.e. each pixel's sample point by −offset
     const glm::mat4 flip = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, -1.0f, 1.0f));
-    const glm::mat4 vp = flip * cam.projection() * cam.view();
+    const glm::mat4 move = glm::translate(
+        glm::mat4(1.0f), glm::vec3(2.0f * offset.x / float(w), 2.0f * offset.y / float(h), 0.0f));
+    const glm::mat4 vp = move * flip * cam.projection() * cam.view();
     glUseProgram(gbufferProgram.id());
     glUniformMatrix4fv(glGetUniformLocation(gbufferProgram.id(), "RenderViewProjection"), 1,
                        GL_FALSE, glm::value_ptr(vp));
@@ -368,6 +390,93 @@ void Renderer::State::gbuffer(const Settings& s) {
     // barrier: render_gbuffer's draw → octree_render.comp's image loads of the G-buffer (draws
     // are ordered before later commands anyway; the bits are what a shader read after one needs)
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+}
+
+void Renderer::State::useGiven() {
+    frameGiven = false;
+    if (!given) return;
+    if (given->width != width || given->height != height)
+        throw core::Error("render", 0,
+                          "the given G-buffer is " + std::to_string(given->width) + "x" +
+                              std::to_string(given->height) + ", the frame " +
+                              std::to_string(width) + "x" + std::to_string(height));
+    if (rasterWidth != width || rasterHeight != height) {
+        rasterPosition = gl::createTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
+        rasterNormal = gl::createTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
+        rasterWidth = width;
+        rasterHeight = height;
+    }
+    // The draw's results are copied by later commands in order; no barrier bit covers a copy
+    // after a draw, none is needed.
+    glCopyImageSubData(position.id(), GL_TEXTURE_2D, 0, 0, 0, 0, rasterPosition.id(), GL_TEXTURE_2D,
+                       0, 0, 0, 0, width, height, 1);
+    glCopyImageSubData(normal.id(), GL_TEXTURE_2D, 0, 0, 0, 0, rasterNormal.id(), GL_TEXTURE_2D, 0,
+                       0, 0, 0, width, height, 1);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(position.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT,
+                        given->position.data());
+    glTextureSubImage2D(normal.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT,
+                        given->normal.data());
+    // barrier: the uploads → octree_render.comp's image loads (client updates are ordered
+    // before later commands; stated for the reader, as after the draw)
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    frameGiven = true;
+}
+
+void Renderer::setGivenGbuffer(std::optional<Gbuffer> g) {
+    if (g) {
+        const size_t n = size_t(std::max(g->width, 0)) * size_t(std::max(g->height, 0));
+        if (g->width < 1 || g->height < 1 || g->position.size() != n || g->normal.size() != n)
+            throw core::Error("render", 0, "the given G-buffer's images do not match its size");
+    }
+    m->given = std::move(g);
+}
+
+bool Renderer::hasGivenGbuffer() const {
+    return m->given.has_value();
+}
+
+Gbuffer Renderer::rasteriseGbuffer(const Settings& s, glm::vec2 offset) {
+    validate(s);
+    if (!m->hasMesh) throw core::Error("render", 0, "not ready: no mesh");
+    State& st = *m;
+    if (st.auxWidth != s.width || st.auxHeight != s.height || !st.auxFbo) {
+        st.auxPosition = gl::createTexture2D(GL_RGBA32F, s.width, s.height, GL_NEAREST);
+        st.auxNormal = gl::createTexture2D(GL_RGBA32F, s.width, s.height, GL_NEAREST);
+        st.auxDepth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, s.width, s.height, GL_NEAREST);
+        GLuint id = 0;
+        glCreateFramebuffers(1, &id);
+        st.auxFbo = gl::FramebufferId(id);
+        glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT0, st.auxPosition.id(), 0);
+        glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT1, st.auxNormal.id(), 0);
+        glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, st.auxDepth.id(), 0);
+        const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glNamedFramebufferDrawBuffers(id, 2, buffers);
+        st.auxWidth = s.width;
+        st.auxHeight = s.height;
+    }
+    st.gbuffer(s, st.auxFbo.id(), s.width, s.height, offset);
+    // barrier: none for glGetTextureImage after a draw (GL_TEXTURE_UPDATE_BARRIER_BIT orders
+    // shader image stores; a draw's framebuffer writes are complete for later commands)
+    Gbuffer g;
+    g.width = s.width;
+    g.height = s.height;
+    const size_t n = size_t(g.width) * size_t(g.height);
+    readTexels(st.auxPosition.id(), n, g.position);
+    readTexels(st.auxNormal.id(), n, g.normal);
+    return g;
+}
+
+Gbuffer Renderer::rasterisedGbuffer() const {
+    Gbuffer g;
+    if (!m->fbo) return g;
+    g.width = m->width;
+    g.height = m->height;
+    const size_t n = size_t(g.width) * size_t(g.height);
+    const bool aside = m->frameGiven;
+    readTexels(aside ? m->rasterPosition.id() : m->position.id(), n, g.position);
+    readTexels(aside ? m->rasterNormal.id() : m->normal.id(), n, g.normal);
+    return g;
 }
 
 void Renderer::State::ensureProfile() {
@@ -509,7 +618,8 @@ void Renderer::begin(const Settings& s) {
     f.height = s.height;
 
     core::Stopwatch clock;
-    m->gbuffer(s);
+    m->gbuffer(s, m->fbo.id(), m->width, m->height);
+    m->useGiven();
     glFinish();
     f.gbufferMs = clock.ms();
 
@@ -592,14 +702,9 @@ Readback Renderer::readback() const {
     r.width = m->width;
     r.height = m->height;
     const size_t n = size_t(r.width) * size_t(r.height);
-    auto tex = [&](GLuint id, std::vector<glm::vec4>& out) {
-        out.resize(n);
-        glGetTextureImage(id, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec4)),
-                          out.data());
-    };
-    tex(m->hdr.id(), r.hdr);
-    tex(m->position.id(), r.position);
-    tex(m->normal.id(), r.normal);
+    readTexels(m->hdr.id(), n, r.hdr);
+    readTexels(m->position.id(), n, r.position);
+    readTexels(m->normal.id(), n, r.normal);
     r.exitance.resize(n);
     glGetNamedBufferSubData(m->exitance.id(), 0, static_cast<GLsizeiptr>(n * sizeof(glm::vec4)),
                             r.exitance.data());

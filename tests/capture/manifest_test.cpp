@@ -172,6 +172,17 @@ TEST(Manifest, MissingAndUnknownKeys) {
     EXPECT_EQ(e.line(), lineOf(text, "\"relTolerance\""));
     e = readEdited(tmp.path(), [](json& j) { j["glRendrer"] = ""; });
     EXPECT_EQ(e.message(), "glRendrer: unknown key");
+    // a recorded input (exr_input) has no tolerance: neither key is accepted, and it round-trips
+    e = readEdited(tmp.path(), [](json& j) { j["outputs"][0]["kind"] = "exr_input"; });
+    EXPECT_EQ(e.message(), "outputs[0].absTol: unknown key");
+    const fs::path dir = tmp.path() / "input";
+    fs::create_directories(dir);
+    capture::Manifest m = sampleManifest();
+    m.outputs[0].kind = "exr_input";
+    capture::writeManifest(dir, m);
+    const std::string written = core::readFile(dir / capture::kManifestFileName);
+    EXPECT_EQ(written.find("absTol"), std::string::npos) << written;
+    EXPECT_EQ(capture::readManifest(dir).outputs[0].kind, "exr_input");
 }
 
 TEST(Manifest, WrongTypes) {
@@ -201,7 +212,8 @@ TEST(Manifest, InvalidValues) {
     EXPECT_EQ(e.message(), "outputs[0].relTol: must be finite and >= 0");
     e = readEdited(tmp.path(), [](json& j) { j["outputs"][0]["kind"] = "png"; });
     EXPECT_EQ(e.message(),
-              "outputs[0].kind: unknown output kind 'png' (known: csv, csv_stat, exr_stat, exr)");
+              "outputs[0].kind: unknown output kind 'png' (known: csv, csv_stat, exr_stat, exr, "
+              "exr_input)");
     e = readEdited(tmp.path(), [](json& j) { j["outputs"][0]["hash"] = "abc"; });
     EXPECT_NE(e.message().find("not a content hash"), std::string::npos);
     e = readEdited(tmp.path(), [](json& j) { j["name"] = "my capture"; });

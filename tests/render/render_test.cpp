@@ -5,6 +5,7 @@
 // error reduction, the radial profile table, the flat-plate closed form
 // M = E·R_dr of the classical dipole, the stack/iteration flags, and keep-last-good models.
 #include "render/frame_analysis.h"
+#include "render/raster_rule.h"
 #include "render/render.h"
 
 #include "../support/dipole_closed_form.h"
@@ -13,9 +14,11 @@
 #include "core/core.h"
 #include "mesh/mesh.h"
 #include "octree/octree.h"
+#include "pathtrace/mesh_scene.h"
 #include "pointcloud/pointcloud.h"
 
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -764,4 +767,161 @@ TEST(RenderTraversal, ModelLoopsStayWithinTheDriverLimit) {
             EXPECT_NEAR(gpu.exitance[p][c] / t.radiantExitance[c], 1.0, 1e-5);
     }
     r.setModel(f.dipole);
+}
+
+// A G-buffer given from outside (a capture's recorded one) is what the traversal reads: the
+// frame equals the one rasterised with that G-buffer's own placement, bit for bit, while the
+// renderer still keeps its own rasterisation aside; the offset rasterisation moves the image by
+// the offset (the sphere's centre column shifts by one pixel for an offset of one); a G-buffer
+// of another size is refused naming both sizes.
+TEST(RenderGBuffer, AGivenGbufferIsTracedAndTheRasterisedOneKept) {
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    r.setGivenGbuffer(std::nullopt);
+    const render::Gbuffer moved = r.rasteriseGbuffer(s, glm::vec2(0.3f, -0.2f));
+    s.camera.aspect = float(s.width) / float(s.height);
+    r.render(s);
+    const render::Readback own = r.readback();
+    // one pixel right: the moved image's column x + 1 is the unmoved image's column x
+    const render::Gbuffer right = r.rasteriseGbuffer(s, glm::vec2(1.0f, 0.0f));
+    size_t compared = 0;
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x + 1 < s.width; ++x) {
+            const size_t p = own.index(x, y), q = own.index(x + 1, y);
+            if (own.position[p].w != 1.0f) continue;
+            ++compared;
+            EXPECT_EQ(right.position[q].w, 1.0f);
+            EXPECT_NEAR(glm::distance(glm::vec3(right.position[q]), glm::vec3(own.position[p])),
+                        0.0f, 1e-4f)
+                << x << "," << y;
+        }
+    EXPECT_GT(compared, 300u);
+
+    r.setGivenGbuffer(moved);
+    r.render(s);
+    const render::Readback traced = r.readback();
+    EXPECT_EQ(traced.position, moved.position);
+    EXPECT_EQ(traced.normal, moved.normal);
+    const render::Gbuffer kept = r.rasterisedGbuffer();
+    EXPECT_EQ(kept.position, own.position);
+    EXPECT_EQ(kept.normal, own.normal);
+    size_t differ = 0;
+    for (size_t p = 0; p < own.hdr.size(); ++p)
+        differ += traced.exitance[p] != own.exitance[p];
+    EXPECT_GT(differ, 100u) << "the moved G-buffer's surface points give other sums";
+    // the same frame from a CPU replica's point of view: the traced pixel's position is the given
+    const size_t mid = traced.index(s.width / 2, s.height / 2);
+    ASSERT_EQ(traced.position[mid].w, 1.0f);
+
+    render::Settings bigger = s;
+    bigger.width += 1;
+    try {
+        r.render(bigger);
+        ADD_FAILURE() << "a G-buffer of another size was traced";
+    } catch (const core::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("the given G-buffer is 64x48, the frame 65x48"),
+                  std::string::npos)
+            << e.what();
+    }
+    r.setGivenGbuffer(std::nullopt);
+    r.render(s);
+    EXPECT_EQ(r.readback().exitance, own.exitance);
+}
+
+// The raster rule (render/raster_rule.h): the renderer's own G-buffer, and the same drawn with
+// the sample points moved by up to 0.2 px (what another driver may do), are rasterisations of
+// the mesh by the camera; moved by half a pixel, with the normals tilted by 0.02 rad, against a
+// mesh 1 % larger, or with a hole punched inside the silhouette, they are not, and the count
+// says which rule failed.
+TEST(RenderGBuffer, TheRasterRuleAcceptsSubPixelPlacementAndNothingElse) {
+    render::Renderer& r = bunnyRenderer();
+    const render::Settings s = smallSettings(bunny().mesh);
+    const mesh::Mesh& m = bunny().mesh;
+    const render::Gbuffer own = r.rasteriseGbuffer(s);
+    const render::RasterCheck c = render::checkRasterisation(own, m, s.camera);
+    std::printf("own G-buffer %dx%d: %zu covered, worst %.3g px off centre, depth %.3g, normal "
+                "%.3g\n",
+                own.width, own.height, c.covered, c.worstOffCentre, c.worstDepth, c.worstNormal);
+    ASSERT_GT(c.covered, 300u);
+    EXPECT_EQ(c.failures(), 0u);
+    EXPECT_LT(c.worstOffCentre, 0.02) << "llvmpipe samples at the centre";
+
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> within(-0.2f, 0.2f);
+    double worst = 0;
+    for (int k = 0; k < 24; ++k) {
+        const glm::vec2 off(within(rng), within(rng));
+        const render::RasterCheck moved =
+            render::checkRasterisation(r.rasteriseGbuffer(s, off), m, s.camera);
+        EXPECT_EQ(moved.failures(), 0u)
+            << off.x << "," << off.y << ": off centre " << moved.offCentre << ", off surface "
+            << moved.offSurface << ", hidden " << moved.hidden << ", normal " << moved.wrongNormal
+            << ", uncovered inside " << moved.uncoveredInside;
+        EXPECT_NEAR(moved.worstOffCentre, std::max(std::fabs(off.x), std::fabs(off.y)), 0.02);
+        worst = std::max(worst, moved.worstNormal);
+    }
+    std::printf("moved by up to 0.2 px: worst normal difference %.3g\n", worst);
+
+    const render::RasterCheck half =
+        render::checkRasterisation(r.rasteriseGbuffer(s, glm::vec2(0.5f, 0.0f)), m, s.camera);
+    EXPECT_GT(half.offCentre, half.covered * 9 / 10);
+    const render::RasterCheck down =
+        render::checkRasterisation(r.rasteriseGbuffer(s, glm::vec2(0.0f, -0.3f)), m, s.camera);
+    EXPECT_GT(down.offCentre, down.covered * 9 / 10);
+
+    render::Gbuffer bent = own; // normals tilted by 0.02 rad about +y
+    const glm::mat4 tilt = glm::rotate(glm::mat4(1.0f), 0.02f, glm::vec3(0, 1, 0));
+    for (glm::vec4& nv : bent.normal)
+        if (nv != glm::vec4(0.0f)) nv = tilt * glm::vec4(glm::vec3(nv), 0.0f);
+    const render::RasterCheck b = render::checkRasterisation(bent, m, s.camera);
+    EXPECT_GT(b.wrongNormal, b.covered * 9 / 10);
+    EXPECT_EQ(b.offCentre + b.offSurface, 0u);
+
+    mesh::Mesh larger = m;
+    for (auto& v : larger.vertices)
+        for (float& x : v)
+            x *= 1.01f;
+    const render::RasterCheck l = render::checkRasterisation(own, larger, s.camera);
+    EXPECT_GT(l.offSurface, l.covered / 2);
+
+    // the surface behind: each covered pixel's point replaced by the next hit along its ray
+    render::Gbuffer behind = own;
+    mesh::Mesh withNormals = m;
+    if (withNormals.normals.size() != withNormals.vertices.size())
+        mesh::computeVertexNormals(withNormals);
+    const pathtrace::MeshScene scene(withNormals);
+    const glm::dvec3 eye(s.camera.position());
+    size_t replaced = 0;
+    for (glm::vec4& P : behind.position) {
+        if (P.w != 1.0f) continue;
+        const glm::dvec3 to = glm::dvec3(P) - eye;
+        const double dist = glm::length(to);
+        const glm::dvec3 d = to / dist;
+        const double org[3] = {eye.x, eye.y, eye.z}, dir[3] = {d.x, d.y, d.z};
+        double t = 0;
+        uint32_t prim = 0;
+        if (!scene.intersect(org, dir, dist * 1.01, 1e9, t, prim)) continue;
+        P = glm::vec4(glm::vec3(eye + t * d), 1.0f);
+        ++replaced;
+    }
+    ASSERT_GT(replaced, 100u);
+    const render::RasterCheck hid = render::checkRasterisation(behind, m, s.camera);
+    EXPECT_GT(hid.hidden, replaced * 9 / 10);
+    EXPECT_EQ(hid.offSurface, 0u);
+
+    render::Gbuffer holed = own;
+    size_t inner = 0;
+    for (int y = 1; y + 1 < own.height && !inner; ++y)
+        for (int x = 1; x + 1 < own.width && !inner; ++x) {
+            bool all = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx)
+                    all = all && own.position[size_t((y + dy) * own.width + x + dx)].w == 1.0f;
+            if (all) inner = size_t(y * own.width + x);
+        }
+    ASSERT_NE(inner, 0u);
+    holed.position[inner] = holed.normal[inner] = glm::vec4(0.0f);
+    const render::RasterCheck h = render::checkRasterisation(holed, m, s.camera);
+    EXPECT_EQ(h.uncoveredInside, 1u);
+    EXPECT_EQ(h.failures(), 1u);
 }

@@ -37,6 +37,15 @@ Recorded record(const std::string& tag) {
     app::recordCaptureTo(wb, r.dir, "rec");
     return r;
 }
+// The scene on with `points` points and a width × height render.
+app::SceneSettings& sceneOn(app::Workbench& wb, size_t points, int width, int height) {
+    app::SceneSettings& s = wb.scene().settings();
+    s.enabled = true;
+    s.points.points = points;
+    s.render.width = width;
+    s.render.height = height;
+    return s;
+}
 int replay(const Recorded& r, std::string& out, bool update = false) {
     return app::replayCapture(r.dir, r.root, update, out);
 }
@@ -557,11 +566,7 @@ TEST(CaptureReplay, IrradianceIsRecordedAsItsFactorsAndOlderCapturesStillReplay)
     testsupport::context();
     const fs::path root = testsupport::makeProjectRoot("factors", {"dipole.bssrdf"});
     app::Workbench wb(root, false);
-    app::SceneSettings& s = wb.scene().settings();
-    s.enabled = true;
-    s.points.points = 1500;
-    s.render.width = 48;
-    s.render.height = 27;
+    sceneOn(wb, 1500, 48, 27);
     wb.finishScene();
     const fs::path dir = root / "captures" / "factors";
     app::recordCaptureTo(wb, dir, "factors", -1, -1);
@@ -618,5 +623,117 @@ TEST(CaptureReplay, IrradianceIsRecordedAsItsFactorsAndOlderCapturesStillReplay)
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
     EXPECT_NE(out.find("FAIL scene.visibility  1 of"), std::string::npos) << out;
     EXPECT_NE(out.find("PASS scene.irradiance_unshadowed"), std::string::npos) << out;
+    fs::remove_all(root);
+}
+
+// The scene's G-buffer is a recorded input (kind exr_input): a replay traces the recorded one, so
+// a capture made on a driver that places its samples elsewhere (emulated: the workbench traced a
+// G-buffer rasterised with the image moved by 0.07 px) replays its render and traced pixel
+// exactly here, and the raster rule (scene.gbuffer_rule) finds both that G-buffer and this
+// run's own conforming. The same capture without its G-buffer (as recorded before it was an
+// input) fails on the render. A G-buffer moved by 0.6 px, planted with its hashes, breaks the
+// rule; a changed file is named by its hash; one of another size is an error naming both sizes.
+TEST(CaptureReplay, TheRecordedGbufferIsTracedAndCheckedByTheRasterRule) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("gbuffer_input", {"dipole.bssrdf"});
+    const fs::path dir = root / "captures" / "moved";
+    render::Gbuffer far;
+    {
+        app::Workbench wb(root, false);
+        const app::SceneSettings& s = sceneOn(wb, 2000, 96, 54);
+        wb.finishScene();
+        render::Renderer& r = *wb.scene().renderer();
+        wb.scene().setGivenGbuffer(r.rasteriseGbuffer(s.render, glm::vec2(0.07f, -0.05f)));
+        far = r.rasteriseGbuffer(s.render, glm::vec2(0.6f, 0.0f));
+        wb.finishScene();
+        app::recordCaptureTo(wb, dir, "moved", 48, 27);
+    }
+    const capture::Manifest m = capture::readManifest(dir);
+    auto kindOf = [&](const std::string& stage) {
+        for (const capture::StageOutput& o : m.outputs)
+            if (o.stage == stage) return o.kind;
+        return std::string("(none)");
+    };
+    EXPECT_EQ(kindOf("scene.gbuffer_position"), "exr_input");
+    EXPECT_EQ(kindOf("scene.gbuffer_normal"), "exr_input");
+    EXPECT_EQ(kindOf("scene.gbuffer_rule"), "csv");
+    const capture::Table rule = capture::readCsv(dir / "scene_gbuffer_rule.csv");
+    ASSERT_EQ(rule.rows.size(), 2u);
+    for (const auto& row : rule.rows)
+        for (size_t c = 2; c < row.size(); ++c)
+            EXPECT_EQ(row[c], 0.0) << "row " << row[0] << ", " << rule.columns[c];
+
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    for (const char* stage : {"scene.render", "scene.trace_steps", "scene.trace_values"}) {
+        const size_t at = out.find(std::string("PASS ") + stage + "  ");
+        ASSERT_NE(at, std::string::npos) << stage << "\n" << out;
+        EXPECT_NE(out.substr(at, out.find('\n', at) - at).find("exact match"), std::string::npos)
+            << out;
+    }
+    EXPECT_NE(out.find("PASS scene.gbuffer_position  recorded input"), std::string::npos) << out;
+    EXPECT_NE(out.find("PASS scene.gbuffer_rule  14 values, exact match"), std::string::npos)
+        << out;
+
+    auto withoutGbuffer = [](capture::Manifest x) {
+        x.outputs.erase(std::remove_if(x.outputs.begin(), x.outputs.end(),
+                                       [](const capture::StageOutput& o) {
+                                           return o.stage.rfind("scene.gbuffer", 0) == 0;
+                                       }),
+                        x.outputs.end());
+        return x;
+    };
+    capture::writeManifest(dir, withoutGbuffer(m));
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL scene.render"), std::string::npos) << out;
+
+    // the far G-buffer planted as the recorded one, hashes and all
+    capture::Manifest planted = m;
+    for (capture::StageOutput& o : planted.outputs)
+        if (o.kind == "exr_input") {
+            pathtrace::Image img;
+            img.width = far.width;
+            img.height = far.height;
+            img.samples = 1;
+            for (const glm::vec4& v :
+                 o.stage == "scene.gbuffer_position" ? far.position : far.normal)
+                img.mean.insert(img.mean.end(), {v.x, v.y, v.z});
+            img.variance.assign(img.mean.size(), 0.0f);
+            pathtrace::writeExr(dir / o.file, img);
+            o.hash = capture::hashFile(dir / o.file);
+        }
+    capture::writeManifest(dir, planted);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("PASS scene.gbuffer_position  recorded input"), std::string::npos) << out;
+    EXPECT_NE(out.find("FAIL scene.gbuffer_rule"), std::string::npos) << out;
+    EXPECT_NE(out.find("column off_centre"), std::string::npos) << out;
+
+    // a changed file: its hash names it
+    capture::Manifest stale = planted;
+    for (capture::StageOutput& o : stale.outputs)
+        if (o.stage == "scene.gbuffer_normal") o.hash = m.outputs.front().hash;
+    capture::writeManifest(dir, stale);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL scene.gbuffer_normal  recorded input changed since it was recorded"),
+              std::string::npos)
+        << out;
+
+    // another size
+    pathtrace::Image small;
+    small.width = 10;
+    small.height = 6;
+    small.mean.assign(3 * 60, 0.0f);
+    small.variance.assign(3 * 60, 0.0f);
+    for (capture::StageOutput& o : planted.outputs)
+        if (o.kind == "exr_input") {
+            pathtrace::writeExr(dir / o.file, small);
+            o.hash = capture::hashFile(dir / o.file);
+        }
+    capture::writeManifest(dir, planted);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 2) << out;
+    EXPECT_NE(out.find("scene.gbuffer_position: the recorded G-buffer is 10x6, "
+                       "settings.scene.render renders 96x54"),
+              std::string::npos)
+        << out;
     fs::remove_all(root);
 }
