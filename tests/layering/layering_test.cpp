@@ -41,7 +41,7 @@ const Graph kAllowed = {
     {"pathtrace", {"core", "gl", "shader", "litsphere", "mesh"}},
     {"sampling", {"core", "mesh"}},
     {"irradiance", {"core", "gl", "shader", "mesh", "pointcloud"}},
-    {"render", {"core", "gl", "shader", "bssrdf", "octree", "mesh"}},
+    {"render", {"core", "gl", "shader", "bssrdf", "octree", "mesh", "pathtrace"}},
     {"integrate", {"core", "gl", "litsphere", "mesh", "bssrdf", "sampling", "render", "pathtrace"}},
     {"texspace",
      {"core", "mesh", "gl", "shader", "irradiance", "octree", "render", "litsphere", "bssrdf"}},
