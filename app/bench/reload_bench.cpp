@@ -1,9 +1,11 @@
 // bench reload: edits a model file like an editor (temp file + rename) and measures the time
 // from the file's modification time to the end of the first UI frame that shows the result
 // (glFinish), on a headless context. Target (foundation issue): <= 150 ms on llvmpipe for a
-// 512-sample plot, i.e. with the mesh pipeline off. Passes, in one process: the plot with the
-// check of a changed model in a child process (model_probe_process.h, kept warm between saves),
-// the plot without it (and the ratio of the two medians), then the default scene (the bunny
+// 512-sample plot, i.e. with the mesh pipeline off. Passes, in one process: the plot editing the
+// dipole as it is (no loop: adopted without the check once one passed in its frame), the plot
+// editing it with a loop (the check of the changed model in a child process at every save,
+// model_probe_process.h, kept warm between saves), the plot without any check (and the ratios
+// of the medians), then the default scene (the bunny
 // through the point-cloud pipeline) with the check, for information: there a save also rebuilds
 // every program of the scene that uses the model (the scene takes it one frame after the plot),
 // and the longest frame until the scene has rendered it is printed. Between edits the frames
@@ -85,18 +87,24 @@ double settle(HeadlessGui& gui) {
 
 // Edits `file` `runs` times and returns the sorted save -> new pixels latencies in ms; the
 // longest frame in `longestFrame`. `serial` makes every edit's text unique in this process.
+// withLoop: the edit puts the factor in a one-iteration loop, so the model is checked at every
+// save (a loop-free one is not, once a check passed in its frame: bssrdf::probeFrameKey).
 std::vector<double> timeEdits(Workbench& wb, HeadlessGui& gui, const fs::path& file,
-                              const std::string& model, int runs, int& serial,
-                              double& longestFrame) {
+                              const std::string& model, int runs, int& serial, double& longestFrame,
+                              bool withLoop = false) {
     std::vector<double> latencies;
     std::map<std::string, std::vector<double>> parts;
     const std::string anchor = "return Multiplier/(4.0*PI)";
     for (int run = 0; run < runs; ++run) {
         const size_t at = model.find(anchor);
+        const std::string factor =
+            std::to_string(1.0 + 0.01 * ++serial + 1e-6 * (::getpid() % 997));
+        const std::string statement =
+            withLoop ? "float f = 0.0;\n    for (int k = 0; k < 1; ++k) f += " + factor +
+                           ";\n    return f*Multiplier/(4.0*PI)"
+                     : "return " + factor + "*Multiplier/(4.0*PI)";
         const std::string edited =
-            model.substr(0, at) + "return " +
-            std::to_string(1.0 + 0.01 * ++serial + 1e-6 * (::getpid() % 997)) +
-            "*Multiplier/(4.0*PI)" + model.substr(at + anchor.size());
+            model.substr(0, at) + statement + model.substr(at + anchor.size());
         // (the factor is unique per run and process: no shader-cache hits, always checked)
         const fs::path swp = file.parent_path() / ("." + file.filename().string() + ".swp");
         { std::ofstream(swp, std::ios::binary) << edited; }
@@ -177,25 +185,35 @@ int benchReload(const fs::path& root, int runs) {
 
     const fs::path checker = modelProbeExecutable();
     int serial = 0;
-    double medians[2] = {0, 0};
-    for (int pass = 0; pass < 2; ++pass) {
-        // pass 0: as configured (the check on when the executable is set); pass 1: off
-        setModelProbeExecutable(pass == 0 ? checker : fs::path());
-        std::printf("%s\n",
-                    pass == 0 && !checker.empty()
-                        ? "the plot, with the check of the changed model in a child process:"
-                        : "the plot, without the check:");
+    // pass 0: the dipole as it is (no loop: once a check passed in its frame, a save needs none);
+    // pass 1: the dipole with a loop (checked at every save, in a child process); pass 2: no
+    // check at all. Passes 0 and 1 as configured (the check on when the executable is set).
+    const char* const kPasses[3] = {
+        "the plot, the dipole as it is (no loop: adopted without a check once one passed in its "
+        "frame):",
+        "the plot, the dipole with a loop (checked at every save in a child process):",
+        "the plot, without any check:"};
+    double medians[3] = {0, 0, 0};
+    for (int pass = 0; pass < 3; ++pass) {
+        setModelProbeExecutable(pass < 2 ? checker : fs::path());
+        std::printf("%s\n", pass < 2 && checker.empty() ? "(the check is off)" : kPasses[pass]);
+        const ProbeCounts before = probeCounts();
         double longest = 0;
         const std::vector<double> latencies =
-            timeEdits(wb, gui, file, model, runs, serial, longest);
+            timeEdits(wb, gui, file, model, runs, serial, longest, pass == 1);
+        const ProbeCounts after = probeCounts();
         medians[pass] = latencies[latencies.size() / 2];
-        std::printf("reload latency: median %.1f ms, max %.1f ms over %d runs; target 150 ms: "
-                    "median/target = %.2f\n",
-                    medians[pass], latencies.back(), runs, medians[pass] / 150.0);
+        std::printf("reload latency: median %.1f ms, max %.1f ms over %d runs (checks %ld, not "
+                    "needed %ld); target 150 ms: median/target = %.2f\n",
+                    medians[pass], latencies.back(), runs,
+                    (after.served + after.ownProcess) - (before.served + before.ownProcess),
+                    after.unneeded - before.unneeded, medians[pass] / 150.0);
     }
     setModelProbeExecutable(checker);
-    std::printf("with the check / without: %.2f (%+.1f ms)\n", medians[0] / medians[1],
-                medians[0] - medians[1]);
+    std::printf("as it is / without any check: %.2f (%+.1f ms); with a loop, checked / without: "
+                "%.2f (%+.1f ms)\n",
+                medians[0] / medians[2], medians[0] - medians[2], medians[1] / medians[2],
+                medians[1] - medians[2]);
 
     std::printf("the default scene (the bunny, point-cloud pipeline) as well%s:\n",
                 checker.empty() ? "" : ", with the check");

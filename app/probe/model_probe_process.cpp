@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <set>
 #include <thread>
@@ -24,6 +25,16 @@ fs::path& probeExe() {
 std::set<std::string>& passedKeys() {
     static std::set<std::string> keys;
     return keys;
+}
+// The frame (bssrdf::probeFrameKey) of each key sent to a check, and the frames a check passed
+// in: a loop-free model in one of those is adopted without a check.
+std::map<std::string, std::string>& frameOfKey() {
+    static std::map<std::string, std::string> frames;
+    return frames;
+}
+std::set<std::string>& passedFrames() {
+    static std::set<std::string> frames;
+    return frames;
 }
 double nowMs() {
     using namespace std::chrono;
@@ -239,6 +250,14 @@ bssrdf::ProbeStarter makeProbeStarter(fs::path root,
                const fs::path& file, const bssrdf::Model& m, const bssrdf::ParamValues& values,
                const std::string& key) -> std::unique_ptr<bssrdf::PendingProbe> {
         if (probeExe().empty() || passedKeys().count(key)) return nullptr;
+        // a loop-free model in a frame that passed a check needs none (bssrdf::probeFrameKey)
+        const std::string frame = bssrdf::probeFrameKey(m, shader::Sources(root));
+        if (!frame.empty() && passedFrames().count(frame)) {
+            ++server().counts.unneeded;
+            passedKeys().insert(key); // the same text again needs nothing either
+            return nullptr;
+        }
+        frameOfKey()[key] = frame;
         const ProbeInputs in = inputsFor(file);
         const bssrdf::Builtins& b = in.builtins;
         std::vector<std::string> args = {file.string(),
@@ -301,6 +320,8 @@ bssrdf::ProbeVerdict probeVerdict(int code, const std::string& out, const std::s
             return {true, "the file changed while its first evaluation was checked; it is "
                           "checked again when it is saved"};
         passedKeys().insert(key);
+        if (auto f = frameOfKey().find(key); f != frameOfKey().end() && !f->second.empty())
+            passedFrames().insert(f->second);
         return {true, ""};
     }
     if (code == kProbeLoopCut) return {true, lastMessage(out, display)};

@@ -12,6 +12,9 @@
 // for the next; so does a check given up before its verdict (a newer save replaced it). While the
 // server is busy with a check of another model, a check runs in its own `probe-model` process, as
 // before.
+//
+// Needed only for loops: a model whose code has none, in a frame (templates, includes,
+// parameters) in which a check passed, is adopted at once (bssrdf::probeFrameKey).
 #pragma once
 
 #include "bssrdf/model_probe.h"
@@ -61,6 +64,7 @@ bssrdf::ProbeVerdict probeVerdict(int code, const std::string& output, const std
 int probeServerPid();
 struct ProbeCounts {
     long served = 0, ownProcess = 0, serverStarts = 0, evaluating = 0;
+    long unneeded = 0; // loop-free models adopted in a frame that passed (bssrdf::probeFrameKey)
 };
 ProbeCounts probeCounts();
 

@@ -2,6 +2,7 @@
 #include "bssrdf/model_probe.h"
 
 #include "bssrdf/assembly.h"
+#include "bssrdf/loop_sites.h"
 #include "core/core.h"
 #include "detail/run_batch.h"
 
@@ -17,6 +18,17 @@ std::string probeKey(const Model& m, const shader::Sources& src) {
     if (m.diffuseReflectance)
         text += src.assemble("invert_rdr.comp", deps, modelExtension(&m)).glsl;
     return core::hashHex(text);
+}
+
+std::string probeFrameKey(const Model& m, const shader::Sources& src) {
+    if (!loopSites(m).empty()) return "";
+    Model frame = m;
+    for (std::optional<Section>* s : {&frame.initializer, &frame.diffuseReflectance, &frame.shader,
+                                      &frame.sample, &frame.table})
+        if (*s) **s = Section{(*s)->name, "", 0, 0};
+    frame.source.clear();
+    frame.hash.clear();
+    return "frame " + probeKey(frame, src);
 }
 
 void warmUp(GLuint program) {

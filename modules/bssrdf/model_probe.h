@@ -6,6 +6,8 @@
 //   probeKey      what the check evaluates: the assembled pencil (and inversion) programs, i.e.
 //                 the model's text, the templates and every include; a key that passed once is
 //                 not checked again, so an unchanged model reloads at its usual cost.
+//   probeFrameKey what surrounds a loop-free model's code: once a check passed in that frame,
+//                 a loop-free model needs none (its straight-line code cannot run away).
 //   warmUp        makes the driver generate the program's code without evaluating the model.
 //   evaluateProbe the check itself: pencil_profile.comp (and invert_rdr.comp) with a sentinel
 //                 loop after the model, which tells a loop the driver cut short (Mesa llvmpipe
@@ -47,6 +49,12 @@ using ProbeStarter = std::function<std::unique_ptr<PendingProbe>(
 
 // A hash of the GLSL the check evaluates (the same text on every run of the same files).
 std::string probeKey(const Model& m, const shader::Sources& src);
+// For a model whose code sections have no loop (no `for`, `while` or `do`: loop_sites.h), a hash
+// of the GLSL around its code (probeKey with the sections' code, their lines and the source left
+// out: templates, includes, parameters, attributes); "" for a model with a loop. Straight-line
+// code ends, and every loop of the GLSL around it is bounded by a count the host sets, so once a
+// check passed with that frame a loop-free model in it needs none: only its loops can run away.
+std::string probeFrameKey(const Model& m, const shader::Sources& src);
 
 // Runs a dispatch of `program` in which every invocation returns before the model is called, so
 // the driver's code generation (slow for big table models on llvmpipe) is not timed as

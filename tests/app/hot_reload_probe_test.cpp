@@ -49,6 +49,16 @@ int whileLine(const std::string& text) {
 std::string withLoop(const std::string& good, const std::string& body) {
     return replaced(good, "return Multiplier/(4.0*PI)", body + "\n    return Multiplier/(4.0*PI)");
 }
+// The dipole returning `factor` times its value. looped: through a one-iteration loop, so the
+// save is checked in the child; a loop-free edit is not, once a check passed in its frame
+// (bssrdf::probeFrameKey).
+std::string scaled(const std::string& good, double factor, bool looped = true) {
+    const std::string f = std::to_string(factor);
+    return replaced(good, "return Multiplier/(4.0*PI)",
+                    looped ? "float f = 0.0;\n    for (int k = 0; k < 1; ++k) f += " + f +
+                                 ";\n    return f*Multiplier/(4.0*PI)"
+                           : "return " + f + "*Multiplier/(4.0*PI)");
+}
 // 64 sine/cosine steps per iteration of a loop whose condition the compiler cannot decide (σa is
 // never negative): on llvmpipe the driver stops it after 65 535 iterations, about 5 s for the
 // 512 radii of the pencil profile on a 2-core machine; elsewhere it never ends.
@@ -107,8 +117,7 @@ TEST_F(ProbeFixture, SlowModelTimesOutTheLastGoodVersionStaysThenTheFixIsAdopted
     EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base); // the last good version stays
     EXPECT_TRUE(wb.library().find(path)->usable());
     // fixed: checked again and adopted
-    core::writeFile(file,
-                    replaced(good, "return Multiplier/(4.0*PI)", "return 2.0*Multiplier/(4.0*PI)"));
+    core::writeFile(file, scaled(good, 2.0));
     updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - 2 * base) < 1e-5 * base; });
     EXPECT_NEAR(valueAt0(wb, path), 2 * base, 1e-5 * base);
     EXPECT_TRUE(errorNaming(wb, path).empty()) << errorNaming(wb, path);
@@ -161,9 +170,8 @@ TEST_F(ProbeFixture, UnchangedTextIsNotCheckedAgain) {
         wb, [&] { return false; }, 400);
     EXPECT_FALSE(wb.library().checking());
     EXPECT_TRUE(wb.errors().empty());
-    // a changed text is checked before it is adopted
-    core::writeFile(file,
-                    replaced(good, "return Multiplier/(4.0*PI)", "return 3.0*Multiplier/(4.0*PI)"));
+    // a changed text with a loop is checked before it is adopted
+    core::writeFile(file, scaled(good, 3.0));
     updateUntil(
         wb, [&] { return wb.library().checking(); }, 5000);
     EXPECT_TRUE(wb.library().checking());
@@ -179,9 +187,7 @@ TEST_F(ProbeFixture, TheWarmServerChecksSaveAfterSaveAndIsReplacedAfterAHang) {
     const double base = valueAt0(wb, path);
     ASSERT_GT(base, 0.0);
     auto saveAndWait = [&](double factor) {
-        core::writeFile(file,
-                        replaced(good, "return Multiplier/(4.0*PI)",
-                                 "return " + std::to_string(factor) + "*Multiplier/(4.0*PI)"));
+        core::writeFile(file, scaled(good, factor));
         updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - factor * base) < 1e-5 * base; });
         EXPECT_NEAR(valueAt0(wb, path), factor * base, 1e-5 * base) << factor;
     };
@@ -230,8 +236,7 @@ TEST_F(ProbeFixture, ASaveDuringACheckReplacesItAndTheNewestVersionWins) {
         wb, [&] { return app::probeCounts().evaluating > evaluating; }, 5000);
     ASSERT_TRUE(wb.library().checking());
     const int busy = app::probeServerPid();
-    core::writeFile(file,
-                    replaced(good, "return Multiplier/(4.0*PI)", "return 4.0*Multiplier/(4.0*PI)"));
+    core::writeFile(file, scaled(good, 4.0));
     const double longest =
         updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - 4 * base) < 1e-5 * base; });
     EXPECT_NEAR(valueAt0(wb, path), 4 * base, 1e-5 * base);
@@ -307,10 +312,51 @@ TEST_F(ProbeFixture, AServerThatDiesMidCheckIsReportedAndReplaced) {
     const int replacement = app::probeServerPid();
     EXPECT_GT(replacement, 0);
     EXPECT_NE(replacement, server);
-    core::writeFile(file,
-                    replaced(good, "return Multiplier/(4.0*PI)", "return 5.0*Multiplier/(4.0*PI)"));
+    core::writeFile(file, scaled(good, 5.0));
     updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - 5 * base) < 1e-5 * base; });
     EXPECT_NEAR(valueAt0(wb, path), 5 * base, 1e-5 * base);
     EXPECT_EQ(app::probeServerPid(), replacement);
     EXPECT_TRUE(errorNaming(wb, path).empty()) << errorNaming(wb, path);
+}
+
+// A model without a loop cannot run away (straight-line code ends; the GLSL around it bounds its
+// own loops), so once a check passed in its frame (templates, includes, parameters) its saves are
+// adopted at once; a save that adds a loop is checked, and so is a loop-free save after the GLSL
+// around the model changed (a template edited), until a check passed in that frame.
+TEST_F(ProbeFixture, ALoopFreeModelInAFrameThatPassedIsAdoptedWithoutACheck) {
+    app::Workbench wb(root, true); // its start-up check passes in this frame
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+    auto checks = [] {
+        const app::ProbeCounts c = app::probeCounts();
+        return c.served + c.ownProcess;
+    };
+    auto saveAndWait = [&](double factor, bool looped) {
+        core::writeFile(file, scaled(good, factor, looped));
+        updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - factor * base) < 1e-5 * base; });
+        EXPECT_NEAR(valueAt0(wb, path), factor * base, 1e-5 * base) << factor;
+    };
+    long before = checks(), unneeded = app::probeCounts().unneeded;
+    saveAndWait(1.5, false);
+    EXPECT_EQ(checks(), before);
+    EXPECT_EQ(app::probeCounts().unneeded - unneeded, 1);
+
+    saveAndWait(2.5, true); // a loop: checked
+    EXPECT_EQ(checks() - before, 1);
+
+    // the template the check evaluates changed: a new frame, so a loop-free save is checked
+    const fs::path tmpl = root / "shaders/pencil_profile.comp";
+    core::writeFile(tmpl, testsupport::readText(tmpl) + "\n// edited\n");
+    updateUntil(
+        wb, [&] { return false; }, 300);
+    before = checks();
+    unneeded = app::probeCounts().unneeded;
+    saveAndWait(3.5, false);
+    EXPECT_EQ(checks() - before, 1);
+    EXPECT_EQ(app::probeCounts().unneeded, unneeded);
+    // and once it passed in that frame, the next loop-free save needs none again
+    saveAndWait(4.5, false);
+    EXPECT_EQ(checks() - before, 1);
+    EXPECT_EQ(app::probeCounts().unneeded - unneeded, 1);
+    EXPECT_TRUE(wb.errors().empty());
 }
