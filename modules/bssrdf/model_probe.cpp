@@ -6,6 +6,8 @@
 #include "core/core.h"
 #include "detail/run_batch.h"
 
+#include <algorithm>
+
 namespace bssrdf {
 namespace {
 // .w of an output the invocation did not write (the templates write r ≥ 0, 0 or -1).
@@ -20,8 +22,30 @@ std::string probeKey(const Model& m, const shader::Sources& src) {
     return core::hashHex(text);
 }
 
+namespace {
+// A `#define` in the model's code: a macro may hide a loop from the scan of loop_sites.h (which
+// skips preprocessor lines), even one whose keyword is pasted together (`f##or`).
+bool definesMacros(const Model& m) {
+    for (const std::optional<Section>* s :
+         {&m.initializer, &m.diffuseReflectance, &m.shader, &m.sample, &m.table}) {
+        if (!*s) continue;
+        const std::string& code = (*s)->code;
+        for (size_t at = 0; at < code.size();) {
+            const size_t end = std::min(code.find('\n', at), code.size());
+            size_t i = code.find_first_not_of(" \t", at);
+            if (i < end && code[i] == '#') {
+                i = code.find_first_not_of(" \t", i + 1);
+                if (i < end && code.compare(i, 6, "define") == 0) return true;
+            }
+            at = end + 1;
+        }
+    }
+    return false;
+}
+} // namespace
+
 std::string probeFrameKey(const Model& m, const shader::Sources& src) {
-    if (!loopSites(m).empty()) return "";
+    if (!loopSites(m).empty() || definesMacros(m)) return "";
     Model frame = m;
     for (std::optional<Section>* s : {&frame.initializer, &frame.diffuseReflectance, &frame.shader,
                                       &frame.sample, &frame.table})

@@ -49,9 +49,10 @@ using ProbeStarter = std::function<std::unique_ptr<PendingProbe>(
 
 // A hash of the GLSL the check evaluates (the same text on every run of the same files).
 std::string probeKey(const Model& m, const shader::Sources& src);
-// For a model whose code sections have no loop (no `for`, `while` or `do`: loop_sites.h), a hash
+// For a model whose code sections have no loop (no `for`, `while` or `do`: loop_sites.h) and no
+// `#define` (a macro may hide a loop from that scan), a hash
 // of the GLSL around its code (probeKey with the sections' code, their lines and the source left
-// out: templates, includes, parameters, attributes); "" for a model with a loop. Straight-line
+// out: templates, includes, parameters, attributes); "" for any other model. Straight-line
 // code ends, and every loop of the GLSL around it is bounded by a count the host sets, so once a
 // check passed with that frame a loop-free model in it needs none: only its loops can run away.
 std::string probeFrameKey(const Model& m, const shader::Sources& src);

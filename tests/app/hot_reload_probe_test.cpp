@@ -321,8 +321,9 @@ TEST_F(ProbeFixture, AServerThatDiesMidCheckIsReportedAndReplaced) {
 
 // A model without a loop cannot run away (straight-line code ends; the GLSL around it bounds its
 // own loops), so once a check passed in its frame (templates, includes, parameters) its saves are
-// adopted at once; a save that adds a loop is checked, and so is a loop-free save after the GLSL
-// around the model changed (a template edited), until a check passed in that frame.
+// adopted at once; a save that adds a loop is checked (also one hidden in a macro), and so is a
+// loop-free save after the GLSL around the model changed (a template edited), until a check
+// passed in that frame.
 TEST_F(ProbeFixture, ALoopFreeModelInAFrameThatPassedIsAdoptedWithoutACheck) {
     app::Workbench wb(root, true); // its start-up check passes in this frame
     const double base = valueAt0(wb, path);
@@ -343,6 +344,12 @@ TEST_F(ProbeFixture, ALoopFreeModelInAFrameThatPassedIsAdoptedWithoutACheck) {
 
     saveAndWait(2.5, true); // a loop: checked
     EXPECT_EQ(checks() - before, 1);
+    // a loop the scan cannot see, in a macro (with its keyword pasted together): checked too
+    core::writeFile(file, replaced(scaled(good, 2.75, true), "for (int k",
+                                   "#define LOOP(a, b) a##b\n    LOOP(fo, r) (int k"));
+    updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - 2.75 * base) < 1e-5 * base; });
+    EXPECT_NEAR(valueAt0(wb, path), 2.75 * base, 1e-5 * base);
+    EXPECT_EQ(checks() - before, 2);
 
     // the template the check evaluates changed: a new frame, so a loop-free save is checked
     const fs::path tmpl = root / "shaders/pencil_profile.comp";
