@@ -71,6 +71,41 @@ void scan(const Section& s, std::vector<LoopSite>& out) {
 
 } // namespace
 
+int loopInMacro(const std::string& code, int firstLine) {
+    int line = firstLine;
+    for (size_t at = 0; at < code.size();) {
+        const int start = line;
+        std::string text;
+        size_t end = at;
+        for (;;) { // one logical line: a trailing backslash continues it
+            end = std::min(code.find('\n', at), code.size());
+            text += code.substr(at, end - at);
+            if (text.empty() || text.back() != '\\' || end >= code.size()) break;
+            text.pop_back();
+            at = end + 1;
+            ++line;
+        }
+        at = end + 1;
+        ++line;
+        size_t i = text.find_first_not_of(" \t");
+        if (i == std::string::npos || text[i] != '#') continue;
+        i = text.find_first_not_of(" \t", i + 1);
+        if (i == std::string::npos || text.compare(i, 6, "define") != 0) continue;
+        text = text.substr(0, text.find("//"));
+        if (text.find("##") != std::string::npos) return start;
+        for (size_t w = 0; w < text.size(); ++w) {
+            if (!identChar(text[w]) || (w > 0 && identChar(text[w - 1]))) continue;
+            size_t e = w;
+            while (e < text.size() && identChar(text[e]))
+                ++e;
+            const std::string word = text.substr(w, e - w);
+            if (word == "for" || word == "while" || word == "do") return start;
+            w = e;
+        }
+    }
+    return 0;
+}
+
 std::vector<LoopSite> loopSites(const Model& m) {
     std::vector<LoopSite> out;
     for (const auto* s : {&m.initializer, &m.diffuseReflectance, &m.shader, &m.sample})

@@ -30,6 +30,12 @@ void forEachWord(
 // Every loop statement of the model's code sections, in file order.
 std::vector<LoopSite> loopSites(const Model& m);
 
+// The file line of the first `#define` of `code` (with its continued lines) that could make a
+// loop the scan above does not see (it leaves preprocessor lines alone, and so does the loop
+// budget's rewrite): one naming `for`, `while` or `do` outside a `//` comment, or one pasting
+// tokens (`##`, which can make a keyword). 0 for none.
+int loopInMacro(const std::string& code, int firstLine);
+
 // "the loop at line 12 (for)" or "loops at lines 12 (for), 20 (while)"; "" for none.
 std::string describeLoops(const std::vector<LoopSite>& loops);
 

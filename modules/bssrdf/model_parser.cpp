@@ -1,6 +1,7 @@
 // The .bssrdf file format (thesis Appendix A.2): attribute line, named sections, checks that the
 // GLSL sections define the functions the consumers call.
 #include "bssrdf/bssrdf.h"
+#include "bssrdf/loop_sites.h"
 #include "bssrdf/table_model.h"
 
 #include "bssrdf/detail/param_parser.h"
@@ -253,6 +254,13 @@ Model Parser::run() {
                                     " is not terminated (missing '::end " + m_open->name + "')");
 
     assign(m);
+    // every loop must be a statement the loop budget can guard (loop_budget.h), not a macro's
+    for (const std::optional<Section>* sec :
+         {&m.initializer, &m.diffuseReflectance, &m.shader, &m.sample})
+        if (*sec)
+            if (const int at = loopInMacro((*sec)->code, (*sec)->firstLine))
+                fail(at, "a macro that loops (for, while or do) or pastes tokens (##): write the "
+                         "loop out as a statement, where the loop budget guards it");
     findLobes(m);
     if (m.table && m.shader)
         fail(m.table->beginLine, "a model has either a 'table' or a 'shader' section, not both");

@@ -179,6 +179,29 @@ TEST(BssrdfParserErrors, EndWithoutBegin) {
                      "'::end shader' without a matching '::begin'");
 }
 
+// A loop in a macro escapes the loop budget's rewrite (bssrdf/loop_budget.h), which leaves
+// preprocessor lines alone: refused at the #define's line, also when continued over lines,
+// indented, or made by pasting tokens; a macro without a loop, or naming one in a comment, stays.
+TEST(BssrdfParserErrors, AMacroThatLoopsIsRefusedAtItsLine) {
+    const std::string head = "analytic\n::begin shader\n";
+    const std::string tail =
+        "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) { return vec3(1.0); }\n::end shader\n";
+    expectParseError(head + "#define SPIN while (true) {}\n" + tail, 3,
+                     "a macro that loops (for, while or do) or pastes tokens (##)");
+    expectParseError(
+        head + "float x;\n  #  define REPEAT(n) \\\n    for (int i = 0; i < n; ++i)\n" + tail, 4,
+        "a macro that loops");
+    expectParseError(head + "#define GLUE(a, b) a##b\n" + tail, 3, "pastes tokens (##)");
+    expectParseError("analytic\n::begin initializer\n#define D do { } while (false)\n"
+                     "void init() {}\n::end initializer\n" +
+                         kShader,
+                     3, "a macro that loops");
+    const auto ok = bssrdf::parseModel(head + "#define STEP x = sin(x); // not a while loop\n" +
+                                           "#define formula 2.0\n" + tail,
+                                       kPath);
+    EXPECT_TRUE(ok.shader.has_value());
+}
+
 TEST(BssrdfParserErrors, DuplicateSection) {
     expectParseError("analytic\n" + kShader + "\n" + kShader, 6,
                      "duplicate section 'shader' (first opened at line 2)");
