@@ -92,7 +92,8 @@ int probeModel(const fs::path& root, const ProbeModelArgs& a) {
     const shader::Sources src(root);
     const gl::Program pencil = bssrdf::buildModelProgram(m, "pencil_profile.comp", src);
     gl::Program inversion;
-    if (m.diffuseReflectance) inversion = bssrdf::buildModelProgram(m, "invert_rdr.comp", src);
+    if (bssrdf::inversionMayLoop(m)) // else init() and DiffuseReflectance() cannot loop
+        inversion = bssrdf::buildModelProgram(m, "invert_rdr.comp", src);
     std::printf("%s key %s\n", kProbeTag, bssrdf::probeKey(m, src).c_str());
 
     bssrdf::ParamValues values = bssrdf::defaultValues(m);

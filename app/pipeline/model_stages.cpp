@@ -37,6 +37,7 @@ std::string tableMediumProblem(const bssrdf::Model& m, const material::MaterialP
 
 void computeMaterial(bssrdf::ModelEntry& e, ModelView& v, const MaterialSettings& shared) {
     const MaterialSettings& s = v.override ? v.own : shared;
+    e.inversionInUse = s.mode != ParamMode::Sigma;
     std::string key = keyOf(s, e.generation);
     if (key == v.materialKey) return;
     v.materialKey = key;

@@ -44,6 +44,39 @@ bool definesMacros(const Model& m) {
 }
 } // namespace
 
+bool inversionMayLoop(const Model& m) {
+    if (!m.diffuseReflectance) return false;
+    for (const std::optional<Section>* s : {&m.initializer, &m.diffuseReflectance}) {
+        if (!*s) continue;
+        bool loops = false;
+        forEachWord((*s)->code, (*s)->firstLine, [&](const std::string& w, size_t, int, char) {
+            loops = loops || w == "for" || w == "while" || w == "do";
+        });
+        if (loops || loopInMacro((*s)->code, (*s)->firstLine)) return true;
+        // `)` then `;` outside braces: a prototype (or a global initialised by a call; either
+        // way the check runs)
+        const std::string& c = (*s)->code;
+        int depth = 0;
+        for (size_t i = 0; i < c.size(); ++i) {
+            if (c.compare(i, 2, "//") == 0) {
+                i = std::min(c.find('\n', i), c.size());
+                continue;
+            }
+            if (c.compare(i, 2, "/*") == 0) {
+                i = std::min(c.find("*/", i + 2), c.size()) + 1;
+                continue;
+            }
+            if (c[i] == '{') ++depth;
+            if (c[i] == '}') --depth;
+            if (c[i] == ')' && depth == 0) {
+                const size_t next = c.find_first_not_of(" \t\r\n", i + 1);
+                if (next != std::string::npos && c[next] == ';') return true;
+            }
+        }
+    }
+    return false;
+}
+
 std::string probeFrameKey(const Model& m, const shader::Sources& src) {
     if (!loopSites(m).empty() || definesMacros(m)) return "";
     Model frame = m;

@@ -57,6 +57,14 @@ std::string probeKey(const Model& m, const shader::Sources& src);
 // check passed with that frame a loop-free model in it needs none: only its loops can run away.
 std::string probeFrameKey(const Model& m, const shader::Sources& src);
 
+// Whether the inversion program (invert_rdr.comp: init() and DiffuseReflectance()) can reach a
+// loop of the model, so that the check must evaluate it too: a loop in the initializer or
+// diffuseReflectance section, or a function declared there without its body (a prototype, whose
+// body a later section may give, with a loop). Sections are assembled in that order and GLSL
+// calls only what is declared before, so otherwise those two functions reach only loop-free
+// model code and the templates' own bounded loops. False for a model without the section.
+bool inversionMayLoop(const Model& m);
+
 // Runs a dispatch of `program` in which every invocation returns before the model is called, so
 // the driver's code generation (slow for big table models on llvmpipe) is not timed as
 // evaluation. `program` is pencil_profile.comp or invert_rdr.comp.

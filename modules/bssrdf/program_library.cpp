@@ -97,7 +97,8 @@ void ModelLibrary::load(ModelEntry& e) {
     core::Stopwatch generate;
     if (c.probe)
         for (const char* consumer : {"pencil_profile.comp", "invert_rdr.comp"})
-            if (auto it = c.programs.find(consumer); it != c.programs.end())
+            if (auto it = c.programs.find(consumer);
+                it != c.programs.end() && (e.inversionInUse || it->first[0] == 'p'))
                 warmUp(it->second.id());
     if (c.probe) gl::recordTiming("hot reload: driver code generation", generate.ms());
     propose(e, std::move(c));

@@ -47,6 +47,9 @@ struct ModelEntry {
     long long generation = 0;              // bumps on every successful (re)load or program rebuild
     long long modelGeneration = 0;         // bumps when the model itself (the parse) is replaced
     std::unique_ptr<PendingModel> pending; // a newer version under its check (probe)
+    // The material inverts R_dr with this model (set by its user): a new version's inversion
+    // program has its code generated while the version is checked, as the pencil program's is.
+    bool inversionInUse = true;
     bool checking() const { return pending != nullptr; }
     bool usable() const { return model.has_value() && programs.count("pencil_profile.comp"); }
     bool hasInversion() const { return model && model->diffuseReflectance.has_value(); }

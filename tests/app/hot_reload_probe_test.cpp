@@ -378,3 +378,27 @@ TEST_F(ProbeFixture, ALoopFreeModelInAFrameThatPassedIsAdoptedWithoutACheck) {
     EXPECT_EQ(app::probeCounts().unneeded - unneeded, 1);
     EXPECT_TRUE(wb.errors().empty());
 }
+
+// A loop that only the inversion reaches (in DiffuseReflectance) is checked too: the check
+// evaluates the inversion program whenever init() or DiffuseReflectance() can reach a loop
+// (bssrdf::inversionMayLoop), and refuses this one; the last good version stays.
+TEST_F(ProbeFixture, ALoopInDiffuseReflectanceIsCheckedThroughTheInversion) {
+    app::Workbench wb(root, true);
+    const double base = valueAt0(wb, path);
+    ASSERT_GT(base, 0.0);
+    const std::string spinning =
+        replaced(good, "    vec3 T = sqrt(3.0*(1.0 - AlphaPrime));",
+                 "    float spin = 0.0;\n    while (SigmaA.x >= 0.0) { spin += 1.0; }\n"
+                 "    vec3 T = sqrt(3.0*(1.0 - AlphaPrime)) + vec3(spin < 0.0 ? spin : 0.0);");
+    ASSERT_NE(spinning, good);
+    core::writeFile(file, spinning);
+    std::string error;
+    updateUntil(wb, [&] {
+        error = errorNaming(wb, path);
+        return !error.empty();
+    });
+    EXPECT_NE(error.find(path), std::string::npos) << error;
+    EXPECT_NE(error.find("line " + std::to_string(whileLine(spinning))), std::string::npos)
+        << error;
+    EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base); // the last good version stays
+}

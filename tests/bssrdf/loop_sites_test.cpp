@@ -1,6 +1,7 @@
 // Where a model loops (bssrdf/loop_sites.h): the loop statements of its GLSL sections by file
-// line, none in comments, a do-while counted once.
+// line, none in comments, a do-while counted once; whether the inversion program can reach one.
 #include "bssrdf/loop_sites.h"
+#include "bssrdf/model_probe.h"
 
 #include <gtest/gtest.h>
 
@@ -42,4 +43,43 @@ TEST(LoopSites, ShippedModelsWithoutLoopsHaveNone) {
     const bssrdf::Model m =
         bssrdf::loadModel(std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf", "dipole");
     EXPECT_TRUE(bssrdf::loopSites(m).empty());
+}
+
+// The inversion program calls init() and DiffuseReflectance(); GLSL calls only what is declared
+// before, and the sections are assembled initializer, diffuseReflectance, shader: so a loop of
+// the shader section alone cannot reach it, a loop in either earlier section can, and so can a
+// prototype there whose body (with a loop) comes later; a comment saying `f();` is not one.
+TEST(InversionMayLoop, OnlyWhenInitOrDiffuseReflectanceCanReachALoop) {
+    auto model = [](const std::string& init, const std::string& dr, const std::string& shader) {
+        std::string t = "analytic radial no_wi no_wo\n";
+        if (!init.empty()) t += "::begin initializer\n" + init + "\n::end initializer\n";
+        if (!dr.empty()) t += "::begin diffuseReflectance\n" + dr + "\n::end diffuseReflectance\n";
+        t += "::begin shader\n" + shader + "\n::end shader\n";
+        return bssrdf::parseModel(t, "materials/m.bssrdf");
+    };
+    const std::string plainDr =
+        "// helper(x);\nvec3 DiffuseReflectance(vec3 AlphaPrime) { return AlphaPrime; }";
+    const std::string plainShader =
+        "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) { return vec3(1.0); }";
+    const std::string loopShader = "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                                   "    float s = 0.0;\n"
+                                   "    for (int i = 0; i < 4; ++i) s += 1.0;\n"
+                                   "    return vec3(s);\n}";
+    EXPECT_FALSE(bssrdf::inversionMayLoop(model("", plainDr, plainShader)));
+    EXPECT_FALSE(bssrdf::inversionMayLoop(model("", plainDr, loopShader)));
+    EXPECT_FALSE(bssrdf::inversionMayLoop(model("", "", loopShader))); // no inversion program
+    EXPECT_TRUE(bssrdf::inversionMayLoop(
+        model("",
+              "vec3 DiffuseReflectance(vec3 A) { vec3 s = A; while (s.x > 2.0) s -= 1.0; "
+              "return s; }",
+              plainShader)));
+    EXPECT_TRUE(bssrdf::inversionMayLoop(
+        model("float K;\nvoid init() { K = 0.0; for (int i = 0; i < 3; ++i) K += 1.0; }", plainDr,
+              plainShader)));
+    EXPECT_TRUE(bssrdf::inversionMayLoop(
+        model("", "float helper(float x);\nvec3 DiffuseReflectance(vec3 A) { return A; }",
+              "float helper(float x) { while (x > 1.0) x -= 1.0; return x; }\n" + plainShader)));
+    const bssrdf::Model dipole =
+        bssrdf::loadModel(std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf", "dipole");
+    EXPECT_FALSE(bssrdf::inversionMayLoop(dipole));
 }
