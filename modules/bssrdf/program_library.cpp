@@ -90,16 +90,18 @@ void ModelLibrary::load(ModelEntry& e) {
             return fail(e, err); // `c` and its check (if any) end here
         }
     }
-    // While the check runs, the driver's code generation for the pencil and inversion
-    // programs, which the first frame after adoption dispatches (warmUp never calls the model):
+    // While the check runs, the driver's code generation for the pencil program, and the
+    // inversion program where the material inverts R_dr with this model (inversionInUse), which
+    // the first frame after adoption dispatches (warmUp never calls the model):
     // on llvmpipe that is tens of ms of the save -> new pixels latency taken off the wait.
     gl::recordTiming("hot reload: compile (every consumer)", compile.ms());
     core::Stopwatch generate;
     if (c.probe)
-        for (const char* consumer : {"pencil_profile.comp", "invert_rdr.comp"})
-            if (auto it = c.programs.find(consumer);
-                it != c.programs.end() && (e.inversionInUse || it->first[0] == 'p'))
+        for (const std::string consumer : {"pencil_profile.comp", "invert_rdr.comp"}) {
+            const bool wanted = consumer == "pencil_profile.comp" || e.inversionInUse;
+            if (auto it = c.programs.find(consumer); it != c.programs.end() && wanted)
                 warmUp(it->second.id());
+        }
     if (c.probe) gl::recordTiming("hot reload: driver code generation", generate.ms());
     propose(e, std::move(c));
 }
