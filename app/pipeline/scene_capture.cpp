@@ -236,12 +236,11 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
         out.entries.push_back(gbufferEntry(which, rb));
     {
         const render::Gbuffer traced{rb.width, rb.height, rb.position, rb.normal};
-        const render::RasterCheck a =
-            render::checkRasterisation(traced, m, m_settings.render.camera);
+        const render::RasterRule rasterRule(m);
+        const render::RasterCheck a = rasterRule.check(traced, m_settings.render.camera);
         const render::RasterCheck b =
             m_renderer->hasGivenGbuffer()
-                ? render::checkRasterisation(m_renderer->rasterisedGbuffer(), m,
-                                             m_settings.render.camera)
+                ? rasterRule.check(m_renderer->rasterisedGbuffer(), m_settings.render.camera)
                 : a;
         CaptureEntry rule = captureEntry(CaptureEntry::Kind::Csv, "scene.gbuffer_rule", "gbuffer");
         rule.note = "raster rule (render/raster_rule.h): pixels breaking it, counted against the "

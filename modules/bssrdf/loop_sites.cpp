@@ -71,7 +71,8 @@ void scan(const Section& s, std::vector<LoopSite>& out) {
 
 } // namespace
 
-int loopInMacro(const std::string& code, int firstLine) {
+void forEachDefine(const std::string& code, int firstLine,
+                   const std::function<void(const std::string& text, int line)>& onDefine) {
     int line = firstLine;
     for (size_t at = 0; at < code.size();) {
         const int start = line;
@@ -91,19 +92,27 @@ int loopInMacro(const std::string& code, int firstLine) {
         if (i == std::string::npos || text[i] != '#') continue;
         i = text.find_first_not_of(" \t", i + 1);
         if (i == std::string::npos || text.compare(i, 6, "define") != 0) continue;
+        onDefine(text, start);
+    }
+}
+
+int loopInMacro(const std::string& code, int firstLine) {
+    int found = 0;
+    forEachDefine(code, firstLine, [&](std::string text, int line) {
+        if (found) return;
         text = text.substr(0, text.find("//"));
-        if (text.find("##") != std::string::npos) return start;
-        for (size_t w = 0; w < text.size(); ++w) {
+        if (text.find("##") != std::string::npos) found = line;
+        for (size_t w = 0; w < text.size() && !found; ++w) {
             if (!identChar(text[w]) || (w > 0 && identChar(text[w - 1]))) continue;
             size_t e = w;
             while (e < text.size() && identChar(text[e]))
                 ++e;
             const std::string word = text.substr(w, e - w);
-            if (word == "for" || word == "while" || word == "do") return start;
+            if (word == "for" || word == "while" || word == "do") found = line;
             w = e;
         }
-    }
-    return 0;
+    });
+    return found;
 }
 
 std::vector<LoopSite> loopSites(const Model& m) {

@@ -30,6 +30,12 @@ void forEachWord(
 // Every loop statement of the model's code sections, in file order.
 std::vector<LoopSite> loopSites(const Model& m);
 
+// Calls onDefine(text, line) for every `#define` of `code`: its logical line (a trailing
+// backslash continues it), `line` the file line it starts on. The one scan of macros that
+// loopInMacro and the model check's frame key (model_probe.h) share.
+void forEachDefine(const std::string& code, int firstLine,
+                   const std::function<void(const std::string& text, int line)>& onDefine);
+
 // The file line of the first `#define` of `code` (with its continued lines) that could make a
 // loop the scan above does not see (it leaves preprocessor lines alone, and so does the loop
 // budget's rewrite): one naming `for`, `while` or `do` outside a `//` comment, or one pasting

@@ -26,21 +26,13 @@ namespace {
 // A `#define` in the model's code: a macro may hide a loop from the scan of loop_sites.h (which
 // skips preprocessor lines), even one whose keyword is pasted together (`f##or`).
 bool definesMacros(const Model& m) {
+    bool found = false;
     for (const std::optional<Section>* s :
-         {&m.initializer, &m.diffuseReflectance, &m.shader, &m.sample, &m.table}) {
-        if (!*s) continue;
-        const std::string& code = (*s)->code;
-        for (size_t at = 0; at < code.size();) {
-            const size_t end = std::min(code.find('\n', at), code.size());
-            size_t i = code.find_first_not_of(" \t", at);
-            if (i < end && code[i] == '#') {
-                i = code.find_first_not_of(" \t", i + 1);
-                if (i < end && code.compare(i, 6, "define") == 0) return true;
-            }
-            at = end + 1;
-        }
-    }
-    return false;
+         {&m.initializer, &m.diffuseReflectance, &m.shader, &m.sample, &m.table})
+        if (*s)
+            forEachDefine((*s)->code, (*s)->firstLine,
+                          [&](const std::string&, int) { found = true; });
+    return found;
 }
 } // namespace
 

@@ -81,15 +81,41 @@ struct Geometry {
 
 } // namespace
 
-RasterCheck checkRasterisation(const Gbuffer& g, const mesh::Mesh& input, const Camera& camera) {
+// The mesh with its normals, its ray caster and the triangles around each vertex.
+struct RasterRule::Prepared {
+    mesh::Mesh mesh;
+    pathtrace::MeshScene scene;
+    std::vector<std::vector<uint32_t>> around;
+
+    static mesh::Mesh withNormals(const mesh::Mesh& input) {
+        if (input.vertices.empty() || input.triangles.empty())
+            throw core::Error("render", 0, "the mesh to check against has no triangles");
+        mesh::Mesh m = input;
+        if (m.normals.size() != m.vertices.size()) mesh::computeVertexNormals(m);
+        return m;
+    }
+    explicit Prepared(const mesh::Mesh& input)
+        : mesh(withNormals(input)), scene(mesh), around(mesh.vertices.size()) {
+        for (uint32_t t = 0; t < uint32_t(mesh.triangles.size()); ++t)
+            for (const uint32_t v : mesh.triangles[t])
+                around[v].push_back(t);
+    }
+};
+
+RasterRule::RasterRule(const mesh::Mesh& m) : m_prepared(std::make_unique<Prepared>(m)) {}
+RasterRule::~RasterRule() = default;
+
+RasterCheck checkRasterisation(const Gbuffer& g, const mesh::Mesh& m, const Camera& camera) {
+    return RasterRule(m).check(g, camera);
+}
+
+RasterCheck RasterRule::check(const Gbuffer& g, const Camera& camera) const {
     const size_t n = size_t(std::max(g.width, 0)) * size_t(std::max(g.height, 0));
     if (n == 0 || g.position.size() != n || g.normal.size() != n)
         throw core::Error("render", 0, "the G-buffer to check is empty or its images do not fit");
-    if (input.vertices.empty() || input.triangles.empty())
-        throw core::Error("render", 0, "the mesh to check against has no triangles");
-    mesh::Mesh m = input;
-    if (m.normals.size() != m.vertices.size()) mesh::computeVertexNormals(m);
-    const pathtrace::MeshScene scene(m);
+    const mesh::Mesh& m = m_prepared->mesh;
+    const pathtrace::MeshScene& scene = m_prepared->scene;
+    const std::vector<std::vector<uint32_t>>& around = m_prepared->around;
     Camera cam = camera;
     cam.aspect = float(g.width) / float(g.height);
     const glm::mat4 flip = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, -1.0f, 1.0f));
@@ -102,12 +128,6 @@ RasterCheck checkRasterisation(const Gbuffer& g, const mesh::Mesh& input, const 
                        g.width,
                        g.height,
                        2.0 * std::tan(0.5 * double(cam.fovY)) / g.height};
-
-    // the triangles around each vertex
-    std::vector<std::vector<uint32_t>> around(m.vertices.size());
-    for (uint32_t t = 0; t < uint32_t(m.triangles.size()); ++t)
-        for (const uint32_t v : m.triangles[t])
-            around[v].push_back(t);
 
     RasterCheck r;
     r.pixels = n;

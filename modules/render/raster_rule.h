@@ -35,6 +35,7 @@
 #include "render/render.h"
 
 #include <cstddef>
+#include <memory>
 
 namespace render {
 
@@ -61,9 +62,28 @@ struct RasterCheck {
     }
 };
 
-// `g` against mesh `m` (normals computed as the renderer does when it has none) seen by
-// `camera` (its aspect replaced by g.width / g.height) under the renderer's image conventions
-// (render.h: row 0 at the top). core::Error for an empty G-buffer or mesh.
+// The rule for one mesh: its ray caster and the triangles around each vertex, built once for
+// every G-buffer checked against it (a scene capture checks two).
+class RasterRule {
+  public:
+    // `m` with normals computed as the renderer does when it has none; core::Error for a mesh
+    // without triangles.
+    explicit RasterRule(const mesh::Mesh& m);
+    ~RasterRule();
+    RasterRule(const RasterRule&) = delete;
+    RasterRule& operator=(const RasterRule&) = delete;
+
+    // `g` against the mesh seen by `camera` (its aspect replaced by g.width / g.height) under
+    // the renderer's image conventions (render.h: row 0 at the top). core::Error for an empty
+    // G-buffer.
+    RasterCheck check(const Gbuffer& g, const Camera& camera) const;
+
+  private:
+    struct Prepared;
+    std::unique_ptr<Prepared> m_prepared;
+};
+
+// RasterRule(m).check(g, camera), for a single G-buffer.
 RasterCheck checkRasterisation(const Gbuffer& g, const mesh::Mesh& m, const Camera& camera);
 
 } // namespace render

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
 
 namespace {
@@ -772,8 +773,9 @@ TEST(RenderTraversal, ModelLoopsStayWithinTheDriverLimit) {
 // A G-buffer given from outside (a capture's recorded one) is what the traversal reads: the
 // frame equals the one rasterised with that G-buffer's own placement, bit for bit, while the
 // renderer still keeps its own rasterisation aside; the offset rasterisation moves the image by
-// the offset (the sphere's centre column shifts by one pixel for an offset of one); a G-buffer
-// of another size is refused naming both sizes.
+// the offset (the bunny's columns shift by one pixel for an offset of one); the CPU replica
+// traversing from the given points sums what the GPU summed; a G-buffer of another size is
+// refused naming both sizes.
 TEST(RenderGBuffer, AGivenGbufferIsTracedAndTheRasterisedOneKept) {
     render::Renderer& r = bunnyRenderer();
     render::Settings s = smallSettings(bunny().mesh);
@@ -809,9 +811,15 @@ TEST(RenderGBuffer, AGivenGbufferIsTracedAndTheRasterisedOneKept) {
     for (size_t p = 0; p < own.hdr.size(); ++p)
         differ += traced.exitance[p] != own.exitance[p];
     EXPECT_GT(differ, 100u) << "the moved G-buffer's surface points give other sums";
-    // the same frame from a CPU replica's point of view: the traced pixel's position is the given
-    const size_t mid = traced.index(s.width / 2, s.height / 2);
-    ASSERT_EQ(traced.position[mid].w, 1.0f);
+    // the CPU replica traversing from the given G-buffer's points sums what the GPU summed
+    render::Settings direct = s;
+    direct.directBssrdf = true; // the replica's values come from Bssrdf() itself
+    r.render(direct);
+    const render::Readback givenDirect = r.readback();
+    EXPECT_EQ(givenDirect.position, moved.position);
+    const ReplicaResult replica = compareWithReplica(r, direct, givenDirect, bunny().tree);
+    EXPECT_GT(replica.compared, 300u);
+    EXPECT_LE(replica.excluded * 50, replica.compared) << "at most 2 % excluded";
 
     render::Settings bigger = s;
     bigger.width += 1;
@@ -832,13 +840,15 @@ TEST(RenderGBuffer, AGivenGbufferIsTracedAndTheRasterisedOneKept) {
 // the sample points moved by up to 0.2 px (what another driver may do), are rasterisations of
 // the mesh by the camera; moved by half a pixel, with the normals tilted by 0.02 rad, against a
 // mesh 1 % larger, or with a hole punched inside the silhouette, they are not, and the count
-// says which rule failed.
+// says which rule failed. One RasterRule checks every G-buffer of the mesh (as a replay checks
+// two); an empty mesh or a G-buffer whose images do not fit is an error.
 TEST(RenderGBuffer, TheRasterRuleAcceptsSubPixelPlacementAndNothingElse) {
     render::Renderer& r = bunnyRenderer();
     const render::Settings s = smallSettings(bunny().mesh);
     const mesh::Mesh& m = bunny().mesh;
+    const render::RasterRule rule(m);
     const render::Gbuffer own = r.rasteriseGbuffer(s);
-    const render::RasterCheck c = render::checkRasterisation(own, m, s.camera);
+    const render::RasterCheck c = rule.check(own, s.camera);
     std::printf("own G-buffer %dx%d: %zu covered, worst %.3g px off centre, depth %.3g, normal "
                 "%.3g\n",
                 own.width, own.height, c.covered, c.worstOffCentre, c.worstDepth, c.worstNormal);
@@ -851,8 +861,7 @@ TEST(RenderGBuffer, TheRasterRuleAcceptsSubPixelPlacementAndNothingElse) {
     double worst = 0;
     for (int k = 0; k < 24; ++k) {
         const glm::vec2 off(within(rng), within(rng));
-        const render::RasterCheck moved =
-            render::checkRasterisation(r.rasteriseGbuffer(s, off), m, s.camera);
+        const render::RasterCheck moved = rule.check(r.rasteriseGbuffer(s, off), s.camera);
         EXPECT_EQ(moved.failures(), 0u)
             << off.x << "," << off.y << ": off centre " << moved.offCentre << ", off surface "
             << moved.offSurface << ", hidden " << moved.hidden << ", normal " << moved.wrongNormal
@@ -863,17 +872,17 @@ TEST(RenderGBuffer, TheRasterRuleAcceptsSubPixelPlacementAndNothingElse) {
     std::printf("moved by up to 0.2 px: worst normal difference %.3g\n", worst);
 
     const render::RasterCheck half =
-        render::checkRasterisation(r.rasteriseGbuffer(s, glm::vec2(0.5f, 0.0f)), m, s.camera);
+        rule.check(r.rasteriseGbuffer(s, glm::vec2(0.5f, 0.0f)), s.camera);
     EXPECT_GT(half.offCentre, half.covered * 9 / 10);
     const render::RasterCheck down =
-        render::checkRasterisation(r.rasteriseGbuffer(s, glm::vec2(0.0f, -0.3f)), m, s.camera);
+        rule.check(r.rasteriseGbuffer(s, glm::vec2(0.0f, -0.3f)), s.camera);
     EXPECT_GT(down.offCentre, down.covered * 9 / 10);
 
     render::Gbuffer bent = own; // normals tilted by 0.02 rad about +y
     const glm::mat4 tilt = glm::rotate(glm::mat4(1.0f), 0.02f, glm::vec3(0, 1, 0));
     for (glm::vec4& nv : bent.normal)
         if (nv != glm::vec4(0.0f)) nv = tilt * glm::vec4(glm::vec3(nv), 0.0f);
-    const render::RasterCheck b = render::checkRasterisation(bent, m, s.camera);
+    const render::RasterCheck b = rule.check(bent, s.camera);
     EXPECT_GT(b.wrongNormal, b.covered * 9 / 10);
     EXPECT_EQ(b.offCentre + b.offSurface, 0u);
 
@@ -905,7 +914,7 @@ TEST(RenderGBuffer, TheRasterRuleAcceptsSubPixelPlacementAndNothingElse) {
         ++replaced;
     }
     ASSERT_GT(replaced, 100u);
-    const render::RasterCheck hid = render::checkRasterisation(behind, m, s.camera);
+    const render::RasterCheck hid = rule.check(behind, s.camera);
     EXPECT_GT(hid.hidden, replaced * 9 / 10);
     EXPECT_EQ(hid.offSurface, 0u);
 
@@ -921,7 +930,23 @@ TEST(RenderGBuffer, TheRasterRuleAcceptsSubPixelPlacementAndNothingElse) {
         }
     ASSERT_NE(inner, 0u);
     holed.position[inner] = holed.normal[inner] = glm::vec4(0.0f);
-    const render::RasterCheck h = render::checkRasterisation(holed, m, s.camera);
+    const render::RasterCheck h = rule.check(holed, s.camera);
     EXPECT_EQ(h.uncoveredInside, 1u);
     EXPECT_EQ(h.failures(), 1u);
+
+    // bad inputs: a mesh without triangles, a G-buffer whose images do not fit its size
+    auto expectError = [](const std::function<void()>& f, const std::string& fragment) {
+        try {
+            f();
+            ADD_FAILURE() << "no error; expected: " << fragment;
+        } catch (const core::Error& e) {
+            EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+        }
+    };
+    expectError([] { const render::RasterRule none{mesh::Mesh{}}; },
+                "the mesh to check against has no triangles");
+    render::Gbuffer cut = own;
+    cut.normal.pop_back();
+    expectError([&] { rule.check(cut, s.camera); }, "its images do not fit");
+    expectError([&] { rule.check(render::Gbuffer{}, s.camera); }, "the G-buffer to check is empty");
 }
