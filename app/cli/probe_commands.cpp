@@ -111,6 +111,10 @@ int probeModel(const fs::path& root, const ProbeModelArgs& a) {
     b.ior = float(a.eta);
     b.scale = float(a.scale);
 
+    // The driver's code generation, before the evaluation's time limit. The workbench builds the
+    // same programs from the same text, and a driver with an on-disk shader cache (Mesa's,
+    // NVIDIA's: on by default) gives it this code at its first dispatch instead of generating it
+    // again on its GUI thread (bssrdf/program_library.cpp).
     bssrdf::warmUp(pencil.id());
     if (inversion.id()) bssrdf::warmUp(inversion.id());
     std::printf("%s evaluating\n", kProbeTag);

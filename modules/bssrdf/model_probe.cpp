@@ -80,6 +80,15 @@ std::string probeFrameKey(const Model& m, const shader::Sources& src) {
     return "frame " + probeKey(frame, src);
 }
 
+std::vector<std::string> programsToWarmDuringCheck(const Model& m, bool inversionInUse,
+                                                   bool driverCacheOff) {
+    std::vector<std::string> out;
+    if (driverCacheOff) out.push_back("pencil_profile.comp");
+    if (m.diffuseReflectance && inversionInUse && (driverCacheOff || !inversionMayLoop(m)))
+        out.push_back("invert_rdr.comp");
+    return out;
+}
+
 void warmUp(GLuint program) {
     // Count = 0: every invocation of the one work group returns at its first line.
     const std::vector<float> zeros(64 * 4, 0.0f);

@@ -65,6 +65,16 @@ std::string probeFrameKey(const Model& m, const shader::Sources& src);
 // model code and the templates' own bounded loops. False for a model without the section.
 bool inversionMayLoop(const Model& m);
 
+// The programs whose code the workbench generates itself (warmUp) while a new version of `m`
+// is checked, of those the first frame after adoption dispatches: pencil_profile.comp, and
+// invert_rdr.comp where `inversionInUse` (the material inverts R_dr) and the model has the
+// section. The check's process generates the code of what it evaluates (the pencil program, the
+// inversion where inversionMayLoop) from the same text, and a driver's on-disk shader cache
+// hands that code to the workbench at its first dispatch; so only the rest, or everything where
+// `driverCacheOff` (gl::driverShaderCacheOff).
+std::vector<std::string> programsToWarmDuringCheck(const Model& m, bool inversionInUse,
+                                                   bool driverCacheOff);
+
 // Runs a dispatch of `program` in which every invocation returns before the model is called, so
 // the driver's code generation (slow for big table models on llvmpipe) is not timed as
 // evaluation. `program` is pencil_profile.comp or invert_rdr.comp.

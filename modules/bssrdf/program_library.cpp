@@ -90,19 +90,20 @@ void ModelLibrary::load(ModelEntry& e) {
             return fail(e, err); // `c` and its check (if any) end here
         }
     }
-    // While the check runs, the driver's code generation for the pencil program, and the
-    // inversion program where the material inverts R_dr with this model (inversionInUse), which
-    // the first frame after adoption dispatches (warmUp never calls the model):
-    // on llvmpipe that is tens of ms of the save -> new pixels latency taken off the wait.
     gl::recordTiming("hot reload: compile (every consumer)", compile.ms());
-    core::Stopwatch generate;
-    if (c.probe)
-        for (const std::string consumer : {"pencil_profile.comp", "invert_rdr.comp"}) {
-            const bool wanted = consumer == "pencil_profile.comp" || e.inversionInUse;
-            if (auto it = c.programs.find(consumer); it != c.programs.end() && wanted)
+    // The driver's code generation for the programs the first frame after adoption dispatches,
+    // while the check runs: on llvmpipe 45-100 ms per program at its first dispatch. The check's
+    // process generates what it evaluates from the same text and the driver's on-disk shader
+    // cache gives it to this process (its first dispatch then takes 1 ms), so this thread goes on
+    // drawing frames; it generates only the rest (model_probe.h, programsToWarmDuringCheck).
+    if (c.probe) {
+        core::Stopwatch generate;
+        for (const std::string& consumer :
+             programsToWarmDuringCheck(c.model, e.inversionInUse, gl::driverShaderCacheOff()))
+            if (auto it = c.programs.find(consumer); it != c.programs.end())
                 warmUp(it->second.id());
-        }
-    if (c.probe) gl::recordTiming("hot reload: driver code generation", generate.ms());
+        gl::recordTiming("hot reload: driver code generation", generate.ms());
+    }
     propose(e, std::move(c));
 }
 

@@ -48,7 +48,8 @@ struct ModelEntry {
     long long modelGeneration = 0;         // bumps when the model itself (the parse) is replaced
     std::unique_ptr<PendingModel> pending; // a newer version under its check (probe)
     // The material inverts R_dr with this model (set by its user): a new version's inversion
-    // program has its code generated while the version is checked, as the pencil program's is.
+    // program has its code generated while the version is checked, as the pencil program's is
+    // (program_library.cpp: by the check's process where it evaluates the program, else here).
     bool inversionInUse = true;
     bool checking() const { return pending != nullptr; }
     bool usable() const { return model.has_value() && programs.count("pencil_profile.comp"); }

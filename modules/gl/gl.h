@@ -65,6 +65,12 @@ const std::vector<RequiredLimit>& requiredLimits();
 std::string limitsProblem(const std::function<int64_t(const RequiredLimit&)>& query);
 void requireLimits(); // with the current context; throws core::Error
 
+// Whether the environment turns the driver's on-disk shader cache off (shader_cache.cpp: Mesa's
+// MESA_SHADER_CACHE_DISABLE, NVIDIA's __GL_SHADER_DISK_CACHE=0). With the cache on, code a
+// driver generated for a program in another process (the model check's) is reused at this
+// process's first dispatch of the same program text.
+bool driverShaderCacheOff();
+
 // Waits until the GPU has finished every command issued so far: a fence polled every 50 ms,
 // and core::Error("<what>: the GPU did not finish within S s …") once `seconds` have passed,
 // instead of a readback that blocks without end (fence.cpp). `poll` replaces glClientWaitSync

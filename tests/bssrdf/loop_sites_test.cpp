@@ -83,3 +83,35 @@ TEST(InversionMayLoop, OnlyWhenInitOrDiffuseReflectanceCanReachALoop) {
         bssrdf::loadModel(std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf", "dipole");
     EXPECT_FALSE(bssrdf::inversionMayLoop(dipole));
 }
+
+// What the workbench generates code for itself while a new version is checked: what the check's
+// process does not evaluate (and so does not put in the driver's shader cache) and the first
+// frame after adoption dispatches; everything it dispatches where the cache is off.
+TEST(ProgramsToWarmDuringCheck, WhatTheCheckDoesNotGenerateAndTheFirstFrameUses) {
+    auto model = [](const std::string& dr) {
+        std::string t = "analytic radial no_wi no_wo\n";
+        if (!dr.empty()) t += "::begin diffuseReflectance\n" + dr + "\n::end diffuseReflectance\n";
+        t += "::begin shader\nvec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+             "    float s = 0.0;\n    for (int i = 0; i < 4; ++i) s += 1.0;\n"
+             "    return vec3(s);\n}\n::end shader\n";
+        return bssrdf::parseModel(t, "materials/m.bssrdf");
+    };
+    using V = std::vector<std::string>;
+    const bssrdf::Model plain = model("vec3 DiffuseReflectance(vec3 A) { return A; }");
+    const bssrdf::Model looping = model(
+        "vec3 DiffuseReflectance(vec3 A) { vec3 s = A; while (s.x > 2.0) s -= 1.0; return s; }");
+    const bssrdf::Model none = model("");
+    // the cache on: the pencil program always comes from the check
+    EXPECT_EQ(bssrdf::programsToWarmDuringCheck(plain, true, false), V{"invert_rdr.comp"});
+    EXPECT_EQ(bssrdf::programsToWarmDuringCheck(plain, false, false), V{});
+    EXPECT_EQ(bssrdf::programsToWarmDuringCheck(looping, true, false),
+              V{}); // the check evaluates it
+    EXPECT_EQ(bssrdf::programsToWarmDuringCheck(none, true, false), V{});
+    // the cache off: everything the first frame dispatches
+    EXPECT_EQ(bssrdf::programsToWarmDuringCheck(plain, true, true),
+              (V{"pencil_profile.comp", "invert_rdr.comp"}));
+    EXPECT_EQ(bssrdf::programsToWarmDuringCheck(looping, true, true),
+              (V{"pencil_profile.comp", "invert_rdr.comp"}));
+    EXPECT_EQ(bssrdf::programsToWarmDuringCheck(looping, false, true), V{"pencil_profile.comp"});
+    EXPECT_EQ(bssrdf::programsToWarmDuringCheck(none, true, true), V{"pencil_profile.comp"});
+}

@@ -10,7 +10,10 @@
 #include <chrono>
 #include <cstdlib>
 #include <functional>
+#include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 TEST(HeadlessContext, GivesGl45CoreWithCompute) {
     auto ctx = gl::createHeadlessContext();
@@ -108,6 +111,41 @@ TEST(HeadlessContext, NestedStageTimersDoNotNestGlQueries) {
 
 // The window opens fitting the monitor's work area (it opened at 1600 × 1000 whatever the screen,
 // so at 1280 × 720 the inspector and the bottom strip were off-screen), keeping its aspect.
+// The environment variables with which Mesa and NVIDIA's driver turn their on-disk shader cache
+// off, read as those drivers read them (the model check then leaves no code for the workbench).
+TEST(DriverShaderCache, OffOnlyWhereTheEnvironmentTurnsItOff) {
+    const char* const vars[] = {"MESA_SHADER_CACHE_DISABLE", "MESA_GLSL_CACHE_DISABLE",
+                                "__GL_SHADER_DISK_CACHE"};
+    std::vector<std::pair<std::string, std::optional<std::string>>> saved;
+    for (const char* v : vars) {
+        const char* was = std::getenv(v);
+        saved.emplace_back(v, was ? std::optional<std::string>(was) : std::nullopt);
+        unsetenv(v);
+    }
+    EXPECT_FALSE(gl::driverShaderCacheOff());
+    for (const char* value : {"true", "1", "YES", "y"}) {
+        setenv("MESA_SHADER_CACHE_DISABLE", value, 1);
+        EXPECT_TRUE(gl::driverShaderCacheOff()) << value;
+    }
+    for (const char* value : {"false", "0", "no", ""}) {
+        setenv("MESA_SHADER_CACHE_DISABLE", value, 1);
+        EXPECT_FALSE(gl::driverShaderCacheOff()) << value;
+    }
+    unsetenv("MESA_SHADER_CACHE_DISABLE");
+    setenv("MESA_GLSL_CACHE_DISABLE", "true", 1);
+    EXPECT_TRUE(gl::driverShaderCacheOff());
+    unsetenv("MESA_GLSL_CACHE_DISABLE");
+    setenv("__GL_SHADER_DISK_CACHE", "0", 1);
+    EXPECT_TRUE(gl::driverShaderCacheOff());
+    setenv("__GL_SHADER_DISK_CACHE", "1", 1);
+    EXPECT_FALSE(gl::driverShaderCacheOff());
+    for (const auto& [name, value] : saved)
+        if (value)
+            setenv(name.c_str(), value->c_str(), 1);
+        else
+            unsetenv(name.c_str());
+}
+
 TEST(WindowSize, FitsTheWorkAreaWithItsDecorations) {
     const auto fit = [](int w, int h, int aw, int ah, int fw = 0, int fh = 0) {
         const gl::WindowSize s = gl::fitWindowSize(w, h, aw, ah, fw, fh);
