@@ -1,7 +1,7 @@
 // Every command line the README shows — in code blocks and inline — runs and exits 0, at small
 // sizes: counts and sizes are replaced by small ones (`--paths 1e6` → `--paths 20000`), the
 // Slurm variable by a shard number, a glob by the files it matches, `...` by the arguments of
-// the command above. Synopses (with [ ], | or parentheses) and bare names are not command
+// the command above; sweeps are cut to a case or two (params-lab one η, compare two presets). Synopses (with [ ], | or parentheses) and bare names are not command
 // lines. The README keeps its word: a command it shows that fails fails this test.
 #include "../support/cli_runner.h"
 
@@ -111,6 +111,16 @@ std::vector<std::string> smallArgs(std::vector<std::string> w, const fs::path& d
         if (std::find(out.begin(), out.end(), "--shapes") == out.end())
             out.insert(out.end(), {"--shapes", "slab:t=1", "sphere:r=1"});
     }
+    // params-lab: one index of refraction (the albedos are cut to two above)
+    if (out.size() >= 2 && out[1] == "params-lab")
+        for (size_t i = 2; i + 1 < out.size(); ++i)
+            if (out[i] == "--eta") out[i + 1] = "1.3";
+    // compare (not --geometry): two presets when the line scores all of them
+    if (out.size() >= 2 && out[1] == "compare" &&
+        std::find(out.begin(), out.end(), "--geometry") == out.end() &&
+        std::find(out.begin(), out.end(), "--presets") == out.end() &&
+        std::find(out.begin(), out.end(), "--mco") == out.end())
+        out.insert(out.end(), {"--presets", "Marble", "Skin1"});
     // bench texture-space: one case of each method
     if (out.size() >= 3 && out[1] == "bench" && out[2] == "texture-space") {
         const std::vector<std::pair<std::string, std::string>> one = {
