@@ -1,8 +1,9 @@
 // Every command line the README shows — in code blocks and inline — runs and exits 0, at small
 // sizes: counts and sizes are replaced by small ones (`--paths 1e6` → `--paths 20000`), the
 // Slurm variable by a shard number, a glob by the files it matches, `...` by the arguments of
-// the command above; sweeps are cut to a case or two (params-lab one η, compare two presets). Synopses (with [ ], | or parentheses) and bare names are not command
-// lines. The README keeps its word: a command it shows that fails fails this test.
+// the command above; sweeps are cut to a case or two (params-lab one η, compare two presets).
+// Synopses (with [ ], | or parentheses) and bare names are not command lines. The README keeps its
+// word: a command it shows that fails fails this test.
 #include "../support/cli_runner.h"
 
 #include <gtest/gtest.h>
