@@ -109,8 +109,6 @@ TEST(HeadlessContext, NestedStageTimersDoNotNestGlQueries) {
     EXPECT_TRUE(innerSeen);
 }
 
-// The window opens fitting the monitor's work area (it opened at 1600 × 1000 whatever the screen,
-// so at 1280 × 720 the inspector and the bottom strip were off-screen), keeping its aspect.
 // The environment variables with which Mesa and NVIDIA's driver turn their on-disk shader cache
 // off, read as those drivers read them (the model check then leaves no code for the workbench).
 TEST(DriverShaderCache, OffOnlyWhereTheEnvironmentTurnsItOff) {
@@ -146,6 +144,8 @@ TEST(DriverShaderCache, OffOnlyWhereTheEnvironmentTurnsItOff) {
             unsetenv(name.c_str());
 }
 
+// The window opens fitting the monitor's work area (it opened at 1600 × 1000 whatever the screen,
+// so at 1280 × 720 the inspector and the bottom strip were off-screen), keeping its aspect.
 TEST(WindowSize, FitsTheWorkAreaWithItsDecorations) {
     const auto fit = [](int w, int h, int aw, int ah, int fw = 0, int fh = 0) {
         const gl::WindowSize s = gl::fitWindowSize(w, h, aw, ah, fw, fh);
