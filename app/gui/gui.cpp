@@ -10,6 +10,7 @@
 #include "core/core.h"
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
+#include "probe/output_wake.h"
 
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
@@ -318,12 +319,17 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         GLFWwindow* win = ctx.window();
         ImGui_ImplGlfw_InitForOpenGL(win, true);
         ImGui_ImplOpenGL3_Init("#version 450");
-        // a save wakes the loop at once instead of at the end of its wait; stopped before the
-        // window goes, however this loop ends
+        // a save, and a child's output (a model check's verdict, a replay's progress), wake the
+        // loop at once instead of at the end of its wait; stopped before the window goes,
+        // however this loop ends
         wb.wakeOnFileChanges([] { glfwPostEmptyEvent(); });
+        wakeOnChildOutput([] { glfwPostEmptyEvent(); });
         struct StopWake {
             Workbench& wb;
-            ~StopWake() { wb.wakeOnFileChanges({}); }
+            ~StopWake() {
+                wb.wakeOnFileChanges({});
+                wakeOnChildOutput({});
+            }
         } stopWake{wb};
         while (!glfwWindowShouldClose(win) && !ui.shared.quit) {
             glfwWaitEventsTimeout(0.03); // idle without spinning; the watcher is polled below

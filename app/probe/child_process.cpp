@@ -1,8 +1,9 @@
 // Child processes (child_process.h): fork/exec with stdout and stderr on a non-blocking pipe,
-// reaped with waitpid(WNOHANG).
+// reaped with waitpid(WNOHANG); the pipe wakes a sleeping frame loop (output_wake.h).
 #include "probe/child_process.h"
 
 #include "core/core.h"
+#include "probe/output_wake.h"
 
 #include <cerrno>
 #include <csignal>
@@ -60,11 +61,15 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argsIn, const std::st
         m_in = in[0];
     }
     ::fcntl(m_fd, F_SETFL, ::fcntl(m_fd, F_GETFL) | O_NONBLOCK);
+    detail::watchChildOutput(m_fd);
 }
 
 ChildProcess::~ChildProcess() {
     if (!m_done) cancel();
-    if (m_fd >= 0) ::close(m_fd);
+    if (m_fd >= 0) {
+        detail::unwatchChildOutput(m_fd);
+        ::close(m_fd);
+    }
     if (m_in >= 0) ::close(m_in);
 }
 
@@ -102,6 +107,7 @@ bool ChildProcess::poll() {
             m_output.append(buf, size_t(n));
         m_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
         m_done = true;
+        detail::unwatchChildOutput(m_fd); // nothing more to wake for
     }
     return m_done;
 }
