@@ -193,8 +193,8 @@ int benchReload(const fs::path& root, int runs) {
     // pass 1: the dipole with a loop (checked at every save, in a child process); pass 2: no
     // check at all. Passes 0 and 1 as configured (the check on when the executable is set).
     const char* const kPasses[3] = {
-        "the plot, the dipole as it is (no loop: adopted without a check once one passed in its "
-        "frame):",
+        ("the plot, the dipole as it is (no loop: adopted without a check once one passed in "
+         "its frame):"),
         "the plot, the dipole with a loop (checked at every save in a child process):",
         "the plot, without any check:"};
     double medians[3] = {0, 0, 0};
