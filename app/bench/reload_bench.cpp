@@ -5,7 +5,9 @@
 // dipole as it is (no loop: adopted without the check once one passed in its frame), the plot
 // editing it with a loop (the check of the changed model in a child process at every save,
 // model_probe_process.h, kept warm between saves), the plot without any check (and the ratios
-// of the medians), then the default scene (the bunny
+// of the medians), the plot with a loop again, its frames paced like the windowed GUI's (a sleep
+// of up to kFrameWaitSeconds before each, ended by a save or the check's verdict, and then by a
+// save only, as before the child's output woke the window), then the default scene (the bunny
 // through the point-cloud pipeline) with the check, for information: there a save also rebuilds
 // every program of the scene that uses the model (the scene takes it one frame after the plot),
 // and the longest frame until the scene has rendered it is printed. Between edits the frames
@@ -15,17 +17,23 @@
 #include "bench/bench.h"
 
 #include "core/core.h"
+#include "core/text.h"
 #include "gl/gl.h"
 #include "gui/gui.h"
 #include "gui/panels/registry.h"
 #include "pipeline/workbench.h"
 #include "probe/model_probe_process.h"
+#include "probe/output_wake.h"
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <mutex>
+#include <random>
+#include <set>
 #include <thread>
 
 #include <sys/stat.h>
@@ -72,6 +80,60 @@ std::string partsSince(const std::map<std::string, gl::StageTiming>& before,
     return line;
 }
 
+// The windowed GUI's pacing (gui.cpp): before each frame it sleeps up to kFrameWaitSeconds unless
+// a wake ends the sleep; the bench wakes it from the same sources the window is woken by (the file
+// watcher, and with childWakes a child's output: the check's verdict).
+class WindowPacing {
+  public:
+    WindowPacing(Workbench& wb, bool childWakes) : m_wb(wb) {
+        m_wb.wakeOnFileChanges([this] { wake(); });
+        if (childWakes) wakeOnChildOutput([this] { wake(); });
+    }
+    ~WindowPacing() {
+        m_wb.wakeOnFileChanges({});
+        wakeOnChildOutput({});
+    }
+    WindowPacing(const WindowPacing&) = delete;
+    WindowPacing& operator=(const WindowPacing&) = delete;
+    void sleep() {
+        std::unique_lock<std::mutex> lock(m_mutex);
+        m_cv.wait_for(lock, std::chrono::duration<double>(kFrameWaitSeconds),
+                      [this] { return m_woken; });
+        m_woken = false;
+    }
+
+  private:
+    void wake() {
+        {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            m_woken = true;
+        }
+        m_cv.notify_all();
+    }
+    Workbench& m_wb;
+    std::mutex m_mutex;
+    std::condition_variable m_cv;
+    bool m_woken = false;
+};
+
+// The factors the edits scale the dipole by: floats in [1, 1.5), each one new in this process and
+// drawn at random from 2^22, so that a run does not meet the driver's on-disk shader cache entries
+// of an earlier run (Mesa keys them by the GLSL text and the generated code), which would skip
+// the compile and the code generation the bench is there to measure.
+class EditFactors {
+  public:
+    std::string next() {
+        for (;;) {
+            const float f = 1.0f + float(m_rng() >> 42) * 0x1p-23f; // 22 random bits: [1, 1.5)
+            if (m_used.insert(f).second) return core::formatNumber(f, 9); // every float exactly
+        }
+    }
+
+  private:
+    std::mt19937_64 m_rng{std::random_device{}()};
+    std::set<float> m_used;
+};
+
 // Frames until five in a row change nothing (at most 60 s); returns the longest in ms.
 double settle(HeadlessGui& gui) {
     core::Stopwatch clock;
@@ -86,26 +148,27 @@ double settle(HeadlessGui& gui) {
 }
 
 // Edits `file` `runs` times and returns the sorted save -> new pixels latencies in ms; the
-// longest frame in `longestFrame`. `serial` makes every edit's text unique in this process.
+// longest frame in `longestFrame`. `factors` makes every edit's text new.
 // withLoop: the edit puts the factor in a one-iteration loop, so the model is checked at every
 // save (a loop-free one is not, once a check passed in its frame: bssrdf::probeFrameKey).
+// pacing: frames paced like the window's instead of back to back.
 std::vector<double> timeEdits(Workbench& wb, HeadlessGui& gui, const fs::path& file,
-                              const std::string& model, int runs, int& serial, double& longestFrame,
-                              bool withLoop = false) {
+                              const std::string& model, int runs, EditFactors& factors,
+                              double& longestFrame, bool withLoop = false,
+                              WindowPacing* pacing = nullptr) {
     std::vector<double> latencies;
     std::map<std::string, std::vector<double>> parts;
     const std::string anchor = "return Multiplier/(4.0*PI)";
     for (int run = 0; run < runs; ++run) {
         const size_t at = model.find(anchor);
-        const std::string factor =
-            std::to_string(1.0 + 0.01 * ++serial + 1e-6 * (::getpid() % 997));
+        const std::string factor = factors.next();
         const std::string statement =
             withLoop ? "float f = 0.0;\n    for (int k = 0; k < 1; ++k) f += " + factor +
                            ";\n    return f*Multiplier/(4.0*PI)"
                      : "return " + factor + "*Multiplier/(4.0*PI)";
         const std::string edited =
             model.substr(0, at) + statement + model.substr(at + anchor.size());
-        // (the factor is unique per run and process: no shader-cache hits, always checked)
+        // (a factor new to the driver's shader cache: compiled, generated and checked anew)
         const fs::path swp = file.parent_path() / ("." + file.filename().string() + ".swp");
         { std::ofstream(swp, std::ios::binary) << edited; }
         fs::rename(swp, file);
@@ -118,6 +181,7 @@ std::vector<double> timeEdits(Workbench& wb, HeadlessGui& gui, const fs::path& f
         int frames = 0;
         double lastFrameMs = 0, runLongest = 0;
         while (guard.ms() < 5000 + 1000 * modelProbeSeconds()) {
+            if (pacing) pacing->sleep(); // the window sleeps before each frame
             core::Stopwatch f;
             bool changed = gui.frame();
             lastFrameMs = f.ms();
@@ -125,7 +189,7 @@ std::vector<double> timeEdits(Workbench& wb, HeadlessGui& gui, const fs::path& f
             runLongest = std::max(runLongest, lastFrameMs);
             ++frames;
             if (changed && wb.library().entries().at(0).generation > gen) break;
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            if (!pacing) std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
         glFinish();
         const double now =
@@ -188,7 +252,7 @@ int benchReload(const fs::path& root, int runs) {
         gui.frame(); // warm up: fonts, first compiles
 
     const fs::path checker = modelProbeExecutable();
-    int serial = 0;
+    EditFactors factors;
     // pass 0: the dipole as it is (no loop: once a check passed in its frame, a save needs none);
     // pass 1: the dipole with a loop (checked at every save, in a child process); pass 2: no
     // check at all. Passes 0 and 1 as configured (the check on when the executable is set).
@@ -204,7 +268,7 @@ int benchReload(const fs::path& root, int runs) {
         const ProbeCounts before = probeCounts();
         double longest = 0;
         const std::vector<double> latencies =
-            timeEdits(wb, gui, file, model, runs, serial, longest, pass == 1);
+            timeEdits(wb, gui, file, model, runs, factors, longest, pass == 1);
         const ProbeCounts after = probeCounts();
         medians[pass] = latencies[latencies.size() / 2];
         std::printf("reload latency: median %.1f ms, max %.1f ms over %d runs (checks %ld, not "
@@ -219,6 +283,28 @@ int benchReload(const fs::path& root, int runs) {
                 medians[0] / medians[2], medians[0] - medians[2], medians[1] / medians[2],
                 medians[1] - medians[2]);
 
+    // The window's case: the dipole with a loop again, frames paced as the windowed GUI paces
+    // them, with the check's verdict waking the loop (as it does) and without (as before).
+    if (!checker.empty()) {
+        double paced[2] = {0, 0};
+        for (int wakes = 1; wakes >= 0; --wakes) {
+            std::printf("the plot, the dipole with a loop, frames paced like the window's (up to "
+                        "%.0f ms of sleep before each, ended by a save%s):\n",
+                        1000 * kFrameWaitSeconds,
+                        wakes ? " or the check's verdict" : "; the verdict waits for its end");
+            double longest = 0;
+            WindowPacing pacing(wb, wakes == 1);
+            const std::vector<double> latencies =
+                timeEdits(wb, gui, file, model, runs, factors, longest, true, &pacing);
+            paced[wakes] = latencies[latencies.size() / 2];
+            std::printf("reload latency, paced: median %.1f ms, max %.1f ms over %d runs\n",
+                        paced[wakes], latencies.back(), runs);
+        }
+        std::printf("paced, the verdict waking the loop / waiting for the sleep's end: %.2f "
+                    "(%+.1f ms)\n",
+                    paced[1] / paced[0], paced[1] - paced[0]);
+    }
+
     std::printf("the default scene (the bunny, point-cloud pipeline) as well%s:\n",
                 checker.empty() ? "" : ", with the check");
     showScene(true);
@@ -229,7 +315,7 @@ int benchReload(const fs::path& root, int runs) {
     }
     settle(gui);
     double longest = 0;
-    const std::vector<double> latencies = timeEdits(wb, gui, file, model, runs, serial, longest);
+    const std::vector<double> latencies = timeEdits(wb, gui, file, model, runs, factors, longest);
     std::printf("reload latency with the scene: median %.1f ms, max %.1f ms over %d runs; "
                 "longest frame %.1f ms, until the scene had rendered it (every program of the "
                 "scene that uses the model is rebuilt; no target)\n",

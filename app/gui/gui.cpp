@@ -332,7 +332,8 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             }
         } stopWake{wb};
         while (!glfwWindowShouldClose(win) && !ui.shared.quit) {
-            glfwWaitEventsTimeout(0.03); // idle without spinning; the watcher is polled below
+            // idle without spinning; the watcher is polled below
+            glfwWaitEventsTimeout(kFrameWaitSeconds);
             const auto frame = [&] {
                 bool changed = wb.update();
                 ImGui_ImplOpenGL3_NewFrame();

@@ -15,6 +15,10 @@
 
 namespace app {
 
+// The windowed frame loop sleeps up to this long before each frame unless an event ends the
+// sleep (input, a save, a child's output); the reload bench paces one of its passes by it.
+inline constexpr double kFrameWaitSeconds = 0.03;
+
 struct GuiOptions {
     int width = 1600, height = 1000;
     int frames = 3;             // headless: frames to run before the screenshot
