@@ -125,7 +125,10 @@ class EditFactors {
     std::string next() {
         for (;;) {
             const float f = 1.0f + float(m_rng() >> 42) * 0x1p-23f; // 22 random bits: [1, 1.5)
-            if (m_used.insert(f).second) return core::formatNumber(f, 9); // every float exactly
+            if (!m_used.insert(f).second) continue;
+            // every float exactly, and a float literal in GLSL (1 prints as "1")
+            const std::string text = core::formatNumber(f, 9);
+            return text.find('.') == std::string::npos ? text + ".0" : text;
         }
     }
 
