@@ -29,6 +29,7 @@ void addProbeModelOptions(CLI::App* cmd, ProbeModelArgs& a) {
     cmd->add_option("--rmax", a.rMax, "largest radius in mm");
     cmd->add_option("--samples", a.samples, "number of radii")->check(CLI::Range(1, 1 << 20));
     cmd->add_option("--param", a.params, "a parameter's value: NAME=V or NAME=R,G,B");
+    cmd->add_flag("--code-only", a.codeOnly, "generate the programs' code, evaluate nothing");
 }
 
 namespace {
@@ -117,6 +118,10 @@ int probeModel(const fs::path& root, const ProbeModelArgs& a) {
     // again on its GUI thread (bssrdf/program_library.cpp).
     bssrdf::warmUp(pencil.id());
     if (inversion.id()) bssrdf::warmUp(inversion.id());
+    if (a.codeOnly) {
+        std::printf("%s code generated\n", kProbeTag);
+        return 0;
+    }
     std::printf("%s evaluating\n", kProbeTag);
     std::fflush(stdout);
     bssrdf::ProbeResult r;

@@ -33,6 +33,10 @@ struct ProbeModelArgs {
     double g = 0, eta = 1.3, scale = 1, rMax = 20;
     int samples = 512;
     std::vector<std::string> params; // NAME=V or NAME=R,G,B
+    // Generate the programs' code and stop, evaluating nothing: for a model that needs no check
+    // (bssrdf::probeFrameKey), so that its code reaches the workbench through the driver's
+    // shader cache instead of being generated on its GUI thread (probe/model_probe_process.h).
+    bool codeOnly = false;
 };
 
 void addProbeModelOptions(CLI::App* cmd, ProbeModelArgs& a);

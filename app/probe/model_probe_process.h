@@ -14,7 +14,13 @@
 // before.
 //
 // Needed only for loops: a model whose code has none, in a frame (templates, includes,
-// parameters) in which a check passed, is adopted at once (bssrdf::probeFrameKey).
+// parameters) in which a check passed, is not checked (bssrdf::probeFrameKey). Its code is still
+// new to the driver, and generating it at the first dispatch holds the GUI thread (llvmpipe:
+// about 100 ms for the pencil program), so while the server is free it generates that code
+// instead (`probe-model --code-only`: the programs the check would evaluate, built and
+// dispatched with no work) and the model is adopted when it is done, however that ends; the
+// driver's on-disk shader cache hands the code to the workbench. With the server busy, or the
+// cache off, the model is adopted at once as before.
 #pragma once
 
 #include "bssrdf/model_probe.h"
@@ -65,6 +71,7 @@ int probeServerPid();
 struct ProbeCounts {
     long served = 0, ownProcess = 0, serverStarts = 0, evaluating = 0;
     long unneeded = 0; // loop-free models adopted in a frame that passed (bssrdf::probeFrameKey)
+    long codeOnly = 0; // of those, the ones whose code the server generated before adoption
 };
 ProbeCounts probeCounts();
 

@@ -39,6 +39,8 @@ class PendingProbe {
     virtual ~PendingProbe() = default;
     virtual ProbeVerdict poll() = 0; // never blocks
     virtual ProbeVerdict wait() = 0; // blocks, at most for the check's own time limit
+    // False for a model that needs no check, whose code is only generated elsewhere first.
+    virtual bool evaluates() const { return true; }
 };
 
 // Starts the check of `candidate` (read from `file`, to be adopted with `values`); nullptr when

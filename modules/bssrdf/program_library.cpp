@@ -169,7 +169,8 @@ bool ModelLibrary::finishProbes(bool block) {
         const ProbeVerdict v = block ? e.pending->probe->wait() : e.pending->probe->poll();
         if (!v.done) continue;
         std::unique_ptr<PendingModel> c = std::move(e.pending);
-        gl::recordTiming("hot reload: model check",
+        gl::recordTiming(c->probe->evaluates() ? "hot reload: model check"
+                                               : "hot reload: code generation by the server",
                          core::secondsSinceStart() * 1000.0 - c->checkStartMs);
         if (v.problem.empty()) {
             adopt(e, std::move(*c));
