@@ -147,7 +147,8 @@ class EditFactors {
     std::set<float> m_used;
 };
 
-// Frames until five in a row change nothing and the scene is not rendering (at most 60 s);
+// Frames until five in a row change nothing, the scene is not rendering and not waiting for the
+// code of its traversal program (at most 60 s);
 // returns the longest in ms, and in `lastChange` (when given) the wall-clock time at the end of
 // the last frame that changed something or rendered, in seconds since the epoch.
 double settle(Workbench& wb, HeadlessGui& gui, double* lastChange = nullptr) {
@@ -155,7 +156,8 @@ double settle(Workbench& wb, HeadlessGui& gui, double* lastChange = nullptr) {
     double longest = 0;
     for (int quiet = 0; quiet < 5 && clock.ms() < 60000;) {
         core::Stopwatch f;
-        const bool busy = gui.frame() || wb.scene().rendering();
+        const bool busy = gui.frame() || wb.scene().rendering() ||
+                          rendererCodePending(wb.library().entries().at(0).displayPath);
         quiet = busy ? 0 : quiet + 1;
         longest = std::max(longest, f.ms());
         if (busy && lastChange) {

@@ -8,6 +8,7 @@
 #include "cli/slab_command.h"
 #include "core/core.h"
 #include "gl/gl.h"
+#include "render/render.h"
 
 #include <CLI/CLI.hpp>
 
@@ -30,6 +31,11 @@ void addProbeModelOptions(CLI::App* cmd, ProbeModelArgs& a) {
     cmd->add_option("--samples", a.samples, "number of radii")->check(CLI::Range(1, 1 << 20));
     cmd->add_option("--param", a.params, "a parameter's value: NAME=V or NAME=R,G,B");
     cmd->add_flag("--code-only", a.codeOnly, "generate the programs' code, evaluate nothing");
+    cmd->add_option("--render-width", a.renderWidth,
+                    "with --code-only: the traversal program's code too, for this frame width")
+        ->check(CLI::Range(0, 8192));
+    cmd->add_option("--render-height", a.renderHeight, "and this frame height")
+        ->check(CLI::Range(0, 8192));
 }
 
 namespace {
@@ -119,7 +125,14 @@ int probeModel(const fs::path& root, const ProbeModelArgs& a) {
     bssrdf::warmUp(pencil.id());
     if (inversion.id()) bssrdf::warmUp(inversion.id());
     if (a.codeOnly) {
+        // the workbench adopts the model at this line; the scene waits for the rest
         std::printf("%s code generated\n", kProbeTag);
+        std::fflush(stdout);
+        if (a.renderWidth > 0 && a.renderHeight > 0) {
+            const gl::Program traversal = bssrdf::buildModelProgram(m, "octree_render.comp", src);
+            render::warmTraversal(traversal.id(), a.renderWidth, a.renderHeight);
+            std::printf("%s traversal code generated\n", kProbeTag);
+        }
         return 0;
     }
     std::printf("%s evaluating\n", kProbeTag);

@@ -336,8 +336,10 @@ bool SceneStage::updateRender(const SceneModelInput& model, bool interacting, bo
     if (modelKey != m_modelKey) {
         // A changed model reaches the renderer one update later than the rest (not when
         // finishing): its first dispatch makes the driver generate the traversal program's code
-        // (0.7 s on llvmpipe), and the frame in between shows the pencil plot's new pixels.
-        if (!finishNow && m_deferredModelKey != modelKey) {
+        // (about 1 s on llvmpipe), and the frame in between shows the pencil plot's new pixels.
+        // While the check's server generates that code (and the driver's shader cache then
+        // hands it over), the model waits for it.
+        if (!finishNow && (m_deferredModelKey != modelKey || model.codePending)) {
             m_deferredModelKey = modelKey;
             return false;
         }

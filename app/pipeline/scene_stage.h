@@ -91,6 +91,9 @@ struct SceneModelInput {
     const bssrdf::ModelEntry* entry = nullptr;
     bssrdf::Builtins builtins;
     std::string materialKey;
+    // The model check's server is still generating the code of this model's traversal program
+    // (app::rendererCodePending): a changed model waits for it, the last frame stays shown.
+    bool codePending = false;
 };
 
 struct PixelDebug {

@@ -227,6 +227,13 @@ ProbeInputs Workbench::probeInputs(const fs::path& file) const {
     in.builtins = builtinsOf(p);
     in.rMaxMm = m_rMax;
     in.samples = m_plot.samples;
+    // the scene shows this model: the check's server generates its traversal code too
+    if (const SceneSettings& ss = m_scene->settings(); ss.enabled)
+        if (const SceneModelInput scene = sceneModelInput();
+            scene.entry && scene.entry->file == file) {
+            in.renderWidth = ss.render.width;
+            in.renderHeight = ss.render.height;
+        }
     return in;
 }
 
@@ -326,6 +333,7 @@ SceneModelInput Workbench::sceneModelInput() const {
     if (in.entry) {
         in.builtins = builtinsOf(*view->effective);
         in.materialKey = view->materialKey;
+        in.codePending = rendererCodePending(in.entry->displayPath);
     }
     return in;
 }

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -113,12 +114,32 @@ std::string overTime(double startMs, double evalStartMs, double limit, int evalu
     return "";
 }
 
+// Where the line `<tag> <what>` starts in `out`: at the start of a line and ended by a newline
+// (an error message quoting a path cannot fake it); npos if nowhere.
+size_t lineAt(const std::string& out, const std::string& what) {
+    const std::string line = std::string(kProbeTag) + " " + what;
+    size_t at = out.rfind("\n" + line);
+    at = at == std::string::npos ? (out.rfind(line, 0) == 0 ? 0 : at) : at + 1;
+    return at != std::string::npos && out.find('\n', at) != std::string::npos ? at
+                                                                              : std::string::npos;
+}
+
+// The server's work on a model after its adoption: the traversal program's code
+// (`probe-model --code-only --render-width …`), which the scene waits for.
+struct Tail {
+    std::shared_ptr<ChildProcess> child;
+    size_t from = 0;
+    std::string display;
+    double startMs = 0;
+};
+
 // The warm server of this process and whether a check is under way in it.
 struct Server {
     std::shared_ptr<ChildProcess> child;
     fs::path exe;
     bool busy = false;
     bool unavailable = false; // it found no GL context: checks run in their own processes
+    std::optional<Tail> tail; // busy with it
     ProbeCounts counts;
 };
 Server& server() {
@@ -130,6 +151,7 @@ void startServer() {
     Server& s = server();
     s.child.reset();
     s.busy = false;
+    s.tail.reset();
     s.exe = probeExe();
     if (s.exe.empty() || s.unavailable) return;
     try {
@@ -164,16 +186,19 @@ class ServedProbe : public bssrdf::PendingProbe {
             m_evalStartMs = nowMs();
             ++server().counts.evaluating;
         }
-        // the answer's last line, `probe-model: done CODE`, at the start of a line (an error
-        // message quoting a path cannot fake it)
-        size_t done = out.rfind("\n" + tag + " done ");
-        done =
-            done == std::string::npos ? (out.rfind(tag + " done ", 0) == 0 ? 0 : done) : done + 1;
-        if (done != std::string::npos && out.find('\n', done) != std::string::npos) {
+        // the answer's last line, `probe-model: done CODE`
+        if (const size_t done = lineAt(out, "done "); done != std::string::npos) {
             const int code = std::atoi(out.c_str() + done + tag.size() + 6);
             end(false);
             if (m_codeOnly) return codeOnlyEnded(code == 0 ? "" : lastMessage(out, m_display));
             return probeVerdict(code, out.substr(0, done), m_display, m_key);
+        }
+        if (m_codeOnly && lineAt(out, "code generated") != std::string::npos) {
+            // the plot's code is there: adopted now, while the server goes on with the
+            // traversal program's code (the scene waits for it: rendererCodePending)
+            m_ended = true;
+            server().tail = Tail{m_child, m_from, m_display, nowMs()};
+            return {true, ""};
         }
         if (m_child->done()) { // the server ended in the middle of the check
             const int code = m_child->exitCode() == 0 ? 1 : m_child->exitCode();
@@ -221,11 +246,40 @@ class ServedProbe : public bssrdf::PendingProbe {
     bool m_ended = false;
 };
 
+// Ends the server's work after an adoption when its answer came, the server ended or it ran
+// past kRendererCodeSeconds (then a new server starts).
+void pollTail() {
+    Server& s = server();
+    if (!s.tail) return;
+    Tail& t = *s.tail;
+    if (s.child != t.child) {
+        s.tail.reset();
+        return;
+    }
+    t.child->poll();
+    if (lineAt(t.child->output().substr(t.from), "done ") != std::string::npos) {
+        s.tail.reset();
+        s.busy = false;
+    } else if (t.child->done()) {
+        core::logInfo(t.display + ": the check's server ended while it generated the traversal "
+                                  "program's code");
+        startServer();
+    } else if (nowMs() - t.startMs > 1000.0 * kRendererCodeSeconds) {
+        core::logInfo(t.display +
+                      ": the check's server did not generate the traversal "
+                      "program's code within " +
+                      seconds(kRendererCodeSeconds) + "; the scene generates it itself");
+        t.child->cancel();
+        startServer();
+    }
+}
+
 // The check in the warm server (started here when there is none); nullptr when it is busy with
 // another check or cannot take this one: the caller runs it in its own process.
 std::unique_ptr<bssrdf::PendingProbe>
 servedProbe(const fs::path& root, const std::vector<std::string>& args, const std::string& display,
             const std::string& key, int evaluations, bool codeOnly = false) {
+    pollTail();
     Server& s = server();
     if (s.unavailable || s.busy) return nullptr;
     std::string request = root.string();
@@ -257,6 +311,11 @@ int probeServerPid() {
 ProbeCounts probeCounts() {
     return server().counts;
 }
+bool rendererCodePending(const std::string& display) {
+    pollTail();
+    const Server& s = server();
+    return s.tail && s.tail->display == display;
+}
 
 bssrdf::ProbeStarter makeProbeStarter(fs::path root,
                                       std::function<ProbeInputs(const fs::path&)> inputsFor) {
@@ -266,19 +325,23 @@ bssrdf::ProbeStarter makeProbeStarter(fs::path root,
         if (probeExe().empty() || passedKeys().count(key)) return nullptr;
         // a loop-free model in a frame that passed a check needs none (bssrdf::probeFrameKey)
         const std::string frame = bssrdf::probeFrameKey(m, shader::Sources(root));
+        const ProbeInputs in = inputsFor(file);
         if (!frame.empty() && passedFrames().count(frame)) {
             ++server().counts.unneeded;
             passedKeys().insert(key); // the same text again needs nothing either
             // Its code is still new to the driver: generated by the server when it is free and
             // the driver's on-disk shader cache can hand it over (the model is adopted when the
-            // server is done, and this thread's first dispatch then finds the code), else here
+            // server has the plot's code, and this thread's first dispatch then finds it; the
+            // scene, when it shows this model, waits for the traversal program's), else here
             // at the first dispatch.
             if (gl::driverShaderCacheOff()) return nullptr;
-            return servedProbe(root, {file.string(), "--code-only"}, core::relativeTo(file, root),
-                               key, 0, true);
+            std::vector<std::string> args = {file.string(), "--code-only"};
+            if (in.renderWidth > 0 && in.renderHeight > 0)
+                args.insert(args.end(), {"--render-width", std::to_string(in.renderWidth),
+                                         "--render-height", std::to_string(in.renderHeight)});
+            return servedProbe(root, args, core::relativeTo(file, root), key, 0, true);
         }
         frameOfKey()[key] = frame;
-        const ProbeInputs in = inputsFor(file);
         const bssrdf::Builtins& b = in.builtins;
         std::vector<std::string> args = {file.string(),
                                          "--sigma-a",

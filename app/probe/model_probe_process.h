@@ -19,8 +19,11 @@
 // about 100 ms for the pencil program), so while the server is free it generates that code
 // instead (`probe-model --code-only`: the programs the check would evaluate, built and
 // dispatched with no work) and the model is adopted when it is done, however that ends; the
-// driver's on-disk shader cache hands the code to the workbench. With the server busy, or the
-// cache off, the model is adopted at once as before.
+// driver's on-disk shader cache hands the code to the workbench. When the scene shows the model,
+// the server then generates the renderer's traversal program's code too (on llvmpipe about 1 s)
+// while the plot already shows the new model, and the scene takes the model once that is done
+// (rendererCodePending). With the server busy, or the cache off, the model is adopted at once as
+// before.
 #pragma once
 
 #include "bssrdf/model_probe.h"
@@ -46,12 +49,22 @@ double modelProbeSeconds();
 void setModelProbeExecutable(const std::filesystem::path& exe);
 const std::filesystem::path& modelProbeExecutable();
 
-// What the check evaluates besides the model file: the parameters the model starts with.
+// What the check evaluates besides the model file: the parameters the model starts with; and
+// the frame size of the scene when it shows this model (0: it does not), for the code of the
+// renderer's traversal program.
 struct ProbeInputs {
     bssrdf::Builtins builtins;
     double rMaxMm = 20.0;
     int samples = 512;
+    int renderWidth = 0, renderHeight = 0;
 };
+
+// Seconds the server may take over the traversal program's code after a model that needs no
+// check was adopted; past them the scene generates it itself.
+inline constexpr double kRendererCodeSeconds = 30.0;
+// Whether the server is still generating the traversal program's code of the model adopted
+// last from `display` (its display path): the scene keeps its last frame until it is done.
+bool rendererCodePending(const std::string& display);
 
 // Starts checks of models under `root` with the inputs `inputsFor(file)` gives; a model text
 // whose key passed in this process before is adopted without a check.

@@ -148,6 +148,15 @@ struct BssrdfPair {
 std::vector<glm::vec3> evaluatePairs(GLuint program, const bssrdf::Model& m,
                                      const bssrdf::ParamValues& values, const bssrdf::Builtins& b,
                                      const std::vector<BssrdfPair>& pairs);
+// Makes the driver generate the code of the traversal program `program` (built with
+// bssrdf::buildModelProgram(m, "octree_render.comp", sources)) as the renderer's first dispatch
+// at a width×height frame needs it, without rendering: one work group with no pixel to do and
+// the renderer's images bound at that size (a driver such as llvmpipe generates code per image
+// format and per power-of-two-ness of the image's sides). The model check's process does this
+// so that the driver's on-disk shader cache hands the code to the workbench
+// (app/probe/model_probe_process.h).
+void warmTraversal(GLuint program, int width, int height);
+
 // The pairs of a CPU replica trace, as the shader forms them: (scale·xi, wi, scale·xo, no).
 std::vector<BssrdfPair> tracePairs(const octree::Trace& t, float scale);
 

@@ -596,6 +596,29 @@ InvalidPixels Renderer::State::tonemap(const Settings& s) {
     return {counts[0], counts[1], counts[2], counts[3]};
 }
 
+void warmTraversal(GLuint program, int width, int height) {
+    if (width < 1 || height < 1 || width > kMaxSide || height > kMaxSide)
+        throw core::Error("render", 0,
+                          "image size must lie in [1, " + std::to_string(kMaxSide) + "]², got " +
+                              std::to_string(width) + "x" + std::to_string(height));
+    // the images of State::resize and State::bindTraverse, at the frame's size
+    const gl::Texture position = gl::createTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
+    const gl::Texture normal = gl::createTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
+    const gl::Texture hdr = gl::createTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
+    glUseProgram(program);
+    glUniform2i(glGetUniformLocation(program, "RenderSize"), 0, 0); // every invocation returns
+    const gl::Buffer none = gl::createBuffer(64, nullptr); // no buffer binding left undefined
+    for (GLuint b : {kDescriptors, kNodes, kPoints, kStats, kProfile, kExitance, kState, kControl})
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, none.id());
+    glBindImageTexture(0, position.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, normal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, hdr.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDispatchCompute(1, 1, 1);
+    glFinish();
+    for (GLuint unit = 0; unit < 3; ++unit)
+        glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+}
+
 Frame Renderer::render(const Settings& s) {
     begin(s);
     while (!advance(1e30)) {

@@ -416,6 +416,58 @@ TEST_F(ProbeFixture, ALoopFreeSaveIsAdoptedWhenTheServerGeneratingItsCodeEnds) {
     EXPECT_EQ(app::probeCounts().served - served, 1);
 }
 
+// With the scene showing the model, the server generates the code of the renderer's traversal
+// program too, after the plot's (the plot takes the save at once): the scene keeps its last
+// frame while it does (here held up by stopping the server), then renders the new model.
+TEST_F(ProbeFixture, TheSceneTakesALoopFreeSaveOnceTheServerHasItsTraversalCode) {
+    app::Workbench wb(root, true);
+    app::SceneSettings& ss = wb.scene().settings();
+    ss.enabled = true;
+    ss.useCache = false; // never touch the user's point-cloud cache
+    ss.points.points = 2500;
+    ss.light.shadowMapSize = 256;
+    ss.render.width = 64;
+    ss.render.height = 48;
+    wb.finishScene();
+    ASSERT_TRUE(wb.scene().hasFrame());
+    auto exitance = [&] {
+        const render::Readback rb = wb.scene().readback();
+        double sum = 0;
+        for (const glm::vec4& m : rb.exitance)
+            sum += m.w > 0 ? double(m.r) + m.g + m.b : 0.0;
+        return sum;
+    };
+    const double base = valueAt0(wb, path), total = exitance();
+    ASSERT_GT(total, 0.0);
+    const long codeOnly = app::probeCounts().codeOnly;
+    // a factor new to the driver's shader cache, so that the traversal's code takes a while
+    const double factor = 2.0 + double(::getpid() % 100000) * 1e-7;
+    core::writeFile(file, scaled(good, factor, false));
+    updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - factor * base) < 1e-5 * base; });
+    ASSERT_NEAR(valueAt0(wb, path), factor * base, 1e-5 * base); // the plot has it
+    EXPECT_EQ(app::probeCounts().codeOnly - codeOnly, 1);
+    const int server = app::probeServerPid();
+    ASSERT_GT(server, 0);
+    if (app::rendererCodePending(path) && ::kill(server, SIGSTOP) == 0) {
+        updateUntil(
+            wb, [] { return false; }, 500);
+        EXPECT_TRUE(app::rendererCodePending(path));
+        EXPECT_FALSE(wb.scene().rendering());
+        EXPECT_NEAR(exitance(), total, 1e-6 * total); // the last frame stays
+        ::kill(server, SIGCONT);
+    } else {
+        std::printf("the server had the traversal's code at once: the wait is not exercised\n");
+    }
+    updateUntil(wb, [&] {
+        return !app::rendererCodePending(path) && !wb.scene().rendering() &&
+               std::abs(exitance() / total - factor) < 1e-4 * factor;
+    });
+    EXPECT_FALSE(app::rendererCodePending(path));
+    EXPECT_NEAR(exitance() / total, factor, 1e-4 * factor);
+    EXPECT_EQ(app::probeServerPid(), server); // the same server, free for the next check
+    EXPECT_TRUE(wb.errors().empty());
+}
+
 // A loop that only the inversion reaches (in DiffuseReflectance) is checked too: the check
 // evaluates the inversion program whenever init() or DiffuseReflectance() can reach a loop
 // (bssrdf::inversionMayLoop), and refuses this one; the last good version stays.
