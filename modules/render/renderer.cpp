@@ -35,6 +35,14 @@ enum : GLuint {
     kControl = 7,
 };
 
+// The images of octree_render.comp: the G-buffer's position and normal, the HDR output (the
+// renderer's bindings and warmTraversal's, which must agree for the driver's code to match).
+void bindTraversalImages(GLuint position, GLuint normal, GLuint hdr) {
+    glBindImageTexture(0, position, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, normal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, hdr, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+}
+
 void validate(const Settings& s) {
     auto fail = [](const std::string& m) { throw core::Error("render", 0, m); };
     if (s.width < 1 || s.height < 1 || s.width > kMaxSide || s.height > kMaxSide)
@@ -534,9 +542,7 @@ void Renderer::State::bindTraverse(const Settings& s, uint32_t perDispatch) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kExitance, exitance.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kState, state.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kControl, control.id());
-    glBindImageTexture(0, position.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, normal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, hdr.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    bindTraversalImages(position.id(), normal.id(), hdr.id());
 }
 
 bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int dispatch,
@@ -610,9 +616,7 @@ void warmTraversal(GLuint program, int width, int height) {
     const gl::Buffer none = gl::createBuffer(64, nullptr); // no buffer binding left undefined
     for (GLuint b : {kDescriptors, kNodes, kPoints, kStats, kProfile, kExitance, kState, kControl})
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, none.id());
-    glBindImageTexture(0, position.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, normal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, hdr.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    bindTraversalImages(position.id(), normal.id(), hdr.id());
     glDispatchCompute(1, 1, 1);
     glFinish();
     for (GLuint unit = 0; unit < 3; ++unit)
