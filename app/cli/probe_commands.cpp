@@ -32,7 +32,8 @@ void addProbeModelOptions(CLI::App* cmd, ProbeModelArgs& a) {
     cmd->add_option("--param", a.params, "a parameter's value: NAME=V or NAME=R,G,B");
     cmd->add_flag("--code-only", a.codeOnly, "generate the programs' code, evaluate nothing");
     cmd->add_option("--render-width", a.renderWidth,
-                    "with --code-only: the traversal program's code too, for this frame width")
+                    "after the code (--code-only) or a check that passed: the traversal "
+                    "program's code too, for this frame width")
         ->check(CLI::Range(0, 8192));
     cmd->add_option("--render-height", a.renderHeight, "and this frame height")
         ->check(CLI::Range(0, 8192));
@@ -124,15 +125,18 @@ int probeModel(const fs::path& root, const ProbeModelArgs& a) {
     // again on its GUI thread (bssrdf/program_library.cpp).
     bssrdf::warmUp(pencil.id());
     if (inversion.id()) bssrdf::warmUp(inversion.id());
-    if (a.codeOnly) {
-        // the workbench adopts the model at this line; the scene waits for the rest
-        std::printf("%s code generated\n", kProbeTag);
+    // After the line the workbench adopts the model at (`code generated`, `ok`), the code of the
+    // renderer's traversal program for the scene's frame size, which the scene waits for.
+    auto warmTraversal = [&] {
+        if (a.renderWidth <= 0 || a.renderHeight <= 0) return;
         std::fflush(stdout);
-        if (a.renderWidth > 0 && a.renderHeight > 0) {
-            const gl::Program traversal = bssrdf::buildModelProgram(m, "octree_render.comp", src);
-            render::warmTraversal(traversal.id(), a.renderWidth, a.renderHeight);
-            std::printf("%s traversal code generated\n", kProbeTag);
-        }
+        const gl::Program traversal = bssrdf::buildModelProgram(m, "octree_render.comp", src);
+        render::warmTraversal(traversal.id(), a.renderWidth, a.renderHeight);
+        std::printf("%s traversal code generated\n", kProbeTag);
+    };
+    if (a.codeOnly) {
+        std::printf("%s code generated\n", kProbeTag);
+        warmTraversal();
         return 0;
     }
     std::printf("%s evaluating\n", kProbeTag);
@@ -160,6 +164,7 @@ int probeModel(const fs::path& root, const ProbeModelArgs& a) {
         return kProbeLoopCut;
     }
     std::printf("%s ok\n", kProbeTag);
+    warmTraversal();
     return 0;
 }
 

@@ -37,7 +37,7 @@ struct ProbeModelArgs {
     // (bssrdf::probeFrameKey), so that its code reaches the workbench through the driver's
     // shader cache instead of being generated on its GUI thread (probe/model_probe_process.h).
     bool codeOnly = false;
-    // With codeOnly: after the programs the check would evaluate, the renderer's traversal
+    // After the programs' code (codeOnly) or a check that passed, the renderer's traversal
     // program's code for a frame of this size (render::warmTraversal); 0: none.
     int renderWidth = 0, renderHeight = 0;
 };

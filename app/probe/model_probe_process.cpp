@@ -125,7 +125,7 @@ size_t lineAt(const std::string& out, const std::string& what) {
 }
 
 // The server's work on a model after its adoption: the traversal program's code
-// (`probe-model --code-only --render-width …`), which the scene waits for.
+// (`probe-model [--code-only] --render-width …`), which the scene waits for.
 struct Tail {
     std::shared_ptr<ChildProcess> child;
     size_t from = 0;
@@ -145,6 +145,11 @@ struct Server {
 Server& server() {
     static Server s;
     return s;
+}
+// An answer of the server that ended with the traversal program's code.
+void countTraversalCode(const std::string& out) {
+    if (lineAt(out, "traversal code generated") != std::string::npos)
+        ++server().counts.traversalCode;
 }
 // (Re)starts the server: the one before, if any, is killed once no check holds it.
 void startServer() {
@@ -167,11 +172,12 @@ void startServer() {
 // needs no check (`probe-model --code-only`): that one ends in adoption however it ends.
 class ServedProbe : public bssrdf::PendingProbe {
   public:
+    // traversal: the request asks for the traversal program's code after a check that passes.
     ServedProbe(std::shared_ptr<ChildProcess> child, size_t from, std::string display,
-                std::string key, int evaluations, bool codeOnly)
+                std::string key, int evaluations, bool codeOnly, bool traversal)
         : m_child(std::move(child)), m_from(from), m_display(std::move(display)),
           m_key(std::move(key)), m_evaluations(evaluations), m_limit(modelProbeSeconds()),
-          m_startMs(nowMs()), m_codeOnly(codeOnly) {}
+          m_startMs(nowMs()), m_codeOnly(codeOnly), m_traversal(traversal) {}
     bool evaluates() const override { return !m_codeOnly; }
     // Given up before its verdict: the server may be stuck in it, so a fresh one replaces it.
     ~ServedProbe() override {
@@ -189,16 +195,22 @@ class ServedProbe : public bssrdf::PendingProbe {
         // the answer's last line, `probe-model: done CODE`
         if (const size_t done = lineAt(out, "done "); done != std::string::npos) {
             const int code = std::atoi(out.c_str() + done + tag.size() + 6);
+            countTraversalCode(out);
             end(false);
             if (m_codeOnly) return codeOnlyEnded(code == 0 ? "" : lastMessage(out, m_display));
             return probeVerdict(code, out.substr(0, done), m_display, m_key);
         }
-        if (m_codeOnly && lineAt(out, "code generated") != std::string::npos) {
-            // the plot's code is there: adopted now, while the server goes on with the
-            // traversal program's code (the scene waits for it: rendererCodePending)
+        // The plot's code is there (code only), or the check passed and its request asked for
+        // the traversal program's code: decided now, while the server goes on with that code
+        // (the scene waits for it: rendererCodePending).
+        const size_t decided = m_codeOnly    ? lineAt(out, "code generated")
+                               : m_traversal ? lineAt(out, "ok")
+                                             : std::string::npos;
+        if (decided != std::string::npos) {
             m_ended = true;
             server().tail = Tail{m_child, m_from, m_display, nowMs()};
-            return {true, ""};
+            if (m_codeOnly) return {true, ""};
+            return probeVerdict(0, out.substr(0, decided), m_display, m_key);
         }
         if (m_child->done()) { // the server ended in the middle of the check
             const int code = m_child->exitCode() == 0 ? 1 : m_child->exitCode();
@@ -242,7 +254,7 @@ class ServedProbe : public bssrdf::PendingProbe {
     std::string m_display, m_key;
     int m_evaluations;
     double m_limit, m_startMs, m_evalStartMs = -1;
-    bool m_codeOnly;
+    bool m_codeOnly, m_traversal;
     bool m_ended = false;
 };
 
@@ -257,7 +269,9 @@ void pollTail() {
         return;
     }
     t.child->poll();
-    if (lineAt(t.child->output().substr(t.from), "done ") != std::string::npos) {
+    if (const std::string out = t.child->output().substr(t.from);
+        lineAt(out, "done ") != std::string::npos) {
+        countTraversalCode(out);
         s.tail.reset();
         s.busy = false;
     } else if (t.child->done()) {
@@ -276,9 +290,11 @@ void pollTail() {
 
 // The check in the warm server (started here when there is none); nullptr when it is busy with
 // another check or cannot take this one: the caller runs it in its own process.
-std::unique_ptr<bssrdf::PendingProbe>
-servedProbe(const fs::path& root, const std::vector<std::string>& args, const std::string& display,
-            const std::string& key, int evaluations, bool codeOnly = false) {
+std::unique_ptr<bssrdf::PendingProbe> servedProbe(const fs::path& root,
+                                                  const std::vector<std::string>& args,
+                                                  const std::string& display,
+                                                  const std::string& key, int evaluations,
+                                                  bool codeOnly = false, bool traversal = false) {
     pollTail();
     Server& s = server();
     if (s.unavailable || s.busy) return nullptr;
@@ -300,7 +316,8 @@ servedProbe(const fs::path& root, const std::vector<std::string>& args, const st
     }
     s.busy = true;
     ++(codeOnly ? s.counts.codeOnly : s.counts.served);
-    return std::make_unique<ServedProbe>(s.child, from, display, key, evaluations, codeOnly);
+    return std::make_unique<ServedProbe>(s.child, from, display, key, evaluations, codeOnly,
+                                         traversal);
 }
 } // namespace
 
@@ -326,6 +343,13 @@ bssrdf::ProbeStarter makeProbeStarter(fs::path root,
         // a loop-free model in a frame that passed a check needs none (bssrdf::probeFrameKey)
         const std::string frame = bssrdf::probeFrameKey(m, shader::Sources(root));
         const ProbeInputs in = inputsFor(file);
+        // the scene shows this model: its traversal program's code is generated by the server
+        // too, after the plot's code or a passed check (not by a check in its own process,
+        // whose verdict would wait for it)
+        std::vector<std::string> renderArgs;
+        if (in.renderWidth > 0 && in.renderHeight > 0 && !gl::driverShaderCacheOff())
+            renderArgs = {"--render-width", std::to_string(in.renderWidth), "--render-height",
+                          std::to_string(in.renderHeight)};
         if (!frame.empty() && passedFrames().count(frame)) {
             ++server().counts.unneeded;
             passedKeys().insert(key); // the same text again needs nothing either
@@ -336,9 +360,7 @@ bssrdf::ProbeStarter makeProbeStarter(fs::path root,
             // at the first dispatch.
             if (gl::driverShaderCacheOff()) return nullptr;
             std::vector<std::string> args = {file.string(), "--code-only"};
-            if (in.renderWidth > 0 && in.renderHeight > 0)
-                args.insert(args.end(), {"--render-width", std::to_string(in.renderWidth),
-                                         "--render-height", std::to_string(in.renderHeight)});
+            args.insert(args.end(), renderArgs.begin(), renderArgs.end());
             return servedProbe(root, args, core::relativeTo(file, root), key, 0, true);
         }
         frameOfKey()[key] = frame;
@@ -362,7 +384,11 @@ bssrdf::ProbeStarter makeProbeStarter(fs::path root,
             if (m.findParam(name))
                 args.insert(args.end(), {"--param", name + "=" + floats(&v[0], 3)});
         const std::string display = core::relativeTo(file, root);
-        if (auto served = servedProbe(root, args, display, key, in.samples)) return served;
+        std::vector<std::string> servedArgs = args;
+        servedArgs.insert(servedArgs.end(), renderArgs.begin(), renderArgs.end());
+        if (auto served =
+                servedProbe(root, servedArgs, display, key, in.samples, false, !renderArgs.empty()))
+            return served;
         args.insert(args.begin(), {probeExe().string(), "--root", root.string(), "probe-model"});
         ++server().counts.ownProcess;
         return std::make_unique<ModelProbeProcess>(args, display, key, in.samples);

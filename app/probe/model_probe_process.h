@@ -22,8 +22,8 @@
 // driver's on-disk shader cache hands the code to the workbench. When the scene shows the model,
 // the server then generates the renderer's traversal program's code too (on llvmpipe about 1 s)
 // while the plot already shows the new model, and the scene takes the model once that is done
-// (rendererCodePending). With the server busy, or the cache off, the model is adopted at once as
-// before.
+// (rendererCodePending); so it does after a check that passed in the server. With the server
+// busy, or the cache off, the model is adopted at once as before.
 #pragma once
 
 #include "bssrdf/model_probe.h"
@@ -59,8 +59,8 @@ struct ProbeInputs {
     int renderWidth = 0, renderHeight = 0;
 };
 
-// Seconds the server may take over the traversal program's code after a model that needs no
-// check was adopted; past them the scene generates it itself.
+// Seconds the server may take over the traversal program's code after the model's adoption (its
+// code generated, or its check passed); past them the scene generates it itself.
 inline constexpr double kRendererCodeSeconds = 30.0;
 // Whether the server is still generating the traversal program's code of the model adopted
 // last from `display` (its display path): the scene keeps its last frame until it is done.
@@ -85,6 +85,7 @@ struct ProbeCounts {
     long served = 0, ownProcess = 0, serverStarts = 0, evaluating = 0;
     long unneeded = 0; // loop-free models adopted in a frame that passed (bssrdf::probeFrameKey)
     long codeOnly = 0; // of those, the ones whose code the server generated before adoption
+    long traversalCode = 0; // answers of the server with the traversal program's code
 };
 ProbeCounts probeCounts();
 

@@ -417,9 +417,14 @@ TEST_F(ProbeFixture, ALoopFreeSaveIsAdoptedWhenTheServerGeneratingItsCodeEnds) {
 }
 
 // With the scene showing the model, the server generates the code of the renderer's traversal
-// program too, after the plot's (the plot takes the save at once): the scene keeps its last
-// frame while it does (here held up by stopping the server), then renders the new model.
-TEST_F(ProbeFixture, TheSceneTakesALoopFreeSaveOnceTheServerHasItsTraversalCode) {
+// program too, after the plot's (a loop-free save) or after a check that passed (a save with a
+// loop); the plot takes the save at once, the scene keeps its last frame while the server works
+// (here held up by stopping it), then renders the new model.
+static void sceneTakesTheSaveOnceTheServerHasItsTraversalCode(const fs::path& root,
+                                                              const fs::path& file,
+                                                              const std::string& path,
+                                                              const std::string& good,
+                                                              bool looped) {
     app::Workbench wb(root, true);
     app::SceneSettings& ss = wb.scene().settings();
     ss.enabled = true;
@@ -439,13 +444,14 @@ TEST_F(ProbeFixture, TheSceneTakesALoopFreeSaveOnceTheServerHasItsTraversalCode)
     };
     const double base = valueAt0(wb, path), total = exitance();
     ASSERT_GT(total, 0.0);
-    const long codeOnly = app::probeCounts().codeOnly;
+    const app::ProbeCounts before = app::probeCounts();
     // a factor new to the driver's shader cache, so that the traversal's code takes a while
-    const double factor = 2.0 + double(::getpid() % 100000) * 1e-7;
-    core::writeFile(file, scaled(good, factor, false));
+    const double factor = (looped ? 3.0 : 2.0) + double(::getpid() % 100000) * 1e-7;
+    core::writeFile(file, scaled(good, factor, looped));
     updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - factor * base) < 1e-5 * base; });
     ASSERT_NEAR(valueAt0(wb, path), factor * base, 1e-5 * base); // the plot has it
-    EXPECT_EQ(app::probeCounts().codeOnly - codeOnly, 1);
+    EXPECT_EQ(app::probeCounts().codeOnly - before.codeOnly, looped ? 0 : 1);
+    EXPECT_EQ(app::probeCounts().served - before.served, looped ? 1 : 0); // checked there
     const int server = app::probeServerPid();
     ASSERT_GT(server, 0);
     if (app::rendererCodePending(path) && ::kill(server, SIGSTOP) == 0) {
@@ -463,9 +469,19 @@ TEST_F(ProbeFixture, TheSceneTakesALoopFreeSaveOnceTheServerHasItsTraversalCode)
                std::abs(exitance() / total - factor) < 1e-4 * factor;
     });
     EXPECT_FALSE(app::rendererCodePending(path));
+    // the server generated it (once the scene had the model, its answer was read)
+    EXPECT_EQ(app::probeCounts().traversalCode - before.traversalCode, 1);
     EXPECT_NEAR(exitance() / total, factor, 1e-4 * factor);
     EXPECT_EQ(app::probeServerPid(), server); // the same server, free for the next check
     EXPECT_TRUE(wb.errors().empty());
+}
+
+TEST_F(ProbeFixture, TheSceneTakesALoopFreeSaveOnceTheServerHasItsTraversalCode) {
+    sceneTakesTheSaveOnceTheServerHasItsTraversalCode(root, file, path, good, false);
+}
+
+TEST_F(ProbeFixture, TheSceneTakesACheckedSaveOnceTheServerHasItsTraversalCode) {
+    sceneTakesTheSaveOnceTheServerHasItsTraversalCode(root, file, path, good, true);
 }
 
 // A loop that only the inversion reaches (in DiffuseReflectance) is checked too: the check
