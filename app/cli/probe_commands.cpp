@@ -12,8 +12,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
+#include <thread>
 #include <vector>
 
 namespace app {
@@ -130,6 +134,11 @@ int probeModel(const fs::path& root, const ProbeModelArgs& a) {
     auto warmTraversal = [&] {
         if (a.renderWidth <= 0 || a.renderHeight <= 0) return;
         std::fflush(stdout);
+        // $BSSRDF_WORKBENCH_PROBE_TRAVERSAL_DELAY_MS: a wait first (tests: the scene's and
+        // texture space's wait for this code, shown on any driver, however fast)
+        if (const char* d = std::getenv("BSSRDF_WORKBENCH_PROBE_TRAVERSAL_DELAY_MS"); d && *d)
+            std::this_thread::sleep_for(
+                std::chrono::milliseconds(std::clamp(std::atol(d), 0L, 60000L)));
         const gl::Program traversal = bssrdf::buildModelProgram(m, "octree_render.comp", src);
         render::warmTraversal(traversal.id(), a.renderWidth, a.renderHeight);
         std::printf("%s traversal code generated\n", kProbeTag);

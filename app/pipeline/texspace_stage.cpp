@@ -109,8 +109,11 @@ bool TextureSpaceStage::update(const TextureSpaceInputs& in) {
     }
     if (!p.lightReady()) return changed;
 
-    // Stage 3's model and material.
+    // Stage 3's model and material. A changed model waits while the check's server generates
+    // the code of its traversal program, which this stage's renderer dispatches (as the scene's
+    // does: SceneStage::updateRender); the last image stays, and the run pauses.
     const std::string modelKey = core::keyOf(e->displayPath, e->modelGeneration);
+    if (modelKey != m_modelKey && in.model.codePending && in.budgetMs >= 0) return changed;
     if (modelKey != m_modelKey) {
         m_modelKey = modelKey;
         m_runKey.clear();

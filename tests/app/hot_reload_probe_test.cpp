@@ -507,3 +507,54 @@ TEST_F(ProbeFixture, ALoopInDiffuseReflectanceIsCheckedThroughTheInversion) {
         << error;
     EXPECT_NEAR(valueAt0(wb, path), base, 1e-6 * base); // the last good version stays
 }
+
+// The texture-space renderer (the Render panel's, texspace_stage.h) dispatches the traversal
+// program too: while the server generates its code (held up here for 2 s, so that any driver
+// shows the wait), a changed model waits as the scene's does, its last image stays and its run
+// pauses; then it renders the new model. (Without the wait it took the model at once and
+// generated the code on this thread.)
+TEST_F(ProbeFixture, TextureSpaceTakesASaveOnceTheServerHasItsTraversalCode) {
+    ::setenv("BSSRDF_WORKBENCH_PROBE_TRAVERSAL_DELAY_MS", "2000", 1); // read by the server
+    app::Workbench wb(root, true);
+    ::unsetenv("BSSRDF_WORKBENCH_PROBE_TRAVERSAL_DELAY_MS");
+    app::SceneSettings& ss = wb.scene().settings();
+    ss.enabled = true;
+    ss.useCache = false;
+    ss.points.points = 2500;
+    ss.light.shadowMapSize = 256;
+    ss.render.width = 64;
+    ss.render.height = 48;
+    wb.finishScene();
+    app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
+    ts.enabled = true;
+    ts.sampling.textureSize = 128;
+    ts.sampling.samples = 400;
+    ts.sampling.sampleSets = 2;
+    wb.finishTextureSpace();
+    auto sum = [&] {
+        const litsphere::Image img = wb.textureSpace().radiance();
+        double s = 0;
+        for (float v : img.mean)
+            s += double(v);
+        return s;
+    };
+    const double base = valueAt0(wb, path), total = sum();
+    ASSERT_GT(total, 0.0);
+    const long traversal = app::probeCounts().traversalCode;
+    const double factor = 2.0 + double(::getpid() % 100000) * 1e-7;
+    core::writeFile(file, scaled(good, factor, false));
+    updateUntil(wb, [&] { return std::abs(valueAt0(wb, path) - factor * base) < 1e-5 * base; });
+    ASSERT_NEAR(valueAt0(wb, path), factor * base, 1e-5 * base); // the plot has it
+    ASSERT_TRUE(app::rendererCodePending(path));
+    updateUntil(
+        wb, [] { return false; }, 500);
+    EXPECT_TRUE(app::rendererCodePending(path));
+    EXPECT_NEAR(sum(), total, 1e-6 * total); // the last image stays
+    updateUntil(wb, [&] {
+        return !app::rendererCodePending(path) && wb.textureSpace().pipeline()->done() &&
+               std::abs(sum() / total - factor) < 1e-3 * factor;
+    });
+    EXPECT_EQ(app::probeCounts().traversalCode - traversal, 1);
+    EXPECT_NEAR(sum() / total, factor, 1e-3 * factor);
+    EXPECT_TRUE(wb.errors().empty());
+}
