@@ -328,6 +328,16 @@ int probeServerPid() {
 ProbeCounts probeCounts() {
     return server().counts;
 }
+void resetModelProbes() {
+    passedKeys().clear();
+    frameOfKey().clear();
+    passedFrames().clear();
+    warnedUnavailable = false;
+    Server& s = server();
+    const ProbeCounts counts = s.counts;
+    s = Server{}; // its child, if no check holds it any more, is killed here
+    s.counts = counts;
+}
 bool rendererCodePending(const std::string& display) {
     pollTail();
     const Server& s = server();

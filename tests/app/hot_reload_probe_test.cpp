@@ -84,6 +84,7 @@ struct ProbeFixture : ::testing::Test {
         good = testsupport::readText(file);
     }
     void TearDown() override {
+        app::resetModelProbes(); // the next test starts as a new process would (gtest_filter=*)
         app::setModelProbeExecutable({});
         ::unsetenv("BSSRDF_WORKBENCH_PROBE_SECONDS");
         ::unsetenv("BSSRDF_WORKBENCH_LOOP_BUDGET");
