@@ -81,9 +81,6 @@ bssrdf::ProbeVerdict probeVerdict(int code, const std::string& output, const std
 // checks the server took, checks run in their own process, servers started, and checks (of
 // either kind) seen evaluating, their model file read and built (tests, bench).
 int probeServerPid();
-// Forgets every verdict of this process and ends the warm server (the next check starts one,
-// with the environment of then): tests that each want a process's first state.
-void resetModelProbes();
 struct ProbeCounts {
     long served = 0, ownProcess = 0, serverStarts = 0, evaluating = 0;
     long unneeded = 0; // loop-free models adopted in a frame that passed (bssrdf::probeFrameKey)
@@ -91,6 +88,9 @@ struct ProbeCounts {
     long traversalCode = 0; // answers of the server with the traversal program's code
 };
 ProbeCounts probeCounts();
+// Forgets every verdict of this process and ends the warm server (the next check starts one,
+// with the environment of then): tests that each want a process's first state.
+void resetModelProbes();
 
 // One check under way in its own process.
 class ModelProbeProcess : public bssrdf::PendingProbe {
