@@ -155,7 +155,7 @@ bool FitStage::update(const FitInputs& in) {
     bool changed = false;
     core::Stopwatch clock;
     bssrdf::ParamValues values = e->values;
-    while (clock.ms() < kFrameBudgetMs) {
+    for (int served = 0; served == 0 || clock.ms() < frameBudgetMs; ++served) {
         std::vector<double> x;
         {
             std::unique_lock lock(m_mutex);

@@ -67,6 +67,9 @@ struct FitSnapshot {
 class FitStage : public StageOf<FitInputs> {
   public:
     static constexpr double kFrameBudgetMs = 12;
+    // update() serves evaluations until this many ms have passed, and at least one; tests set 0
+    // to have exactly one served a frame, so that frames counted show the fit never held one.
+    double frameBudgetMs = kFrameBudgetMs;
     FitStage() = default;
     ~FitStage() override;
     FitStage(const FitStage&) = delete;

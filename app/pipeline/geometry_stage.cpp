@@ -168,7 +168,7 @@ bool GeometryStage::update(const GeometryInputs& in) {
     }
     bool changed = false;
     core::Stopwatch clock;
-    while (clock.ms() < kFrameBudgetMs) {
+    for (int steps = 0; steps == 0 || clock.ms() < frameBudgetMs; ++steps) {
         if (!m_work) { // the next cell whose image is missing or made with an older model
             for (size_t i = 0; i < m_cells.size() && !m_work; ++i) {
                 GeometryCell& c = m_cells[i];

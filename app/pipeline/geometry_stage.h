@@ -59,6 +59,9 @@ struct GeometryCell {
 class GeometryStage : public StageOf<GeometryInputs> {
   public:
     static constexpr double kFrameBudgetMs = 40;
+    // update() integrates until this many ms have passed, and at least one step; tests set 0 to
+    // have exactly one step a frame, so that frames counted show the run never held one.
+    double frameBudgetMs = kFrameBudgetMs;
     GeometryStage();
     ~GeometryStage() override;
     const char* name() const override { return "geometry"; }

@@ -10,7 +10,6 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -344,8 +343,8 @@ TEST_F(Cli, ProfileOfAModelThatDoesNotFinishFailsWithinTheLimit) {
 }
 
 // The same loop under the default loop budget (bssrdf/loop_budget.h), on any driver: the loop
-// stops after the budget in the first evaluation, and the command fails at once naming the
-// loop's line and the budget (no waiting for the time limit).
+// stops after the budget in the first evaluation, and the command fails naming the loop's line
+// and the budget (the budget's message, not the time limit's: no waiting for it).
 TEST_F(Cli, ProfileOfAModelWhoseLoopRunsAwayFailsAtTheLoopsLine) {
     const fs::path slow = dir() / "runaway.bssrdf";
     writeText(slow, "analytic radial no_wi no_wo\n"
@@ -358,13 +357,12 @@ TEST_F(Cli, ProfileOfAModelWhoseLoopRunsAwayFailsAtTheLoopsLine) {
                     "::end shader\n");
     const std::vector<std::string> args = {"profile", "--model", slow.string(), "--preset",
                                            "Marble",  "--out",   "runaway.csv"};
-    const auto start = std::chrono::steady_clock::now();
     RunResult r = run(args);
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
     EXPECT_EQ(r.code, 1) << describe(args, r);
     EXPECT_TRUE(contains(r.output, "runaway.bssrdf:5: the loop at line 5 ran past the loop "
                                    "budget of 16384 iterations per Bssrdf() call"))
         << r.output;
+    EXPECT_FALSE(contains(r.output, "did not finish within")) << r.output;
     EXPECT_FALSE(fs::exists(dir() / "runaway.csv"));
 }
 

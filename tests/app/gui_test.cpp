@@ -384,18 +384,24 @@ TEST(CapturesPanel, RecordingRunsInTheBackgroundShowsItsStageAndCancels) {
     ASSERT_TRUE(fs::exists(root / "captures/.background.request/request.json"));
     core::Stopwatch clock;
     double longest = 0;
+    int framesWhileRecording = 0; // frames that ended with the child still at work
     bool stageShown = false;
     ui.shared.show(app::PanelId::Captures);
     while (!ui.captures.recorder->done() && clock.ms() < 120000) {
         core::Stopwatch one;
         gui.frame();
         longest = std::max(longest, one.ms());
+        framesWhileRecording += !ui.captures.recorder->done();
         stageShown |= !app::lastStage(ui.captures.recorder->output(), "record").empty();
     }
     gui.frame();
+    std::printf("%d frames while recording, the longest %.0f ms, in all %.1f s\n",
+                framesWhileRecording, longest, clock.ms() / 1000.0);
     ASSERT_EQ(ui.captures.recorder->exitCode(), 0) << ui.captures.recorder->output();
     EXPECT_TRUE(stageShown) << ui.captures.recorder->output();
-    EXPECT_LT(longest, 2000.0) << "a frame waited for the recording";
+    // A frame that waited for the child would end with the recording done: frames kept coming
+    // while it ran (counted, not timed, so that a loaded machine cannot fail it).
+    EXPECT_GE(framesWhileRecording, 3) << "a frame waited for the recording";
     EXPECT_EQ(ui.shared.status, "recorded captures/background");
     EXPECT_FALSE(fs::exists(root / "captures/.background.request"));
     const std::string manifest = core::readFile(root / "captures/background/manifest.json");
@@ -543,19 +549,26 @@ TEST(FitPanel, FitsAgainstTheReferenceWithoutHoldingTheFramesAndApplies) {
     gui.frame();
     auto click = [&](const app::Rect& r) { testsupport::click(gui, r); };
     ASSERT_GT(ui.fit.fitButton.width(), 5.0f);
+    wb.fit().frameBudgetMs = 0; // one evaluation a frame: the frames are counted, not timed
     click(ui.fit.fitButton);
     ASSERT_TRUE(wb.fit().snapshot().running || wb.fit().snapshot().result) << "not started";
     core::Stopwatch clock;
     double longest = 0;
+    int framesWhileFitting = 0;
     while (wb.fit().snapshot().running && clock.ms() < 60000) {
         core::Stopwatch one;
         gui.frame();
         longest = std::max(longest, one.ms());
+        framesWhileFitting += wb.fit().snapshot().running;
     }
+    std::printf("%d frames while fitting, the longest %.0f ms, in all %.1f s\n", framesWhileFitting,
+                longest, clock.ms() / 1000.0);
     const app::FitSnapshot snap = wb.fit().snapshot();
     ASSERT_TRUE(snap.result.has_value()) << snap.problem;
     EXPECT_TRUE(snap.result->converged) << snap.result->status;
-    EXPECT_LT(longest, 1000.0) << "a frame waited for the fit";
+    // each frame served one evaluation and let the fit go on (the click's frame and the last
+    // may serve one more): no frame waited for the fit
+    EXPECT_GE(framesWhileFitting + 2, int(snap.trace.size())) << "a frame waited for the fit";
     ASSERT_EQ(snap.targets.size(), snap.result->relErrBest.size());
     for (size_t t = 0; t < snap.targets.size(); ++t)
         EXPECT_LT(snap.result->relErrBest[t], snap.result->relErrStart[t]) << snap.targets[t];

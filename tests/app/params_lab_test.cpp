@@ -24,6 +24,7 @@
 #include <imgui_internal.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace fs = std::filesystem;
 
@@ -248,13 +249,17 @@ TEST(ParamsLabPanel, AppliesTheMappingAndMeasuresItWithoutHoldingTheFrames) {
     ASSERT_TRUE(st.measurement);
     core::Stopwatch clock;
     double longest = 0;
+    int framesWhileMeasuring = 0;
     while (!st.measurement->done.load() && clock.ms() < 60000) {
         core::Stopwatch one;
         gui.frame();
         longest = std::max(longest, one.ms());
+        framesWhileMeasuring += !st.measurement->done.load();
     }
+    std::printf("%d frames while measuring, the longest %.0f ms, in all %.1f s\n",
+                framesWhileMeasuring, longest, clock.ms() / 1000.0);
     ASSERT_TRUE(st.measurement->done.load());
-    EXPECT_LT(longest, 1000.0) << "a frame waited for the measurement";
+    EXPECT_GE(framesWhileMeasuring, 3) << "a frame waited for the measurement";
     for (const app::LabCase& c : st.measurement->cases) {
         EXPECT_TRUE(c.problem.empty()) << c.problem;
         EXPECT_GT(c.measured, 0.5 * c.albedo);
