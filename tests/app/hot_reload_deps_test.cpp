@@ -3,6 +3,7 @@
 // program through Workbench::shaderPrograms(). Adding an include makes the new file a
 // dependency; renaming an include leaves the old name out.
 #include "../support/gl_fixture.h"
+#include "../support/small_scene.h"
 #include "pipeline/workbench.h"
 
 #include <fstream>
@@ -81,11 +82,7 @@ TEST(HotReloadDependencies, ExactlyTheProgramsThatReadAFileRebuild) {
     ASSERT_TRUE(wb.watching());
     app::SceneSettings& s = wb.scene().settings();
     s.enabled = true;
-    s.useCache = false;
-    s.points.points = 2500;
-    s.light.shadowMapSize = 256;
-    s.render.width = 64;
-    s.render.height = 48;
+    testsupport::useSmallScene(s);
     wb.finishScene();
     wb.update();
     const auto programs = wb.shaderPrograms();

@@ -4,6 +4,7 @@
 // runs, the Errors panel names the file and why, the last good version stays in use, and the fixed
 // file is adopted.
 #include "../support/gl_fixture.h"
+#include "../support/small_scene.h"
 #include "../support/workbench_values.h"
 #include "cli/probe_commands.h"
 #include "core/core.h"
@@ -430,11 +431,7 @@ static void sceneTakesTheSaveOnceTheServerHasItsTraversalCode(const fs::path& ro
     app::Workbench wb(root, true);
     app::SceneSettings& ss = wb.scene().settings();
     ss.enabled = true;
-    ss.useCache = false; // never touch the user's point-cloud cache
-    ss.points.points = 2500;
-    ss.light.shadowMapSize = 256;
-    ss.render.width = 64;
-    ss.render.height = 48;
+    testsupport::useSmallScene(ss);
     wb.finishScene();
     ASSERT_TRUE(wb.scene().hasFrame());
     auto exitance = [&] {
@@ -521,11 +518,7 @@ TEST_F(ProbeFixture, TextureSpaceTakesASaveOnceTheServerHasItsTraversalCode) {
     ::unsetenv("BSSRDF_WORKBENCH_PROBE_TRAVERSAL_DELAY_MS");
     app::SceneSettings& ss = wb.scene().settings();
     ss.enabled = true;
-    ss.useCache = false;
-    ss.points.points = 2500;
-    ss.light.shadowMapSize = 256;
-    ss.render.width = 64;
-    ss.render.height = 48;
+    testsupport::useSmallScene(ss);
     wb.finishScene();
     app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
     ts.enabled = true;

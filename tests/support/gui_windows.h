@@ -5,6 +5,7 @@
 #include "gui/panels/registry.h"
 #include "gui/workspace_layout.h"
 #include "pipeline/scene_stage.h"
+#include "small_scene.h"
 
 #include <imgui.h>
 #include <imgui_internal.h>
@@ -13,16 +14,6 @@
 #include <vector>
 
 namespace testsupport {
-
-// A scene small enough for tests: 3000 points, no disk cache, a 96 × 54 frame, a 256² shadow
-// map.
-inline void useSmallScene(app::SceneSettings& s) {
-    s.points.points = 3000;
-    s.useCache = false;
-    s.render.width = 96;
-    s.render.height = 54;
-    s.light.shadowMapSize = 256;
-}
 
 // The top-level windows drawn in the last frame (no children, tooltips, popups, menus).
 inline std::vector<ImGuiWindow*> topWindows() {
