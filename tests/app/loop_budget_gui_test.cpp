@@ -4,8 +4,8 @@
 // and the Errors panel names the loop's line, while frames keep coming; moved back, the error goes
 // and the plot is what it was. The text "ran past the loop budget" is the budget's own (a driver
 // that cut the loop would not write it), so the tests hold on any machine: they wait at most 10 s
-// for it and print, not assert, how long it took and the slowest frame (the issue's 5 s is met
-// with room: 0.1-0.5 s in Release, under 2 s with ASan + UBSan).
+// for it and print, not assert, how long it took and the slowest frame (the issue asks for 5 s;
+// in Release here the first entry came after 0.04 s, all three after 1.0 s).
 #include "../support/gl_fixture.h"
 #include "../support/workbench_values.h"
 #include "core/core.h"
