@@ -48,7 +48,10 @@ void main() {
     uvec4 key = texspacePcg4d(uvec4(SampleSeed, 0x5458534du, 0u));
     uint bits = texspacePcg4d(uvec4(lo, hi, 0u, 0u) ^ key).x >> 8u;
     float u = float(bits) * (1.0 / 16777216.0);
-    float p = u * Levels[LevelOffset[LevelCount - 1u]];
+    // precise: u * total and the first p -= w must not be contracted into one fma (NVIDIA does
+    // where it may), or a u within an ulp of a child's end takes another texel there than on the
+    // host replica and on drivers that round each step (the capture's samples are compared exactly)
+    precise float p = u * Levels[LevelOffset[LevelCount - 1u]];
     uint x = 0u, y = 0u;
     const uvec2 child[4] = uvec2[4](uvec2(0u, 0u), uvec2(1u, 0u), uvec2(1u, 1u), uvec2(0u, 1u));
     for (int l = int(LevelCount) - 2; l >= 0; --l) {

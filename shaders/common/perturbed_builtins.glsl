@@ -12,6 +12,9 @@
 //                       plus ln 2 |y| times the error of log2 x
 //   inversesqrt(x)      2 ulp;  sqrt(x): inherited from 1.0 / inversesqrt(x), 4.5 ulp
 // One ulp is taken as 2^-23 of the value, the largest it is relative to a float.
+// Where a bound is not below 1 (a relative one) or the value is not finite (an argument at a pole,
+// pow(0, y), exp(-inf), log(0)), the value is left as the driver computes it: multiplying by an
+// infinite bound would turn the exact 0 of pow(0, y > 0) into NaN, even under seed 0.
 
 uniform uint PerturbSeed;
 
@@ -29,22 +32,38 @@ float bw_sign(float x, uint salt) {
     return (h & 1u) != 0u ? 1.0 : -1.0;
 }
 
-float bw_exp(float x) { return exp(x) * (1.0 + bw_sign(x, 1u) * (3.0 + 2.0 * abs(x)) * BW_ULP); }
-float bw_exp2(float x) { return exp2(x) * (1.0 + bw_sign(x, 2u) * (3.0 + 2.0 * abs(x)) * BW_ULP); }
+// value moved by sign * rel of itself (a relative bound) or by sign * err (an absolute one); the
+// comparisons are false for NaN, so a bound that is not finite leaves the value
+float bw_moveRel(float value, float sign, float rel) {
+    return sign != 0.0 && rel < 1.0 ? value * (1.0 + sign * rel) : value;
+}
+float bw_moveAbs(float value, float sign, float err) {
+    return sign != 0.0 && abs(value) < 3.0e38 && err < 3.0e38 ? value + sign * err : value;
+}
+
+float bw_exp(float x) { return bw_moveRel(exp(x), bw_sign(x, 1u), (3.0 + 2.0 * abs(x)) * BW_ULP); }
+float bw_exp2(float x) {
+    return bw_moveRel(exp2(x), bw_sign(x, 2u), (3.0 + 2.0 * abs(x)) * BW_ULP);
+}
 // the error of log2(x) (the same bound holds for log)
 float bw_logError(float x, float value) {
     return x >= 0.5 && x <= 2.0 ? 1.0 / 2097152.0 : 3.0 * BW_ULP * abs(value);
 }
-float bw_log(float x) { float v = log(x); return v + bw_sign(x, 3u) * bw_logError(x, v); }
-float bw_log2(float x) { float v = log2(x); return v + bw_sign(x, 4u) * bw_logError(x, v); }
+float bw_log(float x) { float v = log(x); return bw_moveAbs(v, bw_sign(x, 3u), bw_logError(x, v)); }
+float bw_log2(float x) {
+    float v = log2(x);
+    return bw_moveAbs(v, bw_sign(x, 4u), bw_logError(x, v));
+}
 float bw_pow(float x, float y) {
     float l = log2(x);
     float u = y * l;
     float rel = (3.0 + 2.0 * abs(u)) * BW_ULP + 0.69314718 * abs(y) * bw_logError(x, l);
-    return pow(x, y) * (1.0 + bw_sign(x + 0.61803399 * y, 5u) * rel);
+    return bw_moveRel(pow(x, y), bw_sign(x + 0.61803399 * y, 5u), rel);
 }
-float bw_inversesqrt(float x) { return inversesqrt(x) * (1.0 + bw_sign(x, 6u) * 2.0 * BW_ULP); }
-float bw_sqrt(float x) { return sqrt(x) * (1.0 + bw_sign(x, 7u) * 4.5 * BW_ULP); }
+float bw_inversesqrt(float x) {
+    return bw_moveRel(inversesqrt(x), bw_sign(x, 6u), 2.0 * BW_ULP);
+}
+float bw_sqrt(float x) { return bw_moveRel(sqrt(x), bw_sign(x, 7u), 4.5 * BW_ULP); }
 
 // the vector forms, component by component (GLSL has no generic functions)
 vec2 bw_exp(vec2 x) { return vec2(bw_exp(x.x), bw_exp(x.y)); }

@@ -106,6 +106,39 @@ TEST(Conditioning, AModelWithoutTranscendentalFunctionsHasNoSpread) {
         EXPECT_EQ(b.spread[i], glm::dvec3(0.0)) << "r " << b.radii[i];
 }
 
+// pow(0, y > 0) is 0 and exp(-inf) is 0 (GLSL 4.50, 8.2): the perturbed functions keep those
+// values under every seed, the unperturbed one included, instead of multiplying them by an
+// infinite bound (0 * inf, NaN), and the pencil radius grid starts at r = 0 exactly.
+TEST(Conditioning, PowAtZeroAndExpOfMinusInfinityStayZeroUnderEverySeed) {
+    const Built b(
+        "    float inf = uintBitsToFloat(0x7F800000u);\n"
+        "    return vec3(pow(r, 1.5), exp(r > 0.0 ? -r : -inf), pow(r, A) * exp(-A * r));\n");
+    ASSERT_EQ(b.radii.front(), 0.0);
+    std::vector<bssrdf::Query> q(b.radii.size());
+    for (size_t i = 0; i < q.size(); ++i)
+        q[i].xo = {float(b.radii[i]), 0.0f, 0.0f};
+    const auto evals = bssrdf::perturbedQueries(b.m, shader::Sources{testsupport::sourceRoot()},
+                                                bssrdf::defaultValues(b.m), {}, q);
+    ASSERT_EQ(evals.size(), size_t(bssrdf::kConditioningPatterns + 1));
+    for (size_t k = 0; k < evals.size(); ++k)
+        for (size_t i = 0; i < q.size(); ++i)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_TRUE(std::isfinite(evals[k][i][c]))
+                    << "seed " << k << ", r " << b.radii[i] << ", channel " << c;
+    for (size_t k = 0; k < evals.size(); ++k)
+        EXPECT_EQ(evals[k][0], glm::dvec3(0.0)) << "seed " << k << " at r = 0";
+    // elsewhere each value moves by its bound only: pow(r, 1.5) by (3 + 2|u|) ulp plus the log's
+    // share, u = 1.5 log2 r, never more than 1e-5 of itself
+    for (size_t i = 1; i < q.size(); ++i) {
+        const double v = std::pow(double(float(b.radii[i])), 1.5);
+        EXPECT_NEAR(evals[0][i].x, v, 1e-5 * v) << "r " << b.radii[i];
+        EXPECT_EQ(evals[0][i].x, b.profile.value[i].x) << "seed 0 is the driver's pow";
+        EXPECT_LE(b.spread[i].x, 1e-5 * v) << "r " << b.radii[i];
+        EXPECT_GT(b.spread[i].x, 0.0) << "r " << b.radii[i];
+    }
+    EXPECT_EQ(b.spread[0], glm::dvec3(0.0));
+}
+
 // Two captures recorded on llvmpipe and replayed on an NVIDIA H200 (driver 580.159.04): the better
 // dipole's and the multipole's pencil plots differed from the recordings by 10-22x the 1e-5
 // relative floor far from the source, where their terms cancel, and the better dipole's slice by
