@@ -43,6 +43,12 @@
 // Outputs: HdrImage rgba = (L_o, 1) on a hit, 0 on a miss; RenderExitance[p] = (M, hit);
 // RenderStats[p] = (steps, max stack depth, flags, evaluations). Pixel p = y·width + x, row 0
 // is the top of the image (the G-buffer is rendered flipped).
+//
+// Bands. A frame's traversal runs over bands of rows RenderRows = [first, end), one band to its
+// end before the next: the storage blocks (stats, exitance, 96 bytes of state per pixel) are
+// bound from the band's first row on and hold the band only, so no block exceeds the driver's
+// GL_MAX_SHADER_STORAGE_BLOCK_SIZE (2^27 bytes may be all a driver offers; NVIDIA's 2^31 - 1 is
+// a 4800 x 4800 frame's state). Within the blocks p counts from the band's first pixel.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "common/bssrdf_prelude.glsl"
@@ -70,7 +76,8 @@ layout(std430, binding = 7) buffer RenderControl {
 };
 
 uniform ivec2 RenderSize;           // width, height
-uniform bool RenderFirst;           // first dispatch of the frame: start every pixel
+uniform ivec2 RenderRows;           // the band: rows [x, y) (see Bands)
+uniform bool RenderFirst;           // first dispatch of the band: start every pixel
 uniform bool RenderBruteForce;      // sum every point instead of traversing
 uniform bool RenderBoundingBox;     // bounding-box criterion instead of the mean position
 uniform bool RenderDirect;          // radial models: call Bssrdf() instead of the table
@@ -132,9 +139,9 @@ float renderFresnelTransmittance(float cosI, float eta) {
 }
 
 void main() {
-    ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
-    if (pix.x >= RenderSize.x || pix.y >= RenderSize.y) return;
-    uint p = uint(pix.y * RenderSize.x + pix.x);
+    ivec2 pix = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, RenderRows.x);
+    if (pix.x >= RenderSize.x || pix.y >= min(RenderRows.y, RenderSize.y)) return;
+    uint p = uint((pix.y - RenderRows.x) * RenderSize.x + pix.x); // in the band's blocks
     vec4 pos = imageLoad(GPosition, pix);
 
     uint node, childnum, mode, sp, k, end;

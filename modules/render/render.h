@@ -117,6 +117,7 @@ struct Frame {
     GLuint normal = 0;   // RGBA32F G-buffer
     double gbufferMs = 0, profileMs = 0, traverseMs = 0, tonemapMs = 0; // CPU, after glFinish
     int dispatches = 0; // traversal dispatches of the frame
+    int bands = 0;      // bands of rows they ran in (setStorageBlockLimit)
     uint32_t iterationsPerDispatch = 0;
     InvalidPixels invalid;
 };
@@ -210,6 +211,11 @@ class Renderer {
     bool advance(double budgetMs);
     bool inProgress() const;
     const Frame& currentFrame() const;
+    // The traversal runs in bands of rows when a frame's per-pixel state (96 bytes a pixel)
+    // would exceed the largest storage block a dispatch may bind: the driver's
+    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE (bytes <= 0, the default), or `bytes` (tests lower it to
+    // split small frames). The result does not depend on the bands. From the next begin() on.
+    void setStorageBlockLimit(int64_t bytes);
 
     // The current model's Bssrdf on the GPU (render_pairs.comp) with the current material.
     std::vector<glm::vec3> evaluatePairs(const std::vector<BssrdfPair>& pairs) const;

@@ -111,11 +111,16 @@ struct Renderer::State {
     int rasterWidth = 0, rasterHeight = 0;
     bool frameGiven = false; // the last begin() uploaded the given G-buffer
     gl::FramebufferId fbo;
+    // stats and exitance hold the frame, state one band of bandRows rows (octree_render.comp,
+    // Bands): bandRows keeps every block a dispatch binds within the storage block limit
     gl::Buffer stats, exitance, state, control;
+    int64_t storageBlockLimit = 0; // setStorageBlockLimit; 0: the driver's
+    int bandRows = 0;
     bssrdf::LoopFaults loopFaults; // the model's loop budget (bssrdf/loop_budget.h)
     gl::Buffer invalidCounts;      // the tone map's counts: surface, NaN, Inf, negative pixels
 
     void resize(int w, int h);
+    int rowsPerBand(int w, int h) const;
     // The G-buffer pass into `target` (w×h attachments: position, normal, depth), its image
     // moved by `offset` pixels.
     void gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset = {});
@@ -126,8 +131,9 @@ struct Renderer::State {
     void ensureProfile();
     // One traversal dispatch (uniforms set for `perDispatch` iterations): returns true when
     // every pixel finished; sets loopLimit when the driver cut a loop short.
-    void bindTraverse(const Settings& s, uint32_t perDispatch);
-    bool dispatchOnce(const Settings& s, uint32_t perDispatch, int dispatch, bool& loopLimit);
+    void bindTraverse(const Settings& s, uint32_t perDispatch, int band);
+    bool dispatchOnce(const Settings& s, uint32_t perDispatch, int band, int dispatch,
+                      bool& loopLimit);
     // Tone maps the frame and counts its invalid pixels.
     InvalidPixels tonemap(const Settings& s);
     // Progressive frame (begin / advance).
@@ -135,7 +141,8 @@ struct Renderer::State {
         bool active = false;
         Settings settings;
         Frame frame;
-        int dispatch = 0;
+        int band = 0;     // the band being traversed
+        int dispatch = 0; // of the band
         double traverseMs = 0;
     } progress;
 };
@@ -323,8 +330,26 @@ const bssrdf::Builtins& Renderer::builtins() const {
     return m->builtins;
 }
 
+// Rows per band: all of them when the frame's state fits the storage block limit, else the most
+// that fit, a multiple of the rows that keep each band's offset into stats and exitance (16
+// bytes a pixel) a multiple of GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT (at most 256: 16 rows).
+int Renderer::State::rowsPerBand(int w, int h) const {
+    int64_t limit = storageBlockLimit;
+    if (limit <= 0) glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &limit);
+    const int64_t rowBytes = int64_t(w) * int64_t(kPixelStateBytes);
+    const int64_t fit = limit / rowBytes;
+    if (fit >= h) return h;
+    GLint align = 1;
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+    int step = 1;
+    while ((int64_t(step) * w * 16) % std::max(align, 1) != 0)
+        ++step;
+    return static_cast<int>(std::max<int64_t>(step, fit - fit % step));
+}
+
 void Renderer::State::resize(int w, int h) {
-    if (w == width && h == height && fbo) return;
+    const int rows = rowsPerBand(w, h);
+    if (w == width && h == height && fbo && rows == bandRows) return;
     position = gl::createTexture2D(GL_RGBA32F, w, h, GL_NEAREST);
     normal = gl::createTexture2D(GL_RGBA32F, w, h, GL_NEAREST);
     depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
@@ -345,7 +370,8 @@ void Renderer::State::resize(int w, int h) {
     const size_t pixels = size_t(w) * size_t(h);
     stats = gl::createBuffer(pixels * 16, nullptr);
     exitance = gl::createBuffer(pixels * 16, nullptr);
-    state = gl::createBuffer(pixels * kPixelStateBytes, nullptr);
+    state = gl::createBuffer(size_t(w) * size_t(rows) * kPixelStateBytes, nullptr);
+    bandRows = rows;
     width = w;
     height = h;
 }
@@ -509,7 +535,11 @@ void Renderer::State::ensureProfile() {
 
 // Runs the traversal dispatches of one frame; returns the number of dispatches. Sets
 // loopLimit when a dispatch was cut short by the driver's loop limit.
-void Renderer::State::bindTraverse(const Settings& s, uint32_t perDispatch) {
+void Renderer::State::bindTraverse(const Settings& s, uint32_t perDispatch, int band) {
+    const int first = band * bandRows, end = std::min(height, first + bandRows);
+    // the band's share of the frame's stats and exitance, and the band's state
+    const auto pixelsBefore = GLintptr(first) * GLintptr(width);
+    const auto bandPixels = GLsizeiptr(end - first) * GLsizeiptr(width);
     const GLuint prog = renderProgram.id();
     bssrdf::setUniforms(prog, *model, values, builtins); // also glUseProgram
     auto loc = [&](const char* n) { return glGetUniformLocation(prog, n); };
@@ -517,6 +547,7 @@ void Renderer::State::bindTraverse(const Settings& s, uint32_t perDispatch) {
     cam.aspect = float(width) / float(height);
     const glm::vec3 eye = cam.position();
     glUniform2i(loc("RenderSize"), width, height);
+    glUniform2i(loc("RenderRows"), first, end);
     glUniform1i(loc("RenderBruteForce"), s.bruteForce ? 1 : 0);
     glUniform1i(loc("RenderBoundingBox"), s.boundingBoxCriterion ? 1 : 0);
     glUniform1i(loc("RenderDirect"), s.directBssrdf ? 1 : 0);
@@ -537,15 +568,18 @@ void Renderer::State::bindTraverse(const Settings& s, uint32_t perDispatch) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDescriptors, descriptors.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kNodes, nodes.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPoints, points.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kStats, stats.id());
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kStats, stats.id(), pixelsBefore * 16,
+                      bandPixels * 16);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kProfile, tableBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kExitance, exitance.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kState, state.id());
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kExitance, exitance.id(), pixelsBefore * 16,
+                      bandPixels * 16);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kState, state.id(), 0,
+                      bandPixels * GLsizeiptr(kPixelStateBytes));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kControl, control.id());
     bindTraversalImages(position.id(), normal.id(), hdr.id());
 }
 
-bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int dispatch,
+bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int band, int dispatch,
                                    bool& loopLimit) {
     // Loop iterations a pixel can need: each step is one visit plus at most one move to the
     // next node and one pop; every point evaluation is one more (<= N), a second-order node's
@@ -556,10 +590,11 @@ bool Renderer::State::dispatchOnce(const Settings& s, uint32_t perDispatch, int 
         throw core::Error("render", 0,
                           "traversal did not finish within " + std::to_string(maxDispatches) +
                               " dispatches");
-    bindTraverse(s, perDispatch);
+    bindTraverse(s, perDispatch, band);
     const GLuint prog = renderProgram.id();
+    const int rows = std::min(height - band * bandRows, bandRows);
     const auto gx = static_cast<GLuint>((width + kLocal - 1) / kLocal);
-    const auto gy = static_cast<GLuint>((height + kLocal - 1) / kLocal);
+    const auto gy = static_cast<GLuint>((rows + kLocal - 1) / kLocal);
     const GLuint zero = 0;
     glClearNamedBufferData(control.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glUniform1i(glGetUniformLocation(prog, "RenderFirst"), dispatch == 0 ? 1 : 0);
@@ -643,6 +678,7 @@ void Renderer::begin(const Settings& s) {
     Frame& f = p.frame;
     f.width = s.width;
     f.height = s.height;
+    f.bands = (m->height + m->bandRows - 1) / m->bandRows;
 
     core::Stopwatch clock;
     m->gbuffer(s, m->fbo.id(), m->width, m->height);
@@ -675,8 +711,15 @@ bool Renderer::advance(double budgetMs) {
         gl::ScopedStageTimer timer("render.traverse");
         while (!done && clock.ms() < budgetMs) {
             bool loopLimit = false;
-            done = m->dispatchOnce(s, f.iterationsPerDispatch, p.dispatch, loopLimit);
+            const bool bandDone =
+                m->dispatchOnce(s, f.iterationsPerDispatch, p.band, p.dispatch, loopLimit);
             ++p.dispatch;
+            ++f.dispatches;
+            if (bandDone) { // the next band starts at its first dispatch
+                ++p.band;
+                p.dispatch = 0;
+                done = p.band * m->bandRows >= m->height;
+            }
             if (!loopLimit) continue;
             if (f.iterationsPerDispatch <= kMinIterations) {
                 core::logWarn("render: the driver's loop limit cut the traversal short even "
@@ -695,7 +738,8 @@ bool Renderer::advance(double budgetMs) {
                 done = true;
                 break;
             }
-            // Redo the frame's traversal with half the iterations per dispatch.
+            // Redo the band's traversal with half the iterations per dispatch (the bands before
+            // it are done: the split does not change a pixel's result).
             m->iterations = f.iterationsPerDispatch / 2;
             f.iterationsPerDispatch = m->iterations;
             p.dispatch = 0;
@@ -706,7 +750,6 @@ bool Renderer::advance(double budgetMs) {
     }
     p.traverseMs += clock.ms();
     f.traverseMs = p.traverseMs;
-    f.dispatches = p.dispatch;
     if (!done) return false;
     clock.reset();
     f.invalid = m->tonemap(s);
@@ -714,6 +757,10 @@ bool Renderer::advance(double budgetMs) {
     f.tonemapMs = clock.ms();
     p.active = false;
     return true;
+}
+
+void Renderer::setStorageBlockLimit(int64_t bytes) {
+    m->storageBlockLimit = bytes;
 }
 
 bool Renderer::inProgress() const {

@@ -293,6 +293,42 @@ TEST(RenderTraversal, ResumedDispatchesAreBitwiseEqual) {
     }
 }
 
+// A frame whose traversal state exceeds the storage block limit runs in bands of rows (each
+// band's blocks bound on their own, octree_render.comp, Bands) and gives the frame of one band bit
+// for bit, resumed across dispatches or not; an odd size leaves a short last band.
+TEST(RenderTraversal, BandsOfRowsWithinTheStorageBlockLimitAreBitwiseEqual) {
+    render::Renderer& r = bunnyRenderer();
+    render::Settings s = smallSettings(bunny().mesh);
+    s.width = 61;
+    s.height = 47;
+    s.camera.aspect = 61.0f / 47.0f;
+    s.eps = 0.05f;
+    for (const uint32_t perDispatch : {0u, 37u}) {
+        s.iterationsPerDispatch = perDispatch;
+        r.setStorageBlockLimit(0);
+        const render::Frame whole = r.render(s);
+        const render::Readback a = r.readback();
+        r.setStorageBlockLimit(int64_t(s.width) * 96 * 12); // the state of 12 rows
+        const render::Frame banded = r.render(s);
+        const render::Readback b = r.readback();
+        r.setStorageBlockLimit(0);
+        std::printf("%u iterations a dispatch: %d band(s), %d dispatch(es) vs %d bands, %d\n",
+                    perDispatch, whole.bands, whole.dispatches, banded.bands, banded.dispatches);
+        EXPECT_EQ(whole.bands, 1);
+        EXPECT_GE(banded.bands, 3);
+        EXPECT_GE(banded.dispatches, banded.bands);
+        ASSERT_EQ(a.exitance.size(), size_t(61 * 47));
+        ASSERT_EQ(b.exitance.size(), a.exitance.size());
+        ASSERT_GT(hitPixels(a).size(), 300u);
+        for (size_t p = 0; p < a.exitance.size(); ++p) {
+            ASSERT_EQ(a.exitance[p], b.exitance[p]) << p;
+            ASSERT_EQ(a.stats[p], b.stats[p]) << p;
+            ASSERT_EQ(a.hdr[p], b.hdr[p]) << p;
+        }
+        EXPECT_EQ(a.ldr, b.ldr);
+    }
+}
+
 namespace {
 
 struct ReplicaResult {
