@@ -7,8 +7,8 @@
 // W_l(r) = 1 − ½e^{(r−R_p)K} (r <= R_p), ½e^{−(r−R_p)K} (r > R_p) per channel, A_tap in mm².
 // Light plane coordinates: ((p − c)·u, (p − c)·v) in mesh units, texel = floor((0.5 + 0.5·q/e)·M)
 // (irradiance/light_frame.h; the map is not flipped: row 0 at v = 0).
-// Output per pixel p = y·width + x (row 0 the top, as the G-buffer): LocalResult[p] = (B_l, hit),
-// LocalResult[W·H + p] = (Ft(η, cos θo)/π · B_l, hit), cos θo = min(1, |n_o·ω_o|).
+// Output per pixel p = y·width + x (row 0 the top, as the G-buffer): LocalExitance[p] = (B_l, hit),
+// LocalRadiance[p] = (Ft(η, cos θo)/π · B_l, hit), cos θo = min(1, |n_o·ω_o|).
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "common/octree_profile.glsl"
@@ -18,7 +18,10 @@ layout(rgba32f, binding = 1) readonly uniform image2D GNormal;
 layout(rgba32f, binding = 2) readonly uniform image2D LightPosition;
 layout(rgba32f, binding = 3) readonly uniform image2D LightNormal;
 layout(std430, binding = 5) readonly buffer LocalTaps { vec4 localTaps[]; }; // offset mm, area mm²
-layout(std430, binding = 6) writeonly buffer LocalResult { vec4 localResult[]; };
+// (M, 1) and (Ft/π · M, 1) per pixel, in two blocks of 16 bytes a pixel, not one of 32: a block
+// of 32 bytes a pixel would pass NVIDIA's GL_MAX_SHADER_STORAGE_BLOCK_SIZE (2^31 - 1) at 8192²
+layout(std430, binding = 6) writeonly buffer LocalExitance { vec4 localExitance[]; };
+layout(std430, binding = 7) writeonly buffer LocalRadiance { vec4 localRadiance[]; };
 
 uniform ivec2 LocalSize;
 uniform int LocalRowOffset; // first row of this dispatch (the host dispatches bands of rows)
@@ -55,11 +58,10 @@ void main() {
     ivec2 pix = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, LocalRowOffset);
     if (pix.x >= LocalSize.x || pix.y >= LocalSize.y) return;
     uint p = uint(pix.y * LocalSize.x + pix.x);
-    uint pixels = uint(LocalSize.x * LocalSize.y);
     vec4 pos = imageLoad(GPosition, pix);
     if (pos.w == 0.0) {
-        localResult[p] = vec4(0.0);
-        localResult[pixels + p] = vec4(0.0);
+        localExitance[p] = vec4(0.0);
+        localRadiance[p] = vec4(0.0);
         return;
     }
     vec3 xo = pos.xyz;
@@ -82,6 +84,6 @@ void main() {
     }
     vec3 wo = normalize(LocalCamera - xo);
     float cosO = min(1.0, abs(dot(no, wo)));
-    localResult[p] = vec4(M, 1.0);
-    localResult[pixels + p] = vec4(localFresnelTransmittance(cosO, LocalIor) / 3.14159265358979 * M, 1.0);
+    localExitance[p] = vec4(M, 1.0);
+    localRadiance[p] = vec4(localFresnelTransmittance(cosO, LocalIor) / 3.14159265358979 * M, 1.0);
 }

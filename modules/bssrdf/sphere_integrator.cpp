@@ -39,6 +39,7 @@ void SphereIntegrator::reset(const litsphere::Setup& setup) {
     for (int c = 0; c < 3; ++c)
         m_lightDir[c] = l[c] / len;
     const size_t pixels = static_cast<size_t>(setup.width) * static_cast<size_t>(setup.height);
+    gl::requireStorageBlock(pixels * 8 * sizeof(float), what, "pixels", 8 * sizeof(float));
     m_sums = gl::createBuffer(pixels * 8 * sizeof(float), nullptr);
     m_readback.assign(pixels * 8, 0.0f);
     m_sum.assign(pixels * 3, 0.0);

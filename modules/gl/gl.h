@@ -64,6 +64,13 @@ const std::vector<RequiredLimit>& requiredLimits();
 // "" when every limit is met by `query`, else the message naming every shortfall.
 std::string limitsProblem(const std::function<int64_t(const RequiredLimit&)>& query);
 void requireLimits(); // with the current context; throws core::Error
+// The driver's GL_MAX_SHADER_STORAGE_BLOCK_SIZE: the most bytes one storage block binding may
+// hold (at least 2^27, requiredLimits()). requireStorageBlock throws core::Error(what, 0, …)
+// naming the bytes `what` needs in one block and that limit when they exceed it, before a
+// buffer that a dispatch could not address is made (the barrier checks report a binding over it).
+int64_t maxStorageBlockBytes();
+void requireStorageBlock(uint64_t bytes, const std::string& what, const std::string& unit,
+                         uint64_t bytesPerUnit);
 
 // Whether the environment turns the driver's on-disk shader cache off (shader_cache.cpp: Mesa's
 // MESA_SHADER_CACHE_DISABLE, NVIDIA's __GL_SHADER_DISK_CACHE=0). With the cache on, code a

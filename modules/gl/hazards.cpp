@@ -13,7 +13,10 @@
 // UNDEFINED_BEHAVIOR (the tests fail on it: tests/support/gl_debug_guard.cpp). It also checks, at
 // each dispatch and draw, that every shadow sampler meets a depth texture with comparison on and
 // every plain sampler one with it off (NVIDIA reports the mismatch; Mesa says nothing), and it
-// fills storage made without data with a pattern ("poison" below). What is only written is not
+// fills storage made without data with a pattern ("poison" below). At each dispatch and draw it
+// also checks that no storage block the program reads or writes is bound over more bytes than the
+// driver's GL_MAX_SHADER_STORAGE_BLOCK_SIZE (llvmpipe: 2^27, and it addresses more anyway; a GPU
+// need not: NVIDIA's is 2^31 - 1). What is only written is not
 // read: a storage block declared `writeonly` or an image unit bound GL_WRITE_ONLY may be written
 // again by the next dispatch without a barrier (two dispatches' writes to one location are not
 // checked).
@@ -81,7 +84,7 @@ const char* bitName(GLbitfield bit) {
 // What a program reads and writes, from its interface (queried once per program).
 struct ProgramIo {
     std::string name;                    // its label: the template's path
-    std::vector<GLuint> storageBindings; // every active storage block
+    std::vector<GLuint> storageBindings; // the active storage blocks not declared writeonly
     std::vector<GLuint> writtenBindings; // those not declared readonly
     std::vector<GLuint> uniformBindings; // active uniform blocks
     struct Sampler {
@@ -302,6 +305,34 @@ void samplerState(State& st, GLuint program, const ProgramIo& io, const std::str
     glActiveTexture(static_cast<GLenum>(active));
 }
 
+// Every storage block of the program bound over at most GL_MAX_SHADER_STORAGE_BLOCK_SIZE bytes
+// (a range, or the whole buffer from its start): a larger binding addresses storage the driver
+// does not promise to reach (gl::requireStorageBlock is the program's own check).
+void storageBlockSizes(State& st, const ProgramIo& io, const std::string& by) {
+    const int64_t limit = maxStorageBlockBytes();
+    std::set<GLuint> bindings(io.storageBindings.begin(), io.storageBindings.end()); // read
+    bindings.insert(io.writtenBindings.begin(), io.writtenBindings.end());
+    for (GLuint b : bindings) {
+        const GLuint id = indexedBinding(GL_SHADER_STORAGE_BUFFER_BINDING, b);
+        if (id == 0) continue;
+        GLint64 size = 0, start = 0;
+        glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, b, &size);
+        glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, b, &start);
+        if (size == 0) { // glBindBufferBase: the whole buffer
+            glGetNamedBufferParameteri64v(id, GL_BUFFER_SIZE, &size);
+            size -= start;
+        }
+        if (size <= limit) continue;
+        const std::string message =
+            "storage block too large: " + by + " binds " + std::to_string(size) +
+            " bytes of buffer " + std::to_string(id) + " at binding " + std::to_string(b) +
+            ", more than GL_MAX_SHADER_STORAGE_BLOCK_SIZE (" + std::to_string(limit) + ")";
+        if (!st.reported.insert(message).second) continue;
+        detail::reportDebugMessage(GL_DEBUG_SOURCE_APPLICATION, GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR,
+                                   GL_DEBUG_SEVERITY_HIGH, message);
+    }
+}
+
 // What the current program reads (checked) and may write (recorded) in a dispatch or draw.
 void programAccess(const std::string& call) {
     GLint program = 0;
@@ -310,6 +341,7 @@ void programAccess(const std::string& call) {
     State& st = state();
     const ProgramIo& io = programIo(st, static_cast<GLuint>(program));
     const std::string by = call + " of " + io.name;
+    storageBlockSizes(st, io, by);
     for (GLuint b : io.storageBindings)
         need(st, st.buffers, indexedBinding(GL_SHADER_STORAGE_BUFFER_BINDING, b),
              GL_SHADER_STORAGE_BARRIER_BIT, by, "storage buffer");

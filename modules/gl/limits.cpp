@@ -63,4 +63,23 @@ void requireLimits() {
     }
 }
 
+int64_t maxStorageBlockBytes() {
+    GLint64 v = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &v);
+    return static_cast<int64_t>(v);
+}
+
+void requireStorageBlock(uint64_t bytes, const std::string& what, const std::string& unit,
+                         uint64_t bytesPerUnit) {
+    const int64_t limit = maxStorageBlockBytes();
+    if (limit <= 0 || bytes <= static_cast<uint64_t>(limit)) return;
+    throw core::Error(what, 0,
+                      "needs " + std::to_string(bytes) +
+                          " bytes in one storage buffer, more than "
+                          "this driver's GL_MAX_SHADER_STORAGE_BLOCK_SIZE (" +
+                          std::to_string(limit) + " bytes: at most " +
+                          std::to_string(static_cast<uint64_t>(limit) / bytesPerUnit) + " " + unit +
+                          ")");
+}
+
 } // namespace gl

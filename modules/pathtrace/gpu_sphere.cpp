@@ -80,6 +80,9 @@ void GpuSphereTracer::reset(const std::array<Medium, 3>& media, const LitSphereS
     validate(setup);
     validate(options);
     const uint64_t target = litSpherePaths(setup);
+    // the tallies: 3 slots of 16 bytes a pixel and two more (gpu_work_queue.cpp)
+    gl::requireStorageBlock(48 * (uint64_t(setup.width) * uint64_t(setup.height) + 2),
+                            "lit sphere setup", "pixels", 48);
     PixelGeometry pixels = sphereFootprints(setup);
     m_media = media;
     m_setup = setup;

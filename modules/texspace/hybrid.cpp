@@ -229,7 +229,9 @@ void LocalTerm::begin(GLuint gPosition, GLuint gNormal, int width, int height,
     if (tableData.empty()) tableData.assign(8, 0.0f);
     m_tableBuffer = gl::createBuffer(tableData.size() * sizeof(float), tableData.data());
     m_tapBuffer = gl::createBuffer(tapData.size() * sizeof(glm::vec4), tapData.data());
-    m_result = gl::createBuffer(pixels * 2 * sizeof(glm::vec4), nullptr);
+    gl::requireStorageBlock(pixels * sizeof(glm::vec4), "hybrid", "pixels", sizeof(glm::vec4));
+    m_exitance = gl::createBuffer(pixels * sizeof(glm::vec4), nullptr);
+    m_radiance = gl::createBuffer(pixels * sizeof(glm::vec4), nullptr);
     m_gPosition = gPosition, m_gNormal = gNormal;
     m_width = width, m_height = height, m_row = 0;
     m_tapCount = int(taps.size());
@@ -255,7 +257,7 @@ void LocalTerm::begin(GLuint gPosition, GLuint gNormal, int width, int height,
 }
 
 bool LocalTerm::step(int rows) {
-    if (!m_result) throw core::Error("hybrid", 0, "no local evaluation begun");
+    if (!m_exitance) throw core::Error("hybrid", 0, "no local evaluation begun");
     if (m_row >= m_height) return true;
     const int n = std::clamp(rows, 1, m_height - m_row);
     const GLuint p = m_localProgram.id();
@@ -267,7 +269,8 @@ bool LocalTerm::step(int rows) {
     glBindImageTexture(3, m_lightNormal.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_tableBuffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m_tapBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m_result.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m_exitance.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m_radiance.id());
     glDispatchCompute(GLuint((m_width + 7) / 8), GLuint((n + 7) / 8), 1);
     // barrier: hybrid_local.comp's band of results → the readback and the next band's dispatch
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
@@ -278,13 +281,14 @@ bool LocalTerm::step(int rows) {
 
 LocalTerm::Result LocalTerm::result() const {
     Result out;
-    if (!m_result || m_row < m_height) throw core::Error("hybrid", 0, "local term not finished");
+    if (!m_exitance || m_row < m_height) throw core::Error("hybrid", 0, "local term not finished");
     const size_t pixels = size_t(m_width) * size_t(m_height);
-    std::vector<glm::vec4> raw(pixels * 2);
-    glGetNamedBufferSubData(m_result.id(), 0, GLsizeiptr(raw.size() * sizeof(glm::vec4)),
-                            raw.data());
-    out.exitance.assign(raw.begin(), raw.begin() + std::ptrdiff_t(pixels));
-    out.radiance.assign(raw.begin() + std::ptrdiff_t(pixels), raw.end());
+    out.exitance.resize(pixels);
+    out.radiance.resize(pixels);
+    glGetNamedBufferSubData(m_exitance.id(), 0, GLsizeiptr(pixels * sizeof(glm::vec4)),
+                            out.exitance.data());
+    glGetNamedBufferSubData(m_radiance.id(), 0, GLsizeiptr(pixels * sizeof(glm::vec4)),
+                            out.radiance.data());
     return out;
 }
 

@@ -129,7 +129,7 @@ class LocalTerm {
     gl::FramebufferId m_fbo;
     int m_mapSize = 0;
     // the evaluation in progress (begin / step)
-    gl::Buffer m_tableBuffer, m_tapBuffer, m_result;
+    gl::Buffer m_tableBuffer, m_tapBuffer, m_exitance, m_radiance; // hybrid_local.comp's results
     GLuint m_gPosition = 0, m_gNormal = 0;
     int m_width = 0, m_height = 0, m_row = 0, m_tapCount = 0;
 };

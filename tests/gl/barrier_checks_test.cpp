@@ -3,12 +3,14 @@
 // as undefined behaviour, naming the call, the object, the writer and the bit; the right
 // barrier, a readonly block or a read-only image unit make it go away.
 #include "../support/gl_debug_guard.h"
+#include "core/core.h"
 #include "gl/gl.h"
 
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace {
@@ -215,4 +217,42 @@ TEST(BarrierChecks, StorageMadeWithoutDataIsPoisoned) {
     gl::Buffer c = gl::createBuffer(sizeof one, one);
     glGetNamedBufferSubData(c.id(), 0, sizeof v, v);
     EXPECT_EQ(v[2], 1.0f);
+}
+
+// A storage block bound over more bytes than the driver's GL_MAX_SHADER_STORAGE_BLOCK_SIZE is
+// reported at the dispatch (llvmpipe addresses more, a GPU need not: NVIDIA's limit is 2^31 - 1),
+// the whole buffer or a range alike; a range of exactly the limit is not. The program's own check,
+// gl::requireStorageBlock, names what needs the bytes and how many units the limit allows.
+TEST(BarrierChecks, AStorageBlockOverTheDriversLimitIsReported) {
+    context();
+    const int64_t limit = gl::maxStorageBlockBytes();
+    ASSERT_GE(limit, int64_t(1) << 27);
+    gl::Program p = gl::buildProgram({{GL_COMPUTE_SHADER, kWriter}});
+    Buffers b;
+    const gl::Buffer big = gl::createBuffer(size_t(limit) + 256, nullptr);
+    glUseProgram(p.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, big.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, b.in.id());
+    EXPECT_NONFATAL_FAILURE(glDispatchCompute(1, 1, 1),
+                            "storage block too large: glDispatchCompute of");
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, big.id(), 256, GLsizeiptr(limit));
+    glDispatchCompute(1, 1, 1); // exactly the limit: nothing to report
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+
+    EXPECT_NO_THROW(gl::requireStorageBlock(uint64_t(limit), "hybrid", "pixels", 16));
+    try {
+        gl::requireStorageBlock(uint64_t(limit) + 1, "hybrid", "pixels", 16);
+        ADD_FAILURE() << "no error over the limit";
+    } catch (const core::Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("hybrid"), std::string::npos) << m;
+        EXPECT_NE(m.find("needs " + std::to_string(limit + 1) + " bytes in one storage buffer"),
+                  std::string::npos)
+            << m;
+        EXPECT_NE(m.find("GL_MAX_SHADER_STORAGE_BLOCK_SIZE (" + std::to_string(limit) +
+                         " bytes: at most " + std::to_string(limit / 16) + " pixels)"),
+                  std::string::npos)
+            << m;
+    }
 }
