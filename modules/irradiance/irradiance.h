@@ -21,8 +21,10 @@
 //                clamped at the edges). Default: a checkerboard of 8 × 8 squares of 8 texels,
 //                values 1 and 0.25 (grey).
 //   Ibl          E_t(n) = envIntensity · ∫ Ft(η, n·ω) L(R ω) max(0, n·ω) dω without occlusion,
-//                read from an irradiance cubemap (kCubeFaceSize² per face, linear, seamless)
-//                that is precomputed on the GPU by the quadrature of environment.h
+//                read from an irradiance cubemap (kCubeFaceSize² per face, bilinear, seamless,
+//                filtered by the shader in float so that every driver agrees: no sampler's
+//                fixed-point weights, irradiance_ibl.comp) that is precomputed on the GPU by
+//                the quadrature of environment.h
 //                (irradiance_cubemap.comp) whenever the environment or η changes. The world
 //                frame is the environment's rotated by envRotation about +y:
 //                ω_world = R_y(envRotation)·ω_env, R_y(a)·(1,0,0) = (cos a, 0, −sin a).
@@ -199,6 +201,12 @@ class Stage {
         std::vector<float> visibility;
     };
     Factors factors(const Settings& s);
+    // How far two conforming drivers' E_u of `s` may lie apart, absolute, beyond float32
+    // arithmetic: 0 but for filtered light, whose T(uv) the shader filters in float from a uv
+    // that drivers round a few ulp apart (irradiance_direct.comp): a bilinear weight then moves
+    // by N·δ (N the texture's larger side, δ = 8·2^-24, uv in [0, 1]), |ΔT| <= 2·N·δ·(max T −
+    // min T), and |ΔE_u| <= max E0 · |ΔT| (Ft·cos <= 1).
+    double unshadowedSpread(const Settings& s) const;
 
     // Occluded IBL, incremental. beginOccluded draws the samples and clears the sums;
     // stepOccluded processes the next occludedSamplesPerStep samples and returns true when all
@@ -258,6 +266,9 @@ class Stage {
     BoundingSphere m_bounds;
     LightFrame m_lastFrame;
     gl::Texture m_projected, m_envTexture, m_cube;
+    int m_projectedSide = 0;                       // the larger of width and height
+    float m_projectedMin = 0.0f, m_projectedMax = 0.0f; // over every channel
+    gl::Buffer m_cubeTexels; // m_cube's texels, which irradiance_ibl.comp filters itself
     EnvironmentMap m_env;
     uint64_t m_envGeneration = 0, m_cubeGeneration = ~0ull;
     float m_cubeIor = -1.0f;

@@ -208,6 +208,10 @@ void Stage::setProjectedTexture(int width, int height, const std::vector<float>&
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage2D(id, 0, 0, 0, width, height, GL_RGB, GL_FLOAT, flipped.data());
     m_projected = std::move(tex);
+    m_projectedSide = std::max(width, height);
+    const auto [lo, hi] = std::minmax_element(rgb.begin(), rgb.end());
+    m_projectedMin = *lo;
+    m_projectedMax = *hi;
 }
 
 void Stage::loadProjectedTexture(const std::filesystem::path& path) {
@@ -258,7 +262,8 @@ void Stage::ensureCubemap(float ior) {
     const gl::Buffer nodeBuf = gl::createBuffer(gpu.size() * sizeof(glm::vec4), gpu.data());
     constexpr int N = kCubeFaceSize;
     const GLuint texels = 6 * N * N;
-    const gl::Buffer acc = gl::createBuffer(texels * sizeof(glm::vec4), nullptr);
+    // kept: irradiance_ibl.comp filters its lookups from these texels (not the sampler)
+    gl::Buffer acc = gl::createBuffer(texels * sizeof(glm::vec4), nullptr);
     glClearNamedBufferData(acc.id(), GL_RGBA32F, GL_RGBA, GL_FLOAT, nullptr);
     const GLuint p = m_cubeProgram.id();
     glUseProgram(p);
@@ -291,6 +296,7 @@ void Stage::ensureCubemap(float ior) {
     glTextureSubImage3D(id, 0, 0, 0, 0, N, N, 6, GL_RGBA, GL_FLOAT, nullptr);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     m_cube = std::move(cube);
+    m_cubeTexels = std::move(acc);
     m_cubeGeneration = m_envGeneration;
     m_cubeIor = ior;
 }
@@ -370,10 +376,11 @@ std::vector<glm::vec3> Stage::computeIbl(const Settings& s) {
     glProgramUniformMatrix3fv(p, gl::uniformLocation(m_ibl, "EnvFromWorld"), 1, GL_FALSE,
                               glm::value_ptr(envFromWorld));
     glProgramUniform1f(p, gl::uniformLocation(m_ibl, "EnvIntensity"), s.envIntensity);
-    glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    glProgramUniform1i(p, gl::uniformLocation(m_ibl, "FaceSize"), kCubeFaceSize);
+    glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS); // the cubemap's display samples it
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_points.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_result.id());
-    glBindTextureUnit(3, m_cube.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_cubeTexels.id());
     dispatchPoints(m_ibl);
     return readResult();
 }
@@ -395,6 +402,13 @@ Stage::Factors Stage::factors(const Settings& s) {
     for (size_t i = 0; i < v.size(); ++i)
         f.visibility[i] = v[i].w;
     return f;
+}
+
+double Stage::unshadowedSpread(const Settings& s) const {
+    if (s.mode != LightMode::Filtered) return 0.0;
+    const double delta = 8.0 / 16777216.0;
+    const double e0 = std::max({s.irradiance.x, s.irradiance.y, s.irradiance.z});
+    return 2.0 * m_projectedSide * delta * (double(m_projectedMax) - m_projectedMin) * e0;
 }
 
 std::vector<glm::vec3> Stage::compute(const Settings& s) {

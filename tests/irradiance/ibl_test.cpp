@@ -16,11 +16,14 @@
 // full hemisphere value for expected zeros) is the bound used. Cubemap lookups interpolate
 // texel centres; for the directions tested the texels are symmetric about the direction, so
 // the interpolation error is second order in the texel spacing and far below that.
+#include "gl/gl.h"
 #include "gl_stage.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <numbers>
 
@@ -154,3 +157,129 @@ TEST(IrradianceIbl, DefaultSky) {
 }
 
 } // namespace
+
+namespace {
+
+// OpenGL 4.5 Table 8.19: the face (+X −X +Y −Y +Z −Z) and (s, t) of direction d, ties to x, y.
+int faceOf(const glm::dvec3& d, double& s, double& t) {
+    const glm::dvec3 a = glm::abs(d);
+    double sc, tc, ma;
+    int face;
+    if (a.x >= a.y && a.x >= a.z) {
+        face = d.x >= 0 ? 0 : 1, sc = d.x >= 0 ? -d.z : d.z, tc = -d.y, ma = a.x;
+    } else if (a.y >= a.z) {
+        face = d.y >= 0 ? 2 : 3, sc = d.x, tc = d.y >= 0 ? d.z : -d.z, ma = a.y;
+    } else {
+        face = d.z >= 0 ? 4 : 5, sc = d.z >= 0 ? d.x : -d.x, tc = -d.y, ma = a.z;
+    }
+    s = 0.5 * (sc / ma + 1), t = 0.5 * (tc / ma + 1);
+    return face;
+}
+
+const char* kSamplerLookup = R"(#version 450
+layout(local_size_x = 64) in;
+layout(binding = 3) uniform samplerCube Cube;
+layout(std430, binding = 0) readonly buffer In { vec4 dirs[]; };
+layout(std430, binding = 1) writeonly buffer Out { vec4 values[]; };
+uniform uint Count;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i < Count) values[i] = texture(Cube, dirs[i].xyz);
+})";
+
+} // namespace
+
+// The IBL lookup is bilinear in float in the shader (irradiance_ibl.comp), so drivers agree
+// where their samplers' weights would not. Against the driver's own sampler (seamless, linear)
+// at 3000 random directions more than one texel inside a face: the same values within what a
+// sampler's fixed-point weights may move them (2^-8 of the four texels' contrast, the bound of
+// irradiance::kVisibilityTolerance) plus float rounding; this checks the face and orientation
+// conventions against the driver's. At directions within a texel of an edge or a corner, where
+// the shader takes the texel the tap's direction points into, the value lies within the range
+// of the texels around.
+TEST(IrradianceIbl, TheShaderFiltersTheCubemapAsASamplerDoes) {
+    Stage& st = irrtest::stage();
+    st.loadEnvironment(std::filesystem::path(BW_SOURCE_ROOT) / "materials/env/default_sky.exr");
+    std::vector<glm::vec3> dirs;
+    uint32_t r = 7;
+    while (dirs.size() < 3000) {
+        glm::vec3 v;
+        for (int k = 0; k < 3; ++k) {
+            r = r * 1664525u + 1013904223u;
+            v[k] = static_cast<float>((r >> 8) * (1.0 / 16777216.0)) * 2 - 1;
+        }
+        if (glm::length(v) > 0.1f && glm::length(v) <= 1.0f) dirs.push_back(glm::normalize(v));
+    }
+    for (float e : {0.999f, 1.0f, 1.001f}) // along edges and at corners
+        for (const glm::vec3& v : {glm::vec3(1, e, 0.3f), glm::vec3(-e, 1, -0.6f),
+                                   glm::vec3(0.2f, -1, e), glm::vec3(1, 1, e)})
+            dirs.push_back(glm::normalize(v));
+    setNormals(st, dirs);
+    Settings s;
+    s.mode = LightMode::Ibl;
+    const std::vector<glm::vec3> E = st.compute(s);
+    ASSERT_EQ(E.size(), dirs.size());
+
+    const int N = kCubeFaceSize;
+    std::vector<glm::vec4> texels(size_t(6 * N * N));
+    glGetTextureImage(st.irradianceCubemap(), 0, GL_RGBA, GL_FLOAT,
+                      GLsizei(texels.size() * sizeof(glm::vec4)), texels.data());
+    gl::Program lookup = gl::buildProgram({{GL_COMPUTE_SHADER, kSamplerLookup}});
+    std::vector<glm::vec4> in(dirs.size());
+    for (size_t i = 0; i < dirs.size(); ++i)
+        in[i] = glm::vec4(dirs[i], 0.0f);
+    gl::Buffer inBuf = gl::createBuffer(in.size() * sizeof(glm::vec4), in.data());
+    gl::Buffer outBuf = gl::createBuffer(in.size() * sizeof(glm::vec4), nullptr);
+    glUseProgram(lookup.id());
+    glUniform1ui(glGetUniformLocation(lookup.id(), "Count"), GLuint(in.size()));
+    glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    glBindTextureUnit(3, st.irradianceCubemap());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, inBuf.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, outBuf.id());
+    glDispatchCompute(GLuint((in.size() + 63) / 64), 1, 1);
+    // barrier: the lookup's values → their readback
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> sampled(in.size());
+    glGetNamedBufferSubData(outBuf.id(), 0, GLsizeiptr(sampled.size() * sizeof(glm::vec4)),
+                            sampled.data());
+    glUseProgram(0);
+    glBindTextureUnit(3, 0);
+
+    size_t interior = 0, edge = 0;
+    double worstInterior = 0; // in units of the allowed difference
+    for (size_t i = 0; i < dirs.size(); ++i) {
+        double sCoord = 0, tCoord = 0;
+        const int face = faceOf(glm::dvec3(dirs[i]), sCoord, tCoord);
+        const double u = sCoord * N - 0.5, v = tCoord * N - 0.5;
+        const int i0 = int(std::floor(u)), j0 = int(std::floor(v));
+        glm::dvec3 lo(1e30), hi(-1e30); // over the texels within two of the lookup
+        for (int dj = -1; dj <= 2; ++dj)
+            for (int di = -1; di <= 2; ++di) {
+                const int ii = std::clamp(i0 + di, 0, N - 1), jj = std::clamp(j0 + dj, 0, N - 1);
+                const glm::dvec3 x(texels[size_t((face * N + jj) * N + ii)]);
+                lo = glm::min(lo, x), hi = glm::max(hi, x);
+            }
+        const double inside = std::min({u + 0.5, N - 0.5 - u, v + 0.5, N - 0.5 - v});
+        for (int c = 0; c < 3; ++c) {
+            const double got = E[i][c], want = sampled[i][c];
+            if (inside > 1.0) {
+                const double allowed = (hi[c] - lo[c]) / 128.0 + 1e-6 * std::fabs(want);
+                worstInterior = std::max(worstInterior, std::fabs(got - want) / allowed);
+                EXPECT_LE(std::fabs(got - want), allowed)
+                    << "direction " << i << " channel " << c << ": shader " << got << ", sampler "
+                    << want;
+            } else {
+                // the neighbouring face's texels lie within the range of its edge's texels'
+                // neighbours; allow the contrast of this face's edge region twice over
+                const double slack = 2 * (hi[c] - lo[c]) + 1e-6 * std::fabs(want);
+                EXPECT_NEAR(got, want, slack) << "edge direction " << i << " channel " << c;
+            }
+        }
+        ++(inside > 1.0 ? interior : edge);
+    }
+    std::printf("%zu interior directions (worst difference %.3g of the allowed), %zu near an "
+                "edge\n",
+                interior, worstInterior, edge);
+    EXPECT_GT(interior, 2000u);
+    EXPECT_GT(edge, 10u);
+}

@@ -626,6 +626,39 @@ TEST(CaptureReplay, IrradianceIsRecordedAsItsFactorsAndOlderCapturesStillReplay)
     fs::remove_all(root);
 }
 
+// Under filtered light E_u carries the projected texture T(uv), which the shader filters in float
+// from a uv another driver rounds a few ulp apart: the capture allows E_u that spread
+// (irradiance::Stage::unshadowedSpread) on top of float arithmetic's 1e-7 + 1e-5, says so in its
+// note, and replays.
+TEST(CaptureReplay, FilteredLightAllowsItsUnshadowedIrradianceTheProjectedTexturesSpread) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("filtered", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::SceneSettings& s = sceneOn(wb, 1500, 32, 18);
+    s.light.mode = irradiance::LightMode::Filtered;
+    wb.finishScene();
+    const fs::path dir = root / "captures" / "filtered";
+    app::recordCaptureTo(wb, dir, "filtered", -1, -1);
+    const capture::Manifest m = capture::readManifest(dir);
+    const glm::vec3 e0 = wb.scene().settings().light.irradiance;
+    // the default checker: 64 texels of 1 and 0.25
+    const double spread = std::max({e0.x, e0.y, e0.z}) * 2 * 64 * (8.0 / 16777216.0) * (1.0 - 0.25);
+    bool found = false;
+    for (const capture::StageOutput& o : m.outputs) {
+        if (o.stage != "scene.irradiance_unshadowed") continue;
+        found = true;
+        EXPECT_NEAR(o.absTol, 1e-7 + spread, 1e-12);
+        EXPECT_EQ(o.relTol, 1e-5);
+        EXPECT_NE(o.tolNote.find("the projected texture's weights"), std::string::npos)
+            << o.tolNote;
+    }
+    EXPECT_TRUE(found);
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    EXPECT_NE(out.find("PASS scene.irradiance_unshadowed"), std::string::npos) << out;
+    fs::remove_all(root);
+}
+
 // The scene's G-buffer is a recorded input (kind exr_input): a replay traces the recorded one, so
 // a capture made on a driver that places its samples elsewhere (emulated: the workbench traced a
 // G-buffer rasterised with the image moved by 0.07 px) replays its render and traced pixel
