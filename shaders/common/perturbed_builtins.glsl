@@ -33,37 +33,55 @@ float bw_sign(float x, uint salt) {
 }
 
 // value moved by sign * rel of itself (a relative bound) or by sign * err (an absolute one); the
-// comparisons are false for NaN, so a bound that is not finite leaves the value
+// comparisons are false for NaN, so a bound that is not finite leaves the value. The relative
+// move is value + value * (sign * rel), not value * (1 + sign * rel), where 1 + a bound of a few
+// ulp would round to a whole ulp of 1.
 float bw_moveRel(float value, float sign, float rel) {
-    return sign != 0.0 && rel < 1.0 ? value * (1.0 + sign * rel) : value;
+    return sign != 0.0 && rel < 1.0 ? value + value * (sign * rel) : value;
 }
 float bw_moveAbs(float value, float sign, float err) {
     return sign != 0.0 && abs(value) < 3.0e38 && err < 3.0e38 ? value + sign * err : value;
 }
 
-float bw_exp(float x) { return bw_moveRel(exp(x), bw_sign(x, 1u), (3.0 + 2.0 * abs(x)) * BW_ULP); }
+// Each driver function's value is `precise`: one program evaluates it under every seed, and a
+// compiler that lowers exp(x) to exp2(x · log2 e) may otherwise round that product differently
+// in two places (zink did, by e^x |x| ulp: the difference of two exps then moved past the sum of
+// their bounds, Conditioning.ADifferenceOfTwoExps…).
+float bw_exp(float x) {
+    precise float v = exp(x);
+    return bw_moveRel(v, bw_sign(x, 1u), (3.0 + 2.0 * abs(x)) * BW_ULP);
+}
 float bw_exp2(float x) {
-    return bw_moveRel(exp2(x), bw_sign(x, 2u), (3.0 + 2.0 * abs(x)) * BW_ULP);
+    precise float v = exp2(x);
+    return bw_moveRel(v, bw_sign(x, 2u), (3.0 + 2.0 * abs(x)) * BW_ULP);
 }
 // the error of log2(x) (the same bound holds for log)
 float bw_logError(float x, float value) {
     return x >= 0.5 && x <= 2.0 ? 1.0 / 2097152.0 : 3.0 * BW_ULP * abs(value);
 }
-float bw_log(float x) { float v = log(x); return bw_moveAbs(v, bw_sign(x, 3u), bw_logError(x, v)); }
+float bw_log(float x) {
+    precise float v = log(x);
+    return bw_moveAbs(v, bw_sign(x, 3u), bw_logError(x, v));
+}
 float bw_log2(float x) {
-    float v = log2(x);
+    precise float v = log2(x);
     return bw_moveAbs(v, bw_sign(x, 4u), bw_logError(x, v));
 }
 float bw_pow(float x, float y) {
     float l = log2(x);
     float u = y * l;
     float rel = (3.0 + 2.0 * abs(u)) * BW_ULP + 0.69314718 * abs(y) * bw_logError(x, l);
-    return bw_moveRel(pow(x, y), bw_sign(x + 0.61803399 * y, 5u), rel);
+    precise float v = pow(x, y);
+    return bw_moveRel(v, bw_sign(x + 0.61803399 * y, 5u), rel);
 }
 float bw_inversesqrt(float x) {
-    return bw_moveRel(inversesqrt(x), bw_sign(x, 6u), 2.0 * BW_ULP);
+    precise float v = inversesqrt(x);
+    return bw_moveRel(v, bw_sign(x, 6u), 2.0 * BW_ULP);
 }
-float bw_sqrt(float x) { return bw_moveRel(sqrt(x), bw_sign(x, 7u), 4.5 * BW_ULP); }
+float bw_sqrt(float x) {
+    precise float v = sqrt(x);
+    return bw_moveRel(v, bw_sign(x, 7u), 4.5 * BW_ULP);
+}
 
 // the vector forms, component by component (GLSL has no generic functions)
 vec2 bw_exp(vec2 x) { return vec2(bw_exp(x.x), bw_exp(x.y)); }

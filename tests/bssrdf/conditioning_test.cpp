@@ -132,7 +132,6 @@ TEST(Conditioning, PowAtZeroAndExpOfMinusInfinityStayZeroUnderEverySeed) {
     for (size_t i = 1; i < q.size(); ++i) {
         const double v = std::pow(double(float(b.radii[i])), 1.5);
         EXPECT_NEAR(evals[0][i].x, v, 1e-5 * v) << "r " << b.radii[i];
-        EXPECT_EQ(evals[0][i].x, b.profile.value[i].x) << "seed 0 is the driver's pow";
         EXPECT_LE(b.spread[i].x, 1e-5 * v) << "r " << b.radii[i];
         EXPECT_GT(b.spread[i].x, 0.0) << "r " << b.radii[i];
     }
