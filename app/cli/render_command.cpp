@@ -271,9 +271,11 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
                 rb.width, rb.height, double(r.eps),
                 r.boundingBoxCriterion ? " (bounding-box criterion)" : "",
                 r.bruteForce ? " BRUTE FORCE" : "");
-    std::printf("traversal %.1f ms (G-buffer %.1f ms, profile %.1f ms); mean steps/pixel %.1f, "
+    std::printf("traversal %.1f ms%s (G-buffer %.1f ms, profile %.1f ms); mean steps/pixel %.1f, "
                 "max %llu; flagged pixels %llu; total %.1f s\n",
-                f.traverseMs, f.gbufferMs, f.profileMs, hits ? double(steps) / double(hits) : 0.0,
+                f.traverseMs,
+                f.bands > 1 ? (" in " + std::to_string(f.bands) + " bands of rows").c_str() : "",
+                f.gbufferMs, f.profileMs, hits ? double(steps) / double(hits) : 0.0,
                 (unsigned long long)maxSteps, (unsigned long long)flagged, clock.ms() / 1000.0);
     std::printf("wrote %s\n", a.out.c_str());
     return 0;

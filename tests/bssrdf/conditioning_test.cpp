@@ -51,6 +51,18 @@ struct Built {
     }
 };
 
+// The model's values at the radii under every seed (the unperturbed first) in the query mode, the
+// slice's: one vector of RGB per seed.
+std::vector<std::vector<glm::dvec3>> queriedAtTheRadii(const Built& b) {
+    std::vector<bssrdf::Query> q(b.radii.size());
+    for (size_t i = 0; i < q.size(); ++i)
+        q[i].xo = {float(b.radii[i]), 0.0f, 0.0f};
+    auto evals = bssrdf::perturbedQueries(b.m, shader::Sources{testsupport::sourceRoot()},
+                                          bssrdf::defaultValues(b.m), {}, q);
+    EXPECT_EQ(evals.size(), size_t(bssrdf::kConditioningPatterns + 1));
+    return evals;
+}
+
 } // namespace
 
 TEST(Conditioning, OneExpMovesByItsBound) {
@@ -64,13 +76,9 @@ TEST(Conditioning, OneExpMovesByItsBound) {
         EXPECT_EQ(b.spread[i].x, b.spread[i].y) << "the channels are one computation";
     }
     // the query mode (the slice's) moves the same values the same way
-    std::vector<bssrdf::Query> q(b.radii.size());
-    for (size_t i = 0; i < q.size(); ++i)
-        q[i].xo = {float(b.radii[i]), 0.0f, 0.0f};
-    const auto evals = bssrdf::perturbedQueries(b.m, shader::Sources{testsupport::sourceRoot()},
-                                                bssrdf::defaultValues(b.m), {}, q);
+    const auto evals = queriedAtTheRadii(b);
     ASSERT_EQ(evals.size(), size_t(bssrdf::kConditioningPatterns + 1));
-    for (size_t i = 0; i < q.size(); ++i) {
+    for (size_t i = 0; i < b.radii.size(); ++i) {
         double d = 0;
         for (size_t k = 1; k < evals.size(); ++k)
             d = std::max(d, std::fabs(evals[k][i].x - evals[0][i].x));
@@ -114,14 +122,11 @@ TEST(Conditioning, PowAtZeroAndExpOfMinusInfinityStayZeroUnderEverySeed) {
         "    float inf = uintBitsToFloat(0x7F800000u);\n"
         "    return vec3(pow(r, 1.5), exp(r > 0.0 ? -r : -inf), pow(r, A) * exp(-A * r));\n");
     ASSERT_EQ(b.radii.front(), 0.0);
-    std::vector<bssrdf::Query> q(b.radii.size());
-    for (size_t i = 0; i < q.size(); ++i)
-        q[i].xo = {float(b.radii[i]), 0.0f, 0.0f};
-    const auto evals = bssrdf::perturbedQueries(b.m, shader::Sources{testsupport::sourceRoot()},
-                                                bssrdf::defaultValues(b.m), {}, q);
+    const auto evals = queriedAtTheRadii(b);
     ASSERT_EQ(evals.size(), size_t(bssrdf::kConditioningPatterns + 1));
+    const size_t n = b.radii.size();
     for (size_t k = 0; k < evals.size(); ++k)
-        for (size_t i = 0; i < q.size(); ++i)
+        for (size_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c)
                 ASSERT_TRUE(std::isfinite(evals[k][i][c]))
                     << "seed " << k << ", r " << b.radii[i] << ", channel " << c;
@@ -129,7 +134,7 @@ TEST(Conditioning, PowAtZeroAndExpOfMinusInfinityStayZeroUnderEverySeed) {
         EXPECT_EQ(evals[k][0], glm::dvec3(0.0)) << "seed " << k << " at r = 0";
     // elsewhere each value moves by its bound only: pow(r, 1.5) by (3 + 2|u|) ulp plus the log's
     // share, u = 1.5 log2 r, never more than 1e-5 of itself
-    for (size_t i = 1; i < q.size(); ++i) {
+    for (size_t i = 1; i < n; ++i) {
         const double v = std::pow(double(float(b.radii[i])), 1.5);
         EXPECT_NEAR(evals[0][i].x, v, 1e-5 * v) << "r " << b.radii[i];
         EXPECT_LE(b.spread[i].x, 1e-5 * v) << "r " << b.radii[i];

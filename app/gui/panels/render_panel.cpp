@@ -299,9 +299,9 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                 f.gbufferMs + f.profileMs + f.traverseMs + f.tonemapMs, renders);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("%dx%d frame\nG-buffer %.1f ms\nprofile %.1f ms\ntraversal %.1f ms (%d "
-                          "dispatches)\ntone map %.1f ms\n%lld renders so far",
+                          "dispatches, %d band(s) of rows)\ntone map %.1f ms\n%lld renders so far",
                           f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
-                          f.tonemapMs, renders);
+                          f.bands, f.tonemapMs, renders);
     GLuint tex = f.ldr;
     if (ps.mode == RenderMode::MonteCarlo) {
         MonteCarloSettings& mc = wb.monteCarloSettings();
