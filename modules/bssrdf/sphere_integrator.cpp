@@ -35,11 +35,11 @@ void SphereIntegrator::reset(const litsphere::Setup& setup) {
     const double len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
     if (!std::isfinite(len) || len <= 0)
         throw core::Error(what, 0, "light direction must be a finite non-zero vector");
+    const size_t pixels = static_cast<size_t>(setup.width) * static_cast<size_t>(setup.height);
+    gl::requireStorageBlock(pixels * 8 * sizeof(float), what, "pixels", 8 * sizeof(float));
     m_setup = setup;
     for (int c = 0; c < 3; ++c)
         m_lightDir[c] = l[c] / len;
-    const size_t pixels = static_cast<size_t>(setup.width) * static_cast<size_t>(setup.height);
-    gl::requireStorageBlock(pixels * 8 * sizeof(float), what, "pixels", 8 * sizeof(float));
     m_sums = gl::createBuffer(pixels * 8 * sizeof(float), nullptr);
     m_readback.assign(pixels * 8, 0.0f);
     m_sum.assign(pixels * 3, 0.0);

@@ -266,7 +266,7 @@ class Stage {
     BoundingSphere m_bounds;
     LightFrame m_lastFrame;
     gl::Texture m_projected, m_envTexture, m_cube;
-    int m_projectedSide = 0;                       // the larger of width and height
+    int m_projectedSide = 0;                            // the larger of width and height
     float m_projectedMin = 0.0f, m_projectedMax = 0.0f; // over every channel
     gl::Buffer m_cubeTexels; // m_cube's texels, which irradiance_ibl.comp filters itself
     EnvironmentMap m_env;

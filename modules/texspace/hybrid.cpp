@@ -215,6 +215,7 @@ void LocalTerm::begin(GLuint gPosition, GLuint gNormal, int width, int height,
     if (m_mapSize == 0) throw core::Error("hybrid", 0, "no light-view map");
     if (taps.size() > 1024) throw core::Error("hybrid", 0, "at most 1024 taps");
     const size_t pixels = size_t(width) * size_t(height);
+    gl::requireStorageBlock(pixels * sizeof(glm::vec4), "hybrid", "pixels", sizeof(glm::vec4));
     std::vector<float> tableData(table.values.size() * 4);
     for (size_t i = 0; i < table.values.size(); ++i) {
         tableData[4 * i] = table.values[i].x;
@@ -229,7 +230,6 @@ void LocalTerm::begin(GLuint gPosition, GLuint gNormal, int width, int height,
     if (tableData.empty()) tableData.assign(8, 0.0f);
     m_tableBuffer = gl::createBuffer(tableData.size() * sizeof(float), tableData.data());
     m_tapBuffer = gl::createBuffer(tapData.size() * sizeof(glm::vec4), tapData.data());
-    gl::requireStorageBlock(pixels * sizeof(glm::vec4), "hybrid", "pixels", sizeof(glm::vec4));
     m_exitance = gl::createBuffer(pixels * sizeof(glm::vec4), nullptr);
     m_radiance = gl::createBuffer(pixels * sizeof(glm::vec4), nullptr);
     m_gPosition = gPosition, m_gNormal = gNormal;
