@@ -7,9 +7,10 @@
 // NodeCount) of at most 16384 per dispatch (llvmpipe stops a loop after 65535 iterations);
 // each chunk's sum is added to acc[t] by the texel's own invocation, so the result does not
 // depend on scheduling. Texel t = (face·N + j)·N + i, faces +X −X +Y −Y +Z −Z, texel (i, j) at
-// s = (i + ½)/N, t = (j + ½)/N with the OpenGL cube-map face orientation.
+// s = (i + ½)/N, t = (j + ½)/N with the OpenGL cube-map face orientation (common/cube_faces.glsl).
 layout(local_size_x = 64) in;
 
+#include "common/cube_faces.glsl"
 #include "common/irradiance_lighting.glsl"
 
 struct QuadratureNode {
@@ -24,24 +25,13 @@ uniform uint FirstNode;
 uniform uint NodeCount;
 uniform float Eta;
 
-vec3 cubeDirection(int face, int i, int j) {
-    float sc = 2.0 * (float(i) + 0.5) / float(FaceSize) - 1.0;
-    float tc = 2.0 * (float(j) + 0.5) / float(FaceSize) - 1.0;
-    if (face == 0) return vec3(1.0, -tc, -sc);
-    if (face == 1) return vec3(-1.0, -tc, sc);
-    if (face == 2) return vec3(sc, 1.0, tc);
-    if (face == 3) return vec3(sc, -1.0, -tc);
-    if (face == 4) return vec3(sc, -tc, 1.0);
-    return vec3(-sc, -tc, -1.0);
-}
-
 void main() {
     uint t = gl_GlobalInvocationID.x;
     uint perFace = uint(FaceSize * FaceSize);
     if (t >= 6u * perFace) return;
     int face = int(t / perFace);
     int rem = int(t % perFace);
-    vec3 n = normalize(cubeDirection(face, rem % FaceSize, rem / FaceSize));
+    vec3 n = normalize(cubeTexelDirection(face, rem % FaceSize, rem / FaceSize, FaceSize));
     vec3 sum = vec3(0.0);
     for (uint k = 0u; k < NodeCount; ++k) {
         QuadratureNode q = nodes[FirstNode + k];

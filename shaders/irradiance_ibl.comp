@@ -13,6 +13,7 @@
 // component).
 layout(local_size_x = 64) in;
 
+#include "common/cube_faces.glsl"
 #include "common/irradiance_lighting.glsl"
 
 layout(std430, binding = 0) readonly buffer Points { IrradiancePoint points[]; };
@@ -26,48 +27,11 @@ uniform mat3 EnvFromWorld;
 uniform float EnvIntensity;
 uniform int FaceSize;
 
-// face (0…5: +X −X +Y −Y +Z −Z) and (s, t) in [0, 1]² of direction d (Table 8.19)
-int cubeFace(vec3 d, out vec2 st) {
-    vec3 a = abs(d);
-    int face;
-    float sc, tc, ma;
-    if (a.x >= a.y && a.x >= a.z) {
-        face = d.x >= 0.0 ? 0 : 1;
-        sc = d.x >= 0.0 ? -d.z : d.z;
-        tc = -d.y;
-        ma = a.x;
-    } else if (a.y >= a.z) {
-        face = d.y >= 0.0 ? 2 : 3;
-        sc = d.x;
-        tc = d.y >= 0.0 ? d.z : -d.z;
-        ma = a.y;
-    } else {
-        face = d.z >= 0.0 ? 4 : 5;
-        sc = d.z >= 0.0 ? d.x : -d.x;
-        tc = -d.y;
-        ma = a.z;
-    }
-    st = 0.5 * (vec2(sc, tc) / ma + 1.0);
-    return face;
-}
-
-// the direction of texel (i, j) of `face`'s centre, i and j possibly one beyond the face
-vec3 cubeTexelDirection(int face, int i, int j) {
-    float sc = 2.0 * (float(i) + 0.5) / float(FaceSize) - 1.0;
-    float tc = 2.0 * (float(j) + 0.5) / float(FaceSize) - 1.0;
-    if (face == 0) return vec3(1.0, -tc, -sc);
-    if (face == 1) return vec3(-1.0, -tc, sc);
-    if (face == 2) return vec3(sc, 1.0, tc);
-    if (face == 3) return vec3(sc, -1.0, -tc);
-    if (face == 4) return vec3(sc, -tc, 1.0);
-    return vec3(-sc, -tc, -1.0);
-}
-
 vec3 cubeTexel(int face, int i, int j) {
     int n = FaceSize;
     if (i < 0 || j < 0 || i >= n || j >= n) { // beyond the edge: the neighbouring face's texel
         vec2 st;
-        face = cubeFace(cubeTexelDirection(face, i, j), st);
+        face = cubeFace(cubeTexelDirection(face, i, j, n), st);
         i = clamp(int(floor(st.x * float(n))), 0, n - 1);
         j = clamp(int(floor(st.y * float(n))), 0, n - 1);
     }
