@@ -96,6 +96,23 @@ inline CaptureEntry visibilityEntry(const std::string& stage, const std::string&
     return v;
 }
 
+// Occluded image based lighting: the per-value allowance of a table of E_t (columns key, R, G,
+// B; its rows those of `unshadowed`) for another driver. E_t sums K shadow-mapped samples, each
+// V_k within irradiance::kVisibilityTolerance between samplers, so the sums lie within
+// kVisibilityTolerance · U of each other, U the same sum with every V = 1
+// (irradiance::Stage::occludedUnshadowed, made on the replaying machine).
+inline void addOcclusionAllowance(CaptureEntry& e, const std::vector<glm::vec3>& unshadowed) {
+    e.conditioning.columns = e.table.columns;
+    for (size_t i = 0; i < unshadowed.size(); ++i) {
+        const double k = irradiance::kVisibilityTolerance;
+        e.conditioning.rows.push_back(
+            {0.0, k * unshadowed[i].x, k * unshadowed[i].y, k * unshadowed[i].z});
+    }
+    e.conditioningNote = "2^-7 of each value's sum without shadows (the K samples' visibilities, "
+                         "each a mean of bilinear depth comparisons another sampler weights "
+                         "differently)";
+}
+
 // GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in
 // the profile's tail that is ~63 ulp, i.e. 63 · 2^-24 ≈ 3.8e-6 relative, plus the same again
 // for the arithmetic around it. 1e-5 relative covers a different driver where the model does not

@@ -6,8 +6,9 @@
 //   scene.irradiance_unshadowed  csv, tol   per-point E_u, E_t = E_u · V (GPU; directional and
 //                                           filtered light)
 //   scene.visibility   csv, tol     per-point shadow-map visibility V (GPU; the same lights)
-//   scene.irradiance   csv, tol     per-point E_t (GPU): recorded for the other lights; made for
-//                                   the replay of captures from before the split otherwise
+//   scene.irradiance   csv, tol     per-point E_t (GPU): recorded for the other lights (occluded
+//                                   IBL: a replay allows each value 2^-7 of its unshadowed sum);
+//                                   made for the replay of captures from before the split otherwise
 //   scene.gbuffer_position, scene.gbuffer_normal  exr_input
 //                                   the G-buffer the traversal read (GPU): surface point and
 //                                   normal per pixel (a miss: 0, 0, 0 in both); a replay gives
@@ -204,6 +205,15 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
     for (size_t i = 0; i < e.size(); ++i)
         it.table.rows.push_back({double(i), e[i].x, e[i].y, e[i].z});
     it.recorded = !factored;
+    if (m_settings.light.mode == irradiance::LightMode::OccludedIbl && out.forReplay) {
+        irradiance::Settings light = m_settings.light;
+        light.ior = lightIor(model);
+        std::vector<glm::vec3> normals(m_cloud.points.size());
+        for (size_t i = 0; i < normals.size(); ++i)
+            normals[i] =
+                glm::vec3(m_cloud.points[i].n[0], m_cloud.points[i].n[1], m_cloud.points[i].n[2]);
+        addOcclusionAllowance(it, m_irradiance_stage->occludedUnshadowed(light, normals));
+    }
     out.entries.push_back(std::move(it));
     if (factored) {
         irradiance::Settings light = m_settings.light;

@@ -238,8 +238,10 @@ constexpr double kEprimeRel = 2e-5, kEprimeAbs = 1e-7;
 //                                              E′_u · V (GPU irradiance; directional and
 //                                              filtered light; scene_capture.cpp says why)
 //   texture_space.visibility  csv, tol  V of the same texels (the same lights)
-//   texture_space.eprime   csv, tol     E′ (RGB) of those texels: recorded for the other lights;
-//                                       made for the replay of older captures otherwise
+//   texture_space.eprime   csv, tol     E′ (RGB) of those texels: recorded for the other lights
+//                                       (occluded IBL: a replay allows each value 2^-7 of its
+//                                       unshadowed E′); made for the replay of older captures
+//                                       otherwise
 //   texture_space.samples  csv, exact   the first 256 texels of sample set 0 (the GPU descent)
 //   texture_space.render   exr_stat     the render averaged over its sample sets
 void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& out) {
@@ -275,8 +277,11 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     const std::vector<glm::vec3> e = p.eprime();
     for (size_t texel : shown)
         ep.table.rows.push_back({double(texel), e[texel].x, e[texel].y, e[texel].z});
-    const bool factored = irradiance::hasVisibilityFactor(in.scene->settings().light.mode);
+    const irradiance::Settings& lightSettings = in.scene->settings().light;
+    const bool factored = irradiance::hasVisibilityFactor(lightSettings.mode);
     ep.recorded = !factored;
+    if (lightSettings.mode == irradiance::LightMode::OccludedIbl && out.forReplay)
+        addOcclusionAllowance(ep, p.eprimeUnshadowedOccluded(shown));
     out.entries.push_back(std::move(ep));
     if (factored) {
         const texspace::Pipeline::EprimeFactors f = pipeline()->eprimeFactors();

@@ -222,6 +222,14 @@ class Stage {
     std::vector<glm::vec3> occludedResult() const;
     std::vector<glm::vec3> occludedStdError() const;
     void cancelOccluded(); // discards the running computation
+    // OccludedIbl's estimate with every V = 1, per normal: U(n) = (1/K) Σ_k weight_k · Ft(η,
+    // n·ω_k) · max(0, n·ω_k) over the same K samples (the same float directions) that
+    // beginOccluded(s) draws, in double on the CPU (parallel over the normals). It bounds how far
+    // two conforming drivers' E_t may lie apart: E_t sums each sample's term times its V_k, each
+    // V_k within kVisibilityTolerance, so |ΔE_t| <= kVisibilityTolerance · U. Needs an environment
+    // (core::Error); touches no GL.
+    std::vector<glm::vec3> occludedUnshadowed(const Settings& s,
+                                              const std::vector<glm::vec3>& normals) const;
 
     // For inspector panels (0 until made): a GL_TEXTURE_2D view of shadow map 0 (depth, the
     // last directional light or the first sample of the last occluded step); the environment
@@ -237,6 +245,13 @@ class Stage {
     const LightFrame& lastLightFrame() const { return m_lastFrame; }
 
   private:
+    // OccludedIbl's K samples for s: world direction (xyz, the float the shader reads) and
+    // weight times envIntensity (rgb).
+    struct OccludedSamples {
+        std::vector<glm::vec4> dirs, weights;
+    };
+    OccludedSamples occludedSamples(const Settings& s) const;
+
     struct Occluded {
         bool active = false;
         Settings settings;

@@ -9,6 +9,8 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/vec4.hpp>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -24,6 +26,42 @@ std::vector<glm::vec4> readVec4(GLuint buffer, size_t count) {
 }
 } // namespace
 
+Stage::OccludedSamples Stage::occludedSamples(const Settings& s) const {
+    const std::vector<EnvSample> samples = sampleEnvironment(m_env, s.occludedTotalSamples, s.seed);
+    const glm::mat3 R = worldFromEnvironment(s.envRotation);
+    OccludedSamples out;
+    out.dirs.resize(samples.size());
+    out.weights.resize(samples.size());
+    for (size_t k = 0; k < samples.size(); ++k) {
+        out.dirs[k] = glm::vec4(glm::normalize(R * samples[k].direction), 0.0f);
+        out.weights[k] = glm::vec4(samples[k].weight * s.envIntensity, 0.0f);
+    }
+    return out;
+}
+
+std::vector<glm::vec3> Stage::occludedUnshadowed(const Settings& s,
+                                                 const std::vector<glm::vec3>& normals) const {
+    if (!hasEnvironment())
+        throw core::Error("irradiance: image based lighting needs an environment map");
+    Settings checked = s;
+    checked.mode = LightMode::OccludedIbl;
+    validateSettings(checked);
+    const OccludedSamples samples = occludedSamples(checked);
+    const double k = double(samples.dirs.size());
+    std::vector<glm::vec3> out(normals.size());
+    tbb::parallel_for(size_t(0), normals.size(), [&](size_t i) {
+        const glm::dvec3 n(normals[i]);
+        glm::dvec3 sum(0.0);
+        for (size_t j = 0; j < samples.dirs.size(); ++j) {
+            const double c = glm::dot(n, glm::dvec3(samples.dirs[j]));
+            if (c <= 0) continue;
+            sum += glm::dvec3(samples.weights[j]) * (fresnelTransmittance(c, checked.ior) * c);
+        }
+        out[i] = glm::vec3(sum / k);
+    });
+    return out;
+}
+
 void Stage::beginOccluded(const Settings& s) {
     GLint maxTex = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
@@ -34,16 +72,10 @@ void Stage::beginOccluded(const Settings& s) {
     if (!hasEnvironment())
         throw core::Error("irradiance: image based lighting needs an environment map");
     cancelOccluded();
-    const std::vector<EnvSample> samples =
-        sampleEnvironment(m_env, checked.occludedTotalSamples, checked.seed);
-    const glm::mat3 R = worldFromEnvironment(checked.envRotation);
+    OccludedSamples samples = occludedSamples(checked);
     m_occ.settings = checked;
-    m_occ.sampleDirs.resize(samples.size());
-    m_occ.sampleWeights.resize(samples.size());
-    for (size_t k = 0; k < samples.size(); ++k) {
-        m_occ.sampleDirs[k] = glm::vec4(glm::normalize(R * samples[k].direction), 0.0f);
-        m_occ.sampleWeights[k] = glm::vec4(samples[k].weight * checked.envIntensity, 0.0f);
-    }
+    m_occ.sampleDirs = std::move(samples.dirs);
+    m_occ.sampleWeights = std::move(samples.weights);
     for (auto& b : m_sums)
         glClearNamedBufferData(b.id(), GL_RGBA32F, GL_RGBA, GL_FLOAT, nullptr);
     m_occ.current = 0;

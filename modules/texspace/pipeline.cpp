@@ -147,6 +147,20 @@ std::vector<glm::vec3> Pipeline::eprime() const {
     return e;
 }
 
+std::vector<glm::vec3> Pipeline::eprimeUnshadowedOccluded(const std::vector<size_t>& texels) const {
+    if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
+    if (m_light.mode != irradiance::LightMode::OccludedIbl)
+        throw core::Error("texture space", 0, "the light is not occluded image based lighting");
+    std::vector<glm::vec3> normals;
+    normals.reserve(texels.size());
+    for (size_t t : texels)
+        normals.emplace_back(m_texels.normal[t]); // as setMesh gave them to the stage
+    std::vector<glm::vec3> u = m_irradiance->occludedUnshadowed(m_light, normals);
+    for (size_t k = 0; k < texels.size(); ++k)
+        u[k] *= float(m_texels.areaRatio[texels[k]]);
+    return u;
+}
+
 Pipeline::EprimeFactors Pipeline::eprimeFactors() {
     if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
     const irradiance::Stage::Factors f = m_irradiance->factors(m_light);

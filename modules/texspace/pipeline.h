@@ -127,6 +127,11 @@ class Pipeline {
         std::vector<float> visibility;
     };
     EprimeFactors eprimeFactors();
+    // Occluded IBL: for each of `texels` (covered ones) the unshadowed sum U times A_S/A_T, U of
+    // the light last computed (irradiance::Stage::occludedUnshadowed, CPU): E′ of two drivers
+    // lies within kVisibilityTolerance times it. core::Error for other lights or before the
+    // light is computed.
+    std::vector<glm::vec3> eprimeUnshadowedOccluded(const std::vector<size_t>& texels) const;
 
     // Stage 2: set `index` of N draws under `seed`. Empty when W = 0 (no light on the surface:
     // every pixel is 0). Throws when the light is not ready.

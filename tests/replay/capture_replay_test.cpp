@@ -6,6 +6,7 @@
 #include "core/core.h"
 #include "mesh/mesh.h"
 #include "pathtrace/image_io.h"
+#include "pointcloud/pointcloud.h"
 
 #include <algorithm>
 #include <cmath>
@@ -656,6 +657,96 @@ TEST(CaptureReplay, FilteredLightAllowsItsUnshadowedIrradianceTheProjectedTextur
     std::string out;
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     EXPECT_NE(out.find("PASS scene.irradiance_unshadowed"), std::string::npos) << out;
+    fs::remove_all(root);
+}
+
+// Occluded image based lighting sums K shadow-mapped samples per point, each V_k a mean of
+// bilinear depth comparisons that another sampler weights up to 2^-7 apart: a replay allows each
+// E_t (scene.irradiance) and E′ (texture_space.eprime) 2^-7 of its sum without shadows, made on the
+// replaying machine (irradiance::Stage::occludedUnshadowed), and says so. Values moved by half the
+// least that allowance can be (2^-8 of the value itself, 400x the 1e-5 floor) pass, naming it; a
+// partly shadowed point's E_t moved by three times its unshadowed sum's 2^-7 fails.
+TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("occluded", {"dipole.bssrdf"});
+    const fs::path dir = root / "captures" / "occluded";
+    std::vector<glm::vec3> unshadowed; // U per point, at the light's own η
+    {
+        app::Workbench wb(root, false);
+        app::SceneSettings& s = sceneOn(wb, 1500, 32, 18);
+        s.light.mode = irradiance::LightMode::OccludedIbl;
+        s.light.shadowMapSize = 256;
+        s.light.occludedTotalSamples = 32;
+        s.light.occludedSamplesPerStep = 16;
+        app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
+        ts.enabled = true;
+        ts.sampling.textureSize = 64;
+        ts.sampling.samples = 16;
+        ts.sampling.sampleSets = 1;
+        wb.update();
+        wb.finishScene();
+        wb.finishTextureSpace();
+        app::recordCaptureTo(wb, dir, "occluded", -1, -1);
+        std::vector<glm::vec3> normals;
+        for (const pointcloud::Point& p : wb.scene().cloud().points)
+            normals.emplace_back(p.n[0], p.n[1], p.n[2]);
+        unshadowed = wb.scene().irradianceStage()->occludedUnshadowed(s.light, normals);
+    }
+    const capture::Manifest m = capture::readManifest(dir);
+    std::string out;
+    ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    EXPECT_NE(out.find("PASS scene.irradiance  6000 values, exact match"), std::string::npos)
+        << out;
+
+    capture::Manifest edited = m;
+    auto rewrite = [&](const std::string& stage, const capture::Table& t) {
+        for (capture::StageOutput& o : edited.outputs)
+            if (o.stage == stage)
+                o = capture::writeCsvStage(dir, o.stage, o.file, t, o.absTol, o.relTol, o.tolNote);
+        capture::writeManifest(dir, edited);
+    };
+    const capture::Table et = capture::readCsv(dir / "scene_irradiance.csv");
+    const capture::Table ep = capture::readCsv(dir / "texture_space_eprime.csv");
+    ASSERT_EQ(et.rows.size(), unshadowed.size());
+    size_t partial = et.rows.size();
+    for (size_t i = 0; i < et.rows.size() && partial == et.rows.size(); ++i)
+        if (et.rows[i][2] > 0.2 * unshadowed[i].g && et.rows[i][2] < 0.6 * unshadowed[i].g)
+            partial = i;
+    ASSERT_LT(partial, et.rows.size()) << "no partly shadowed point";
+    const double half = 0.5 * irradiance::kVisibilityTolerance;
+    const std::string note = "plus 2^-7 of each value's sum without shadows";
+
+    capture::Table moved = et;
+    for (auto& row : moved.rows)
+        for (int c = 1; c <= 3; ++c)
+            row[size_t(c)] *= 1 + half;
+    rewrite("scene.irradiance", moved);
+    ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    size_t at = out.find("PASS scene.irradiance  ");
+    ASSERT_NE(at, std::string::npos) << out;
+    EXPECT_NE(out.substr(at, out.find('\n', at) - at).find(note), std::string::npos) << out;
+
+    rewrite("scene.irradiance", et);
+    capture::Table movedE = ep;
+    for (auto& row : movedE.rows)
+        for (int c = 1; c <= 3; ++c)
+            row[size_t(c)] *= 1 - half;
+    rewrite("texture_space.eprime", movedE);
+    ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    at = out.find("PASS texture_space.eprime  ");
+    ASSERT_NE(at, std::string::npos) << out;
+    EXPECT_NE(out.substr(at, out.find('\n', at) - at).find(note), std::string::npos) << out;
+
+    rewrite("texture_space.eprime", ep);
+    moved = et;
+    moved.rows[partial][2] += 3 * irradiance::kVisibilityTolerance * unshadowed[partial].g;
+    rewrite("scene.irradiance", moved);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL scene.irradiance  1 of 6000 values out of tolerance; worst at row " +
+                       std::to_string(partial + 1)),
+              std::string::npos)
+        << out;
+    EXPECT_NE(out.find(note), std::string::npos) << out;
     fs::remove_all(root);
 }
 
