@@ -50,7 +50,7 @@ void main() {
     vec3 p = points[i].position.xyz;
     vec3 n = points[i].normal.xyz;
     float c = dot(n, LightW);
-    vec3 E = vec3(0.0);
+    precise vec3 E = vec3(0.0);
     float V = 0.0;
     if (c > 0.0) {
         vec3 d = p - LightCentre;
@@ -58,7 +58,10 @@ void main() {
         V = shadowVisibility(lc, LightExtent, c, 0.0, i);
         vec3 colour = Irradiance;
         if (UseProjected != 0) colour *= projectedBilinear(0.5 + 0.5 * lc.xy / LightExtent);
-        E = colour * (irradianceFt(c, Eta) * c * V);
+        // E_t = E_u · V with the product last: a replay forms E_t from the recorded factors in
+        // float (app/pipeline/scene_capture.cpp), so bit for bit on the recording driver
+        precise vec3 unshadowed = colour * (irradianceFt(c, Eta) * c);
+        E = unshadowed * V;
     }
     result[i] = vec4(E, V);
 }

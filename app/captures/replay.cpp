@@ -200,7 +200,17 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
                         return pathtrace::readExr(captureDir / rec.file);
                 return std::nullopt;
             };
+        if (!update)
+            captured.recordedTable =
+                [&](const std::string& stage) -> std::optional<capture::Table> {
+                for (const capture::StageOutput& rec : m.outputs)
+                    if (rec.stage == stage && rec.kind == "csv")
+                        return capture::readCsv(captureDir / rec.file);
+                return std::nullopt;
+            };
         wb.capture(captured, onStage);
+        report.inputNotes.insert(report.inputNotes.end(), captured.notes.begin(),
+                                 captured.notes.end());
         for (auto& rec : m.outputs)
             report.stages.push_back(replayStage(rec, captureDir, captured, update));
         if (update) // outputs this program makes that the capture lacks are added

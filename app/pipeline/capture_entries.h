@@ -72,6 +72,13 @@ struct CaptureEntries {
     // different rasteriser's sub-pixel placement must not move what is traced from it).
     // Throws core::Error when the recorded file cannot be read.
     std::function<std::optional<pathtrace::Image>(const std::string& stage)> recordedImage;
+    // Set by a replay (not by --update): the recorded table of an output of kind csv, or none,
+    // for a stage whose later stages take it as their input (the scene's irradiance: another
+    // sampler's shadow-map weights must not move the render traced from it). Throws
+    // core::Error when the recorded file cannot be read.
+    std::function<std::optional<capture::Table>(const std::string& stage)> recordedTable;
+    // What a stage tells the replay's reader about its inputs (printed as NOTE lines).
+    std::vector<std::string> notes;
     std::vector<CaptureEntry> entries;      // in pipeline order
     std::vector<capture::ModelFile> inputs; // input files besides the models (meshes)
     std::vector<std::string> missing;       // "model: why" for outputs a stage could not make

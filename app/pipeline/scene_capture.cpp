@@ -19,8 +19,10 @@
 //   scene.trace_steps  csv, exact   one pixel's traversal steps (CPU replica): node, decision,
 //                                   depth, stack after each step
 //   scene.trace_values csv, tol     that trace's contributions and running sums
-// and the mesh file as an input. Hashes are split into four 16-bit integers so that they
-// compare exactly as numbers. The texture-space stages' entries: texspace_stage.cpp.
+// and the mesh file as an input. On replay the octree and the render read the recorded
+// irradiance (E_u · V, else E_t; recordedIrradiance), as they read the recorded G-buffer, while
+// the irradiance entries compare this run's own. Hashes are split into four 16-bit integers so that
+// they compare exactly as numbers. The texture-space stages' entries: texspace_stage.cpp.
 #include "pipeline/scene_stage.h"
 
 #include "core/core.h"
@@ -73,6 +75,44 @@ std::optional<render::Gbuffer> recordedGbuffer(const CaptureEntries& out) {
         g.normal[p] = glm::vec4(nv, 0.0f);
     }
     return g;
+}
+
+// The transmitted irradiance the traversal read when the capture was made, where it has it:
+// E_u · V of the recorded factors in float (as irradiance_direct.comp forms E_t, so on the
+// recording driver bit for bit), else the recorded E_t; `from` names the tables.
+std::optional<std::vector<glm::vec3>> recordedIrradiance(const CaptureEntries& out,
+                                                         std::string& from) {
+    if (!out.recordedTable) return std::nullopt;
+    const auto rows = [](const capture::Table& t, size_t columns, const char* stage) {
+        for (size_t i = 0; i < t.rows.size(); ++i)
+            if (t.columns.size() != columns || t.rows[i][0] != double(i))
+                throw core::Error(std::string(stage), 0,
+                                  "the recorded table is not one row per point in order (row " +
+                                      std::to_string(i + 1) + ")");
+        return t.rows.size();
+    };
+    const std::optional<capture::Table> eu = out.recordedTable("scene.irradiance_unshadowed");
+    const std::optional<capture::Table> v = out.recordedTable("scene.visibility");
+    std::vector<glm::vec3> e;
+    if (eu && v) {
+        const size_t n = rows(*eu, 4, "scene.irradiance_unshadowed");
+        if (rows(*v, 2, "scene.visibility") != n)
+            throw core::Error("scene.visibility", 0,
+                              "the recorded table has " + std::to_string(v->rows.size()) +
+                                  " points, scene.irradiance_unshadowed " + std::to_string(n));
+        for (size_t i = 0; i < n; ++i) {
+            const std::vector<double>& r = eu->rows[i];
+            e.push_back(glm::vec3(float(r[1]), float(r[2]), float(r[3])) * float(v->rows[i][1]));
+        }
+        from = "scene.irradiance_unshadowed x scene.visibility";
+        return e;
+    }
+    const std::optional<capture::Table> et = out.recordedTable("scene.irradiance");
+    if (!et) return std::nullopt;
+    for (size_t i = 0, n = rows(*et, 4, "scene.irradiance"); i < n; ++i)
+        e.emplace_back(float(et->rows[i][1]), float(et->rows[i][2]), float(et->rows[i][3]));
+    from = "scene.irradiance";
+    return e;
 }
 
 // One image of the G-buffer the traversal read, recorded as the replay's input.
@@ -134,14 +174,24 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
                           ", settings.scene.render renders " +
                           std::to_string(m_settings.render.width) + "x" +
                           std::to_string(m_settings.render.height));
+    // The traversal reads the recorded irradiance too (kept apart from this run's own, which
+    // the irradiance entries compare): E_t's visibility is a sampler's choice within 2^-7.
+    std::string irradianceFrom;
+    std::optional<std::vector<glm::vec3>> givenIrradiance = recordedIrradiance(out, irradianceFrom);
     struct Restore {
         SceneStage& s;
-        bool active;
+        bool gbuffer, irradiance;
         ~Restore() {
-            if (active) s.setGivenGbuffer(std::nullopt);
+            if (gbuffer) s.setGivenGbuffer(std::nullopt);
+            if (irradiance) s.setGivenIrradiance(std::nullopt);
         }
-    } restore{*this, given.has_value()};
+    } restore{*this, given.has_value(), givenIrradiance.has_value()};
     if (given) setGivenGbuffer(given);
+    if (givenIrradiance) {
+        out.notes.push_back("scene: the octree and the render read the recorded irradiance (" +
+                            irradianceFrom + "); this run's own is compared with it");
+        setGivenIrradiance(std::move(givenIrradiance));
+    }
     finish(model);
     for (const auto& p : problems())
         throw core::Error(p);

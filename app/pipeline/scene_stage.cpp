@@ -61,6 +61,11 @@ void SceneStage::setGivenGbuffer(std::optional<render::Gbuffer> g) {
     m_renderKey.clear();
 }
 
+void SceneStage::setGivenIrradiance(std::optional<std::vector<glm::vec3>> e) {
+    m_givenIrradiance = std::move(e);
+    ++m_givenIrradianceVersion; // computed and adopted again at the next update or finish
+}
+
 std::string SceneStage::meshHash() const {
     if (!m_mesh) return "";
     std::string bytes;
@@ -256,12 +261,19 @@ bool SceneStage::updateIrradiance(float ior, bool finishOccluded) {
             setProblem("projected texture", e.what());
         }
     }
-    const std::string key =
-        core::keyOf(m_cloudVersion, s, ibl ? m_envLoads : 0,
-                    s.mode == irradiance::LightMode::Filtered ? m_texLoads : 0, m_irradianceBuilds);
+    const std::string key = core::keyOf(m_cloudVersion, s, ibl ? m_envLoads : 0,
+                                        s.mode == irradiance::LightMode::Filtered ? m_texLoads : 0,
+                                        m_irradianceBuilds, m_givenIrradianceVersion);
     bool changed = false;
     auto adopt = [&](std::vector<glm::vec3> e, double ms) {
-        octree::setIrradiance(*m_tree, e);
+        const bool given = m_givenIrradiance && m_givenIrradiance->size() == e.size();
+        if (m_givenIrradiance && !given)
+            setProblem("given irradiance", std::to_string(m_givenIrradiance->size()) +
+                                               " values for " + std::to_string(e.size()) +
+                                               " points");
+        else
+            clearProblem("given irradiance");
+        octree::setIrradiance(*m_tree, given ? *m_givenIrradiance : e);
         m_renderer->updateAttributes(*m_tree);
         m_irradiance = std::move(e);
         ++m_irrVersion;

@@ -142,6 +142,13 @@ class SceneStage : public Stage {
     // capture's recorded one; a test's emulating another rasteriser), std::nullopt: its own
     // again. The frame is rendered again at the next update or finish.
     void setGivenGbuffer(std::optional<render::Gbuffer> g);
+    // The transmitted irradiance E_t per point (input order) the octree and so the traversal
+    // read instead of the irradiance stage's own (a replayed capture's recorded one: another
+    // sampler's visibility must not move the render), std::nullopt: its own again. The stage
+    // still computes its own (irradiance() and what captures compare). One of another length
+    // than the point cloud is a "given irradiance" problem, and the own is used.
+    void setGivenIrradiance(std::optional<std::vector<glm::vec3>> e);
+    bool hasGivenIrradiance() const { return m_givenIrradiance.has_value(); }
     // Keep settings().render.camera as it is when the mesh loads (captures set it).
     void keepCamera() { m_cameraFitted = true; }
 
@@ -227,6 +234,8 @@ class SceneStage : public Stage {
     double m_pendingStart = 0;
     std::optional<octree::Octree> m_tree;
     std::vector<glm::vec3> m_irradiance;
+    std::optional<std::vector<glm::vec3>> m_givenIrradiance;
+    long long m_givenIrradianceVersion = 0;
     bool m_occludedActive = false;
     std::unique_ptr<irradiance::Stage> m_irradiance_stage;
     std::unique_ptr<render::Renderer> m_renderer;

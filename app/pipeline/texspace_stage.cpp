@@ -88,6 +88,7 @@ bool TextureSpaceStage::update(const TextureSpaceInputs& in) {
             if (ibl && !p.irradianceStage().hasEnvironment())
                 throw core::Error(envFile, 0, "no environment map loaded");
             gl::ScopedStageTimer t("texture space: irradiance");
+            p.setGivenIrradiance(m_givenEt);
             p.beginLight(light);
             m_lightRunning = true;
             clearProblem("irradiance");
@@ -224,10 +225,46 @@ StageStatus TextureSpaceStage::status() const {
     return st;
 }
 
+void TextureSpaceStage::setGivenIrradiance(std::optional<std::vector<glm::vec3>> et) {
+    m_givenEt = std::move(et);
+    m_lightKey.clear();
+}
+
 namespace {
 
 // E′ = E_t · A_S/A_T: the irradiance's float32 roundings and one more product.
 constexpr double kEprimeRel = 2e-5, kEprimeAbs = 1e-7;
+constexpr const char* kIrradianceInput = "texture_space.irradiance";
+
+// The E_t per texel the draws read, recorded as the replay's input (K × K, row 0 = texel row 0).
+CaptureEntry irradianceInput(const texspace::Pipeline& p) {
+    CaptureEntry e = captureEntry(CaptureEntry::Kind::ExrInput, kIrradianceInput);
+    const std::vector<glm::vec3>& et = p.drawnIrradiance();
+    e.image.width = e.image.height = p.texels().size;
+    e.image.samples = 1;
+    for (const glm::vec3& x : et)
+        e.image.mean.insert(e.image.mean.end(), {x.x, x.y, x.z});
+    e.image.variance.assign(e.image.mean.size(), 0.0f);
+    e.note = "E_t per texel as the CDF, the draws and the render read it (0 off the chart), given "
+             "to them again on replay; compared through texture_space.eprime*";
+    return e;
+}
+
+// The recorded E_t per texel, where the capture has it; one of another size than K is an error
+// naming both.
+std::optional<std::vector<glm::vec3>> recordedTexelIrradiance(const CaptureEntries& out, int k) {
+    if (!out.recordedImage) return std::nullopt;
+    const std::optional<pathtrace::Image> img = out.recordedImage(kIrradianceInput);
+    if (!img) return std::nullopt;
+    if (img->width != k || img->height != k)
+        throw core::Error(std::string(kIrradianceInput) + ": the recorded irradiance is " +
+                          std::to_string(img->width) + "x" + std::to_string(img->height) +
+                          ", settings.texture_space.sampling.texture_size is " + std::to_string(k));
+    std::vector<glm::vec3> et(size_t(k) * size_t(k));
+    for (size_t t = 0; t < et.size(); ++t)
+        et[t] = glm::vec3(img->mean[3 * t], img->mean[3 * t + 1], img->mean[3 * t + 2]);
+    return et;
+}
 
 } // namespace
 
@@ -242,10 +279,25 @@ constexpr double kEprimeRel = 2e-5, kEprimeAbs = 1e-7;
 //                                       (occluded IBL: a replay allows each value 2^-7 of its
 //                                       unshadowed E′); made for the replay of older captures
 //                                       otherwise
+//   texture_space.irradiance  exr_input  E_t per texel (K x K) as the CDF, the draws and the
+//                                       render read it; a replay gives the recorded one to them
+//                                       (hash checked) while the E′ entries compare its own
 //   texture_space.samples  csv, exact   the first 256 texels of sample set 0 (the GPU descent)
 //   texture_space.render   exr_stat     the render averaged over its sample sets
 void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& out) {
     if (!in.scene || !in.scene->settings().enabled || !in.settings.enabled) return;
+    // On replay the draws and the render read the recorded E_t (this run's own is what the E′
+    // entries compare): E_t's visibility is a sampler's choice within 2^-7.
+    std::optional<std::vector<glm::vec3>> given =
+        recordedTexelIrradiance(out, in.settings.sampling.textureSize);
+    struct Restore {
+        TextureSpaceStage& s;
+        bool active;
+        ~Restore() {
+            if (active) s.setGivenIrradiance(std::nullopt);
+        }
+    } restore{*this, given.has_value()};
+    if (given) setGivenIrradiance(std::move(given));
     finish(in);
     const texspace::Pipeline& p = *pipeline();
     const texspace::Texels& t = p.texels();
@@ -277,6 +329,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     const std::vector<glm::vec3> e = p.eprime();
     for (size_t texel : shown)
         ep.table.rows.push_back({double(texel), e[texel].x, e[texel].y, e[texel].z});
+    out.entries.push_back(irradianceInput(p));
     const irradiance::Settings& lightSettings = in.scene->settings().light;
     const bool factored = irradiance::hasVisibilityFactor(lightSettings.mode);
     ep.recorded = !factored;

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,10 @@ class TextureSpaceStage : public StageOf<TextureSpaceInputs> {
     void capture(const TextureSpaceInputs& in, CaptureEntries& out);
     bool reloadShaders(const std::vector<std::filesystem::path>& changed) override;
     shader::Records shaderRecords() const override;
+    // The E_t per texel the draws and the render read instead of the light's own
+    // (texspace::Pipeline::setGivenIrradiance: a replayed capture's recorded one),
+    // std::nullopt: the own again. The light is computed again at the next update or finish.
+    void setGivenIrradiance(std::optional<std::vector<glm::vec3>> et);
 
     bool active() const { return m_pipe && m_pipe->setsDone() > 0; }
     texspace::Pipeline* pipeline() { return m_pipe.get(); }
@@ -73,6 +78,7 @@ class TextureSpaceStage : public StageOf<TextureSpaceInputs> {
     void clearProblem(const std::string& stage);
     std::string m_note;
     double m_seconds = 0;
+    std::optional<std::vector<glm::vec3>> m_givenEt;
 };
 
 } // namespace app

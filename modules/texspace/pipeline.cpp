@@ -78,6 +78,7 @@ void Pipeline::setMesh(const mesh::Mesh& m, int textureSize) {
     m_lightReady = false;
     m_running = false;
     m_et.clear();
+    m_ownEt.clear();
 }
 
 double Pipeline::representedArea() const {
@@ -115,15 +116,21 @@ float Pipeline::lightProgress() const {
 void Pipeline::finishLight(std::vector<glm::vec3> et) {
     const size_t n = m_texels.triangle.size();
     const double texelArea = 1.0 / double(n);
+    if (m_givenEt && m_givenEt->size() != n)
+        throw core::Error("texture space", 0,
+                          "the given irradiance has " + std::to_string(m_givenEt->size()) +
+                              " texels, the texture " + std::to_string(n));
+    m_ownEt.assign(n, glm::vec3(0.0f));
     m_et.assign(n, glm::vec3(0.0f));
     m_weights.assign(n, 0.0);
     for (size_t k = 0; k < m_covered.size(); ++k) {
         const uint32_t t = m_covered[k];
-        glm::vec3 e = et[k];
+        m_ownEt[t] = et[k];
+        const glm::vec3 e = m_givenEt ? (*m_givenEt)[t] : et[k];
         if (!(e.x >= 0 && e.y >= 0 && e.z >= 0) || !std::isfinite(e.x + e.y + e.z))
             throw core::Error("texture space", 0,
-                              "irradiance of texel " + std::to_string(t) +
-                                  " is negative or not finite");
+                              std::string(m_givenEt ? "the given " : "") + "irradiance of texel " +
+                                  std::to_string(t) + " is negative or not finite");
         m_et[t] = e;
         m_weights[t] = double(core::luminance(e)) * m_texels.areaRatio[t] * texelArea;
     }
@@ -141,9 +148,9 @@ void Pipeline::finishLight(std::vector<glm::vec3> et) {
 }
 
 std::vector<glm::vec3> Pipeline::eprime() const {
-    std::vector<glm::vec3> e(m_et.size(), glm::vec3(0.0f));
+    std::vector<glm::vec3> e(m_ownEt.size(), glm::vec3(0.0f));
     for (uint32_t t : m_covered)
-        e[t] = m_et[t] * float(m_texels.areaRatio[t]);
+        e[t] = m_ownEt[t] * float(m_texels.areaRatio[t]);
     return e;
 }
 

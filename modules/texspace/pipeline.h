@@ -44,6 +44,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace texspace {
@@ -115,9 +116,18 @@ class Pipeline {
     bool advanceLight();
     bool lightReady() const { return m_lightReady; }
     float lightProgress() const;
-    const std::vector<glm::vec3>& transmitted() const { return m_et; } // E_t per texel
-    std::vector<glm::vec3> eprime() const;                             // E′ per texel
-    double totalWeight() const { return m_total; }                     // W
+    // E_t and E′ per texel as this light computed them (0 off the chart).
+    const std::vector<glm::vec3>& transmitted() const { return m_ownEt; }
+    std::vector<glm::vec3> eprime() const;
+    // The E_t per texel (K² row-major) that stages 2 and 3 read instead of the light's own (a
+    // replayed capture's recorded one: another sampler's visibility must not move the CDF, the
+    // draws or the render), std::nullopt: the own. Taken at the next light computed
+    // (beginLight); one of another length than K² is a core::Error there, and a covered
+    // texel's value must be finite and >= 0 as the light's own.
+    void setGivenIrradiance(std::optional<std::vector<glm::vec3>> et) { m_givenEt = std::move(et); }
+    // What stages 2 and 3 read: the given E_t when one was set, else transmitted().
+    const std::vector<glm::vec3>& drawnIrradiance() const { return m_et; }
+    double totalWeight() const { return m_total; } // W
     const MipCdf& cdf() const { return m_cdf; }
     // E′ as its two factors, E′ = E′_u · V (irradiance::Stage::factors, which says why): per
     // texel the unshadowed E′_u and the shadow-map visibility V (0 off the chart). Directional
@@ -196,7 +206,8 @@ class Pipeline {
     int m_layoutSize = 0;
     std::vector<uint32_t> m_covered; // covered texel indices (the irradiance points)
     bool m_lightReady = false, m_lightOccluded = false;
-    std::vector<glm::vec3> m_et;
+    std::vector<glm::vec3> m_ownEt, m_et; // the light's own; what stages 2 and 3 read
+    std::optional<std::vector<glm::vec3>> m_givenEt;
     std::vector<double> m_weights;
     MipCdf m_cdf;
     double m_total = 0;
