@@ -214,7 +214,10 @@ class Workbench {
     void finishTextureSpace() {
         m_textureSpace->finish({m_ts, m_scene.get(), sceneModelInput(), -1});
     }
+    // The user is dragging the view or a control (set by the Render panel each frame): the
+    // scene renders at half resolution meanwhile when its setting asks for it.
     void setInteracting(bool v) { m_interacting = v; }
+    bool interacting() const { return m_interacting; }
     // Every GL program with the shader files it was built from and its build count, by
     // "owner:program" (model:<model file>:<template>, scene's render:/irradiance:,
     // reference:<channel>, lit sphere:). A changed file rebuilds exactly the programs listing it.

@@ -167,21 +167,25 @@ TEST(Interactions, AGlErrorEntryLeavesWhenItsCauseIsGone) {
     std::filesystem::remove_all(root);
 }
 
-// Dragging a Render control restarts the frame at half resolution; the image on screen must
-// never be a texture the renderer already deleted (GL_INVALID_OPERATION in glBindTexture).
+// Dragging a Render control restarts the frame at half resolution (holding a button does not:
+// RenderExportAsksWhereAndLogsTheFullPath); the image on screen must never be a texture the
+// renderer already deleted (GL_INVALID_OPERATION in glBindTexture).
 TEST(Interactions, DraggingARenderControlLeavesNoGlProblem) {
     RenderFixture fx;
     gl::clearDebugProblems();
     ImGuiWindow* w = testsupport::panelWindow(app::PanelId::Render);
     ASSERT_NE(w, nullptr);
     const float eps = fx.wb.scene().settings().render.eps;
+    bool interacting = false;
     // on the eps slider: the second row, under the model choice
     const float x = w->Pos.x + 60, y = w->Pos.y + 10 + ImGui::GetFrameHeightWithSpacing();
     fx.press(x, y);
     for (int i = 0; i < 5; ++i) {
         fx.gui->mouse(x + 5.0f * float(i), y, true);
         fx.gui->frame();
+        interacting |= fx.wb.interacting();
     }
+    EXPECT_TRUE(interacting) << "dragging a control is an interaction (half resolution)";
     fx.release(x + 25, y);
     for (int i = 0; i < 5; ++i) {
         fx.wb.finishScene();
@@ -290,7 +294,22 @@ TEST(Interactions, RenderExportAsksWhereAndLogsTheFullPath) {
     fx.gui->frame();
     ASSERT_GT(ps.exportButtons[1].width(), 10.0f);
     ASSERT_LE(ps.exportButtons[1].y1, panel->InnerClipRect.Max.y) << "Export PNG not on screen";
-    click(ps.exportButtons[1]);
+    // Clicking a button is not an interaction: the frame is not rendered again (at half
+    // resolution while the button is held, then again in full, which left nothing finished to
+    // export on a slow machine when the click on Save came).
+    ASSERT_FALSE(fx.wb.scene().rendering());
+    const auto frames = [&] { return fx.wb.scene().stats().at("scene.render").runs; };
+    const long long shown = frames();
+    { // click(), looking in between
+        const app::Rect& b = ps.exportButtons[1];
+        const float x = 0.5f * (b.x0 + b.x1), y = 0.5f * (b.y0 + b.y1);
+        fx.press(x, y);
+        fx.gui->mouse(x, y, true); // held for another frame
+        fx.gui->frame();
+        EXPECT_FALSE(fx.wb.interacting()) << "holding a button is not an interaction";
+        fx.release(x, y);
+        fx.gui->frame();
+    }
     EXPECT_EQ(std::string(ps.exporter.dialog.path),
               (std::filesystem::current_path() / "render.png").lexically_normal().string());
     ASSERT_GT(ps.exporter.dialog.actionRect[2], ps.exporter.dialog.actionRect[0]) << "no dialog";
@@ -299,6 +318,8 @@ TEST(Interactions, RenderExportAsksWhereAndLogsTheFullPath) {
     std::snprintf(ps.exporter.dialog.path, sizeof ps.exporter.dialog.path, "%s", target.c_str());
     const float* a = ps.exporter.dialog.actionRect;
     click({a[0], a[1], a[2], a[3]});
+    EXPECT_EQ(frames(), shown) << "a click on a button rendered the frame again";
+    EXPECT_FALSE(fx.wb.scene().rendering());
     const std::filesystem::path written = target.string() + ".png"; // the extension added
     ASSERT_TRUE(std::filesystem::exists(written)) << fx.gui->ui().shared.status;
     EXPECT_GT(std::filesystem::file_size(written), 100u);

@@ -388,11 +388,15 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
             r.camera.distance = std::max(0.05f, r.camera.distance * std::pow(0.9f, wheel));
     }
     // Interacting (half resolution when enabled): orbiting, zooming or dragging a control; a
-    // press on the image that does not drag is a click, typing is not an interaction.
-    const bool dragging = imageHeld && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f);
+    // press on the image that does not drag is a click, typing is not an interaction, and
+    // neither is holding a button (Export, Save), which changes nothing to render: a held
+    // button once restarted the frame, so a click on Save found no finished frame to export.
+    const bool dragged = ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f);
+    const bool dragging = imageHeld && dragged;
     const bool typing = ImGui::GetIO().WantTextInput; // a text field edits nothing yet
-    wb.setInteracting(moving || dragging ||
-                      (ImGui::IsAnyItemActive() && !imageHeld && !typing && !dividerHeld));
+    wb.setInteracting(
+        moving || dragging ||
+        (ImGui::IsAnyItemActive() && dragged && !imageHeld && !typing && !dividerHeld));
     // A click is traced on the finished full-resolution frame, wherever the click was made.
     if (ui.inspect.pendingPick) {
         const bool full = f.width == r.width && f.height == r.height;
