@@ -366,8 +366,9 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     }
 
     CaptureEntry sm = captureEntry(CaptureEntry::Kind::Csv, "texture_space.samples", "draw");
-    sm.note = "the GPU descent of Algorithm 3.1 over the float CDF: exact on one "
-              "driver (a float/double boundary may move a draw on another)";
+    sm.note = "the GPU descent of Algorithm 3.1 over the float CDF the CPU builds from E_t (on "
+              "replay the recorded texture_space.irradiance), by correctly rounded subtractions "
+              "and comparisons (precise): exact on any driver that keeps denormals";
     sm.table.columns = {"draw", "texel"};
     const texspace::SampleSet first =
         p.drawSet(std::min(256, in.settings.sampling.samples), in.settings.sampling.seed, 0);
