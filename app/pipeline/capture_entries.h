@@ -6,6 +6,7 @@
 #pragma once
 
 #include "capture/capture.h"
+#include "core/text.h"
 #include "irradiance/irradiance.h"
 #include "pathtrace/lit_sphere.h"
 
@@ -101,6 +102,14 @@ inline CaptureEntry visibilityEntry(const std::string& stage, const std::string&
              "per weight axis, the samplers' subtexel precision)";
     v.table.columns = {key, "V"};
     return v;
+}
+
+// The tail of an unshadowed irradiance entry's note for the projected texture's spread
+// (irradiance::Stage::unshadowedSpread, already in its absTol): "" when there is none.
+inline std::string projectedSpreadNote(double spread) {
+    return spread > 0 ? " + " + core::formatNumber(spread, 3) +
+                            " (the projected texture's weights, uv a few ulp apart)"
+                      : std::string();
 }
 
 // Occluded image based lighting: the per-value allowance of a table of E_t (columns key, R, G,

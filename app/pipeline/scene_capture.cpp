@@ -277,9 +277,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
         eu.relTol = kIrradianceRel;
         eu.note = "GPU float32 Ft*cos per point (E_t = this times the visibility): 1e-5 "
                   "relative + 1e-7" +
-                  (spread > 0 ? " + " + core::formatNumber(spread, 3) +
-                                    " (the projected texture's weights, uv a few ulp apart)"
-                              : std::string());
+                  projectedSpreadNote(spread);
         eu.table.comments = {"unshadowed transmitted irradiance E_u per point (input order)"};
         eu.table.columns = {"point", "R", "G", "B"};
         for (size_t i = 0; i < f.unshadowed.size(); ++i)

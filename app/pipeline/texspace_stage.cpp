@@ -351,9 +351,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
         eu.relTol = kEprimeRel;
         eu.note = "GPU irradiance without shadows (float32) times the area ratio: 2e-5 "
                   "relative + 1e-7" +
-                  (spread > 0 ? " + " + core::formatNumber(spread, 3) +
-                                    " (the projected texture's weights, uv a few ulp apart)"
-                              : std::string());
+                  projectedSpreadNote(spread);
         eu.table.columns = {"texel", "R", "G", "B"};
         CaptureEntry v = visibilityEntry("texture_space.visibility", "texel");
         for (size_t texel : shown) {
