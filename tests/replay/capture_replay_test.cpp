@@ -50,6 +50,21 @@ app::SceneSettings& sceneOn(app::Workbench& wb, size_t points, int width, int he
 int replay(const Recorded& r, std::string& out, bool update = false) {
     return app::replayCapture(r.dir, r.root, update, out);
 }
+// The report's line that starts with `start` ("PASS scene.render  "), "" when there is none.
+std::string lineOf(const std::string& out, const std::string& start) {
+    const size_t at = out.find(start);
+    return at == std::string::npos ? std::string() : out.substr(at, out.find('\n', at) - at);
+}
+// The manifest without the outputs of `stages` (as a capture recorded before they existed).
+capture::Manifest without(capture::Manifest m, const std::vector<std::string>& stages) {
+    m.outputs.erase(std::remove_if(m.outputs.begin(), m.outputs.end(),
+                                   [&](const capture::StageOutput& o) {
+                                       return std::find(stages.begin(), stages.end(), o.stage) !=
+                                              stages.end();
+                                   }),
+                    m.outputs.end());
+    return m;
+}
 } // namespace
 
 TEST(CaptureReplay, RecordThenReplayPasses) {
@@ -595,13 +610,7 @@ TEST(CaptureReplay, IrradianceIsRecordedAsItsFactorsAndOlderCapturesStillReplay)
     ASSERT_LT(partial, eu.rows.size()) << "no partly shadowed point";
 
     // The same capture as recorded before the split: E_t in place of its factors.
-    capture::Manifest old = m;
-    old.outputs.erase(std::remove_if(old.outputs.begin(), old.outputs.end(),
-                                     [](const capture::StageOutput& o) {
-                                         return o.stage == "scene.irradiance_unshadowed" ||
-                                                o.stage == "scene.visibility";
-                                     }),
-                      old.outputs.end());
+    capture::Manifest old = without(m, {"scene.irradiance_unshadowed", "scene.visibility"});
     old.outputs.push_back(capture::writeCsvStage(dir, "scene.irradiance", "scene_irradiance.csv",
                                                  et, 1e-7, 1e-5, "E_t, recorded whole"));
     fs::remove(dir / "scene_irradiance_unshadowed.csv");
@@ -714,10 +723,6 @@ TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
     rewrite("scene.irradiance", et);
     ASSERT_EQ(et.rows.size(), unshadowed.size());
     const std::string note = "plus 2^-7 of each value's sum without shadows";
-    auto lineOf = [](const std::string& out, const std::string& start) {
-        const size_t at = out.find(start);
-        return at == std::string::npos ? std::string() : out.substr(at, out.find('\n', at) - at);
-    };
 
     std::string out;
     ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
@@ -800,13 +805,12 @@ TEST(CaptureReplay, TheTraversalReadsTheRecordedIrradiance) {
 
     std::string out;
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
-    for (const char* stage : {"scene.render", "scene.trace_steps", "scene.trace_values",
-                              "scene.irradiance_unshadowed"}) {
-        const size_t at = out.find(std::string("PASS ") + stage + "  ");
-        ASSERT_NE(at, std::string::npos) << stage << "\n" << out;
-        EXPECT_NE(out.substr(at, out.find('\n', at) - at).find("exact match"), std::string::npos)
+    for (const char* stage :
+         {"scene.render", "scene.trace_steps", "scene.trace_values", "scene.irradiance_unshadowed"})
+        EXPECT_NE(lineOf(out, std::string("PASS ") + stage + "  ").find("exact match"),
+                  std::string::npos)
+            << stage << "\n"
             << out;
-    }
     EXPECT_NE(out.find("PASS scene.visibility  " + std::to_string(2 * v.rows.size()) +
                        " values, worst diff 0.0039"),
               std::string::npos)
@@ -816,19 +820,12 @@ TEST(CaptureReplay, TheTraversalReadsTheRecordedIrradiance) {
               std::string::npos)
         << out;
 
-    capture::Manifest bare = m;
-    bare.outputs.erase(std::remove_if(bare.outputs.begin(), bare.outputs.end(),
-                                      [](const capture::StageOutput& o) {
-                                          return o.stage == "scene.irradiance_unshadowed" ||
-                                                 o.stage == "scene.visibility";
-                                      }),
-                       bare.outputs.end());
-    capture::writeManifest(dir, bare);
+    capture::writeManifest(dir, without(m, {"scene.irradiance_unshadowed", "scene.visibility"}));
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
-    const size_t fail = out.find("FAIL scene.render");
-    ASSERT_NE(fail, std::string::npos) << out;
+    const std::string fail = lineOf(out, "FAIL scene.render");
+    ASSERT_FALSE(fail.empty()) << out;
     std::printf("V moved by 2^-8 at %zu points, traced from this run's V: %s\n", partial,
-                out.substr(fail, out.find('\n', fail) - fail).c_str());
+                fail.c_str());
     EXPECT_EQ(out.find("NOTE scene: the octree"), std::string::npos) << out;
 
     capture::Table shorter = v;
@@ -896,19 +893,13 @@ TEST(CaptureReplay, TheTextureSpaceDrawsReadTheRecordedIrradiance) {
     EXPECT_NE(out.find("PASS texture_space.render  2880 values, identical"), std::string::npos)
         << out;
 
-    capture::Manifest bare = m;
-    bare.outputs.erase(std::remove_if(bare.outputs.begin(), bare.outputs.end(),
-                                      [](const capture::StageOutput& o) {
-                                          return o.stage == "texture_space.irradiance";
-                                      }),
-                       bare.outputs.end());
-    capture::writeManifest(dir, bare);
+    capture::writeManifest(dir, without(m, {"texture_space.irradiance"}));
     app::replayCapture(dir, root, false, out);
     for (const char* stage : {"texture_space.samples  ", "texture_space.render  "}) {
-        const size_t at = out.find(stage);
-        ASSERT_NE(at, std::string::npos) << out;
+        const std::string line = lineOf(out, stage);
+        ASSERT_FALSE(line.empty()) << out;
         std::printf("E_t with V moved by 2^-8 at %zu texels, drawn from this run's: %s\n", partial,
-                    out.substr(at - 5, out.find('\n', at) - at + 5).c_str());
+                    line.c_str());
     }
     EXPECT_EQ(out.find("texture_space.render  2880 values, identical"), std::string::npos) << out;
 
