@@ -129,6 +129,18 @@ inline void addOcclusionAllowance(CaptureEntry& e, const std::vector<glm::vec3>&
                          "differently)";
 }
 
+// The per-value allowance of a visibility entry (columns key, V; its rows those of `spread`) for
+// another driver's rasteriser: how far V moves with the shadow map drawn
+// irradiance::kRasterShiftTexels aside (irradiance::Stage::visibilitySpread, made on the
+// replaying machine).
+inline void addRasterAllowance(CaptureEntry& e, const std::vector<float>& spread) {
+    e.conditioning.columns = e.table.columns;
+    for (float x : spread)
+        e.conditioning.rows.push_back({0.0, double(x)});
+    e.conditioningNote = "how far V moves with the shadow map drawn 1/16 texel aside along each "
+                         "axis (the rasterisers' sub-pixel precision)";
+}
+
 // GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in
 // the profile's tail that is ~63 ulp, i.e. 63 · 2^-24 ≈ 3.8e-6 relative, plus the same again
 // for the arithmetic around it. 1e-5 relative covers a different driver where the model does not

@@ -5,7 +5,9 @@
 //   scene.octree       csv, exact   node/leaf counts, depth, bytes, hash, nodes per depth
 //   scene.irradiance_unshadowed  csv, tol   per-point E_u, E_t = E_u · V (GPU; directional and
 //                                           filtered light)
-//   scene.visibility   csv, tol     per-point shadow-map visibility V (GPU; the same lights)
+//   scene.visibility   csv, tol     per-point shadow-map visibility V (GPU; the same lights; a
+//                                   replay allows each V what a shadow map drawn 1/16 texel
+//                                   aside moves it: another rasteriser's sub-pixel precision)
 //   scene.irradiance   csv, tol     per-point E_t (GPU): recorded for the other lights (occluded
 //                                   IBL: a replay allows each value 2^-7 of its unshadowed sum);
 //                                   made for the replay of captures from before the split otherwise
@@ -288,6 +290,7 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
         v.table.comments = {"visibility V per point (input order)"};
         for (size_t i = 0; i < f.visibility.size(); ++i)
             v.table.rows.push_back({double(i), f.visibility[i]});
+        if (out.forReplay) addRasterAllowance(v, m_irradiance_stage->visibilitySpread(light));
         out.entries.push_back(std::move(v));
     }
 

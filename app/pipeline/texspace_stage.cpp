@@ -274,7 +274,8 @@ std::optional<std::vector<glm::vec3>> recordedTexelIrradiance(const CaptureEntri
 //   texture_space.eprime_unshadowed  csv, tol  E′_u (RGB) of every 8th covered texel, E′ =
 //                                              E′_u · V (GPU irradiance; directional and
 //                                              filtered light; scene_capture.cpp says why)
-//   texture_space.visibility  csv, tol  V of the same texels (the same lights)
+//   texture_space.visibility  csv, tol  V of the same texels (the same lights; on replay with
+//                                       the allowance of scene.visibility)
 //   texture_space.eprime   csv, tol     E′ (RGB) of those texels: recorded for the other lights
 //                                       (occluded IBL: a replay allows each value 2^-7 of its
 //                                       unshadowed E′); made for the replay of older captures
@@ -359,6 +360,7 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
             eu.table.rows.push_back({double(texel), u.x, u.y, u.z});
             v.table.rows.push_back({double(texel), f.visibility[texel]});
         }
+        if (out.forReplay) addRasterAllowance(v, pipeline()->visibilitySpread(shown));
         out.entries.push_back(std::move(eu));
         out.entries.push_back(std::move(v));
     }

@@ -85,6 +85,9 @@ enum class ShadowFilter { Naive, Offset, OffsetPcf, OffsetPcfJitter, None };
 // keeps that bound (Vulkan allows samplers with as few as 4 bits, which would need 2^-3).
 // Float samplers (llvmpipe, lavapipe) differ by N·ulp(uv) per ulp of uv instead, far less.
 inline constexpr double kVisibilityTolerance = 2.0 / 256.0;
+// How far two conforming rasterisers may place a shadow map's edges apart, in texels (twice the
+// 1/32 texel a vertex may move at GL_SUBPIXEL_BITS = 4; Stage::visibilitySpread).
+inline constexpr float kRasterShiftTexels = 1.0f / 16.0f;
 constexpr auto enumNames(LightMode) {
     return std::array{std::pair{LightMode::Directional, "directional"},
                       std::pair{LightMode::Filtered, "filtered"}, std::pair{LightMode::Ibl, "ibl"},
@@ -201,6 +204,19 @@ class Stage {
         std::vector<float> visibility;
     };
     Factors factors(const Settings& s);
+    // How far another conforming rasteriser may move each point's V of `s` (Directional /
+    // Filtered; core::Error otherwise), absolute, beyond the samplers' weights
+    // (kVisibilityTolerance). GL leaves the vertices' sub-pixel precision to the driver
+    // (GL_SUBPIXEL_BITS >= 4: a vertex lands within 1/32 texel of its exact place, so two
+    // drivers' within 1/16 of each other), so a silhouette of the shadow map may lie
+    // kRasterShiftTexels elsewhere and flip the comparisons of the texels it crosses. Measured
+    // here: V again from maps drawn that far to either side along each axis, per point
+    // Σ_axis max_± |V_shifted − V| (a diagonal move is about the sum of its axes'). Four more
+    // shadow passes; computes `s` last, so resultBuffer() holds what compute(s) leaves.
+    std::vector<float> visibilitySpread(const Settings& s);
+    // Directional / Filtered only: compute(s) with the shadow map drawn `shift` texels aside (an
+    // emulated other rasteriser; visibilitySpread, tests). The result's w is V.
+    std::vector<glm::vec4> computeShifted(const Settings& s, glm::vec2 shift);
     // How far two conforming drivers' E_u of `s` may lie apart, absolute, beyond float32
     // arithmetic: 0 but for filtered light, whose T(uv) the shader filters in float from a uv
     // that drivers round a few ulp apart (irradiance_direct.comp): a bilinear weight then moves
@@ -266,7 +282,7 @@ class Stage {
     void setShadowUniforms(const gl::Program& p, const Settings& s) const;
     void bindShadowSamplers() const;
     void dispatchPoints(const gl::Program& p) const;
-    std::vector<glm::vec3> computeDirect(const Settings& s);
+    std::vector<glm::vec3> computeDirect(const Settings& s, glm::vec2 shift = glm::vec2(0.0f));
     std::vector<glm::vec3> computeIbl(const Settings& s);
 
     void install(const std::string& name, gl::Program program);

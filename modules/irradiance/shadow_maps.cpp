@@ -85,7 +85,7 @@ void ShadowMaps::ensure(int size, int layers) {
     m_layers = n;
 }
 
-void ShadowMaps::render(int layer, const LightFrame& frame) {
+void ShadowMaps::render(int layer, const LightFrame& frame, glm::vec2 shift) {
     GLint prevFbo = 0, viewport[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
     glGetIntegerv(GL_VIEWPORT, viewport);
@@ -114,7 +114,12 @@ void ShadowMaps::render(int layer, const LightFrame& frame) {
     glUseProgram(m_program.id());
     const float one = 1.0f;
     glClearNamedFramebufferfv(m_fbo.id(), GL_DEPTH, 0, &one);
-    const glm::mat4 m = frame.clipFromWorld();
+    glm::mat4 m = frame.clipFromWorld();
+    if (shift != glm::vec2(0.0f)) { // a texel is 2/size in clip space
+        glm::mat4 t(1.0f);
+        t[3] = glm::vec4(2.0f * shift / float(m_size), 0.0f, 1.0f);
+        m = t * m;
+    }
     glUniformMatrix4fv(m_clipFromWorld, 1, GL_FALSE, glm::value_ptr(m));
     glBindVertexArray(m_vao.id());
     glDrawElements(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr);

@@ -10,6 +10,8 @@
 #include "irradiance/programs.h"
 #include "mesh/mesh.h"
 
+#include <glm/vec2.hpp>
+
 #include <filesystem>
 
 namespace irradiance {
@@ -23,8 +25,9 @@ class ShadowMaps {
     // (Re)allocates when the size changes or fewer layers exist than asked for.
     void ensure(int size, int layers);
     // Depth of the mesh seen from `frame` into `layer` (restores the framebuffer binding,
-    // viewport and depth/cull state it touches).
-    void render(int layer, const LightFrame& frame);
+    // viewport and depth/cull state it touches). `shift`: the image moved by that many texels
+    // (x, y), as another rasteriser's sub-pixel precision may place it (Stage::visibilitySpread).
+    void render(int layer, const LightFrame& frame, glm::vec2 shift = glm::vec2(0.0f));
     // Binds the depth array to texture units 0 (nearest sampler) and 1 (linear sampler).
     void bind() const;
     void unbind() const; // unbinds the samplers and the depth array (units 0 and 1 are shared)

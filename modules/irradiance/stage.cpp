@@ -338,11 +338,11 @@ std::vector<glm::vec3> Stage::readResult() const {
     return out;
 }
 
-std::vector<glm::vec3> Stage::computeDirect(const Settings& s) {
+std::vector<glm::vec3> Stage::computeDirect(const Settings& s, glm::vec2 shift) {
     const LightFrame frame = makeLightFrame(s.direction, m_bounds);
     m_lastFrame = frame;
     m_shadow->ensure(s.shadowMapSize, 1);
-    m_shadow->render(0, frame);
+    m_shadow->render(0, frame, shift);
     const GLuint p = m_direct.id();
     glUseProgram(p);
     setShadowUniforms(m_direct, s);
@@ -402,6 +402,35 @@ Stage::Factors Stage::factors(const Settings& s) {
     for (size_t i = 0; i < v.size(); ++i)
         f.visibility[i] = v[i].w;
     return f;
+}
+
+std::vector<glm::vec4> Stage::computeShifted(const Settings& s, glm::vec2 shift) {
+    if (!hasVisibilityFactor(s.mode))
+        throw core::Error("irradiance: only directional and filtered light have a shadow map to "
+                          "move");
+    validateSettings(s, maxTextureSize());
+    if (!m_points) throw core::Error("irradiance: no scene (call setScene first)");
+    computeDirect(s, shift);
+    std::vector<glm::vec4> v(m_pointCount);
+    if (!v.empty()) // computeDirect read the same buffer after its barrier
+        glGetNamedBufferSubData(m_result.id(), 0,
+                                static_cast<GLsizeiptr>(v.size() * sizeof(glm::vec4)), v.data());
+    return v;
+}
+
+std::vector<float> Stage::visibilitySpread(const Settings& s) {
+    const float d = kRasterShiftTexels;
+    std::vector<std::vector<glm::vec4>> moved;
+    for (const glm::vec2 shift :
+         {glm::vec2(d, 0), glm::vec2(-d, 0), glm::vec2(0, d), glm::vec2(0, -d)})
+        moved.push_back(computeShifted(s, shift));
+    const std::vector<glm::vec4> v = computeShifted(s, glm::vec2(0.0f)); // last: compute(s)'s state
+    std::vector<float> spread(v.size(), 0.0f);
+    for (size_t i = 0; i < v.size(); ++i)
+        for (int axis = 0; axis < 2; ++axis)
+            spread[i] += std::max(std::abs(moved[size_t(2 * axis)][i].w - v[i].w),
+                                  std::abs(moved[size_t(2 * axis + 1)][i].w - v[i].w));
+    return spread;
 }
 
 double Stage::unshadowedSpread(const Settings& s) const {

@@ -168,6 +168,20 @@ std::vector<glm::vec3> Pipeline::eprimeUnshadowedOccluded(const std::vector<size
     return u;
 }
 
+std::vector<float> Pipeline::visibilitySpread(const std::vector<size_t>& texels) {
+    if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
+    const std::vector<float> all = m_irradiance->visibilitySpread(m_light); // per covered texel
+    std::vector<float> out;
+    out.reserve(texels.size());
+    for (size_t t : texels) { // m_covered is ascending
+        const auto it = std::lower_bound(m_covered.begin(), m_covered.end(), uint32_t(t));
+        if (it == m_covered.end() || *it != t)
+            throw core::Error("texture space", 0, "texel " + std::to_string(t) + " is not covered");
+        out.push_back(all[size_t(it - m_covered.begin())]);
+    }
+    return out;
+}
+
 Pipeline::EprimeFactors Pipeline::eprimeFactors() {
     if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
     const irradiance::Stage::Factors f = m_irradiance->factors(m_light);

@@ -142,6 +142,10 @@ class Pipeline {
     // lies within kVisibilityTolerance times it. core::Error for other lights or before the
     // light is computed.
     std::vector<glm::vec3> eprimeUnshadowedOccluded(const std::vector<size_t>& texels) const;
+    // Directional and filtered light: for each of `texels` (covered ones) how far another
+    // rasteriser's shadow map may move V (irradiance::Stage::visibilitySpread of the light last
+    // computed). core::Error for other lights or before the light is computed.
+    std::vector<float> visibilitySpread(const std::vector<size_t>& texels);
 
     // Stage 2: set `index` of N draws under `seed`. Empty when W = 0 (no light on the surface:
     // every pixel is 0). Throws when the light is not ready.

@@ -844,6 +844,71 @@ TEST(CaptureReplay, TheTraversalReadsTheRecordedIrradiance) {
     fs::remove_all(root);
 }
 
+// The shadow map is a rasterisation too: another driver's sub-pixel precision may draw its
+// silhouettes up to 1/16 texel elsewhere, which moves V at points along the shadow's edge by far
+// more than the samplers' 2^-7. A replay allows each V how far it moves here with the map drawn
+// 1/16 texel aside along each axis (irradiance::Stage::visibilitySpread). Emulated: the capture
+// holds V from a map drawn (0.05, 0.03) texel aside and the render traced from it; V passes,
+// saying why, though some points moved past 2^-7, and the render replays exactly. A lit point's V
+// moved by 0.5 fails.
+TEST(CaptureReplay, TheVisibilityAllowsAShadowMapRasterisedElsewhere) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("raster_shift", {"dipole.bssrdf"});
+    const fs::path dir = root / "captures" / "shifted";
+    capture::Table v;
+    size_t past = 0, lit = 0;
+    {
+        app::Workbench wb(root, false);
+        sceneOn(wb, 2000, 48, 27);
+        wb.finishScene();
+        app::recordCaptureTo(wb, dir, "shifted", -1, -1);
+        const capture::Table eu = capture::readCsv(dir / "scene_irradiance_unshadowed.csv");
+        v = capture::readCsv(dir / "scene_visibility.csv");
+        const std::vector<glm::vec4> moved = wb.scene().irradianceStage()->computeShifted(
+            wb.scene().settings().light, glm::vec2(0.05f, 0.03f));
+        ASSERT_EQ(moved.size(), v.rows.size());
+        std::vector<glm::vec3> et;
+        for (size_t i = 0; i < moved.size(); ++i) {
+            past += std::abs(moved[i].w - v.rows[i][1]) > irradiance::kVisibilityTolerance;
+            if (v.rows[i][1] == 1.0 && moved[i].w == 1.0f && lit == 0) lit = i;
+            v.rows[i][1] = moved[i].w;
+            et.push_back(
+                glm::vec3(float(eu.rows[i][1]), float(eu.rows[i][2]), float(eu.rows[i][3])) *
+                moved[i].w);
+        }
+        wb.scene().setGivenIrradiance(et);
+        wb.finishScene();
+        app::recordCaptureTo(wb, dir, "shifted", -1, -1);
+    }
+    ASSERT_GT(past, 0u) << "no point's V moved past 2^-7: the emulation shows nothing";
+    ASSERT_GT(lit, 0u);
+    capture::Manifest m = capture::readManifest(dir);
+    auto plant = [&](const capture::Table& t) {
+        for (capture::StageOutput& o : m.outputs)
+            if (o.stage == "scene.visibility")
+                o = capture::writeCsvStage(dir, o.stage, o.file, t, o.absTol, o.relTol, o.tolNote);
+        capture::writeManifest(dir, m);
+    };
+    plant(v);
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    const std::string note = "how far V moves with the shadow map drawn 1/16 texel aside";
+    EXPECT_NE(lineOf(out, "PASS scene.visibility  ").find(note), std::string::npos) << out;
+    EXPECT_NE(lineOf(out, "PASS scene.render  ").find("exact match"), std::string::npos) << out;
+    std::printf("V from a shadow map drawn (0.05, 0.03) texel aside: %zu points past 2^-7; %s\n",
+                past, lineOf(out, "PASS scene.visibility  ").c_str());
+
+    capture::Table far = v;
+    far.rows[lit][1] -= 0.5;
+    plant(far);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL scene.visibility  1 of " + std::to_string(2 * v.rows.size()) +
+                       " values out of tolerance; worst at row " + std::to_string(lit + 1)),
+              std::string::npos)
+        << out;
+    fs::remove_all(root);
+}
+
 // The texture-space renderer's CDF, draws and render read the recorded E_t per texel
 // (texture_space.irradiance, kind exr_input), so a capture made on a driver whose sampler weighted
 // the shadow map's comparisons otherwise (emulated: the draws read E_t with V moved by 2^-8 at
