@@ -159,15 +159,21 @@ double boundingRadius(const mesh::Mesh& m) {
     return r;
 }
 
-TEST(IrradianceDirectional, PlateShadowsTheBoxAndOffsetRemovesAcne) {
-    Stage& st = irrtest::stage();
-    const PlateScene sc = plateScene();
-    st.setScene(sc.mesh, sc.P, sc.N);
+// The plate scene's light: directional, oblique, a 512² shadow map.
+Settings plateLight() {
     Settings s;
     s.mode = LightMode::Directional;
     s.direction = glm::vec3(0.3f, 1.0f, 0.2f);
     s.irradiance = kE0;
     s.shadowMapSize = 512;
+    return s;
+}
+
+TEST(IrradianceDirectional, PlateShadowsTheBoxAndOffsetRemovesAcne) {
+    Stage& st = irrtest::stage();
+    const PlateScene sc = plateScene();
+    st.setScene(sc.mesh, sc.P, sc.N);
+    Settings s = plateLight();
     const glm::dvec3 L = glm::normalize(glm::dvec3(s.direction));
     const Basis b = basis(glm::vec3(L));
     const double margin = 5 * 2.0 * 1.02 * boundingRadius(sc.mesh) / 512;
@@ -273,11 +279,7 @@ TEST(IrradianceDirectional, TheVisibilitySpreadBoundsAShadowMapDrawnElsewhere) {
     Stage& st = irrtest::stage();
     const PlateScene sc = plateScene();
     st.setScene(sc.mesh, sc.P, sc.N);
-    Settings s;
-    s.mode = LightMode::Directional;
-    s.direction = glm::vec3(0.3f, 1.0f, 0.2f);
-    s.irradiance = kE0;
-    s.shadowMapSize = 512;
+    Settings s = plateLight();
     for (ShadowFilter f : {ShadowFilter::Naive, ShadowFilter::Offset, ShadowFilter::OffsetPcf,
                            ShadowFilter::OffsetPcfJitter}) {
         s.filter = f;

@@ -55,6 +55,22 @@ std::string lineOf(const std::string& out, const std::string& start) {
     const size_t at = out.find(start);
     return at == std::string::npos ? std::string() : out.substr(at, out.find('\n', at) - at);
 }
+// Writes `t` as the recorded table of `stage` (its hash in `m`) and the manifest.
+void plantTable(const fs::path& dir, capture::Manifest& m, const std::string& stage,
+                const capture::Table& t) {
+    for (capture::StageOutput& o : m.outputs)
+        if (o.stage == stage)
+            o = capture::writeCsvStage(dir, o.stage, o.file, t, o.absTol, o.relTol, o.tolNote);
+    capture::writeManifest(dir, m);
+}
+// E_t = E_u · V per row of the scene's recorded factors, in float as the shader forms it.
+std::vector<glm::vec3> productOf(const capture::Table& eu, const capture::Table& v) {
+    std::vector<glm::vec3> et;
+    for (size_t i = 0; i < eu.rows.size(); ++i)
+        et.push_back(glm::vec3(float(eu.rows[i][1]), float(eu.rows[i][2]), float(eu.rows[i][3])) *
+                     float(v.rows[i][1]));
+    return et;
+}
 // The manifest without the outputs of `stages` (as a capture recorded before they existed).
 capture::Manifest without(capture::Manifest m, const std::vector<std::string>& stages) {
     m.outputs.erase(std::remove_if(m.outputs.begin(), m.outputs.end(),
@@ -714,13 +730,7 @@ TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
         unshadowed = wb.scene().irradianceStage()->occludedUnshadowed(s.light, normals);
     }
     capture::Manifest edited = capture::readManifest(dir);
-    auto rewrite = [&](const std::string& stage, const capture::Table& t) {
-        for (capture::StageOutput& o : edited.outputs)
-            if (o.stage == stage)
-                o = capture::writeCsvStage(dir, o.stage, o.file, t, o.absTol, o.relTol, o.tolNote);
-        capture::writeManifest(dir, edited);
-    };
-    rewrite("scene.irradiance", et);
+    plantTable(dir, edited, "scene.irradiance", et);
     ASSERT_EQ(et.rows.size(), unshadowed.size());
     const std::string note = "plus 2^-7 of each value's sum without shadows";
 
@@ -738,10 +748,10 @@ TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
     for (auto& row : movedE.rows)
         for (int c = 1; c <= 3; ++c)
             row[size_t(c)] *= 1 - half;
-    rewrite("texture_space.eprime", movedE);
+    plantTable(dir, edited, "texture_space.eprime", movedE);
     ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     EXPECT_NE(lineOf(out, "PASS texture_space.eprime  ").find(note), std::string::npos) << out;
-    rewrite("texture_space.eprime", ep);
+    plantTable(dir, edited, "texture_space.eprime", ep);
 
     size_t partial = et.rows.size();
     for (size_t i = 0; i < et.rows.size() && partial == et.rows.size(); ++i)
@@ -750,7 +760,7 @@ TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
     ASSERT_LT(partial, et.rows.size()) << "no partly shadowed point";
     capture::Table far = et;
     far.rows[partial][2] += 3 * irradiance::kVisibilityTolerance * unshadowed[partial].g;
-    rewrite("scene.irradiance", far);
+    plantTable(dir, edited, "scene.irradiance", far);
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
     EXPECT_NE(out.find("FAIL scene.irradiance  1 of 6000 values out of tolerance; worst at row " +
                        std::to_string(partial + 1)),
@@ -781,27 +791,18 @@ TEST(CaptureReplay, TheTraversalReadsTheRecordedIrradiance) {
         const capture::Table eu = capture::readCsv(dir / "scene_irradiance_unshadowed.csv");
         v = capture::readCsv(dir / "scene_visibility.csv");
         ASSERT_EQ(eu.rows.size(), v.rows.size());
-        std::vector<glm::vec3> et;
-        for (size_t i = 0; i < v.rows.size(); ++i) {
-            double& vi = v.rows[i][1];
-            if (vi > 0.02 && vi < 0.98) {
-                vi = double(float(vi + 1.0 / 256));
+        for (auto& row : v.rows)
+            if (row[1] > 0.02 && row[1] < 0.98) {
+                row[1] = double(float(row[1] + 1.0 / 256));
                 ++partial;
             }
-            et.push_back(
-                glm::vec3(float(eu.rows[i][1]), float(eu.rows[i][2]), float(eu.rows[i][3])) *
-                float(vi));
-        }
-        wb.scene().setGivenIrradiance(et);
+        wb.scene().setGivenIrradiance(productOf(eu, v));
         wb.finishScene();
         app::recordCaptureTo(wb, dir, "moved", 48, 27);
     }
     ASSERT_GT(partial, 20u);
     capture::Manifest m = capture::readManifest(dir);
-    for (capture::StageOutput& o : m.outputs)
-        if (o.stage == "scene.visibility")
-            o = capture::writeCsvStage(dir, o.stage, o.file, v, o.absTol, o.relTol, o.tolNote);
-    capture::writeManifest(dir, m);
+    plantTable(dir, m, "scene.visibility", v);
 
     std::string out;
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
@@ -830,11 +831,7 @@ TEST(CaptureReplay, TheTraversalReadsTheRecordedIrradiance) {
 
     capture::Table shorter = v;
     shorter.rows.pop_back();
-    for (capture::StageOutput& o : m.outputs)
-        if (o.stage == "scene.visibility")
-            o = capture::writeCsvStage(dir, o.stage, o.file, shorter, o.absTol, o.relTol,
-                                       o.tolNote);
-    capture::writeManifest(dir, m);
+    plantTable(dir, m, "scene.visibility", shorter);
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 2) << out;
     EXPECT_NE(out.find("scene.visibility: the recorded table has " +
                        std::to_string(shorter.rows.size()) +
@@ -867,29 +864,19 @@ TEST(CaptureReplay, TheVisibilityAllowsAShadowMapRasterisedElsewhere) {
         const std::vector<glm::vec4> moved = wb.scene().irradianceStage()->computeShifted(
             wb.scene().settings().light, glm::vec2(0.05f, 0.03f));
         ASSERT_EQ(moved.size(), v.rows.size());
-        std::vector<glm::vec3> et;
         for (size_t i = 0; i < moved.size(); ++i) {
             past += std::abs(moved[i].w - v.rows[i][1]) > irradiance::kVisibilityTolerance;
             if (v.rows[i][1] == 1.0 && moved[i].w == 1.0f && lit == 0) lit = i;
             v.rows[i][1] = moved[i].w;
-            et.push_back(
-                glm::vec3(float(eu.rows[i][1]), float(eu.rows[i][2]), float(eu.rows[i][3])) *
-                moved[i].w);
         }
-        wb.scene().setGivenIrradiance(et);
+        wb.scene().setGivenIrradiance(productOf(eu, v));
         wb.finishScene();
         app::recordCaptureTo(wb, dir, "shifted", -1, -1);
     }
     ASSERT_GT(past, 0u) << "no point's V moved past 2^-7: the emulation shows nothing";
     ASSERT_GT(lit, 0u);
     capture::Manifest m = capture::readManifest(dir);
-    auto plant = [&](const capture::Table& t) {
-        for (capture::StageOutput& o : m.outputs)
-            if (o.stage == "scene.visibility")
-                o = capture::writeCsvStage(dir, o.stage, o.file, t, o.absTol, o.relTol, o.tolNote);
-        capture::writeManifest(dir, m);
-    };
-    plant(v);
+    plantTable(dir, m, "scene.visibility", v);
     std::string out;
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     const std::string note = "how far V moves with the shadow map drawn 1/16 texel aside";
@@ -900,7 +887,7 @@ TEST(CaptureReplay, TheVisibilityAllowsAShadowMapRasterisedElsewhere) {
 
     capture::Table far = v;
     far.rows[lit][1] -= 0.5;
-    plant(far);
+    plantTable(dir, m, "scene.visibility", far);
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
     EXPECT_NE(out.find("FAIL scene.visibility  1 of " + std::to_string(2 * v.rows.size()) +
                        " values out of tolerance; worst at row " + std::to_string(lit + 1)),
