@@ -776,7 +776,8 @@ TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
 // traced V moved by 2^-8 at every partly shadowed point, and that V is what the capture holds)
 // replays its render and traced pixel exactly here, while V itself passes within its 2^-7 and the
 // report says what the traversal read. Without the factors (a capture that has only the render)
-// the same replay fails on the render; factors of different lengths are an error naming both.
+// the same replay fails on the render; factors of different lengths, or of another length than
+// the point cloud, are an error naming both.
 TEST(CaptureReplay, TheTraversalReadsTheRecordedIrradiance) {
     testsupport::context();
     const fs::path root = testsupport::makeProjectRoot("irradiance_input", {"dipole.bssrdf"});
@@ -836,6 +837,16 @@ TEST(CaptureReplay, TheTraversalReadsTheRecordedIrradiance) {
     EXPECT_NE(out.find("scene.visibility: the recorded table has " +
                        std::to_string(shorter.rows.size()) +
                        " points, scene.irradiance_unshadowed " + std::to_string(v.rows.size())),
+              std::string::npos)
+        << out;
+
+    // both factors a point short: the traversal cannot read them as the point cloud's
+    capture::Table eu = capture::readCsv(dir / "scene_irradiance_unshadowed.csv");
+    eu.rows.pop_back();
+    plantTable(dir, m, "scene.irradiance_unshadowed", eu);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 2) << out;
+    EXPECT_NE(out.find("given irradiance: " + std::to_string(eu.rows.size()) + " values for " +
+                       std::to_string(v.rows.size()) + " points"),
               std::string::npos)
         << out;
     fs::remove_all(root);
