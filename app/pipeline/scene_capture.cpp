@@ -53,9 +53,11 @@ constexpr double kRenderRel = 1e-4;
 constexpr double kTraceRel = 1e-4;
 constexpr const char* kGbufferStages[2] = {"scene.gbuffer_position", "scene.gbuffer_normal"};
 
+} // namespace
+
 // The recorded G-buffer of a capture, when it has both images (a miss: a zero normal; a hit's
 // normal is never zero, render_gbuffer.frag).
-std::optional<render::Gbuffer> recordedGbuffer(const CaptureEntries& out) {
+std::optional<render::Gbuffer> SceneStage::recordedGbuffer(const CaptureEntries& out) {
     if (!out.recordedImage) return std::nullopt;
     const std::optional<pathtrace::Image> pos = out.recordedImage(kGbufferStages[0]);
     const std::optional<pathtrace::Image> nrm = out.recordedImage(kGbufferStages[1]);
@@ -78,6 +80,8 @@ std::optional<render::Gbuffer> recordedGbuffer(const CaptureEntries& out) {
     }
     return g;
 }
+
+namespace {
 
 // The transmitted irradiance the traversal read when the capture was made, where it has it:
 // E_u · V of the recorded factors in float (as irradiance_direct.comp forms E_t, so on the

@@ -149,6 +149,10 @@ class SceneStage : public Stage {
     // than the point cloud is a "given irradiance" problem, and the own is used.
     void setGivenIrradiance(std::optional<std::vector<glm::vec3>> e);
     bool hasGivenIrradiance() const { return m_givenIrradiance.has_value(); }
+    // The G-buffer a replayed capture recorded (scene.gbuffer_position / _normal, both needed),
+    // std::nullopt when it has none or this is no replay: what the scene's traversal and the
+    // texture-space render read then. core::Error when the two images differ in size.
+    static std::optional<render::Gbuffer> recordedGbuffer(const CaptureEntries& out);
     // Keep settings().render.camera as it is when the mesh loads (captures set it).
     void keepCamera() { m_cameraFitted = true; }
 

@@ -131,12 +131,14 @@ bool TextureSpaceStage::update(const TextureSpaceInputs& in) {
     run.sampleSets = 0; // a target the accumulation runs to, not an input
     const std::string runKey = m_lightKey + m_modelKey + core::keyOf(view, run) +
                                toJson(e->values).dump() + in.model.materialKey +
-                               std::to_string(e->generation);
+                               std::to_string(e->generation) + "/" +
+                               std::to_string(m_givenGbufferVersion);
     if (runKey != m_runKey) {
         m_runKey = runKey;
         m_runOk = false;
         try {
             p.setMaterial(e->values, in.model.builtins);
+            p.renderer().setGivenGbuffer(m_givenGbuffer);
             run.sampleSets = sets;
             p.begin(run, view);
             m_runOk = true;
@@ -225,6 +227,11 @@ StageStatus TextureSpaceStage::status() const {
     return st;
 }
 
+void TextureSpaceStage::setGivenGbuffer(std::optional<render::Gbuffer> g) {
+    m_givenGbuffer = std::move(g);
+    ++m_givenGbufferVersion; // the accumulation starts again at the next update or finish
+}
+
 void TextureSpaceStage::setGivenIrradiance(std::optional<std::vector<glm::vec3>> et) {
     m_givenEt = std::move(et);
     m_lightKey.clear();
@@ -284,21 +291,32 @@ std::optional<std::vector<glm::vec3>> recordedTexelIrradiance(const CaptureEntri
 //                                       render read it; a replay gives the recorded one to them
 //                                       (hash checked) while the E′ entries compare its own
 //   texture_space.samples  csv, exact   the first 256 texels of sample set 0 (the GPU descent)
-//   texture_space.render   exr_stat     the render averaged over its sample sets
+//   texture_space.render   exr_stat     the render averaged over its sample sets (a replay traces
+//                                       the recorded scene.gbuffer_*: the same view)
 void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& out) {
     if (!in.scene || !in.scene->settings().enabled || !in.settings.enabled) return;
     // On replay the draws and the render read the recorded E_t (this run's own is what the E′
-    // entries compare): E_t's visibility is a sampler's choice within 2^-7.
+    // entries compare): E_t's visibility is a sampler's choice within 2^-7. The render (and the
+    // hybrid's local term) trace the recorded G-buffer of the scene's view, which is this view:
+    // another rasteriser's sub-pixel placement moves the silhouette (SceneStage::capture checks
+    // the recorded one by the raster rule).
     std::optional<std::vector<glm::vec3>> given =
         recordedTexelIrradiance(out, in.settings.sampling.textureSize);
+    std::optional<render::Gbuffer> gbuffer = SceneStage::recordedGbuffer(out);
     struct Restore {
         TextureSpaceStage& s;
-        bool active;
+        bool irradiance, gbuffer;
         ~Restore() {
-            if (active) s.setGivenIrradiance(std::nullopt);
+            if (irradiance) s.setGivenIrradiance(std::nullopt);
+            if (gbuffer) s.setGivenGbuffer(std::nullopt);
         }
-    } restore{*this, given.has_value()};
+    } restore{*this, given.has_value(), gbuffer.has_value()};
     if (given) setGivenIrradiance(std::move(given));
+    if (gbuffer) {
+        out.notes.push_back("texture space: the render reads the recorded G-buffer "
+                            "(scene.gbuffer_position, scene.gbuffer_normal)");
+        setGivenGbuffer(std::move(gbuffer));
+    }
     finish(in);
     const texspace::Pipeline& p = *pipeline();
     const texspace::Texels& t = p.texels();
@@ -382,7 +400,8 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     CaptureEntry render = captureEntry(CaptureEntry::Kind::ExrStat, "texture_space.render");
     render.image = radiance();
     render.alpha = kMonteCarloAlpha;
-    render.note = "Monte Carlo image: per-pixel z-test, Bonferroni over all pixels and channels";
+    render.note = "Monte Carlo image: per-pixel z-test, Bonferroni over all pixels and channels; "
+                  "on replay traced from the recorded scene.gbuffer_*";
     out.entries.push_back(std::move(render));
 }
 

@@ -57,6 +57,11 @@ class TextureSpaceStage : public StageOf<TextureSpaceInputs> {
     // (texspace::Pipeline::setGivenIrradiance: a replayed capture's recorded one),
     // std::nullopt: the own again. The light is computed again at the next update or finish.
     void setGivenIrradiance(std::optional<std::vector<glm::vec3>> et);
+    // The G-buffer of the scene's view the render (and the hybrid's local term) read instead of
+    // its own rasterisation (render::Renderer::setGivenGbuffer: a replayed capture's recorded
+    // scene.gbuffer_*, a test's emulating another rasteriser), std::nullopt: its own again. The
+    // accumulation starts again at the next update or finish.
+    void setGivenGbuffer(std::optional<render::Gbuffer> g);
 
     bool active() const { return m_pipe && m_pipe->setsDone() > 0; }
     texspace::Pipeline* pipeline() { return m_pipe.get(); }
@@ -79,6 +84,8 @@ class TextureSpaceStage : public StageOf<TextureSpaceInputs> {
     std::string m_note;
     double m_seconds = 0;
     std::optional<std::vector<glm::vec3>> m_givenEt;
+    std::optional<render::Gbuffer> m_givenGbuffer;
+    long long m_givenGbufferVersion = 0;
 };
 
 } // namespace app

@@ -1097,3 +1097,46 @@ TEST(CaptureReplay, TheRecordedGbufferIsTracedAndCheckedByTheRasterRule) {
         << out;
     fs::remove_all(root);
 }
+
+// The texture-space render traces the scene's view, so on replay it reads the recorded G-buffer
+// (scene.gbuffer_*) as the scene's traversal does: a capture made on a driver that places its
+// samples elsewhere (emulated: the scene and the texture space traced a G-buffer rasterised with
+// the image moved by 0.07 px) replays its texture-space render exactly here, and a NOTE says what
+// it read. Without the recorded G-buffer the texture-space render follows this run's own
+// rasterisation, whose silhouette differs, and fails.
+TEST(CaptureReplay, TheTextureSpaceRenderTracesTheRecordedGbuffer) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("texel_gbuffer", {"dipole.bssrdf"});
+    const fs::path dir = root / "captures" / "moved";
+    {
+        app::Workbench wb(root, false);
+        const app::SceneSettings& s = sceneOn(wb, 1500, 48, 27);
+        app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
+        ts.enabled = true;
+        ts.sampling.textureSize = 64;
+        ts.sampling.samples = 256;
+        ts.sampling.sampleSets = 2;
+        wb.update();
+        wb.finishScene();
+        const render::Gbuffer moved =
+            wb.scene().renderer()->rasteriseGbuffer(s.render, glm::vec2(0.07f, -0.05f));
+        wb.scene().setGivenGbuffer(moved);
+        wb.textureSpace().setGivenGbuffer(moved);
+        wb.finishScene();
+        wb.finishTextureSpace();
+        app::recordCaptureTo(wb, dir, "moved", -1, -1);
+    }
+    const capture::Manifest m = capture::readManifest(dir);
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    EXPECT_NE(lineOf(out, "PASS texture_space.render  ").find("identical"), std::string::npos)
+        << out;
+    EXPECT_NE(out.find("NOTE texture space: the render reads the recorded G-buffer"),
+              std::string::npos)
+        << out;
+
+    capture::writeManifest(dir, without(m, {"scene.gbuffer_position", "scene.gbuffer_normal"}));
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL texture_space.render"), std::string::npos) << out;
+    fs::remove_all(root);
+}
