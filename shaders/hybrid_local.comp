@@ -27,6 +27,7 @@ uniform ivec2 LocalSize;
 uniform int LocalRowOffset; // first row of this dispatch (the host dispatches bands of rows)
 uniform int LocalTapCount;
 uniform int LightMapSize;
+uniform vec2 LocalLookupShift; // texels; 0 but for an emulated other driver (texspace/hybrid.h)
 uniform vec3 LightCentre, LightU, LightV, LightW;
 uniform float LightExtent;
 uniform vec3 LightIrradiance; // E0, RGB
@@ -73,7 +74,7 @@ void main() {
         vec2 qt = q + tap.xy / LocalScale;
         vec2 uv = 0.5 + 0.5 * qt / LightExtent;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) continue;
-        ivec2 texel = ivec2(uv * float(LightMapSize));
+        ivec2 texel = ivec2(uv * float(LightMapSize) + LocalLookupShift);
         vec4 xi = imageLoad(LightPosition, texel);
         if (xi.w == 0.0) continue;
         vec3 ni = imageLoad(LightNormal, texel).xyz;

@@ -94,6 +94,8 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         traceX = a.traceX >= 0 ? a.traceX : a.sceneWidth / 2;
         traceY = a.traceY >= 0 ? a.traceY : a.sceneHeight / 2;
     }
+    if (a.hybrid && a.textureSpace == 0)
+        throw core::Error("--hybrid", 0, "needs --texture-space (the hybrid's global part)");
     if (a.textureSpace > 0) {
         if (a.scenePoints == 0)
             throw core::Error("--texture-space", 0, "needs --scene-points (the scene's mesh)");
@@ -102,6 +104,7 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         ts.sampling.textureSize = a.textureSpace;
         ts.sampling.samples = a.textureSamples;
         ts.sampling.sampleSets = a.textureSets;
+        ts.sampling.hybrid = a.hybrid;
         try {
             texspace::validateSettings(ts.sampling);
         } catch (const core::Error& e) {
@@ -182,6 +185,9 @@ Command recordCommand() {
                            "with --texture-space: N per sample set (default 256)");
             cmd.add_option("--texture-sets", a->textureSets,
                            "with --texture-space: sample sets averaged (default 16)");
+            cmd.add_flag("--hybrid", a->hybrid,
+                         "with --texture-space: render by the hybrid (the local term by the "
+                         "light-view ring filter, recorded too)");
             cmd.add_option("--trace-x", a->traceX, "traced pixel x (default: centre)");
             cmd.add_option("--trace-y", a->traceY, "traced pixel y (default: centre)");
             cmd.add_flag("--force", a->force, "replace an existing capture folder");

@@ -29,7 +29,8 @@ struct RecordArgs {
     // > 0: with scenePoints, also record the texture-space stages (seed 004) at this K
     int textureSpace = 0;
     int textureSamples = 256, textureSets = 16;
-    bool force = false; // replace an existing capture folder
+    bool hybrid = false; // with textureSpace: the hybrid (its local term recorded too)
+    bool force = false;  // replace an existing capture folder
     // the state to record, as written by the GUI (writeRecordRequest): replaces every option
     // above but --name, --out and --force
     std::string fromRequest;

@@ -131,14 +131,14 @@ bool TextureSpaceStage::update(const TextureSpaceInputs& in) {
     run.sampleSets = 0; // a target the accumulation runs to, not an input
     const std::string runKey = m_lightKey + m_modelKey + core::keyOf(view, run) +
                                toJson(e->values).dump() + in.model.materialKey +
-                               std::to_string(e->generation) + "/" +
-                               std::to_string(m_givenGbufferVersion);
+                               std::to_string(e->generation) + "/" + std::to_string(m_givenVersion);
     if (runKey != m_runKey) {
         m_runKey = runKey;
         m_runOk = false;
         try {
             p.setMaterial(e->values, in.model.builtins);
             p.renderer().setGivenGbuffer(m_givenGbuffer);
+            p.setGivenLocalRadiance(m_givenLocalL);
             run.sampleSets = sets;
             p.begin(run, view);
             m_runOk = true;
@@ -229,7 +229,12 @@ StageStatus TextureSpaceStage::status() const {
 
 void TextureSpaceStage::setGivenGbuffer(std::optional<render::Gbuffer> g) {
     m_givenGbuffer = std::move(g);
-    ++m_givenGbufferVersion; // the accumulation starts again at the next update or finish
+    ++m_givenVersion; // the accumulation starts again at the next update or finish
+}
+
+void TextureSpaceStage::setGivenLocalRadiance(std::optional<std::vector<glm::vec3>> l) {
+    m_givenLocalL = std::move(l);
+    ++m_givenVersion;
 }
 
 void TextureSpaceStage::setGivenIrradiance(std::optional<std::vector<glm::vec3>> et) {
@@ -273,6 +278,71 @@ std::optional<std::vector<glm::vec3>> recordedTexelIrradiance(const CaptureEntri
     return et;
 }
 
+// The hybrid's local term: a sum of up to 1025 taps, each a profile-table value (the table itself
+// 1e-5 apart between drivers, render/profile_table.h) times Ft and W_l in float32 (GLSL exp:
+// (3 + 2|x|) ulp), n·2^-24 ≈ 6e-5 for the longest sums: 1e-4 relative plus 1e-6 of the largest.
+constexpr double kLocalRel = 1e-4, kLocalFloor = 1e-6;
+constexpr const char* kLocalInput = "texture_space.local_radiance";
+
+// The local L_o per pixel the render added, recorded as the replay's input (the view's size).
+CaptureEntry localInput(const texspace::Pipeline& p) {
+    CaptureEntry e = captureEntry(CaptureEntry::Kind::ExrInput, kLocalInput);
+    e.image = p.localRadiance();
+    e.image.samples = 1;
+    e.note = "the hybrid's local L_o per pixel (the light-view ring filter) as the render adds "
+             "it, given to it again on replay; compared through texture_space.local";
+    return e;
+}
+
+// The recorded local L_o per pixel, where the capture has it; one of another size than the
+// view is an error naming both.
+std::optional<std::vector<glm::vec3>> recordedLocalRadiance(const CaptureEntries& out, int width,
+                                                            int height) {
+    if (!out.recordedImage) return std::nullopt;
+    const std::optional<pathtrace::Image> img = out.recordedImage(kLocalInput);
+    if (!img) return std::nullopt;
+    if (img->width != width || img->height != height)
+        throw core::Error(std::string(kLocalInput) + ": the recorded local term is " +
+                          std::to_string(img->width) + "x" + std::to_string(img->height) +
+                          ", settings.scene.render renders " + std::to_string(width) + "x" +
+                          std::to_string(height));
+    std::vector<glm::vec3> l(size_t(width) * size_t(height));
+    for (size_t p = 0; p < l.size(); ++p)
+        l[p] = glm::vec3(img->mean[3 * p], img->mean[3 * p + 1], img->mean[3 * p + 2]);
+    return l;
+}
+
+// This run's own local L_o at every 4th surface pixel, with (on replay) the allowance of
+// another driver's light-view map and tap places (Pipeline::localSpread, made here).
+CaptureEntry localEntry(texspace::Pipeline& p, bool forReplay) {
+    CaptureEntry e = captureEntry(CaptureEntry::Kind::Csv, "texture_space.local", "pixel");
+    e.table.columns = {"pixel", "R", "G", "B"};
+    const std::vector<glm::vec4>& own = p.ownLocalRadiance();
+    std::vector<size_t> shown;
+    float largest = 0;
+    for (size_t px = 0, k = 0; px < own.size(); ++px) {
+        if (own[px].w == 0.0f) continue;
+        largest = std::max({largest, own[px].x, own[px].y, own[px].z});
+        if (k++ % 4 == 0) shown.push_back(px);
+    }
+    for (size_t px : shown)
+        e.table.rows.push_back({double(px), own[px].x, own[px].y, own[px].z});
+    if (e.table.rows.empty()) e.table.rows.push_back({-1, 0, 0, 0}); // nothing seen
+    e.relTol = kLocalRel;
+    e.absTol = kLocalFloor * double(largest);
+    e.note = "the hybrid's local L_o (float32 sums of profile-table taps): 1e-4 relative + 1e-6 "
+             "of the largest";
+    if (forReplay && !shown.empty()) {
+        e.conditioning.columns = e.table.columns;
+        for (const glm::vec3& s : p.localSpread(shown))
+            e.conditioning.rows.push_back({0.0, s.x, s.y, s.z});
+        e.conditioningNote = "how far the local term moves with the light-view map drawn 1/16 "
+                             "texel aside and its taps read 2^-10 texel aside along each axis "
+                             "(the rasterisers' sub-pixel precision, the taps' float places)";
+    }
+    return e;
+}
+
 } // namespace
 
 // Captures (format v1, captures/README.md):
@@ -291,8 +361,13 @@ std::optional<std::vector<glm::vec3>> recordedTexelIrradiance(const CaptureEntri
 //                                       render read it; a replay gives the recorded one to them
 //                                       (hash checked) while the E′ entries compare its own
 //   texture_space.samples  csv, exact   the first 256 texels of sample set 0 (the GPU descent)
+//   texture_space.local_radiance  exr_input  the hybrid's local L_o per pixel as the render adds
+//                                       it; a replay gives the recorded one to the render
+//   texture_space.local    csv, tol     the hybrid's own local L_o at every 4th surface pixel (on
+//                                       replay allowing another driver's light-view map)
 //   texture_space.render   exr_stat     the render averaged over its sample sets (a replay traces
-//                                       the recorded scene.gbuffer_*: the same view)
+//                                       the recorded scene.gbuffer_* and, with the hybrid, adds
+//                                       the recorded local term)
 void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& out) {
     if (!in.scene || !in.scene->settings().enabled || !in.settings.enabled) return;
     // On replay the draws and the render read the recorded E_t (this run's own is what the E′
@@ -303,14 +378,26 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     std::optional<std::vector<glm::vec3>> given =
         recordedTexelIrradiance(out, in.settings.sampling.textureSize);
     std::optional<render::Gbuffer> gbuffer = SceneStage::recordedGbuffer(out);
+    // The hybrid's render adds the recorded local term (this run's own is what
+    // texture_space.local compares): another driver's light-view map moves it at edges.
+    const render::Settings& view = in.scene->settings().render;
+    std::optional<std::vector<glm::vec3>> local =
+        in.settings.sampling.hybrid ? recordedLocalRadiance(out, view.width, view.height)
+                                    : std::nullopt;
     struct Restore {
         TextureSpaceStage& s;
-        bool irradiance, gbuffer;
+        bool irradiance, gbuffer, local;
         ~Restore() {
             if (irradiance) s.setGivenIrradiance(std::nullopt);
             if (gbuffer) s.setGivenGbuffer(std::nullopt);
+            if (local) s.setGivenLocalRadiance(std::nullopt);
         }
-    } restore{*this, given.has_value(), gbuffer.has_value()};
+    } restore{*this, given.has_value(), gbuffer.has_value(), local.has_value()};
+    if (local) {
+        out.notes.push_back("texture space: the hybrid's render adds the recorded local term "
+                            "(texture_space.local_radiance); this run's own is compared with it");
+        setGivenLocalRadiance(std::move(local));
+    }
     if (given) setGivenIrradiance(std::move(given));
     if (gbuffer) {
         out.notes.push_back("texture space: the render reads the recorded G-buffer "
@@ -394,6 +481,11 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
         sm.table.rows.push_back({double(d), double(first.draws[d])});
     if (sm.table.rows.empty()) sm.table.rows.push_back({-1, 0}); // no light: no draws
     out.entries.push_back(std::move(sm));
+
+    if (in.settings.sampling.hybrid) {
+        out.entries.push_back(localInput(p));
+        out.entries.push_back(localEntry(*pipeline(), out.forReplay));
+    }
 
     // The render (seed 004): the mean over its sample sets with the variance of the mean per
     // pixel.

@@ -62,6 +62,10 @@ class TextureSpaceStage : public StageOf<TextureSpaceInputs> {
     // scene.gbuffer_*, a test's emulating another rasteriser), std::nullopt: its own again. The
     // accumulation starts again at the next update or finish.
     void setGivenGbuffer(std::optional<render::Gbuffer> g);
+    // The hybrid's local L_o per pixel the render adds instead of its own
+    // (texspace::Pipeline::setGivenLocalRadiance: a replayed capture's recorded one),
+    // std::nullopt: the own again. The accumulation starts again at the next update or finish.
+    void setGivenLocalRadiance(std::optional<std::vector<glm::vec3>> l);
 
     bool active() const { return m_pipe && m_pipe->setsDone() > 0; }
     texspace::Pipeline* pipeline() { return m_pipe.get(); }
@@ -85,7 +89,8 @@ class TextureSpaceStage : public StageOf<TextureSpaceInputs> {
     double m_seconds = 0;
     std::optional<std::vector<glm::vec3>> m_givenEt;
     std::optional<render::Gbuffer> m_givenGbuffer;
-    long long m_givenGbufferVersion = 0;
+    std::optional<std::vector<glm::vec3>> m_givenLocalL;
+    long long m_givenVersion = 0; // of the given G-buffer and local term
 };
 
 } // namespace app

@@ -155,7 +155,7 @@ void LocalTerm::setMesh(const mesh::Mesh& input) {
     m_mesh = std::move(m);
 }
 
-void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size) {
+void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size, glm::vec2 shift) {
     if (!m_vao) throw core::Error("hybrid", 0, "no mesh");
     m_frame = irradiance::makeLightFrame(towardsLight, irradiance::boundingSphere(m_mesh, {}));
     if (size != m_mapSize) {
@@ -192,7 +192,12 @@ void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size) {
     glClearNamedFramebufferfv(m_fbo.id(), GL_COLOR, 1, zero);
     glClearNamedFramebufferfv(m_fbo.id(), GL_DEPTH, 0, &one);
     glUseProgram(m_mapProgram.id());
-    const glm::mat4 clip = m_frame.clipFromWorld();
+    glm::mat4 clip = m_frame.clipFromWorld();
+    if (shift != glm::vec2(0.0f)) { // a texel is 2/size in clip space
+        glm::mat4 t(1.0f);
+        t[3] = glm::vec4(2.0f * shift / float(size), 0.0f, 1.0f);
+        clip = t * clip;
+    }
     glUniformMatrix4fv(glGetUniformLocation(m_mapProgram.id(), "RenderViewProjection"), 1, GL_FALSE,
                        &clip[0][0]);
     glBindVertexArray(m_vao.id());
@@ -241,6 +246,7 @@ void LocalTerm::begin(GLuint gPosition, GLuint gNormal, int width, int height,
     glUniform2i(loc("LocalSize"), width, height);
     glUniform1i(loc("LocalTapCount"), m_tapCount);
     glUniform1i(loc("LightMapSize"), m_mapSize);
+    glUniform2fv(loc("LocalLookupShift"), 1, &m_lookupShift.x);
     glUniform3fv(loc("LightCentre"), 1, &m_frame.centre.x);
     glUniform3fv(loc("LightU"), 1, &m_frame.u.x);
     glUniform3fv(loc("LightV"), 1, &m_frame.v.x);

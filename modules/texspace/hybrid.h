@@ -91,8 +91,12 @@ class LocalTerm {
 
     void setMesh(const mesh::Mesh& m); // vertex normals computed when the mesh has none
     // Rasterises the mesh from the light (towards-light direction `towardsLight`) into
-    // size × size texels.
-    void renderLightMap(const glm::vec3& towardsLight, int size);
+    // size × size texels; `shift`: the image moved by that many texels (an emulated other
+    // rasteriser, as irradiance::ShadowMaps::render's).
+    void renderLightMap(const glm::vec3& towardsLight, int size, glm::vec2 shift = glm::vec2(0.0f));
+    // The taps read the map `shift` texels aside from the next begin() on (an emulated other
+    // driver's rounding of the tap's place: Pipeline::localSpread, tests); 0 by default.
+    void setLookupShift(glm::vec2 shift) { m_lookupShift = shift; }
     const irradiance::LightFrame& frame() const { return m_frame; }
     // B_l and L_o = Ft(η, cos θo)/π · B_l per pixel of the G-buffer (positions and normals of a
     // render::Frame), rgb and w = hit, row-major as the renderer's read-back.
@@ -128,6 +132,7 @@ class LocalTerm {
     gl::Texture m_lightPosition, m_lightNormal, m_lightDepth;
     gl::FramebufferId m_fbo;
     int m_mapSize = 0;
+    glm::vec2 m_lookupShift{0.0f};
     // the evaluation in progress (begin / step)
     gl::Buffer m_tableBuffer, m_tapBuffer, m_exitance, m_radiance; // hybrid_local.comp's results
     GLuint m_gPosition = 0, m_gNormal = 0;

@@ -281,7 +281,7 @@ void Pipeline::begin(const Settings& s, const render::Settings& view) {
     m_setsDone = 0;
     m_width = m_height = 0;
     m_sumL.clear(), m_sumL2.clear(), m_sumM.clear(), m_sumM2.clear();
-    m_localM.clear(), m_localL.clear();
+    m_localM.clear(), m_localL.clear(), m_ownLocalL.clear();
     m_localStarted = false;
     m_taps.clear();
     m_rp = glm::vec3(0.0f);
@@ -314,12 +314,24 @@ void Pipeline::beginHybrid() {
         m_lightMapSize = 0;
     }
     // the light-view map depends on the mesh and the light only, not on the view
-    if (m_lightMapSize != m_run.local.lightMapSize || m_lightMapDirection != m_light.direction) {
-        m_local->renderLightMap(m_light.direction, m_run.local.lightMapSize);
+    if (m_lightMapSize != m_run.local.lightMapSize || m_lightMapDirection != m_light.direction ||
+        m_lightMapShift != m_mapShift) {
+        m_local->renderLightMap(m_light.direction, m_run.local.lightMapSize, m_mapShift);
         m_lightMapSize = m_run.local.lightMapSize;
         m_lightMapDirection = m_light.direction;
+        m_lightMapShift = m_mapShift;
     }
+    m_local->setLookupShift(m_lookupShift);
     m_view.weight = {true, m_rp, m_run.local.k};
+}
+
+void Pipeline::beginLocal() {
+    const render::Frame& f = m_renderer->currentFrame();
+    render::Camera cam = m_view.camera;
+    cam.aspect = float(f.width) / float(f.height);
+    m_local->begin(f.position, f.normal, f.width, f.height, cam.position(),
+                   m_renderer->profileTable(), m_taps, m_rp, m_run.local.k, m_light.irradiance,
+                   m_light.ior, m_renderer->builtins().scale);
 }
 
 void Pipeline::startSet() {
@@ -339,13 +351,8 @@ bool Pipeline::advance(double budgetMs) {
         if (localPending() && m_setsDone > 0) {
             // the local term on the first set's G-buffer (the view's), in bands of rows so a
             // frame budget holds; the next set starts only when it is done
-            const render::Frame& f = m_renderer->currentFrame();
             if (!m_localStarted) {
-                render::Camera cam = m_view.camera;
-                cam.aspect = float(f.width) / float(f.height);
-                m_local->begin(f.position, f.normal, f.width, f.height, cam.position(),
-                               m_renderer->profileTable(), m_taps, m_rp, m_run.local.k,
-                               m_light.irradiance, m_light.ior, m_renderer->builtins().scale);
+                beginLocal();
                 m_localStarted = true;
                 m_localMs = 0;
             }
@@ -358,7 +365,17 @@ bool Pipeline::advance(double budgetMs) {
             }
             const LocalTerm::Result r = m_local->result();
             m_localM = r.exitance;
+            m_ownLocalL = r.radiance;
             m_localL = r.radiance;
+            if (m_givenLocalL) {
+                if (m_givenLocalL->size() != m_localL.size())
+                    throw core::Error("hybrid", 0,
+                                      "the given local term has " +
+                                          std::to_string(m_givenLocalL->size()) +
+                                          " pixels, the frame " + std::to_string(m_localL.size()));
+                for (size_t p = 0; p < m_localL.size(); ++p)
+                    m_localL[p] = glm::vec4((*m_givenLocalL)[p], m_localL[p].w);
+            }
             gl::recordTiming("texture space: hybrid local term", m_localMs);
             if (clock.ms() >= budgetMs) break;
             continue;

@@ -176,6 +176,22 @@ class Pipeline {
     // The hybrid's parts (empty without it): the local L_o (no variance) and the global L_o.
     litsphere::Image localRadiance() const;
     litsphere::Image globalRadiance() const;
+    // The local L_o per pixel (row-major, the view's size) that radiance() adds instead of the
+    // local term's own (a replayed capture's recorded one: another driver's light-view map must
+    // not move the render), std::nullopt: the own. Taken when the local term is computed (from
+    // the next begin()); one of another size than the frame is a core::Error then.
+    void setGivenLocalRadiance(std::optional<std::vector<glm::vec3>> l) {
+        m_givenLocalL = std::move(l);
+    }
+    // The local term's own L_o per pixel (w = hit) as computed here, whatever was given.
+    const std::vector<glm::vec4>& ownLocalRadiance() const { return m_ownLocalL; }
+    // The light-view map drawn `map` texels aside and read `lookup` texels aside from the next
+    // begin() on (an emulated other driver: tests); 0, 0 by default.
+    void setLocalShift(glm::vec2 map, glm::vec2 lookup);
+    // How far another driver may move the own local L_o at `pixels` (row-major indices), per
+    // channel, absolute (local_spread.cpp says how it is measured). Needs the hybrid's local term
+    // computed (core::Error otherwise); eight more evaluations, after which the map is the run's.
+    std::vector<glm::vec3> localSpread(const std::vector<size_t>& pixels);
     glm::vec3 hybridRp() const { return m_rp; } // R_p per channel of the running hybrid, mm
     const std::vector<RingTap>& hybridTaps() const { return m_taps; }
     // The last set drawn (for the panels) and the frame timings of the last set.
@@ -197,6 +213,7 @@ class Pipeline {
   private:
     void finishLight(std::vector<glm::vec3> et);
     void beginHybrid();
+    void beginLocal(); // the local term's evaluation on the current frame's G-buffer
     bool localPending() const { return m_run.hybrid && m_localL.empty(); }
     void startSet();
     void accumulate(const render::Readback& rb);
@@ -232,7 +249,10 @@ class Pipeline {
     mesh::Mesh m_meshCopy;
     glm::vec3 m_rp{0.0f};
     std::vector<RingTap> m_taps;
-    std::vector<glm::vec4> m_localM, m_localL; // per pixel, w = hit
+    std::vector<glm::vec4> m_localM, m_localL; // per pixel, w = hit; m_localL the given if set
+    std::vector<glm::vec4> m_ownLocalL;
+    std::optional<std::vector<glm::vec3>> m_givenLocalL;
+    glm::vec2 m_mapShift{0.0f}, m_lookupShift{0.0f}, m_lightMapShift{0.0f};
     std::vector<glm::vec4> m_lastL;
     bool m_localStarted = false;
     SampleSet m_lastSet;

@@ -234,6 +234,23 @@ TEST_F(CliOutputs, RecordRefusesABadSliceAngle) {
     EXPECT_FALSE(fs::exists(m_dir.path() / "caps/s"));
 }
 
+// `record`'s texture-space flags need what they build on: each refusal names its flag, and
+// nothing is left.
+TEST_F(CliOutputs, RecordRefusesTextureSpaceFlagsWithoutWhatTheyNeed) {
+    const std::string dipole = std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf";
+    const std::vector<std::string> rec = {"record", "--name", "t",     "--model",
+                                          dipole,   "--out",  "caps/t"};
+    auto with = [&](std::vector<std::string> extra) {
+        extra.insert(extra.begin(), rec.begin(), rec.end());
+        return extra;
+    };
+    expectFailure(with({"--hybrid"}), {"--hybrid", "needs --texture-space"});
+    expectFailure(with({"--texture-space", "64"}), {"--texture-space", "needs --scene-points"});
+    expectFailure(with({"--scene-points", "500", "--texture-space", "100"}),
+                  {"--texture-space", "power of two"});
+    EXPECT_FALSE(fs::exists(m_dir.path() / "caps/t"));
+}
+
 TEST_F(Estimate, RejectsBadArguments) {
     const std::vector<std::string> out = {"--out", "t.bwtable"};
     auto with = [&](std::vector<std::string> extra) {

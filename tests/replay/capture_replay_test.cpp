@@ -1140,3 +1140,112 @@ TEST(CaptureReplay, TheTextureSpaceRenderTracesTheRecordedGbuffer) {
     EXPECT_NE(out.find("FAIL texture_space.render"), std::string::npos) << out;
     fs::remove_all(root);
 }
+
+// The hybrid's local term filters a light-view map, a rasterisation whose silhouettes another
+// driver may draw 1/16 texel elsewhere, read at tap places a float division puts a few ulp apart.
+// A hybrid capture records the local L_o the render added (texture_space.local_radiance, kind
+// exr_input) and a replay adds the recorded one, while texture_space.local compares this run's
+// own with an allowance measured here (Pipeline::localSpread). Emulated: the capture was made
+// with the map drawn (0.05, 0.03) texel aside and read (4, -3)·10^-4 texel aside; values past
+// 1e-4 relative pass within the allowance and the render is identical; without the recorded
+// local term the render fails; a value moved far past the allowance fails; a recorded local term
+// of another size is an error naming both sizes.
+TEST(CaptureReplay, TheHybridAddsTheRecordedLocalTermAndAllowsItsLightMapsSpread) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("hybrid_local", {"dipole.bssrdf"});
+    const fs::path dir = root / "captures" / "hybrid";
+    size_t past = 0, shown = 0;
+    {
+        app::Workbench wb(root, false);
+        const app::SceneSettings& s = sceneOn(wb, 1500, 48, 27);
+        app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
+        ts.enabled = true;
+        ts.sampling.textureSize = 64;
+        ts.sampling.samples = 256;
+        ts.sampling.sampleSets = 2;
+        ts.sampling.hybrid = true;
+        ts.sampling.local.lightMapSize = 256;
+        wb.update();
+        wb.finishScene();
+        wb.finishTextureSpace();
+        texspace::Pipeline& p = *wb.textureSpace().pipeline();
+        const std::vector<glm::vec4> own = p.ownLocalRadiance();
+        p.setLocalShift({0.05f, 0.03f}, {0.0004f, -0.0003f}); // as another driver may
+        p.begin(ts.sampling, s.render);
+        while (!p.advance(1e30)) {
+        }
+        const std::vector<glm::vec4>& moved = p.ownLocalRadiance();
+        ASSERT_EQ(moved.size(), own.size());
+        float largest = 0;
+        for (const glm::vec4& l : own)
+            largest = std::max({largest, l.x, l.y, l.z});
+        for (size_t px = 0; px < own.size(); ++px) {
+            if (own[px].w == 0.0f) continue;
+            ++shown;
+            for (int c = 0; c < 3; ++c)
+                if (std::abs(moved[px][c] - own[px][c]) >
+                    1e-4 * std::abs(own[px][c]) + 1e-6 * largest) {
+                    ++past;
+                    break;
+                }
+        }
+        app::recordCaptureTo(wb, dir, "hybrid", -1, -1);
+    }
+    std::printf("local term from a map drawn and read elsewhere: %zu of %zu pixels past 1e-4\n",
+                past, shown);
+    ASSERT_GT(past, 0u) << "the emulation moves nothing past the tolerance: it shows nothing";
+    capture::Manifest m = capture::readManifest(dir);
+    std::string out;
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    std::printf("%s\n", lineOf(out, "PASS texture_space.local  ").c_str());
+    EXPECT_NE(lineOf(out, "PASS texture_space.local  ")
+                  .find("how far the local term moves with the light-view map drawn"),
+              std::string::npos)
+        << out;
+    EXPECT_NE(lineOf(out, "PASS texture_space.render  ").find("identical"), std::string::npos)
+        << out;
+    EXPECT_NE(out.find("NOTE texture space: the hybrid's render adds the recorded local term"),
+              std::string::npos)
+        << out;
+    EXPECT_NE(out.find("PASS texture_space.local_radiance  recorded input, given to the stage"),
+              std::string::npos)
+        << out;
+
+    // without the recorded local term the render adds this run's own
+    capture::writeManifest(dir, without(m, {"texture_space.local_radiance"}));
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL texture_space.render"), std::string::npos) << out;
+    std::printf("without the recorded local term: %s\n",
+                lineOf(out, "FAIL texture_space.render").c_str());
+    capture::writeManifest(dir, m);
+
+    capture::Table far = capture::readCsv(dir / "texture_space_local.csv");
+    ASSERT_GT(far.rows.size(), 10u);
+    far.rows[5][1] *= 1.5;
+    plantTable(dir, m, "texture_space.local", far);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL texture_space.local  1 of " + std::to_string(4 * far.rows.size()) +
+                       " values out of tolerance; worst at row 6"),
+              std::string::npos)
+        << out;
+
+    capture::Manifest planted = m;
+    pathtrace::Image small;
+    small.width = 10;
+    small.height = 6;
+    small.samples = 1;
+    small.mean.assign(3 * 60, 0.0f);
+    small.variance.assign(3 * 60, 0.0f);
+    for (capture::StageOutput& o : planted.outputs)
+        if (o.stage == "texture_space.local_radiance") {
+            pathtrace::writeExr(dir / o.file, small);
+            o.hash = capture::hashFile(dir / o.file);
+        }
+    capture::writeManifest(dir, planted);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 2) << out;
+    EXPECT_NE(out.find("texture_space.local_radiance: the recorded local term is 10x6, "
+                       "settings.scene.render renders 48x27"),
+              std::string::npos)
+        << out;
+    fs::remove_all(root);
+}
