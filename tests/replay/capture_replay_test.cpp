@@ -47,6 +47,15 @@ app::SceneSettings& sceneOn(app::Workbench& wb, size_t points, int width, int he
     s.render.height = height;
     return s;
 }
+// The texture-space renderer on at K texels per side, N draws a set and `sets` sets.
+app::TextureSpaceSettings& textureSpaceOn(app::Workbench& wb, int k, int n, int sets) {
+    app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
+    ts.enabled = true;
+    ts.sampling.textureSize = k;
+    ts.sampling.samples = n;
+    ts.sampling.sampleSets = sets;
+    return ts;
+}
 int replay(const Recorded& r, std::string& out, bool update = false) {
     return app::replayCapture(r.dir, r.root, update, out);
 }
@@ -707,11 +716,7 @@ TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
         s.light.shadowMapSize = 256;
         s.light.occludedTotalSamples = 32;
         s.light.occludedSamplesPerStep = 16;
-        app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
-        ts.enabled = true;
-        ts.sampling.textureSize = 64;
-        ts.sampling.samples = 16;
-        ts.sampling.sampleSets = 1;
+        textureSpaceOn(wb, 64, 16, 1);
         wb.update();
         wb.finishScene();
         wb.finishTextureSpace();
@@ -922,11 +927,7 @@ TEST(CaptureReplay, TheTextureSpaceDrawsReadTheRecordedIrradiance) {
     {
         app::Workbench wb(root, false);
         sceneOn(wb, 1500, 32, 18);
-        app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
-        ts.enabled = true;
-        ts.sampling.textureSize = 64;
-        ts.sampling.samples = 256;
-        ts.sampling.sampleSets = 2;
+        textureSpaceOn(wb, 64, 256, 2);
         wb.update();
         wb.finishScene();
         wb.finishTextureSpace();
@@ -1111,11 +1112,7 @@ TEST(CaptureReplay, TheTextureSpaceRenderTracesTheRecordedGbuffer) {
     {
         app::Workbench wb(root, false);
         const app::SceneSettings& s = sceneOn(wb, 1500, 48, 27);
-        app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
-        ts.enabled = true;
-        ts.sampling.textureSize = 64;
-        ts.sampling.samples = 256;
-        ts.sampling.sampleSets = 2;
+        textureSpaceOn(wb, 64, 256, 2);
         wb.update();
         wb.finishScene();
         const render::Gbuffer moved =
@@ -1158,11 +1155,7 @@ TEST(CaptureReplay, TheHybridAddsTheRecordedLocalTermAndAllowsItsLightMapsSpread
     {
         app::Workbench wb(root, false);
         const app::SceneSettings& s = sceneOn(wb, 1500, 48, 27);
-        app::TextureSpaceSettings& ts = wb.textureSpaceSettings();
-        ts.enabled = true;
-        ts.sampling.textureSize = 64;
-        ts.sampling.samples = 256;
-        ts.sampling.sampleSets = 2;
+        app::TextureSpaceSettings& ts = textureSpaceOn(wb, 64, 256, 2);
         ts.sampling.hybrid = true;
         ts.sampling.local.lightMapSize = 256;
         wb.update();
