@@ -113,20 +113,25 @@ inline std::string projectedSpreadNote(double spread) {
 }
 
 // Occluded image based lighting: the per-value allowance of a table of E_t (columns key, R, G,
-// B; its rows those of `unshadowed`) for another driver. E_t sums K shadow-mapped samples, each
-// V_k within irradiance::kVisibilityTolerance between samplers, so the sums lie within
-// kVisibilityTolerance · U of each other, U the same sum with every V = 1
-// (irradiance::Stage::occludedUnshadowed, made on the replaying machine).
-inline void addOcclusionAllowance(CaptureEntry& e, const std::vector<glm::vec3>& unshadowed) {
+// B; its rows those of `unshadowed` and `raster`) for another driver. E_t sums K shadow-mapped
+// samples, each V_k within irradiance::kVisibilityTolerance between samplers, so the sums lie
+// within kVisibilityTolerance · U of each other, U the same sum with every V = 1
+// (irradiance::Stage::occludedUnshadowed); plus how far E_t moves with every sample's map drawn
+// 1/16 texel aside, another rasteriser's sub-pixel precision (Stage::occludedRasterSpread).
+// Both made on the replaying machine.
+inline void addOcclusionAllowance(CaptureEntry& e, const std::vector<glm::vec3>& unshadowed,
+                                  const std::vector<glm::vec3>& raster) {
     e.conditioning.columns = e.table.columns;
     for (size_t i = 0; i < unshadowed.size(); ++i) {
-        const double k = irradiance::kVisibilityTolerance;
-        e.conditioning.rows.push_back(
-            {0.0, k * unshadowed[i].x, k * unshadowed[i].y, k * unshadowed[i].z});
+        const glm::dvec3 a = irradiance::kVisibilityTolerance * glm::dvec3(unshadowed[i]) +
+                             glm::dvec3(i < raster.size() ? raster[i] : glm::vec3(0.0f));
+        e.conditioning.rows.push_back({0.0, a.x, a.y, a.z});
     }
     e.conditioningNote = "2^-7 of each value's sum without shadows (the K samples' visibilities, "
                          "each a mean of bilinear depth comparisons another sampler weights "
-                         "differently)";
+                         "differently), plus how far it moves with every sample's shadow map "
+                         "drawn 1/16 texel aside (along either axis or both; the rasterisers' "
+                         "sub-pixel precision)";
 }
 
 // The per-value allowance of a visibility entry (columns key, V; its rows those of `spread`) for
@@ -137,8 +142,8 @@ inline void addRasterAllowance(CaptureEntry& e, const std::vector<float>& spread
     e.conditioning.columns = e.table.columns;
     for (float x : spread)
         e.conditioning.rows.push_back({0.0, double(x)});
-    e.conditioningNote = "how far V moves with the shadow map drawn 1/16 texel aside along each "
-                         "axis (the rasterisers' sub-pixel precision)";
+    e.conditioningNote = "how far V moves with the shadow map drawn 1/16 texel aside (along "
+                         "either axis or both; the rasterisers' sub-pixel precision)";
 }
 
 // GPU float32 evaluation: GLSL guarantees exp/pow to (3 + 2|x|) ulp; with |x| up to ~30 in

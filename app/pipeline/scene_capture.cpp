@@ -268,7 +268,8 @@ void SceneStage::capture(const SceneModelInput& model, CaptureEntries& out) {
         for (size_t i = 0; i < normals.size(); ++i)
             normals[i] =
                 glm::vec3(m_cloud.points[i].n[0], m_cloud.points[i].n[1], m_cloud.points[i].n[2]);
-        addOcclusionAllowance(it, m_irradiance_stage->occludedUnshadowed(light, normals));
+        addOcclusionAllowance(it, m_irradiance_stage->occludedUnshadowed(light, normals),
+                              m_irradiance_stage->occludedRasterSpread(light));
     }
     out.entries.push_back(std::move(it));
     if (factored) {

@@ -337,8 +337,9 @@ CaptureEntry localEntry(texspace::Pipeline& p, bool forReplay) {
         for (const glm::vec3& s : p.localSpread(shown))
             e.conditioning.rows.push_back({0.0, s.x, s.y, s.z});
         e.conditioningNote = "how far the local term moves with the light-view map drawn 1/16 "
-                             "texel aside and its taps read 2^-10 texel aside along each axis "
-                             "(the rasterisers' sub-pixel precision, the taps' float places)";
+                             "texel aside (along either axis or both) and its taps read 2^-10 "
+                             "texel aside along each axis (the rasterisers' sub-pixel precision, "
+                             "the taps' float places)";
     }
     return e;
 }
@@ -440,7 +441,8 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     const bool factored = irradiance::hasVisibilityFactor(lightSettings.mode);
     ep.recorded = !factored;
     if (lightSettings.mode == irradiance::LightMode::OccludedIbl && out.forReplay)
-        addOcclusionAllowance(ep, p.eprimeUnshadowedOccluded(shown));
+        addOcclusionAllowance(ep, p.eprimeUnshadowedOccluded(shown),
+                              pipeline()->eprimeOccludedRasterSpread(shown));
     out.entries.push_back(std::move(ep));
     if (factored) {
         const texspace::Pipeline::EprimeFactors f = pipeline()->eprimeFactors();

@@ -86,8 +86,20 @@ enum class ShadowFilter { Naive, Offset, OffsetPcf, OffsetPcfJitter, None };
 // Float samplers (llvmpipe, lavapipe) differ by N·ulp(uv) per ulp of uv instead, far less.
 inline constexpr double kVisibilityTolerance = 2.0 / 256.0;
 // How far two conforming rasterisers may place a shadow map's edges apart, in texels (twice the
-// 1/32 texel a vertex may move at GL_SUBPIXEL_BITS = 4; Stage::visibilitySpread).
+// 1/32 texel a vertex may move at GL_SUBPIXEL_BITS = 4; Stage::visibilitySpread), along each
+// axis.
 inline constexpr float kRasterShiftTexels = 1.0f / 16.0f;
+// The moves of a map's image that stand for another rasteriser: the corners and the edges'
+// midpoints of the square |x|, |y| <= kRasterShiftTexels. A straight edge moves across a texel
+// by s·n for a move s, largest at a corner; near a vertex where several triangles meet, which
+// one covers a texel is no monotone function of s (a jittered comparison at the bunny flipped
+// under (1/16, 0) and (0.05, 0.03) but under no corner), so the midpoints are tried too. An
+// estimate from rigid moves: a driver snaps each vertex on its own.
+inline std::array<glm::vec2, 8> rasterShifts() {
+    const float d = kRasterShiftTexels;
+    return {glm::vec2(d, d), glm::vec2(d, -d), glm::vec2(-d, d), glm::vec2(-d, -d),
+            glm::vec2(d, 0), glm::vec2(-d, 0), glm::vec2(0, d),  glm::vec2(0, -d)};
+}
 constexpr auto enumNames(LightMode) {
     return std::array{std::pair{LightMode::Directional, "directional"},
                       std::pair{LightMode::Filtered, "filtered"}, std::pair{LightMode::Ibl, "ibl"},
@@ -210,9 +222,9 @@ class Stage {
     // (GL_SUBPIXEL_BITS >= 4: a vertex lands within 1/32 texel of its exact place, so two
     // drivers' within 1/16 of each other), so a silhouette of the shadow map may lie
     // kRasterShiftTexels elsewhere and flip the comparisons of the texels it crosses. Measured
-    // here: V again from maps drawn that far to either side along each axis, per point
-    // Σ_axis max_± |V_shifted − V| (a diagonal move is about the sum of its axes'). Four more
-    // shadow passes; computes `s` last, so resultBuffer() holds what compute(s) leaves.
+    // here: V again from maps drawn to each of rasterShifts(), per point
+    // max_shift |V_shifted − V|. Eight more shadow passes; computes `s` last, so resultBuffer()
+    // holds what compute(s) leaves.
     std::vector<float> visibilitySpread(const Settings& s);
     // Directional / Filtered only: compute(s) with the shadow map drawn `shift` texels aside (an
     // emulated other rasteriser; visibilitySpread, tests). The result's w is V.
@@ -226,8 +238,10 @@ class Stage {
 
     // Occluded IBL, incremental. beginOccluded draws the samples and clears the sums;
     // stepOccluded processes the next occludedSamplesPerStep samples and returns true when all
-    // K are done (false while more remain; also false when nothing is running).
-    void beginOccluded(const Settings& s);
+    // K are done (false while more remain; also false when nothing is running). `shift`: every
+    // sample's shadow map drawn that many texels aside (an emulated other rasteriser:
+    // occludedRasterSpread, tests).
+    void beginOccluded(const Settings& s, glm::vec2 shift = glm::vec2(0.0f));
     bool stepOccluded();
     bool occludedRunning() const { return m_occ.active; }
     int occludedSamplesDone() const { return m_occ.done; }
@@ -246,6 +260,16 @@ class Stage {
     // (core::Error); touches no GL.
     std::vector<glm::vec3> occludedUnshadowed(const Settings& s,
                                               const std::vector<glm::vec3>& normals) const;
+    // OccludedIbl run to the end with every shadow map drawn `shift` texels aside (an emulated
+    // other rasteriser), E_t per point; the sums are this run's afterwards.
+    std::vector<glm::vec3> occludedShifted(const Settings& s, glm::vec2 shift);
+    // How far another conforming rasteriser may move each point's occluded E_t of `s` (per
+    // channel, absolute), beyond the samplers' weights (occludedUnshadowed's bound): as
+    // visibilitySpread measures V's, each sample's term Y_k again with its map drawn to each of
+    // rasterShifts(), per point (1/K) Σ_k max_shift |Y_k,shifted − Y_k| (per sample, so
+    // that moves of different samples do not cancel). 9K shadow passes of one sample each; runs
+    // `s` last, so the sums and resultBuffer() hold what compute(s) leaves.
+    std::vector<glm::vec3> occludedRasterSpread(const Settings& s);
 
     // For inspector panels (0 until made): a GL_TEXTURE_2D view of shadow map 0 (depth, the
     // last directional light or the first sample of the last occluded step); the environment
@@ -274,9 +298,14 @@ class Stage {
         std::vector<glm::vec4> sampleDirs; // world direction (xyz)
         std::vector<glm::vec4> sampleWeights;
         int done = 0, total = 0;
-        int current = 0; // which of m_sums holds the sums
+        int current = 0;       // which of m_sums holds the sums
+        glm::vec2 shift{0.0f}; // every shadow map drawn this many texels aside
     };
 
+    // Draws the maps of samples [first, first + count) `shift` texels aside and adds their terms
+    // to the sums (Σ Y, Σ Y² per point) in `prev`, written to `next` (irradiance_occluded.comp).
+    void dispatchOccluded(const Settings& s, const OccludedSamples& samples, int first, int count,
+                          GLuint prev, GLuint next, glm::vec2 shift);
     std::vector<glm::vec3> readResult() const;
     void ensureCubemap(float ior);
     void setShadowUniforms(const gl::Program& p, const Settings& s) const;

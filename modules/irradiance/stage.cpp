@@ -419,17 +419,14 @@ std::vector<glm::vec4> Stage::computeShifted(const Settings& s, glm::vec2 shift)
 }
 
 std::vector<float> Stage::visibilitySpread(const Settings& s) {
-    const float d = kRasterShiftTexels;
     std::vector<std::vector<glm::vec4>> moved;
-    for (const glm::vec2 shift :
-         {glm::vec2(d, 0), glm::vec2(-d, 0), glm::vec2(0, d), glm::vec2(0, -d)})
+    for (const glm::vec2 shift : rasterShifts())
         moved.push_back(computeShifted(s, shift));
     const std::vector<glm::vec4> v = computeShifted(s, glm::vec2(0.0f)); // last: compute(s)'s state
     std::vector<float> spread(v.size(), 0.0f);
     for (size_t i = 0; i < v.size(); ++i)
-        for (int axis = 0; axis < 2; ++axis)
-            spread[i] += std::max(std::abs(moved[size_t(2 * axis)][i].w - v[i].w),
-                                  std::abs(moved[size_t(2 * axis + 1)][i].w - v[i].w));
+        for (const std::vector<glm::vec4>& m : moved)
+            spread[i] = std::max(spread[i], std::abs(m[i].w - v[i].w));
     return spread;
 }
 

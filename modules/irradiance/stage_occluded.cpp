@@ -62,7 +62,7 @@ std::vector<glm::vec3> Stage::occludedUnshadowed(const Settings& s,
     return out;
 }
 
-void Stage::beginOccluded(const Settings& s) {
+void Stage::beginOccluded(const Settings& s, glm::vec2 shift) {
     GLint maxTex = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
     Settings checked = s;
@@ -81,22 +81,67 @@ void Stage::beginOccluded(const Settings& s) {
     m_occ.current = 0;
     m_occ.done = 0;
     m_occ.total = checked.occludedTotalSamples;
+    m_occ.shift = shift;
     m_occ.active = true;
 }
 
-bool Stage::stepOccluded() {
-    if (!m_occ.active) return false;
-    const Settings& s = m_occ.settings;
-    const int count = std::min(s.occludedSamplesPerStep, m_occ.total - m_occ.done);
+std::vector<glm::vec3> Stage::occludedShifted(const Settings& s, glm::vec2 shift) {
+    beginOccluded(s, shift);
+    while (!stepOccluded()) {
+    }
+    return occludedResult();
+}
+
+std::vector<glm::vec3> Stage::occludedRasterSpread(const Settings& s) {
+    if (s.mode != LightMode::OccludedIbl)
+        throw core::Error("irradiance: only occluded image based lighting sums its shadow maps");
+    if (!m_points) throw core::Error("irradiance: no scene (call setScene first)");
+    if (!hasEnvironment())
+        throw core::Error("irradiance: image based lighting needs an environment map");
+    GLint maxTex = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
+    validateSettings(s, maxTex);
+    cancelOccluded();
+    const OccludedSamples samples = occludedSamples(s);
     m_shadow->ensure(s.shadowMapSize, s.occludedSamplesPerStep);
+    // each sample's term Y_k alone: its map, then the pass adding it to sums of zero
+    const size_t bytes = 2 * m_pointCount * sizeof(glm::vec4);
+    const gl::Buffer zero = gl::createBuffer(bytes, nullptr),
+                     term = gl::createBuffer(bytes, nullptr);
+    glClearNamedBufferData(zero.id(), GL_RGBA32F, GL_RGBA, GL_FLOAT, nullptr);
+    auto termOf = [&](int k, glm::vec2 shift) {
+        dispatchOccluded(s, samples, k, 1, zero.id(), term.id(), shift);
+        return readVec4(term.id(), 2 * m_pointCount); // ΣY at 2i (dispatchPoints' barrier)
+    };
+    std::vector<glm::vec3> spread(m_pointCount, glm::vec3(0.0f));
+    for (int k = 0; k < int(samples.dirs.size()); ++k) {
+        const std::vector<glm::vec4> y = termOf(k, glm::vec2(0.0f));
+        std::vector<glm::vec3> worst(m_pointCount, glm::vec3(0.0f));
+        for (const glm::vec2 shift : rasterShifts()) {
+            const std::vector<glm::vec4> moved = termOf(k, shift);
+            for (size_t i = 0; i < m_pointCount; ++i)
+                worst[i] = glm::max(worst[i], glm::abs(glm::vec3(moved[2 * i] - y[2 * i])));
+        }
+        for (size_t i = 0; i < m_pointCount; ++i)
+            spread[i] += worst[i];
+    }
+    const float kSamples = float(std::max<size_t>(samples.dirs.size(), 1));
+    for (glm::vec3& x : spread)
+        x /= kSamples;
+    compute(s); // last: compute(s)'s state
+    return spread;
+}
+
+void Stage::dispatchOccluded(const Settings& s, const OccludedSamples& samples, int first,
+                             int count, GLuint prev, GLuint next, glm::vec2 shift) {
     // per sample: direction (the frame's w), weight, u, v
     std::vector<glm::vec4> block(4 * static_cast<size_t>(count));
     for (int k = 0; k < count; ++k) {
-        const size_t g = static_cast<size_t>(m_occ.done + k);
-        const LightFrame f = makeLightFrame(glm::vec3(m_occ.sampleDirs[g]), m_bounds);
-        m_shadow->render(k, f);
+        const size_t g = static_cast<size_t>(first + k);
+        const LightFrame f = makeLightFrame(glm::vec3(samples.dirs[g]), m_bounds);
+        m_shadow->render(k, f, shift);
         block[4 * k] = glm::vec4(f.w, 0.0f);
-        block[4 * k + 1] = m_occ.sampleWeights[g];
+        block[4 * k + 1] = samples.weights[g];
         block[4 * k + 2] = glm::vec4(f.u, 0.0f);
         block[4 * k + 3] = glm::vec4(f.v, 0.0f);
     }
@@ -107,19 +152,28 @@ bool Stage::stepOccluded() {
     glProgramUniform1ui(p, gl::uniformLocation(m_occluded, "SampleCount"),
                         static_cast<GLuint>(count));
     glProgramUniform1ui(p, gl::uniformLocation(m_occluded, "FirstSample"),
-                        static_cast<GLuint>(m_occ.done));
+                        static_cast<GLuint>(first));
     glProgramUniform3fv(p, gl::uniformLocation(m_occluded, "LightCentre"), 1,
                         glm::value_ptr(m_bounds.centre));
     glProgramUniform1f(p, gl::uniformLocation(m_occluded, "LightExtent"),
                        makeLightFrame(glm::vec3(0, 1, 0), m_bounds).extent);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_points.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_sums[m_occ.current].id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_sums[1 - m_occ.current].id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, prev);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, next);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, blockBuf.id());
     m_shadow->bind();
     dispatchPoints(m_occluded);
     glUseProgram(0); // no program stays current whose shadow samplers meet unbound units
     m_shadow->unbind();
+}
+
+bool Stage::stepOccluded() {
+    if (!m_occ.active) return false;
+    const Settings& s = m_occ.settings;
+    const int count = std::min(s.occludedSamplesPerStep, m_occ.total - m_occ.done);
+    m_shadow->ensure(s.shadowMapSize, s.occludedSamplesPerStep);
+    dispatchOccluded(s, {m_occ.sampleDirs, m_occ.sampleWeights}, m_occ.done, count,
+                     m_sums[m_occ.current].id(), m_sums[1 - m_occ.current].id(), m_occ.shift);
     m_occ.current = 1 - m_occ.current;
     m_occ.done += count;
     if (m_occ.done >= m_occ.total) {

@@ -7,10 +7,10 @@
 //   - each tap's texel is floor(uv · M) of a uv that hybrid_local.comp forms from dot products a
 //     driver may fuse and a division GLSL allows 2.5 ulp: uv · M lies a few ulp of uv · M (M ≤
 //     4096: 2^-12 texel each) apart, so a tap that close to a texel's edge reads the neighbour.
-// Measured here, as irradiance::Stage::visibilitySpread measures V's, per pixel and channel,
-// Σ_axis of max_± |L(map drawn ±1/16 texel) − L| (the map moves one way) plus
-// |L(taps read +2^-10 texel) − L| + |L(taps read −2^-10 texel) − L| (every tap within 4x that
-// rounding of an edge moved, to the one side and to the other: different taps, so they add).
+// Measured here, as irradiance::Stage::visibilitySpread measures V's, per pixel and channel: the
+// largest |L(map drawn to one of irradiance::rasterShifts()) − L| (the map moves one way), plus
+// Σ over ±x, ±y of |L(taps read 2^-10 texel that way) − L| (every tap within 4x that rounding of
+// a texel's edge moved across it: different taps each way, so they add).
 #include "texspace/pipeline.h"
 
 #include "core/core.h"
@@ -35,7 +35,7 @@ std::vector<glm::vec3> Pipeline::localSpread(const std::vector<size_t>& pixels) 
             throw core::Error("hybrid", 0,
                               "pixel " + std::to_string(p) + " lies outside the frame of " +
                                   std::to_string(m_ownLocalL.size()));
-    const float d = irradiance::kRasterShiftTexels, e = 1.0f / 1024.0f;
+    const float e = 1.0f / 1024.0f;
     const int size = m_run.local.lightMapSize;
     auto evaluate = [&](glm::vec2 map, glm::vec2 lookup) {
         m_local->renderLightMap(m_light.direction, size, m_mapShift + map);
@@ -49,14 +49,16 @@ std::vector<glm::vec3> Pipeline::localSpread(const std::vector<size_t>& pixels) 
     auto difference = [&](const std::vector<glm::vec4>& moved, size_t i) {
         return glm::abs(glm::vec3(moved[pixels[i]]) - glm::vec3(m_ownLocalL[pixels[i]]));
     };
-    for (const glm::vec2 axis : {glm::vec2(1.0f, 0.0f), glm::vec2(0.0f, 1.0f)}) {
-        const std::vector<glm::vec4> mapPlus = evaluate(d * axis, {}),
-                                     mapMinus = evaluate(-d * axis, {}),
-                                     readPlus = evaluate({}, e * axis),
-                                     readMinus = evaluate({}, -e * axis);
+    for (const glm::vec2 shift : irradiance::rasterShifts()) { // the map: the worst move
+        const std::vector<glm::vec4> moved = evaluate(shift, {});
         for (size_t i = 0; i < pixels.size(); ++i)
-            spread[i] += glm::max(difference(mapPlus, i), difference(mapMinus, i)) +
-                         difference(readPlus, i) + difference(readMinus, i);
+            spread[i] = glm::max(spread[i], difference(moved, i));
+    }
+    for (const glm::vec2 lookup : {glm::vec2(e, 0.0f), glm::vec2(-e, 0.0f), glm::vec2(0.0f, e),
+                                   glm::vec2(0.0f, -e)}) { // the taps: every side adds
+        const std::vector<glm::vec4> moved = evaluate({}, lookup);
+        for (size_t i = 0; i < pixels.size(); ++i)
+            spread[i] += difference(moved, i);
     }
     // the run's map and lookups again
     m_local->renderLightMap(m_light.direction, size, m_mapShift);

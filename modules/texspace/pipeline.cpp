@@ -154,6 +154,25 @@ std::vector<glm::vec3> Pipeline::eprime() const {
     return e;
 }
 
+std::vector<glm::vec3> Pipeline::eprimeOccludedRasterSpread(const std::vector<size_t>& texels) {
+    if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
+    if (m_light.mode != irradiance::LightMode::OccludedIbl)
+        throw core::Error("texture space", 0, "the light is not occluded image based lighting");
+    const std::vector<glm::vec3> spread = m_irradiance->occludedRasterSpread(m_light);
+    std::vector<size_t> point(m_texels.triangle.size(), SIZE_MAX); // texel → irradiance point
+    for (size_t k = 0; k < m_covered.size(); ++k)
+        point[m_covered[k]] = k;
+    std::vector<glm::vec3> out;
+    out.reserve(texels.size());
+    for (size_t t : texels) {
+        if (t >= point.size() || point[t] == SIZE_MAX)
+            throw core::Error("texture space", 0,
+                              "texel " + std::to_string(t) + " is not covered by the chart");
+        out.push_back(spread[point[t]] * float(m_texels.areaRatio[t]));
+    }
+    return out;
+}
+
 std::vector<glm::vec3> Pipeline::eprimeUnshadowedOccluded(const std::vector<size_t>& texels) const {
     if (!m_lightReady) throw core::Error("texture space", 0, "the light is not computed yet");
     if (m_light.mode != irradiance::LightMode::OccludedIbl)

@@ -142,6 +142,10 @@ class Pipeline {
     // lies within kVisibilityTolerance times it. core::Error for other lights or before the
     // light is computed.
     std::vector<glm::vec3> eprimeUnshadowedOccluded(const std::vector<size_t>& texels) const;
+    // Occluded IBL: for each of `texels` (covered ones) how far another rasteriser's shadow maps
+    // may move E′ (irradiance::Stage::occludedRasterSpread of the light last computed, times
+    // A_S/A_T). core::Error for other lights or before the light is computed.
+    std::vector<glm::vec3> eprimeOccludedRasterSpread(const std::vector<size_t>& texels);
     // Directional and filtered light: for each of `texels` (covered ones) how far another
     // rasteriser's shadow map may move V (irradiance::Stage::visibilitySpread of the light last
     // computed). core::Error for other lights or before the light is computed.

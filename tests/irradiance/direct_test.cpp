@@ -269,12 +269,13 @@ std::vector<glm::vec3> readResultRgb(Stage& st, size_t n) {
 }
 
 // What a capture allows V on another driver beyond the samplers' weights
-// (Stage::visibilitySpread): the shadow map drawn kRasterShiftTexels to either side along each
-// axis. For every filter with a shadow map: 0 wherever V does not change near the point (lit
-// points far from the plate's shadow, points deep in it), positive along the shadow's edge (and
-// at the naive filter's acne, which depends on where the rasteriser put the depths), and
-// every point's V from maps drawn 0.04 texel aside (the offset an NVIDIA H200's G-buffer had from
-// llvmpipe's) in three directions lies within it; and the calls leave compute(s)'s result.
+// (Stage::visibilitySpread): the shadow map drawn to each of rasterShifts(), the corners and the
+// edges' midpoints of the square of ±kRasterShiftTexels. For every filter with a shadow map: 0
+// wherever V does not change near the point (lit points far from the plate's shadow, points deep in
+// it), positive along the shadow's edge (and at the naive filter's acne, which depends on where the
+// rasteriser put the depths), and every point's V from maps drawn 0.04 texel aside (the offset an
+// NVIDIA H200's G-buffer had from llvmpipe's) in three directions lies within it; and the calls
+// leave compute(s)'s result.
 TEST(IrradianceDirectional, TheVisibilitySpreadBoundsAShadowMapDrawnElsewhere) {
     Stage& st = irrtest::stage();
     const PlateScene sc = plateScene();

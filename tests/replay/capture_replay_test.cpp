@@ -626,13 +626,13 @@ TEST(CaptureReplay, IrradianceIsRecordedAsItsFactorsAndOlderCapturesStillReplay)
     capture::Table v = capture::readCsv(dir / "scene_visibility.csv");
     ASSERT_EQ(eu.rows.size(), v.rows.size());
     capture::Table et = eu;
-    size_t partial = eu.rows.size();
+    size_t lit = eu.rows.size();
     for (size_t i = 0; i < et.rows.size(); ++i) {
         for (int c = 1; c <= 3; ++c)
             et.rows[i][size_t(c)] = double(float(eu.rows[i][size_t(c)]) * float(v.rows[i][1]));
-        if (partial == eu.rows.size() && v.rows[i][1] > 0.1 && v.rows[i][1] < 0.9) partial = i;
+        if (lit == eu.rows.size() && v.rows[i][1] == 1.0 && eu.rows[i][2] > 0) lit = i;
     }
-    ASSERT_LT(partial, eu.rows.size()) << "no partly shadowed point";
+    ASSERT_LT(lit, eu.rows.size()) << "no lit point";
 
     // The same capture as recorded before the split: E_t in place of its factors.
     capture::Manifest old = without(m, {"scene.irradiance_unshadowed", "scene.visibility"});
@@ -644,9 +644,10 @@ TEST(CaptureReplay, IrradianceIsRecordedAsItsFactorsAndOlderCapturesStillReplay)
     ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     EXPECT_NE(out.find("PASS scene.irradiance "), std::string::npos) << out;
 
-    // Back to the factors, with one partly shadowed point's V moved by 0.02 (2.6× V's 2^-7).
+    // Back to the factors, with one lit point's V moved by 0.02 (2.6× V's 2^-7; a lit point away
+    // from the shadow's edges, where no shadow map drawn 1/16 texel aside moves V).
     fs::remove(dir / "scene_irradiance.csv");
-    v.rows[partial][1] += 0.02;
+    v.rows[lit][1] -= 0.02;
     capture::Manifest moved = m;
     for (capture::StageOutput& o : moved.outputs) {
         if (o.stage == "scene.irradiance_unshadowed")
@@ -700,8 +701,8 @@ TEST(CaptureReplay, FilteredLightAllowsItsUnshadowedIrradianceTheProjectedTextur
 // replaying machine (irradiance::Stage::occludedUnshadowed), and says so. Emulated: the capture
 // holds E_t moved by 2^-8 of itself (half the least that allowance can be, 400x the 1e-5 floor)
 // and the render the workbench traced from it; it replays, the render exactly (traced from the
-// recorded E_t). E′ moved likewise passes; a partly shadowed point's E_t moved by three times its
-// unshadowed sum's 2^-7 fails.
+// recorded E_t). E′ moved likewise passes; a lit point's E_t (every sample unshadowed, away from
+// the shadows' edges that another rasteriser moves) moved by three times its sum's 2^-7 fails.
 TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
     testsupport::context();
     const fs::path root = testsupport::makeProjectRoot("occluded", {"dipole.bssrdf"});
@@ -758,20 +759,117 @@ TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
     EXPECT_NE(lineOf(out, "PASS texture_space.eprime  ").find(note), std::string::npos) << out;
     plantTable(dir, edited, "texture_space.eprime", ep);
 
-    size_t partial = et.rows.size();
-    for (size_t i = 0; i < et.rows.size() && partial == et.rows.size(); ++i)
-        if (et.rows[i][2] > 0.2 * unshadowed[i].g && et.rows[i][2] < 0.6 * unshadowed[i].g)
-            partial = i;
-    ASSERT_LT(partial, et.rows.size()) << "no partly shadowed point";
+    size_t lit = et.rows.size();
+    for (size_t i = 0; i < et.rows.size() && lit == et.rows.size(); ++i)
+        if (et.rows[i][2] > 0.999 * unshadowed[i].g && unshadowed[i].g > 0) lit = i;
+    ASSERT_LT(lit, et.rows.size()) << "no lit point";
     capture::Table far = et;
-    far.rows[partial][2] += 3 * irradiance::kVisibilityTolerance * unshadowed[partial].g;
+    far.rows[lit][2] -= 3 * irradiance::kVisibilityTolerance * unshadowed[lit].g;
     plantTable(dir, edited, "scene.irradiance", far);
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
     EXPECT_NE(out.find("FAIL scene.irradiance  1 of 6000 values out of tolerance; worst at row " +
-                       std::to_string(partial + 1)),
+                       std::to_string(lit + 1)),
               std::string::npos)
         << out;
     EXPECT_NE(out.find(note), std::string::npos) << out;
+    fs::remove_all(root);
+}
+
+// Under occluded image based lighting each of the K samples' shadow maps is a rasterisation that
+// another driver may draw 1/16 texel elsewhere, which moves V_k at a shadow's edge by up to 1,
+// far past the samplers' 2^-7: a replay adds to each E_t's allowance how far each sample's term
+// moves here with its map drawn up to 1/16 texel aside (Stage::occludedRasterSpread), and says
+// so. Emulated: the capture holds E_t and E′ from maps drawn (0.05, 0.03) texel aside, points of
+// which lie past the samplers' allowance, and the render traced from it; it replays (the render
+// exactly), texture space's E′ too; a lit point moved by half its sum fails.
+TEST(CaptureReplay, OccludedLightAllowsShadowMapsRasterisedElsewhere) {
+    testsupport::context();
+    const fs::path root = testsupport::makeProjectRoot("occluded_raster", {"dipole.bssrdf"});
+    const fs::path dir = root / "captures" / "occluded";
+    std::vector<glm::vec3> unshadowed, own;
+    capture::Table et, ep; // E_t and E′ as recorded: from the moved maps
+    size_t past = 0, texelsMoved = 0;
+    {
+        app::Workbench wb(root, false);
+        app::SceneSettings& s = sceneOn(wb, 1500, 32, 18);
+        s.light.mode = irradiance::LightMode::OccludedIbl;
+        s.light.shadowMapSize = 256;
+        s.light.occludedTotalSamples = 32;
+        s.light.occludedSamplesPerStep = 16;
+        textureSpaceOn(wb, 64, 16, 1);
+        wb.update();
+        wb.finishScene();
+        wb.finishTextureSpace();
+        irradiance::Stage& stage = *wb.scene().irradianceStage();
+        own = wb.scene().irradiance();
+        ASSERT_EQ(stage.occludedShifted(s.light, glm::vec2(0.0f)), own)
+            << "the emulation does not reproduce the scene's own light";
+        const std::vector<glm::vec3> moved = stage.occludedShifted(s.light, {0.05f, 0.03f});
+        std::vector<glm::vec3> normals;
+        for (const pointcloud::Point& p : wb.scene().cloud().points)
+            normals.emplace_back(p.n[0], p.n[1], p.n[2]);
+        unshadowed = stage.occludedUnshadowed(s.light, normals);
+        for (size_t i = 0; i < own.size(); ++i)
+            for (int c = 0; c < 3; ++c)
+                if (std::abs(moved[i][c] - own[i][c]) >
+                    irradiance::kVisibilityTolerance * unshadowed[i][c] +
+                        1e-5 * std::abs(own[i][c]) + 1e-7) {
+                    ++past;
+                    break;
+                }
+        wb.scene().setGivenIrradiance(moved);
+        wb.finishScene();
+        app::recordCaptureTo(wb, dir, "occluded", -1, -1);
+        et = capture::readCsv(dir / "scene_irradiance.csv");
+        for (size_t i = 0; i < moved.size(); ++i)
+            et.rows[i] = {double(i), moved[i].x, moved[i].y, moved[i].z};
+        // the texture space's E′ likewise: its irradiance points are the covered texels in order
+        texspace::Pipeline& tp = *wb.textureSpace().pipeline();
+        const texspace::Texels& tx = tp.texels();
+        const std::vector<glm::vec3> texelEt =
+            tp.irradianceStage().occludedShifted(s.light, {0.05f, 0.03f});
+        std::vector<size_t> point(tx.triangle.size(), 0);
+        for (size_t t = 0, k = 0; t < tx.triangle.size(); ++t)
+            if (tx.triangle[t] >= 0) point[t] = k++;
+        ep = capture::readCsv(dir / "texture_space_eprime.csv");
+        for (std::vector<double>& row : ep.rows) {
+            const size_t t = size_t(row[0]);
+            const glm::vec3 e = texelEt[point[t]] * float(tx.areaRatio[t]);
+            texelsMoved += std::abs(e.y - row[2]) > 1e-5 * std::abs(row[2]);
+            row = {double(t), e.x, e.y, e.z};
+        }
+    }
+    std::printf("E_t from %d shadow maps drawn (0.05, 0.03) texel aside: %zu of %zu points past "
+                "2^-7 of their unshadowed sum; E′ moved at %zu of %zu texels\n",
+                32, past, own.size(), texelsMoved, ep.rows.size());
+    ASSERT_GT(texelsMoved, 0u);
+    ASSERT_GT(past, 0u)
+        << "no point moved past the samplers' allowance: the emulation shows nothing";
+    capture::Manifest edited = capture::readManifest(dir);
+    plantTable(dir, edited, "scene.irradiance", et);
+    plantTable(dir, edited, "texture_space.eprime", ep);
+    const std::string note =
+        "plus how far it moves with every sample's shadow map drawn 1/16 texel "
+        "aside";
+    std::string out;
+    ASSERT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
+    std::printf("%s\n", lineOf(out, "PASS scene.irradiance  ").c_str());
+    EXPECT_NE(lineOf(out, "PASS scene.irradiance  ").find(note), std::string::npos) << out;
+    EXPECT_NE(lineOf(out, "PASS texture_space.eprime  ").find(note), std::string::npos) << out;
+    EXPECT_NE(lineOf(out, "PASS scene.render  ").find("exact match"), std::string::npos) << out;
+
+    size_t lit = et.rows.size();
+    for (size_t i = 0; i < et.rows.size() && lit == et.rows.size(); ++i)
+        if (own[i].g > 0.999f * unshadowed[i].g && unshadowed[i].g > 0) lit = i;
+    ASSERT_LT(lit, et.rows.size()) << "no unshadowed point";
+    capture::Table far = et;
+    far.rows[lit][2] -= 0.5 * unshadowed[lit].g;
+    plantTable(dir, edited, "scene.irradiance", far);
+    EXPECT_EQ(app::replayCapture(dir, root, false, out), 1) << out;
+    EXPECT_NE(out.find("FAIL scene.irradiance  1 of 6000 values out of tolerance; worst at row " +
+                       std::to_string(lit + 1)),
+              std::string::npos)
+        << out;
     fs::remove_all(root);
 }
 
@@ -860,7 +958,7 @@ TEST(CaptureReplay, TheTraversalReadsTheRecordedIrradiance) {
 // The shadow map is a rasterisation too: another driver's sub-pixel precision may draw its
 // silhouettes up to 1/16 texel elsewhere, which moves V at points along the shadow's edge by far
 // more than the samplers' 2^-7. A replay allows each V how far it moves here with the map drawn
-// 1/16 texel aside along each axis (irradiance::Stage::visibilitySpread). Emulated: the capture
+// up to 1/16 texel aside (irradiance::Stage::visibilitySpread). Emulated: the capture
 // holds V from a map drawn (0.05, 0.03) texel aside and the render traced from it; V passes,
 // saying why, though some points moved past 2^-7, and the render replays exactly. A lit point's V
 // moved by 0.5 fails.
