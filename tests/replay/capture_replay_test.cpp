@@ -56,6 +56,13 @@ app::TextureSpaceSettings& textureSpaceOn(app::Workbench& wb, int k, int n, int 
     ts.sampling.sampleSets = sets;
     return ts;
 }
+// Occluded image based lighting of K = 32 samples with 256² shadow maps (two steps).
+void occludedLightOn(irradiance::Settings& light) {
+    light.mode = irradiance::LightMode::OccludedIbl;
+    light.shadowMapSize = 256;
+    light.occludedTotalSamples = 32;
+    light.occludedSamplesPerStep = 16;
+}
 int replay(const Recorded& r, std::string& out, bool update = false) {
     return app::replayCapture(r.dir, r.root, update, out);
 }
@@ -713,10 +720,7 @@ TEST(CaptureReplay, OccludedLightAllowsEachValueItsVisibilitiesSpread) {
     {
         app::Workbench wb(root, false);
         app::SceneSettings& s = sceneOn(wb, 1500, 32, 18);
-        s.light.mode = irradiance::LightMode::OccludedIbl;
-        s.light.shadowMapSize = 256;
-        s.light.occludedTotalSamples = 32;
-        s.light.occludedSamplesPerStep = 16;
+        occludedLightOn(s.light);
         textureSpaceOn(wb, 64, 16, 1);
         wb.update();
         wb.finishScene();
@@ -792,10 +796,7 @@ TEST(CaptureReplay, OccludedLightAllowsShadowMapsRasterisedElsewhere) {
     {
         app::Workbench wb(root, false);
         app::SceneSettings& s = sceneOn(wb, 1500, 32, 18);
-        s.light.mode = irradiance::LightMode::OccludedIbl;
-        s.light.shadowMapSize = 256;
-        s.light.occludedTotalSamples = 32;
-        s.light.occludedSamplesPerStep = 16;
+        occludedLightOn(s.light);
         textureSpaceOn(wb, 64, 16, 1);
         wb.update();
         wb.finishScene();
