@@ -262,20 +262,23 @@ CaptureEntry irradianceInput(const texspace::Pipeline& p) {
     return e;
 }
 
-// The recorded E_t per texel, where the capture has it; one of another size than K is an error
-// naming both.
-std::optional<std::vector<glm::vec3>> recordedTexelIrradiance(const CaptureEntries& out, int k) {
+// The recorded image of `stage` as RGB per pixel (row-major), where the capture has it; one of
+// another size than width × height is an error naming both (`what` it holds, and `expected`: the
+// setting that sets the size, with its value).
+std::optional<std::vector<glm::vec3>> recordedRgb(const CaptureEntries& out, const char* stage,
+                                                  const char* what, int width, int height,
+                                                  const std::string& expected) {
     if (!out.recordedImage) return std::nullopt;
-    const std::optional<pathtrace::Image> img = out.recordedImage(kIrradianceInput);
+    const std::optional<pathtrace::Image> img = out.recordedImage(stage);
     if (!img) return std::nullopt;
-    if (img->width != k || img->height != k)
-        throw core::Error(std::string(kIrradianceInput) + ": the recorded irradiance is " +
-                          std::to_string(img->width) + "x" + std::to_string(img->height) +
-                          ", settings.texture_space.sampling.texture_size is " + std::to_string(k));
-    std::vector<glm::vec3> et(size_t(k) * size_t(k));
-    for (size_t t = 0; t < et.size(); ++t)
-        et[t] = glm::vec3(img->mean[3 * t], img->mean[3 * t + 1], img->mean[3 * t + 2]);
-    return et;
+    if (img->width != width || img->height != height)
+        throw core::Error(std::string(stage) + ": the recorded " + what + " is " +
+                          std::to_string(img->width) + "x" + std::to_string(img->height) + ", " +
+                          expected);
+    std::vector<glm::vec3> rgb(size_t(width) * size_t(height));
+    for (size_t p = 0; p < rgb.size(); ++p)
+        rgb[p] = glm::vec3(img->mean[3 * p], img->mean[3 * p + 1], img->mean[3 * p + 2]);
+    return rgb;
 }
 
 // The hybrid's local term: a sum of up to 1025 taps, each a profile-table value (the table itself
@@ -292,24 +295,6 @@ CaptureEntry localInput(const texspace::Pipeline& p) {
     e.note = "the hybrid's local L_o per pixel (the light-view ring filter) as the render adds "
              "it, given to it again on replay; compared through texture_space.local";
     return e;
-}
-
-// The recorded local L_o per pixel, where the capture has it; one of another size than the
-// view is an error naming both.
-std::optional<std::vector<glm::vec3>> recordedLocalRadiance(const CaptureEntries& out, int width,
-                                                            int height) {
-    if (!out.recordedImage) return std::nullopt;
-    const std::optional<pathtrace::Image> img = out.recordedImage(kLocalInput);
-    if (!img) return std::nullopt;
-    if (img->width != width || img->height != height)
-        throw core::Error(std::string(kLocalInput) + ": the recorded local term is " +
-                          std::to_string(img->width) + "x" + std::to_string(img->height) +
-                          ", settings.scene.render renders " + std::to_string(width) + "x" +
-                          std::to_string(height));
-    std::vector<glm::vec3> l(size_t(width) * size_t(height));
-    for (size_t p = 0; p < l.size(); ++p)
-        l[p] = glm::vec3(img->mean[3 * p], img->mean[3 * p + 1], img->mean[3 * p + 2]);
-    return l;
 }
 
 // This run's own local L_o at every 4th surface pixel, with (on replay) the allowance of
@@ -376,15 +361,20 @@ void TextureSpaceStage::capture(const TextureSpaceInputs& in, CaptureEntries& ou
     // hybrid's local term) trace the recorded G-buffer of the scene's view, which is this view:
     // another rasteriser's sub-pixel placement moves the silhouette (SceneStage::capture checks
     // the recorded one by the raster rule).
+    const int k = in.settings.sampling.textureSize;
     std::optional<std::vector<glm::vec3>> given =
-        recordedTexelIrradiance(out, in.settings.sampling.textureSize);
+        recordedRgb(out, kIrradianceInput, "irradiance", k, k,
+                    "settings.texture_space.sampling.texture_size is " + std::to_string(k));
     std::optional<render::Gbuffer> gbuffer = SceneStage::recordedGbuffer(out);
     // The hybrid's render adds the recorded local term (this run's own is what
     // texture_space.local compares): another driver's light-view map moves it at edges.
     const render::Settings& view = in.scene->settings().render;
     std::optional<std::vector<glm::vec3>> local =
-        in.settings.sampling.hybrid ? recordedLocalRadiance(out, view.width, view.height)
-                                    : std::nullopt;
+        in.settings.sampling.hybrid
+            ? recordedRgb(out, kLocalInput, "local term", view.width, view.height,
+                          "settings.scene.render renders " + std::to_string(view.width) + "x" +
+                              std::to_string(view.height))
+            : std::nullopt;
     struct Restore {
         TextureSpaceStage& s;
         bool irradiance, gbuffer, local;
