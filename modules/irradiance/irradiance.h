@@ -295,8 +295,7 @@ class Stage {
     struct Occluded {
         bool active = false;
         Settings settings;
-        std::vector<glm::vec4> sampleDirs; // world direction (xyz)
-        std::vector<glm::vec4> sampleWeights;
+        OccludedSamples samples;
         int done = 0, total = 0;
         int current = 0;       // which of m_sums holds the sums
         glm::vec2 shift{0.0f}; // every shadow map drawn this many texels aside

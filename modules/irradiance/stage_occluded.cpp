@@ -72,10 +72,8 @@ void Stage::beginOccluded(const Settings& s, glm::vec2 shift) {
     if (!hasEnvironment())
         throw core::Error("irradiance: image based lighting needs an environment map");
     cancelOccluded();
-    OccludedSamples samples = occludedSamples(checked);
     m_occ.settings = checked;
-    m_occ.sampleDirs = std::move(samples.dirs);
-    m_occ.sampleWeights = std::move(samples.weights);
+    m_occ.samples = occludedSamples(checked);
     for (auto& b : m_sums)
         glClearNamedBufferData(b.id(), GL_RGBA32F, GL_RGBA, GL_FLOAT, nullptr);
     m_occ.current = 0;
@@ -172,8 +170,8 @@ bool Stage::stepOccluded() {
     const Settings& s = m_occ.settings;
     const int count = std::min(s.occludedSamplesPerStep, m_occ.total - m_occ.done);
     m_shadow->ensure(s.shadowMapSize, s.occludedSamplesPerStep);
-    dispatchOccluded(s, {m_occ.sampleDirs, m_occ.sampleWeights}, m_occ.done, count,
-                     m_sums[m_occ.current].id(), m_sums[1 - m_occ.current].id(), m_occ.shift);
+    dispatchOccluded(s, m_occ.samples, m_occ.done, count, m_sums[m_occ.current].id(),
+                     m_sums[1 - m_occ.current].id(), m_occ.shift);
     m_occ.current = 1 - m_occ.current;
     m_occ.done += count;
     if (m_occ.done >= m_occ.total) {
@@ -217,8 +215,7 @@ void Stage::cancelOccluded() {
     m_occ.active = false;
     m_occ.done = 0;
     m_occ.total = 0;
-    m_occ.sampleDirs.clear();
-    m_occ.sampleWeights.clear();
+    m_occ.samples = {};
 }
 
 } // namespace irradiance
