@@ -93,8 +93,11 @@ inline constexpr float kRasterShiftTexels = 1.0f / 16.0f;
 // midpoints of the square |x|, |y| <= kRasterShiftTexels. A straight edge moves across a texel
 // by s·n for a move s, largest at a corner; near a vertex where several triangles meet, which
 // one covers a texel is no monotone function of s (a jittered comparison at the bunny flipped
-// under (1/16, 0) and (0.05, 0.03) but under no corner), so the midpoints are tried too. An
-// estimate from rigid moves: a driver snaps each vertex on its own.
+// under (1/16, 0) and (0.05, 0.03) but under no corner), so the midpoints are tried too. The
+// moves are rigid and a driver snaps each vertex on its own: the tests move the bunny's
+// vertices independently and find V and occluded E_t within the rigid moves' spread
+// (IrradianceDirectional.TheVisibilitySpreadBoundsAMapWhoseVerticesSnapApart,
+// IrradianceOccluded.TheRasterSpreadBoundsMapsWhoseVerticesSnapApart).
 inline std::array<glm::vec2, 8> rasterShifts() {
     const float d = kRasterShiftTexels;
     return {glm::vec2(d, d), glm::vec2(d, -d), glm::vec2(-d, d), glm::vec2(-d, -d),
