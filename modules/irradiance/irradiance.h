@@ -94,9 +94,9 @@ inline constexpr float kRasterShiftTexels = 1.0f / 16.0f;
 // by s·n for a move s, largest at a corner; near a vertex where several triangles meet, which
 // one covers a texel is no monotone function of s (a jittered comparison at the bunny flipped
 // under (1/16, 0) and (0.05, 0.03) but under no corner), so the midpoints are tried too. The
-// moves are rigid and a driver snaps each vertex on its own: the tests move the bunny's
-// vertices independently and find V and occluded E_t within the rigid moves' spread
-// (IrradianceDirectional.TheVisibilitySpreadBoundsAMapWhoseVerticesSnapApart,
+// moves are rigid and a driver snaps each vertex on its own: the tests move the bunny's vertices
+// independently (Stage::setVertexSnap) and find V and occluded E_t within the rigid moves'
+// spread (IrradianceDirectional.TheVisibilitySpreadBoundsAMapWhoseVerticesSnapApart,
 // IrradianceOccluded.TheRasterSpreadBoundsMapsWhoseVerticesSnapApart).
 inline std::array<glm::vec2, 8> rasterShifts() {
     const float d = kRasterShiftTexels;
@@ -232,6 +232,9 @@ class Stage {
     // Directional / Filtered only: compute(s) with the shadow map drawn `shift` texels aside (an
     // emulated other rasteriser; visibilitySpread, tests). The result's w is V.
     std::vector<glm::vec4> computeShifted(const Settings& s, glm::vec2 shift);
+    // Every shadow map from the next compute on drawn with each vertex moved on its own
+    // (ShadowMaps::setVertexSnap: another rasteriser, emulated; tests); all 0 to stop.
+    void setVertexSnap(float texels, float depthUlps, uint32_t seed);
     // How far two conforming drivers' E_u of `s` may lie apart, absolute, beyond float32
     // arithmetic: 0 but for filtered light, whose T(uv) the shader filters in float from a uv
     // that drivers round a few ulp apart (irradiance_direct.comp): a bilinear weight then moves

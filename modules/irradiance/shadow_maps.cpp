@@ -42,6 +42,8 @@ ShadowMaps::ShadowMaps(gl::Program program)
 void ShadowMaps::setProgram(gl::Program program) {
     m_program = std::move(program);
     m_clipFromWorld = gl::uniformLocation(m_program, "ClipFromWorld");
+    m_vertexSnap = gl::uniformLocation(m_program, "VertexSnap");
+    m_vertexSnapSeed = gl::uniformLocation(m_program, "VertexSnapSeed");
 }
 
 void ShadowMaps::setMesh(const mesh::Mesh& m) {
@@ -121,6 +123,12 @@ void ShadowMaps::render(int layer, const LightFrame& frame, glm::vec2 shift) {
         m = t * m;
     }
     glUniformMatrix4fv(m_clipFromWorld, 1, GL_FALSE, glm::value_ptr(m));
+    // a texel is 2/size in clip x and y; a depth of 2^-24 (DEPTH_COMPONENT32F near 0.5) 2^-23 in
+    // clip z (depth = 0.5·z + 0.5)
+    const glm::vec3 snap(2.0f * m_snap.texels / float(m_size), 2.0f * m_snap.texels / float(m_size),
+                         m_snap.depthUlps / 8388608.0f);
+    glUniform3fv(m_vertexSnap, 1, glm::value_ptr(snap));
+    glUniform1ui(m_vertexSnapSeed, m_snap.seed);
     glBindVertexArray(m_vao.id());
     glDrawElements(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);

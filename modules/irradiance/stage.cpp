@@ -418,6 +418,10 @@ std::vector<glm::vec4> Stage::computeShifted(const Settings& s, glm::vec2 shift)
     return v;
 }
 
+void Stage::setVertexSnap(float texels, float depthUlps, uint32_t seed) {
+    m_shadow->setVertexSnap(texels, depthUlps, seed);
+}
+
 std::vector<float> Stage::visibilitySpread(const Settings& s) {
     std::vector<std::vector<glm::vec4>> moved;
     for (const glm::vec2 shift : rasterShifts())

@@ -156,55 +156,45 @@ TEST(IrradianceOccluded, DeterministicStepsProgressAndCancel) {
 }
 
 // Stage::occludedRasterSpread moves each sample's whole map to rasterShifts(); a driver snaps each
-// vertex on its own. Emulated on the bunny under the default sky: every vertex moved on its own
-// within a ball of 1/32 texel (a move in world space cannot stay in all K image planes, so it
-// also moves depths along each light by up to 1/32 texel, far more than a driver's depth
-// rounding; in a ball of 1/16 texel 3 of 22 080 values went past the spread, where the
-// directional test's moves, kept in the image plane, hold at 1/16), the frames held still. Every
-// point's E_t, per channel, stays within the rigid moves' spread of the unmoved mesh (the same
-// samples and sampler, so to float summation: 1e-5 of U), though the moves change hundreds of
-// values.
+// vertex on its own. Emulated on the bunny under the default sky (Stage::setVertexSnap: in every
+// sample's map each vertex moved on its own by up to kRasterShiftTexels along both image axes
+// and 8 ulps of depth): every point's E_t, per channel, stays within the spread (the same samples
+// and sampler, so to float summation: 1e-5 of U), though the moves change thousands of values.
+// Moves four times larger fail.
 TEST(IrradianceOccluded, TheRasterSpreadBoundsMapsWhoseVerticesSnapApart) {
     Stage& st = irrtest::stage();
-    const irrtest::PointsOnMesh sc = irrtest::bunnyWithFixedFrame();
+    const irrtest::PointsOnMesh sc = irrtest::bunnyPoints();
+    st.setScene(sc.mesh, sc.P, sc.N);
     st.setEnvironment(makeDefaultSky(32, 16));
     Settings s = occludedSettings();
     s.occludedTotalSamples = 32;
     s.occludedSamplesPerStep = 8;
-    const BoundingSphere bounds = boundingSphere(sc.mesh, sc.P);
-    const float texel = 2.0f * 1.02f * bounds.radius / float(s.shadowMapSize); // light_frame.h
-    st.setScene(sc.mesh, sc.P, sc.N);
     const std::vector<glm::vec3> spread = st.occludedRasterSpread(s);
     const std::vector<glm::vec3> e = st.occludedResult();
     const std::vector<glm::vec3> U = st.occludedUnshadowed(s, sc.N);
-    int moved = 0;
+    int moved = 0, beyond = 0;
     for (const uint32_t seed : {1u, 2u}) {
-        const mesh::Mesh snapped = irrtest::movedVertices(sc.mesh, seed, [&](auto r) {
-            glm::vec3 d;
-            do {
-                d = glm::vec3(r(), r(), r());
-            } while (glm::dot(d, d) > 1.0f);
-            return d * (texel / 32.0f);
-        });
-        const BoundingSphere b = boundingSphere(snapped, sc.P);
-        ASSERT_EQ(b.centre, bounds.centre) << "the frames moved";
-        ASSERT_EQ(b.radius, bounds.radius) << "the frames moved";
-        st.setScene(snapped, sc.P, sc.N);
+        st.setVertexSnap(kRasterShiftTexels, 8.0f, seed);
         const std::vector<glm::vec3> w = st.compute(s);
+        st.setVertexSnap(4.0f * kRasterShiftTexels, 8.0f, seed);
+        const std::vector<glm::vec3> far = st.compute(s);
+        st.setVertexSnap(0.0f, 0.0f, 0);
         for (size_t i = 0; i < e.size(); ++i)
             for (int c = 0; c < 3; ++c) {
                 const double d = std::abs(double(w[i][c]) - e[i][c]);
                 const double rounding = 1e-5 * U[i][c];
                 moved += d > rounding;
+                beyond += std::abs(double(far[i][c]) - e[i][c]) > spread[i][c] + rounding;
                 EXPECT_LE(d, spread[i][c] + rounding)
                     << "seed " << seed << " point " << i << " channel " << c << " E_t " << e[i][c]
                     << " moved " << w[i][c] << " spread " << spread[i][c];
             }
     }
-    EXPECT_GT(moved, 100) << "the emulation moves too little to show anything";
-    std::printf("occluded IBL, vertices snapped apart within 1/32 texel: %d values changed, each "
-                "within the rigid moves' spread\n",
-                moved);
+    EXPECT_GT(moved, 1000) << "the emulation moves too little to show anything";
+    EXPECT_GT(beyond, 100) << "moves four times larger stay within the spread too";
+    std::printf("occluded IBL, vertices snapped apart by up to 1/16 texel: %d values changed, each "
+                "within the rigid moves' spread; at 1/4 texel %d past it\n",
+                moved, beyond);
 }
 
 } // namespace
