@@ -123,11 +123,7 @@ void ShadowMaps::render(int layer, const LightFrame& frame, glm::vec2 shift) {
         m = t * m;
     }
     glUniformMatrix4fv(m_clipFromWorld, 1, GL_FALSE, glm::value_ptr(m));
-    // a texel is 2/size in clip x and y; a depth of 2^-24 (DEPTH_COMPONENT32F near 0.5) 2^-23 in
-    // clip z (depth = 0.5·z + 0.5)
-    const glm::vec3 snap(2.0f * m_snap.texels / float(m_size), 2.0f * m_snap.texels / float(m_size),
-                         m_snap.depthUlps / 8388608.0f);
-    glUniform3fv(m_vertexSnap, 1, glm::value_ptr(snap));
+    glUniform3fv(m_vertexSnap, 1, glm::value_ptr(m_snap.clipAmplitude(m_size)));
     glUniform1ui(m_vertexSnapSeed, m_snap.seed);
     glBindVertexArray(m_vao.id());
     glDrawElements(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr);

@@ -12,7 +12,6 @@
 
 #include <glm/vec2.hpp>
 
-#include <cstdint>
 #include <filesystem>
 
 namespace irradiance {
@@ -29,13 +28,8 @@ class ShadowMaps {
     // viewport and depth/cull state it touches). `shift`: the image moved by that many texels
     // (x, y), as another rasteriser's sub-pixel precision may place it (Stage::visibilitySpread).
     void render(int layer, const LightFrame& frame, glm::vec2 shift = glm::vec2(0.0f));
-    // From the next render on, every vertex moved on its own by up to `texels` along both
-    // image axes and `depthUlps` of depth, from a hash of its index and `seed`: another
-    // rasteriser's per-vertex snapping and depth rounding, emulated (tests of the raster
-    // spreads, which move the whole image). All 0 draws the mesh as it is.
-    void setVertexSnap(float texels, float depthUlps, uint32_t seed) {
-        m_snap = {texels, depthUlps, seed};
-    }
+    // From the next render on, another rasteriser emulated (light_frame.h; tests).
+    void setVertexSnap(const VertexSnap& snap) { m_snap = snap; }
     // Binds the depth array to texture units 0 (nearest sampler) and 1 (linear sampler).
     void bind() const;
     void unbind() const; // unbinds the samplers and the depth array (units 0 and 1 are shared)
@@ -52,10 +46,7 @@ class ShadowMaps {
     gl::FramebufferId m_fbo;
     detail::Sampler m_nearest, m_linear;
     GLint m_clipFromWorld = -1, m_vertexSnap = -1, m_vertexSnapSeed = -1;
-    struct {
-        float texels = 0.0f, depthUlps = 0.0f;
-        uint32_t seed = 0;
-    } m_snap;
+    VertexSnap m_snap;
     int m_size = 0, m_layers = 0;
 };
 

@@ -418,8 +418,8 @@ std::vector<glm::vec4> Stage::computeShifted(const Settings& s, glm::vec2 shift)
     return v;
 }
 
-void Stage::setVertexSnap(float texels, float depthUlps, uint32_t seed) {
-    m_shadow->setVertexSnap(texels, depthUlps, seed);
+void Stage::setVertexSnap(const VertexSnap& snap) {
+    m_shadow->setVertexSnap(snap);
 }
 
 std::vector<float> Stage::visibilitySpread(const Settings& s) {

@@ -97,6 +97,9 @@ class LocalTerm {
     // The taps read the map `shift` texels aside from the next begin() on (an emulated other
     // driver's rounding of the tap's place: Pipeline::localSpread, tests); 0 by default.
     void setLookupShift(glm::vec2 shift) { m_lookupShift = shift; }
+    // The map drawn with every vertex moved on its own from the next renderLightMap on (another
+    // rasteriser emulated: irradiance::VertexSnap; tests); {} by default.
+    void setVertexSnap(const irradiance::VertexSnap& snap) { m_snap = snap; }
     const irradiance::LightFrame& frame() const { return m_frame; }
     // B_l and L_o = Ft(η, cos θo)/π · B_l per pixel of the G-buffer (positions and normals of a
     // render::Frame), rgb and w = hit, row-major as the renderer's read-back.
@@ -133,6 +136,7 @@ class LocalTerm {
     gl::FramebufferId m_fbo;
     int m_mapSize = 0;
     glm::vec2 m_lookupShift{0.0f};
+    irradiance::VertexSnap m_snap;
     // the evaluation in progress (begin / step)
     gl::Buffer m_tableBuffer, m_tapBuffer, m_exitance, m_radiance; // hybrid_local.comp's results
     GLuint m_gPosition = 0, m_gNormal = 0;

@@ -27,6 +27,11 @@ void Pipeline::setLocalShift(glm::vec2 map, glm::vec2 lookup) {
     m_lookupShift = lookup;
 }
 
+void Pipeline::setLocalVertexSnap(const irradiance::VertexSnap& snap) {
+    m_localSnap = snap;
+    m_lightMapSize = 0; // drawn again at the next begin()
+}
+
 std::vector<glm::vec3> Pipeline::localSpread(const std::vector<size_t>& pixels) {
     if (!m_run.hybrid || !m_local || m_ownLocalL.empty())
         throw core::Error("hybrid", 0, "the local term is not computed yet");

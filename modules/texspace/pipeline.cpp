@@ -335,6 +335,7 @@ void Pipeline::beginHybrid() {
     // the light-view map depends on the mesh and the light only, not on the view
     if (m_lightMapSize != m_run.local.lightMapSize || m_lightMapDirection != m_light.direction ||
         m_lightMapShift != m_mapShift) {
+        m_local->setVertexSnap(m_localSnap);
         m_local->renderLightMap(m_light.direction, m_run.local.lightMapSize, m_mapShift);
         m_lightMapSize = m_run.local.lightMapSize;
         m_lightMapDirection = m_light.direction;

@@ -344,11 +344,11 @@ TEST(IrradianceDirectional, TheVisibilitySpreadBoundsAMapWhoseVerticesSnapApart)
                 const std::vector<float> spread = st.visibilitySpread(s);
                 const std::vector<glm::vec4> v = st.computeShifted(s, glm::vec2(0.0f));
                 for (const uint32_t seed : {1u, 2u}) {
-                    st.setVertexSnap(kRasterShiftTexels, 8.0f, seed);
+                    st.setVertexSnap({kRasterShiftTexels, 8.0f, seed});
                     const std::vector<glm::vec4> w = st.computeShifted(s, glm::vec2(0.0f));
-                    st.setVertexSnap(4.0f * kRasterShiftTexels, 8.0f, seed);
+                    st.setVertexSnap({4.0f * kRasterShiftTexels, 8.0f, seed});
                     const std::vector<glm::vec4> far = st.computeShifted(s, glm::vec2(0.0f));
-                    st.setVertexSnap(0.0f, 0.0f, 0);
+                    st.setVertexSnap({});
                     for (size_t i = 0; i < v.size(); ++i) {
                         const double d = std::abs(double(w[i].w) - v[i].w);
                         moved += d > 0;

@@ -174,11 +174,11 @@ TEST(IrradianceOccluded, TheRasterSpreadBoundsMapsWhoseVerticesSnapApart) {
     const std::vector<glm::vec3> U = st.occludedUnshadowed(s, sc.N);
     int moved = 0, beyond = 0;
     for (const uint32_t seed : {1u, 2u}) {
-        st.setVertexSnap(kRasterShiftTexels, 8.0f, seed);
+        st.setVertexSnap({kRasterShiftTexels, 8.0f, seed});
         const std::vector<glm::vec3> w = st.compute(s);
-        st.setVertexSnap(4.0f * kRasterShiftTexels, 8.0f, seed);
+        st.setVertexSnap({4.0f * kRasterShiftTexels, 8.0f, seed});
         const std::vector<glm::vec3> far = st.compute(s);
-        st.setVertexSnap(0.0f, 0.0f, 0);
+        st.setVertexSnap({});
         for (size_t i = 0; i < e.size(); ++i)
             for (int c = 0; c < 3; ++c) {
                 const double d = std::abs(double(w[i][c]) - e[i][c]);
