@@ -9,6 +9,11 @@
 // (irradiance/light_frame.h; the map is not flipped: row 0 at v = 0).
 // Output per pixel p = y·width + x (row 0 the top, as the G-buffer): LocalExitance[p] = (B_l, hit),
 // LocalRadiance[p] = (Ft(η, cos θo)/π · B_l, hit), cos θo = min(1, |n_o·ω_o|).
+// LocalTapMode 1 and 2 serve the allowance of another driver's map (texspace/local_spread.cpp):
+// for the j-th of LocalPixelCount listed pixels (LocalPixels, one workgroup of 64 a dispatch
+// group) and tap t, k = j·taps + t: mode 1 keeps each tap's own L_o term (TapOwn[k]) and clears
+// its spreads; mode 2 raises TapSpread[2k + LocalTapGroup] to |this map's or lookup's term −
+// TapOwn[k]|, per channel (group 0: the map's moves, 1: the lookups').
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "common/octree_profile.glsl"
@@ -22,6 +27,9 @@ layout(std430, binding = 5) readonly buffer LocalTaps { vec4 localTaps[]; }; // 
 // of 32 bytes a pixel would pass NVIDIA's GL_MAX_SHADER_STORAGE_BLOCK_SIZE (2^31 - 1) at 8192²
 layout(std430, binding = 6) writeonly buffer LocalExitance { vec4 localExitance[]; };
 layout(std430, binding = 7) writeonly buffer LocalRadiance { vec4 localRadiance[]; };
+layout(std430, binding = 8) readonly buffer LocalPixels { uint localPixels[]; };
+layout(std430, binding = 9) buffer TapOwn { vec4 tapOwn[]; };
+layout(std430, binding = 10) buffer TapSpread { vec4 tapSpread[]; };
 
 uniform ivec2 LocalSize;
 uniform int LocalRowOffset; // first row of this dispatch (the host dispatches bands of rows)
@@ -36,6 +44,9 @@ uniform float LocalScale;     // mm per mesh unit
 uniform vec3 LocalRp;         // R_p per channel, mm
 uniform float LocalK;         // 1/mm
 uniform vec3 LocalCamera;     // mesh units
+uniform int LocalTapMode;     // 0: the local term; 1, 2: the taps of listed pixels (above)
+uniform uint LocalPixelCount;
+uniform int LocalTapGroup;
 
 float localFresnelTransmittance(float cosI, float eta) {
     if (eta == 1.0) return 1.0;
@@ -55,7 +66,62 @@ vec3 localWeight(float r) {
     return mix(below, above, greaterThan(d, vec3(0.0)));
 }
 
+// One tap's term of M at x_o, whose light-plane coordinates are q (0 where the light sees
+// nothing there, or a surface facing away from it).
+vec3 tapTerm(vec3 xo, vec2 q, int t) {
+    vec4 tap = localTaps[t];
+    vec2 qt = q + tap.xy / LocalScale;
+    vec2 uv = 0.5 + 0.5 * qt / LightExtent;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return vec3(0.0);
+    ivec2 texel = ivec2(uv * float(LightMapSize) + LocalLookupShift);
+    vec4 xi = imageLoad(LightPosition, texel);
+    if (xi.w == 0.0) return vec3(0.0);
+    vec3 ni = imageLoad(LightNormal, texel).xyz;
+    float ft = localFresnelTransmittance(dot(ni, LightW), LocalIor);
+    if (ft <= 0.0) return vec3(0.0);
+    float d = LocalScale * length(xi.xyz - xo);
+    return (LightIrradiance * ft) * profileLookup(d) * localWeight(d) * tap.z;
+}
+
+vec2 lightPlane(vec3 xo) {
+    return vec2(dot(xo - LightCentre, LightU), dot(xo - LightCentre, LightV));
+}
+
+// L_o = Ft(η, cos θo)/π · M at a surface pixel.
+float radianceFactor(vec3 xo, vec3 no) {
+    vec3 wo = normalize(LocalCamera - xo);
+    float cosO = min(1.0, abs(dot(no, wo)));
+    return localFresnelTransmittance(cosO, LocalIor) / 3.14159265358979;
+}
+
+void listedPixelTaps() {
+    uint j = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
+    if (j >= LocalPixelCount) return;
+    uint p = localPixels[j];
+    ivec2 pix = ivec2(int(p % uint(LocalSize.x)), int(p / uint(LocalSize.x)));
+    vec4 pos = imageLoad(GPosition, pix);
+    vec3 xo = pos.xyz;
+    float factor = pos.w == 0.0 ? 0.0 : radianceFactor(xo, imageLoad(GNormal, pix).xyz);
+    vec2 q = lightPlane(xo);
+    for (int t = 0; t < LocalTapCount; ++t) {
+        uint k = j * uint(LocalTapCount) + uint(t);
+        vec3 term = factor == 0.0 ? vec3(0.0) : factor * tapTerm(xo, q, t);
+        if (LocalTapMode == 1) {
+            tapOwn[k] = vec4(term, 0.0);
+            tapSpread[2u * k] = vec4(0.0);
+            tapSpread[2u * k + 1u] = vec4(0.0);
+        } else {
+            uint s = 2u * k + uint(LocalTapGroup);
+            tapSpread[s] = max(tapSpread[s], vec4(abs(term - tapOwn[k].rgb), 0.0));
+        }
+    }
+}
+
 void main() {
+    if (LocalTapMode != 0) {
+        listedPixelTaps();
+        return;
+    }
     ivec2 pix = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, LocalRowOffset);
     if (pix.x >= LocalSize.x || pix.y >= LocalSize.y) return;
     uint p = uint(pix.y * LocalSize.x + pix.x);
@@ -67,24 +133,10 @@ void main() {
     }
     vec3 xo = pos.xyz;
     vec3 no = imageLoad(GNormal, pix).xyz;
-    vec2 q = vec2(dot(xo - LightCentre, LightU), dot(xo - LightCentre, LightV));
+    vec2 q = lightPlane(xo);
     vec3 M = vec3(0.0);
-    for (int t = 0; t < LocalTapCount; ++t) {
-        vec4 tap = localTaps[t];
-        vec2 qt = q + tap.xy / LocalScale;
-        vec2 uv = 0.5 + 0.5 * qt / LightExtent;
-        if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) continue;
-        ivec2 texel = ivec2(uv * float(LightMapSize) + LocalLookupShift);
-        vec4 xi = imageLoad(LightPosition, texel);
-        if (xi.w == 0.0) continue;
-        vec3 ni = imageLoad(LightNormal, texel).xyz;
-        float ft = localFresnelTransmittance(dot(ni, LightW), LocalIor);
-        if (ft <= 0.0) continue;
-        float d = LocalScale * length(xi.xyz - xo);
-        M += (LightIrradiance * ft) * profileLookup(d) * localWeight(d) * tap.z;
-    }
-    vec3 wo = normalize(LocalCamera - xo);
-    float cosO = min(1.0, abs(dot(no, wo)));
+    for (int t = 0; t < LocalTapCount; ++t)
+        M += tapTerm(xo, q, t);
     localExitance[p] = vec4(M, 1.0);
-    localRadiance[p] = vec4(localFresnelTransmittance(cosO, LocalIor) / 3.14159265358979 * M, 1.0);
+    localRadiance[p] = vec4(radianceFactor(xo, no) * M, 1.0);
 }

@@ -322,9 +322,9 @@ CaptureEntry localEntry(texspace::Pipeline& p, bool forReplay) {
         for (const glm::vec3& s : p.localSpread(shown))
             e.conditioning.rows.push_back({0.0, s.x, s.y, s.z});
         e.conditioningNote = "how far the local term moves with the light-view map drawn 1/16 "
-                             "texel aside (along either axis or both) and its taps read 2^-10 "
-                             "texel aside along each axis (the rasterisers' sub-pixel precision, "
-                             "the taps' float places)";
+                             "texel aside and read 2^-10 texel aside (along either axis or "
+                             "both), tap by tap, summed over the taps (another rasteriser snaps "
+                             "each vertex its own way; the taps' float places)";
     }
     return e;
 }

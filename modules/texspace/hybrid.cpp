@@ -265,13 +265,11 @@ void LocalTerm::begin(GLuint gPosition, GLuint gNormal, int width, int height,
     glUniform1ui(loc("ProfileCount"), GLuint(std::max<size_t>(table.values.size(), 2)));
 }
 
-bool LocalTerm::step(int rows) {
-    if (!m_exitance) throw core::Error("hybrid", 0, "no local evaluation begun");
-    if (m_row >= m_height) return true;
-    const int n = std::clamp(rows, 1, m_height - m_row);
+void LocalTerm::bindInputs(int mode) const {
     const GLuint p = m_localProgram.id();
     glUseProgram(p); // uniforms set by begin() stay with the program
-    glUniform1i(glGetUniformLocation(p, "LocalRowOffset"), m_row);
+    glUniform1i(glGetUniformLocation(p, "LocalTapMode"), mode);
+    glUniform2fv(glGetUniformLocation(p, "LocalLookupShift"), 1, &m_lookupShift.x);
     glBindImageTexture(0, m_gPosition, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(1, m_gNormal, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
     glBindImageTexture(2, m_lightPosition.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
@@ -280,12 +278,76 @@ bool LocalTerm::step(int rows) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m_tapBuffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m_exitance.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, m_radiance.id());
+}
+
+bool LocalTerm::step(int rows) {
+    if (!m_exitance) throw core::Error("hybrid", 0, "no local evaluation begun");
+    if (m_row >= m_height) return true;
+    const int n = std::clamp(rows, 1, m_height - m_row);
+    bindInputs(0);
+    glUniform1i(glGetUniformLocation(m_localProgram.id(), "LocalRowOffset"), m_row);
     glDispatchCompute(GLuint((m_width + 7) / 8), GLuint((n + 7) / 8), 1);
     // barrier: hybrid_local.comp's band of results → the readback and the next band's dispatch
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glFinish(); // the band's time is spent here, not in a later call
     m_row += n;
     return m_row >= m_height;
+}
+
+size_t LocalTerm::tapsPerPass() const {
+    const uint64_t perPixel = uint64_t(std::max(m_tapCount, 1)) * 2 * sizeof(glm::vec4);
+    const uint64_t limit =
+        std::min<uint64_t>(uint64_t(gl::maxStorageBlockBytes()), uint64_t(1) << 28);
+    return size_t(std::max<uint64_t>(limit / perPixel, 1));
+}
+
+void LocalTerm::beginTaps(const std::vector<uint32_t>& pixels) {
+    if (!m_exitance) throw core::Error("hybrid", 0, "no local evaluation begun");
+    if (pixels.empty() || pixels.size() > tapsPerPass())
+        throw core::Error("hybrid", 0,
+                          "a pass of the taps lists 1 to " + std::to_string(tapsPerPass()) +
+                              " pixels, not " + std::to_string(pixels.size()));
+    for (uint32_t px : pixels)
+        if (size_t(px) >= size_t(m_width) * size_t(m_height))
+            throw core::Error("hybrid", 0,
+                              "pixel " + std::to_string(px) + " lies outside the frame");
+    const size_t taps = size_t(std::max(m_tapCount, 1)) * pixels.size();
+    m_tapPixels = gl::createBuffer(pixels.size() * sizeof(uint32_t), pixels.data());
+    m_tapOwn = gl::createBuffer(taps * sizeof(glm::vec4), nullptr);
+    m_tapSpread = gl::createBuffer(2 * taps * sizeof(glm::vec4), nullptr);
+    m_tapPixelCount = pixels.size();
+    raiseTaps(-1);
+}
+
+void LocalTerm::raiseTaps(int group) {
+    if (!m_tapPixels) throw core::Error("hybrid", 0, "no taps begun");
+    bindInputs(group < 0 ? 1 : 2);
+    const GLuint p = m_localProgram.id();
+    glUniform1ui(glGetUniformLocation(p, "LocalPixelCount"), GLuint(m_tapPixelCount));
+    glUniform1i(glGetUniformLocation(p, "LocalTapGroup"), std::max(group, 0));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, m_tapPixels.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, m_tapOwn.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, m_tapSpread.id());
+    glDispatchCompute(GLuint((m_tapPixelCount + 63) / 64), 1, 1);
+    // barrier: the taps' terms and spreads → the next pass's reads of them and tapSpreads()'s
+    // readback; the map drawn next into the textures this pass reads waits for it
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+                    GL_FRAMEBUFFER_BARRIER_BIT);
+}
+
+std::vector<glm::vec3> LocalTerm::tapSpreads() const {
+    if (!m_tapSpread) throw core::Error("hybrid", 0, "no taps begun");
+    const size_t taps = size_t(std::max(m_tapCount, 1));
+    std::vector<glm::vec4> spread(2 * taps * m_tapPixelCount);
+    glGetNamedBufferSubData(m_tapSpread.id(), 0, GLsizeiptr(spread.size() * sizeof(glm::vec4)),
+                            spread.data());
+    std::vector<glm::vec3> out(m_tapPixelCount, glm::vec3(0.0f));
+    for (size_t j = 0; j < m_tapPixelCount; ++j)
+        for (size_t t = 0; t < size_t(m_tapCount); ++t) {
+            const size_t k = j * taps + t;
+            out[j] += glm::vec3(spread[2 * k]) + glm::vec3(spread[2 * k + 1]);
+        }
+    return out;
 }
 
 LocalTerm::Result LocalTerm::result() const {

@@ -119,11 +119,22 @@ class LocalTerm {
                     const glm::vec3& cameraPosition, const render::ProfileTable& table,
                     const std::vector<RingTap>& taps, const glm::vec3& rp, float k,
                     const glm::vec3& irradiance, float ior, float scaleMm);
+    // Per tap, for the allowance of another driver's map (local_spread.cpp), after begin():
+    // beginTaps keeps each tap's L_o term at the listed pixels (row-major indices) as the map and
+    // lookups are now; raiseTaps(group) raises each tap's spread of `group` (0, 1) to how far its
+    // term moved with the map and lookups as they are then; tapSpreads() reads, per listed pixel,
+    // Σ_taps (spread of group 0 + spread of group 1). tapsPerPass(): how many pixels one pass may
+    // list within the storage block limit.
+    void beginTaps(const std::vector<uint32_t>& pixels);
+    void raiseTaps(int group);
+    std::vector<glm::vec3> tapSpreads() const;
+    size_t tapsPerPass() const;
     shader::Reloaded reloadShaders(const std::vector<std::filesystem::path>& changed);
     shader::Records records() const;
     GLuint lightPositionTexture() const { return m_lightPosition.id(); }
 
   private:
+    void bindInputs(int mode) const; // hybrid_local.comp's program, inputs and LocalTapMode
     shader::Sources m_src;
     shader::Record m_mapRecord, m_localRecord;
     gl::Program m_mapProgram, m_localProgram;
@@ -139,6 +150,8 @@ class LocalTerm {
     irradiance::VertexSnap m_snap;
     // the evaluation in progress (begin / step)
     gl::Buffer m_tableBuffer, m_tapBuffer, m_exitance, m_radiance; // hybrid_local.comp's results
+    gl::Buffer m_tapPixels, m_tapOwn, m_tapSpread;                 // beginTaps / raiseTaps
+    size_t m_tapPixelCount = 0;
     GLuint m_gPosition = 0, m_gNormal = 0;
     int m_width = 0, m_height = 0, m_row = 0, m_tapCount = 0;
 };

@@ -7,10 +7,16 @@
 //   - each tap's texel is floor(uv · M) of a uv that hybrid_local.comp forms from dot products a
 //     driver may fuse and a division GLSL allows 2.5 ulp: uv · M lies a few ulp of uv · M (M ≤
 //     4096: 2^-12 texel each) apart, so a tap that close to a texel's edge reads the neighbour.
-// Measured here, as irradiance::Stage::visibilitySpread measures V's, per pixel and channel: the
-// largest |L(map drawn to one of irradiance::rasterShifts()) − L| (the map moves one way), plus
-// Σ over ±x, ±y of |L(taps read 2^-10 texel that way) − L| (every tap within 4x that rounding of
-// a texel's edge moved across it: different taps each way, so they add).
+// Measured here per tap, as irradiance::Stage::visibilitySpread measures V's per point, and
+// summed over the taps, per pixel and channel: Σ_taps (the largest |term(map drawn to one of
+// irradiance::rasterShifts()) − term| + the largest |term(read 2^-10 texel aside, the same eight
+// ways) − term|). Per tap, not per pixel: a driver snaps each vertex on its own, so each tap
+// reads the surface moved its own way, while a whole-map move shifts every tap of a ring alike
+// and their changes cancel (a pixel's L moved 3.7x past the whole-map measure with the vertices
+// snapped 1/16 texel apart, and past it even at 1/256:
+// CaptureReplay.TheLocalSpreadBoundsALightMapWhoseVerticesSnapApart). A tap's term is close
+// to linear in its move, whose largest change over the square is at a corner; where a tap's
+// texel changes surface the midpoints count too (irradiance::rasterShifts).
 #include "texspace/pipeline.h"
 
 #include "core/core.h"
@@ -40,34 +46,29 @@ std::vector<glm::vec3> Pipeline::localSpread(const std::vector<size_t>& pixels) 
             throw core::Error("hybrid", 0,
                               "pixel " + std::to_string(p) + " lies outside the frame of " +
                                   std::to_string(m_ownLocalL.size()));
-    const float e = 1.0f / 1024.0f;
     const int size = m_run.local.lightMapSize;
-    auto evaluate = [&](glm::vec2 map, glm::vec2 lookup) {
-        m_local->renderLightMap(m_light.direction, size, m_mapShift + map);
-        m_local->setLookupShift(m_lookupShift + lookup);
-        beginLocal();
-        while (!m_local->step(64)) {
+    const float lookupScale = (1.0f / 1024.0f) / irradiance::kRasterShiftTexels;
+    std::vector<glm::vec3> spread;
+    spread.reserve(pixels.size());
+    beginLocal(); // the run's map, lookups and inputs
+    const size_t pass = m_local->tapsPerPass();
+    for (size_t first = 0; first < pixels.size(); first += pass) {
+        const size_t n = std::min(pass, pixels.size() - first);
+        m_local->beginTaps(std::vector<uint32_t>(pixels.begin() + std::ptrdiff_t(first),
+                                                 pixels.begin() + std::ptrdiff_t(first + n)));
+        for (const glm::vec2 shift : irradiance::rasterShifts()) { // group 0: the map
+            m_local->renderLightMap(m_light.direction, size, m_mapShift + shift);
+            m_local->raiseTaps(0);
         }
-        return m_local->result().radiance;
-    };
-    std::vector<glm::vec3> spread(pixels.size(), glm::vec3(0.0f));
-    auto difference = [&](const std::vector<glm::vec4>& moved, size_t i) {
-        return glm::abs(glm::vec3(moved[pixels[i]]) - glm::vec3(m_ownLocalL[pixels[i]]));
-    };
-    for (const glm::vec2 shift : irradiance::rasterShifts()) { // the map: the worst move
-        const std::vector<glm::vec4> moved = evaluate(shift, {});
-        for (size_t i = 0; i < pixels.size(); ++i)
-            spread[i] = glm::max(spread[i], difference(moved, i));
+        m_local->renderLightMap(m_light.direction, size, m_mapShift);
+        for (const glm::vec2 shift : irradiance::rasterShifts()) { // group 1: the lookups
+            m_local->setLookupShift(m_lookupShift + lookupScale * shift);
+            m_local->raiseTaps(1);
+        }
+        m_local->setLookupShift(m_lookupShift);
+        const std::vector<glm::vec3> part = m_local->tapSpreads();
+        spread.insert(spread.end(), part.begin(), part.end());
     }
-    for (const glm::vec2 lookup : {glm::vec2(e, 0.0f), glm::vec2(-e, 0.0f), glm::vec2(0.0f, e),
-                                   glm::vec2(0.0f, -e)}) { // the taps: every side adds
-        const std::vector<glm::vec4> moved = evaluate({}, lookup);
-        for (size_t i = 0; i < pixels.size(); ++i)
-            spread[i] += difference(moved, i);
-    }
-    // the run's map and lookups again
-    m_local->renderLightMap(m_light.direction, size, m_mapShift);
-    m_local->setLookupShift(m_lookupShift);
     return spread;
 }
 
