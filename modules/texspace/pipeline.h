@@ -197,7 +197,8 @@ class Pipeline {
     void setLocalVertexSnap(const irradiance::VertexSnap& snap);
     // How far another driver may move the own local L_o at `pixels` (row-major indices), per
     // channel, absolute (local_spread.cpp says how it is measured). Needs the hybrid's local term
-    // computed (core::Error otherwise); eight more evaluations, after which the map is the run's.
+    // computed (core::Error otherwise); per pass of LocalTerm::tapsPerPass() pixels, nine map
+    // draws and 17 passes over their taps, after which the map and lookups are the run's.
     std::vector<glm::vec3> localSpread(const std::vector<size_t>& pixels);
     glm::vec3 hybridRp() const { return m_rp; } // R_p per channel of the running hybrid, mm
     const std::vector<RingTap>& hybridTaps() const { return m_taps; }
