@@ -56,6 +56,26 @@ app::TextureSpaceSettings& textureSpaceOn(app::Workbench& wb, int k, int n, int 
     ts.sampling.sampleSets = sets;
     return ts;
 }
+// The scene (1 500 points, 48 × 27) and its texture-space render with the hybrid (64² texels,
+// 256 draws, 2 sets, a 256² light-view map), computed; the render's pipeline.
+texspace::Pipeline& hybridOn(app::Workbench& wb) {
+    sceneOn(wb, 1500, 48, 27);
+    app::TextureSpaceSettings& ts = textureSpaceOn(wb, 64, 256, 2);
+    ts.sampling.hybrid = true;
+    ts.sampling.local.lightMapSize = 256;
+    wb.update();
+    wb.finishScene();
+    wb.finishTextureSpace();
+    return *wb.textureSpace().pipeline();
+}
+// The hybrid's render begun again with the workbench's settings and run to the end (what its
+// pipeline was told since is taken).
+void renderHybridAgain(app::Workbench& wb) {
+    texspace::Pipeline& p = *wb.textureSpace().pipeline();
+    p.begin(wb.textureSpaceSettings().sampling, wb.scene().settings().render);
+    while (!p.advance(1e30)) {
+    }
+}
 // Occluded image based lighting of K = 32 samples with 256² shadow maps (two steps).
 void occludedLightOn(irradiance::Settings& light) {
     light.mode = irradiance::LightMode::OccludedIbl;
@@ -1253,19 +1273,10 @@ TEST(CaptureReplay, TheHybridAddsTheRecordedLocalTermAndAllowsItsLightMapsSpread
     size_t past = 0, shown = 0;
     {
         app::Workbench wb(root, false);
-        const app::SceneSettings& s = sceneOn(wb, 1500, 48, 27);
-        app::TextureSpaceSettings& ts = textureSpaceOn(wb, 64, 256, 2);
-        ts.sampling.hybrid = true;
-        ts.sampling.local.lightMapSize = 256;
-        wb.update();
-        wb.finishScene();
-        wb.finishTextureSpace();
-        texspace::Pipeline& p = *wb.textureSpace().pipeline();
+        texspace::Pipeline& p = hybridOn(wb);
         const std::vector<glm::vec4> own = p.ownLocalRadiance();
         p.setLocalShift({0.05f, 0.03f}, {0.0004f, -0.0003f}); // as another driver may
-        p.begin(ts.sampling, s.render);
-        while (!p.advance(1e30)) {
-        }
+        renderHybridAgain(wb);
         const std::vector<glm::vec4>& moved = p.ownLocalRadiance();
         ASSERT_EQ(moved.size(), own.size());
         float largest = 0;
@@ -1353,14 +1364,7 @@ TEST(CaptureReplay, TheLocalSpreadBoundsALightMapWhoseVerticesSnapApart) {
     testsupport::context();
     const fs::path root = testsupport::makeProjectRoot("hybrid_snap", {"dipole.bssrdf"});
     app::Workbench wb(root, false);
-    const app::SceneSettings& s = sceneOn(wb, 1500, 48, 27);
-    app::TextureSpaceSettings& ts = textureSpaceOn(wb, 64, 256, 2);
-    ts.sampling.hybrid = true;
-    ts.sampling.local.lightMapSize = 256;
-    wb.update();
-    wb.finishScene();
-    wb.finishTextureSpace();
-    texspace::Pipeline& p = *wb.textureSpace().pipeline();
+    texspace::Pipeline& p = hybridOn(wb);
     const std::vector<glm::vec4> own = p.ownLocalRadiance();
     std::vector<size_t> lit;
     float largest = 0;
@@ -1373,9 +1377,7 @@ TEST(CaptureReplay, TheLocalSpreadBoundsALightMapWhoseVerticesSnapApart) {
     ASSERT_EQ(spread.size(), lit.size());
     auto snapped = [&](const irradiance::VertexSnap& snap) {
         p.setLocalVertexSnap(snap);
-        p.begin(ts.sampling, s.render);
-        while (!p.advance(1e30)) {
-        }
+        renderHybridAgain(wb);
         p.setLocalVertexSnap({});
         return p.ownLocalRadiance();
     };
