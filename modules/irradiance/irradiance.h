@@ -52,6 +52,7 @@
 
 #include "core/limits.h"
 #include "gl/gl.h"
+#include "gl/vertex_snap.h"
 #include "irradiance/environment.h"
 #include "irradiance/light_frame.h"
 #include "mesh/mesh.h"
@@ -233,8 +234,8 @@ class Stage {
     // emulated other rasteriser; visibilitySpread, tests). The result's w is V.
     std::vector<glm::vec4> computeShifted(const Settings& s, glm::vec2 shift);
     // Every shadow map from the next compute on drawn with each vertex moved on its own
-    // (another rasteriser emulated: light_frame.h; tests); {} to stop.
-    void setVertexSnap(const VertexSnap& snap);
+    // (another rasteriser emulated: gl/vertex_snap.h; tests); {} to stop.
+    void setVertexSnap(const gl::VertexSnap& snap);
     // How far two conforming drivers' E_u of `s` may lie apart, absolute, beyond float32
     // arithmetic: 0 but for filtered light, whose T(uv) the shader filters in float from a uv
     // that drivers round a few ulp apart (irradiance_direct.comp): a bilinear weight then moves

@@ -19,7 +19,6 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include <cstdint>
 #include <vector>
 
 namespace irradiance {
@@ -39,22 +38,6 @@ struct LightFrame {
     float depth(const glm::vec3& p) const;
     // Maps world positions to clip space (x/e, y/e, −z/e, 1): the shadow pass's matrix.
     glm::mat4 clipFromWorld() const;
-};
-
-// Another rasteriser emulated in a light-view map of size × size texels (the shadow maps, the
-// hybrid's map; shaders/common/vertex_snap.glsl): every vertex moved on its own by up to
-// `texels` along both image axes and `depthUlps` of depth (2^-24 each, DEPTH_COMPONENT32F near
-// depth 0.5), from a hash of its index and `seed`. The default moves nothing. Tests of the
-// raster allowances, which measure rigid moves of the whole map.
-struct VertexSnap {
-    float texels = 0.0f, depthUlps = 0.0f;
-    uint32_t seed = 0;
-    // The shaders' VertexSnap uniform: a texel is 2/size in clip x and y, and depth = 0.5·z +
-    // 0.5, so an ulp of depth is 2^-23 in clip z.
-    glm::vec3 clipAmplitude(int size) const {
-        const float t = 2.0f * texels / float(size);
-        return glm::vec3(t, t, depthUlps / 8388608.0f);
-    }
 };
 
 // Throws core::Error when `towardsLight` has zero length or is not finite.

@@ -123,7 +123,7 @@ void ShadowMaps::render(int layer, const LightFrame& frame, glm::vec2 shift) {
         m = t * m;
     }
     glUniformMatrix4fv(m_clipFromWorld, 1, GL_FALSE, glm::value_ptr(m));
-    glUniform3fv(m_vertexSnap, 1, glm::value_ptr(m_snap.clipAmplitude(m_size)));
+    glUniform3fv(m_vertexSnap, 1, glm::value_ptr(m_snap.clipAmplitude(m_size, m_size)));
     glUniform1ui(m_vertexSnapSeed, m_snap.seed);
     glBindVertexArray(m_vao.id());
     glDrawElements(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr);

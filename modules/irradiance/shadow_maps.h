@@ -6,6 +6,7 @@
 #pragma once
 
 #include "gl/gl.h"
+#include "gl/vertex_snap.h"
 #include "irradiance/light_frame.h"
 #include "irradiance/programs.h"
 #include "mesh/mesh.h"
@@ -28,8 +29,8 @@ class ShadowMaps {
     // viewport and depth/cull state it touches). `shift`: the image moved by that many texels
     // (x, y), as another rasteriser's sub-pixel precision may place it (Stage::visibilitySpread).
     void render(int layer, const LightFrame& frame, glm::vec2 shift = glm::vec2(0.0f));
-    // From the next render on, another rasteriser emulated (light_frame.h; tests).
-    void setVertexSnap(const VertexSnap& snap) { m_snap = snap; }
+    // From the next render on, another rasteriser emulated (gl/vertex_snap.h; tests).
+    void setVertexSnap(const gl::VertexSnap& snap) { m_snap = snap; }
     // Binds the depth array to texture units 0 (nearest sampler) and 1 (linear sampler).
     void bind() const;
     void unbind() const; // unbinds the samplers and the depth array (units 0 and 1 are shared)
@@ -46,7 +47,7 @@ class ShadowMaps {
     gl::FramebufferId m_fbo;
     detail::Sampler m_nearest, m_linear;
     GLint m_clipFromWorld = -1, m_vertexSnap = -1, m_vertexSnapSeed = -1;
-    VertexSnap m_snap;
+    gl::VertexSnap m_snap;
     int m_size = 0, m_layers = 0;
 };
 

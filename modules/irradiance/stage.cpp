@@ -418,7 +418,7 @@ std::vector<glm::vec4> Stage::computeShifted(const Settings& s, glm::vec2 shift)
     return v;
 }
 
-void Stage::setVertexSnap(const VertexSnap& snap) {
+void Stage::setVertexSnap(const gl::VertexSnap& snap) {
     m_shadow->setVertexSnap(snap);
 }
 

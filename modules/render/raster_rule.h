@@ -25,7 +25,8 @@
 //   - uncovered pixel: the mesh covers the pixel's centre and every point kRasterShift px from it
 //     along both axes and diagonals ("uncovered inside").
 // Counts of each; a conforming rasterisation of the same mesh and camera has none (tests: the
-// renderer's own, and drawn with its samples moved by up to 0.2 px). A camera ½ px off, normals
+// renderer's own, drawn with its samples moved by up to 0.2 px, and with each vertex snapped on
+// its own to GL's coarsest grid, gl/vertex_snap.h). A camera ½ px off, normals
 // tilted by 0.02 rad, a mesh 1 % larger, the surface behind or a hole make many.
 // Rays start at the camera, not at the near plane (the scene's camera frames the mesh whole).
 #pragma once

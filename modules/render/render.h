@@ -26,6 +26,7 @@
 #include "bssrdf/program.h"
 #include "core/limits.h"
 #include "gl/gl.h"
+#include "gl/vertex_snap.h"
 #include "mesh/mesh.h"
 #include "octree/octree.h"
 #include "render/camera.h"
@@ -198,8 +199,10 @@ class Renderer {
     Gbuffer rasterisedGbuffer() const;
     // The G-buffer of settings `s` rasterised apart from any frame (its own targets), its image
     // moved by `offset` pixels (+x right, +y down: each sample point moves by −offset), what
-    // another rasteriser's sub-pixel placement does (render/raster_rule.h). Needs a mesh.
-    Gbuffer rasteriseGbuffer(const Settings& s, glm::vec2 offset = {});
+    // another rasteriser's sub-pixel placement does (render/raster_rule.h), and each vertex
+    // moved on its own by `snap` (its snapping and rounding, gl/vertex_snap.h). Needs a mesh.
+    Gbuffer rasteriseGbuffer(const Settings& s, glm::vec2 offset = {},
+                             const gl::VertexSnap& snap = {});
 
     // Progressive rendering, so an interactive caller never blocks for a whole frame: begin()
     // runs the G-buffer (and profile table) and starts the traversal; advance(budgetMs) runs

@@ -123,7 +123,8 @@ struct Renderer::State {
     int rowsPerBand(int w, int h) const;
     // The G-buffer pass into `target` (w×h attachments: position, normal, depth), its image
     // moved by `offset` pixels.
-    void gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset = {});
+    void gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset = {},
+                 const gl::VertexSnap& snap = {});
     gl::Texture auxPosition, auxNormal, auxDepth; // rasteriseGbuffer's own targets
     gl::FramebufferId auxFbo;
     int auxWidth = 0, auxHeight = 0;
@@ -376,7 +377,8 @@ void Renderer::State::resize(int w, int h) {
     height = h;
 }
 
-void Renderer::State::gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset) {
+void Renderer::State::gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset,
+                              const gl::VertexSnap& snap) {
     gl::ScopedStageTimer timer("render.gbuffer");
     GLint oldFbo = 0, oldViewport[4] = {};
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &oldFbo);
@@ -411,6 +413,10 @@ void Renderer::State::gbuffer(const Settings& s, GLuint target, int w, int h, gl
     glUseProgram(gbufferProgram.id());
     glUniformMatrix4fv(glGetUniformLocation(gbufferProgram.id(), "RenderViewProjection"), 1,
                        GL_FALSE, glm::value_ptr(vp));
+    const glm::vec3 snapClip = snap.clipAmplitude(w, h); // 0 but in tests (gl/vertex_snap.h)
+    glUniform3fv(glGetUniformLocation(gbufferProgram.id(), "VertexSnap"), 1,
+                 glm::value_ptr(snapClip));
+    glUniform1ui(glGetUniformLocation(gbufferProgram.id(), "VertexSnapSeed"), snap.seed);
     glBindVertexArray(vao.id());
     glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
@@ -470,7 +476,8 @@ bool Renderer::hasGivenGbuffer() const {
     return m->given.has_value();
 }
 
-Gbuffer Renderer::rasteriseGbuffer(const Settings& s, glm::vec2 offset) {
+Gbuffer Renderer::rasteriseGbuffer(const Settings& s, glm::vec2 offset,
+                                   const gl::VertexSnap& snap) {
     validate(s);
     if (!m->hasMesh) throw core::Error("render", 0, "not ready: no mesh");
     State& st = *m;
@@ -489,7 +496,7 @@ Gbuffer Renderer::rasteriseGbuffer(const Settings& s, glm::vec2 offset) {
         st.auxWidth = s.width;
         st.auxHeight = s.height;
     }
-    st.gbuffer(s, st.auxFbo.id(), s.width, s.height, offset);
+    st.gbuffer(s, st.auxFbo.id(), s.width, s.height, offset, snap);
     // barrier: none for glGetTextureImage after a draw (GL_TEXTURE_UPDATE_BARRIER_BIT orders
     // shader image stores; a draw's framebuffer writes are complete for later commands)
     Gbuffer g;

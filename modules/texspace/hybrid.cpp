@@ -200,7 +200,7 @@ void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size, glm::vec
     }
     glUniformMatrix4fv(glGetUniformLocation(m_mapProgram.id(), "RenderViewProjection"), 1, GL_FALSE,
                        &clip[0][0]);
-    const glm::vec3 snap = m_snap.clipAmplitude(size);
+    const glm::vec3 snap = m_snap.clipAmplitude(size, size);
     glUniform3fv(glGetUniformLocation(m_mapProgram.id(), "VertexSnap"), 1, &snap.x);
     glUniform1ui(glGetUniformLocation(m_mapProgram.id(), "VertexSnapSeed"), m_snap.seed);
     glBindVertexArray(m_vao.id());

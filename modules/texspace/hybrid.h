@@ -35,6 +35,7 @@
 
 #include "core/limits.h"
 #include "gl/gl.h"
+#include "gl/vertex_snap.h"
 #include "irradiance/light_frame.h"
 #include "mesh/mesh.h"
 #include "render/profile_table.h"
@@ -98,8 +99,8 @@ class LocalTerm {
     // driver's rounding of the tap's place: Pipeline::localSpread, tests); 0 by default.
     void setLookupShift(glm::vec2 shift) { m_lookupShift = shift; }
     // The map drawn with every vertex moved on its own from the next renderLightMap on (another
-    // rasteriser emulated: irradiance::VertexSnap; tests); {} by default.
-    void setVertexSnap(const irradiance::VertexSnap& snap) { m_snap = snap; }
+    // rasteriser emulated: gl::VertexSnap; tests); {} by default.
+    void setVertexSnap(const gl::VertexSnap& snap) { m_snap = snap; }
     const irradiance::LightFrame& frame() const { return m_frame; }
     // B_l and L_o = Ft(η, cos θo)/π · B_l per pixel of the G-buffer (positions and normals of a
     // render::Frame), rgb and w = hit, row-major as the renderer's read-back.
@@ -147,7 +148,7 @@ class LocalTerm {
     gl::FramebufferId m_fbo;
     int m_mapSize = 0;
     glm::vec2 m_lookupShift{0.0f};
-    irradiance::VertexSnap m_snap;
+    gl::VertexSnap m_snap;
     // the evaluation in progress (begin / step)
     gl::Buffer m_tableBuffer, m_tapBuffer, m_exitance, m_radiance; // hybrid_local.comp's results
     gl::Buffer m_tapPixels, m_tapOwn, m_tapSpread;                 // beginTaps / raiseTaps

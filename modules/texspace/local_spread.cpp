@@ -33,7 +33,7 @@ void Pipeline::setLocalShift(glm::vec2 map, glm::vec2 lookup) {
     m_lookupShift = lookup;
 }
 
-void Pipeline::setLocalVertexSnap(const irradiance::VertexSnap& snap) {
+void Pipeline::setLocalVertexSnap(const gl::VertexSnap& snap) {
     m_localSnap = snap;
     m_lightMapSize = 0; // drawn again at the next begin()
 }

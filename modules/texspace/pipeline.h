@@ -193,8 +193,8 @@ class Pipeline {
     // begin() on (an emulated other driver: tests); 0, 0 by default.
     void setLocalShift(glm::vec2 map, glm::vec2 lookup);
     // The light-view map drawn with every vertex moved on its own from the next begin() on
-    // (another rasteriser emulated: irradiance::VertexSnap; tests); {} by default.
-    void setLocalVertexSnap(const irradiance::VertexSnap& snap);
+    // (another rasteriser emulated: gl::VertexSnap; tests); {} by default.
+    void setLocalVertexSnap(const gl::VertexSnap& snap);
     // How far another driver may move the own local L_o at `pixels` (row-major indices), per
     // channel, absolute (local_spread.cpp says how it is measured). Needs the hybrid's local term
     // computed (core::Error otherwise); per pass of LocalTerm::tapsPerPass() pixels, nine map
@@ -261,7 +261,7 @@ class Pipeline {
     std::vector<glm::vec4> m_ownLocalL;
     std::optional<std::vector<glm::vec3>> m_givenLocalL;
     glm::vec2 m_mapShift{0.0f}, m_lookupShift{0.0f}, m_lightMapShift{0.0f};
-    irradiance::VertexSnap m_localSnap;
+    gl::VertexSnap m_localSnap;
     std::vector<glm::vec4> m_lastL;
     bool m_localStarted = false;
     SampleSet m_lastSet;

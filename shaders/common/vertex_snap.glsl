@@ -1,5 +1,5 @@
 // Another rasteriser's per-vertex snapping, emulated (tests of the raster allowances:
-// irradiance::VertexSnap): the move of vertex `id` under `seed`, each component uniform in
+// gl::VertexSnap): the move of vertex `id` under `seed`, each component uniform in
 // [-1, 1) times `amplitude` (clip units per w). An indexed draw's gl_VertexID is the index, so a
 // vertex shared by several triangles moves alike in all of them; each vertex moves on its own,
 // as a driver snaps each to its sub-pixel grid and rounds its depth. 0 when the amplitude is 0.

@@ -872,12 +872,13 @@ TEST(RenderGBuffer, AGivenGbufferIsTracedAndTheRasterisedOneKept) {
     EXPECT_EQ(r.readback().exitance, own.exitance);
 }
 
-// The raster rule (render/raster_rule.h): the renderer's own G-buffer, and the same drawn with
-// the sample points moved by up to 0.2 px (what another driver may do), are rasterisations of
-// the mesh by the camera; moved by half a pixel, with the normals tilted by 0.02 rad, against a
-// mesh 1 % larger, or with a hole punched inside the silhouette, they are not, and the count
-// says which rule failed. One RasterRule checks every G-buffer of the mesh (as a replay checks
-// two); an empty mesh or a G-buffer whose images do not fit is an error.
+// The raster rule (render/raster_rule.h): the renderer's own G-buffer, the same drawn with the
+// sample points moved by up to 0.2 px (what another driver may do), and drawn with each vertex
+// snapped on its own as GL's coarsest grid may, are rasterisations of the mesh by the camera; moved
+// by half a pixel, with the normals tilted by 0.02 rad, against a mesh 1 % larger, or with a hole
+// punched inside the silhouette, they are not, and the count says which rule failed. One RasterRule
+// checks every G-buffer of the mesh (as a replay checks two); an empty mesh or a G-buffer whose
+// images do not fit is an error.
 TEST(RenderGBuffer, TheRasterRuleAcceptsSubPixelPlacementAndNothingElse) {
     render::Renderer& r = bunnyRenderer();
     const render::Settings s = smallSettings(bunny().mesh);
@@ -906,6 +907,27 @@ TEST(RenderGBuffer, TheRasterRuleAcceptsSubPixelPlacementAndNothingElse) {
         worst = std::max(worst, moved.worstNormal);
     }
     std::printf("moved by up to 0.2 px: worst normal difference %.3g\n", worst);
+
+    // each vertex snapped on its own to GL's coarsest grid (up to 1/32 px, half of kSnap) and
+    // its depth rounded by 8 ulps, with and without a sample offset: still a rasterisation;
+    // each vertex moved by up to a pixel is not (its pixels' points lie on the surface, but off
+    // their centres)
+    for (const uint32_t seed : {1u, 2u, 3u})
+        for (const glm::vec2 off : {glm::vec2(0.0f), glm::vec2(0.15f, -0.1f)}) {
+            const gl::VertexSnap snap{float(render::kSnap / 2), 8.0f, seed};
+            const render::Gbuffer g = r.rasteriseGbuffer(s, off, snap);
+            ASSERT_NE(g.position, r.rasteriseGbuffer(s, off).position) << "nothing snapped";
+            const render::RasterCheck snapped = rule.check(g, s.camera);
+            EXPECT_EQ(snapped.failures(), 0u)
+                << "seed " << seed << ": off centre " << snapped.offCentre << ", off surface "
+                << snapped.offSurface << ", hidden " << snapped.hidden << ", normal "
+                << snapped.wrongNormal << ", uncovered inside " << snapped.uncoveredInside;
+        }
+    const render::RasterCheck loose =
+        rule.check(r.rasteriseGbuffer(s, {}, gl::VertexSnap{1.0f, 8.0f, 1u}), s.camera);
+    EXPECT_GT(loose.offCentre, loose.covered / 2);
+    std::printf("each vertex moved by up to 1 px: %zu of %zu covered pixels off centre\n",
+                loose.offCentre, loose.covered);
 
     const render::RasterCheck half =
         rule.check(r.rasteriseGbuffer(s, glm::vec2(0.5f, 0.0f)), s.camera);

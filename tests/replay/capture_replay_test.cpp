@@ -1375,7 +1375,7 @@ TEST(CaptureReplay, TheLocalSpreadBoundsALightMapWhoseVerticesSnapApart) {
     }
     const std::vector<glm::vec3> spread = p.localSpread(lit);
     ASSERT_EQ(spread.size(), lit.size());
-    auto snapped = [&](const irradiance::VertexSnap& snap) {
+    auto snapped = [&](const gl::VertexSnap& snap) {
         p.setLocalVertexSnap(snap);
         renderHybridAgain(wb);
         p.setLocalVertexSnap({});
