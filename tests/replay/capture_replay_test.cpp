@@ -99,6 +99,23 @@ void plantTable(const fs::path& dir, capture::Manifest& m, const std::string& st
             o = capture::writeCsvStage(dir, o.stage, o.file, t, o.absTol, o.relTol, o.tolNote);
     capture::writeManifest(dir, m);
 }
+// Writes `m` with each recorded image input that `which` picks replaced by a width × height image
+// (its file rewritten, its hash in the manifest updated): a recorded input of another size.
+void plantImageInputs(const fs::path& dir, capture::Manifest m, int width, int height,
+                      const std::function<bool(const capture::StageOutput&)>& which) {
+    pathtrace::Image image;
+    image.width = width;
+    image.height = height;
+    image.samples = 1;
+    image.mean.assign(size_t(3 * width * height), 0.5f);
+    image.variance.assign(size_t(3 * width * height), 0.0f);
+    for (capture::StageOutput& o : m.outputs)
+        if (which(o)) {
+            pathtrace::writeExr(dir / o.file, image);
+            o.hash = capture::hashFile(dir / o.file);
+        }
+    capture::writeManifest(dir, m);
+}
 // E_t = E_u · V per row of the scene's recorded factors, in float as the shader forms it.
 std::vector<glm::vec3> productOf(const capture::Table& eu, const capture::Table& v) {
     std::vector<glm::vec3> et;
@@ -1086,18 +1103,9 @@ TEST(CaptureReplay, TheTextureSpaceDrawsReadTheRecordedIrradiance) {
     }
     EXPECT_EQ(out.find("texture_space.render  2880 values, identical"), std::string::npos) << out;
 
-    capture::Manifest planted = m;
-    pathtrace::Image small;
-    small.width = small.height = 16;
-    small.samples = 1;
-    small.mean.assign(3 * 256, 0.5f);
-    small.variance.assign(3 * 256, 0.0f);
-    for (capture::StageOutput& o : planted.outputs)
-        if (o.stage == "texture_space.irradiance") {
-            pathtrace::writeExr(dir / o.file, small);
-            o.hash = capture::hashFile(dir / o.file);
-        }
-    capture::writeManifest(dir, planted);
+    plantImageInputs(dir, m, 16, 16, [](const capture::StageOutput& o) {
+        return o.stage == "texture_space.irradiance";
+    });
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 2) << out;
     EXPECT_NE(out.find("texture_space.irradiance: the recorded irradiance is 16x16, "
                        "settings.texture_space.sampling.texture_size is 64"),
@@ -1199,17 +1207,8 @@ TEST(CaptureReplay, TheRecordedGbufferIsTracedAndCheckedByTheRasterRule) {
         << out;
 
     // another size
-    pathtrace::Image small;
-    small.width = 10;
-    small.height = 6;
-    small.mean.assign(3 * 60, 0.0f);
-    small.variance.assign(3 * 60, 0.0f);
-    for (capture::StageOutput& o : planted.outputs)
-        if (o.kind == "exr_input") {
-            pathtrace::writeExr(dir / o.file, small);
-            o.hash = capture::hashFile(dir / o.file);
-        }
-    capture::writeManifest(dir, planted);
+    plantImageInputs(dir, planted, 10, 6,
+                     [](const capture::StageOutput& o) { return o.kind == "exr_input"; });
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 2) << out;
     EXPECT_NE(out.find("scene.gbuffer_position: the recorded G-buffer is 10x6, "
                        "settings.scene.render renders 96x54"),
@@ -1332,19 +1331,9 @@ TEST(CaptureReplay, TheHybridAddsTheRecordedLocalTermAndAllowsItsLightMapsSpread
               std::string::npos)
         << out;
 
-    capture::Manifest planted = m;
-    pathtrace::Image small;
-    small.width = 10;
-    small.height = 6;
-    small.samples = 1;
-    small.mean.assign(3 * 60, 0.0f);
-    small.variance.assign(3 * 60, 0.0f);
-    for (capture::StageOutput& o : planted.outputs)
-        if (o.stage == "texture_space.local_radiance") {
-            pathtrace::writeExr(dir / o.file, small);
-            o.hash = capture::hashFile(dir / o.file);
-        }
-    capture::writeManifest(dir, planted);
+    plantImageInputs(dir, m, 10, 6, [](const capture::StageOutput& o) {
+        return o.stage == "texture_space.local_radiance";
+    });
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 2) << out;
     EXPECT_NE(out.find("texture_space.local_radiance: the recorded local term is 10x6, "
                        "settings.scene.render renders 48x27"),
