@@ -249,7 +249,6 @@ void LocalTerm::begin(GLuint gPosition, GLuint gNormal, int width, int height,
     glUniform2i(loc("LocalSize"), width, height);
     glUniform1i(loc("LocalTapCount"), m_tapCount);
     glUniform1i(loc("LightMapSize"), m_mapSize);
-    glUniform2fv(loc("LocalLookupShift"), 1, &m_lookupShift.x);
     glUniform3fv(loc("LightCentre"), 1, &m_frame.centre.x);
     glUniform3fv(loc("LightU"), 1, &m_frame.u.x);
     glUniform3fv(loc("LightV"), 1, &m_frame.v.x);

@@ -95,7 +95,7 @@ class LocalTerm {
     // size × size texels; `shift`: the image moved by that many texels (an emulated other
     // rasteriser, as irradiance::ShadowMaps::render's).
     void renderLightMap(const glm::vec3& towardsLight, int size, glm::vec2 shift = glm::vec2(0.0f));
-    // The taps read the map `shift` texels aside from the next begin() on (an emulated other
+    // The taps read the map `shift` texels aside from the next dispatch on (an emulated other
     // driver's rounding of the tap's place: Pipeline::localSpread, tests); 0 by default.
     void setLookupShift(glm::vec2 shift) { m_lookupShift = shift; }
     // The map drawn with every vertex moved on its own from the next renderLightMap on (another
