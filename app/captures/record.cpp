@@ -63,6 +63,9 @@ capture::Manifest captureInputs(Workbench& wb, const std::string& name, int trac
 
 void recordCaptureTo(Workbench& wb, const fs::path& dir, const std::string& name, int traceX,
                      int traceY, const std::function<void(const std::string&)>& onStage) {
+    // Settings the stages complete as they apply them (a mesh's first load frames the camera:
+    // SceneStage) go into the manifest as they will run: applied before it is written.
+    wb.update();
     capture::Manifest m = captureInputs(wb, name, traceX, traceY);
     CaptureEntries captured;
     captured.traceX = traceX;

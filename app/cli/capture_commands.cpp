@@ -111,8 +111,7 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
             throw core::Error("--texture-space", 0, e.what());
         }
     }
-    wb.update();
-    // recorded into a temporary folder and renamed when complete (recordCaptureTo)
+    // applied, recorded into a temporary folder and renamed when complete (recordCaptureTo)
     recordCaptureTo(wb, dir, a.name, traceX, traceY, printStage("record"));
     std::printf("recorded %s\n", dir.string().c_str());
     return 0;

@@ -536,6 +536,23 @@ TEST_F(Cli, ScreenshotRejectsBadSize) {
     EXPECT_FALSE(fs::exists(dir() / "tiny.png"));
 }
 
+// ---- the headless default run (README: `./run` without a display) --------------------------
+
+// It records the default capture (the dipole, its pencil plot and the bunny through the mesh
+// pipeline) and replays it: every stage must agree with what the same run recorded. The manifest
+// once held the camera from before the mesh framed it, and the replay traced the recorded
+// G-buffer through another camera (2332 of 2336 pixels off centre).
+TEST_F(Cli, HeadlessDefaultRecordsACaptureThatReplaysAndExitsZero) {
+    const std::vector<std::string> args = {"--headless", "--out-dir", "default"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    EXPECT_FALSE(contains(r.output, "FAIL")) << describe(args, r);
+    EXPECT_TRUE(contains(r.output, "PASS scene.gbuffer_rule")) << describe(args, r);
+    EXPECT_TRUE(contains(r.output, "PASS scene.render")) << describe(args, r);
+    EXPECT_TRUE(fs::exists(dir() / "default" / "capture" / "manifest.json"));
+    EXPECT_TRUE(fs::exists(dir() / "default" / "workbench.png"));
+}
+
 // ---- help, replay -------------------------------------------------------------------------
 
 TEST_F(Cli, HelpListsSubcommands) {
