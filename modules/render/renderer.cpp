@@ -1,11 +1,10 @@
-// render: the Renderer — GL resources, the G-buffer pass, the profile table, the resumable
-// traversal dispatches and the tone map (see render.h; the algorithms are in the shaders).
-#include "core/text.h"
-#include "render/render.h"
-
-#include "bssrdf/loop_budget.h"
+// render: the Renderer — GL resources, the profile table, the frame's targets, the resumable
+// traversal dispatches and the tone map (see render.h; the algorithms are in the shaders; the
+// G-buffer pass: gbuffer_pass.cpp; the state both share: renderer_state.h).
+#include "render/renderer_state.h"
 
 #include "core/core.h"
+#include "core/text.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -15,13 +14,9 @@
 
 namespace render {
 
-namespace {
+using namespace renderer_detail;
 
-constexpr int kMaxSide = 8192;
-constexpr int kLocal = 8; // local size of the compute passes
-constexpr uint32_t kMinIterations = 256;
-// std430 size of RenderPixelState in octree_render.comp: uint stack[16], uvec4, uvec4.
-constexpr size_t kPixelStateBytes = octree::kStackSize * 4 + 32;
+namespace {
 
 // SSBO and image bindings of shaders/octree_render.comp (and common/octree_*.glsl)
 enum : GLuint {
@@ -43,7 +38,9 @@ void bindTraversalImages(GLuint position, GLuint normal, GLuint hdr) {
     glBindImageTexture(2, hdr, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
 }
 
-void validate(const Settings& s) {
+} // namespace
+
+void renderer_detail::validate(const Settings& s) {
     auto fail = [](const std::string& m) { throw core::Error("render", 0, m); };
     if (s.width < 1 || s.height < 1 || s.width > kMaxSide || s.height > kMaxSide)
         fail("image size must lie in [1, " + std::to_string(kMaxSide) + "]², got " +
@@ -63,8 +60,6 @@ void validate(const Settings& s) {
         fail("camera distance must be > 0 and fovY in (0, 3.1) rad");
 }
 
-} // namespace
-
 octree::Criterion Settings::criterion() const {
     octree::Criterion c;
     c.eps = eps;
@@ -75,86 +70,7 @@ octree::Criterion Settings::criterion() const {
     return c;
 }
 
-struct Renderer::State {
-    shader::Sources src;
-    shader::Records records; // by program name, see shaderRecords()
-    gl::Program gbufferProgram, tonemapProgram;
-    // mesh
-    gl::VertexArray vao;
-    gl::Buffer vbo, ebo;
-    GLsizei indexCount = 0;
-    glm::vec3 meshLo{0.0f}, meshHi{0.0f};
-    bool hasMesh = false;
-    // octree
-    gl::Buffer descriptors, nodes, points;
-    uint32_t nodeCount = 0, pointCount = 0;
-    glm::vec3 treeLo{0.0f}, treeHi{0.0f};
-    bool hasOctree = false;
-    // model and material
-    std::optional<bssrdf::Model> model;
-    gl::Program renderProgram, pairsProgram, profileProgram;
-    bssrdf::ParamValues values;
-    bssrdf::Builtins builtins;
-    // profile table
-    ProfileTable table;
-    gl::Buffer tableBuffer;
-    bool tableValid = false;
-    double tableCap = -1.0;
-    uint32_t iterations = kIterationsPerDispatch; // lowered when the loop limit is hit
-    // targets
-    int width = 0, height = 0;
-    gl::Texture position, normal, depth, hdr, ldr;
-    // The given G-buffer (setGivenGbuffer) and, while one is given, the rasterised images
-    // copied aside before it is uploaded over them.
-    std::optional<Gbuffer> given;
-    gl::Texture rasterPosition, rasterNormal;
-    int rasterWidth = 0, rasterHeight = 0;
-    bool frameGiven = false; // the last begin() uploaded the given G-buffer
-    gl::FramebufferId fbo;
-    // stats and exitance hold the frame, state one band of bandRows rows (octree_render.comp,
-    // Bands): bandRows keeps every block a dispatch binds within the storage block limit
-    gl::Buffer stats, exitance, state, control;
-    int64_t storageBlockLimit = 0; // setStorageBlockLimit; 0: the driver's
-    int bandRows = 0;
-    bssrdf::LoopFaults loopFaults; // the model's loop budget (bssrdf/loop_budget.h)
-    gl::Buffer invalidCounts;      // the tone map's counts: surface, NaN, Inf, negative pixels
-
-    void resize(int w, int h);
-    int rowsPerBand(int w, int h) const;
-    // The G-buffer pass into `target` (w×h attachments: position, normal, depth), its image
-    // moved by `offset` pixels.
-    void gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset = {},
-                 const gl::VertexSnap& snap = {});
-    gl::Texture auxPosition, auxNormal, auxDepth; // rasteriseGbuffer's own targets
-    gl::FramebufferId auxFbo;
-    int auxWidth = 0, auxHeight = 0;
-    void useGiven(); // the given G-buffer over the rasterised one (that kept aside)
-    void ensureProfile();
-    // One traversal dispatch (uniforms set for `perDispatch` iterations): returns true when
-    // every pixel finished; sets loopLimit when the driver cut a loop short.
-    void bindTraverse(const Settings& s, uint32_t perDispatch, int band);
-    bool dispatchOnce(const Settings& s, uint32_t perDispatch, int band, int dispatch,
-                      bool& loopLimit);
-    // Tone maps the frame and counts its invalid pixels.
-    InvalidPixels tonemap(const Settings& s);
-    // Progressive frame (begin / advance).
-    struct Progress {
-        bool active = false;
-        Settings settings;
-        Frame frame;
-        int band = 0;     // the band being traversed
-        int dispatch = 0; // of the band
-        double traverseMs = 0;
-    } progress;
-};
-
 namespace {
-// An RGBA32F texture of n texels read back into `out`.
-void readTexels(GLuint id, size_t n, std::vector<glm::vec4>& out) {
-    out.resize(n);
-    glGetTextureImage(id, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec4)),
-                      out.data());
-}
 
 const std::vector<std::pair<GLenum, std::string>> kGbufferStages = {
     {GL_VERTEX_SHADER, "render_gbuffer.vert"}, {GL_FRAGMENT_SHADER, "render_gbuffer.frag"}};
@@ -375,149 +291,6 @@ void Renderer::State::resize(int w, int h) {
     bandRows = rows;
     width = w;
     height = h;
-}
-
-void Renderer::State::gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset,
-                              const gl::VertexSnap& snap) {
-    gl::ScopedStageTimer timer("render.gbuffer");
-    GLint oldFbo = 0, oldViewport[4] = {};
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &oldFbo);
-    glGetIntegerv(GL_VIEWPORT, oldViewport);
-    const GLboolean depthWas = glIsEnabled(GL_DEPTH_TEST);
-    const GLboolean cullWas = glIsEnabled(GL_CULL_FACE);
-    const GLboolean blendWas = glIsEnabled(GL_BLEND);
-    const GLboolean scissorWas = glIsEnabled(GL_SCISSOR_TEST);
-
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-    glViewport(0, 0, w, h);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_SCISSOR_TEST);
-    const float zero[4] = {0, 0, 0, 0};
-    const float one = 1.0f;
-    glClearNamedFramebufferfv(target, GL_COLOR, 0, zero);
-    glClearNamedFramebufferfv(target, GL_COLOR, 1, zero);
-    glClearNamedFramebufferfv(target, GL_DEPTH, 0, &one);
-
-    Camera cam = s.camera;
-    cam.aspect = float(w) / float(h);
-    // y flipped so that texture row 0 is the top of the image; `offset` moves the image by that
-    // many pixels (+x right, +y down), i.e. each pixel's sample point by −offset
-    const glm::mat4 flip = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, -1.0f, 1.0f));
-    const glm::mat4 move = glm::translate(
-        glm::mat4(1.0f), glm::vec3(2.0f * offset.x / float(w), 2.0f * offset.y / float(h), 0.0f));
-    const glm::mat4 vp = move * flip * cam.projection() * cam.view();
-    glUseProgram(gbufferProgram.id());
-    glUniformMatrix4fv(glGetUniformLocation(gbufferProgram.id(), "RenderViewProjection"), 1,
-                       GL_FALSE, glm::value_ptr(vp));
-    const glm::vec3 snapClip = snap.clipAmplitude(w, h); // 0 but in tests (gl/vertex_snap.h)
-    glUniform3fv(glGetUniformLocation(gbufferProgram.id(), "VertexSnap"), 1,
-                 glm::value_ptr(snapClip));
-    glUniform1ui(glGetUniformLocation(gbufferProgram.id(), "VertexSnapSeed"), snap.seed);
-    glBindVertexArray(vao.id());
-    glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
-    glBindVertexArray(0);
-
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(oldFbo));
-    glViewport(oldViewport[0], oldViewport[1], oldViewport[2], oldViewport[3]);
-    if (!depthWas) glDisable(GL_DEPTH_TEST);
-    if (cullWas) glEnable(GL_CULL_FACE);
-    if (blendWas) glEnable(GL_BLEND);
-    if (scissorWas) glEnable(GL_SCISSOR_TEST);
-    // barrier: render_gbuffer's draw → octree_render.comp's image loads of the G-buffer (draws
-    // are ordered before later commands anyway; the bits are what a shader read after one needs)
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-}
-
-void Renderer::State::useGiven() {
-    frameGiven = false;
-    if (!given) return;
-    if (given->width != width || given->height != height)
-        throw core::Error("render", 0,
-                          "the given G-buffer is " + std::to_string(given->width) + "x" +
-                              std::to_string(given->height) + ", the frame " +
-                              std::to_string(width) + "x" + std::to_string(height));
-    if (rasterWidth != width || rasterHeight != height) {
-        rasterPosition = gl::createTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
-        rasterNormal = gl::createTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
-        rasterWidth = width;
-        rasterHeight = height;
-    }
-    // The draw's results are copied by later commands in order; no barrier bit covers a copy
-    // after a draw, none is needed.
-    glCopyImageSubData(position.id(), GL_TEXTURE_2D, 0, 0, 0, 0, rasterPosition.id(), GL_TEXTURE_2D,
-                       0, 0, 0, 0, width, height, 1);
-    glCopyImageSubData(normal.id(), GL_TEXTURE_2D, 0, 0, 0, 0, rasterNormal.id(), GL_TEXTURE_2D, 0,
-                       0, 0, 0, width, height, 1);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(position.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT,
-                        given->position.data());
-    glTextureSubImage2D(normal.id(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT,
-                        given->normal.data());
-    // barrier: the uploads → octree_render.comp's image loads (client updates are ordered
-    // before later commands; stated for the reader, as after the draw)
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    frameGiven = true;
-}
-
-void Renderer::setGivenGbuffer(std::optional<Gbuffer> g) {
-    if (g) {
-        const size_t n = size_t(std::max(g->width, 0)) * size_t(std::max(g->height, 0));
-        if (g->width < 1 || g->height < 1 || g->position.size() != n || g->normal.size() != n)
-            throw core::Error("render", 0, "the given G-buffer's images do not match its size");
-    }
-    m->given = std::move(g);
-}
-
-bool Renderer::hasGivenGbuffer() const {
-    return m->given.has_value();
-}
-
-Gbuffer Renderer::rasteriseGbuffer(const Settings& s, glm::vec2 offset,
-                                   const gl::VertexSnap& snap) {
-    validate(s);
-    if (!m->hasMesh) throw core::Error("render", 0, "not ready: no mesh");
-    State& st = *m;
-    if (st.auxWidth != s.width || st.auxHeight != s.height || !st.auxFbo) {
-        st.auxPosition = gl::createTexture2D(GL_RGBA32F, s.width, s.height, GL_NEAREST);
-        st.auxNormal = gl::createTexture2D(GL_RGBA32F, s.width, s.height, GL_NEAREST);
-        st.auxDepth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, s.width, s.height, GL_NEAREST);
-        GLuint id = 0;
-        glCreateFramebuffers(1, &id);
-        st.auxFbo = gl::FramebufferId(id);
-        glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT0, st.auxPosition.id(), 0);
-        glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT1, st.auxNormal.id(), 0);
-        glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, st.auxDepth.id(), 0);
-        const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-        glNamedFramebufferDrawBuffers(id, 2, buffers);
-        st.auxWidth = s.width;
-        st.auxHeight = s.height;
-    }
-    st.gbuffer(s, st.auxFbo.id(), s.width, s.height, offset, snap);
-    // barrier: none for glGetTextureImage after a draw (GL_TEXTURE_UPDATE_BARRIER_BIT orders
-    // shader image stores; a draw's framebuffer writes are complete for later commands)
-    Gbuffer g;
-    g.width = s.width;
-    g.height = s.height;
-    const size_t n = size_t(g.width) * size_t(g.height);
-    readTexels(st.auxPosition.id(), n, g.position);
-    readTexels(st.auxNormal.id(), n, g.normal);
-    return g;
-}
-
-Gbuffer Renderer::rasterisedGbuffer() const {
-    Gbuffer g;
-    if (!m->fbo) return g;
-    g.width = m->width;
-    g.height = m->height;
-    const size_t n = size_t(g.width) * size_t(g.height);
-    const bool aside = m->frameGiven;
-    readTexels(aside ? m->rasterPosition.id() : m->position.id(), n, g.position);
-    readTexels(aside ? m->rasterNormal.id() : m->normal.id(), n, g.normal);
-    return g;
 }
 
 void Renderer::State::ensureProfile() {
