@@ -263,6 +263,26 @@ std::vector<StageTiming> timings();
 // A named measurement that is not a GL stage (e.g. save-to-pixels latency).
 void recordTiming(const std::string& stage, double cpuMs);
 
+// ---- offscreen draws
+// ----------------------------------------------------------------------------- The state of an
+// opaque, depth-tested draw into an offscreen target (shadow maps, G-buffers): binds `framebuffer`
+// for drawing with a width × height viewport, depth test GL_LESS with depth writes, no face
+// culling, blending or scissor test; on leaving (also by an exception) restores the draw
+// framebuffer, the viewport and each of those settings as they were (the GUI's own passes rely on
+// theirs).
+class ScopedDrawTarget {
+  public:
+    ScopedDrawTarget(GLuint framebuffer, int width, int height);
+    ~ScopedDrawTarget();
+    ScopedDrawTarget(const ScopedDrawTarget&) = delete;
+    ScopedDrawTarget& operator=(const ScopedDrawTarget&) = delete;
+
+  private:
+    GLint m_framebuffer = 0, m_viewport[4] = {}, m_depthFunc = GL_LESS;
+    GLboolean m_depthMask = GL_TRUE, m_depthTest = GL_FALSE, m_cull = GL_FALSE, m_blend = GL_FALSE,
+              m_scissor = GL_FALSE;
+};
+
 // ---- readback -----------------------------------------------------------------------------------
 // Reads an RGBA8 rectangle of the bound read framebuffer, rows top-to-bottom.
 std::vector<unsigned char> readPixelsRGBA8(GLuint fbo, int x, int y, int width, int height);

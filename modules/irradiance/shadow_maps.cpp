@@ -88,28 +88,12 @@ void ShadowMaps::ensure(int size, int layers) {
 }
 
 void ShadowMaps::render(int layer, const LightFrame& frame, glm::vec2 shift) {
-    GLint prevFbo = 0, viewport[4];
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
-    glGetIntegerv(GL_VIEWPORT, viewport);
-    GLint prevDepthFunc = GL_LESS;
-    glGetIntegerv(GL_DEPTH_FUNC, &prevDepthFunc);
-    GLboolean prevDepthMask = GL_TRUE;
-    glGetBooleanv(GL_DEPTH_WRITEMASK, &prevDepthMask);
-    const GLboolean depthTest = glIsEnabled(GL_DEPTH_TEST), cull = glIsEnabled(GL_CULL_FACE),
-                    scissor = glIsEnabled(GL_SCISSOR_TEST);
-
     glNamedFramebufferTextureLayer(m_fbo.id(), GL_DEPTH_ATTACHMENT, m_depth.id(), 0, layer);
     const GLenum status = glCheckNamedFramebufferStatus(m_fbo.id(), GL_DRAW_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
         throw core::Error("irradiance: shadow-map framebuffer incomplete (status " +
                           std::to_string(status) + ")");
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_fbo.id());
-    glViewport(0, 0, m_size, m_size);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_SCISSOR_TEST);
+    const gl::ScopedDrawTarget draw(m_fbo.id(), m_size, m_size);
     // the pass's program is current before its clear: NVIDIA validates the current program's
     // sampler state at clears too, and the irradiance programs' shadow samplers have no maps on
     // their units between dispatches (docs/ARCHITECTURE.md, "State a driver validates")
@@ -128,14 +112,6 @@ void ShadowMaps::render(int layer, const LightFrame& frame, glm::vec2 shift) {
     glBindVertexArray(m_vao.id());
     glDrawElements(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
-
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(prevFbo));
-    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-    glDepthFunc(static_cast<GLenum>(prevDepthFunc));
-    glDepthMask(prevDepthMask);
-    if (!depthTest) glDisable(GL_DEPTH_TEST);
-    if (cull) glEnable(GL_CULL_FACE);
-    if (scissor) glEnable(GL_SCISSOR_TEST);
 }
 
 void ShadowMaps::bind() const {

@@ -19,22 +19,7 @@ using renderer_detail::readTexels;
 void Renderer::State::gbuffer(const Settings& s, GLuint target, int w, int h, glm::vec2 offset,
                               const gl::VertexSnap& snap) {
     gl::ScopedStageTimer timer("render.gbuffer");
-    GLint oldFbo = 0, oldViewport[4] = {};
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &oldFbo);
-    glGetIntegerv(GL_VIEWPORT, oldViewport);
-    const GLboolean depthWas = glIsEnabled(GL_DEPTH_TEST);
-    const GLboolean cullWas = glIsEnabled(GL_CULL_FACE);
-    const GLboolean blendWas = glIsEnabled(GL_BLEND);
-    const GLboolean scissorWas = glIsEnabled(GL_SCISSOR_TEST);
-
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-    glViewport(0, 0, w, h);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_SCISSOR_TEST);
+    const gl::ScopedDrawTarget draw(target, w, h);
     const float zero[4] = {0, 0, 0, 0};
     const float one = 1.0f;
     glClearNamedFramebufferfv(target, GL_COLOR, 0, zero);
@@ -59,13 +44,6 @@ void Renderer::State::gbuffer(const Settings& s, GLuint target, int w, int h, gl
     glBindVertexArray(vao.id());
     glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
-
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(oldFbo));
-    glViewport(oldViewport[0], oldViewport[1], oldViewport[2], oldViewport[3]);
-    if (!depthWas) glDisable(GL_DEPTH_TEST);
-    if (cullWas) glEnable(GL_CULL_FACE);
-    if (blendWas) glEnable(GL_BLEND);
-    if (scissorWas) glEnable(GL_SCISSOR_TEST);
     // barrier: render_gbuffer's draw → octree_render.comp's image loads of the G-buffer (draws
     // are ordered before later commands anyway; the bits are what a shader read after one needs)
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);

@@ -174,19 +174,7 @@ void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size, glm::vec
             throw core::Error("hybrid", 0, "light-view map framebuffer incomplete");
         m_mapSize = size;
     }
-    GLint oldFbo = 0, oldViewport[4] = {};
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &oldFbo);
-    glGetIntegerv(GL_VIEWPORT, oldViewport);
-    const GLboolean depthWas = glIsEnabled(GL_DEPTH_TEST), cullWas = glIsEnabled(GL_CULL_FACE),
-                    blendWas = glIsEnabled(GL_BLEND), scissorWas = glIsEnabled(GL_SCISSOR_TEST);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_fbo.id());
-    glViewport(0, 0, size, size);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_SCISSOR_TEST);
+    const gl::ScopedDrawTarget draw(m_fbo.id(), size, size);
     const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
     glClearNamedFramebufferfv(m_fbo.id(), GL_COLOR, 0, zero);
     glClearNamedFramebufferfv(m_fbo.id(), GL_COLOR, 1, zero);
@@ -206,12 +194,6 @@ void LocalTerm::renderLightMap(const glm::vec3& towardsLight, int size, glm::vec
     glBindVertexArray(m_vao.id());
     glDrawElements(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(oldFbo));
-    glViewport(oldViewport[0], oldViewport[1], oldViewport[2], oldViewport[3]);
-    if (!depthWas) glDisable(GL_DEPTH_TEST);
-    if (cullWas) glEnable(GL_CULL_FACE);
-    if (blendWas) glEnable(GL_BLEND);
-    if (scissorWas) glEnable(GL_SCISSOR_TEST);
     // barrier: the light-view G-buffer's draw → hybrid_local.comp's image loads of it
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 }

@@ -91,6 +91,75 @@ TEST(HeadlessContext, RenderTargetClearAndReadback) {
     EXPECT_EQ(px[3], 255);
 }
 
+// An offscreen pass (shadow maps, G-buffers) sets what an opaque depth-tested draw needs and
+// leaves the state as it found it, also when the pass throws.
+TEST(HeadlessContext, AnOffscreenDrawRestoresTheStateItChanges) {
+    auto ctx = gl::createHeadlessContext();
+    gl::RenderTarget before, target;
+    before.resize(64, 64);
+    target.resize(16, 8);
+    before.bind();
+    glViewport(3, 4, 50, 60);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glEnable(GL_SCISSOR_TEST);
+    struct State {
+        GLint framebuffer = 0, viewport[4] = {}, depthFunc = 0;
+        GLboolean depthMask = 0, depthTest = 0, cull = 0, blend = 0, scissor = 0;
+    };
+    const auto now = [] {
+        State s;
+        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s.framebuffer);
+        glGetIntegerv(GL_VIEWPORT, s.viewport);
+        glGetIntegerv(GL_DEPTH_FUNC, &s.depthFunc);
+        glGetBooleanv(GL_DEPTH_WRITEMASK, &s.depthMask);
+        s.depthTest = glIsEnabled(GL_DEPTH_TEST);
+        s.cull = glIsEnabled(GL_CULL_FACE);
+        s.blend = glIsEnabled(GL_BLEND);
+        s.scissor = glIsEnabled(GL_SCISSOR_TEST);
+        return s;
+    };
+    const auto expectAsBefore = [&](const State& s) {
+        EXPECT_EQ(s.framebuffer, GLint(before.framebuffer()));
+        EXPECT_EQ(std::vector<GLint>(s.viewport, s.viewport + 4),
+                  (std::vector<GLint>{3, 4, 50, 60}));
+        EXPECT_EQ(s.depthFunc, GL_GREATER);
+        EXPECT_EQ(s.depthMask, GL_FALSE);
+        EXPECT_EQ(s.depthTest, GL_FALSE);
+        EXPECT_EQ(s.cull, GL_TRUE);
+        EXPECT_EQ(s.blend, GL_TRUE);
+        EXPECT_EQ(s.scissor, GL_TRUE);
+    };
+    {
+        const gl::ScopedDrawTarget draw(target.framebuffer(), 16, 8);
+        const State s = now();
+        EXPECT_EQ(s.framebuffer, GLint(target.framebuffer()));
+        EXPECT_EQ(std::vector<GLint>(s.viewport, s.viewport + 4),
+                  (std::vector<GLint>{0, 0, 16, 8}));
+        EXPECT_EQ(s.depthFunc, GL_LESS);
+        EXPECT_EQ(s.depthMask, GL_TRUE);
+        EXPECT_EQ(s.depthTest, GL_TRUE);
+        EXPECT_EQ(s.cull, GL_FALSE);
+        EXPECT_EQ(s.blend, GL_FALSE);
+        EXPECT_EQ(s.scissor, GL_FALSE);
+    }
+    expectAsBefore(now());
+    try {
+        const gl::ScopedDrawTarget draw(target.framebuffer(), 16, 8);
+        throw core::Error("pass", 0, "failed in the middle");
+    } catch (const core::Error&) {
+    }
+    expectAsBefore(now());
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+}
+
 TEST(HeadlessContext, NestedStageTimersDoNotNestGlQueries) {
     auto ctx = gl::createHeadlessContext();
     {
