@@ -122,37 +122,44 @@ TEST(HeadlessContext, AnOffscreenDrawRestoresTheStateItChanges) {
         s.scissor = glIsEnabled(GL_SCISSOR_TEST);
         return s;
     };
-    const auto expectAsBefore = [&](const State& s) {
-        EXPECT_EQ(s.framebuffer, GLint(before.framebuffer()));
+    const auto expectState = [](const State& s, const State& want) {
+        EXPECT_EQ(s.framebuffer, want.framebuffer);
         EXPECT_EQ(std::vector<GLint>(s.viewport, s.viewport + 4),
-                  (std::vector<GLint>{3, 4, 50, 60}));
-        EXPECT_EQ(s.depthFunc, GL_GREATER);
-        EXPECT_EQ(s.depthMask, GL_FALSE);
-        EXPECT_EQ(s.depthTest, GL_FALSE);
-        EXPECT_EQ(s.cull, GL_TRUE);
-        EXPECT_EQ(s.blend, GL_TRUE);
-        EXPECT_EQ(s.scissor, GL_TRUE);
+                  std::vector<GLint>(want.viewport, want.viewport + 4));
+        EXPECT_EQ(s.depthFunc, want.depthFunc);
+        EXPECT_EQ(s.depthMask, want.depthMask);
+        EXPECT_EQ(s.depthTest, want.depthTest);
+        EXPECT_EQ(s.cull, want.cull);
+        EXPECT_EQ(s.blend, want.blend);
+        EXPECT_EQ(s.scissor, want.scissor);
     };
+    const State asBefore{GLint(before.framebuffer()),
+                         {3, 4, 50, 60},
+                         GL_GREATER,
+                         GL_FALSE,
+                         GL_FALSE,
+                         GL_TRUE,
+                         GL_TRUE,
+                         GL_TRUE};
+    const State inPass{GLint(target.framebuffer()),
+                       {0, 0, 16, 8},
+                       GL_LESS,
+                       GL_TRUE,
+                       GL_TRUE,
+                       GL_FALSE,
+                       GL_FALSE,
+                       GL_FALSE};
     {
         const gl::ScopedDrawTarget draw(target.framebuffer(), 16, 8);
-        const State s = now();
-        EXPECT_EQ(s.framebuffer, GLint(target.framebuffer()));
-        EXPECT_EQ(std::vector<GLint>(s.viewport, s.viewport + 4),
-                  (std::vector<GLint>{0, 0, 16, 8}));
-        EXPECT_EQ(s.depthFunc, GL_LESS);
-        EXPECT_EQ(s.depthMask, GL_TRUE);
-        EXPECT_EQ(s.depthTest, GL_TRUE);
-        EXPECT_EQ(s.cull, GL_FALSE);
-        EXPECT_EQ(s.blend, GL_FALSE);
-        EXPECT_EQ(s.scissor, GL_FALSE);
+        expectState(now(), inPass);
     }
-    expectAsBefore(now());
+    expectState(now(), asBefore);
     try {
         const gl::ScopedDrawTarget draw(target.framebuffer(), 16, 8);
         throw core::Error("pass", 0, "failed in the middle");
     } catch (const core::Error&) {
     }
-    expectAsBefore(now());
+    expectState(now(), asBefore);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glDisable(GL_SCISSOR_TEST);
