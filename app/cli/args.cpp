@@ -56,7 +56,6 @@ MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,
         s.params.sigmaA = parseRgb(sigmaA, "--sigma-a");
         s.params.sigmaS = parseRgb(sigmaS, "--sigma-s");
         s.preset.clear();
-        s.params.eta = 1.3;
     }
     if (eta) s.params.eta = *eta;
     material::validate(s.params, "arguments");

@@ -343,7 +343,9 @@ Command fitCommand() {
                                 core::formatNumber(a->sweepEta) + ")",
                             core::Limits{1.0, 3.0})
                 ->needs(sweep);
-            addNumberOption(&cmd, "--g", a->sweepG, "the sweep's Henyey-Greenstein g (default 0)",
+            addNumberOption(&cmd, "--g", a->sweepG,
+                            "the sweep's Henyey-Greenstein g (default " +
+                                core::formatNumber(a->sweepG) + ")",
                             core::Limits{-0.95, 0.95})
                 ->needs(sweep);
             cmd.add_option("--published", a->published,

@@ -27,7 +27,7 @@ struct FitArgs {
     bool plots = true; // before/after pictures in the report
     // --albedo-sweep: reduced albedos α′ = σ′s/σ′t of a medium with σ′t = 1/mm, g and η below
     std::vector<double> albedoSweep;
-    double sweepG = 0.0, sweepEta = 1.3;
+    double sweepG = material::MaterialParams{}.g, sweepEta = material::MaterialParams{}.eta;
     std::vector<std::string> published; // CSV files of published curves (A, parameter)
 };
 

@@ -10,6 +10,10 @@
 namespace material {
 
 void validate(const MaterialParams& p, const std::string& what) {
+    // g first: σs derived from a preset's σ′s/(1 − g) is infinite or negative for a bad g.
+    if (!std::isfinite(p.g) || std::abs(p.g) >= 1)
+        throw core::Error(
+            what, 0, "g (mean cosine) must satisfy |g| < 1, got " + core::formatNumber(p.g, 6));
     for (int c = 0; c < 3; ++c) {
         if (!std::isfinite(p.sigmaA[c]) || !std::isfinite(p.sigmaS[c]))
             throw core::Error(what, 0,
@@ -30,9 +34,6 @@ void validate(const MaterialParams& p, const std::string& what) {
         throw core::Error(what, 0,
                           "eta (relative index of refraction) must be > 0, got " +
                               core::formatNumber(p.eta, 6));
-    if (!std::isfinite(p.g) || std::abs(p.g) >= 1)
-        throw core::Error(
-            what, 0, "g (mean cosine) must satisfy |g| < 1, got " + core::formatNumber(p.g, 6));
     if (!std::isfinite(p.scale) || p.scale <= 0)
         throw core::Error(what, 0,
                           "scale (mm per unit) must be > 0, got " + core::formatNumber(p.scale, 6));

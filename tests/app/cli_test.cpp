@@ -225,6 +225,10 @@ TEST_F(Cli, ProfileRejectsBadCoefficients) {
     expectFailure(with({"--sigma-a", "0.1,0.1,0.1", "--sigma-s", "1,inf,1"}), {"sigma_s"});
     expectFailure(with({"--sigma-a", "0.1", "--sigma-s", "1", "--eta", "0"}), {"eta"});
     expectFailure(with({"--sigma-a", "0.1", "--sigma-s", "1", "--g", "1"}), {"g (mean cosine)"});
+    // A preset gives σ′s, from which σs = σ′s/(1 − g): a bad g is named as such, not as the
+    // infinite or negative σs it would make.
+    expectFailure(with({"--preset", "Skin1", "--g", "1"}), {"g (mean cosine)", "got 1"});
+    expectFailure(with({"--preset", "Skin1", "--g", "2"}), {"g (mean cosine)", "got 2"});
     expectFailure(with({"--sigma-a", "1,2", "--sigma-s", "1,1,1"}), {"--sigma-a"});
     expectFailure(with({"--sigma-a", "abc", "--sigma-s", "1,1,1"}), {"--sigma-a", "abc"});
     expectFailure(with({"--sigma-a", "0.1,0.1,0.1", "--sigma-s", "1,x,1"}), {"--sigma-s"});
