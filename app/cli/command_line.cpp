@@ -54,6 +54,34 @@ fs::path findRoot(const std::string& given) {
                       "current folder; pass --root DIR (or set $BSSRDF_WORKBENCH_ROOT)");
 }
 
+// The names a parser offers, comma-separated, hidden ones left out.
+std::string offered(const CLI::App& parent) {
+    std::string names;
+    for (const CLI::App* sub : parent.get_subcommands(
+             [](const CLI::App* a) { return !a->get_name().empty() && !a->get_group().empty(); }))
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+    return names;
+}
+
+// A refused command line in the words of this program where the parser's own would not name
+// what to type: a group ("bench") without one of its commands and a word that is no command.
+std::string usageMessage(const CLI::App& cli, const std::map<std::string, CLI::App*>& parsers,
+                         const CLI::ParseError& e) {
+    for (const Command& c : commands()) {
+        const CLI::App* group = parsers.at(c.name);
+        if (c.declare || !group->parsed() || !group->get_subcommands().empty()) continue;
+        const std::vector<std::string> extra = group->remaining();
+        return extra.empty() ? c.name + ": give one of " + offered(*group)
+                             : c.name + " " + extra.front() + ": not a command of " + c.name +
+                                   "; give one of " + offered(*group);
+    }
+    const std::vector<std::string> extra = cli.remaining();
+    if (dynamic_cast<const CLI::ExtrasError*>(&e) && cli.get_subcommands().empty() &&
+        !extra.empty() && extra.front().rfind('-', 0) != 0)
+        return extra.front() + ": not a command; the commands are " + offered(cli);
+    return e.what();
+}
+
 } // namespace
 
 const fs::path& CommandContext::root() {
@@ -98,7 +126,8 @@ int runCommandLine(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return cli.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "error: %s\n(run with --help for the options)\n", e.what());
+        std::fprintf(stderr, "error: %s\n(run with --help for the options)\n",
+                     usageMessage(cli, parsers, e).c_str());
         return kUsageError;
     }
     if (verbose) core::setLogEchoLevel(core::LogLevel::Info);
