@@ -222,8 +222,12 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
         else
             s.light.envIntensity = *a.irradiance;
     }
-    if (!s.environmentFile.empty() && s.light.mode != irradiance::LightMode::Directional)
+    if (!s.environmentFile.empty() && s.light.mode != irradiance::LightMode::Directional) {
         s.environmentFile = fs::absolute(s.environmentFile).string();
+        // before the mesh, the point cloud and the irradiance, not after them
+        if (!std::ifstream(s.environmentFile))
+            throw core::Error(s.environmentFile, 0, "--light ibl: cannot open the file");
+    }
     core::Stopwatch clock;
     // A progress line on stderr: each step as it starts, the point cloud's fraction while it
     // is generated, with the time so far.

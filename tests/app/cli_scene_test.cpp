@@ -272,7 +272,11 @@ TEST_F(CliScene, RenderRejectsBadArguments) {
 TEST_F(CliScene, RenderRejectsBadEnvironmentMaps) {
     writeText(dir() / "corrupt.exr", randomBytes(2000, 9));
     writeRawExr(dir() / "luminance.exr", 8, 4, {"Y"}, std::vector<float>(32, 1.0f));
-    expectFailure(renderArgs(kBunny, {"--light", "ibl:missing.exr"}), {"missing.exr"});
+    expectFailure(renderArgs(kBunny, {"--light", "ibl:missing.exr"}),
+                  {"missing.exr", "--light ibl: cannot open"});
+    // a missing map is refused before the point cloud is made, not after the irradiance
+    const RunResult missing = run(renderArgs(kBunny, {"--light", "ibl:missing.exr"}));
+    EXPECT_FALSE(contains(missing.output, "point cloud")) << missing.output;
     expectFailure(renderArgs(kBunny, {"--light", "ibl:corrupt.exr"}), {"corrupt.exr"});
     expectFailure(renderArgs(kBunny, {"--light", "ibl:luminance.exr"}),
                   {"luminance.exr", "no channel 'R'"});
