@@ -31,13 +31,14 @@ glm::dvec3 parseRgb(const std::string& text, const std::string& argName) {
     return {v[0], v[1], v[2]};
 }
 
-fs::path resolveModel(const fs::path& root, const std::string& model) {
+fs::path resolveModel(const fs::path& root, const std::string& model, const std::string& flag) {
     fs::path p = model;
     if (!fs::exists(p) && fs::exists(root / p)) p = root / p;
-    if (!fs::exists(p)) throw core::Error(model, 0, "--model: no such file");
+    if (!fs::exists(p)) throw core::Error(model, 0, flag + ": no such file");
     if (fs::is_directory(p))
         throw core::Error(fs::absolute(p).lexically_normal().string(), 0,
-                          "--model: a folder, expected a .bssrdf file");
+                          flag + ": a folder, expected " +
+                              (flag == "--model" ? "a .bssrdf file" : "a file"));
     return p;
 }
 

@@ -19,9 +19,10 @@ glm::dvec3 parseRgb(const std::string& text, const std::string& argName);
 
 class Workbench;
 struct MaterialSettings;
-// A model file as given or relative to the root; throws core::Error("--model") when missing or
-// a folder (naming its full path).
-std::filesystem::path resolveModel(const std::filesystem::path& root, const std::string& model);
+// A model file (or another file the option `flag` names) as given or relative to the root;
+// throws core::Error naming the flag when missing or a folder (naming its full path).
+std::filesystem::path resolveModel(const std::filesystem::path& root, const std::string& model,
+                                   const std::string& flag = "--model");
 // Material settings from --preset or --sigma-a/--sigma-s (+ --g, --eta), validated.
 MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,
                                   const std::string& sigmaA, const std::string& sigmaS,

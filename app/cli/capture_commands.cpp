@@ -73,7 +73,7 @@ int runRecord(const fs::path& root, const RecordArgs& a) {
         ls.pathSpp = 8;
         ls.integratedSpp = 1024;
         if (!a.litMesh.empty()) {
-            fs::path mesh = resolveModel(root, a.litMesh); // exists, absolute or under root
+            fs::path mesh = resolveModel(root, a.litMesh, "--lit-mesh"); // absolute or under root
             ls.mesh = core::relativeTo(mesh, root);
         }
         if (!a.litSampling.empty())
@@ -135,60 +135,77 @@ Command recordCommand() {
             cmd.add_option("--model", a->models, "model files (default: every materials/*.bssrdf)");
             cmd.add_option("--preset", a->preset, "material preset (default Marble)");
             cmd.add_option("--out", a->outDir, "folder (default captures/NAME)");
-            cmd.add_option(
+            auto* referencePaths = cmd.add_option(
                 "--reference-paths", a->referencePaths,
                 "also record the path-traced pencil-beam reference with this many paths per "
                 "channel (default 0: off)");
-            cmd.add_option("--slice-paths", a->slicePaths,
-                           "also record the BSSRDF slice (path-traced table and every model on its "
-                           "bins) with this many paths (default 0: off)");
+            auto* slicePaths = cmd.add_option(
+                "--slice-paths", a->slicePaths,
+                "also record the BSSRDF slice (path-traced table and every model on its "
+                "bins) with this many paths (default 0: off)");
             cmd.add_option("--slice-theta-i", a->sliceThetaI,
                            "incidence angle of the slice, degrees (default " +
-                               defaultText(SliceSettings{}.thetaIDeg) + ")");
+                               defaultText(SliceSettings{}.thetaIDeg) + ")")
+                ->needs(slicePaths);
+            auto* litSpheres =
+                cmd.add_option(
+                       "--lit-spheres", a->litSphereSize,
+                       "also record the lit-sphere images (path traced and BSSRDF integrated) at "
+                       "this size in pixels (default 0: off)")
+                    ->check(CLI::Range(0, 1024));
             cmd.add_option(
-                   "--lit-spheres", a->litSphereSize,
-                   "also record the lit-sphere images (path traced and BSSRDF integrated) at "
-                   "this size in pixels (default 0: off)")
-                ->check(CLI::Range(0, 1024));
-            cmd.add_option(
-                "--lit-mesh", a->litMesh,
-                "with --lit-spheres: path trace this OBJ (a file under the project root) "
-                "instead of the sphere");
+                   "--lit-mesh", a->litMesh,
+                   "with --lit-spheres: path trace this OBJ (a file under the project root) "
+                   "instead of the sphere")
+                ->needs(litSpheres);
             cmd.add_option("--lit-sampling", a->litSampling,
                            "with --lit-spheres: BSSRDF integration uniform or disk (default " +
-                               std::string(core::nameOf(LitSphereSettings{}.sampling)) + ")");
+                               std::string(core::nameOf(LitSphereSettings{}.sampling)) + ")")
+                ->needs(litSpheres);
             cmd.add_option(
-                "--lit-axes", a->litAxes,
-                "with --lit-sampling disk: probe axes uniform, pbrt, normal or all (default " +
-                    std::string(core::nameOf(LitSphereSettings{}.axes)) + ")");
+                   "--lit-axes", a->litAxes,
+                   "with --lit-sampling disk: probe axes uniform, pbrt, normal or all (default " +
+                       std::string(core::nameOf(LitSphereSettings{}.axes)) + ")")
+                ->needs(litSpheres);
             cmd.add_option("--reference-bins", a->referenceBins,
                            "radial bins of the reference (default " +
                                std::to_string(ReferenceSettings{}.bins) + ")")
-                ->check(CLI::Range(1, 100000));
+                ->check(CLI::Range(1, 100000))
+                ->needs(referencePaths);
 
-            cmd.add_option(
+            auto* scenePoints = cmd.add_option(
                 "--scene-points", a->scenePoints,
                 "also record the mesh pipeline (point cloud, octree, irradiance, render, one "
                 "traversal trace) with this many points (default 0: off)");
             cmd.add_option("--scene-mesh", a->sceneMesh,
-                           "with --scene-points: the OBJ (under the root; default the bunny)");
+                           "with --scene-points: the OBJ (under the root; default the bunny)")
+                ->needs(scenePoints);
             cmd.add_option("--scene-width", a->sceneWidth, "render width (default 160)")
-                ->check(CLI::Range(1, 4096));
+                ->check(CLI::Range(1, 4096))
+                ->needs(scenePoints);
             cmd.add_option("--scene-height", a->sceneHeight, "render height (default 90)")
-                ->check(CLI::Range(1, 4096));
-            cmd.add_option("--texture-space", a->textureSpace,
-                           "with --scene-points: also record the texture-space stages (texels, E', "
-                           "the first draws, the render over its sets) at this texture size K "
-                           "(default 0: off)");
+                ->check(CLI::Range(1, 4096))
+                ->needs(scenePoints);
+            auto* textureSpace = cmd.add_option(
+                "--texture-space", a->textureSpace,
+                "with --scene-points: also record the texture-space stages (texels, E', "
+                "the first draws, the render over its sets) at this texture size K "
+                "(default 0: off)");
             cmd.add_option("--texture-samples", a->textureSamples,
-                           "with --texture-space: N per sample set (default 256)");
+                           "with --texture-space: N per sample set (default 256)")
+                ->needs(textureSpace);
             cmd.add_option("--texture-sets", a->textureSets,
-                           "with --texture-space: sample sets averaged (default 16)");
+                           "with --texture-space: sample sets averaged (default 16)")
+                ->needs(textureSpace);
             cmd.add_flag("--hybrid", a->hybrid,
                          "with --texture-space: render by the hybrid (the local term by the "
                          "light-view ring filter, recorded too)");
-            cmd.add_option("--trace-x", a->traceX, "traced pixel x (default: centre)");
-            cmd.add_option("--trace-y", a->traceY, "traced pixel y (default: centre)");
+            cmd.add_option("--trace-x", a->traceX,
+                           "with --scene-points: traced pixel x (default: centre)")
+                ->needs(scenePoints);
+            cmd.add_option("--trace-y", a->traceY,
+                           "with --scene-points: traced pixel y (default: centre)")
+                ->needs(scenePoints);
             cmd.add_flag("--force", a->force, "replace an existing capture folder");
             cmd.add_option("--from-request", a->fromRequest,
                            "record the state a GUI wrote to this manifest (File -> Record "

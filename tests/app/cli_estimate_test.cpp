@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -248,6 +249,37 @@ TEST_F(CliOutputs, RecordRefusesTextureSpaceFlagsWithoutWhatTheyNeed) {
     expectFailure(with({"--texture-space", "64"}), {"--texture-space", "needs --scene-points"});
     expectFailure(with({"--scene-points", "500", "--texture-space", "100"}),
                   {"--texture-space", "power of two"});
+    EXPECT_FALSE(fs::exists(m_dir.path() / "caps/t"));
+}
+
+// Each of `record`'s options that sets up a stage another option turns on is refused without
+// it (a --lit-mesh without --lit-spheres used to be ignored, and the capture recorded without
+// what was asked for), and a missing lit mesh is named under its own flag.
+TEST_F(CliOutputs, RecordRefusesAStageOptionWithoutItsStage) {
+    const std::string dipole = std::string(BW_SOURCE_ROOT) + "/materials/dipole.bssrdf";
+    const std::vector<std::string> rec = {"record", "--name", "t",     "--model",
+                                          dipole,   "--out",  "caps/t"};
+    auto with = [&](std::vector<std::string> extra) {
+        extra.insert(extra.begin(), rec.begin(), rec.end());
+        return extra;
+    };
+    const std::vector<std::array<const char*, 3>> needs = {
+        {"--lit-mesh", "third_party/bunny/bunny.obj", "--lit-spheres"},
+        {"--lit-sampling", "disk", "--lit-spheres"},
+        {"--lit-axes", "pbrt", "--lit-spheres"},
+        {"--reference-bins", "50", "--reference-paths"},
+        {"--slice-theta-i", "30", "--slice-paths"},
+        {"--scene-mesh", "third_party/bunny/bunny.obj", "--scene-points"},
+        {"--scene-width", "64", "--scene-points"},
+        {"--scene-height", "64", "--scene-points"},
+        {"--trace-x", "3", "--scene-points"},
+        {"--trace-y", "3", "--scene-points"},
+        {"--texture-samples", "64", "--texture-space"},
+        {"--texture-sets", "4", "--texture-space"}};
+    for (const auto& [flag, value, stage] : needs)
+        expectFailure(with({flag, value}), {std::string(flag) + " requires " + stage});
+    expectFailure(with({"--lit-spheres", "8", "--lit-mesh", "no/such.obj"}),
+                  {"no/such.obj", "--lit-mesh: no such file"});
     EXPECT_FALSE(fs::exists(m_dir.path() / "caps/t"));
 }
 
