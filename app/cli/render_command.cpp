@@ -156,6 +156,21 @@ void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
     cmd->add_option("--png", a.png, "also write the tone-mapped image as PNG");
     cmd->add_flag("--no-cache{false}", a.useCache, "neither read nor write the point-cloud cache");
     cmd->add_option("--out", a.out, "EXR file: R, G, B radiance")->required();
+    // An option of one renderer (or light) given with another is refused, not ignored.
+    cmd->parse_complete_callback([cmd, &a] {
+        const auto given = [cmd](const char* flag) { return cmd->get_option(flag)->count() > 0; };
+        const bool textureSpace = a.renderer == "texture-space" || a.renderer == "hybrid";
+        for (const char* flag :
+             {"--texture-size", "--samples", "--sets", "--draw-seed", "--stage-images"})
+            if (given(flag) && !textureSpace)
+                throw CLI::ValidationError(flag, "only with --renderer texture-space or hybrid");
+        for (const char* flag : {"--rings", "--per-ring", "--hybrid-k", "--rp-bound"})
+            if (given(flag) && a.renderer != "hybrid")
+                throw CLI::ValidationError(flag, "only with --renderer hybrid");
+        if (given("--env-samples") && !a.occluded)
+            throw CLI::ValidationError("--env-samples",
+                                       "only with --occluded (--light ibl:FILE.exr)");
+    });
 }
 
 int runRenderCli(const fs::path& root, const RenderArgs& a) {
@@ -189,8 +204,6 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
                                                                            : "--hybrid-k",
                               0, m);
         }
-    } else if (!a.stageImages.empty()) {
-        throw core::Error("--stage-images", 0, "needs --renderer texture-space or hybrid");
     }
     if (!std::ifstream(a.mesh)) throw core::Error(a.mesh, 0, "--mesh: cannot open the file");
     const fs::path model = resolveModel(root, a.model);

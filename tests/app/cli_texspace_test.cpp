@@ -82,8 +82,17 @@ TEST_F(TextureSpaceCli, BadInputsAreNamed) {
     expectFailure(renderArgs({"--renderer", "texture-space", "--sets", "-1", "--out", "a.exr"}),
                   {"--sets"});
     expectFailure(renderArgs({"--renderer", "photon-map", "--out", "a.exr"}), {"--renderer"});
+    // an option of another renderer is refused, not ignored
+    for (const char* flag : {"--texture-size", "--samples", "--sets", "--draw-seed"})
+        expectFailure(renderArgs({flag, "64", "--out", "a.exr"}),
+                      {std::string(flag) + ": only with --renderer texture-space or hybrid"});
     expectFailure(renderArgs({"--stage-images", "x", "--out", "a.exr"}),
-                  {"--stage-images", "texture-space"});
+                  {"--stage-images: only with --renderer texture-space or hybrid"});
+    for (const char* flag : {"--rings", "--per-ring", "--hybrid-k", "--rp-bound"})
+        expectFailure(renderArgs({"--renderer", "texture-space", flag, "2", "--out", "a.exr"}),
+                      {std::string(flag) + ": only with --renderer hybrid"});
+    expectFailure(renderArgs({"--env-samples", "16", "--out", "a.exr"}),
+                  {"--env-samples: only with --occluded"});
     expectFailure(renderArgs({"--renderer", "hybrid", "--rings", "0", "--out", "a.exr"}),
                   {"--rings"});
     expectFailure(
