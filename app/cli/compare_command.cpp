@@ -330,9 +330,10 @@ namespace {
 
 void addGeometryOptions(CLI::App& cmd, bool& geometry, GeometryArgs& g) {
     const GeometrySettings d;
-    cmd.add_flag("--geometry", geometry,
-                 "score images of the geometry suite's shapes against the volumetric path "
-                 "tracer instead of radial profiles (default presets Marble and Skin1)");
+    CLI::Option* geo =
+        cmd.add_flag("--geometry", geometry,
+                     "score images of the geometry suite's shapes against the volumetric path "
+                     "tracer instead of radial profiles (default presets Marble and Skin1)");
     std::string kinds;
     for (const mesh::SuiteKind& k : mesh::suiteKinds()) {
         kinds += std::string(kinds.empty() ? "" : "; ") + k.name + " (";
@@ -344,24 +345,30 @@ void addGeometryOptions(CLI::App& cmd, bool& geometry, GeometryArgs& g) {
                    "--geometry: shape specs KIND[:NAME=VALUE,...] in units of l_d, e.g. "
                    "slab:t=0.3,view=back sphere:r=2; kinds: " +
                        kinds + " (default: the whole suite, " +
-                       std::to_string(mesh::defaultSuite().size()) + " shapes)");
+                       std::to_string(mesh::defaultSuite().size()) + " shapes)")
+        ->needs(geo);
     addCountOption(&cmd, "--size", g.settings.size,
                    "--geometry: image side in pixels (default " + std::to_string(d.size) + ")",
-                   core::Limits{8, 1024});
+                   core::Limits{8, 1024})
+        ->needs(geo);
     addCountOption(&cmd, "--reference-spp", g.settings.referenceSpp,
                    "--geometry: reference paths per covered pixel, x3 estimates (default " +
                        std::to_string(d.referenceSpp) + ")",
-                   core::Limits{1, 1e6});
+                   core::Limits{1, 1e6})
+        ->needs(geo);
     addCountOption(&cmd, "--model-spp", g.settings.modelSpp,
                    "--geometry: BSSRDF samples per pixel (default " + std::to_string(d.modelSpp) +
                        ")",
-                   core::Limits{1, 1e6});
+                   core::Limits{1, 1e6})
+        ->needs(geo);
     cmd.add_option("--sampling", g.sampling,
                    std::string("--geometry: BSSRDF integration, uniform or disk (default ") +
-                       core::nameOf(d.sampling) + ")");
+                       core::nameOf(d.sampling) + ")")
+        ->needs(geo);
     cmd.add_option("--pictures", g.pictures,
                    "--geometry: the channels whose cases get a picture in the report, e.g. G "
-                   "(default RGB; --no-plots: none)");
+                   "(default RGB; --no-plots: none)")
+        ->needs(geo);
     cmd.add_option("--shard", g.shard,
                    "run shard K of N (1 <= K <= N): every N-th medium and angle (--geometry: "
                    "case) from the K-th, into DIR/shard.json; `merge DIR... --out D` combines "
@@ -402,7 +409,7 @@ Command compareCommand() {
                                "output folder: scores.json, report.md, report.html")
                     ->required();
                 addGeometryOptions(cmd, *geometry, *g);
-                return [a, g, geometry](CommandContext& ctx) {
+                return [a, g, geometry, &cmd](CommandContext& ctx) {
                     if (!*geometry) {
                         a->shard = g->shard;
                         return runCompareCli(ctx.root(), *a);
@@ -411,6 +418,10 @@ Command compareCommand() {
                         throw core::Error("--mco", 0,
                                           "an MCML run scores radial profiles: leave out "
                                           "--geometry");
+                    if (cmd.get_option("--paths")->count() > 0)
+                        throw core::Error("--paths", 0,
+                                          "the geometry suite's reference takes --reference-spp: "
+                                          "leave out --paths");
                     if (a->thetaI != std::vector<double>{0.0})
                         throw core::Error("--theta-i", 0,
                                           "the geometry suite has its own lights: leave out "

@@ -263,7 +263,19 @@ TEST_F(GeometryCli, BadInputsNameTheirArgument) {
     expectFailure(with({"--size", "4"}), {"--size"});
     expectFailure(with({"--fail-if-worse", "5"}), {"--fail-if-worse", "needs --baseline"});
     expectFailure({"merge", "--geometry", "nowhere", "--out", "m"}, {"nowhere/shard.json"});
+    expectFailure(with({"--paths", "100000"}), {"--paths", "leave out --paths"});
+    // the suite's options without --geometry are refused, not ignored by the radial scoreboard
+    for (const auto& [flag, value] :
+         std::vector<std::pair<std::string, std::string>>{{"--shapes", "sphere"},
+                                                          {"--size", "16"},
+                                                          {"--reference-spp", "4"},
+                                                          {"--model-spp", "4"},
+                                                          {"--sampling", "uniform"},
+                                                          {"--pictures", "G"}})
+        expectFailure({"compare", "--presets", "Marble", flag, value, "--out", "radial"},
+                      {flag + " requires --geometry"});
     EXPECT_FALSE(fs::exists(dir() / "bad/scores.json"));
+    EXPECT_FALSE(fs::exists(dir() / "radial"));
 }
 
 // The shards of a run, run by GNU parallel as a user would, merge into the single process's
