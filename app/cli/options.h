@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -115,6 +116,23 @@ inline void refuseNonFiniteNumbers(CLI::App& cmd) {
     }
     for (CLI::App* sub : cmd.get_subcommands([](CLI::App*) { return true; }))
         refuseNonFiniteNumbers(*sub);
+}
+
+// Options that the mode a command line chose would ignore, refused instead (exit 2, as
+// "<flag>: <why>"): each rule's flags, when given while `applies()` holds after the parse.
+// One call per command (it sets the command's parse-complete callback).
+struct IgnoredOptions {
+    std::vector<std::string> flags;
+    std::function<bool()> applies; // reads the parsed values
+    std::string why;               // "only with --renderer hybrid"
+};
+inline void refuseIgnoredOptions(CLI::App* cmd, std::vector<IgnoredOptions> rules) {
+    cmd->parse_complete_callback([cmd, rules = std::move(rules)] {
+        for (const IgnoredOptions& rule : rules)
+            for (const std::string& flag : rule.flags)
+                if (cmd->get_option(flag)->count() > 0 && rule.applies())
+                    throw CLI::ValidationError(flag, rule.why);
+    });
 }
 
 // --threads of every command: 0 (the default) uses all hardware threads.

@@ -157,20 +157,16 @@ void addRenderOptions(CLI::App* cmd, RenderArgs& a) {
     cmd->add_flag("--no-cache{false}", a.useCache, "neither read nor write the point-cloud cache");
     cmd->add_option("--out", a.out, "EXR file: R, G, B radiance")->required();
     // An option of one renderer (or light) given with another is refused, not ignored.
-    cmd->parse_complete_callback([cmd, &a] {
-        const auto given = [cmd](const char* flag) { return cmd->get_option(flag)->count() > 0; };
-        const bool textureSpace = a.renderer == "texture-space" || a.renderer == "hybrid";
-        for (const char* flag :
-             {"--texture-size", "--samples", "--sets", "--draw-seed", "--stage-images"})
-            if (given(flag) && !textureSpace)
-                throw CLI::ValidationError(flag, "only with --renderer texture-space or hybrid");
-        for (const char* flag : {"--rings", "--per-ring", "--hybrid-k", "--rp-bound"})
-            if (given(flag) && a.renderer != "hybrid")
-                throw CLI::ValidationError(flag, "only with --renderer hybrid");
-        if (given("--env-samples") && !a.occluded)
-            throw CLI::ValidationError("--env-samples",
-                                       "only with --occluded (--light ibl:FILE.exr)");
-    });
+    refuseIgnoredOptions(
+        cmd, {{{"--texture-size", "--samples", "--sets", "--draw-seed", "--stage-images"},
+               [&a] { return a.renderer != "texture-space" && a.renderer != "hybrid"; },
+               "only with --renderer texture-space or hybrid"},
+              {{"--rings", "--per-ring", "--hybrid-k", "--rp-bound"},
+               [&a] { return a.renderer != "hybrid"; },
+               "only with --renderer hybrid"},
+              {{"--env-samples"},
+               [&a] { return !a.occluded; },
+               "only with --occluded (--light ibl:FILE.exr)"}});
 }
 
 int runRenderCli(const fs::path& root, const RenderArgs& a) {

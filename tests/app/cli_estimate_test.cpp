@@ -304,6 +304,8 @@ TEST_F(Estimate, RejectsBadArguments) {
     expectFailure(with({"--shard", "two"}), {"--shard"});
     expectFailure(with({"--single-only", "--multiple-only"}), {"--single-only"});
     expectFailure(with({"--gpu", "--shard", "1/2"}), {"--shard", "CPU"});
+    expectFailure(with({"--gpu", "--split-levels", "2"}), {"--split-levels: the GL tracer"});
+    expectFailure(with({"--gpu", "--exit-samples", "4"}), {"--exit-samples: the GL tracer"});
     // An unwritable output fails at once, before any path is traced.
     RunResult r = run(estimate({"--paths", "100000000", "--out", "/proc/nope/t.bwtable"}));
     EXPECT_NE(r.code, 0);

@@ -688,6 +688,9 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     expectFailure(with({"--max-events", "0"}), {"--max-events", "between 1 and 4294967295"});
     expectFailure(with({"--exit-samples", "65"}), {"--exit-samples", "between 0 and 64"});
     expectFailure(with({"--exit-depth", "-1"}), {"--exit-depth"});
+    // the GL tracer does not split nor sample exits: asked for with --gpu, refused
+    for (const char* flag : {"--split-levels", "--split-start", "--exit-samples", "--exit-depth"})
+        expectFailure(with({"--gpu", flag, "1"}), {std::string(flag) + ": the GL tracer", "--gpu"});
     // sigma_a = 0 (no absorption) is valid and terminates; the few paths of the heavy tail of
     // return times that reach the event limit are truncated, and since their weight exceeds the
     // standard error the CSV is written but the energy check fails: exit status 3, saying so
