@@ -103,9 +103,28 @@ json runJson(const GeometryReport& r, const json& skipped, size_t cases) {
             {"skipped", skipped}};
 }
 
+// A --baseline file's rows, read before any image is traced: a missing, foreign or malformed
+// file fails at once, naming it.
+std::vector<GeometryRow> readBaseline(const std::string& file) {
+    const json b = json::parse(core::readFile(file), nullptr, false);
+    if (b.is_discarded() || !b.is_object() || b.value("schema", "") != kGeometrySchema ||
+        !b.contains("rows") || !b.at("rows").is_array())
+        throw core::Error(file, 0, std::string("--baseline: not a ") + kGeometrySchema + " file");
+    std::vector<GeometryRow> rows;
+    for (const json& j : b.at("rows")) {
+        try {
+            rows.push_back(rowOf(j));
+        } catch (const std::exception& e) {
+            throw core::Error(
+                file, 0, "--baseline: row " + std::to_string(rows.size() + 1) + ": " + e.what());
+        }
+    }
+    return rows;
+}
+
 // Ranks, writes scores.json and the reports, and applies the baseline gate.
 int finishRun(const fs::path& out, GeometryReport& report, const json& run,
-              const std::vector<size_t>& caseOfRow, const std::string& baseline,
+              const std::vector<size_t>& caseOfRow, const std::vector<GeometryRow>& baseline,
               std::optional<double> failIfWorse) {
     rankGeometryRows(report.rows);
     json j = {{"schema", kGeometrySchema}, {"version", kGeometryVersion}};
@@ -122,12 +141,8 @@ int finishRun(const fs::path& out, GeometryReport& report, const json& run,
     std::printf("%zu rows (%zu without a score: see \"problem\"): %s\n", report.rows.size(),
                 problems, (out / "scores.json").c_str());
     if (!failIfWorse) return 0;
-    const json b = json::parse(core::readFile(baseline), nullptr, false);
-    if (b.is_discarded() || b.value("schema", "") != kGeometrySchema)
-        throw core::Error(baseline, 0, std::string("not a ") + kGeometrySchema + " file");
     int worse = 0;
-    for (const json& bj : b.at("rows")) {
-        const GeometryRow br = rowOf(bj);
+    for (const GeometryRow& br : baseline) {
         for (const GeometryRow& r : report.rows) {
             if (r.model != br.model || r.shape != br.shape || r.preset != br.preset ||
                 r.channel != br.channel || !r.score.problem.empty() || !br.score.problem.empty())
@@ -172,6 +187,8 @@ int runCompareGeometryCli(const fs::path& root, const GeometryArgs& a) {
         throw core::Error("--fail-if-worse", 0, "needs --baseline FILE");
     if (!a.shard.empty() && !a.baseline.empty())
         throw core::Error("--baseline", 0, "compare the merged run (leave out --shard)");
+    const std::vector<GeometryRow> baseline =
+        a.baseline.empty() ? std::vector<GeometryRow>{} : readBaseline(a.baseline);
     GeometryReport report;
     report.settings = g.settings;
     if (!g.sampling.empty())
@@ -295,7 +312,7 @@ int runCompareGeometryCli(const fs::path& root, const GeometryArgs& a) {
                     (fs::path(a.out) / "shard.json").c_str());
         return 0;
     }
-    return finishRun(a.out, report, run, caseOfRow, a.baseline, a.failIfWorse);
+    return finishRun(a.out, report, run, caseOfRow, baseline, a.failIfWorse);
 }
 
 int runMergeGeometryCli(const std::vector<std::string>& dirs, const std::string& out) {
@@ -357,7 +374,7 @@ int runMergeGeometryCli(const std::vector<std::string>& dirs, const std::string&
         report.shapes.push_back(s.at("spec").get<std::string>());
     report.presets = run.at("presets").get<std::vector<std::string>>();
     report.models = run.at("models").get<std::vector<std::string>>();
-    return finishRun(out, report, run, caseOfRow, "", std::nullopt);
+    return finishRun(out, report, run, caseOfRow, {}, std::nullopt);
 }
 
 } // namespace app

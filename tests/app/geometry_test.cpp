@@ -264,6 +264,21 @@ TEST_F(GeometryCli, BadInputsNameTheirArgument) {
     expectFailure(with({"--fail-if-worse", "5"}), {"--fail-if-worse", "needs --baseline"});
     expectFailure({"merge", "--geometry", "nowhere", "--out", "m"}, {"nowhere/shard.json"});
     expectFailure(with({"--paths", "100000"}), {"--paths", "leave out --paths"});
+    // a baseline that cannot be read is refused before any image is traced
+    std::ofstream(dir() / "radial.json") << R"({"schema": "bssrdf-workbench-scores", "rows": []})";
+    std::ofstream(dir() / "broken.json")
+        << R"({"schema": "bssrdf-workbench-geometry-scores", "rows": [{"model": "x"}]})";
+    for (const auto& [file, says] : std::vector<std::pair<std::string, std::string>>{
+             {"missing.json", "cannot open"},
+             {"radial.json", "--baseline: not a bssrdf-workbench-geometry-scores file"},
+             {"broken.json", "--baseline: row 1: "}}) {
+        const std::vector<std::string> a = with({"--baseline", (dir() / file).string()});
+        const RunResult r = run(a);
+        EXPECT_NE(r.code, 0) << describe(a, r);
+        EXPECT_NE(r.output.find(file), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(says), std::string::npos) << r.output;
+        EXPECT_EQ(r.output.find("reference"), std::string::npos) << "traced first\n" << r.output;
+    }
     // the suite's options without --geometry are refused, not ignored by the radial scoreboard
     for (const auto& [flag, value] :
          std::vector<std::pair<std::string, std::string>>{{"--shapes", "sphere"},
