@@ -80,6 +80,9 @@ void addIntegrateOptions(CLI::App* cmd, IntegrateArgs& a) {
                     "disk: energy given up beyond R_m" + dflt(defaultText(a.energyLoss)),
                     core::Limits{1e-9, 0.5});
     cmd->add_option("--out", a.out, "EXR file: R,G,B exitance and varR,varG,varB")->required();
+    refuseIgnoredOptions(cmd, {{{"--energy-loss"},
+                                [&a] { return a.sampling == "uniform"; },
+                                "only with --sampling disk"}});
 }
 
 int runIntegrateCli(const fs::path& root, const IntegrateArgs& a) {

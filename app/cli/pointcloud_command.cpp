@@ -29,6 +29,13 @@ void addPointCloudOptions(CLI::App* cmd, PointCloudArgs& a) {
     cmd->add_flag("--no-cache{false}", a.useCache, "neither read nor write the point-cloud cache");
     cmd->add_option("--out", a.out, "PLY file (x y z nx ny nz area float32, triangle uint32)")
         ->required();
+    refuseIgnoredOptions(cmd, {{{"--iterations"},
+                                [&a] {
+                                    return a.options.method == pointcloud::Method::Elimination ||
+                                           a.options.method == pointcloud::Method::Uniform;
+                                },
+                                "only with --method stratified-repulsion or repulsion (the "
+                                "relaxations)"}});
 }
 
 int runPointCloudCli(const PointCloudArgs& a) {

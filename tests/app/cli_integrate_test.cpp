@@ -72,6 +72,9 @@ TEST_F(IntegrateCli, BadInputsAreNamed) {
     expectFailure(with({"--sphere", "10", "--sampling", "uniform", "--axes", "pbrt", "--spp", "4",
                         "--out", "a.exr"}),
                   {"--axes", "only with --sampling disk"});
+    expectFailure(with({"--sphere", "10", "--sampling", "uniform", "--energy-loss", "0.01", "--spp",
+                        "4", "--out", "a.exr"}),
+                  {"--energy-loss: only with --sampling disk"});
     expectFailure(with({"--sphere", "nan", "--sampling", "disk", "--spp", "4", "--out", "a.exr"}),
                   {"--sphere"});
     expectFailure(with({"--sphere", "10", "--sampling", "disk", "--spp", "4", "--light", "0,0,0",

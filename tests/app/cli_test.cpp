@@ -731,6 +731,10 @@ TEST_F(Cli, NumericArgumentsAreRefusedNeverReplacedByDefaults) {
                   {"--threads", "between 0 and 1024"});
     expectFailure({"pointcloud", "--mesh", mesh, "--iterations", "-1", "--out", "a.ply"},
                   {"--iterations", "between 0 and 100000, got -1"});
+    for (const char* method : {"elimination", "uniform"}) // no relaxation to iterate
+        expectFailure({"pointcloud", "--mesh", mesh, "--method", method, "--iterations", "5",
+                       "--out", "a.ply"},
+                      {"--iterations: only with --method stratified-repulsion or repulsion"});
     expectFailure({"pointcloud", "--mesh", mesh, "--threads", "-3", "--out", "a.ply"},
                   {"--threads"});
     expectFailure({"pointcloud", "--mesh", mesh, "--points", "1e9", "--out", "a.ply"},
