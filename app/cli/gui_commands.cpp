@@ -4,6 +4,7 @@
 #include "captures/capture_io.h"
 #include "cli/args.h"
 #include "cli/command.h"
+#include "cli/output.h"
 #include "core/core.h"
 #include "gl/gl.h"
 #include "gui/gui.h"
@@ -153,6 +154,7 @@ Command screenshotCommand() {
                              "start from the state saved when the GPU driver reset the context")
                     ->group("");
                 return [a](CommandContext& ctx) {
+                    checkOutput(a->out, "--out", ".png"); // before the frames, not after them
                     const fs::path& root = ctx.root();
                     GuiOptions opt;
                     if (!parseSize(a->size, opt.width, opt.height))

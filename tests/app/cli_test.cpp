@@ -534,10 +534,15 @@ TEST_F(Cli, ScreenshotWritesPngOfRequestedSize) {
     EXPECT_EQ(be32(20), 400u);
 }
 
-TEST_F(Cli, ScreenshotRejectsBadSize) {
+TEST_F(Cli, ScreenshotRejectsBadSizeAndOutput) {
     expectFailure({"screenshot", "--out", "tiny.png", "--size", "10x10"}, {"--size"});
     expectFailure({"screenshot", "--out", "tiny.png", "--size", "big"}, {"--size"});
     EXPECT_FALSE(fs::exists(dir() / "tiny.png"));
+    // the file is a PNG, and an unwritable place is refused before the GUI runs
+    expectFailure({"screenshot", "--out", "shot.jpg"}, {"--out", "'shot.jpg' must end in .png"});
+    EXPECT_FALSE(fs::exists(dir() / "shot.jpg"));
+    expectFailure({"screenshot", "--out", "no/such/folder/shot.png"},
+                  {"error: --out: cannot write", "no/such/folder"});
 }
 
 // ---- the headless default run (README: `./run` without a display) --------------------------
