@@ -233,13 +233,24 @@ int runMergeCli(const MergeArgs& a) {
     const bool folders = !a.inputs.empty() && fs::is_directory(a.inputs.front(), ec);
     if (a.geometry || folders) {
         if (!a.csv.empty() || !a.csvDir.empty() || !a.slabCsv.empty())
-            throw core::Error("merge", 0, "compare shards merge into --out only");
+            throw core::Error(!a.csv.empty()      ? "--csv"
+                              : !a.csvDir.empty() ? "--csv-dir"
+                                                  : "--slab-csv",
+                              0, "compare shards merge into --out only");
         const std::string kind =
             a.geometry ? "" : core::readFile(fs::path(a.inputs.front()) / "shard.json");
-        if (a.geometry || kind.find("bssrdf-workbench-geometry-shard") != std::string::npos)
+        if (a.geometry || kind.find("bssrdf-workbench-geometry-shard") != std::string::npos) {
+            if (!a.plots)
+                throw core::Error("--no-plots", 0,
+                                  "geometry shards bring their own pictures: run them with "
+                                  "--no-plots instead");
             return runMergeGeometryCli(a.inputs, a.out);
+        }
         return runMergeCompareCli(a.inputs, a.out, a.plots);
     }
+    if (!a.plots)
+        throw core::Error("--no-plots", 0,
+                          "only for folders of `compare --shard` (tables have no plots)");
     checkWritable(a.out, "--out");
     checkWritable(a.csv, "--csv");
     checkWritable(a.csvDir, "--csv-dir");

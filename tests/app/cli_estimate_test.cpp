@@ -75,6 +75,8 @@ TEST_F(Estimate, WritesTableAndCsvAndShardsMergeBitwise) {
     // The same shard twice overlaps.
     expectFailure({"merge", "s1.bwtable", "s1.bwtable", "--out", "x.bwtable"},
                   {"s1.bwtable", "overlap"});
+    expectFailure({"merge", "s1.bwtable", "--no-plots", "--out", "x.bwtable"},
+                  {"--no-plots: only for folders of `compare --shard`"});
     // Another medium, or other bins, cannot be merged.
     ASSERT_EQ(run(estimate({"--paths", "40000", "--dir-bins", "2x3", "--sigma-a", "0.3", "--shard",
                             "2/3", "--out", "o.bwtable"}))

@@ -317,6 +317,11 @@ TEST_F(GeometryCli, ShardsRunByGnuParallelMergeIntoTheSameScores) {
     EXPECT_EQ(readText(dir() / "merged/report.md"), readText(dir() / "one/report.md"));
     EXPECT_TRUE(fs::exists(dir() / "merged/images/corner_s-3__Skin1_B.png"));
     expectFailure({"merge", "--geometry", "s1", "s3", "--out", "m2"}, {"missing shards of 3: 2"});
+    // options of other merges are refused, not ignored
+    expectFailure({"merge", "s1", "s2", "s3", "--no-plots", "--out", "m5"},
+                  {"--no-plots: geometry shards bring their own pictures"});
+    expectFailure({"merge", "s1", "s2", "s3", "--csv", "x.csv", "--out", "m5"},
+                  {"--csv: compare shards merge into --out only"});
     expectFailure({"merge", "--geometry", "s1", "s1", "s2", "s3", "--out", "m3"},
                   {"shard 1/3 is also in s1"});
     std::vector<std::string> other = args("o2");
