@@ -120,8 +120,7 @@ void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
     cmd->add_flag("--multiple-only", a.multipleOnly, "skip the first scattering event");
     cmd->add_flag("--single-only", a.singleOnly, "the first scattering event only");
     addCountOption(cmd, "--threads", a.settings.threads,
-                   "worker threads, 0 … 1024 (default 0: all cores; ignored with --gpu)",
-                   kThreadLimits);
+                   "worker threads, 0 … 1024 (default 0: all cores; CPU only)", kThreadLimits);
     cmd->add_option("--shard", a.shard,
                     "run shard K of N (1 <= K <= N): a disjoint range of the same paths; combine "
                     "with `merge` (CPU only)");
@@ -133,11 +132,13 @@ void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
     cmd->add_option("--csv-dir", a.csvDir,
                     "CSV per direction cell: ...,theta_o_deg,phi_o_deg,solid_angle_sr,S,stderr");
     // the GL tracers neither split paths nor score sampled exits (gpu_slab.h, gpu_bssrdf.h)
-    refuseIgnoredOptions(cmd,
-                         {{{"--split-levels", "--split-start", "--split-step", "--split-depth",
-                            "--exit-samples", "--exit-depth"},
-                           [&a] { return a.gpu; },
-                           "the GL tracer neither splits nor samples exits: leave out --gpu"}});
+    refuseIgnoredOptions(cmd, {{{"--split-levels", "--split-start", "--split-step", "--split-depth",
+                                 "--exit-samples", "--exit-depth"},
+                                [&a] { return a.gpu; },
+                                "the GL tracer neither splits nor samples exits: leave out --gpu"},
+                               {{"--threads"},
+                                [&a] { return a.gpu; },
+                                "the GL tracer runs on the GPU: leave out --threads"}});
 }
 
 int runEstimateCli(EstimateArgs a, const std::filesystem::path& root) {

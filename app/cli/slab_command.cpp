@@ -177,11 +177,13 @@ void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
                     "output format (R_d(r) in 1/cm2); with --shard: the table")
         ->required();
     // the GL tracers neither split paths nor score sampled exits (gpu_slab.h, gpu_bssrdf.h)
-    refuseIgnoredOptions(cmd,
-                         {{{"--split-levels", "--split-start", "--split-step", "--split-depth",
-                            "--exit-samples", "--exit-depth"},
-                           [&a] { return a.gpu; },
-                           "the GL tracer neither splits nor samples exits: leave out --gpu"}});
+    refuseIgnoredOptions(cmd, {{{"--split-levels", "--split-start", "--split-step", "--split-depth",
+                                 "--exit-samples", "--exit-depth"},
+                                [&a] { return a.gpu; },
+                                "the GL tracer neither splits nor samples exits: leave out --gpu"},
+                               {{"--threads"},
+                                [&a] { return a.gpu; },
+                                "the GL tracer runs on the GPU: leave out --threads"}});
 }
 
 int runSlabCli(const SlabArgs& a) {

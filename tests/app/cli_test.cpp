@@ -696,6 +696,7 @@ TEST_F(Cli, SlabRejectsBadInputs) {
     // the GL tracer does not split nor sample exits: asked for with --gpu, refused
     for (const char* flag : {"--split-levels", "--split-start", "--exit-samples", "--exit-depth"})
         expectFailure(with({"--gpu", flag, "1"}), {std::string(flag) + ": the GL tracer", "--gpu"});
+    expectFailure(with({"--gpu", "--threads", "2"}), {"--threads: the GL tracer runs on the GPU"});
     // sigma_a = 0 (no absorption) is valid and terminates; the few paths of the heavy tail of
     // return times that reach the event limit are truncated, and since their weight exceeds the
     // standard error the CSV is written but the energy check fails: exit status 3, saying so
