@@ -479,12 +479,11 @@ void forget(std::map<GLuint, Pending>& objects, GLsizei n, const GLuint* ids) {
         objects.erase(ids[i]);
 }
 
-// ---- poison
-// -------------------------------------------------------------------------------------- Storage
-// made without data is undefined (OpenGL 4.5 §6.2, §8.19): Mesa hands out zeros, other drivers
-// whatever the memory held. With the checks on, new storage is filled with a pattern instead (a
-// quiet NaN in each 32-bit float, 0xAB in each byte of a normalized texel, 0xDEADBEEF in each
-// integer), so code that reads it before writing it fails here as it would elsewhere. Depth
+// ---- poison -------------------------------------------------------------------------------------
+// Storage made without data is undefined (OpenGL 4.5 §6.2, §8.19): Mesa hands out zeros, other
+// drivers whatever the memory held. With the checks on, new storage is filled with a pattern
+// instead (a quiet NaN in each 32-bit float, 0xAB in each byte of a normalized texel, 0xDEADBEEF in
+// each integer), so code that reads it before writing it fails here as it would elsewhere. Depth
 // textures are left as they are (every use clears them first).
 constexpr GLuint kPoisonWord = 0x7FC0DEADu; // a quiet NaN as a float
 
