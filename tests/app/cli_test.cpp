@@ -632,14 +632,13 @@ TEST_F(Cli, SlabWritesHistogramWithStandardErrors) {
 
 // `estimate --gpu`: the GL compute walk writes the table and CSVs of the CPU walk's shape,
 // says which device traced it, passes its energy checks, and its table reads back (`merge` of
-// the one file gives the same bytes). --threads is ignored; shards are refused.
+// the one file gives the same bytes). A thread count and shards are refused.
 TEST_F(Cli, EstimateOnTheGpuWritesTheSameKindOfTable) {
     const std::vector<std::string> args = {
-        "estimate",  "--sigma-a", "0.2",   "--sigma-s",   "1",     "--theta-i",
-        "0,60",      "--r-bins",  "5",     "--rmax",      "3",     "--theta-s-bins",
-        "2",         "--paths",   "20000", "--dir-bins",  "2x3",   "--gpu",
-        "--threads", "3",         "--out", "gpu.bwtable", "--csv", "r.csv",
-        "--csv-dir", "s.csv"};
+        "estimate", "--sigma-a",   "0.2",   "--sigma-s",  "1",         "--theta-i",
+        "0,60",     "--r-bins",    "5",     "--rmax",     "3",         "--theta-s-bins",
+        "2",        "--paths",     "20000", "--dir-bins", "2x3",       "--gpu",
+        "--out",    "gpu.bwtable", "--csv", "r.csv",      "--csv-dir", "s.csv"};
     RunResult r = run(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     EXPECT_TRUE(contains(r.output, "traced on GPU (")) << r.output;
@@ -656,6 +655,8 @@ TEST_F(Cli, EstimateOnTheGpuWritesTheSameKindOfTable) {
     EXPECT_EQ(readText(dir() / "gpu.bwtable"), readText(dir() / "copy.bwtable"));
     expectFailure({"estimate", "--paths", "1000", "--gpu", "--shard", "1/2", "--out", "x.bwtable"},
                   {"--shard", "CPU"});
+    expectFailure({"estimate", "--paths", "1000", "--gpu", "--threads", "3", "--out", "x.bwtable"},
+                  {"--threads: the GL tracer runs on the GPU"});
 }
 
 // Ctrl-C during `estimate --gpu` writes the chunks traced so far as a valid table (it merges
