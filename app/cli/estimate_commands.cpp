@@ -131,14 +131,7 @@ void addEstimateOptions(CLI::App* cmd, EstimateArgs& a) {
                     "theta_s_hi_deg,R,stderr");
     cmd->add_option("--csv-dir", a.csvDir,
                     "CSV per direction cell: ...,theta_o_deg,phi_o_deg,solid_angle_sr,S,stderr");
-    // the GL tracers neither split paths nor score sampled exits (gpu_slab.h, gpu_bssrdf.h)
-    refuseIgnoredOptions(cmd, {{{"--split-levels", "--split-start", "--split-step", "--split-depth",
-                                 "--exit-samples", "--exit-depth"},
-                                [&a] { return a.gpu; },
-                                "the GL tracer neither splits nor samples exits: leave out --gpu"},
-                               {{"--threads"},
-                                [&a] { return a.gpu; },
-                                "the GL tracer runs on the GPU: leave out --threads"}});
+    refuseWithGlTracer(cmd, a.gpu);
 }
 
 int runEstimateCli(EstimateArgs a, const std::filesystem::path& root) {

@@ -176,13 +176,17 @@ void addSlabOptions(CLI::App* cmd, SlabArgs& a) {
                     "CSV file: # header, then r_mm,Rd_per_mm2,stderr; FILE.mco: MCML 1.2.2's "
                     "output format (R_d(r) in 1/cm2); with --shard: the table")
         ->required();
+    refuseWithGlTracer(cmd, a.gpu);
+}
+
+void refuseWithGlTracer(CLI::App* cmd, const bool& gpu) {
     // the GL tracers neither split paths nor score sampled exits (gpu_slab.h, gpu_bssrdf.h)
     refuseIgnoredOptions(cmd, {{{"--split-levels", "--split-start", "--split-step", "--split-depth",
                                  "--exit-samples", "--exit-depth"},
-                                [&a] { return a.gpu; },
+                                [&gpu] { return gpu; },
                                 "the GL tracer neither splits nor samples exits: leave out --gpu"},
                                {{"--threads"},
-                                [&a] { return a.gpu; },
+                                [&gpu] { return gpu; },
                                 "the GL tracer runs on the GPU: leave out --threads"}});
 }
 

@@ -35,6 +35,9 @@ void addMediumOptions(CLI::App* cmd, pathtrace::Medium& m);
 // The options of `slab`: medium and settings options generated from their descriptions
 // (options.h), so their flags' defaults are the structs' own.
 void addSlabOptions(CLI::App* cmd, SlabArgs& a);
+// With --gpu (`gpu` as parsed), the options of what the GL tracers do not do (--split-*,
+// --exit-*, --threads) are refused by name: slab's and estimate's (options.h).
+void refuseWithGlTracer(CLI::App* cmd, const bool& gpu);
 
 // 10 diffuse mean free paths l_d = 1/σtr, σtr = √(3σa(σa + σs(1 − g))); with σa = 0 (no
 // l_d), 100 transport mean free paths 1/(σs(1 − g)).
