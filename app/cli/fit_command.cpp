@@ -313,68 +313,68 @@ int runFit(const fs::path& root, const FitArgs& a) {
 } // namespace
 
 Command fitCommand() {
-    return {
-        "fit", "fit a model's parameters to the path-traced reference", false,
-        [](CLI::App& cmd) -> CommandRun {
-            auto a = std::make_shared<FitArgs>();
-            cmd.add_option("--model", a->model, "the model file")->required();
-            cmd.add_option("--params", a->params,
-                           "parameters to fit: NAME (its declared range) or NAME=LO,HI; also "
-                           "the medium's medium.sigma_scale (sigma_a and sigma_s times it, "
-                           "[0.1, 10]) and medium.g ([-0.95, 0.95])")
-                ->required();
-            cmd.add_option("--set", a->set,
-                           "fixed parameter values: NAME=V or NAME=R,G,B (e.g. "
-                           "Configuration=3)");
-            auto* presets =
-                cmd.add_option("--presets", a->presets, "presets to fit over (default Marble)");
-            auto* channels =
-                cmd.add_option("--channels", a->channels, "channels R G B (default all)")
+    return {"fit", "fit a model's parameters to the path-traced reference", false,
+            [](CLI::App& cmd) -> CommandRun {
+                auto a = std::make_shared<FitArgs>();
+                cmd.add_option("--model", a->model, "the model file")->required();
+                cmd.add_option("--params", a->params,
+                               "parameters to fit: NAME (its declared range) or NAME=LO,HI; also "
+                               "the medium's medium.sigma_scale (sigma_a and sigma_s times it, "
+                               "[0.1, 10]) and medium.g ([-0.95, 0.95])")
+                    ->required();
+                cmd.add_option("--set", a->set,
+                               "fixed parameter values: NAME=V or NAME=R,G,B (e.g. "
+                               "Configuration=3)");
+                auto* presets =
+                    cmd.add_option("--presets", a->presets, "presets to fit over (default Marble)");
+                auto* channels =
+                    cmd.add_option("--channels", a->channels, "channels R G B (default all)")
+                        ->delimiter(',');
+                auto* sweep =
+                    cmd.add_option("--albedo-sweep", a->albedoSweep,
+                                   "fit at each reduced albedo a' in (0, 1) of a medium with "
+                                   "sigma'_t = 1/mm instead of presets: A[,A...]; writes the "
+                                   "fitted values as a table over albedo (sweep.csv)")
+                        ->delimiter(',')
+                        ->excludes(presets)
+                        ->excludes(channels);
+                addNumberOption(&cmd, "--eta", a->sweepEta,
+                                "the sweep's relative index of refraction (default " +
+                                    core::formatNumber(a->sweepEta) + ")",
+                                core::Limits{1.0, 3.0})
+                    ->needs(sweep);
+                addNumberOption(&cmd, "--g", a->sweepG,
+                                "the sweep's Henyey-Greenstein g (default " +
+                                    core::formatNumber(a->sweepG) + ")",
+                                core::Limits{-0.95, 0.95})
+                    ->needs(sweep);
+                cmd.add_option("--published", a->published,
+                               "CSV of a published curve to draw beside the sweep's fitted "
+                               "values: a header 'A,PARAM' then rows of A and the value")
+                    ->needs(sweep);
+                cmd.add_option("--theta-i", a->thetaI,
+                               "incidence angles in degrees, [0, 90): DEG[,DEG...]; 0 fits the "
+                               "radial profile, others the whole BSSRDF over the plane (default 0)")
                     ->delimiter(',');
-            auto* sweep = cmd.add_option("--albedo-sweep", a->albedoSweep,
-                                         "fit at each reduced albedo a' in (0, 1) of a medium with "
-                                         "sigma'_t = 1/mm instead of presets: A[,A...]; writes the "
-                                         "fitted values as a table over albedo (sweep.csv)")
-                              ->delimiter(',')
-                              ->excludes(presets)
-                              ->excludes(channels);
-            addNumberOption(&cmd, "--eta", a->sweepEta,
-                            "the sweep's relative index of refraction (default " +
-                                core::formatNumber(a->sweepEta) + ")",
-                            core::Limits{1.0, 3.0})
-                ->needs(sweep);
-            addNumberOption(&cmd, "--g", a->sweepG,
-                            "the sweep's Henyey-Greenstein g (default " +
-                                core::formatNumber(a->sweepG) + ")",
-                            core::Limits{-0.95, 0.95})
-                ->needs(sweep);
-            cmd.add_option("--published", a->published,
-                           "CSV of a published curve to draw beside the sweep's fitted "
-                           "values: a header 'A,PARAM' then rows of A and the value")
-                ->needs(sweep);
-            cmd.add_option("--theta-i", a->thetaI,
-                           "incidence angles in degrees, [0, 90): DEG[,DEG...]; 0 fits the "
-                           "radial profile, others the whole BSSRDF over the plane (default 0)")
-                ->delimiter(',');
-            addCountOption(&cmd, "--paths", a->paths,
-                           "reference paths per preset and channel (default " +
-                               std::to_string(a->paths) + ")",
-                           core::Limits{1000, 1e12});
-            cmd.add_option("--max-evaluations", a->maxEvaluations,
-                           "evaluation budget of the optimizer (default " +
-                               std::to_string(a->maxEvaluations) + ")")
-                ->check(CLI::Range(1, 1000000));
-            addNumberOption(&cmd, "--xtol", a->xtolRel,
-                            "relative parameter tolerance of convergence (default " +
-                                core::formatNumber(a->xtolRel) + ")",
-                            core::Limits{1e-12, 1});
-            cmd.add_flag("!--no-uncertainty", a->uncertainty,
-                         "skip the refits on two half references");
-            cmd.add_flag("!--no-plots", a->plots, "the report without its PNG plots");
-            cmd.add_option("--out", a->out, "output folder: fit.json, report.md, the model")
-                ->required();
-            return [a](CommandContext& ctx) { return runFit(ctx.root(), *a); };
-        }};
+                addCountOption(&cmd, "--paths", a->paths,
+                               "reference paths per preset and channel (default " +
+                                   std::to_string(a->paths) + ")",
+                               core::Limits{1000, 1e12});
+                cmd.add_option("--max-evaluations", a->maxEvaluations,
+                               "evaluation budget of the optimizer (default " +
+                                   std::to_string(a->maxEvaluations) + ")")
+                    ->check(CLI::Range(1, 1000000));
+                addNumberOption(&cmd, "--xtol", a->xtolRel,
+                                "relative parameter tolerance of convergence (default " +
+                                    core::formatNumber(a->xtolRel) + ")",
+                                core::Limits{1e-12, 1});
+                cmd.add_flag("!--no-uncertainty", a->uncertainty,
+                             "skip the refits on two half references");
+                cmd.add_flag("!--no-plots", a->plots, "the report without its PNG plots");
+                cmd.add_option("--out", a->out, "output folder: fit.json, report.md, the model")
+                    ->required();
+                return [a](CommandContext& ctx) { return runFit(ctx.root(), *a); };
+            }};
 }
 
 } // namespace app
