@@ -7,6 +7,7 @@
 #include "bench/mcml_peer.h"
 
 #include "core/core.h"
+#include "core/text.h"
 #include "pathtrace/mco.h"
 #include "probe/child_process.h"
 

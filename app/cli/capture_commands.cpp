@@ -145,7 +145,7 @@ Command recordCommand() {
                 "bins) with this many paths (default 0: off)");
             cmd.add_option("--slice-theta-i", a->sliceThetaI,
                            "incidence angle of the slice, degrees (default " +
-                               defaultText(SliceSettings{}.thetaIDeg) + ")")
+                               core::defaultText(SliceSettings{}.thetaIDeg) + ")")
                 ->needs(slicePaths);
             auto* litSpheres =
                 cmd.add_option(

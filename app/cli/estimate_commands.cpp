@@ -18,10 +18,13 @@
 #include "pathtrace/gpu_bssrdf.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 
 namespace app {
+namespace fs = std::filesystem;
+
 namespace {
 
 // A number list "0,45,75" (core::Error naming the flag).

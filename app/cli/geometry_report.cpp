@@ -6,6 +6,7 @@
 #include "cli/compare_geometry.h"
 
 #include "core/core.h"
+#include "core/fields.h"
 #include "mesh/suite.h"
 #include "pipeline/geometry_images.h"
 
