@@ -409,23 +409,23 @@ Command compareCommand() {
                                "output folder: scores.json, report.md, report.html")
                     ->required();
                 addGeometryOptions(cmd, *geometry, *g);
-                return [a, g, geometry, &cmd](CommandContext& ctx) {
+                // the radial scoreboard's options, which the geometry suite would ignore
+                const auto suite = [geometry] { return *geometry; };
+                refuseIgnoredOptions(
+                    &cmd,
+                    {{{"--mco"}, suite, "an MCML run scores radial profiles: leave out --geometry"},
+                     {{"--paths"},
+                      suite,
+                      "the geometry suite's reference takes --reference-spp: leave out "
+                      "--paths"},
+                     {{"--theta-i"},
+                      suite,
+                      "the geometry suite has its own lights: leave out --theta-i"}});
+                return [a, g, geometry](CommandContext& ctx) {
                     if (!*geometry) {
                         a->shard = g->shard;
                         return runCompareCli(ctx.root(), *a);
                     }
-                    if (!a->mco.empty())
-                        throw core::Error("--mco", 0,
-                                          "an MCML run scores radial profiles: leave out "
-                                          "--geometry");
-                    if (cmd.get_option("--paths")->count() > 0)
-                        throw core::Error("--paths", 0,
-                                          "the geometry suite's reference takes --reference-spp: "
-                                          "leave out --paths");
-                    if (a->thetaI != std::vector<double>{0.0})
-                        throw core::Error("--theta-i", 0,
-                                          "the geometry suite has its own lights: leave out "
-                                          "--theta-i");
                     g->models = a->models;
                     g->presets = a->presets;
                     g->plots = a->plots;
