@@ -16,7 +16,7 @@ std::optional<fs::path> drawExportButtons(const char* popupId, char* name, size_
                                           ExportState& st,
                                           std::vector<std::array<float, 4>>* buttons) {
     ImGui::PushID(popupId);
-    ImGui::SetNextItemWidth(160);
+    setItemWidth(160, "##exportname");
     ImGui::InputText("##exportname", name, nameSize);
     if (buttons) buttons->clear();
     for (const std::string& ext : extensions) {

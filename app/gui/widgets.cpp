@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdarg>
+#include <cstdio>
 #include <string>
 #include <unordered_map>
 
@@ -14,7 +15,7 @@ namespace app {
 
 void samplingChoice(const char* label, integrate::Sampling& s, sampling::AxisScheme& axes) {
     int v = static_cast<int>(s);
-    ImGui::SetNextItemWidth(170);
+    setItemWidth(170, label);
     if (ImGui::Combo(label, &v, "uniform area\0disk probe rays\0"))
         s = static_cast<integrate::Sampling>(v);
     if (ImGui::IsItemHovered())
@@ -25,7 +26,7 @@ void samplingChoice(const char* label, integrate::Sampling& s, sampling::AxisSch
     if (s != integrate::Sampling::Disk) return;
     sameLineIfFits(itemWidth(150, "axes"));
     int a = static_cast<int>(axes);
-    ImGui::SetNextItemWidth(150);
+    setItemWidth(150, "axes");
     if (ImGui::Combo("axes", &a,
                      "N, T, B: 1/3 each\0N 1/2, T, B 1/4\0N only\0N 2, T 1, B 1 per sample\0"))
         axes = static_cast<sampling::AxisScheme>(a);
@@ -46,19 +47,115 @@ Rect lastItem() {
     return {lo.x, lo.y, hi.x, hi.y};
 }
 
-void sameLineIfFits(float width) {
+namespace {
+// The right edge of what the window shows (its content region grows with horizontal scrolling,
+// so once something ran over, widths and wraps relative to it would keep it running over).
+float visibleRight() {
     const ImGuiStyle& st = ImGui::GetStyle();
-    // the visible right edge (the content region grows with horizontal scrolling)
-    const float right =
-        ImGui::GetWindowPos().x + ImGui::GetWindowWidth() - st.WindowPadding.x - st.ScrollbarSize;
-    if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + width <= right) ImGui::SameLine();
+    return ImGui::GetWindowPos().x + ImGui::GetWindowWidth() - st.WindowPadding.x -
+           st.ScrollbarSize;
+}
+} // namespace
+
+float visibleWidth() {
+    return visibleRight() - ImGui::GetCursorScreenPos().x;
+}
+
+void sameLineIfFits(float width) {
+    if (ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + width <= visibleRight())
+        ImGui::SameLine();
+}
+
+float fittingWidth(float width, const char* label) {
+    const float room = visibleWidth() - itemWidth(0, label);
+    return std::max(std::min(width, room), ImGui::GetFontSize() * 4);
+}
+
+void setItemWidth(float width, const char* label) {
+    ImGui::SetNextItemWidth(fittingWidth(width, label));
+}
+
+std::string breakLines(const std::string& text, float width) {
+    auto fits = [&](const std::string& s) { return ImGui::CalcTextSize(s.c_str()).x <= width; };
+    std::string out;
+    // a line still too wide holds one long word: cut it where it runs over
+    auto emit = [&](std::string line) {
+        while (!fits(line) && line.size() > 1) {
+            size_t n = 1;
+            while (n < line.size() && fits(line.substr(0, n + 1)))
+                ++n;
+            out += line.substr(0, n) + '\n';
+            line.erase(0, n);
+        }
+        out += line;
+    };
+    for (size_t start = 0;;) {
+        const size_t newline = std::min(text.find('\n', start), text.size());
+        const std::string paragraph = text.substr(start, newline - start);
+        std::string line;
+        bool fresh = true, broken = false; // nothing on the line yet; a break began it
+        for (size_t i = 0; i <= paragraph.size();) {
+            const size_t end = std::min(paragraph.find(' ', i), paragraph.size());
+            const std::string word = paragraph.substr(i, end - i); // empty: one more space
+            i = end + 1;
+            if (fresh) {
+                if (broken && word.empty()) continue; // the spaces at a break
+                line = word;
+                fresh = false;
+            } else if (fits(line + " " + word)) {
+                line += " " + word;
+            } else {
+                while (!line.empty() && line.back() == ' ')
+                    line.pop_back();
+                emit(line);
+                out += '\n';
+                line = word;
+                broken = true;
+                fresh = word.empty();
+            }
+        }
+        emit(line);
+        if (newline >= text.size()) return out;
+        out += '\n';
+        start = newline + 1;
+    }
+}
+
+namespace {
+void wrappedTextV(const char* fmt, va_list args) {
+    va_list copy;
+    va_copy(copy, args);
+    const int n = std::vsnprintf(nullptr, 0, fmt, copy);
+    va_end(copy);
+    std::string text(size_t(std::max(n, 0)) + 1, '\0');
+    std::vsnprintf(text.data(), text.size(), fmt, args);
+    text.resize(size_t(std::max(n, 0)));
+    const float width = std::max(visibleWidth(), ImGui::GetFontSize() * 4);
+    ImGui::TextUnformatted(breakLines(text, width).c_str());
+}
+} // namespace
+
+void wrappedText(const char* fmt, ...) {
+    va_list args;
+    va_start(args, fmt);
+    wrappedTextV(fmt, args);
+    va_end(args);
+}
+
+void colouredText(const ImVec4& colour, const char* fmt, ...) {
+    ImGui::PushStyleColor(ImGuiCol_Text, colour);
+    va_list args;
+    va_start(args, fmt);
+    wrappedTextV(fmt, args);
+    va_end(args);
+    ImGui::PopStyleColor();
 }
 
 void hintText(const char* fmt, ...) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     va_list args;
     va_start(args, fmt);
-    ImGui::TextWrappedV(fmt, args);
+    wrappedTextV(fmt, args);
     va_end(args);
     ImGui::PopStyleColor();
 }
@@ -107,7 +204,7 @@ bool inputIntCommitted(const char* label, int* v, int step, int stepFast) {
 
 bool exitSamplesInput(int& samples) {
     sameLineIfFits(itemWidth(90, "exit samples"));
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "exit samples");
     const bool changed = inputIntCommitted("exit samples", &samples);
     if (changed) samples = std::clamp(samples, 0, 64);
     if (ImGui::IsItemHovered())

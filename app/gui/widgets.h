@@ -44,6 +44,14 @@ bool comboEnum(const char* label, E& value, const char* const (&names)[N]) {
 // ImGui::SameLine() when an item of `width` pixels still fits on the current line, so rows of
 // controls wrap in narrow areas instead of running off the edge.
 void sameLineIfFits(float width);
+// ImGui::SetNextItemWidth(width), narrowed where the item and its label would run past the
+// window's visible right edge (a wide field in a narrow area would make the whole panel scroll
+// sideways); fittingWidth is that width, for items sized by hand (progress bars, images).
+// Never under four characters.
+void setItemWidth(float width, const char* label);
+float fittingWidth(float width, const char* label = "");
+// From the cursor to the window's visible right edge, in pixels.
+float visibleWidth();
 // Where the last item was drawn (screen px), recorded by panels for clicks in tests.
 Rect lastItem();
 // Edit fields that commit when the edit is done — Enter or focus loss — not on every key
@@ -56,8 +64,18 @@ bool inputTextCommitted(const char* label, char* buffer, size_t size);
 // name below (ImGui's histogram has none); hovering a bar shows its value.
 void histogram(const char* id, const std::vector<float>& values, ImVec2 size, const char* xName,
                int xFirst, const char* yName);
-// A hint or status line: the disabled text colour, wrapped at the panel's edge.
+// A line of text wrapped at the window's visible right edge (ImGui::TextWrapped wraps at the
+// content region's, which grows once anything ran over); a hint or status line: the same in
+// the disabled text colour.
+void wrappedText(const char* fmt, ...) IM_FMTARGS(1);
 void hintText(const char* fmt, ...) IM_FMTARGS(1);
+// wrappedText in `colour` (a problem, a warning, a state).
+void colouredText(const ImVec4& colour, const char* fmt, ...) IM_FMTARGS(2);
+// `text` with line breaks where a line would be wider than `width` pixels in the current font:
+// at spaces only (ImGui's own wrapping also breaks after '.' and ',', splitting numbers such as
+// 1.66), inside a word only where the word alone is wider; the spaces at a break are dropped.
+// Written here since ImGui 1.86 has no such option.
+std::string breakLines(const std::string& text, float width);
 
 // Widths of widgets, for sameLineIfFits: a checkbox (or radio button) with `label`, a button,
 // and a framed item of `frame` pixels with its label.

@@ -61,8 +61,18 @@ void drawPanelBody(Workbench& wb, UiState& ui, const PanelEntry& p) {
     // A child window per panel: its own scrolling, and the panel's widgets keep their IDs
     // wherever it is shown.
     ImGui::BeginChild(p.iniKey, ImVec2(0, 0), false, ImGuiWindowFlags_HorizontalScrollbar);
-    // Widgets without their own width leave room for a label of about 15 characters, so
-    // labels stay whole in narrow areas (e.g. "scale [mm/unit]" in the left column).
+    // ImGui widens a sideways-scrolling window's work area to its content, and full-width
+    // items (tab bars, tables, separators, negative widths) measure from that area: a row that
+    // ran over once, e.g. on the frame before the vertical scrollbar appeared, would keep the
+    // panel scrolling sideways for good. The work area is what the panel shows; an item wider
+    // than that still scrolls into view.
+    ImGuiWindow* w = ImGui::GetCurrentWindow();
+    const float shown =
+        w->InnerRect.GetWidth() - 2 * std::max(w->WindowPadding.x, w->WindowBorderSize);
+    w->WorkRect.Max.x = std::min(w->WorkRect.Max.x, w->WorkRect.Min.x + shown);
+    w->ContentRegionRect.Max.x = std::min(w->ContentRegionRect.Max.x, w->WorkRect.Max.x);
+    // Widgets without their own width leave room for a label of about 15 characters, or 45 %
+    // of a narrow area (labels there are short: units go into the value's format).
     const float avail = ImGui::GetContentRegionAvail().x;
     ImGui::PushItemWidth(-std::min(ImGui::GetFontSize() * 9.5f, avail * 0.45f));
     p.draw(wb, ui);

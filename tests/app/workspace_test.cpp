@@ -2,14 +2,17 @@
 // splitters), then the real GUI headless at 800×600, 1280×720 and 1920×1080 — read from
 // ImGui's window rectangles, no panel leaves the viewport and no two docked areas overlap;
 // every panel is shown in its area on request; a splitter drags with injected mouse input; a
-// floating panel saved on a large screen comes back inside a small one.
+// floating panel saved on a large screen comes back inside a small one; every panel's content
+// fits its width, idle at the three sizes and busy at the smallest.
 // BW_LAYOUT_PNG_DIR=docs/ saves the screenshots of the three sizes (docs/layout-WxH.png);
-// BW_PANEL_PNG_DIR=DIR one per panel and size, to look at.
+// BW_PANEL_PNG_DIR=DIR one per panel and size, and busy-PANEL.png of the busy panels, to look at.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
+#include "../support/small_scene.h"
 #include "gui/gui.h"
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
+#include "gui/widgets.h"
 #include "gui/workspace_layout.h"
 
 #include <imgui.h>
@@ -102,6 +105,21 @@ using testsupport::panelWindow;
 using testsupport::rectOf;
 using testsupport::topWindows;
 
+// The panel's controls and text fit its width: nothing runs past the right edge, so the panel
+// never scrolls sideways (ImGui's horizontal scroll range, read two frames after the panel came
+// to the front: the first frame lays out without knowing whether a vertical scrollbar follows,
+// the second lays out with it, the third reads the second's width).
+void expectFitsItsWidth(app::HeadlessGui& gui, app::PanelId id) {
+    gui.frame();
+    gui.frame();
+    gui.frame();
+    const ImGuiWindow* pw = panelWindow(id);
+    ASSERT_NE(pw, nullptr) << app::panelEntry(id).title;
+    EXPECT_EQ(pw->ScrollMax.x, 0.0f)
+        << app::panelEntry(id).title << ": content " << pw->ContentSize.x << " px wide, "
+        << pw->InnerRect.GetWidth() << " px shown";
+}
+
 TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("layout3", {"dipole.bssrdf", "better_dipole.bssrdf"});
@@ -147,6 +165,7 @@ TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
             ImGuiWindow* pw = panelWindow(p.id);
             ASSERT_NE(pw, nullptr) << p.title;
             EXPECT_TRUE(viewport.contains(rectOf(pw))) << p.title;
+            expectFitsItsWidth(gui, p.id);
             if (const char* dir = std::getenv("BW_PANEL_PNG_DIR"))
                 gl::writePng((fs::path(dir) / (std::string(p.iniKey) + "-" + std::to_string(w) +
                                                "x" + std::to_string(h) + ".png"))
@@ -167,6 +186,73 @@ TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
         EXPECT_FALSE(ImGui::FindWindowByName("Render###Render")->Active);
     }
     EXPECT_TRUE(wb.errors().empty());
+    fs::remove_all(root);
+}
+
+// At the smallest window the layout supports, the panels with everything they show while
+// working — the reference's progress, the lit spheres' images and statistics, each renderer's
+// controls, the A/B split, a traced pixel, a long error — still fit their width.
+TEST(WorkspaceLayout, BusyPanelsFitTheirWidthAt800x600) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("layoutbusy", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    testsupport::useSmallScene(wb.scene().settings());
+    wb.referenceSettings().enabled = true;
+    wb.referenceSettings().paths = 20000;
+    app::LitSphereSettings& ls = wb.litSphereSettings();
+    ls.enabled = true;
+    ls.size = 16;
+    ls.pathSpp = 2;
+    ls.integratedSpp = 16;
+    wb.reportActionError(
+        "materials/dipole.bssrdf:12: a long problem, as a compiler writes them, that names the "
+        "file, the line and what was expected there: 'Bssrdf' : no matching overloaded function "
+        "found (a word_without_a_single_space_in_it_that_is_wider_than_the_errors_panel_is)");
+    app::HeadlessGui gui(wb, 800, 600);
+    app::UiState& ui = gui.ui();
+    for (const auto& p : app::panelRegistry())
+        ui.shared.isOpen(p.id) = true;
+    gui.frame();
+    wb.finishScene();
+    wb.finishLitSpheres();
+    ui.shared.inspect.debug = wb.scene().debugPixel(48, 27);
+    ui.render.abSplit = true;
+    const char* dir = std::getenv("BW_PANEL_PNG_DIR");
+    for (const auto& p : app::panelRegistry()) {
+        SCOPED_TRACE(p.title);
+        ui.shared.show(p.id);
+        expectFitsItsWidth(gui, p.id);
+        if (dir)
+            gl::writePng((fs::path(dir) / (std::string("busy-") + p.iniKey + ".png")).string(), 800,
+                         600, gui.pixels());
+    }
+    ui.shared.show(app::PanelId::Render);
+    for (auto mode : {app::RenderMode::MonteCarlo, app::RenderMode::TextureSpace}) {
+        ui.render.mode = mode;
+        for (bool hybrid : {false, true}) {
+            SCOPED_TRACE(std::to_string(int(mode)) + (hybrid ? " hybrid" : ""));
+            wb.textureSpaceSettings().sampling.hybrid = hybrid;
+            expectFitsItsWidth(gui, app::PanelId::Render);
+        }
+    }
+    fs::remove_all(root);
+}
+
+// Wrapped text breaks at spaces, never inside a number; a word wider than the line is cut.
+TEST(WorkspaceLayout, TextBreaksAtSpacesAndCutsOnlyAWordWiderThanTheLine) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("layoutbreak", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 800, 600);
+    gui.frame(); // the font
+    auto width = [](const char* s) { return ImGui::CalcTextSize(s).x; };
+    EXPECT_EQ(app::breakLines("depth 6, 1.66 MiB", width("depth 6, 1.6")), "depth 6,\n1.66 MiB");
+    EXPECT_EQ(app::breakLines("abcdefghij", width("abcd")), "abcd\nefgh\nij");
+    EXPECT_EQ(app::breakLines("x abcdefghij", width("abcd")), "x\nabcd\nefgh\nij");
+    EXPECT_EQ(app::breakLines("aaaa    bbbb", width("aaaa b")), "aaaa\nbbbb");
+    EXPECT_EQ(app::breakLines("GPU  %   1.5", 1000), "GPU  %   1.5"); // spaces kept in a line
+    EXPECT_EQ(app::breakLines("one\n  two three", width("  two")), "one\n  two\nthree");
+    EXPECT_EQ(app::breakLines("", 100), "");
     fs::remove_all(root);
 }
 

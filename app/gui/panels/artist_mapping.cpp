@@ -64,12 +64,12 @@ void drawArtistMapping(Workbench& wb, MaterialSettings& s, ArtistMappingState& s
         st.problem = e.what();
     }
     if (!st.problem.empty()) {
-        ImGui::TextColored(ImVec4(1, 0.5f, 0.5f, 1), "%s", st.problem.c_str());
+        colouredText(ImVec4(1, 0.5f, 0.5f, 1), "%s", st.problem.c_str());
         return;
     }
     ImGui::TextDisabled("sigma_a %.4g %.4g %.4g /mm", p.sigmaA.x, p.sigmaA.y, p.sigmaA.z);
-    ImGui::TextDisabled("sigma_s %.4g %.4g %.4g /mm (g %.3g, eta %.3g)", p.sigmaS.x, p.sigmaS.y,
-                        p.sigmaS.z, p.g, p.eta);
+    hintText("sigma_s %.4g %.4g %.4g /mm (g %.3g, eta %.3g)", p.sigmaS.x, p.sigmaS.y, p.sigmaS.z,
+             p.g, p.eta);
     if (ImGui::Button("Apply")) {
         s.params = p;
         s.mode = ParamMode::Sigma;
@@ -152,8 +152,7 @@ void drawArtistMapping(Workbench& wb, MaterialSettings& s, ArtistMappingState& s
             ImGui::EndTable();
         }
         for (const LabCase& c : st.measurement->cases)
-            if (!c.problem.empty())
-                ImGui::TextColored(ImVec4(1, 0.5f, 0.5f, 1), "%s", c.problem.c_str());
+            if (!c.problem.empty()) colouredText(ImVec4(1, 0.5f, 0.5f, 1), "%s", c.problem.c_str());
     }
 }
 

@@ -206,7 +206,7 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
         ImGui::Separator();
         ImGui::TextUnformatted(fs::path(p.file).filename().c_str());
         if (!p.problem.empty()) {
-            ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", p.problem.c_str());
+            colouredText(ImVec4(1, 0.45f, 0.45f, 1), "%s", p.problem.c_str());
             continue;
         }
         hintText("recorded | replayed | difference (colour ramp over 0 to 2x the tolerance)");

@@ -19,13 +19,13 @@ void drawErrorsPanel(Workbench& wb, ErrorsPanelState&, UiShared&) {
         const size_t newline = e.text.find('\n');
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "[%s]", e.source.c_str());
         ImGui::SameLine();
-        ImGui::TextWrapped("%s", e.text.substr(0, newline).c_str());
+        wrappedText("%s", e.text.substr(0, newline).c_str());
         if (newline == std::string::npos) continue;
         const std::string rest = e.text.substr(newline + 1);
         const long lines = 1 + std::count(rest.begin(), rest.end(), '\n');
         ImGui::PushID(int(i));
         if (ImGui::TreeNode("details", "%ld more line%s", lines, lines == 1 ? "" : "s")) {
-            ImGui::TextWrapped("%s", rest.c_str());
+            wrappedText("%s", rest.c_str());
             ImGui::TreePop();
         }
         ImGui::PopID();
@@ -35,7 +35,7 @@ void drawErrorsPanel(Workbench& wb, ErrorsPanelState&, UiShared&) {
 
 void drawLogPanel(Workbench&, ErrorsPanelState& ps, UiShared&) {
     int& minLevel = ps.logMinLevel;
-    ImGui::SetNextItemWidth(100);
+    setItemWidth(100, "level");
     ImGui::Combo("level", &minLevel, "debug\0info\0warning\0error\0");
     ImGui::SameLine();
     if (ImGui::Button("Clear")) core::logClear();

@@ -33,7 +33,7 @@ void drawFitPanel(Workbench& wb, FitPanelState& ps, UiShared& ui) {
     }
     // the model: by default the reference's own (its σ is the medium fitted against)
     if (ps.model.empty()) ps.model = wb.reference().model();
-    ImGui::SetNextItemWidth(260);
+    setItemWidth(260, "model");
     if (ImGui::BeginCombo("model", ps.model.c_str())) {
         for (const auto& e : wb.library().entries())
             if (e.usable() && ImGui::Selectable(e.displayPath.c_str(), ps.model == e.displayPath)) {
@@ -66,7 +66,7 @@ void drawFitPanel(Workbench& wb, FitPanelState& ps, UiShared& ui) {
     }
     const FitSnapshot snap = wb.fit().snapshot();
     if (snap.running) {
-        ImGui::Text("fitting %s: %zu evaluations, best mean rel_err^2 %s%s", snap.model.c_str(),
+        wrappedText("fitting %s: %zu evaluations, best mean rel_err^2 %s%s", snap.model.c_str(),
                     snap.trace.size(),
                     snap.trace.empty() ? "-" : core::formatNumber(snap.trace.back(), 4).c_str(),
                     snap.restarts ? " (restarted after a reload)" : "");
@@ -88,8 +88,7 @@ void drawFitPanel(Workbench& wb, FitPanelState& ps, UiShared& ui) {
                  core::formatNumber(double(wb.reference().snapshot().pathsDone), 3).c_str(),
                  wb.reference().model().c_str());
     }
-    if (!snap.problem.empty())
-        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
+    if (!snap.problem.empty()) colouredText(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
 
     if (snap.result) {
         const FitResult& r = *snap.result;
@@ -114,7 +113,7 @@ void drawFitPanel(Workbench& wb, FitPanelState& ps, UiShared& ui) {
             ImGui::Text("%s: rel_err %s -> %s", snap.targets[t].c_str(),
                         pct(r.relErrStart[t]).c_str(), pct(r.relErrBest[t]).c_str());
         for (const std::string& p : r.problems)
-            ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "not finite at %s", p.c_str());
+            colouredText(ImVec4(1, 0.6f, 0.3f, 1), "not finite at %s", p.c_str());
         if (ImGui::Button("Apply")) {
             if (wb.fit().apply(wb.library()))
                 ui.status = "applied the fitted values to " + snap.model;

@@ -49,39 +49,39 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
     const char* modes[] = {"directional", "filtered directional", "image based (IBL)",
                            "occluded IBL"};
     int mode = int(l.mode);
-    ImGui::SetNextItemWidth(200);
+    setItemWidth(200, "light");
     if (ImGui::Combo("light", &mode, modes, 4)) l.mode = irradiance::LightMode(mode);
     if (l.mode == irradiance::LightMode::Directional || l.mode == irradiance::LightMode::Filtered) {
         float dir[3] = {l.direction.x, l.direction.y, l.direction.z};
-        ImGui::SetNextItemWidth(240);
+        setItemWidth(240, "towards light");
         if (ImGui::SliderFloat3("towards light", dir, -1.0f, 1.0f, "%.2f") &&
             std::abs(dir[0]) + std::abs(dir[1]) + std::abs(dir[2]) > 1e-3f)
             l.direction = {dir[0], dir[1], dir[2]};
         float e[3] = {l.irradiance.x, l.irradiance.y, l.irradiance.z};
-        ImGui::SetNextItemWidth(240);
+        setItemWidth(240, "E0 (RGB)");
         if (ImGui::DragFloat3("E0 (RGB)", e, 0.01f, 0.0f, 1000.0f, "%.3g"))
             l.irradiance = glm::max(glm::vec3(e[0], e[1], e[2]), glm::vec3(0.0f));
         const char* filters[] = {"naive", "offset", "offset + PCF", "offset + PCF + jitter",
                                  "none (no shadows)"};
         int f = int(l.filter);
-        ImGui::SetNextItemWidth(200);
+        setItemWidth(200, "shadow filter (Fig. 3.3)");
         if (ImGui::Combo("shadow filter (Fig. 3.3)", &f, filters, IM_ARRAYSIZE(filters)))
             l.filter = irradiance::ShadowFilter(f);
-        ImGui::SetNextItemWidth(120);
+        setItemWidth(120, "shadow map");
         if (inputIntCommitted("shadow map", &l.shadowMapSize, 256))
             l.shadowMapSize = std::clamp(l.shadowMapSize, 16, 8192);
         sameLineIfFits(itemWidth(100, "offset"));
-        ImGui::SetNextItemWidth(100);
+        setItemWidth(100, "offset");
         ImGui::DragFloat("offset", &l.depthOffset, 1e-4f, 0.0f, 0.1f, "%.4f");
         if (l.filter == irradiance::ShadowFilter::OffsetPcfJitter) {
-            ImGui::SetNextItemWidth(120);
+            setItemWidth(120, "lookups");
             ImGui::SliderInt("lookups", &l.jitterSamples, 1, 16);
             sameLineIfFits(itemWidth(100, "radius [texels]"));
-            ImGui::SetNextItemWidth(100);
+            setItemWidth(100, "radius [texels]");
             ImGui::SliderFloat("radius [texels]", &l.jitterRadius, 0.0f, 8.0f);
         }
         if (l.mode == irradiance::LightMode::Filtered) {
-            ImGui::SetNextItemWidth(260);
+            setItemWidth(260, "texture (empty: checker)");
             if (inputTextCommitted("texture (empty: checker)", ps.textureBuffer,
                                    sizeof ps.textureBuffer)) {
                 scene.settings().projectedTextureFile = ps.textureBuffer;
@@ -89,22 +89,22 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
             }
         }
     } else {
-        ImGui::SetNextItemWidth(260);
+        setItemWidth(260, "environment (EXR)");
         if (inputTextCommitted("environment (EXR)", ps.envBuffer, sizeof ps.envBuffer)) {
             scene.settings().environmentFile = ps.envBuffer;
             scene.reloadFiles();
         }
-        ImGui::SetNextItemWidth(120);
+        setItemWidth(120, "intensity");
         ImGui::DragFloat("intensity", &l.envIntensity, 0.01f, 0.0f, 100.0f, "%.3g");
         sameLineIfFits(itemWidth(120, "rotation"));
-        ImGui::SetNextItemWidth(120);
+        setItemWidth(120, "rotation");
         ImGui::SliderAngle("rotation", &l.envRotation, -180.0f, 180.0f);
         if (l.mode == irradiance::LightMode::OccludedIbl) {
-            ImGui::SetNextItemWidth(120);
+            setItemWidth(120, "samples");
             if (inputIntCommitted("samples", &l.occludedTotalSamples, 64))
                 l.occludedTotalSamples = std::clamp(l.occludedTotalSamples, 1, 1 << 20);
             sameLineIfFits(itemWidth(100, "per frame"));
-            ImGui::SetNextItemWidth(100);
+            setItemWidth(100, "per frame");
             ImGui::SliderInt("per frame", &l.occludedSamplesPerStep, 1, 64);
             ImGui::ProgressBar(scene.occludedProgress(), ImVec2(240, 0));
             if (scene.occludedRunning()) {
@@ -115,7 +115,7 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
     }
     auto st = scene.stats().find("scene.irradiance");
     if (st != scene.stats().end())
-        ImGui::Text("first pass: %.1f ms, %lld runs (re-runs only when the light or the points "
+        wrappedText("first pass: %.1f ms, %lld runs (re-runs only when the light or the points "
                     "change)",
                     st->second.ms, st->second.runs);
     const auto& e = scene.irradiance();
@@ -127,7 +127,7 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
             sum += v;
         }
         sum /= float(e.size());
-        ImGui::Text(
+        wrappedText(
             "E_t per point: min (%.3g %.3g %.3g) mean (%.3g %.3g %.3g) max (%.3g %.3g %.3g)", lo.x,
             lo.y, lo.z, sum.x, sum.y, sum.z, hi.x, hi.y, hi.z);
         if (ImGui::SmallButton("colour the point cloud by irradiance")) {

@@ -46,7 +46,7 @@ void imageWithPick(gl::Texture& tex, const std::vector<uint8_t>& rgba, int w, in
 void readout(const char* name, const pathtrace::Image& img, const LitSpherePanelState& ps) {
     auto v = pixelAt(img, ps.pickX, ps.pickY);
     if (!v.valid) return;
-    ImGui::Text("%-18s R %.4g +- %.2g  G %.4g +- %.2g  B %.4g +- %.2g", name, v.mean[0],
+    wrappedText("%-18s R %.4g +- %.2g  G %.4g +- %.2g  B %.4g +- %.2g", name, v.mean[0],
                 v.stderr_[0], v.mean[1], v.stderr_[1], v.mean[2], v.stderr_[2]);
 }
 
@@ -61,7 +61,7 @@ void colourBar(float range) {
                           IM_COL32(c[0], c[1], c[2], 255));
     }
     ImGui::Dummy(ImVec2(w, h));
-    ImGui::Text("-%.3g (integrated brighter)   0   +%.3g (path traced brighter)", range, range);
+    wrappedText("-%.3g (integrated brighter)   0   +%.3g (path traced brighter)", range, range);
 }
 
 } // namespace
@@ -71,22 +71,22 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     ImGui::Checkbox("render", &s.enabled);
     sameLineIfFits(itemWidth(110, "radius [mm]"));
     float radius = float(s.radiusMm);
-    ImGui::SetNextItemWidth(110);
+    setItemWidth(110, "radius [mm]");
     if (ImGui::DragFloat("radius [mm]", &radius, 0.1f, 0.1f, 1000.0f, "%.3g"))
         s.radiusMm = std::max(radius, 0.01f);
     sameLineIfFits(itemWidth(200, "light dir"));
-    ImGui::SetNextItemWidth(200);
+    setItemWidth(200, "light dir");
     if (ImGui::SliderFloat3("light dir", &s.lightDir.x, -1.0f, 1.0f, "%.2f")) {
         if (std::abs(s.lightDir[0]) + std::abs(s.lightDir[1]) + std::abs(s.lightDir[2]) < 1e-3f)
             s.lightDir[2] = 1.0f;
     }
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "size");
     if (inputIntCommitted("size", &s.size, 32)) s.size = std::clamp(s.size, 16, 1024);
     sameLineIfFits(itemWidth(90, "path spp"));
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "path spp");
     if (inputIntCommitted("path spp", &s.pathSpp, 16)) s.pathSpp = std::clamp(s.pathSpp, 1, 100000);
     sameLineIfFits(itemWidth(110, "BSSRDF spp"));
-    ImGui::SetNextItemWidth(110);
+    setItemWidth(110, "BSSRDF spp");
     if (inputIntCommitted("BSSRDF spp", &s.integratedSpp, 1024))
         s.integratedSpp = std::clamp(s.integratedSpp, 1, 10000000);
     sameLineIfFits(checkboxWidth("GPU path tracer"));
@@ -94,7 +94,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
                           "slice per frame;\noff: CPU tracer in a background thread");
-    ImGui::SetNextItemWidth(260);
+    setItemWidth(260, "mesh (OBJ, empty: sphere)");
     if (inputTextCommitted("mesh (OBJ, empty: sphere)", ps.meshBuffer, sizeof ps.meshBuffer))
         s.mesh = ps.meshBuffer;
     if (!s.mesh.empty())
@@ -102,17 +102,17 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
                  "= 2 x radius)",
                  s.mesh.c_str());
     samplingChoice("BSSRDF sampling", s.sampling, s.axes);
-    ImGui::SetNextItemWidth(120);
+    setItemWidth(120, "exposure");
     ImGui::SliderFloat("exposure", &ps.exposure, -10.0f, 10.0f, "%.1f EV");
     sameLineIfFits(itemWidth(120, "gamma"));
-    ImGui::SetNextItemWidth(120);
+    setItemWidth(120, "gamma");
     ImGui::SliderFloat("gamma", &ps.gamma, 0.5f, 4.0f, "%.2f");
     if (!s.enabled) {
         hintText("Renders the first visible (or soloed) model's material both ways.");
         return;
     }
     const auto& pt = wb.litSpheres().pathTracer();
-    ImGui::Text("model %s | path traced %d / %d spp (%.3g paths/s) | integrated %llu / %d spp",
+    wrappedText("model %s | path traced %d / %d spp (%.3g paths/s) | integrated %llu / %d spp",
                 wb.litSpheres().model().c_str(), pt.sppDone(), pt.sppTarget(), pt.pathsPerSecond(),
                 (unsigned long long)wb.litSpheres().integratedSppDone(), s.integratedSpp);
     if (pt.sppDone() < pt.sppTarget()) {
@@ -120,7 +120,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
         if (ImGui::SmallButton("cancel path tracing")) wb.litSpheres().cancel();
     }
     if (const std::string problem = wb.litSpheres().problem(); !problem.empty())
-        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", problem.c_str());
+        colouredText(ImVec4(1, 0.45f, 0.45f, 1), "%s", problem.c_str());
 
     const pathtrace::Image a = wb.litSpheres().pathTracer().image(),
                            b = wb.litSpheres().integratedImage();
@@ -130,7 +130,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     };
     ps.relSe[0] = relativeStandardError(a);
     ps.relSe[1] = relativeStandardError(b);
-    ImGui::Text("relative standard error (median over lit pixels): path traced %s, integrated %s",
+    wrappedText("relative standard error (median over lit pixels): path traced %s, integrated %s",
                 pct(ps.relSe[0]).c_str(), pct(ps.relSe[1]).c_str());
     const float avail = ImGui::GetContentRegionAvail().x;
     if (ImGui::BeginTabBar("views")) {
@@ -169,18 +169,18 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
             colourBar(ps.zRange);
             hintText("z = (path traced - integrated) / sqrt(var + var) of the luminance; grey: "
                      "|z| < 2 (within the noise); magenta: a difference without variance");
-            ImGui::SetNextItemWidth(160);
+            setItemWidth(160, "z range");
             ImGui::DragFloat("z range", &ps.zRange, 0.05f, 1.0f, 100.0f, "%.3g");
         } else {
             float range = ps.diffRange > 0 ? ps.diffRange : maxAbsDifference(a, b);
             imageWithPick(ps.tex[2], differenceMap(a, b, range), a.width, a.height, side, ps);
             colourBar(range);
-            ImGui::SetNextItemWidth(160);
+            setItemWidth(160, "range (0: auto)");
             ImGui::DragFloat("range (0: auto)", &ps.diffRange, 0.001f, 0.0f, 10.0f, "%.4g");
         }
     }
     if (ps.pickX >= 0) {
-        ImGui::Text("pixel (%d, %d): radiant exitance per unit irradiance", ps.pickX, ps.pickY);
+        wrappedText("pixel (%d, %d): radiant exitance per unit irradiance", ps.pickX, ps.pickY);
         readout("path traced", a, ps);
         readout("BSSRDF integrated", b, ps);
     } else {

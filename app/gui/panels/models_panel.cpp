@@ -46,21 +46,21 @@ void drawModelsPanel(Workbench& wb, UiShared& ui) {
         if (open) {
             if (e.problem) {
                 ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.5f, 0.5f, 1));
-                ImGui::TextWrapped("%s%s", e.problem->text().c_str(),
-                                   e.model ? "\n(showing the last good version)" : "");
+                wrappedText("%s%s", e.problem->text().c_str(),
+                            e.model ? "\n(showing the last good version)" : "");
                 ImGui::PopStyleColor();
             }
             if (e.checking())
-                ImGui::TextDisabled("checking the new version's first evaluation%s",
-                                    e.model ? " (showing the last good version)" : "");
+                hintText("checking the new version's first evaluation%s",
+                         e.model ? " (showing the last good version)" : "");
             if (e.model) {
                 const auto& a = e.model->attrs;
                 ImGui::PushStyleColor(ImGuiCol_Text,
                                       ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-                ImGui::TextWrapped("%s%s%s%s | R_dr/l_d: %s", a.analytic ? "analytic" : "",
-                                   a.radial ? " radial" : "", a.noWi ? " no_wi" : "",
-                                   a.noWo ? " no_wo" : "",
-                                   e.hasInversion() ? "yes" : "numeric (2 pi int R r dr)");
+                wrappedText("%s%s%s%s | R_dr/l_d: %s", a.analytic ? "analytic" : "",
+                            a.radial ? " radial" : "", a.noWi ? " no_wi" : "",
+                            a.noWo ? " no_wo" : "",
+                            e.hasInversion() ? "yes" : "numeric (2 pi int R r dr)");
                 ImGui::PopStyleColor();
                 drawModelParams(e);
                 // a default edited in the file leaves the value in use: say so, and offer it
@@ -71,7 +71,7 @@ void drawModelsPanel(Workbench& wb, UiShared& ui) {
                         names += (names.empty() ? "" : ", ") + n;
                     ImGui::PushStyleColor(ImGuiCol_Text,
                                           ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-                    ImGui::TextWrapped("not the file's default: %s", names.c_str());
+                    wrappedText("not the file's default: %s", names.c_str());
                     ImGui::PopStyleColor();
                     if (ImGui::SmallButton("reset to the file's defaults"))
                         e.values = bssrdf::defaultValues(*e.model);
@@ -84,7 +84,7 @@ void drawModelsPanel(Workbench& wb, UiShared& ui) {
                                       "sigma_a, sigma_s, g, eta (edit them in Parameters)");
                 if (!view.materialProblem.empty()) {
                     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.6f, 0.3f, 1));
-                    ImGui::TextWrapped("%s", view.materialProblem.c_str());
+                    wrappedText("%s", view.materialProblem.c_str());
                     ImGui::PopStyleColor();
                 }
             }

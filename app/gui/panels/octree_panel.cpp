@@ -75,14 +75,14 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
         return;
     }
     const auto& s = t->stats;
-    ImGui::Text("%zu nodes (%zu leaves), %zu points, depth %d, %.2f MiB, built in %.1f ms", s.nodes,
+    wrappedText("%zu nodes (%zu leaves), %zu points, depth %d, %.2f MiB, built in %.1f ms", s.nodes,
                 s.leaves, s.points, s.maxDepth, double(s.bytes) / (1 << 20), s.buildMs);
     std::vector<float> depthHist(s.nodesPerDepth.begin(), s.nodesPerDepth.end());
     std::vector<float> occ(s.leafOccupancy.begin(), s.leafOccupancy.end());
     histogram("depth", depthHist, ImVec2(220, 50), "depth", 0, "nodes");
     sameLineIfFits(200);
     histogram("occupancy", occ, ImVec2(200, 50), "points in the leaf", 0, "leaves");
-    ImGui::SetNextItemWidth(200);
+    setItemWidth(200, "level");
     ImGui::SliderInt("level", &ps.level, 0, s.maxDepth);
     sameLineIfFits(checkboxWidth("show traced pixel"));
     ImGui::Checkbox("show traced pixel", &ui.inspect.highlightTrace);
@@ -107,7 +107,7 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
                     ps.selectedNode = int(n);
             }
     }
-    ImGui::SetNextItemWidth(120);
+    setItemWidth(120, "node");
     inputIntCommitted("node", &ps.selectedNode);
     ps.selectedNode = std::clamp(ps.selectedNode, 0, int(t->descriptors.size()) - 1);
     const uint32_t n = uint32_t(ps.selectedNode);
@@ -119,8 +119,8 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
         bits[k] = 0;
     }
     ImGui::SameLine();
-    ImGui::Text("0x%08" PRIx32 " = %s", d, bits);
-    ImGui::Text("index(24) %u | points(4) %u | children(4) %u | depth %u, parent %u",
+    wrappedText("0x%08" PRIx32 " = %s", d, bits);
+    wrappedText("index(24) %u | points(4) %u | children(4) %u | depth %u, parent %u",
                 octree::descriptorIndex(d), octree::pointCount(d), octree::childCount(d),
                 t->depth[n], t->parent[n]);
     if (octree::isLeaf(d))
@@ -130,13 +130,13 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
         ImGui::Text("children: nodes %u .. %u", octree::descriptorIndex(d),
                     octree::descriptorIndex(d) + octree::childCount(d) - 1);
     const auto& r = t->nodes[n];
-    ImGui::Text("sum E*A (%.4g, %.4g, %.4g), area %.4g", r.irradianceArea[0], r.irradianceArea[1],
+    wrappedText("sum E*A (%.4g, %.4g, %.4g), area %.4g", r.irradianceArea[0], r.irradianceArea[1],
                 r.irradianceArea[2], r.irradianceArea[3]);
-    ImGui::Text("mean P (%.4f, %.4f, %.4f)", r.meanPosition[0], r.meanPosition[1],
+    wrappedText("mean P (%.4f, %.4f, %.4f)", r.meanPosition[0], r.meanPosition[1],
                 r.meanPosition[2]);
-    ImGui::Text("box (%.4f, %.4f, %.4f) .. (%.4f, %.4f, %.4f)", r.boxMin[0], r.boxMin[1],
+    wrappedText("box (%.4f, %.4f, %.4f) .. (%.4f, %.4f, %.4f)", r.boxMin[0], r.boxMin[1],
                 r.boxMin[2], r.boxMax[0], r.boxMax[1], r.boxMax[2]);
-    ImGui::Text("covariance xx yy zz (%.3g, %.3g, %.3g), xy xz yz (%.3g, %.3g, %.3g)",
+    wrappedText("covariance xx yy zz (%.3g, %.3g, %.3g), xy xz yz (%.3g, %.3g, %.3g)",
                 r.covarianceDiagonal[0], r.covarianceDiagonal[1], r.covarianceDiagonal[2],
                 r.covarianceOffDiagonal[0], r.covarianceOffDiagonal[1], r.covarianceOffDiagonal[2]);
 }

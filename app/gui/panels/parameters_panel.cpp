@@ -88,7 +88,7 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared&) {
     float g = float(p.g), eta = float(p.eta), scale = float(p.scale);
     if (ImGui::SliderFloat("g", &g, -0.99f, 0.99f, "%.3f")) p.g = g, s.preset.clear();
     if (ImGui::SliderFloat("eta", &eta, 1.0f, 2.5f, "%.3f")) p.eta = eta, s.preset.clear();
-    if (ImGui::SliderFloat("scale [mm/unit]", &scale, 0.1f, 1000.0f, "%.3g",
+    if (ImGui::SliderFloat("scale", &scale, 0.1f, 1000.0f, "%.3g mm/unit",
                            ImGuiSliderFlags_Logarithmic))
         p.scale = scale;
     ImGui::Separator();
@@ -101,14 +101,17 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared&) {
         auto& v = wb.view(e.displayPath);
         if (!e.model) continue;
         if (!v.effective) {
-            ImGui::TextColored(ImVec4(1, 0.5f, 0.5f, 1), "%s: %s", e.model->name.c_str(),
-                               v.materialProblem.c_str());
+            colouredText(ImVec4(1, 0.5f, 0.5f, 1), "%s: %s", e.model->name.c_str(),
+                         v.materialProblem.c_str());
             continue;
         }
         const auto& q = *v.effective;
         glm::dvec3 ap = material::reducedAlbedo(q), ld = material::diffuseMeanFreePath(q);
         ImGui::Text("%s%s", e.model->name.c_str(), v.override ? " (own)" : "");
-        if (ImGui::BeginTable("inuse", 4, ImGuiTableFlags_SizingStretchSame)) {
+        // as wide as the panel (without an outer width ImGui 1.86 widens the panel to the
+        // columns' natural widths, and the whole panel scrolls sideways)
+        if (ImGui::BeginTable("inuse", 4, ImGuiTableFlags_SizingStretchSame,
+                              ImVec2(ImGui::GetContentRegionAvail().x, 0))) {
             auto row = [](const char* name, const glm::dvec3& x, const char* fmt) {
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();

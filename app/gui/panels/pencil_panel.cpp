@@ -30,15 +30,15 @@ void drawReferenceControls(Workbench& wb) {
     if (!rs.enabled) return;
     sameLineIfFits(itemWidth(110, "x1e5 paths/ch"));
     int millions = int(rs.paths / 100000);
-    ImGui::SetNextItemWidth(110);
+    setItemWidth(110, "x1e5 paths/ch");
     if (inputIntCommitted("x1e5 paths/ch", &millions, 5))
         rs.paths = uint64_t(std::clamp(millions, 1, 100000)) * 100000;
     sameLineIfFits(itemWidth(90, "bins"));
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "bins");
     if (inputIntCommitted("bins", &rs.bins, 25)) rs.bins = std::clamp(rs.bins, 10, 5000);
     sameLineIfFits(itemWidth(80, "seed"));
     int seed = int(rs.seed);
-    ImGui::SetNextItemWidth(80);
+    setItemWidth(80, "seed");
     if (inputIntCommitted("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
     enumCombo("estimator", rs.estimator, 110);
     if (ImGui::IsItemHovered())
@@ -54,7 +54,7 @@ void drawReferenceControls(Workbench& wb) {
                           "GPU where it measured faster than the CPU here (once per run)");
     ReferenceSnapshot snap = wb.reference().snapshot();
     if (!snap.problem.empty()) {
-        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
+        colouredText(ImVec4(1, 0.45f, 0.45f, 1), "%s", snap.problem.c_str());
         return;
     }
     const float frac =
@@ -63,16 +63,15 @@ void drawReferenceControls(Workbench& wb) {
     std::snprintf(overlay, sizeof overlay, "%llu / %llu paths per channel",
                   (unsigned long long)snap.pathsDone, (unsigned long long)snap.pathsTarget);
     if (!snap.energy.empty())
-        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "reference %s", snap.energy.c_str());
-    ImGui::SetNextItemWidth(320);
-    ImGui::ProgressBar(frac, ImVec2(320, 0), overlay);
-    ImGui::SameLine();
+        colouredText(ImVec4(1, 0.45f, 0.45f, 1), "reference %s", snap.energy.c_str());
+    ImGui::ProgressBar(frac, ImVec2(fittingWidth(320), 0), overlay);
+    sameLineIfFits(200);
     hintText("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
              wb.reference().model().c_str());
     if (const std::string choice = wb.reference().deviceChoice();
         !choice.empty() && ImGui::IsItemHovered())
         ImGui::SetTooltip("device auto, measured once at start: %s", choice.c_str());
-    ImGui::SameLine();
+    sameLineIfFits(buttonWidth(snap.running ? "cancel" : "restart"));
     if (snap.running) {
         if (ImGui::SmallButton("cancel")) wb.reference().cancel();
     } else if (ImGui::SmallButton("restart")) {
@@ -84,16 +83,16 @@ void drawReferenceControls(Workbench& wb) {
 void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     PlotSettings& ps = wb.plotSettings();
     int scale = static_cast<int>(ps.yScale);
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "y axis");
     ImGui::Combo("y axis", &scale, "linear\0log\0sqrt\0");
     ps.yScale = static_cast<plot::Scale>(scale);
     sameLineIfFits(checkboxWidth("r * R(r)"));
     ImGui::Checkbox("r * R(r)", &ps.rTimesR);
     sameLineIfFits(itemWidth(100, "channel"));
-    ImGui::SetNextItemWidth(100);
+    setItemWidth(100, "channel");
     ImGui::Combo("channel", &ps.channel, "red\0green\0blue\0luminance\0");
     sameLineIfFits(itemWidth(160, "solo"));
-    ImGui::SetNextItemWidth(160);
+    setItemWidth(160, "solo");
     if (ImGui::BeginCombo("solo", ps.solo.empty() ? "(all models)" : ps.solo.c_str())) {
         if (ImGui::Selectable("(all models)", ps.solo.empty())) ps.solo.clear();
         for (auto& e : wb.library().entries())
@@ -101,7 +100,7 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
                 ps.solo = e.displayPath;
         ImGui::EndCombo();
     }
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "samples");
     // The ranges are the settings' own (PlotSettings' description), as on the CLI and in captures.
     static const core::Limits samplesLim = core::limitsOf<PlotSettings>("samples"),
                               rMaxLim = core::limitsOf<PlotSettings>("r_max_mm"),
@@ -111,7 +110,7 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     sameLineIfFits(checkboxWidth("fixed range"));
     ImGui::Checkbox("fixed range", &ps.fixedRange);
     sameLineIfFits(itemWidth(120, "r max [mm]"));
-    ImGui::SetNextItemWidth(120);
+    setItemWidth(120, ps.fixedRange ? "r max [mm]" : "x largest l_d");
     if (ps.fixedRange) {
         float r = float(ps.rMaxMm);
         if (ImGui::DragFloat("r max [mm]", &r, 0.1f, float(rMaxLim.lo), float(rMaxLim.hi), "%.3g",
@@ -123,11 +122,13 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
                              "%.2f", ImGuiSliderFlags_AlwaysClamp))
             ps.rangeLd = k;
     }
-    ImGui::SameLine();
-    ImGui::TextDisabled("r in [0, %.3g] mm", wb.rMaxMm());
+    char range[64];
+    std::snprintf(range, sizeof range, "r in [0, %.3g] mm", wb.rMaxMm());
+    sameLineIfFits(ImGui::CalcTextSize(range).x);
+    ImGui::TextDisabled("%s", range);
 
     // Values, or each model relative to the path-traced reference.
-    ImGui::SetNextItemWidth(200);
+    setItemWidth(200, "show");
     const char* relNames[] = {"values", "ratio to reference", "difference to reference"};
     comboEnum("show", ps.relation, relNames);
     auto series = plotSeries(wb);

@@ -70,13 +70,13 @@ void uploadColors(Workbench& wb, PointCloudPanelState& ps, const UiShared& ui) {
 void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) {
     SceneStage& scene = wb.scene();
     SceneSettings& s = scene.settings();
-    ImGui::SetNextItemWidth(300);
+    setItemWidth(300, "mesh (OBJ)");
     if (inputTextCommitted("mesh (OBJ)", ps.meshBuffer, sizeof ps.meshBuffer)) {
         s.meshFile = ps.meshBuffer;
         scene.reloadFiles(); // Enter on the same name reads the file again
     }
     int n = int(s.points.points);
-    ImGui::SetNextItemWidth(120);
+    setItemWidth(120, "points");
     if (inputIntCommitted("points", &n, 1000, 10000)) s.points.points = size_t(std::max(n, 0));
     ImGui::SameLine();
     constexpr auto methods = enumNames(pointcloud::Method{});
@@ -86,29 +86,29 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
         names[k] = methods[k].second;
         if (s.points.method == methods[k].first) m = int(k);
     }
-    ImGui::SetNextItemWidth(170);
+    setItemWidth(170, "method");
     if (ImGui::Combo("method", &m, names, int(methods.size())))
         s.points.method = methods[size_t(m)].first;
     int seed = int(s.points.seed);
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "seed");
     if (inputIntCommitted("seed", &seed)) s.points.seed = uint64_t(std::max(seed, 0));
     using pointcloud::Method;
     if (s.points.method == Method::Repulsion || s.points.method == Method::StratifiedRepulsion) {
-        ImGui::SameLine();
-        ImGui::SetNextItemWidth(90);
+        sameLineIfFits(itemWidth(90, "iterations"));
+        setItemWidth(90, "iterations");
         int& it = s.points.method == Method::Repulsion ? s.points.repulsionIterations
                                                        : s.points.stratifiedIterations;
         if (inputIntCommitted("iterations", &it, 10, 100)) it = std::clamp(it, 0, 100000);
     }
     sameLineIfFits(checkboxWidth("disk cache"));
     ImGui::Checkbox("disk cache", &s.useCache);
-    ImGui::SetNextItemWidth(300);
+    setItemWidth(300, "load PLY (empty: generate)");
     if (inputTextCommitted("load PLY (empty: generate)", ps.plyBuffer, sizeof ps.plyBuffer))
         s.pointCloudFile = ps.plyBuffer;
 
     if (scene.generating()) {
-        ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "generating %zu points ... %.1f s",
-                           s.points.points, scene.generatingSeconds());
+        colouredText(ImVec4(1, 0.8f, 0.3f, 1), "generating %zu points ... %.1f s", s.points.points,
+                     scene.generatingSeconds());
         ImGui::SameLine();
         ImGui::ProgressBar(float(scene.generatingProgress()), ImVec2(160, 0), "relaxation");
         sameLineIfFits(buttonWidth("cancel"));
@@ -121,14 +121,14 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     }
     const auto& u = scene.uniformity();
     auto st = scene.stats().find("scene.pointcloud");
-    ImGui::Text("%zu points, area %.4g units^2 (A/N = %.3g), %s %.0f ms", cloud.points.size(),
+    wrappedText("%zu points, area %.4g units^2 (A/N = %.3g), %s %.0f ms", cloud.points.size(),
                 cloud.totalArea, cloud.totalArea / double(cloud.points.size()),
                 scene.cloudFromCache() ? "read from cache in" : "made in",
                 st != scene.stats().end() ? st->second.ms : 0.0);
-    ImGui::Text("nearest neighbour: mean %.4g, CV %.4f, min/mean %.3f", u.meanNN, u.cvNN,
+    wrappedText("nearest neighbour: mean %.4g, CV %.4f, min/mean %.3f", u.meanNN, u.cvNN,
                 u.meanNN > 0 ? u.minNN / u.meanNN : 0.0);
     const char* modes[] = {"normal", "area", "irradiance", "radiance (from the render)"};
-    ImGui::SetNextItemWidth(200);
+    setItemWidth(200, "colour by");
     comboEnum("colour by", ui.inspect.colorBy, modes);
     uploadColors(wb, ps, ui);
     if (ui.inspect.colorBy != PointColor::Normal)
@@ -158,16 +158,16 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     }
     if (ps.picked >= 0 && size_t(ps.picked) < cloud.points.size()) {
         const auto& p = cloud.points[size_t(ps.picked)];
-        ImGui::Text("point %d: p (%.4f, %.4f, %.4f)  n (%.3f, %.3f, %.3f)  area %.4g", ps.picked,
+        wrappedText("point %d: p (%.4f, %.4f, %.4f)  n (%.3f, %.3f, %.3f)  area %.4g", ps.picked,
                     p.p[0], p.p[1], p.p[2], p.n[0], p.n[1], p.n[2], p.area);
         const auto& e = scene.irradiance();
         if (size_t(ps.picked) < e.size()) {
             const glm::vec3 v = e[size_t(ps.picked)];
-            ImGui::Text("  E_t (%.4g, %.4g, %.4g)  triangle %u", v.x, v.y, v.z, p.triangle);
+            wrappedText("  E_t (%.4g, %.4g, %.4g)  triangle %u", v.x, v.y, v.z, p.triangle);
         }
         const glm::vec3 M = ps.pickedExitance;
         if (M.x >= 0)
-            ImGui::Text("  radiant exitance M (%.4g, %.4g, %.4g); radiance L_o = Ft/pi * M", M.x,
+            wrappedText("  radiant exitance M (%.4g, %.4g, %.4g); radiance L_o = Ft/pi * M", M.x,
                         M.y, M.z);
         else
             hintText("  radiant exitance: available once the scene has rendered");

@@ -100,7 +100,7 @@ bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
 void drawModelChoice(Workbench& wb, std::string& chosen) {
     const SceneModelInput in = wb.sceneModelInput();
     const std::string shown = in.entry ? in.entry->displayPath : "(no usable model)";
-    ImGui::SetNextItemWidth(220);
+    setItemWidth(220, "model");
     const std::string preview = chosen.empty() ? "first visible: " + shown : shown;
     const bool open = ImGui::BeginCombo("model", preview.c_str());
     if (!open && ImGui::IsItemHovered()) ImGui::SetTooltip("renders %s", preview.c_str());
@@ -212,16 +212,16 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     SceneStage& scene = wb.scene();
     render::Settings& r = scene.settings().render;
     drawModelChoice(wb, scene.settings().model);
-    ImGui::SetNextItemWidth(160);
+    setItemWidth(160, "eps");
     ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
     sameLineIfFits(checkboxWidth("bounding-box criterion"));
     ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
-    sameLineIfFits(220);
+    sameLineIfFits(itemWidth(220, "renderer"));
     bool& hybrid = wb.textureSpaceSettings().sampling.hybrid;
     int renderer = ps.mode == RenderMode::MonteCarlo     ? 2
                    : ps.mode == RenderMode::TextureSpace ? (hybrid ? 4 : 3)
                                                          : (r.bruteForce ? 1 : 0);
-    ImGui::SetNextItemWidth(220);
+    setItemWidth(220, "renderer");
     if (ImGui::Combo("renderer", &renderer,
                      "hierarchical\0brute force\0Monte Carlo (probe rays)\0texture space\0hybrid "
                      "(local + global)\0")) {
@@ -239,10 +239,10 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                           "by every pixel, progressive over sets\nhybrid: R_d split at R_p into "
                           "a local part (light-view map, ring filter) and a global part (texture "
                           "space)");
-    ImGui::SetNextItemWidth(120);
+    setItemWidth(120, "exposure");
     ImGui::SliderFloat("exposure", &r.exposure, -10.0f, 10.0f, "%.1f EV");
-    sameLineIfFits(100 + ImGui::CalcTextSize("gamma").x + 8);
-    ImGui::SetNextItemWidth(100);
+    sameLineIfFits(itemWidth(100, "gamma"));
+    setItemWidth(100, "gamma");
     ImGui::SliderFloat("gamma", &r.gamma, 0.5f, 4.0f, "%.2f");
     sameLineIfFits(checkboxWidth("direct Bssrdf()"));
     ImGui::Checkbox("direct Bssrdf()", &r.directBssrdf);
@@ -256,7 +256,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                           "irradiance-weighted covariance (exact to second order) instead of "
                           "at its mean position");
     int size[2] = {r.width, r.height};
-    ImGui::SetNextItemWidth(140);
+    setItemWidth(140, "size");
     if (inputInt2Committed("size", size)) {
         r.width = std::clamp(size[0], 16, 4096);
         r.height = std::clamp(size[1], 16, 4096);
@@ -264,7 +264,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     sameLineIfFits(checkboxWidth("half resolution while moving"));
     ImGui::Checkbox("half resolution while moving", &scene.settings().halfResolutionWhileChanging);
     const char* heat[] = {"image", "nodes visited", "max stack depth", "rel. error vs brute force"};
-    ImGui::SetNextItemWidth(200);
+    setItemWidth(200, "show");
     comboEnum("show", ps.heatmap, heat);
     sameLineIfFits(checkboxWidth("A/B") + 200);
     ImGui::Checkbox("A/B", &ps.abSplit);
@@ -273,7 +273,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                           "point) or another model, same view; drag the strip under the image");
     if (ps.abSplit) {
         ImGui::SameLine();
-        ImGui::SetNextItemWidth(180);
+        setItemWidth(180, "B");
         if (ImGui::BeginCombo("B", ps.abWith.empty() ? "brute force" : ps.abWith.c_str())) {
             if (ImGui::Selectable("brute force", ps.abWith.empty())) ps.abWith.clear();
             for (const auto& e : wb.library().entries())
@@ -307,11 +307,11 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
         MonteCarloSettings& mc = wb.monteCarloSettings();
         samplingChoice("sampling", mc.sampling, mc.axes);
         sameLineIfFits(itemWidth(100, "spp"));
-        ImGui::SetNextItemWidth(100);
+        setItemWidth(100, "spp");
         if (inputIntCommitted("spp", &mc.spp, 64)) mc.spp = std::clamp(mc.spp, 1, 10000000);
         const MonteCarloStage& m = wb.monteCarlo();
         if (!m.problem().empty()) {
-            ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", m.problem().c_str());
+            colouredText(ImVec4(1, 0.45f, 0.45f, 1), "%s", m.problem().c_str());
         } else if (m.active()) {
             const litsphere::Image img = m.image();
             double var = 0, sum2 = 0;
@@ -320,7 +320,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                     var += img.variance[i];
                     sum2 += double(img.mean[i]) * img.mean[i];
                 }
-            ImGui::Text("Monte Carlo %llu / %d spp, %.1f s, relative standard error %.3g",
+            wrappedText("Monte Carlo %llu / %d spp, %.1f s, relative standard error %.3g",
                         (unsigned long long)m.sppDone(), mc.spp, m.seconds(),
                         sum2 > 0 ? std::sqrt(var / sum2) : 0.0);
             if (img.width == f.width && img.height == f.height) {
@@ -338,7 +338,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
         const std::vector<glm::vec4>* brute = scene.comparison().bruteForceResult();
         if (ps.heatmap == Heatmap::RelativeError && !brute) {
             if (scene.comparison().running()) {
-                ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "brute force running ...");
+                colouredText(ImVec4(1, 0.8f, 0.3f, 1), "brute force running ...");
             } else if (scene.rendering()) {
                 ImGui::TextDisabled("waiting for the frame to finish");
             } else if (ImGui::Button("compute brute force for this view")) {
@@ -428,7 +428,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     if (ps.mode == RenderMode::TextureSpace && ps.tsSamplesOnMesh)
         drawSamplesOnMesh(wb, ps, r, width / float(f.width));
     if (!ui.inspect.debugProblem.empty())
-        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", ui.inspect.debugProblem.c_str());
+        colouredText(ImVec4(1, 0.45f, 0.45f, 1), "%s", ui.inspect.debugProblem.c_str());
     hintText("drag: orbit, wheel: zoom, hover: pixel zoom and values, click: trace a pixel");
     drawExport(wb, ps, ui);
 }

@@ -68,15 +68,15 @@ void shapeChoice(GeometryTabSettings& t) {
 void drawGeometryScores(Workbench& wb, ScoreboardPanelState& ps) {
     GeometryTabSettings& t = wb.geometryTab();
     GeometryStage& st = wb.geometry();
-    ImGui::SetNextItemWidth(160);
+    setItemWidth(160, "preset");
     if (ImGui::BeginCombo("preset", t.preset.c_str())) {
         for (const material::Preset& p : wb.presets())
             if (p.unusable.empty() && ImGui::Selectable(p.name.c_str(), p.name == t.preset))
                 t.preset = p.name;
         ImGui::EndCombo();
     }
-    sameLineIfFits(120);
-    ImGui::SetNextItemWidth(80);
+    sameLineIfFits(itemWidth(80, "channel"));
+    setItemWidth(80, "channel");
     ImGui::Combo("channel", &t.channel, "R\0G\0B\0");
     const StageStatus status = st.status();
     sameLineIfFits(200);
@@ -154,7 +154,7 @@ void drawGeometryScores(Workbench& wb, ScoreboardPanelState& ps) {
     if (!sel || !ref || !sel->image) return;
     const float side = std::clamp((ImGui::GetContentRegionAvail().x - 16) / 3, 96.0f, 320.0f);
     const double white = whitePoint(*ref);
-    ImGui::Text("%s on %s: reference | model | signed error (model - reference) / reference, "
+    wrappedText("%s on %s: reference | model | signed error (model - reference) / reference, "
                 "+-%s %% saturates",
                 sel->model.c_str(), sel->shape.c_str(),
                 core::formatNumber(100 * kGeometryErrorRange, 2).c_str());
@@ -170,7 +170,7 @@ void drawGeometryScores(Workbench& wb, ScoreboardPanelState& ps) {
         return;
     }
     const double m = sel->image->mean[p], r = ref->mean[p];
-    ImGui::Text("pixel %d, %d: reference %.4g +- %.2g   model %.4g +- %.2g   (model - ref) / ref "
+    wrappedText("pixel %d, %d: reference %.4g +- %.2g   model %.4g +- %.2g   (model - ref) / ref "
                 "%s %%",
                 ps.pickX, ps.pickY, r, std::sqrt(ref->variance[p]), m,
                 std::sqrt(sel->image->variance[p]),

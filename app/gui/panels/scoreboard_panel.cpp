@@ -85,10 +85,10 @@ void drawMcmlScores(Workbench& wb, UiShared& ui) {
 void drawProfileScores(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
     drawMcmlScores(wb, ui);
     MaterialSettings& s = wb.shared();
-    ImGui::SetNextItemWidth(160);
+    setItemWidth(160, "preset");
     presetCombo("preset", wb, s);
-    sameLineIfFits(200);
-    ImGui::SetNextItemWidth(100);
+    sameLineIfFits(itemWidth(100, "channels"));
+    setItemWidth(100, "channels");
     ImGui::Combo("channels", &ps.channel, "R\0G\0B\0all\0");
     ReferenceSettings& rs = wb.referenceSettings();
     if (!rs.enabled) {

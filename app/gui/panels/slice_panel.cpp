@@ -135,7 +135,7 @@ void diffColourBar(float range, float width) {
 void drawControls(Workbench& wb, SlicePanelState& ps) {
     SliceSettings& s = wb.sliceSettings();
     const char* channels[] = {"R", "G", "B"};
-    ImGui::SetNextItemWidth(60);
+    setItemWidth(60, "channel");
     if (ImGui::BeginCombo("channel", channels[std::clamp(s.channel, 0, 2)])) {
         for (int c = 0; c < 3; ++c)
             if (ImGui::Selectable(channels[c], s.channel == c)) s.channel = c;
@@ -144,29 +144,29 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
     // θi and r_max apply when the edit ends (a drag restarts the run once, on release)
     sameLineIfFits(itemWidth(140, "theta_i [deg]"));
     if (!ps.editing[0]) ps.thetaEdit = float(s.thetaIDeg);
-    ImGui::SetNextItemWidth(140);
+    setItemWidth(140, "theta_i [deg]");
     ImGui::SliderFloat("theta_i [deg]", &ps.thetaEdit, 0.0f, 89.0f, "%.1f");
     ps.editing[0] = ImGui::IsItemActive();
     if (ImGui::IsItemDeactivatedAfterEdit()) s.thetaIDeg = std::clamp(ps.thetaEdit, 0.0f, 89.9f);
     sameLineIfFits(itemWidth(90, "r_max [l_d]"));
     if (!ps.editing[1]) ps.rangeEdit = float(s.rangeLd);
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "r_max [l_d]");
     ImGui::InputFloat("r_max [l_d]", &ps.rangeEdit, 0, 0, "%.3g");
     ps.editing[1] = ImGui::IsItemActive();
     if (ImGui::IsItemDeactivatedAfterEdit())
         s.rangeLd = std::clamp(double(ps.rangeEdit), 0.05, 100.0);
     sameLineIfFits(itemWidth(80, "r bins"));
-    ImGui::SetNextItemWidth(80);
+    setItemWidth(80, "r bins");
     if (inputIntCommitted("r bins", &s.rBins, 2)) s.rBins = std::clamp(s.rBins, 1, 200);
     sameLineIfFits(checkboxWidth("log r"));
     ImGui::Checkbox("log r", &s.logR);
     sameLineIfFits(itemWidth(80, "theta_s bins"));
-    ImGui::SetNextItemWidth(80);
+    setItemWidth(80, "theta_s bins");
     if (inputIntCommitted("theta_s bins", &s.thetaSBins, 2))
         s.thetaSBins = std::clamp(s.thetaSBins, 1, 90);
     sameLineIfFits(itemWidth(110, "exit cells"));
     int cells[2] = {s.dirCosBins, s.dirPhiBins};
-    ImGui::SetNextItemWidth(110);
+    setItemWidth(110, "exit cells");
     if (inputInt2Committed("exit cells", cells)) {
         s.dirCosBins = std::clamp(cells[0], 1, 16);
         s.dirPhiBins = std::clamp(cells[1], 1, 32);
@@ -174,7 +174,7 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("rings of equal solid angle x azimuth sectors");
     sameLineIfFits(itemWidth(100, "x1e4 paths"));
     int tenK = int(s.paths / 10000);
-    ImGui::SetNextItemWidth(100);
+    setItemWidth(100, "x1e4 paths");
     if (inputIntCommitted("x1e4 paths", &tenK, 5))
         s.paths = uint64_t(std::clamp(tenK, 1, 1000000)) * 10000;
     enumCombo("estimator", s.estimator, 110);
@@ -191,8 +191,7 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
     char overlay[96];
     std::snprintf(overlay, sizeof overlay, "%llu / %llu paths", (unsigned long long)snap.pathsDone,
                   (unsigned long long)snap.pathsTarget);
-    ImGui::SetNextItemWidth(260);
-    ImGui::ProgressBar(frac, ImVec2(260, 0), overlay);
+    ImGui::ProgressBar(frac, ImVec2(fittingWidth(260), 0), overlay);
     sameLineIfFits(buttonWidth("restart"));
     if (snap.running) {
         if (ImGui::SmallButton("cancel")) wb.slice().cancel();
@@ -205,10 +204,10 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
     if (const std::string choice = wb.slice().deviceChoice();
         !choice.empty() && ImGui::IsItemHovered())
         ImGui::SetTooltip("device auto, measured once at start: %s", choice.c_str());
-    if (!snap.problem.empty()) ImGui::TextColored(kProblemColour, "%s", snap.problem.c_str());
+    if (!snap.problem.empty()) colouredText(kProblemColour, "%s", snap.problem.c_str());
     if (!snap.energy.empty())
-        ImGui::TextColored(kProblemColour, "energy check failed: %s (no error figures)",
-                           snap.energy.c_str());
+        colouredText(kProblemColour, "energy check failed: %s (no error figures)",
+                     snap.energy.c_str());
 }
 
 } // namespace
@@ -229,14 +228,14 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
     const pathtrace::BssrdfSlice& ref = *snap.slice;
     // the compared model
     if (!models.count(ps.model) && !models.empty()) ps.model = models.begin()->first;
-    ImGui::SetNextItemWidth(220);
+    setItemWidth(220, "model");
     if (ImGui::BeginCombo("model", ps.model.c_str())) {
         for (const auto& [path, r] : models)
             if (ImGui::Selectable(path.c_str(), ps.model == path)) ps.model = path;
         ImGui::EndCombo();
     }
     sameLineIfFits(itemWidth(150, "show"));
-    ImGui::SetNextItemWidth(150);
+    setItemWidth(150, "show");
     const bool hasCells = b.dirBins() > 1 && !ref.S.empty();
     if (!hasCells) ps.quantity = SliceQuantity::R;
     const char* quantities[] = {"R (exitance)", "S (exit cell)"};
@@ -248,10 +247,10 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
         ImGui::EndCombo();
     }
     sameLineIfFits(itemWidth(90, "decades"));
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "decades");
     ImGui::SliderFloat("decades", &ps.decades, 1.0f, 8.0f, "%.0f");
     sameLineIfFits(itemWidth(100, "diff range"));
-    ImGui::SetNextItemWidth(100);
+    setItemWidth(100, "diff range");
     ImGui::SliderFloat("diff range", &ps.diffRange, 0.01f, 2.0f, "%.2f");
     sameLineIfFits(checkboxWidth("grey within 2 sigma"));
     ImGui::Checkbox("grey within 2 sigma", &ps.greyTies);
@@ -259,7 +258,7 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
 
     const ModelSliceResult* mr = models.count(ps.model) ? &models.at(ps.model) : nullptr;
     const ModelSlice* ms = mr && mr->slice ? &*mr->slice : nullptr;
-    if (mr && !mr->problem.empty()) ImGui::TextColored(kProblemColour, "%s", mr->problem.c_str());
+    if (mr && !mr->problem.empty()) colouredText(kProblemColour, "%s", mr->problem.c_str());
     if (mr && (mr->medium.sigmaA != snap.medium.sigmaA || mr->medium.sigmaS != snap.medium.sigmaS ||
                mr->medium.g != snap.medium.g || mr->medium.eta != snap.medium.eta))
         hintText("note: this model has its own material; the reference uses the sigma of %s",
@@ -300,7 +299,7 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
                 ps.summary +=
                     ", with the exit directions " + pct(*sc.relErrDir, sc.relErrDirSe.value_or(0));
             ps.summary += "  |  power ratio " + core::formatNumber(sc.totalRatio, 3);
-            ImGui::TextWrapped("%s", ps.summary.c_str());
+            wrappedText("%s", ps.summary.c_str());
             if (ImGui::IsItemHovered()) {
                 const double to = std::min(core::kRelErrToLd, b.rMaxMm / ld);
                 ImGui::SetTooltip(
@@ -370,7 +369,7 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
         const size_t i = size_t(shown);
         const int ir = shown / b.thetaSBins, it = shown % b.thetaSBins;
         const double dth = 180.0 / b.thetaSBins;
-        ImGui::Text("r %.3g-%.3g mm, theta_s %.0f-%.0f deg: %s %.4g +- %.2g | model %.4g | "
+        wrappedText("r %.3g-%.3g mm, theta_s %.0f-%.0f deg: %s %.4g +- %.2g | model %.4g | "
                     "diff %+.1f%% (z %.1f)",
                     edges[size_t(ir)], edges[size_t(ir) + 1], it * dth, (it + 1) * dth,
                     ps.quantity == SliceQuantity::S ? "S" : "R", refV[i], refE[i], modV[i],
@@ -379,7 +378,7 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
         hintText("Hover a bin for its value +- standard error; click to pick it for the exit "
                  "directions below.");
     }
-    ImGui::Text("%s: R per incident photon [1/mm^2]%s, theta_i %.1f deg, %llu paths",
+    wrappedText("%s: R per incident photon [1/mm^2]%s, theta_i %.1f deg, %llu paths",
                 core::nameOf(snap.settings.estimator),
                 ps.quantity == SliceQuantity::S ? ", S [1/(mm^2 sr)] of the chosen exit cell" : "",
                 snap.settings.thetaIDeg[0], (unsigned long long)snap.pathsDone);
@@ -426,7 +425,7 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
     const size_t k = bin * cells + size_t(c);
     const int ring = c / b.dirPhiBins, sec = c % b.dirPhiBins;
     const double mu0 = double(ring) / b.dirCosBins, mu1 = double(ring + 1) / b.dirCosBins;
-    ImGui::Text("exit cell %d: theta_o %.0f-%.0f deg, phi_o %.0f-%.0f deg", c,
+    wrappedText("exit cell %d: theta_o %.0f-%.0f deg, phi_o %.0f-%.0f deg", c,
                 std::acos(mu1) * 180 / std::numbers::pi, std::acos(mu0) * 180 / std::numbers::pi,
                 sec * 360.0 / b.dirPhiBins, (sec + 1) * 360.0 / b.dirPhiBins);
     ImGui::Text("S path traced %.4g +- %.2g", ref.S[k], ref.SStderr[k]);

@@ -45,12 +45,12 @@ void showSquare(RenderPanelState& ps, const Rgba8Image& im, const texspace::Samp
 
 // The hybrid's weighting and local filter (texspace/hybrid.h).
 void hybridControls(texspace::HybridSettings& h) {
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "K");
     if (ImGui::InputFloat("K", &h.k, 0, 0, "%.3g", ImGuiInputTextFlags_EnterReturnsTrue))
         h.k = std::clamp(h.k, 1e-3f, 1e3f);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("K of the weighting function W_l, 1/mm");
     sameLineIfFits(itemWidth(90, "bound"));
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "bound");
     if (ImGui::InputFloat("bound", &h.lowerBound, 0, 0, "%.3g",
                           ImGuiInputTextFlags_EnterReturnsTrue))
         h.lowerBound = std::clamp(h.lowerBound, 1e-9f, 1e3f);
@@ -58,10 +58,10 @@ void hybridControls(texspace::HybridSettings& h) {
         ImGui::SetTooltip("importance lower bound: R_p is the largest r with R(r)·2πr at or "
                           "above it, 1/mm (thesis: 0.1)");
     sameLineIfFits(itemWidth(100, "rings"));
-    ImGui::SetNextItemWidth(100);
+    setItemWidth(100, "rings");
     if (inputIntCommitted("rings", &h.rings, 1)) h.rings = std::clamp(h.rings, 1, 64);
     sameLineIfFits(itemWidth(100, "taps/ring"));
-    ImGui::SetNextItemWidth(100);
+    setItemWidth(100, "taps/ring");
     if (inputIntCommitted("taps/ring", &h.perRing, 1)) h.perRing = std::clamp(h.perRing, 1, 64);
 }
 
@@ -74,16 +74,16 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
     const render::Settings& r = wb.scene().settings().render;
     static const char* const kSizes[] = {"16", "32", "64", "128", "256", "512", "1024", "2048"};
     int sizeIndex = std::clamp(int(std::lround(std::log2(double(s.textureSize)))) - 4, 0, 7);
-    ImGui::SetNextItemWidth(90);
+    setItemWidth(90, "texture");
     if (ImGui::Combo("texture", &sizeIndex, kSizes, 8)) s.textureSize = 16 << sizeIndex;
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("texels per side K of the texture-space E′");
     sameLineIfFits(itemWidth(110, "N"));
-    ImGui::SetNextItemWidth(110);
+    setItemWidth(110, "N");
     if (inputIntCommitted("N", &s.samples, 49)) s.samples = std::clamp(s.samples, 1, 1 << 20);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("texels drawn per sample set (seed 004 Table 4.2: 49 … 2500)");
     sameLineIfFits(itemWidth(110, "sets"));
-    ImGui::SetNextItemWidth(110);
+    setItemWidth(110, "sets");
     if (inputIntCommitted("sets", &s.sampleSets, 16))
         s.sampleSets = std::clamp(s.sampleSets, 1, 1000000);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("independent sample sets averaged");
@@ -91,7 +91,7 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
                                          "samples",       "atlas / distortion", "hybrid: local",
                                          "hybrid: global"};
     sameLineIfFits(itemWidth(150, "view"));
-    ImGui::SetNextItemWidth(150);
+    setItemWidth(150, "view");
     comboEnum("view", ps.tsView, kViews);
     if (s.hybrid) {
         hybridControls(s.local);
@@ -106,7 +106,7 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
 
     TextureSpaceStage& stage = wb.textureSpace();
     for (const std::string& p : stage.problems())
-        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", p.c_str());
+        colouredText(ImVec4(1, 0.45f, 0.45f, 1), "%s", p.c_str());
     const texspace::Pipeline* p = stage.pipeline();
     if (!p || !p->hasMesh()) {
         hintText("waiting for the mesh and a usable model ...");
@@ -119,7 +119,7 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
             var += img.variance[i];
             sum2 += double(img.mean[i]) * img.mean[i];
         }
-    ImGui::Text("%d / %d sets of N = %d, K = %d, %.1f s, relative standard error %.3g",
+    wrappedText("%d / %d sets of N = %d, K = %d, %.1f s, relative standard error %.3g",
                 p->setsDone(), p->setsTarget(), s.samples, p->texels().size, stage.seconds(),
                 sum2 > 0 ? std::sqrt(var / sum2) : 0.0);
     if (ImGui::IsItemHovered())
@@ -164,7 +164,7 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
             hintText("no CDF (no light reaches the surface)");
             return true;
         }
-        ImGui::SetNextItemWidth(200);
+        setItemWidth(200, "level");
         ImGui::SliderInt("level", &ps.tsLevel, 0, levels - 1);
         ps.tsLevel = std::clamp(ps.tsLevel, 0, levels - 1);
         hintText("level %d: %d² sums of texel weights (log10, four decades); Algorithm 3.1 "

@@ -7,6 +7,7 @@
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -44,41 +45,62 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
     (void)wb;
     if (!ui.inspect.debug) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-        ImGui::TextWrapped("click a pixel in the Render panel to trace its octree traversal");
+        wrappedText("click a pixel in the Render panel to trace its octree traversal");
         ImGui::PopStyleColor();
         return;
     }
     const PixelDebug& d = *ui.inspect.debug;
     if (!d.hit) {
-        ImGui::Text("pixel (%d, %d) shows the background (no surface)", d.x, d.y);
+        wrappedText("pixel (%d, %d) shows the background (no surface)", d.x, d.y);
         return;
     }
     const octree::Trace& t = d.trace;
-    ImGui::Text("pixel (%d, %d)  xo (%.4f, %.4f, %.4f)  no (%.3f, %.3f, %.3f)", d.x, d.y, t.xo.x,
+    wrappedText("pixel (%d, %d)  xo (%.4f, %.4f, %.4f)  no (%.3f, %.3f, %.3f)", d.x, d.y, t.xo.x,
                 t.xo.y, t.xo.z, t.no.x, t.no.y, t.no.z);
-    ImGui::Text("radiant exitance M       R            G            B");
-    ImGui::Text("  GPU readback      %12.6g %12.6g %12.6g", d.gpuExitance.x, d.gpuExitance.y,
-                d.gpuExitance.z);
-    ImGui::Text("  CPU replica       %12.6g %12.6g %12.6g   (rel. diff to GPU %.2e)",
-                t.radiantExitance.x, t.radiantExitance.y, t.radiantExitance.z,
-                relDiff(t.radiantExitance, d.gpuExitance));
-    ImGui::Text("  brute force       %12.6g %12.6g %12.6g   (hierarchy error %.2e)",
-                d.bruteExitance.x, d.bruteExitance.y, d.bruteExitance.z,
+    // M from the GPU readback, its CPU replica and brute force, a column per channel with as
+    // many significant digits (3 to 7) as the column shows
+    if (ImGui::BeginTable("exitance", 4, ImGuiTableFlags_SizingStretchSame,
+                          ImVec2(visibleWidth(), 0))) {
+        ImGui::TableSetupColumn("M", ImGuiTableColumnFlags_WidthFixed);
+        for (const char* c : {"R", "G", "B"})
+            ImGui::TableSetupColumn(c);
+        ImGui::TableHeadersRow();
+        const std::pair<const char*, glm::vec3> rows[] = {
+            {"GPU", d.gpuExitance}, {"CPU", t.radiantExitance}, {"brute", d.bruteExitance}};
+        const float digit = ImGui::CalcTextSize("0").x;
+        for (const auto& [name, m] : rows) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(name);
+            for (int c = 0; c < 3; ++c) {
+                ImGui::TableNextColumn();
+                const int digits =
+                    std::clamp(int(ImGui::GetContentRegionAvail().x / digit) - 1, 3, 7);
+                ImGui::Text("%.*g", digits, double(m[c]));
+            }
+        }
+        ImGui::EndTable();
+    }
+    wrappedText("CPU replica vs GPU: relative difference %.2e; hierarchy error (CPU replica vs "
+                "brute force) %.2e",
+                relDiff(t.radiantExitance, d.gpuExitance),
                 relDiff(t.radiantExitance, d.bruteExitance));
-    ImGui::Text("steps: GPU %u, CPU %zu | max stack depth: GPU %u, CPU %u | evaluations: GPU %u, "
+    wrappedText("steps: GPU %u, CPU %zu | max stack depth: GPU %u, CPU %u | evaluations: GPU %u, "
                 "CPU %zu",
                 d.gpuStats.x, t.steps.size(), d.gpuStats.y, t.maxStackDepth, d.gpuStats.w,
                 t.evaluations.size());
     const bool flagged = t.flags != 0 || d.gpuStats.z != 0;
-    ImGui::TextColored(flagged ? ImVec4(1, 0.3f, 1, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1),
-                       "flags: GPU %s | CPU %s", flagText(d.gpuStats.z).c_str(),
-                       flagText(t.flags).c_str());
+    colouredText(flagged ? ImVec4(1, 0.3f, 1, 1) : ImVec4(0.6f, 0.9f, 0.6f, 1),
+                 "flags: GPU %s | CPU %s", flagText(d.gpuStats.z).c_str(),
+                 flagText(t.flags).c_str());
     if (t.closestMargin < 1e-5f)
-        ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1),
-                           "a criterion test was within %.1e of its threshold: CPU and GPU "
-                           "rounding may decide it differently",
-                           t.closestMargin);
-    if (ImGui::SmallButton("show the visited nodes in 3D (Octree panel)")) {
+        colouredText(ImVec4(1, 0.8f, 0.3f, 1),
+                     "a criterion test was within %.1e of its threshold: CPU and GPU "
+                     "rounding may decide it differently",
+                     t.closestMargin);
+    const bool show3d = ImGui::SmallButton("nodes in 3D");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("show the visited nodes in the Octree panel");
+    if (show3d) {
         ui.show(PanelId::Octree);
         ui.inspect.highlightTrace = true;
     }
@@ -88,7 +110,7 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
     sameLineIfFits(checkboxWidth("points"));
     ImGui::Checkbox("points", &ps.showPointEval);
     sameLineIfFits(itemWidth(140, "node # filter"));
-    ImGui::SetNextItemWidth(140);
+    setItemWidth(140, "node # filter");
     ImGui::InputText("node # filter", ps.filter, sizeof ps.filter);
     std::vector<int> rows;
     for (size_t i = 0; i < t.steps.size(); ++i) {
@@ -101,8 +123,9 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
     }
     ImGui::Text("%zu of %zu steps", rows.size(), t.steps.size());
     if (ImGui::BeginTable("trace", 8,
-                          ImGuiTableFlags_ScrollY | ImGuiTableFlags_RowBg |
-                              ImGuiTableFlags_Resizable | ImGuiTableFlags_BordersInnerV)) {
+                          ImGuiTableFlags_ScrollX | ImGuiTableFlags_ScrollY |
+                              ImGuiTableFlags_RowBg | ImGuiTableFlags_Resizable |
+                              ImGuiTableFlags_BordersInnerV)) {
         ImGui::TableSetupScrollFreeze(0, 1);
         for (const char* h : {"step", "node", "depth", "decision", "solid angle", "stack after",
                               "contribution (lum)", "running sum (lum)"})
