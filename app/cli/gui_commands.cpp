@@ -50,7 +50,7 @@ std::unique_ptr<Workbench> guiWorkbench(const fs::path& root, bool restore, bool
     return std::make_unique<Workbench>(root, watch);
 }
 
-int runHeadlessDefault(const fs::path& root, const std::string& outDir) {
+int runHeadlessDefault(const fs::path& root, const std::string& outDir, int width, int height) {
     fs::path out = outDir.empty() ? fs::path("out") / "default" : fs::path(outDir);
     std::error_code ec;
     fs::create_directories(out, ec);
@@ -71,6 +71,8 @@ int runHeadlessDefault(const fs::path& root, const std::string& outDir) {
     std::printf("%s", text.c_str());
     GuiOptions opt;
     opt.persistLayout = false;
+    opt.width = width;
+    opt.height = height;
     opt.screenshotPath = (out / "workbench.png").string();
     Workbench full(root, false);
     const int gui = runGui(full, *ctx, opt);
@@ -97,23 +99,38 @@ Command guiCommand() {
             auto a = std::make_shared<Args>();
             // also the program's own options, since `gui` is what runs without a command
             CLI::App& top = *cmd.get_parent();
-            top.add_flag("--headless", a->headless,
-                         "no window: record + replay the default capture and save a screenshot");
-            top.add_option("--out-dir", a->out, "where --headless writes (default out/default)");
+            CLI::Option* headlessFlag = top.add_flag(
+                "--headless", a->headless,
+                "no window: record + replay the default capture and save a screenshot");
+            CLI::Option* outDir = top.add_option(
+                "--out-dir", a->out,
+                "where --headless (or a run without a display) writes (default out/default)");
+            // They do nothing for another command, nor --out-dir for the window.
+            top.parse_complete_callback([&top, &cmd, a, headlessFlag, outDir] {
+                for (const CLI::App* other : top.get_subcommands())
+                    if (other != &cmd)
+                        for (const CLI::Option* o : {headlessFlag, outDir})
+                            if (o->count() > 0)
+                                throw CLI::ValidationError(
+                                    o->get_name(), "belongs to the GUI (the default command); " +
+                                                       other->get_name() + " does not use it");
+                if (outDir->count() > 0 && !a->headless && gl::displayAvailable())
+                    throw CLI::ValidationError(
+                        "--out-dir", "is where a headless run writes, and a display was found: "
+                                     "add --headless, or leave --out-dir out for the window");
+            });
             cmd.add_flag("--headless", a->headless, "same as the top-level --headless");
             cmd.add_flag("--restore-after-reset", a->restore,
                          "start from the state saved when the GPU driver reset the context")
                 ->group(""); // the program passes it to itself
             cmd.add_option("--size", a->size,
                            "window WxH (default: the size it had last time, else 1600x1000; "
-                           "shrunk to fit the screen's work area)");
+                           "shrunk to fit the screen's work area); headless: the screenshot's");
             return [a](CommandContext& ctx) {
                 int width = 1600, height = 1000;
                 if (!a->size.empty() && !parseSize(a->size, width, height, 320))
                     throw core::Error("--size", 0,
                                       "expected WxH between 320 and 8192, got '" + a->size + "'");
-                if (a->size.empty())
-                    if (auto last = rememberedWindowSize()) std::tie(width, height) = *last;
                 const fs::path& root = ctx.root();
                 bool headless = a->headless;
                 if (!headless && !gl::displayAvailable()) {
@@ -121,7 +138,9 @@ Command guiCommand() {
                                 "unreachable): running the default capture headless\n");
                     headless = true;
                 }
-                if (headless) return runHeadlessDefault(root, a->out);
+                if (headless) return runHeadlessDefault(root, a->out, width, height);
+                if (a->size.empty())
+                    if (auto last = rememberedWindowSize()) std::tie(width, height) = *last;
                 std::fprintf(stderr, "resources: %s\n", root.c_str());
                 auto window = gl::createWindowContext(width, height, "BSSRDF Workbench");
                 std::unique_ptr<Workbench> wb = guiWorkbench(root, a->restore, true);

@@ -18,6 +18,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fcntl.h>
@@ -510,18 +511,14 @@ TEST_F(Cli, InvertWithoutDiffuseReflectanceIntegratesTheProfile) {
 
 // ---- screenshot ---------------------------------------------------------------------------
 
-TEST_F(Cli, ScreenshotWritesPngOfRequestedSize) {
-    std::vector<std::string> args = {"screenshot", "--out",    "shot.png", "--size",
-                                     "640x400",    "--frames", "2"};
-    RunResult r = run(args);
-    ASSERT_EQ(r.code, 0) << describe(args, r);
-    const fs::path png = dir() / "shot.png";
-    ASSERT_TRUE(fs::exists(png)) << describe(args, r);
-    std::string bytes = readText(png);
-    ASSERT_GE(bytes.size(), 24u);
+namespace {
+// The width and height in a PNG's header ({0, 0} where it is not a PNG).
+std::pair<uint32_t, uint32_t> pngSize(const fs::path& png) {
+    const std::string bytes = readText(png);
     const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (bytes.size() < 24 || bytes.substr(12, 4) != "IHDR") return {0, 0};
     for (int i = 0; i < 8; ++i)
-        ASSERT_EQ(static_cast<unsigned char>(bytes[i]), sig[i]) << "PNG signature byte " << i;
+        if (static_cast<unsigned char>(bytes[size_t(i)]) != sig[i]) return {0, 0};
     // IHDR: big-endian width and height at bytes 16..23.
     auto be32 = [&](size_t o) {
         uint32_t v = 0;
@@ -529,9 +526,16 @@ TEST_F(Cli, ScreenshotWritesPngOfRequestedSize) {
             v = (v << 8) | static_cast<unsigned char>(bytes[o + i]);
         return v;
     };
-    EXPECT_EQ(bytes.substr(12, 4), "IHDR");
-    EXPECT_EQ(be32(16), 640u);
-    EXPECT_EQ(be32(20), 400u);
+    return {be32(16), be32(20)};
+}
+} // namespace
+
+TEST_F(Cli, ScreenshotWritesPngOfRequestedSize) {
+    std::vector<std::string> args = {"screenshot", "--out",    "shot.png", "--size",
+                                     "640x400",    "--frames", "2"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    EXPECT_EQ(pngSize(dir() / "shot.png"), std::make_pair(640u, 400u)) << describe(args, r);
 }
 
 TEST_F(Cli, ScreenshotRejectsBadSizeAndOutput) {
@@ -551,15 +555,37 @@ TEST_F(Cli, ScreenshotRejectsBadSizeAndOutput) {
 // pipeline) and replays it: every stage must agree with what the same run recorded. The manifest
 // once held the camera from before the mesh framed it, and the replay traced the recorded
 // G-buffer through another camera (2332 of 2336 pixels off centre).
+// --size is the screenshot's size there (else 1600x1000).
 TEST_F(Cli, HeadlessDefaultRecordsACaptureThatReplaysAndExitsZero) {
-    const std::vector<std::string> args = {"--headless", "--out-dir", "default"};
+    const std::vector<std::string> args = {"--headless", "--out-dir", "default",
+                                           "gui",        "--size",    "800x600"};
     RunResult r = run(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     EXPECT_FALSE(contains(r.output, "FAIL")) << describe(args, r);
     EXPECT_TRUE(contains(r.output, "PASS scene.gbuffer_rule")) << describe(args, r);
     EXPECT_TRUE(contains(r.output, "PASS scene.render")) << describe(args, r);
     EXPECT_TRUE(fs::exists(dir() / "default" / "capture" / "manifest.json"));
-    EXPECT_TRUE(fs::exists(dir() / "default" / "workbench.png"));
+    EXPECT_EQ(pngSize(dir() / "default" / "workbench.png"), std::make_pair(800u, 600u));
+}
+
+// The program's --headless and --out-dir belong to the GUI: given with another command (which
+// would ignore them) they are refused by name, before it runs.
+TEST_F(Cli, HeadlessAndOutDirWithAnotherCommandAreRefused) {
+    const std::vector<std::vector<std::string>> cases = {
+        {"--out-dir", "x", "profile", "--model", "materials/dipole.bssrdf", "--preset", "Skin1",
+         "--out", "p.csv"},
+        {"--headless", "profile", "--model", "materials/dipole.bssrdf", "--preset", "Skin1",
+         "--out", "p.csv"},
+        {"--headless", "bench", "reload"}};
+    for (const auto& args : cases) {
+        const RunResult r = run(args);
+        EXPECT_EQ(r.code, 2) << describe(args, r);
+        EXPECT_TRUE(contains(r.output, std::string("error: ") + args[0] +
+                                           ": belongs to the GUI (the default command); "))
+            << describe(args, r);
+    }
+    EXPECT_FALSE(fs::exists(dir() / "p.csv"));
+    EXPECT_FALSE(fs::exists(dir() / "x"));
 }
 
 // ---- help, replay -------------------------------------------------------------------------
