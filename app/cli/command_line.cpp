@@ -136,10 +136,17 @@ int runCommandLine(int argc, char** argv) {
 
     CommandContext context(rootArg);
     try {
+        CommandRun* chosen = &runs.front().second; // no command: the first (gui)
         for (auto& [cmd, run] : runs)
-            if (*cmd) return run(context);
-        return runs.front().second(context); // no command: the first (gui)
+            if (*cmd) {
+                chosen = &run;
+                break;
+            }
+        const int rc = (*chosen)(context);
+        core::progressEnd(); // a progress line the command left open
+        return rc;
     } catch (const std::exception& e) {
+        core::progressEnd();
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;
     }

@@ -247,9 +247,8 @@ int runCompareGeometryCli(const fs::path& root, const GeometryArgs& a) {
         const auto ref = geometryReference(
             c, report.settings,
             [&](uint64_t done, uint64_t total) {
-                std::fprintf(stderr, "\r%s: reference %5.1f%%   ", what.c_str(),
-                             total ? 100.0 * double(done) / double(total) : 100.0);
-                std::fflush(stderr);
+                core::progress("%s: reference %5.1f%%", what.c_str(),
+                               total ? 100.0 * double(done) / double(total) : 100.0);
             },
             stop, fromCache);
         if (!ref) break;
@@ -288,11 +287,13 @@ int runCompareGeometryCli(const fs::path& root, const GeometryArgs& a) {
             gl::writePng(fs::path(a.out) / "images" / geometryPictureName(c.shape, c.preset, ch),
                          strip.width, strip.height, strip.rgba);
         }
-        std::fprintf(stderr, "\r%s: reference %s %.1f s, models %.1f s (total %.0f s)   \n",
-                     what.c_str(), fromCache ? "from the cache" : "traced", referenceSeconds,
-                     (clock.ms() - caseStart) / 1000 - referenceSeconds, clock.ms() / 1000.0);
+        core::progress("%s: reference %s %.1f s, models %.1f s (total %.0f s)", what.c_str(),
+                       fromCache ? "from the cache" : "traced", referenceSeconds,
+                       (clock.ms() - caseStart) / 1000 - referenceSeconds, clock.ms() / 1000.0);
+        core::progressEnd(); // this case's line stays
     }
     if (stop->load()) {
+        core::progressEnd();
         std::fprintf(stderr, "error: compare --geometry: interrupted; nothing written\n");
         return kInterrupted;
     }

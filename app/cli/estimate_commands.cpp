@@ -191,7 +191,7 @@ int runEstimateCli(EstimateArgs a, const std::filesystem::path& root) {
         pathtrace::GpuBssrdfEstimator gpu(root / "shaders" / "bssrdf_walk.comp");
         return pathtrace::estimateTableGpu(gpu, a.medium, a.settings, progress, interruptFlag());
     }();
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     std::fprintf(stderr, "traced on %s\n", device.c_str());
     writeOutputs(table, a.out, a.csv, a.csvDir);
     if (interrupted()) {

@@ -91,9 +91,8 @@ std::function<void(int, double)> fitProgress(const std::string& what) {
     return [what, clock, last](int n, double best) {
         if (clock->ms() - *last < 250) return;
         *last = clock->ms();
-        std::fprintf(stderr, "\rfit%s: %d evaluations, best mean rel_err^2 %s   ", what.c_str(), n,
-                     core::formatNumber(best, 4).c_str());
-        std::fflush(stderr);
+        core::progress("fit%s: %d evaluations, best mean rel_err^2 %s", what.c_str(), n,
+                       core::formatNumber(best, 4).c_str());
     };
 }
 
@@ -104,7 +103,7 @@ FitOutcome fitWithUncertainty(const bssrdf::ModelEntry& e, const std::vector<Fit
     FitOutcome out;
     out.targets = makeTargets(media, a.thetaI, a.paths, 1, what);
     out.result = fitModel(e, vars, out.targets, s, fitProgress(what), cancel);
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     out.sigma.assign(vars.size(), std::nan(""));
     if (!a.uncertainty || interrupted()) return out;
     const std::vector<FitTarget> halfA =
@@ -112,9 +111,9 @@ FitOutcome fitWithUncertainty(const bssrdf::ModelEntry& e, const std::vector<Fit
     const std::vector<FitTarget> halfB =
         makeTargets(media, a.thetaI, a.paths / 2, 3, what + " (half B)");
     const FitResult ra = fitModel(e, vars, halfA, s, fitProgress(what + " (half A)"), cancel);
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     const FitResult rb = fitModel(e, vars, halfB, s, fitProgress(what + " (half B)"), cancel);
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     for (size_t i = 0; i < vars.size(); ++i) {
         const double stat = std::abs(ra.best[i] - rb.best[i]) / 2;
         const double bias = out.result.best[i] - (ra.best[i] + rb.best[i]) / 2;

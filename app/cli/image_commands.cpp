@@ -87,11 +87,10 @@ std::function<void(uint64_t)> progressLine(const char* what, uint64_t total,
                                            const core::Stopwatch& clock) {
     return [what, total, &clock](uint64_t done) {
         const double sec = clock.ms() / 1000.0;
-        std::fprintf(stderr, "\r%s: %5.1f%%  %llu / %llu paths  %.0f paths/s   ", what,
-                     total ? 100.0 * double(done) / double(total) : 100.0,
-                     static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
-                     sec > 0 ? double(done) / sec : 0.0);
-        std::fflush(stderr);
+        core::progress("%s: %5.1f%%  %llu / %llu paths  %.0f paths/s", what,
+                       total ? 100.0 * double(done) / double(total) : 100.0,
+                       static_cast<unsigned long long>(done),
+                       static_cast<unsigned long long>(total), sec > 0 ? double(done) / sec : 0.0);
     };
 }
 
@@ -146,7 +145,7 @@ int runSphereCli(const ImageArgs& a) {
     pathtrace::ImageStats st;
     const pathtrace::Image img = pathtrace::traceLitSphere(
         k.media, k.setup, progressLine("sphere", total, clock), nullptr, {}, &st);
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     return finish(a, "sphere", img, st, ", radius " + core::formatNumber(a.radiusMm, 6) + " mm");
 }
 
@@ -159,7 +158,7 @@ int runMeshCli(const ImageArgs& a) {
     pathtrace::ImageStats st;
     const pathtrace::Image img =
         mesh.trace(k.media, k.setup, progressLine("mesh", total, clock), nullptr, {}, &st);
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     uint64_t leaks = 0;
     for (const auto& ch : st.channel)
         leaks += ch.leaks;

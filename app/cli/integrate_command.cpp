@@ -137,11 +137,10 @@ int runIntegrateCli(const fs::path& root, const IntegrateArgs& a) {
         const int batch = int(std::min<uint64_t>(a.spp - done, 4));
         ig->step(batch, stop);
         done = ig->samplesPerPixelDone();
-        std::fprintf(stderr, "\rintegrate: %llu / %llu samples per pixel  %.1f s   ",
-                     (unsigned long long)done, (unsigned long long)a.spp, clock.ms() / 1000.0);
-        std::fflush(stderr);
+        core::progress("integrate: %llu / %llu samples per pixel  %.1f s", (unsigned long long)done,
+                       (unsigned long long)a.spp, clock.ms() / 1000.0);
     }
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     pathtrace::writeExr(a.out, ig->image());
     const auto rm = ig->radiusMax();
     std::printf("%s: %s sampling%s, %llu samples per pixel, %llu model evaluations, %.2f s%s\n",

@@ -52,11 +52,10 @@ std::string pathRate(uint64_t done, double seconds) {
 }
 
 void printPathProgress(const char* what, uint64_t done, uint64_t total, double seconds) {
-    std::fprintf(stderr, "\r%s: %5.1f%%  %llu / %llu paths  %s   ", what,
-                 total ? 100.0 * double(done) / double(total) : 100.0,
-                 static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
-                 pathRate(done, seconds).c_str());
-    std::fflush(stderr);
+    core::progress("%s: %5.1f%%  %llu / %llu paths  %s", what,
+                   total ? 100.0 * double(done) / double(total) : 100.0,
+                   static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
+                   pathRate(done, seconds).c_str());
 }
 
 } // namespace app

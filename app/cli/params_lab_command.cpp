@@ -137,11 +137,10 @@ int runLab(const fs::path& root, const LabArgs& a) {
     const std::vector<LabCase> cases = runParamsLab(
         wb, a.lab,
         [&](size_t done, size_t total) {
-            std::fprintf(stderr, "\rparams-lab: %zu of %zu cases   ", done, total);
-            std::fflush(stderr);
+            core::progress("params-lab: %zu of %zu cases", done, total);
         },
         interruptFlag());
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
 
     const fs::path out(a.out);
     std::ostringstream csv;

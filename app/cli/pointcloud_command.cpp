@@ -54,11 +54,10 @@ int runPointCloudCli(const PointCloudArgs& a) {
     const pointcloud::Generated g = pointcloud::generate(
         m, o, a.useCache ? pointcloud::defaultCacheDir() : "", [&](int done, int total) {
             if (clock.ms() < 1000) return; // runs shorter than a second print no progress
-            std::fprintf(stderr, "\rpointcloud: relaxation %d / %d iterations  %.1f s   ", done,
-                         total, clock.ms() / 1000.0);
-            std::fflush(stderr);
+            core::progress("pointcloud: relaxation %d / %d iterations  %.1f s", done, total,
+                           clock.ms() / 1000.0);
         });
-    if (clock.ms() >= 1000) std::fprintf(stderr, "\n");
+    core::progressEnd();
     pointcloud::writePly(a.out, g.cloud);
     const pointcloud::Uniformity u = pointcloud::measureUniformity(g.cloud, o.threads);
     std::printf("%zu points (%s, seed %llu) on %s: area %.6g units^2, %s %.1f ms\n",

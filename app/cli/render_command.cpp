@@ -50,7 +50,7 @@ int writeTextureSpace(Workbench& wb, const RenderArgs& a, core::Stopwatch& clock
     wb.textureSpaceSettings() = a.textureSpace;
     wb.textureSpaceSettings().sampling.hybrid = a.renderer == "hybrid";
     wb.finishTextureSpace();
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     const TextureSpaceStage& ts = wb.textureSpace();
     const texspace::Pipeline& p = *ts.pipeline();
     const litsphere::Image img = ts.radiance();
@@ -242,11 +242,10 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     // is generated, with the time so far.
     auto progress = [&clock](const char* step, double fraction) {
         if (fraction >= 0)
-            std::fprintf(stderr, "\rrender: %s %5.1f%%  %.1f s   ", step, 100.0 * fraction,
-                         clock.ms() / 1000.0);
+            core::progress("render: %s %5.1f%%  %.1f s", step, 100.0 * fraction,
+                           clock.ms() / 1000.0);
         else
-            std::fprintf(stderr, "\rrender: %s ...  %.1f s          ", step, clock.ms() / 1000.0);
-        std::fflush(stderr);
+            core::progress("render: %s ...  %.1f s", step, clock.ms() / 1000.0);
     };
     wb.update();
     wb.finishScene(progress);
@@ -261,7 +260,7 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     s.render.camera.pitch = r.camera.pitch;
     wb.finishScene(progress);
     if (textureSpace) return writeTextureSpace(wb, a, clock, progress);
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     const render::Readback rb = wb.scene().readback();
     const pathtrace::Image img = hdrImage(rb);
     const size_t pixels = size_t(rb.width) * size_t(rb.height);

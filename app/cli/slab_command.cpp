@@ -203,7 +203,7 @@ int runSlabCli(const SlabArgs& a) {
         const auto [first, last] = pathtrace::shardChunks(e, shard, n);
         core::Stopwatch clock;
         const auto table = pathtrace::estimateTable(k.m, e, first, last, progressLine(k.s, clock));
-        std::fprintf(stderr, "\n");
+        core::progressEnd();
         pathtrace::writeTable(a.out, table);
         std::fprintf(stderr, "wrote %s (shard %s, %llu paths)\n", a.out.c_str(), a.shard.c_str(),
                      static_cast<unsigned long long>(table.tallies[0].paths));
@@ -212,7 +212,7 @@ int runSlabCli(const SlabArgs& a) {
     core::Stopwatch clock;
     const pathtrace::SlabResult r =
         pathtrace::runSlab(k.m, k.s, progressLine(k.s, clock), interruptFlag());
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     if (interrupted()) {
         // what is done so far: the completed prefix of chunks, marked partial in the header
         writeSlabCsv(a.out, k.m, k.s, r, "CPU", true);
@@ -236,7 +236,7 @@ int runSlabGpuCli(const std::filesystem::path& root, const SlabArgs& a) {
     auto progress = progressLine(k.s, clock);
     while (!tracer.finished())
         progress(tracer.step(pathtrace::GpuSlabTracer::kMaxPathsPerRound));
-    std::fprintf(stderr, "\n");
+    core::progressEnd();
     pathtrace::SlabResult r = pathtrace::finalize(tracer.tally(), k.s);
     r.seconds = tracer.seconds();
     pathtrace::SlabSettings traced = k.s;

@@ -94,11 +94,9 @@ pathtrace::SlabResult slabReference(const pathtrace::Medium& m, const pathtrace:
     core::Stopwatch clock;
     pathtrace::SlabResult r = pathtrace::runSlab(m, s, [&](uint64_t done) {
         if (clock.ms() < 1000) return;
-        std::fprintf(stderr, "\r%s  %5.1f%%   ", what.c_str(),
-                     100.0 * double(done) / double(s.paths));
-        std::fflush(stderr);
+        core::progress("%s  %5.1f%%", what.c_str(), 100.0 * double(done) / double(s.paths));
     });
-    if (clock.ms() >= 1000) std::fprintf(stderr, "\n");
+    core::progressEnd();
     if (std::string p = pathtrace::energyProblem(r); !p.empty())
         throw core::Error("reference", 0, what + ": " + p);
     if (!file.empty()) {

@@ -124,11 +124,10 @@ pathtrace::BssrdfSlice obliqueReference(const pathtrace::Medium& m,
     const pathtrace::BssrdfTally t =
         pathtrace::estimateChunks(m, s, 0, 0, pathtrace::chunkCount(s), [&](uint64_t done) {
             if (clock.ms() < 1000) return;
-            std::fprintf(stderr, "\rreference %s  %5.1f%%   ", what.c_str(),
-                         100.0 * double(done) / double(s.paths));
-            std::fflush(stderr);
+            core::progress("reference %s  %5.1f%%", what.c_str(),
+                           100.0 * double(done) / double(s.paths));
         });
-    if (clock.ms() >= 1000) std::fprintf(stderr, "\n");
+    core::progressEnd();
     const pathtrace::BssrdfSlice slice = pathtrace::finalize(t, s.bins, s.thetaIDeg.at(0), m);
     if (std::string p = pathtrace::energyProblem(slice, s.orders); !p.empty())
         throw core::Error("reference", 0, what + ": " + p);

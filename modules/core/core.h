@@ -62,6 +62,14 @@ void logClear();
 void setLogEchoLevel(LogLevel minLevel); // entries at or above go to stderr (default Warn)
 const char* logLevelName(LogLevel level);
 
+// ---- progress lines ---------------------------------------------------------------------------
+// A long run's progress: one line on stderr, rewritten in place (printf format, without "\r" or
+// padding). Whatever goes to stderr next through here — the log's echo, progressEnd() before a
+// command's result or its `error: …` — first ends the line, so no message starts after a
+// percentage. Thread-safe (progress callbacks come from worker threads).
+void progress(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+void progressEnd(); // ends an open progress line with a newline; nothing when none is open
+
 // ---- files and text -------------------------------------------------------------------------
 // Reads a whole file as bytes; throws Error(path, 0, ...) when it cannot be opened.
 std::string readFile(const std::filesystem::path& path);

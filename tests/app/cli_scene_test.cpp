@@ -252,6 +252,9 @@ TEST_F(CliScene, AFailedMeshIsOneErrorAndTheRunStopsThere) {
     EXPECT_NE(r.output.find("no triangles"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("point cloud"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("render: render"), std::string::npos) << r.output;
+    // the progress line ("\rrender: mesh ...") is ended before the error, which starts a line
+    EXPECT_NE(r.output.find("render: mesh"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("\nerror: "), std::string::npos) << r.output;
 }
 
 TEST_F(CliScene, RenderRejectsBadArguments) {

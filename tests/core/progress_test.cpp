@@ -1,0 +1,53 @@
+// core::progress (core.h): the progress line on stderr is rewritten in place, padded over a
+// longer one before it, and ended with a newline before the log's echo or at progressEnd, so
+// no message starts after a percentage. stderr is redirected to a real file for the test.
+#include "core/core.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <unistd.h>
+
+namespace {
+
+// Everything written to stderr while `body` runs.
+template <class Body> std::string stderrOf(Body body) {
+    const std::filesystem::path file =
+        std::filesystem::temp_directory_path() / ("bw_progress_" + std::to_string(getpid()));
+    std::fflush(stderr);
+    const int saved = dup(fileno(stderr));
+    FILE* f = std::fopen(file.c_str(), "wb");
+    EXPECT_NE(f, nullptr);
+    dup2(fileno(f), fileno(stderr));
+    body();
+    std::fflush(stderr);
+    dup2(saved, fileno(stderr));
+    close(saved);
+    std::fclose(f);
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    std::filesystem::remove(file);
+    return text.str();
+}
+
+} // namespace
+
+TEST(Progress, LinesAreRewrittenInPlaceAndEndedBeforeTheNextMessage) {
+    const std::string out = stderrOf([] {
+        core::progress("slab: %5.1f%%", 50.0);
+        core::progress("slab: %d%%", 7); // shorter: spaces over the rest of the last one
+        core::logWarn("a warning");      // starts on a line of its own
+        core::progress("render: %s", "irradiance");
+        core::progressEnd();
+        core::progressEnd(); // nothing open: nothing written
+        core::logWarn("after the end");
+    });
+    EXPECT_EQ(out, "\rslab:  50.0%\rslab: 7%    \n[warning] a warning\n\rrender: irradiance\n"
+                   "[warning] after the end\n");
+}
