@@ -1,5 +1,6 @@
 // The ImGui file dialog (file_dialog.h).
 #include "gui/file_dialog.h"
+#include "gui/widgets.h"
 
 #include "core/core.h"
 

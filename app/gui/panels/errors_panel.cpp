@@ -1,6 +1,7 @@
 // Errors panel: the current problems (file:line: message), one entry per problem; Log panel:
 // the log, filtered by level.
 #include "gui/panels/panels.h"
+#include "gui/widgets.h"
 
 #include "core/core.h"
 

@@ -1,6 +1,7 @@
 // Models panel: every loaded .bssrdf, its attributes, visibility, a problem marker with the
 // error on hover, and the model's own parameters (sliders/checkboxes/colour pickers).
 #include "gui/panels/panels.h"
+#include "gui/widgets.h"
 
 #include <imgui.h>
 
