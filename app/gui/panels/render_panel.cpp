@@ -212,10 +212,6 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     SceneStage& scene = wb.scene();
     render::Settings& r = scene.settings().render;
     drawModelChoice(wb, scene.settings().model);
-    setItemWidth(160, "eps");
-    ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
-    sameLineIfFits(checkboxWidth("bounding-box criterion"));
-    ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
     sameLineIfFits(itemWidth(220, "renderer"));
     bool& hybrid = wb.textureSpaceSettings().sampling.hybrid;
     int renderer = ps.mode == RenderMode::MonteCarlo     ? 2
@@ -239,6 +235,30 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                           "by every pixel, progressive over sets\nhybrid: R_d split at R_p into "
                           "a local part (light-view map, ring filter) and a global part (texture "
                           "space)");
+    // The octree's settings: brute force evaluates every point and has none.
+    const bool bruteForce = ps.mode == RenderMode::PointCloud && r.bruteForce;
+    auto octreeOnly = [bruteForce](const char* tip) {
+        if (!ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) return;
+        if (bruteForce)
+            ImGui::SetTooltip("the hierarchical renderer's (brute force evaluates every point)");
+        else if (tip)
+            ImGui::SetTooltip("%s", tip);
+    };
+    ImGui::BeginDisabled(bruteForce);
+    setItemWidth(160, "eps");
+    ImGui::SliderFloat("eps", &r.eps, 0.001f, 20.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
+    octreeOnly("the criterion's threshold: a node is accepted when A / d^2 < eps, d the "
+               "distance to its mean position, or to its box with the bounding-box criterion "
+               "(defaults 0.05 and 4)");
+    sameLineIfFits(checkboxWidth("bounding-box criterion"));
+    ImGui::Checkbox("bounding-box criterion", &r.boundingBoxCriterion);
+    octreeOnly(nullptr);
+    sameLineIfFits(checkboxWidth("2nd-order clusters"));
+    ImGui::Checkbox("2nd-order clusters", &r.secondOrder);
+    octreeOnly("an accepted node is evaluated at three points that match its "
+               "irradiance-weighted covariance (exact to second order) instead of at its mean "
+               "position");
+    ImGui::EndDisabled();
     setItemWidth(120, "exposure");
     ImGui::SliderFloat("exposure", &r.exposure, -10.0f, 10.0f, "%.1f EV");
     sameLineIfFits(itemWidth(100, "gamma"));
@@ -249,12 +269,6 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip(
             "radial models: call Bssrdf() per evaluation instead of the profile table");
-    sameLineIfFits(checkboxWidth("2nd-order clusters"));
-    ImGui::Checkbox("2nd-order clusters", &r.secondOrder);
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("an accepted node is evaluated at three points that match its "
-                          "irradiance-weighted covariance (exact to second order) instead of "
-                          "at its mean position");
     int size[2] = {r.width, r.height};
     setItemWidth(140, "size");
     if (inputInt2Committed("size", size)) {
