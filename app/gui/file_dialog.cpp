@@ -1,6 +1,5 @@
 // The ImGui file dialog (file_dialog.h).
 #include "gui/file_dialog.h"
-#include "gui/widgets.h"
 
 #include "core/core.h"
 
@@ -76,11 +75,12 @@ std::optional<fs::path> drawFileDialog(FileDialogState& st, const std::string& e
     std::optional<fs::path> chosen;
     if (ImGui::Button("Up") && st.dir.has_parent_path()) enter(st, st.dir.parent_path());
     ImGui::SameLine();
-    setItemWidth(480, "##dialogpath");
+    ImGui::SetNextItemWidth(480);
     const bool typedEnter = ImGui::InputText("##dialogpath", st.path, sizeof st.path,
                                              ImGuiInputTextFlags_EnterReturnsTrue);
     ImGui::TextDisabled("%s", st.dir.string().c_str());
-    if (!st.problem.empty()) colouredText(ImVec4(1, 0.45f, 0.45f, 1), "%s", st.problem.c_str());
+    if (!st.problem.empty())
+        ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", st.problem.c_str());
     ImGui::BeginChild("entries", ImVec2(560, 300), true);
     for (int i = 0; i < int(st.entries.size()); ++i) {
         const DirEntry& e = st.entries[size_t(i)];
