@@ -190,8 +190,9 @@ TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
 }
 
 // At the smallest window the layout supports, the panels with everything they show while
-// working — the reference's progress, the lit spheres' images and statistics, each renderer's
-// controls, the A/B split, a traced pixel, a long error — still fit their width.
+// working — the reference's progress, the lit spheres' images and statistics, the BSSRDF
+// slice's maps, each renderer's controls, the A/B split, a traced pixel, a long error — still
+// fit their width.
 TEST(WorkspaceLayout, BusyPanelsFitTheirWidthAt800x600) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("layoutbusy", {"dipole.bssrdf"});
@@ -204,6 +205,12 @@ TEST(WorkspaceLayout, BusyPanelsFitTheirWidthAt800x600) {
     ls.size = 16;
     ls.pathSpp = 2;
     ls.integratedSpp = 16;
+    app::SliceSettings& sl = wb.sliceSettings();
+    sl.enabled = true;
+    sl.rBins = 6;
+    sl.thetaSBins = 4;
+    sl.paths = 20000;
+    sl.device = app::TracerDevice::Cpu;
     wb.reportActionError(
         "materials/dipole.bssrdf:12: a long problem, as a compiler writes them, that names the "
         "file, the line and what was expected there: 'Bssrdf' : no matching overloaded function "
@@ -215,6 +222,7 @@ TEST(WorkspaceLayout, BusyPanelsFitTheirWidthAt800x600) {
     gui.frame();
     wb.finishScene();
     wb.finishLitSpheres();
+    wb.finishSlice(); // its heat maps, legend and the hovered cell's figures
     ui.shared.inspect.debug = wb.scene().debugPixel(48, 27);
     ui.render.abSplit = true;
     const char* dir = std::getenv("BW_PANEL_PNG_DIR");
