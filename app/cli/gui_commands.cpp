@@ -26,6 +26,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// "WxH" of the GUI's default size (GuiOptions).
+std::string defaultSizeText() {
+    const GuiOptions d;
+    return std::to_string(d.width) + "x" + std::to_string(d.height);
+}
+
 // Starts the program again after a GPU driver reset (gui.h, kGlResetRestart): the same command
 // with --restore-after-reset, on a new context, from the state runGui saved. Returns only when
 // it cannot (exit 1 with the reason).
@@ -124,10 +130,12 @@ Command guiCommand() {
                          "start from the state saved when the GPU driver reset the context")
                 ->group(""); // the program passes it to itself
             cmd.add_option("--size", a->size,
-                           "window WxH (default: the size it had last time, else 1600x1000; "
-                           "shrunk to fit the screen's work area); headless: the screenshot's");
+                           "window WxH (default: the size it had last time, else " +
+                               defaultSizeText() +
+                               "; shrunk to fit the screen's work area); headless: the "
+                               "screenshot's");
             return [a](CommandContext& ctx) {
-                int width = 1600, height = 1000;
+                int width = GuiOptions{}.width, height = GuiOptions{}.height;
                 if (!a->size.empty() && !parseSize(a->size, width, height, 320))
                     throw core::Error("--size", 0,
                                       "expected WxH between 320 and 8192, got '" + a->size + "'");
@@ -160,15 +168,16 @@ Command screenshotCommand() {
     return {"screenshot", "run the full GUI headless and save a PNG", false,
             [](CLI::App& cmd) -> CommandRun {
                 struct Args {
-                    std::string out, size = "1600x1000";
-                    int frames = 3;
+                    std::string out, size = defaultSizeText();
+                    int frames = GuiOptions{}.frames;
                     bool restore = false;
                 };
                 auto a = std::make_shared<Args>();
                 cmd.add_option("--out", a->out, "PNG file")->required();
                 cmd.add_option("--frames", a->frames, "frames to run before saving")
-                    ->check(CLI::Range(1, 10000));
-                cmd.add_option("--size", a->size, "WxH in pixels");
+                    ->check(CLI::Range(1, 10000))
+                    ->capture_default_str();
+                cmd.add_option("--size", a->size, "WxH in pixels")->capture_default_str();
                 cmd.add_flag("--restore-after-reset", a->restore,
                              "start from the state saved when the GPU driver reset the context")
                     ->group("");

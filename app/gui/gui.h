@@ -21,7 +21,9 @@ inline constexpr double kFrameWaitSeconds = 0.03;
 
 struct GuiOptions {
     int width = 1600, height = 1000;
-    int frames = 3;             // headless: frames to run before the screenshot
+    // headless: frames to run before the screenshot; the layout has settled by the fourth (a
+    // window is laid out once before ImGui knows whether it needs a scrollbar)
+    int frames = 5;
     std::string screenshotPath; // headless: PNG of what a user would see
     bool persistLayout = true;  // load/save window layout and panel visibility
 };
