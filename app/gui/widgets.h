@@ -50,7 +50,10 @@ void sameLineIfFits(float width);
 // Never under four characters.
 void setItemWidth(float width, const char* label);
 float fittingWidth(float width, const char* label = "");
-// From the cursor to the window's visible right edge, in pixels.
+// From the cursor to the window's visible right edge, in pixels, a vertical scrollbar's width
+// left free whether or not one is shown: an item sized by it keeps its size when the scrollbar
+// comes or goes (sized by the content region, an item whose height needs the scrollbar only
+// at the wider width makes the panel flip between the two layouts every frame).
 float visibleWidth();
 // Where the last item was drawn (screen px), recorded by panels for clicks in tests.
 Rect lastItem();

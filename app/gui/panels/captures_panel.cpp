@@ -210,7 +210,7 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
             continue;
         }
         hintText("recorded | replayed | difference (colour ramp over 0 to 2x the tolerance)");
-        const float w = std::max(120.0f, ImGui::GetContentRegionAvail().x);
+        const float w = std::max(120.0f, visibleWidth());
         ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(p.tex.id())),
                      ImVec2(w, w * float(p.height) / float(std::max(1, p.width))));
     }

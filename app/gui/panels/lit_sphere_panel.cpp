@@ -132,7 +132,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     ps.relSe[1] = relativeStandardError(b);
     wrappedText("relative standard error (median over lit pixels): path traced %s, integrated %s",
                 pct(ps.relSe[0]).c_str(), pct(ps.relSe[1]).c_str());
-    const float avail = ImGui::GetContentRegionAvail().x;
+    const float avail = visibleWidth();
     if (ImGui::BeginTabBar("views")) {
         const char* names[4] = {"Path traced", "BSSRDF integrated", "Side by side", "Difference"};
         // a view chosen from outside (state restore, tests) selects its tab once

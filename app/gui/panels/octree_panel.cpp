@@ -90,7 +90,7 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
         hintText("visited nodes: grey recurse, orange node evaluated, green leaf "
                  "points; magenta: the receiver");
     updateBoxes(wb, ps, ui, *t);
-    ImVec2 avail = ImGui::GetContentRegionAvail();
+    const ImVec2 avail(visibleWidth(), ImGui::GetContentRegionAvail().y);
     const float side = std::max(120.0f, std::min(avail.x, avail.y - 170));
     float px = 0, py = 0;
     if (inspectorImage(wb, ui, *ps.view, ImVec2(side, side), 2.0f, px, py)) {

@@ -136,7 +136,7 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
                 ui.inspect.colorBy == PointColor::Area         ? "units^2"
                 : ui.inspect.colorBy == PointColor::Irradiance ? "(E_t luminance)"
                                                                : "(L_o luminance; grey: hidden)");
-    ImVec2 avail = ImGui::GetContentRegionAvail();
+    const ImVec2 avail(visibleWidth(), ImGui::GetContentRegionAvail().y);
     const float side = std::max(120.0f, std::min(avail.x, avail.y - 40));
     float px = 0, py = 0;
     std::vector<glm::vec3> pos;

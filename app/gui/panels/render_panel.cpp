@@ -376,7 +376,9 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                                                          : "(magenta: flagged)");
         }
     }
-    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    // (widths from visibleWidth: the same with or without the vertical scrollbar, so a size that
+    // needs the scrollbar only at the wider width cannot make the panel flip between the two)
+    const ImVec2 avail(visibleWidth(), ImGui::GetContentRegionAvail().y);
     const float width = std::max(160.0f, std::min(avail.x, (avail.y - 24.0f) * float(f.width) /
                                                                float(std::max(f.height, 1))));
     int px = -1, py = -1;

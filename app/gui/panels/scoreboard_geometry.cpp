@@ -152,7 +152,7 @@ void drawGeometryScores(Workbench& wb, ScoreboardPanelState& ps) {
     const GeometryCell* sel = st.cell(ps.geometryModel, ps.geometryShape);
     const ChannelImage* ref = st.reference(ps.geometryShape);
     if (!sel || !ref || !sel->image) return;
-    const float side = std::clamp((ImGui::GetContentRegionAvail().x - 16) / 3, 96.0f, 320.0f);
+    const float side = std::clamp((visibleWidth() - 16) / 3, 96.0f, 320.0f);
     const double white = whitePoint(*ref);
     wrappedText("%s on %s: reference | model | signed error (model - reference) / reference, "
                 "+-%s %% saturates",

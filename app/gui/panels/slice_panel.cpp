@@ -315,7 +315,7 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
         }
     }
 
-    const float avail = ImGui::GetContentRegionAvail().x;
+    const float avail = visibleWidth();
     const float gap = ImGui::GetStyle().ItemSpacing.x;
     // three in a row where they fit (a few pixels of slack for rounding), else they wrap; in a
     // row they also fit the height left (title, two colour-bar lines and the readout below), so

@@ -20,7 +20,7 @@ namespace {
 void showSquare(RenderPanelState& ps, const Rgba8Image& im, const texspace::SampleSet* dots) {
     if (im.width == 0) return;
     gl::uploadRGBA8(ps.tsTex, im.width, im.height, im.rgba.data());
-    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    const ImVec2 avail(visibleWidth(), ImGui::GetContentRegionAvail().y);
     const float side = std::max(128.0f, std::min(avail.x, avail.y - 24.0f));
     const ImVec2 o = ImGui::GetCursorScreenPos();
     ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ps.tsTex.id())),
