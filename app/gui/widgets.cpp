@@ -24,9 +24,8 @@ void samplingChoice(const char* label, integrate::Sampling& s, sampling::AxisSch
                           "from the model's own profile, MIS over three axes and the channels "
                           "(King et al. 2013)");
     if (s != integrate::Sampling::Disk) return;
-    sameLineIfFits(itemWidth(150, "axes"));
     int a = static_cast<int>(axes);
-    setItemWidth(150, "axes");
+    sameLineItem(150, "axes");
     if (ImGui::Combo("axes", &a,
                      "N, T, B: 1/3 each\0N 1/2, T, B 1/4\0N only\0N 2, T 1, B 1 per sample\0"))
         axes = static_cast<sampling::AxisScheme>(a);
@@ -73,6 +72,11 @@ float fittingWidth(float width, const char* label) {
 
 void setItemWidth(float width, const char* label) {
     ImGui::SetNextItemWidth(fittingWidth(width, label));
+}
+
+void sameLineItem(float width, const char* label) {
+    sameLineIfFits(itemWidth(width, label));
+    setItemWidth(width, label);
 }
 
 std::string breakLines(const std::string& text, float width) {
@@ -203,8 +207,7 @@ bool inputIntCommitted(const char* label, int* v, int step, int stepFast) {
 }
 
 bool exitSamplesInput(int& samples) {
-    sameLineIfFits(itemWidth(90, "exit samples"));
-    setItemWidth(90, "exit samples");
+    sameLineItem(90, "exit samples");
     const bool changed = inputIntCommitted("exit samples", &samples);
     if (changed) samples = std::clamp(samples, 0, 64);
     if (ImGui::IsItemHovered())

@@ -50,6 +50,9 @@ void sameLineIfFits(float width);
 // Never under four characters.
 void setItemWidth(float width, const char* label);
 float fittingWidth(float width, const char* label = "");
+// The next item (`width` px wide with `label`) on the line of the one before when it fits
+// there (sameLineIfFits), at setItemWidth's width.
+void sameLineItem(float width, const char* label);
 // From the cursor to the window's visible right edge, in pixels, a vertical scrollbar's width
 // left free whether or not one is shown: an item sized by it keeps its size when the scrollbar
 // comes or goes (sized by the content region, an item whose height needs the scrollbar only
@@ -89,8 +92,7 @@ float itemWidth(float frame, const char* label);
 // A combo of every value of a named enum (core/fields.h: enumNames), `width` pixels wide, on
 // the same line as the item before when it fits; true when the user picked another value.
 template <core::NamedEnum E> bool enumCombo(const char* label, E& value, float width) {
-    sameLineIfFits(itemWidth(width, label));
-    ImGui::SetNextItemWidth(width);
+    sameLineItem(width, label);
     bool changed = false;
     if (ImGui::BeginCombo(label, core::nameOf(value))) {
         for (const auto& [v, name] : enumNames(E{}))

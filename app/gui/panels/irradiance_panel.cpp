@@ -70,14 +70,12 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         setItemWidth(120, "shadow map");
         if (inputIntCommitted("shadow map", &l.shadowMapSize, 256))
             l.shadowMapSize = std::clamp(l.shadowMapSize, 16, 8192);
-        sameLineIfFits(itemWidth(100, "offset"));
-        setItemWidth(100, "offset");
+        sameLineItem(100, "offset");
         ImGui::DragFloat("offset", &l.depthOffset, 1e-4f, 0.0f, 0.1f, "%.4f");
         if (l.filter == irradiance::ShadowFilter::OffsetPcfJitter) {
             setItemWidth(120, "lookups");
             ImGui::SliderInt("lookups", &l.jitterSamples, 1, 16);
-            sameLineIfFits(itemWidth(100, "radius [texels]"));
-            setItemWidth(100, "radius [texels]");
+            sameLineItem(100, "radius [texels]");
             ImGui::SliderFloat("radius [texels]", &l.jitterRadius, 0.0f, 8.0f);
         }
         if (l.mode == irradiance::LightMode::Filtered) {
@@ -96,15 +94,13 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         }
         setItemWidth(120, "intensity");
         ImGui::DragFloat("intensity", &l.envIntensity, 0.01f, 0.0f, 100.0f, "%.3g");
-        sameLineIfFits(itemWidth(120, "rotation"));
-        setItemWidth(120, "rotation");
+        sameLineItem(120, "rotation");
         ImGui::SliderAngle("rotation", &l.envRotation, -180.0f, 180.0f);
         if (l.mode == irradiance::LightMode::OccludedIbl) {
             setItemWidth(120, "samples");
             if (inputIntCommitted("samples", &l.occludedTotalSamples, 64))
                 l.occludedTotalSamples = std::clamp(l.occludedTotalSamples, 1, 1 << 20);
-            sameLineIfFits(itemWidth(100, "per frame"));
-            setItemWidth(100, "per frame");
+            sameLineItem(100, "per frame");
             ImGui::SliderInt("per frame", &l.occludedSamplesPerStep, 1, 64);
             ImGui::ProgressBar(scene.occludedProgress(), ImVec2(240, 0));
             if (scene.occludedRunning()) {

@@ -69,24 +69,20 @@ void colourBar(float range) {
 void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     LitSphereSettings& s = wb.litSphereSettings();
     ImGui::Checkbox("render", &s.enabled);
-    sameLineIfFits(itemWidth(110, "radius [mm]"));
     float radius = float(s.radiusMm);
-    setItemWidth(110, "radius [mm]");
+    sameLineItem(110, "radius [mm]");
     if (ImGui::DragFloat("radius [mm]", &radius, 0.1f, 0.1f, 1000.0f, "%.3g"))
         s.radiusMm = std::max(radius, 0.01f);
-    sameLineIfFits(itemWidth(200, "light dir"));
-    setItemWidth(200, "light dir");
+    sameLineItem(200, "light dir");
     if (ImGui::SliderFloat3("light dir", &s.lightDir.x, -1.0f, 1.0f, "%.2f")) {
         if (std::abs(s.lightDir[0]) + std::abs(s.lightDir[1]) + std::abs(s.lightDir[2]) < 1e-3f)
             s.lightDir[2] = 1.0f;
     }
     setItemWidth(90, "size");
     if (inputIntCommitted("size", &s.size, 32)) s.size = std::clamp(s.size, 16, 1024);
-    sameLineIfFits(itemWidth(90, "path spp"));
-    setItemWidth(90, "path spp");
+    sameLineItem(90, "path spp");
     if (inputIntCommitted("path spp", &s.pathSpp, 16)) s.pathSpp = std::clamp(s.pathSpp, 1, 100000);
-    sameLineIfFits(itemWidth(110, "BSSRDF spp"));
-    setItemWidth(110, "BSSRDF spp");
+    sameLineItem(110, "BSSRDF spp");
     if (inputIntCommitted("BSSRDF spp", &s.integratedSpp, 1024))
         s.integratedSpp = std::clamp(s.integratedSpp, 1, 10000000);
     sameLineIfFits(checkboxWidth("GPU path tracer"));
@@ -104,8 +100,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     samplingChoice("BSSRDF sampling", s.sampling, s.axes);
     setItemWidth(120, "exposure");
     ImGui::SliderFloat("exposure", &ps.exposure, -10.0f, 10.0f, "%.1f EV");
-    sameLineIfFits(itemWidth(120, "gamma"));
-    setItemWidth(120, "gamma");
+    sameLineItem(120, "gamma");
     ImGui::SliderFloat("gamma", &ps.gamma, 0.5f, 4.0f, "%.2f");
     if (!s.enabled) {
         hintText("Renders the first visible (or soloed) model's material both ways.");

@@ -28,17 +28,14 @@ void drawReferenceControls(Workbench& wb) {
             "Volumetric path tracer on the slab (MCML convention), renormalised\n"
             "to unit power entering: R_d(r) / (1 - R_sp). Band: +-2 standard errors.");
     if (!rs.enabled) return;
-    sameLineIfFits(itemWidth(110, "x1e5 paths/ch"));
     int millions = int(rs.paths / 100000);
-    setItemWidth(110, "x1e5 paths/ch");
+    sameLineItem(110, "x1e5 paths/ch");
     if (inputIntCommitted("x1e5 paths/ch", &millions, 5))
         rs.paths = uint64_t(std::clamp(millions, 1, 100000)) * 100000;
-    sameLineIfFits(itemWidth(90, "bins"));
-    setItemWidth(90, "bins");
+    sameLineItem(90, "bins");
     if (inputIntCommitted("bins", &rs.bins, 25)) rs.bins = std::clamp(rs.bins, 10, 5000);
-    sameLineIfFits(itemWidth(80, "seed"));
     int seed = int(rs.seed);
-    setItemWidth(80, "seed");
+    sameLineItem(80, "seed");
     if (inputIntCommitted("seed", &seed)) rs.seed = uint64_t(std::max(seed, 0));
     enumCombo("estimator", rs.estimator, 110);
     if (ImGui::IsItemHovered())
@@ -88,11 +85,9 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     ps.yScale = static_cast<plot::Scale>(scale);
     sameLineIfFits(checkboxWidth("r * R(r)"));
     ImGui::Checkbox("r * R(r)", &ps.rTimesR);
-    sameLineIfFits(itemWidth(100, "channel"));
-    setItemWidth(100, "channel");
+    sameLineItem(100, "channel");
     ImGui::Combo("channel", &ps.channel, "red\0green\0blue\0luminance\0");
-    sameLineIfFits(itemWidth(160, "solo"));
-    setItemWidth(160, "solo");
+    sameLineItem(160, "solo");
     if (ImGui::BeginCombo("solo", ps.solo.empty() ? "(all models)" : ps.solo.c_str())) {
         if (ImGui::Selectable("(all models)", ps.solo.empty())) ps.solo.clear();
         for (auto& e : wb.library().entries())
@@ -109,8 +104,7 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
         ps.samples = std::clamp(ps.samples, int(samplesLim.lo), int(samplesLim.hi));
     sameLineIfFits(checkboxWidth("fixed range"));
     ImGui::Checkbox("fixed range", &ps.fixedRange);
-    sameLineIfFits(itemWidth(120, "r max [mm]"));
-    setItemWidth(120, ps.fixedRange ? "r max [mm]" : "x largest l_d");
+    sameLineItem(120, ps.fixedRange ? "r max [mm]" : "x largest l_d");
     if (ps.fixedRange) {
         float r = float(ps.rMaxMm);
         if (ImGui::DragFloat("r max [mm]", &r, 0.1f, float(rMaxLim.lo), float(rMaxLim.hi), "%.3g",

@@ -94,8 +94,7 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     if (inputIntCommitted("seed", &seed)) s.points.seed = uint64_t(std::max(seed, 0));
     using pointcloud::Method;
     if (s.points.method == Method::Repulsion || s.points.method == Method::StratifiedRepulsion) {
-        sameLineIfFits(itemWidth(90, "iterations"));
-        setItemWidth(90, "iterations");
+        sameLineItem(90, "iterations");
         int& it = s.points.method == Method::Repulsion ? s.points.repulsionIterations
                                                        : s.points.stratifiedIterations;
         if (inputIntCommitted("iterations", &it, 10, 100)) it = std::clamp(it, 0, 100000);

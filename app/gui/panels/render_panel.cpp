@@ -212,12 +212,11 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     SceneStage& scene = wb.scene();
     render::Settings& r = scene.settings().render;
     drawModelChoice(wb, scene.settings().model);
-    sameLineIfFits(itemWidth(220, "renderer"));
     bool& hybrid = wb.textureSpaceSettings().sampling.hybrid;
     int renderer = ps.mode == RenderMode::MonteCarlo     ? 2
                    : ps.mode == RenderMode::TextureSpace ? (hybrid ? 4 : 3)
                                                          : (r.bruteForce ? 1 : 0);
-    setItemWidth(220, "renderer");
+    sameLineItem(220, "renderer");
     if (ImGui::Combo("renderer", &renderer,
                      "hierarchical\0brute force\0Monte Carlo (probe rays)\0texture space\0hybrid "
                      "(local + global)\0")) {
@@ -261,8 +260,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     ImGui::EndDisabled();
     setItemWidth(120, "exposure");
     ImGui::SliderFloat("exposure", &r.exposure, -10.0f, 10.0f, "%.1f EV");
-    sameLineIfFits(itemWidth(100, "gamma"));
-    setItemWidth(100, "gamma");
+    sameLineItem(100, "gamma");
     ImGui::SliderFloat("gamma", &r.gamma, 0.5f, 4.0f, "%.2f");
     sameLineIfFits(checkboxWidth("direct Bssrdf()"));
     ImGui::Checkbox("direct Bssrdf()", &r.directBssrdf);
@@ -320,8 +318,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     if (ps.mode == RenderMode::MonteCarlo) {
         MonteCarloSettings& mc = wb.monteCarloSettings();
         samplingChoice("sampling", mc.sampling, mc.axes);
-        sameLineIfFits(itemWidth(100, "spp"));
-        setItemWidth(100, "spp");
+        sameLineItem(100, "spp");
         if (inputIntCommitted("spp", &mc.spp, 64)) mc.spp = std::clamp(mc.spp, 1, 10000000);
         const MonteCarloStage& m = wb.monteCarlo();
         if (!m.problem().empty()) {

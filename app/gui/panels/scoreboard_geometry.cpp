@@ -75,8 +75,7 @@ void drawGeometryScores(Workbench& wb, ScoreboardPanelState& ps) {
                 t.preset = p.name;
         ImGui::EndCombo();
     }
-    sameLineIfFits(itemWidth(80, "channel"));
-    setItemWidth(80, "channel");
+    sameLineItem(80, "channel");
     ImGui::Combo("channel", &t.channel, "R\0G\0B\0");
     const StageStatus status = st.status();
     sameLineIfFits(200);

@@ -87,8 +87,7 @@ void drawProfileScores(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
     MaterialSettings& s = wb.shared();
     setItemWidth(160, "preset");
     presetCombo("preset", wb, s);
-    sameLineIfFits(itemWidth(100, "channels"));
-    setItemWidth(100, "channels");
+    sameLineItem(100, "channels");
     ImGui::Combo("channels", &ps.channel, "R\0G\0B\0all\0");
     ReferenceSettings& rs = wb.referenceSettings();
     if (!rs.enabled) {

@@ -142,39 +142,33 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
         ImGui::EndCombo();
     }
     // θi and r_max apply when the edit ends (a drag restarts the run once, on release)
-    sameLineIfFits(itemWidth(140, "theta_i [deg]"));
     if (!ps.editing[0]) ps.thetaEdit = float(s.thetaIDeg);
-    setItemWidth(140, "theta_i [deg]");
+    sameLineItem(140, "theta_i [deg]");
     ImGui::SliderFloat("theta_i [deg]", &ps.thetaEdit, 0.0f, 89.0f, "%.1f");
     ps.editing[0] = ImGui::IsItemActive();
     if (ImGui::IsItemDeactivatedAfterEdit()) s.thetaIDeg = std::clamp(ps.thetaEdit, 0.0f, 89.9f);
-    sameLineIfFits(itemWidth(90, "r_max [l_d]"));
     if (!ps.editing[1]) ps.rangeEdit = float(s.rangeLd);
-    setItemWidth(90, "r_max [l_d]");
+    sameLineItem(90, "r_max [l_d]");
     ImGui::InputFloat("r_max [l_d]", &ps.rangeEdit, 0, 0, "%.3g");
     ps.editing[1] = ImGui::IsItemActive();
     if (ImGui::IsItemDeactivatedAfterEdit())
         s.rangeLd = std::clamp(double(ps.rangeEdit), 0.05, 100.0);
-    sameLineIfFits(itemWidth(80, "r bins"));
-    setItemWidth(80, "r bins");
+    sameLineItem(80, "r bins");
     if (inputIntCommitted("r bins", &s.rBins, 2)) s.rBins = std::clamp(s.rBins, 1, 200);
     sameLineIfFits(checkboxWidth("log r"));
     ImGui::Checkbox("log r", &s.logR);
-    sameLineIfFits(itemWidth(80, "theta_s bins"));
-    setItemWidth(80, "theta_s bins");
+    sameLineItem(80, "theta_s bins");
     if (inputIntCommitted("theta_s bins", &s.thetaSBins, 2))
         s.thetaSBins = std::clamp(s.thetaSBins, 1, 90);
-    sameLineIfFits(itemWidth(110, "exit cells"));
     int cells[2] = {s.dirCosBins, s.dirPhiBins};
-    setItemWidth(110, "exit cells");
+    sameLineItem(110, "exit cells");
     if (inputInt2Committed("exit cells", cells)) {
         s.dirCosBins = std::clamp(cells[0], 1, 16);
         s.dirPhiBins = std::clamp(cells[1], 1, 32);
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("rings of equal solid angle x azimuth sectors");
-    sameLineIfFits(itemWidth(100, "x1e4 paths"));
     int tenK = int(s.paths / 10000);
-    setItemWidth(100, "x1e4 paths");
+    sameLineItem(100, "x1e4 paths");
     if (inputIntCommitted("x1e4 paths", &tenK, 5))
         s.paths = uint64_t(std::clamp(tenK, 1, 1000000)) * 10000;
     enumCombo("estimator", s.estimator, 110);
@@ -234,8 +228,7 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
             if (ImGui::Selectable(path.c_str(), ps.model == path)) ps.model = path;
         ImGui::EndCombo();
     }
-    sameLineIfFits(itemWidth(150, "show"));
-    setItemWidth(150, "show");
+    sameLineItem(150, "show");
     const bool hasCells = b.dirBins() > 1 && !ref.S.empty();
     if (!hasCells) ps.quantity = SliceQuantity::R;
     const char* quantities[] = {"R (exitance)", "S (exit cell)"};
@@ -246,11 +239,9 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
             ps.quantity = SliceQuantity::S;
         ImGui::EndCombo();
     }
-    sameLineIfFits(itemWidth(90, "decades"));
-    setItemWidth(90, "decades");
+    sameLineItem(90, "decades");
     ImGui::SliderFloat("decades", &ps.decades, 1.0f, 8.0f, "%.0f");
-    sameLineIfFits(itemWidth(100, "diff range"));
-    setItemWidth(100, "diff range");
+    sameLineItem(100, "diff range");
     ImGui::SliderFloat("diff range", &ps.diffRange, 0.01f, 2.0f, "%.2f");
     sameLineIfFits(checkboxWidth("grey within 2 sigma"));
     ImGui::Checkbox("grey within 2 sigma", &ps.greyTies);

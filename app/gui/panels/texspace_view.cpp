@@ -49,19 +49,16 @@ void hybridControls(texspace::HybridSettings& h) {
     if (ImGui::InputFloat("K", &h.k, 0, 0, "%.3g", ImGuiInputTextFlags_EnterReturnsTrue))
         h.k = std::clamp(h.k, 1e-3f, 1e3f);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("K of the weighting function W_l, 1/mm");
-    sameLineIfFits(itemWidth(90, "bound"));
-    setItemWidth(90, "bound");
+    sameLineItem(90, "bound");
     if (ImGui::InputFloat("bound", &h.lowerBound, 0, 0, "%.3g",
                           ImGuiInputTextFlags_EnterReturnsTrue))
         h.lowerBound = std::clamp(h.lowerBound, 1e-9f, 1e3f);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("importance lower bound: R_p is the largest r with R(r)·2πr at or "
                           "above it, 1/mm (thesis: 0.1)");
-    sameLineIfFits(itemWidth(100, "rings"));
-    setItemWidth(100, "rings");
+    sameLineItem(100, "rings");
     if (inputIntCommitted("rings", &h.rings, 1)) h.rings = std::clamp(h.rings, 1, 64);
-    sameLineIfFits(itemWidth(100, "taps/ring"));
-    setItemWidth(100, "taps/ring");
+    sameLineItem(100, "taps/ring");
     if (inputIntCommitted("taps/ring", &h.perRing, 1)) h.perRing = std::clamp(h.perRing, 1, 64);
 }
 
@@ -77,21 +74,18 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
     setItemWidth(90, "texture");
     if (ImGui::Combo("texture", &sizeIndex, kSizes, 8)) s.textureSize = 16 << sizeIndex;
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("texels per side K of the texture-space E′");
-    sameLineIfFits(itemWidth(110, "N"));
-    setItemWidth(110, "N");
+    sameLineItem(110, "N");
     if (inputIntCommitted("N", &s.samples, 49)) s.samples = std::clamp(s.samples, 1, 1 << 20);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("texels drawn per sample set (seed 004 Table 4.2: 49 … 2500)");
-    sameLineIfFits(itemWidth(110, "sets"));
-    setItemWidth(110, "sets");
+    sameLineItem(110, "sets");
     if (inputIntCommitted("sets", &s.sampleSets, 16))
         s.sampleSets = std::clamp(s.sampleSets, 1, 1000000);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("independent sample sets averaged");
     static const char* const kViews[] = {"render",        "E' (texture)",       "CDF level",
                                          "samples",       "atlas / distortion", "hybrid: local",
                                          "hybrid: global"};
-    sameLineIfFits(itemWidth(150, "view"));
-    setItemWidth(150, "view");
+    sameLineItem(150, "view");
     comboEnum("view", ps.tsView, kViews);
     if (s.hybrid) {
         hybridControls(s.local);

@@ -109,8 +109,7 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
     ImGui::Checkbox("node", &ps.showNodeEval);
     sameLineIfFits(checkboxWidth("points"));
     ImGui::Checkbox("points", &ps.showPointEval);
-    sameLineIfFits(itemWidth(140, "node # filter"));
-    setItemWidth(140, "node # filter");
+    sameLineItem(140, "node # filter");
     ImGui::InputText("node # filter", ps.filter, sizeof ps.filter);
     std::vector<int> rows;
     for (size_t i = 0; i < t.steps.size(); ++i) {
