@@ -146,22 +146,26 @@ void wrappedText(const char* fmt, ...) {
     va_end(args);
 }
 
-void colouredText(const ImVec4& colour, const char* fmt, ...) {
+namespace {
+void colouredTextV(const ImVec4& colour, const char* fmt, va_list args) {
     ImGui::PushStyleColor(ImGuiCol_Text, colour);
+    wrappedTextV(fmt, args);
+    ImGui::PopStyleColor();
+}
+} // namespace
+
+void colouredText(const ImVec4& colour, const char* fmt, ...) {
     va_list args;
     va_start(args, fmt);
-    wrappedTextV(fmt, args);
+    colouredTextV(colour, fmt, args);
     va_end(args);
-    ImGui::PopStyleColor();
 }
 
 void hintText(const char* fmt, ...) {
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     va_list args;
     va_start(args, fmt);
-    wrappedTextV(fmt, args);
+    colouredTextV(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), fmt, args);
     va_end(args);
-    ImGui::PopStyleColor();
 }
 
 float checkboxWidth(const char* label) {

@@ -44,9 +44,7 @@ float relDiff(const glm::vec3& a, const glm::vec3& b) {
 void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
     (void)wb;
     if (!ui.inspect.debug) {
-        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-        wrappedText("click a pixel in the Render panel to trace its octree traversal");
-        ImGui::PopStyleColor();
+        hintText("click a pixel in the Render panel to trace its octree traversal");
         return;
     }
     const PixelDebug& d = *ui.inspect.debug;
