@@ -21,6 +21,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <string>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -126,9 +127,23 @@ void logColourBar(const LogScale& s, float width) {
     }
 }
 
+// `text`, cut with "..." where it is wider than `width`: a map's title and legend stay within
+// the map's width, so the three maps' row fits the panel.
+void textWithin(std::string text, float width) {
+    if (ImGui::CalcTextSize(text.c_str()).x > width) {
+        while (!text.empty() && ImGui::CalcTextSize((text + "...").c_str()).x > width)
+            text.pop_back();
+        text += "...";
+    }
+    ImGui::TextUnformatted(text.c_str());
+}
+
 void diffColourBar(float range, float width) {
     gradientBar(width, [](float t) { return rgb(divergingColor(2.0f * t - 1.0f)); });
-    ImGui::Text("-%.0f%% model low   +%.0f%% model high", double(range) * 100, double(range) * 100);
+    char legend[80];
+    std::snprintf(legend, sizeof legend, "-%.0f%% model low   +%.0f%% model high",
+                  double(range) * 100, double(range) * 100);
+    textWithin(legend, width);
 }
 
 // Run controls: channel, θi, range, bins, paths, estimator, device; progress and cancel.
@@ -327,14 +342,14 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
     ImGui::EndGroup();
     sameLineIfFits(side);
     ImGui::BeginGroup();
-    ImGui::TextUnformatted(mr && mr->slice ? ps.model.c_str() : "model (none)");
+    textWithin(mr && mr->slice ? ps.model : "model (none)", side);
     h = polarHeatmap("##model", side, b, {modV, [&](size_t i) { return scale(modV[i]); }}, ps.bin);
     if (h >= 0) hovered = h;
     logColourBar(scale, side);
     ImGui::EndGroup();
     sameLineIfFits(side);
     ImGui::BeginGroup();
-    ImGui::TextUnformatted(trusted ? "(model - ref) / ref" : "difference (reference untrusted)");
+    textWithin(trusted ? "(model - ref) / ref" : "difference (reference untrusted)", side);
     {
         const ImVec2 at = ImGui::GetCursorScreenPos();
         ps.diffRect = {at.x, at.y, at.x + side, at.y + side};
