@@ -79,6 +79,13 @@ void sameLineItem(float width, const char* label) {
     setItemWidth(width, label);
 }
 
+std::string cutToWidth(std::string text, float width) {
+    if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+    while (!text.empty() && ImGui::CalcTextSize((text + "...").c_str()).x > width)
+        text.pop_back();
+    return text + "...";
+}
+
 std::string breakLines(const std::string& text, float width) {
     auto fits = [&](const std::string& s) { return ImGui::CalcTextSize(s.c_str()).x <= width; };
     std::string out;

@@ -82,6 +82,9 @@ void colouredText(const ImVec4& colour, const char* fmt, ...) IM_FMTARGS(2);
 // 1.66), inside a word only where the word alone is wider; the spaces at a break are dropped.
 // Written here since ImGui 1.86 has no such option.
 std::string breakLines(const std::string& text, float width);
+// `text` cut with "..." where it is wider than `width` pixels (one line that must not wrap:
+// a tree node's name, a map's title); unchanged where it fits.
+std::string cutToWidth(std::string text, float width);
 
 // Widths of widgets, for sameLineIfFits: a checkbox (or radio button) with `label`, a button,
 // and a framed item of `frame` pixels with its label.

@@ -137,7 +137,12 @@ void expectFitsItsWidth(app::HeadlessGui& gui, app::PanelId id) {
 
 TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
     testsupport::context();
-    auto root = testsupport::makeProjectRoot("layout3", {"dipole.bssrdf", "better_dipole.bssrdf"});
+    // every shipped model, as the workbench starts on the project (the Models panel lists them
+    // all, with their parameters)
+    std::vector<std::string> models;
+    for (const auto& e : fs::directory_iterator(testsupport::sourceRoot() / "materials"))
+        if (e.path().extension() == ".bssrdf") models.push_back(e.path().filename().string());
+    auto root = testsupport::makeProjectRoot("layout3", models);
     app::Workbench wb(root, false);
     wb.scene().settings().render.width = 64;
     wb.scene().settings().render.height = 36;

@@ -11,6 +11,9 @@ namespace {
 void drawModelParams(bssrdf::ModelEntry& e) {
     for (const auto& p : e.model->params) {
         auto& v = e.values[p.name];
+        // ImGui's default field width (two thirds of the panel), narrowed so that a long
+        // parameter name beside it does not make the panel scroll sideways
+        if (p.type != bssrdf::ParamType::Bool) setItemWidth(ImGui::CalcItemWidth(), p.name.c_str());
         switch (p.type) {
         case bssrdf::ParamType::Float:
             ImGui::SliderFloat(p.name.c_str(), &v[0], p.min, p.max, "%.4g");
@@ -42,8 +45,13 @@ void drawModelsPanel(Workbench& wb, UiShared& ui) {
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", e.problem->text().c_str());
             ImGui::SameLine();
         }
-        bool open = ImGui::TreeNodeEx(name.c_str(), ImGuiTreeNodeFlags_DefaultOpen);
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", e.displayPath.c_str());
+        // a long name is cut to the panel's width (the whole of it in the tooltip): the tree
+        // node's label would make the panel scroll sideways
+        const std::string shown =
+            cutToWidth(name, visibleWidth() - ImGui::GetTreeNodeToLabelSpacing());
+        bool open = ImGui::TreeNodeEx("model", ImGuiTreeNodeFlags_DefaultOpen, "%s", shown.c_str());
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("%s\n%s", name.c_str(), e.displayPath.c_str());
         if (open) {
             if (e.problem) {
                 ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.5f, 0.5f, 1));

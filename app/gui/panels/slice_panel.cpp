@@ -21,11 +21,11 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <string>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <string>
 
 namespace app {
 
@@ -129,13 +129,8 @@ void logColourBar(const LogScale& s, float width) {
 
 // `text`, cut with "..." where it is wider than `width`: a map's title and legend stay within
 // the map's width, so the three maps' row fits the panel.
-void textWithin(std::string text, float width) {
-    if (ImGui::CalcTextSize(text.c_str()).x > width) {
-        while (!text.empty() && ImGui::CalcTextSize((text + "...").c_str()).x > width)
-            text.pop_back();
-        text += "...";
-    }
-    ImGui::TextUnformatted(text.c_str());
+void textWithin(const std::string& text, float width) {
+    ImGui::TextUnformatted(cutToWidth(text, width).c_str());
 }
 
 void diffColourBar(float range, float width) {
