@@ -4,6 +4,7 @@
 #include "captures/capture_io.h"
 #include "cli/args.h"
 #include "cli/command.h"
+#include "cli/interrupt.h"
 #include "cli/output.h"
 #include "core/core.h"
 #include "gl/gl.h"
@@ -153,7 +154,10 @@ Command guiCommand() {
                 auto window = gl::createWindowContext(width, height, "BSSRDF Workbench");
                 std::unique_ptr<Workbench> wb = guiWorkbench(root, a->restore, true);
                 GuiOptions opt;
+                opt.closeRequest = closeRequestFlag();
                 const int rc = runGui(*wb, *window, opt);
+                if (interrupted())
+                    std::fprintf(stderr, "closed the window on %s\n", interruptingSignal().c_str());
                 if (rc != kGlResetRestart) return rc;
                 int w = width, h = height;
                 glfwGetWindowSize(window->window(), &w, &h);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <string>
 
 namespace app {
 
@@ -13,5 +14,12 @@ constexpr int kInterrupted = 130; // 128 + SIGINT, as shells report an interrupt
 // Installs the handler (once) and returns the flag it sets.
 const std::atomic<bool>* interruptFlag();
 bool interrupted();
+
+// The window's close request: the same flag, set by SIGINT and also by SIGTERM (`kill`, a
+// logout) and SIGHUP (the terminal closed), so the GUI leaves as its Quit does (layout saved,
+// child processes stopped) instead of dying where it stands; a second signal ends it at once.
+const std::atomic<bool>* closeRequestFlag();
+// The last of those signals received, for the message ("SIGTERM", …; "no signal" before any).
+std::string interruptingSignal();
 
 } // namespace app

@@ -331,7 +331,8 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
                 wakeOnChildOutput({});
             }
         } stopWake{wb};
-        while (!glfwWindowShouldClose(win) && !ui.shared.quit) {
+        const auto closeRequested = [&] { return opt.closeRequest && opt.closeRequest->load(); };
+        while (!glfwWindowShouldClose(win) && !ui.shared.quit && !closeRequested()) {
             // idle without spinning; the watcher is polled below
             glfwWaitEventsTimeout(kFrameWaitSeconds);
             const auto frame = [&] {

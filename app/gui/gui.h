@@ -6,6 +6,7 @@
 #include "gui/ui_state.h"
 #include "pipeline/workbench.h"
 
+#include <atomic>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -26,6 +27,8 @@ struct GuiOptions {
     int frames = 5;
     std::string screenshotPath; // headless: PNG of what a user would see
     bool persistLayout = true;  // load/save window layout and panel visibility
+    // window: set (by a signal: cli/interrupt.h) to close it as File > Quit does
+    const std::atomic<bool>* closeRequest = nullptr;
 };
 
 // After a GPU driver reset (gl::graphicsResetStatus, checked after every frame) runGui saves the

@@ -1,0 +1,488 @@
+// The workbench in a real window: the program (BW_EXE) started with a display, an X server of its
+// own (Xvfb, which ./run installs), as a user starts it. Checked from outside, through the X
+// server, as a user would see and use it: the window opens at the size asked for (or the one the
+// last session saved, or shrunk to fit the screen), draws the workbench, answers the mouse and
+// the keyboard through GLFW (a click opens the File menu, Ctrl+Q quits), shows a saved model's
+// new pixels (hot reload) and names a broken one, and closes on SIGINT (Ctrl-C in its terminal)
+// or SIGTERM as File > Quit does: exit 0, the layout saved. Label `window`; the GPU test bundle
+// leaves these out (the machines it runs on have no X server).
+#include "gl/gl.h"
+#include "scratch_dir.h"
+
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
+#include <X11/extensions/XTest.h>
+#include <X11/keysym.h>
+#include <stb_image.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+std::string readText(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+// A process of our own with its output in a file: fork/exec with extra environment variables.
+class Process {
+  public:
+    Process(std::vector<std::string> argv, const std::vector<std::string>& env,
+            const fs::path& output, int keepFd = -1)
+        : m_output(output) {
+        std::vector<char*> args;
+        for (auto& a : argv)
+            args.push_back(a.data());
+        args.push_back(nullptr);
+        m_pid = ::fork();
+        if (m_pid == 0) {
+            const int out = ::open(output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+            if (out < 0) ::_exit(126);
+            ::dup2(out, STDOUT_FILENO);
+            ::dup2(out, STDERR_FILENO);
+            const int devnull = ::open("/dev/null", O_RDONLY);
+            if (devnull >= 0) ::dup2(devnull, STDIN_FILENO);
+            for (int fd = 3; fd < 1024; ++fd)
+                if (fd != keepFd) ::close(fd);
+            for (const std::string& e : env) {
+                const size_t eq = e.find('=');
+                ::setenv(e.substr(0, eq).c_str(), e.substr(eq + 1).c_str(), 1);
+            }
+            ::unsetenv("WAYLAND_DISPLAY");
+            ::execvp(args[0], args.data());
+            std::fprintf(stderr, "cannot start %s\n", args[0]);
+            ::_exit(127);
+        }
+    }
+    ~Process() {
+        if (m_pid > 0 && !m_exited) {
+            ::kill(m_pid, SIGKILL);
+            ::waitpid(m_pid, nullptr, 0);
+        }
+    }
+    Process(const Process&) = delete;
+    Process& operator=(const Process&) = delete;
+
+    std::string output() const { return readText(m_output); }
+    pid_t pid() const { return m_pid; }
+    bool running() {
+        poll(0);
+        return !m_exited;
+    }
+    // The exit status (128 + signal if killed by one) once the process ended within `seconds`;
+    // -1 while it still runs.
+    int wait(double seconds) {
+        const auto start = Clock::now();
+        while (!poll(0) && secondsSince(start) < seconds)
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        return m_exited ? m_code : -1;
+    }
+    // Whether `text` appears in the output (at or after byte `from`) within `seconds`.
+    bool waitForOutput(const std::string& text, double seconds, size_t from = 0) {
+        const auto start = Clock::now();
+        const auto found = [&] {
+            const std::string out = output();
+            return out.size() > from && out.find(text, from) != std::string::npos;
+        };
+        while (secondsSince(start) < seconds) {
+            if (found()) return true;
+            if (!running()) return found();
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        return false;
+    }
+
+  private:
+    bool poll(int options) {
+        if (m_exited || m_pid <= 0) return m_exited;
+        int status = 0;
+        if (::waitpid(m_pid, &status, WNOHANG | options) == m_pid) {
+            m_exited = true;
+            m_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        }
+        return m_exited;
+    }
+    fs::path m_output;
+    pid_t m_pid = -1;
+    bool m_exited = false;
+    int m_code = -1;
+};
+
+// An X server for one test: Xvfb on the first free display (-displayfd), one screen.
+class XServer {
+  public:
+    XServer(const fs::path& dir, int width, int height) {
+        int fds[2];
+        if (::pipe(fds) != 0) return;
+        const std::string screen = std::to_string(width) + "x" + std::to_string(height) + "x24";
+        m_server = std::make_unique<Process>(
+            std::vector<std::string>{"Xvfb", "-displayfd", std::to_string(fds[1]), "-screen", "0",
+                                     screen, "-nolisten", "tcp", "-noreset"},
+            std::vector<std::string>{}, dir / "xvfb.log", fds[1]);
+        ::close(fds[1]);
+        std::string number;
+        pollfd p{fds[0], POLLIN, 0};
+        char c = 0;
+        while (::poll(&p, 1, 20000) > 0 && ::read(fds[0], &c, 1) == 1 && c != '\n')
+            number += c;
+        ::close(fds[0]);
+        if (number.empty()) {
+            m_problem =
+                "Xvfb did not start (install xvfb; ./run does): " + readText(dir / "xvfb.log");
+            return;
+        }
+        m_name = ":" + number;
+        m_display = XOpenDisplay(m_name.c_str());
+        if (!m_display) m_problem = "cannot connect to Xvfb at " + m_name;
+    }
+    ~XServer() {
+        if (m_display) XCloseDisplay(m_display);
+        if (m_server && m_server->running()) {
+            ::kill(m_server->pid(), SIGTERM);
+            m_server->wait(5);
+        }
+    }
+    const std::string& problem() const { return m_problem; }
+    const std::string& name() const { return m_name; }
+    Display* display() const { return m_display; }
+
+  private:
+    std::unique_ptr<Process> m_server;
+    std::string m_name, m_problem;
+    Display* m_display = nullptr;
+};
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<unsigned char> rgba;
+    const unsigned char* at(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
+};
+
+// The workbench's top-level window (found by its title), or 0 when it is not mapped yet.
+Window findWindow(Display* d, const std::string& title) {
+    Window root = DefaultRootWindow(d), parent = 0, *children = nullptr;
+    unsigned count = 0;
+    Window found = 0;
+    if (!XQueryTree(d, root, &root, &parent, &children, &count)) return 0;
+    for (unsigned i = 0; i < count && !found; ++i) {
+        char* name = nullptr;
+        XWindowAttributes a{};
+        if (XFetchName(d, children[i], &name) && name) {
+            if (title == name && XGetWindowAttributes(d, children[i], &a) &&
+                a.map_state == IsViewable)
+                found = children[i];
+            XFree(name);
+        }
+    }
+    if (children) XFree(children);
+    return found;
+}
+
+Image grab(Display* d, Window w) {
+    XWindowAttributes a{};
+    XGetWindowAttributes(d, w, &a);
+    Image img;
+    XImage* x = XGetImage(d, w, 0, 0, unsigned(a.width), unsigned(a.height), AllPlanes, ZPixmap);
+    if (!x) return img;
+    img.width = a.width;
+    img.height = a.height;
+    img.rgba.resize(size_t(a.width) * a.height * 4);
+    for (int y = 0; y < a.height; ++y)
+        for (int xx = 0; xx < a.width; ++xx) {
+            const unsigned long p = XGetPixel(x, xx, y);
+            unsigned char* o = &img.rgba[(size_t(y) * a.width + xx) * 4];
+            o[0] = (p & x->red_mask) >> 16;
+            o[1] = (p & x->green_mask) >> 8;
+            o[2] = p & x->blue_mask;
+            o[3] = 255;
+        }
+    XDestroyImage(x);
+    return img;
+}
+
+Image readPng(const fs::path& file) {
+    Image img;
+    int n = 0;
+    unsigned char* px = stbi_load(file.c_str(), &img.width, &img.height, &n, 4);
+    if (!px) return {};
+    img.rgba.assign(px, px + size_t(img.width) * img.height * 4);
+    stbi_image_free(px);
+    return img;
+}
+
+size_t distinctColours(const Image& img, int x0, int y0, int x1, int y1) {
+    std::set<uint32_t> colours;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const unsigned char* p = img.at(x, y);
+            colours.insert(uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2]);
+        }
+    return colours.size();
+}
+
+size_t pixelsThatDiffer(const Image& a, const Image& b, int x0, int y0, int x1, int y1) {
+    size_t n = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            n += std::memcmp(a.at(x, y), b.at(x, y), 3) != 0;
+    return n;
+}
+
+class GuiWindow : public ::testing::Test {
+  protected:
+    static constexpr const char* kTitle = "BSSRDF Workbench";
+
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        m_dir = fs::temp_directory_path() /
+                (std::string("bw_window_") + info->name() + "_" + std::to_string(::getpid()));
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir / "config");
+        testsupport::removeAtExit(m_dir);
+        m_x = std::make_unique<XServer>(m_dir, 1280, 800);
+        ASSERT_EQ(m_x->problem(), "");
+    }
+
+    // The workbench on this test's display, its settings under this test's folder.
+    std::unique_ptr<Process> start(std::vector<std::string> args,
+                                   const std::string& root = BW_SOURCE_ROOT) {
+        std::vector<std::string> argv = {BW_EXE, "-v", "--root", root};
+        argv.insert(argv.end(), args.begin(), args.end());
+        return std::make_unique<Process>(
+            argv,
+            std::vector<std::string>{"DISPLAY=" + m_x->name(), "HOME=" + m_dir.string(),
+                                     "XDG_CONFIG_HOME=" + (m_dir / "config").string()},
+            m_dir / ("workbench" + std::to_string(m_runs++) + ".log"));
+    }
+
+    // The window once it is mapped and shows the workbench drawn (its menu bar and panels: many
+    // colours where a window not yet drawn is one); 0 if not within `seconds`.
+    Window drawnWindow(Process& p, double seconds = 60) {
+        const auto start = Clock::now();
+        while (secondsSince(start) < seconds && p.running()) {
+            if (Window w = findWindow(m_x->display(), kTitle)) {
+                const Image img = grab(m_x->display(), w);
+                if (img.width > 0 && distinctColours(img, 0, 0, img.width, img.height) > 40)
+                    return w;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        }
+        return 0;
+    }
+
+    void save(const Image& img, const std::string& name) {
+        if (const char* dir = std::getenv("BW_WINDOW_PNG_DIR"))
+            gl::writePng(fs::path(dir) / name, img.width, img.height, img.rgba);
+    }
+
+    std::string layoutFile() const {
+        return readText(m_dir / "config" / "bssrdf-workbench" / "imgui.ini");
+    }
+
+    // Moves the pointer to (x, y) in window `w`'s coordinates.
+    void pointTo(Window w, int x, int y) {
+        Display* d = m_x->display();
+        int rx = 0, ry = 0;
+        Window child = 0;
+        XTranslateCoordinates(d, w, DefaultRootWindow(d), x, y, &rx, &ry, &child);
+        XTestFakeMotionEvent(d, DefaultScreen(d), rx, ry, CurrentTime);
+        XFlush(d);
+    }
+    void click(Window w, int x, int y) {
+        Display* d = m_x->display();
+        pointTo(w, x, y);
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        XTestFakeButtonEvent(d, 1, True, CurrentTime);
+        XFlush(d);
+        std::this_thread::sleep_for(std::chrono::milliseconds(150));
+        XTestFakeButtonEvent(d, 1, False, CurrentTime);
+        XFlush(d);
+    }
+    void key(KeySym sym, bool control = false) {
+        Display* d = m_x->display();
+        const KeyCode ctrl = XKeysymToKeycode(d, XK_Control_L), k = XKeysymToKeycode(d, sym);
+        if (control) XTestFakeKeyEvent(d, ctrl, True, CurrentTime);
+        XFlush(d);
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        XTestFakeKeyEvent(d, k, True, CurrentTime);
+        XFlush(d);
+        std::this_thread::sleep_for(std::chrono::milliseconds(150));
+        XTestFakeKeyEvent(d, k, False, CurrentTime);
+        if (control) XTestFakeKeyEvent(d, ctrl, False, CurrentTime);
+        XFlush(d);
+    }
+
+    std::pair<int, int> windowSize(Window w) {
+        XWindowAttributes a{};
+        XGetWindowAttributes(m_x->display(), w, &a);
+        return {a.width, a.height};
+    }
+
+    fs::path m_dir;
+    std::unique_ptr<XServer> m_x;
+    int m_runs = 0;
+};
+
+// Asked for 900x600: that window, drawn; SIGINT (Ctrl-C where it was started) closes it as Quit
+// does, the layout saved with its size; started again without --size it opens at that size.
+TEST_F(GuiWindow, OpensAtItsSizeDrawsAndCtrlCClosesItKeepingTheLayout) {
+    auto p = start({"gui", "--size", "900x600"});
+    const Window w = drawnWindow(*p);
+    ASSERT_NE(w, 0u) << "no drawn window within 60 s:\n" << p->output();
+    EXPECT_EQ(windowSize(w), std::make_pair(900, 600));
+    // The same workbench as the headless GUI draws (gui.h: same panels, same pixels): the menu
+    // bar's menus and the panels' tab bars below it, pixel for pixel, once the layout has
+    // settled (the menu bar's right end shows the run's own state: hot reload on, not off).
+    auto shot =
+        start({"screenshot", "--size", "900x600", "--out", (m_dir / "headless.png").string()});
+    ASSERT_EQ(shot->wait(120), 0) << shot->output();
+    const Image headless = readPng(m_dir / "headless.png");
+    ASSERT_EQ(headless.width, 900);
+    Image img;
+    const auto since = Clock::now();
+    do {
+        img = grab(m_x->display(), w);
+    } while ((pixelsThatDiffer(img, headless, 0, 0, 200, 20) > 0 ||
+              pixelsThatDiffer(img, headless, 0, 20, 900, 45) > 0) &&
+             secondsSince(since) < 20);
+    save(img, "window_900x600.png");
+    EXPECT_EQ(pixelsThatDiffer(img, headless, 0, 0, 200, 20), 0u) << "the menu bar's menus";
+    EXPECT_EQ(pixelsThatDiffer(img, headless, 0, 20, 900, 45), 0u) << "the panels' tab bars";
+    EXPECT_GT(distinctColours(img, 0, 45, img.width, img.height), 40u) << "the panels' contents";
+    ASSERT_TRUE(p->waitForOutput("checking its first evaluation", 30)) << p->output();
+    ::kill(p->pid(), SIGINT);
+    const int rc = p->wait(20);
+    EXPECT_EQ(rc, 0) << p->output();
+    EXPECT_NE(p->output().find("closed the window on SIGINT"), std::string::npos) << p->output();
+    const std::string layout = layoutFile();
+    EXPECT_NE(layout.find("[BssrdfWorkbench][Panels]"), std::string::npos) << layout;
+    EXPECT_NE(layout.find("Window=900,600"), std::string::npos) << layout;
+
+    auto again = start({"gui"});
+    const Window w2 = drawnWindow(*again);
+    ASSERT_NE(w2, 0u) << again->output();
+    EXPECT_EQ(windowSize(w2), std::make_pair(900, 600)) << "the size the last session saved";
+    ::kill(again->pid(), SIGTERM);
+    EXPECT_EQ(again->wait(20), 0) << again->output();
+    EXPECT_NE(again->output().find("closed the window on SIGTERM"), std::string::npos);
+}
+
+// With no size asked for and none saved, the default (1600x1000) shrunk to fit a 1280x800 screen.
+TEST_F(GuiWindow, TheDefaultSizeIsShrunkToFitTheScreen) {
+    auto p = start({"gui"});
+    const Window w = drawnWindow(*p);
+    ASSERT_NE(w, 0u) << p->output();
+    const auto [width, height] = windowSize(w);
+    EXPECT_LE(width, 1280);
+    EXPECT_LE(height, 800);
+    EXPECT_NEAR(double(width) / height, 1.6, 0.01) << width << "x" << height;
+    ::kill(p->pid(), SIGTERM);
+    EXPECT_EQ(p->wait(20), 0) << p->output();
+}
+
+// The mouse and the keyboard through GLFW: a click on "File" opens its menu (new pixels below
+// it), Escape closes it, Ctrl+Q quits with exit 0 and the layout saved.
+TEST_F(GuiWindow, AClickOpensTheFileMenuAndCtrlQQuits) {
+    auto p = start({"gui", "--size", "900x600"});
+    const Window w = drawnWindow(*p);
+    ASSERT_NE(w, 0u) << p->output();
+    Display* d = m_x->display();
+    XSetInputFocus(d, w, RevertToParent, CurrentTime); // a window manager's part, here none
+    pointTo(w, 600, 300);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    const Image before = grab(d, w);
+    click(w, 18, 9); // "File", the menu bar's first item
+    Image open;
+    const auto since = Clock::now();
+    do { // the menu drawn below "File": most of a 100x60 block there changes
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        open = grab(d, w);
+    } while (pixelsThatDiffer(before, open, 4, 24, 104, 84) < 3000 && secondsSince(since) < 20);
+    save(open, "window_file_menu.png");
+    EXPECT_GE(pixelsThatDiffer(before, open, 4, 24, 104, 84), 3000u)
+        << "the File menu did not open";
+    key(XK_Escape);
+    key(XK_q, true);
+    EXPECT_EQ(p->wait(20), 0) << "Ctrl+Q did not quit:\n" << p->output();
+    EXPECT_NE(layoutFile().find("Window=900,600"), std::string::npos) << layoutFile();
+}
+
+// A save to a model the window shows: new pixels (the program's own measure, "save to new
+// pixels", taken after the window's buffer swap); a broken save is named with its file and line
+// and the window stays; the repair is shown again.
+TEST_F(GuiWindow, ASavedModelIsShownAndABrokenOneNamedWhileTheWindowStays) {
+    const fs::path root = m_dir / "project";
+    for (const char* dir : {"shaders", "third_party/bunny", "materials/env"})
+        fs::create_directories(root / dir);
+    fs::copy(fs::path(BW_SOURCE_ROOT) / "shaders", root / "shaders", fs::copy_options::recursive);
+    fs::copy(fs::path(BW_SOURCE_ROOT) / "materials/env", root / "materials/env",
+             fs::copy_options::recursive);
+    for (const char* f :
+         {"materials/presets.json", "materials/dipole.bssrdf", "third_party/bunny/bunny.obj"})
+        fs::copy_file(fs::path(BW_SOURCE_ROOT) / f, root / f);
+    const fs::path model = root / "materials/dipole.bssrdf";
+    const std::string good = readText(model);
+
+    auto p = start({"gui", "--size", "900x600"}, root.string());
+    const Window w = drawnWindow(*p);
+    ASSERT_NE(w, 0u) << p->output();
+    ASSERT_TRUE(p->waitForOutput("checking its first evaluation", 30)) << p->output();
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+
+    size_t mark = p->output().size();
+    std::ofstream(model, std::ios::binary) << good << "\nthis is not a section\n";
+    const std::string line = std::to_string(std::count(good.begin(), good.end(), '\n') + 2);
+    EXPECT_TRUE(p->waitForOutput("keeping the last good version: materials/dipole.bssrdf:" + line +
+                                     ": unexpected text outside a section",
+                                 30, mark))
+        << p->output();
+    EXPECT_TRUE(p->running()) << p->output();
+    EXPECT_NE(findWindow(m_x->display(), kTitle), 0u);
+
+    mark = p->output().size();
+    std::ofstream(model, std::ios::binary) << good;
+    EXPECT_TRUE(p->waitForOutput("hot reload: save to new pixels", 30, mark)) << p->output();
+    EXPECT_EQ(p->output().find("keeping the last good version", mark), std::string::npos)
+        << p->output();
+    save(grab(m_x->display(), w), "window_reloaded.png");
+
+    ::kill(p->pid(), SIGINT);
+    EXPECT_EQ(p->wait(20), 0) << p->output();
+}
+
+// --out-dir is where a headless run writes: with a display and no --headless it is refused.
+TEST_F(GuiWindow, OutDirWithADisplayAndNoHeadlessIsRefused) {
+    auto p = start({"--out-dir", (m_dir / "out").string()});
+    EXPECT_EQ(p->wait(30), 2) << p->output();
+    EXPECT_NE(p->output().find("add --headless"), std::string::npos) << p->output();
+    EXPECT_FALSE(fs::exists(m_dir / "out"));
+}
+
+} // namespace
