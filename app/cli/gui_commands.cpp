@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <tuple>
@@ -52,12 +53,35 @@ int restartAfterReset(const fs::path& root, std::vector<std::string> args) {
     return 1;
 }
 
+// --ui-scale: "auto" (0: the display's own) or a factor in [0.5, 4]; throws core::Error.
+constexpr const char* kUiScaleHelp =
+    "screen pixels per UI unit: auto (the desktop's scaling of the screen; 1 headless) or a "
+    "factor from 0.5 to 4 (sizes stay in UI units)";
+float parseUiScale(const std::string& text) {
+    if (text == "auto") return 0.0f;
+    char* end = nullptr;
+    const float f = std::strtof(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !(f >= 0.5f && f <= 4.0f))
+        throw core::Error("--ui-scale", 0,
+                          "expected auto or a number from 0.5 to 4, got '" + text + "'");
+    return f;
+}
+// The pixels of `width` x `height` UI units at `scale` stay within what the screenshot holds.
+void checkScaledSize(int width, int height, float scale) {
+    if (scaledSize(std::max(width, height), scale > 0 ? scale : 1.0f) > 8192)
+        throw core::Error(
+            "--ui-scale", 0,
+            "the image would be over 8192 pixels wide or high: " + std::to_string(width) + "x" +
+                std::to_string(height) + " at " + core::formatNumber(scale));
+}
+
 std::unique_ptr<Workbench> guiWorkbench(const fs::path& root, bool restore, bool watch) {
     if (restore) return workbenchAfterReset(root, watch);
     return std::make_unique<Workbench>(root, watch);
 }
 
-int runHeadlessDefault(const fs::path& root, const std::string& outDir, int width, int height) {
+int runHeadlessDefault(const fs::path& root, const std::string& outDir, int width, int height,
+                       float uiScale) {
     fs::path out = outDir.empty() ? fs::path("out") / "default" : fs::path(outDir);
     std::error_code ec;
     fs::create_directories(out, ec);
@@ -80,6 +104,7 @@ int runHeadlessDefault(const fs::path& root, const std::string& outDir, int widt
     opt.persistLayout = false;
     opt.width = width;
     opt.height = height;
+    opt.uiScale = uiScale;
     opt.screenshotPath = (out / "workbench.png").string();
     Workbench full(root, false);
     const int gui = runGui(full, *ctx, opt);
@@ -101,7 +126,7 @@ Command guiCommand() {
         "gui", "interactive workbench (default)", false, [](CLI::App& cmd) -> CommandRun {
             struct Args {
                 bool headless = false, restore = false;
-                std::string out, size;
+                std::string out, size, uiScale = "auto";
             };
             auto a = std::make_shared<Args>();
             // also the program's own options, since `gui` is what runs without a command
@@ -133,13 +158,15 @@ Command guiCommand() {
             cmd.add_option("--size", a->size,
                            "window WxH (default: the size it had last time, else " +
                                defaultSizeText() +
-                               "; shrunk to fit the screen's work area); headless: the "
-                               "screenshot's");
+                               "; shrunk to fit the screen's work area) in UI units; "
+                               "headless: the screenshot's");
+            cmd.add_option("--ui-scale", a->uiScale, kUiScaleHelp)->capture_default_str();
             return [a](CommandContext& ctx) {
                 int width = GuiOptions{}.width, height = GuiOptions{}.height;
                 if (!a->size.empty() && !parseSize(a->size, width, height, 320))
                     throw core::Error("--size", 0,
                                       "expected WxH between 320 and 8192, got '" + a->size + "'");
+                const float uiScale = parseUiScale(a->uiScale);
                 const fs::path& root = ctx.root();
                 bool headless = a->headless;
                 if (!headless && !gl::displayAvailable()) {
@@ -147,23 +174,29 @@ Command guiCommand() {
                                 "unreachable): running the default capture headless\n");
                     headless = true;
                 }
-                if (headless) return runHeadlessDefault(root, a->out, width, height);
+                if (headless) {
+                    checkScaledSize(width, height, uiScale);
+                    return runHeadlessDefault(root, a->out, width, height, uiScale);
+                }
                 if (a->size.empty())
                     if (auto last = rememberedWindowSize()) std::tie(width, height) = *last;
                 std::fprintf(stderr, "resources: %s\n", root.c_str());
-                auto window = gl::createWindowContext(width, height, "BSSRDF Workbench");
+                auto window =
+                    gl::createWindowContext(width, height, "BSSRDF Workbench", true, uiScale);
                 std::unique_ptr<Workbench> wb = guiWorkbench(root, a->restore, true);
                 GuiOptions opt;
+                opt.uiScale = uiScale;
                 opt.closeRequest = closeRequestFlag();
                 const int rc = runGui(*wb, *window, opt);
                 if (interrupted())
                     std::fprintf(stderr, "closed the window on %s\n", interruptingSignal().c_str());
                 if (rc != kGlResetRestart) return rc;
-                int w = width, h = height;
-                glfwGetWindowSize(window->window(), &w, &h);
+                // at the size the window had (in UI units: runGui saved it with the layout)
+                const auto [w, h] = rememberedWindowSize().value_or(std::pair{width, height});
                 return restartAfterReset(root, {"gui", "--size",
                                                 std::to_string(std::max(w, 320)) + "x" +
-                                                    std::to_string(std::max(h, 320))});
+                                                    std::to_string(std::max(h, 320)),
+                                                "--ui-scale", a->uiScale});
             };
         }};
 }
@@ -172,7 +205,7 @@ Command screenshotCommand() {
     return {"screenshot", "run the full GUI headless and save a PNG", false,
             [](CLI::App& cmd) -> CommandRun {
                 struct Args {
-                    std::string out, size = defaultSizeText();
+                    std::string out, size = defaultSizeText(), uiScale = "auto";
                     int frames = GuiOptions{}.frames;
                     bool restore = false;
                 };
@@ -181,7 +214,9 @@ Command screenshotCommand() {
                 cmd.add_option("--frames", a->frames, "frames to run before saving")
                     ->check(CLI::Range(1, 10000))
                     ->capture_default_str();
-                cmd.add_option("--size", a->size, "WxH in pixels")->capture_default_str();
+                cmd.add_option("--size", a->size, "WxH in UI units (the PNG: times --ui-scale)")
+                    ->capture_default_str();
+                cmd.add_option("--ui-scale", a->uiScale, kUiScaleHelp)->capture_default_str();
                 cmd.add_flag("--restore-after-reset", a->restore,
                              "start from the state saved when the GPU driver reset the context")
                     ->group("");
@@ -192,6 +227,8 @@ Command screenshotCommand() {
                     if (!parseSize(a->size, opt.width, opt.height))
                         throw core::Error(
                             "--size", 0, "expected WxH between 64 and 8192, got '" + a->size + "'");
+                    opt.uiScale = parseUiScale(a->uiScale);
+                    checkScaledSize(opt.width, opt.height, opt.uiScale);
                     opt.frames = a->frames;
                     opt.screenshotPath = a->out;
                     opt.persistLayout = false;
@@ -199,9 +236,9 @@ Command screenshotCommand() {
                     std::unique_ptr<Workbench> wb = guiWorkbench(root, a->restore, false);
                     const int rc = runGui(*wb, *gl, opt);
                     if (rc == kGlResetRestart)
-                        return restartAfterReset(root,
-                                                 {"screenshot", "--out", a->out, "--frames",
-                                                  std::to_string(a->frames), "--size", a->size});
+                        return restartAfterReset(root, {"screenshot", "--out", a->out, "--frames",
+                                                        std::to_string(a->frames), "--size",
+                                                        a->size, "--ui-scale", a->uiScale});
                     if (rc == 0) std::printf("wrote %s\n", a->out.c_str());
                     return rc;
                 };

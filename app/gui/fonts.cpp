@@ -11,9 +11,13 @@ std::filesystem::path symbolFontFile() {
     return "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 }
 
-bool loadFonts() {
+bool loadFonts(float uiScale) {
     ImGuiIO& io = ImGui::GetIO();
-    io.Fonts->AddFontDefault();
+    const float size = 13.0f * uiScale; // ImGui's default font size, in the screen's pixels
+    ImFontConfig base;
+    base.SizePixels = size;
+    io.Fonts->AddFontDefault(&base);
+    io.FontGlobalScale = 1.0f / uiScale;
     // beyond Latin-1: the ranges the program's text uses (ImGui keeps a pointer: static)
     static const ImWchar kRanges[] = {
         0x0370, 0x03FF, // Greek
@@ -34,7 +38,7 @@ bool loadFonts() {
     ImFontConfig merge;
     merge.MergeMode = true;
     merge.PixelSnapH = true;
-    return io.Fonts->AddFontFromFileTTF(file.c_str(), 13.0f, &merge, kRanges) != nullptr;
+    return io.Fonts->AddFontFromFileTTF(file.c_str(), size, &merge, kRanges) != nullptr;
 }
 
 } // namespace app

@@ -12,8 +12,11 @@ namespace app {
 // Where DejaVu Sans is read from.
 std::filesystem::path symbolFontFile();
 
-// Adds the fonts to the current ImGui context's atlas (before its first frame). Returns false
-// when the symbol font could not be merged.
-bool loadFonts();
+// Adds the fonts to the current ImGui context's atlas (before its first frame, or after
+// clearing it), rasterised at `uiScale` times their size and drawn at 1/uiScale (io's
+// FontGlobalScale): on a display that scales the UI by uiScale (gui.h, GuiOptions::uiScale) the
+// text is as large as at 1 and as sharp as the screen's pixels. Returns false when the symbol
+// font could not be merged.
+bool loadFonts(float uiScale = 1.0f);
 
 } // namespace app

@@ -18,12 +18,14 @@
 #include <imgui.h>
 #include <imgui_internal.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <tuple>
 
 namespace app {
 namespace fs = std::filesystem;
@@ -131,11 +133,13 @@ void applyStyle() {
     style.Colors[ImGuiCol_PopupBg].w = 1.0f;
 }
 
-// Reads back the region a panel asked for (PNG export) from `fbo` after rendering.
-void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight) {
+// Reads back the region a panel asked for (PNG export, in UI units) from `fbo` after rendering,
+// in the framebuffer's pixels (`scale` per unit).
+void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight, float scale) {
     if (ui.shared.pngExportPath.empty()) return;
-    int x0 = int(ui.shared.pngRect[0]), y0 = int(ui.shared.pngRect[1]);
-    int w = int(ui.shared.pngRect[2]) - x0, h = int(ui.shared.pngRect[3]) - y0;
+    const auto px = [scale](float units) { return int(std::lround(units * scale)); };
+    int x0 = px(ui.shared.pngRect[0]), y0 = px(ui.shared.pngRect[1]);
+    int w = px(ui.shared.pngRect[2]) - x0, h = px(ui.shared.pngRect[3]) - y0;
     std::string path = ui.shared.pngExportPath;
     ui.shared.pngExportPath.clear();
     if (w <= 0 || h <= 0) return;
@@ -148,7 +152,38 @@ void servicePngExport(Workbench& wb, UiState& ui, GLuint fbo, int fbHeight) {
         wb.reportActionError(std::string("export PNG: ") + e.what());
     }
 }
+// The fonts rasterised again for another UI scale (the window moved to a screen that scales
+// differently): the atlas and its texture made anew between frames.
+void reloadFonts(float scale) {
+    ImGui_ImplOpenGL3_DestroyFontsTexture();
+    ImGui::GetIO().Fonts->Clear();
+    loadFonts(scale);
+    ImGui_ImplOpenGL3_CreateFontsTexture();
+}
+
+// After the GLFW backend's NewFrame, which sizes the UI in the window's screen coordinates:
+// the UI in units of `scale` framebuffer pixels, and the mouse in those units. Returns the
+// window's size in UI units (what the layout file keeps).
+std::pair<int, int> applyUiScale(GLFWwindow* win, float scale) {
+    ImGuiIO& io = ImGui::GetIO();
+    int ww = 0, wh = 0, fw = 0, fh = 0;
+    glfwGetWindowSize(win, &ww, &wh);
+    glfwGetFramebufferSize(win, &fw, &fh);
+    if (ww <= 0 || wh <= 0 || fw <= 0 || fh <= 0)
+        return {0, 0};                                 // minimised: as the backend left it
+    const float perCoordinate = float(fw) / float(ww); // framebuffer pixels per screen coordinate
+    io.DisplaySize = ImVec2(float(fw) / scale, float(fh) / scale);
+    io.DisplayFramebufferScale = ImVec2(scale, scale);
+    if (io.MousePos.x > -FLT_MAX / 2 && io.MousePos.y > -FLT_MAX / 2)
+        io.MousePos =
+            ImVec2(io.MousePos.x * perCoordinate / scale, io.MousePos.y * perCoordinate / scale);
+    return {int(std::lround(fw / scale)), int(std::lround(fh / scale))};
+}
 } // namespace
+
+int scaledSize(int units, float uiScale) {
+    return std::max(1, int(std::lround(units * uiScale)));
+}
 
 std::optional<std::pair<int, int>> rememberedWindowSize() {
     std::ifstream in(iniPath());
@@ -165,8 +200,8 @@ std::optional<std::pair<int, int>> rememberedWindowSize() {
     return std::nullopt;
 }
 
-HeadlessGui::HeadlessGui(Workbench& wb, int width, int height)
-    : m_wb(wb), m_width(width), m_height(height) {
+HeadlessGui::HeadlessGui(Workbench& wb, int width, int height, float uiScale)
+    : m_wb(wb), m_width(width), m_height(height), m_scale(uiScale > 0 ? uiScale : 1.0f) {
     if (!ImGui::GetCurrentContext()) {
         static UiState ownUi;
         ownUi = UiState{};
@@ -174,14 +209,14 @@ HeadlessGui::HeadlessGui(Workbench& wb, int width, int height)
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;
         applyStyle();
-        loadFonts();
+        loadFonts(m_scale);
         m_ownsContext = true;
     }
-    m_target.resize(width, height);
+    m_target.resize(pixelWidth(), pixelHeight());
     ImGui_ImplOpenGL3_Init("#version 450");
     ImGuiIO& io = ImGui::GetIO();
     io.DisplaySize = ImVec2(float(width), float(height));
-    io.DisplayFramebufferScale = ImVec2(1, 1);
+    io.DisplayFramebufferScale = ImVec2(m_scale, m_scale);
 }
 
 HeadlessGui::~HeadlessGui() {
@@ -205,7 +240,7 @@ bool HeadlessGui::frame() {
     glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
     renderImGuiDrawData();
-    servicePngExport(m_wb, *g_ui, m_target.framebuffer(), m_height);
+    servicePngExport(m_wb, *g_ui, m_target.framebuffer(), pixelHeight(), m_scale);
     // A headless frame is "presented" when its pixels exist: finish like a swap would, so
     // software rasterisers (llvmpipe) do not pile frames up until the next readback.
     glFinish();
@@ -217,7 +252,7 @@ bool HeadlessGui::frame() {
 void HeadlessGui::resize(int width, int height) {
     m_width = width;
     m_height = height;
-    m_target.resize(width, height);
+    m_target.resize(pixelWidth(), pixelHeight());
     ImGui::GetIO().DisplaySize = ImVec2(float(width), float(height));
 }
 
@@ -228,12 +263,19 @@ void HeadlessGui::mouse(float x, float y, bool down) {
     m_mouseDown = down;
 }
 
+void HeadlessGui::setUiScale(float uiScale) {
+    m_scale = uiScale > 0 ? uiScale : 1.0f;
+    reloadFonts(m_scale);
+    m_target.resize(pixelWidth(), pixelHeight());
+    ImGui::GetIO().DisplayFramebufferScale = ImVec2(m_scale, m_scale);
+}
+
 UiState& HeadlessGui::ui() {
     return *g_ui;
 }
 
 std::vector<unsigned char> HeadlessGui::pixels() const {
-    auto px = gl::readPixelsRGBA8(m_target.framebuffer(), 0, 0, m_width, m_height);
+    auto px = gl::readPixelsRGBA8(m_target.framebuffer(), 0, 0, pixelWidth(), pixelHeight());
     for (size_t i = 3; i < px.size(); i += 4)
         px[i] = 255; // the UI has no meaningful alpha
     return px;
@@ -301,7 +343,10 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
     applyStyle();
-    loadFonts();
+    // the UI scale: asked for, else the window's content scale (followed while it runs), else 1
+    float scale = opt.uiScale > 0 ? opt.uiScale : 1.0f;
+    if (!ctx.headless() && opt.uiScale <= 0) scale = gl::contentScale(ctx.window());
+    loadFonts(scale);
     static std::string ini; // must outlive the context
     ini = iniPath();
     io.IniFilename = opt.persistLayout ? ini.c_str() : nullptr;
@@ -335,22 +380,28 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         while (!glfwWindowShouldClose(win) && !ui.shared.quit && !closeRequested()) {
             // idle without spinning; the watcher is polled below
             glfwWaitEventsTimeout(kFrameWaitSeconds);
+            if (opt.uiScale <= 0) // the window went to a screen that scales differently
+                if (const float now = gl::contentScale(win); now != scale) {
+                    scale = now;
+                    reloadFonts(scale);
+                }
             const auto frame = [&] {
                 bool changed = wb.update();
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
+                if (const auto units = applyUiScale(win, scale); units.first > 0)
+                    std::tie(ui.shared.windowWidth, ui.shared.windowHeight) = units;
                 ImGui::NewFrame();
                 drawPanels(wb, ui);
                 ImGui::Render();
                 int w = 0, h = 0;
-                glfwGetWindowSize(win, &ui.shared.windowWidth, &ui.shared.windowHeight);
                 glfwGetFramebufferSize(win, &w, &h);
                 glBindFramebuffer(GL_FRAMEBUFFER, 0);
                 glViewport(0, 0, w, h);
                 glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
                 glClear(GL_COLOR_BUFFER_BIT);
                 renderImGuiDrawData();
-                servicePngExport(wb, ui, 0, h);
+                servicePngExport(wb, ui, 0, h, scale);
                 glfwSwapBuffers(win);
                 if (changed) wb.framePresented();
                 gl::collectTimings();
@@ -361,7 +412,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         ImGui_ImplGlfw_Shutdown();
     } else {
         {
-            HeadlessGui gui(wb, opt.width, opt.height);
+            HeadlessGui gui(wb, opt.width, opt.height, scale);
             ui.shared.windowWidth = opt.width;
             ui.shared.windowHeight = opt.height;
             for (int f = 0; f < std::max(1, opt.frames) && !ui.shared.quit; ++f) {
@@ -374,7 +425,8 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             }
             if (rc == 0 && !opt.screenshotPath.empty()) {
                 try {
-                    gl::writePng(opt.screenshotPath, opt.width, opt.height, gui.pixels());
+                    gl::writePng(opt.screenshotPath, gui.pixelWidth(), gui.pixelHeight(),
+                                 gui.pixels());
                 } catch (const core::Error& e) {
                     core::logError(e.what());
                     rc = 1;

@@ -21,7 +21,12 @@ namespace app {
 inline constexpr double kFrameWaitSeconds = 0.03;
 
 struct GuiOptions {
+    // The window's (or headless screenshot's) size in UI units: uiScale screen pixels each.
     int width = 1600, height = 1000;
+    // Screen pixels per UI unit: every panel, font and field uiScale times as large (2 on a 4K
+    // screen at 200 %), laid out as at 1, text rasterised at that size. 0: the display's own
+    // scale (the window's content scale, which the desktop sets; 1 headless).
+    float uiScale = 0;
     // headless: frames to run before the screenshot; the layout has settled by the fourth (a
     // window is laid out once before ImGui knows whether it needs a scrollbar)
     int frames = 5;
@@ -44,28 +49,39 @@ std::unique_ptr<Workbench> workbenchAfterReset(const std::filesystem::path& root
 // $XDG_CONFIG_HOME or ~/.config/bssrdf-workbench), when it holds two sizes in [320, 16384].
 std::optional<std::pair<int, int>> rememberedWindowSize();
 
+// `units` UI units in pixels at `uiScale` (rounded).
+int scaledSize(int units, float uiScale);
+
 // The whole UI rendered into an FBO on the current (headless) context, one frame per call.
 class HeadlessGui {
   public:
-    HeadlessGui(Workbench& wb, int width, int height);
+    // width x height UI units, uiScale pixels each (pixels() is uiScale times as large).
+    HeadlessGui(Workbench& wb, int width, int height, float uiScale = 1.0f);
     ~HeadlessGui();
     HeadlessGui(const HeadlessGui&) = delete;
     HeadlessGui& operator=(const HeadlessGui&) = delete;
     // Updates the workbench, draws every open panel, renders; returns whether stages re-ran.
     bool frame();
-    std::vector<unsigned char> pixels() const; // RGBA8, top row first, opaque
-    UiState& ui();                             // panel toggles and pending requests
-    // Input for the next frames (tests): the mouse at (x, y) in pixels from the top left,
+    // RGBA8, top row first, opaque: pixelWidth() x pixelHeight()
+    std::vector<unsigned char> pixels() const;
+    UiState& ui(); // panel toggles and pending requests
+    // Input for the next frames (tests): the mouse at (x, y) in UI units from the top left,
     // the left button held or not; noMouse() takes it away again.
     void mouse(float x, float y, bool down);
     void noMouse() { m_hasMouse = false; }
     void resize(int width, int height); // the window resized: the next frames draw at this size
+    // The window went to a screen that scales differently: the fonts rasterised again and the
+    // next frames drawn at `uiScale` pixels per unit (as the windowed loop does).
+    void setUiScale(float uiScale);
     int width() const { return m_width; }
     int height() const { return m_height; }
+    int pixelWidth() const { return scaledSize(m_width, m_scale); }
+    int pixelHeight() const { return scaledSize(m_height, m_scale); }
 
   private:
     Workbench& m_wb;
     int m_width, m_height;
+    float m_scale;
     gl::RenderTarget m_target;
     bool m_ownsContext = false; // created its own ImGui context (used outside runGui)
     bool m_hasMouse = false, m_mouseDown = false;

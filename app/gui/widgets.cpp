@@ -323,19 +323,22 @@ bool inspectorImage(Workbench& wb, UiShared& ui, SceneView& view, ImVec2 size, f
     render::Camera& cam = ui.inspect.camera;
     const int w = std::max(16, int(size.x)), h = std::max(16, int(size.y));
     cam.aspect = float(w) / float(h);
-    view.draw(w, h, cam.projection() * cam.view(), pointSize);
+    // drawn at the screen's pixels (the UI scale's per unit: sharp on a 4K screen at 200 %)
+    const float scale = std::max(1.0f, ImGui::GetIO().DisplayFramebufferScale.x);
+    const int tw = int(std::lround(w * scale)), th = int(std::lround(h * scale));
+    view.draw(tw, th, cam.projection() * cam.view(), pointSize * scale);
     int ix = -1, iy = -1;
     ImVec2 drag;
     float wheel = 0;
     const bool clicked =
-        pickImage("##inspector", view.texture(), w, h, float(w), ix, iy, true, &drag, &wheel);
+        pickImage("##inspector", view.texture(), tw, th, float(w), ix, iy, true, &drag, &wheel);
     if (drag.x != 0 || drag.y != 0) {
         cam.yaw -= drag.x * 0.01f;
         cam.pitch = std::clamp(cam.pitch + drag.y * 0.01f, -1.5f, 1.5f);
     }
     if (wheel != 0) cam.distance = std::max(0.05f, cam.distance * std::pow(0.9f, wheel));
-    px = float(ix) + 0.5f;
-    py = float(iy) + 0.5f;
+    px = (float(ix) + 0.5f) / scale; // in UI units, as `size`
+    py = (float(iy) + 0.5f) / scale;
     return clicked;
 }
 

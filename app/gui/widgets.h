@@ -19,8 +19,9 @@
 
 namespace app {
 
-// Shows a SceneView texture (drawn with ui.inspect.camera) filling `size`; dragging orbits,
-// the wheel zooms. Returns true and sets (px, py) (pixels from the top left) on a click.
+// Shows a SceneView texture (drawn with ui.inspect.camera, at the screen's pixels) filling
+// `size` (UI units); dragging orbits, the wheel zooms. Returns true and sets (px, py) (UI units
+// from the top left) on a click.
 bool inspectorImage(Workbench& wb, UiShared& ui, SceneView& view, ImVec2 size, float pointSize,
                     float& px, float& py);
 using core::luminance; // the scalar the scalar views and heatmaps show

@@ -1,4 +1,5 @@
-// gl windowed context: GLFW window with an OpenGL 4.5 core profile context.
+// gl windowed context: GLFW window with an OpenGL 4.5 core profile context, sized in UI units
+// of the UI scale's screen pixels.
 #include "gl.h"
 
 #include "core/core.h"
@@ -18,7 +19,7 @@ void glfwErrorCallback(int code, const char* text) {
 
 class GlfwContext final : public Context {
   public:
-    GlfwContext(int width, int height, const std::string& title, bool debug) {
+    GlfwContext(int width, int height, const std::string& title, bool debug, float uiScale) {
         glfwSetErrorCallback(glfwErrorCallback);
         if (!glfwInit()) throw core::Error("GLFW: cannot initialise (no display?)");
         glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
@@ -44,12 +45,24 @@ class GlfwContext final : public Context {
             glfwTerminate();
             throw core::Error("GLFW: cannot open an OpenGL 4.5 core window");
         }
+        // UI units to the window's screen coordinates: the UI scale over the framebuffer's
+        // pixels per screen coordinate (1 on X11, where the window is sized in pixels; the
+        // content scale where the platform scales windows itself: Wayland, macOS)
+        int ww = 0, wh = 0, fw = 0, fh = 0;
+        glfwGetWindowSize(m_window, &ww, &wh);
+        glfwGetFramebufferSize(m_window, &fw, &fh);
+        const float scale = uiScale > 0 ? uiScale : contentScale(m_window);
+        const double perUnit = ww > 0 && fw > 0 ? scale / (double(fw) / ww) : 1.0;
+        const int wantW = int(std::lround(width * perUnit)),
+                  wantH = int(std::lround(height * perUnit));
         if (aw > 0 && ah > 0) {
             int left = 0, top = 0, right = 0, bottom = 0;
             glfwGetWindowFrameSize(m_window, &left, &top, &right, &bottom);
-            size = fitWindowSize(width, height, aw, ah, left + right, top + bottom);
+            size = fitWindowSize(wantW, wantH, aw, ah, left + right, top + bottom);
             glfwSetWindowSize(m_window, size.width, size.height);
             glfwSetWindowPos(m_window, ax + left, ay + top);
+        } else {
+            glfwSetWindowSize(m_window, wantW, wantH);
         }
         glfwShowWindow(m_window);
         makeCurrent();
@@ -90,8 +103,14 @@ WindowSize fitWindowSize(int wantW, int wantH, int areaW, int areaH, int frameW,
 }
 
 std::unique_ptr<Context> createWindowContext(int width, int height, const std::string& title,
-                                             bool debug) {
-    return std::make_unique<GlfwContext>(width, height, title, debug);
+                                             bool debug, float uiScale) {
+    return std::make_unique<GlfwContext>(width, height, title, debug, uiScale);
+}
+
+float contentScale(GLFWwindow* window) {
+    float x = 1, y = 1;
+    glfwGetWindowContentScale(window, &x, &y);
+    return std::isfinite(x) && x >= 0.25f && x <= 8.0f ? x : 1.0f;
 }
 
 bool displayAvailable() {

@@ -34,9 +34,14 @@ class Context {
 // EGL headless context (surfaceless, then device platform, then default display).
 // Throws core::Error with the reason when no OpenGL 4.5 core context can be created.
 std::unique_ptr<Context> createHeadlessContext(bool debug = true);
-// GLFW window with an OpenGL 4.5 core context. Throws core::Error when it cannot open one.
+// GLFW window with an OpenGL 4.5 core context, width x height UI units of `uiScale` screen
+// pixels each (0: the window's content scale, which the desktop sets: 2 on a screen at 200 %),
+// shrunk to fit the primary monitor's work area (fitWindowSize). Throws core::Error when it
+// cannot open one.
 std::unique_ptr<Context> createWindowContext(int width, int height, const std::string& title,
-                                             bool debug = true);
+                                             bool debug = true, float uiScale = 0);
+// The window's content scale (GLFW: the desktop's scaling of that monitor; X11: Xft.dpi / 96).
+float contentScale(GLFWwindow* window);
 // True when a display server is reachable (DISPLAY / WAYLAND_DISPLAY set and GLFW starts).
 bool displayAvailable();
 

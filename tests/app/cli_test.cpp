@@ -538,9 +538,26 @@ TEST_F(Cli, ScreenshotWritesPngOfRequestedSize) {
     EXPECT_EQ(pngSize(dir() / "shot.png"), std::make_pair(640u, 400u)) << describe(args, r);
 }
 
+// --ui-scale 1.5: the same UI in 1.5 times the pixels (a screen at 150 %).
+TEST_F(Cli, ScreenshotAtAUiScaleIsThatManyTimesTheSize) {
+    std::vector<std::string> args = {"screenshot", "--out", "shot.png",   "--size", "640x400",
+                                     "--frames",   "2",     "--ui-scale", "1.5"};
+    RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << describe(args, r);
+    EXPECT_EQ(pngSize(dir() / "shot.png"), std::make_pair(960u, 600u)) << describe(args, r);
+}
+
 TEST_F(Cli, ScreenshotRejectsBadSizeAndOutput) {
     expectFailure({"screenshot", "--out", "tiny.png", "--size", "10x10"}, {"--size"});
     expectFailure({"screenshot", "--out", "tiny.png", "--size", "big"}, {"--size"});
+    for (const char* scale : {"0.25", "5", "big", "1.5x", "nan", ""})
+        expectFailure({"screenshot", "--out", "tiny.png", "--ui-scale", scale},
+                      {"error: --ui-scale: expected auto or a number from 0.5 to 4, got '" +
+                       std::string(scale) + "'"});
+    expectFailure({"screenshot", "--out", "tiny.png", "--size", "4000x3000", "--ui-scale", "3"},
+                  {"error: --ui-scale: the image would be over 8192 pixels wide or high: "
+                   "4000x3000 at 3"});
+    expectFailure({"--headless", "gui", "--ui-scale", "0"}, {"error: --ui-scale: expected auto"});
     EXPECT_FALSE(fs::exists(dir() / "tiny.png"));
     // the file is a PNG, and an unwritable place is refused before the GUI runs
     expectFailure({"screenshot", "--out", "shot.jpg"}, {"--out", "'shot.jpg' must end in .png"});

@@ -73,6 +73,66 @@ TEST(HeadlessGui, DrawsAllPanelsAndExportsThePlotAsPng) {
     fs::remove_all(root);
 }
 
+// At UI scale 2 (a 4K screen at 200 %) the UI is laid out in the same units at twice the pixels:
+// the image is twice the size, and the plot's PNG is the plot's rectangle in the screen's
+// pixels, twice what it is at scale 1.
+TEST(HeadlessGui, AtUiScale2ThePixelsAndThePlotsPngAreTwiceAsLarge) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("guiscale", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    std::pair<int, int> size[2];
+    for (int scale : {1, 2}) {
+        app::HeadlessGui gui(wb, 900, 600, float(scale));
+        EXPECT_EQ(gui.pixelWidth(), 900 * scale);
+        EXPECT_EQ(gui.pixelHeight(), 600 * scale);
+        gui.ui().shared.show(app::PanelId::Pencil);
+        gui.frame();
+        gui.frame();
+        ASSERT_EQ(gui.pixels().size(), size_t(900 * 600 * 4 * scale * scale));
+        const fs::path png = root / ("plot" + std::to_string(scale) + ".png");
+        gui.ui().pencil.plotPngRequest = png.string();
+        gui.frame();
+        ASSERT_TRUE(fs::exists(png));
+        const float* r = gui.ui().shared.pngRect;
+        size[scale - 1] = pngSize(png);
+        EXPECT_NEAR(size[scale - 1].first, (r[2] - r[0]) * scale, 1.0);
+        EXPECT_NEAR(size[scale - 1].second, (r[3] - r[1]) * scale, 1.0);
+    }
+    EXPECT_NEAR(size[1].first, 2 * size[0].first, 2);
+    EXPECT_NEAR(size[1].second, 2 * size[0].second, 2);
+    EXPECT_TRUE(wb.errors().empty());
+}
+
+// The window moved to a screen that scales by 2: after the fonts are made again at that size the
+// frames are those of a GUI started there (the menu bar and the tab bars pixel for pixel).
+TEST(HeadlessGui, AChangedUiScaleDrawsAsAGuiStartedAtIt) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("guirescale", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    std::vector<unsigned char> started;
+    {
+        app::HeadlessGui gui(wb, 800, 600, 2.0f);
+        for (int i = 0; i < 5; ++i)
+            gui.frame();
+        started = gui.pixels();
+    }
+    app::HeadlessGui gui(wb, 800, 600, 1.0f);
+    for (int i = 0; i < 3; ++i)
+        gui.frame();
+    gui.setUiScale(2.0f);
+    for (int i = 0; i < 5; ++i)
+        gui.frame();
+    const std::vector<unsigned char> moved = gui.pixels();
+    ASSERT_EQ(moved.size(), started.size());
+    size_t differ = 0; // the top 45 units: the menu bar's menus and the panels' tab bars
+    for (int y = 0; y < 90; ++y)
+        for (int x = 0; x < (y < 40 ? 400 : 1600); ++x)
+            differ += std::memcmp(&moved[(size_t(y) * 1600 + x) * 4],
+                                  &started[(size_t(y) * 1600 + x) * 4], 3) != 0;
+    EXPECT_EQ(differ, 0u);
+    EXPECT_TRUE(wb.errors().empty());
+}
+
 TEST(HeadlessGui, LayoutAndPanelVisibilityPersist) {
     auto& ctx = testsupport::context();
     auto root = testsupport::makeProjectRoot("layout", {"dipole.bssrdf"});

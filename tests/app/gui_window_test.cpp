@@ -9,6 +9,7 @@
 #include "gl/gl.h"
 #include "scratch_dir.h"
 
+#include <X11/Xatom.h>
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
 #include <X11/extensions/XTest.h>
@@ -259,15 +260,29 @@ class GuiWindow : public ::testing::Test {
   protected:
     static constexpr const char* kTitle = "BSSRDF Workbench";
 
-    void SetUp() override {
+    void SetUp() override { startServer(1280, 800); }
+
+    void startServer(int width, int height) {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
         m_dir = fs::temp_directory_path() /
                 (std::string("bw_window_") + info->name() + "_" + std::to_string(::getpid()));
+        m_x.reset();
         fs::remove_all(m_dir);
         fs::create_directories(m_dir / "config");
         testsupport::removeAtExit(m_dir);
-        m_x = std::make_unique<XServer>(m_dir, 1280, 800);
+        m_x = std::make_unique<XServer>(m_dir, width, height);
         ASSERT_EQ(m_x->problem(), "");
+    }
+
+    // The desktop's scaling, as desktops publish it to X programs: Xft.dpi in the root window's
+    // resources (96 per 1), which GLFW reads as the windows' content scale.
+    void setDesktopScale(int dpi) {
+        Display* d = m_x->display();
+        const std::string resources = "Xft.dpi:\t" + std::to_string(dpi) + "\n";
+        XChangeProperty(d, DefaultRootWindow(d), XA_RESOURCE_MANAGER, XA_STRING, 8, PropModeReplace,
+                        reinterpret_cast<const unsigned char*>(resources.data()),
+                        int(resources.size()));
+        XSync(d, False);
     }
 
     // The workbench on this test's display, its settings under this test's folder.
@@ -392,6 +407,53 @@ TEST_F(GuiWindow, OpensAtItsSizeDrawsAndCtrlCClosesItKeepingTheLayout) {
     ::kill(again->pid(), SIGTERM);
     EXPECT_EQ(again->wait(20), 0) << again->output();
     EXPECT_NE(again->output().find("closed the window on SIGTERM"), std::string::npos);
+}
+
+// On a desktop that scales by 2 (a 4K screen at 200 %): the window is twice the size asked for
+// in pixels, its menu bar and tab bars are the headless GUI's at --ui-scale 2 pixel for pixel,
+// a click where "File" shows opens it (the mouse in UI units), and the layout keeps the size in
+// UI units, as asked for.
+TEST_F(GuiWindow, OnADesktopScaledBy2TheWindowIsTwiceAsLargeAndAnswersTheMouse) {
+    startServer(2560, 1600);
+    setDesktopScale(192);
+    auto p = start({"gui", "--size", "900x600"});
+    const Window w = drawnWindow(*p);
+    ASSERT_NE(w, 0u) << p->output();
+    EXPECT_EQ(windowSize(w), std::make_pair(1800, 1200));
+    auto shot = start({"screenshot", "--size", "900x600", "--ui-scale", "2", "--out",
+                       (m_dir / "headless.png").string()});
+    ASSERT_EQ(shot->wait(120), 0) << shot->output();
+    const Image headless = readPng(m_dir / "headless.png");
+    ASSERT_EQ(headless.width, 1800);
+    Image img;
+    const auto since = Clock::now();
+    do {
+        img = grab(m_x->display(), w);
+    } while ((pixelsThatDiffer(img, headless, 0, 0, 400, 40) > 0 ||
+              pixelsThatDiffer(img, headless, 0, 40, 1800, 90) > 0) &&
+             secondsSince(since) < 20);
+    save(img, "window_scale2.png");
+    EXPECT_EQ(pixelsThatDiffer(img, headless, 0, 0, 400, 40), 0u) << "the menu bar's menus";
+    EXPECT_EQ(pixelsThatDiffer(img, headless, 0, 40, 1800, 90), 0u) << "the panels' tab bars";
+
+    Display* d = m_x->display();
+    XSetInputFocus(d, w, RevertToParent, CurrentTime);
+    pointTo(w, 1200, 600);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    const Image before = grab(d, w);
+    click(w, 36, 18); // "File" at (18, 9) in UI units
+    Image open;
+    const auto clicked = Clock::now();
+    do {
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        open = grab(d, w);
+    } while (pixelsThatDiffer(before, open, 8, 48, 208, 168) < 12000 && secondsSince(clicked) < 20);
+    EXPECT_GE(pixelsThatDiffer(before, open, 8, 48, 208, 168), 12000u)
+        << "the File menu did not open";
+    key(XK_Escape);
+    key(XK_q, true);
+    EXPECT_EQ(p->wait(20), 0) << p->output();
+    EXPECT_NE(layoutFile().find("Window=900,600"), std::string::npos) << layoutFile();
 }
 
 // With no size asked for and none saved, the default (1600x1000) shrunk to fit a 1280x800 screen.

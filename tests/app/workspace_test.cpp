@@ -135,7 +135,7 @@ void expectFitsItsWidth(app::HeadlessGui& gui, app::PanelId id) {
                           << scrollbar << ")";
 }
 
-TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
+TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080AndUiScales1To2) {
     testsupport::context();
     // every shipped model, as the workbench starts on the project (the Models panel lists them
     // all, with their parameters)
@@ -151,10 +151,22 @@ TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
         wb.scene().settings().render.width = 320;
         wb.scene().settings().render.height = 180;
     }
-    // (1304x744: a size where the Render panel flipped between two layouts every frame)
-    for (auto [w, h] : {std::pair{800, 600}, {1280, 720}, {1304, 744}, {1920, 1080}}) {
-        SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
-        app::HeadlessGui gui(wb, w, h);
+    // (1304x744: a size where the Render panel flipped between two layouts every frame; at UI
+    // scales 2 and 1.5, a 4K screen at 200 % and a laptop's at 150 %: the same layout in UI
+    // units with the text rasterised at the screen's pixels)
+    struct Size {
+        int w, h;
+        float scale;
+    };
+    for (auto [w, h, scale] : {Size{800, 600, 1},
+                               {1280, 720, 1},
+                               {1304, 744, 1},
+                               {1920, 1080, 1},
+                               {800, 600, 2},
+                               {1280, 720, 1.5f}}) {
+        SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + " at UI scale " +
+                     std::to_string(scale));
+        app::HeadlessGui gui(wb, w, h, scale);
         app::UiState& ui = gui.ui();
         ui = app::UiState{};
         for (const auto& p : app::panelRegistry())
@@ -175,10 +187,11 @@ TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
         if (pngDir) {
             wb.finishScene(); // the rendered bunny in the picture, not "waiting"
             gui.frame();
-            gl::writePng((fs::path(pngDir) /
-                          ("layout-" + std::to_string(w) + "x" + std::to_string(h) + ".png"))
-                             .string(),
-                         w, h, gui.pixels());
+            if (scale == 1)
+                gl::writePng((fs::path(pngDir) /
+                              ("layout-" + std::to_string(w) + "x" + std::to_string(h) + ".png"))
+                                 .string(),
+                             w, h, gui.pixels());
         }
         // Every panel comes to the front of its area on request, inside the viewport.
         for (const auto& p : app::panelRegistry()) {
@@ -189,10 +202,11 @@ TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080) {
             EXPECT_TRUE(viewport.contains(rectOf(pw))) << p.title;
             expectFitsItsWidth(gui, p.id);
             if (const char* dir = std::getenv("BW_PANEL_PNG_DIR"))
-                gl::writePng((fs::path(dir) / (std::string(p.iniKey) + "-" + std::to_string(w) +
-                                               "x" + std::to_string(h) + ".png"))
-                                 .string(),
-                             w, h, gui.pixels());
+                gl::writePng(
+                    (fs::path(dir) / (std::string(p.iniKey) + "-" + std::to_string(w) + "x" +
+                                      std::to_string(h) + "@" + core::formatNumber(scale) + ".png"))
+                        .string(),
+                    gui.pixelWidth(), gui.pixelHeight(), gui.pixels());
         }
         // A floating panel stays inside the viewport too, and docks back.
         ui.shared.workspace.floating[size_t(app::PanelId::Render)] = true;
