@@ -2,6 +2,7 @@
 // default capture recorded and replayed headless plus a screenshot) and `screenshot` (the full
 // GUI run headless for some frames, saved as PNG).
 #include "captures/capture_io.h"
+#include "captures/session.h"
 #include "cli/args.h"
 #include "cli/command.h"
 #include "cli/interrupt.h"
@@ -80,6 +81,22 @@ std::unique_ptr<Workbench> guiWorkbench(const fs::path& root, bool restore, bool
     return std::make_unique<Workbench>(root, watch);
 }
 
+// The window's workbench: the state the last session of this project left (captures/
+// session.h) unless `fresh`, then the models given on the command line opened.
+std::unique_ptr<Workbench> windowWorkbench(const fs::path& root, bool fresh,
+                                           const std::vector<fs::path>& models) {
+    std::unique_ptr<Workbench> wb;
+    if (!fresh) wb = restoreSession(sessionDir(configDir(), root), root, true);
+    if (wb)
+        std::fprintf(stderr, "restored the last session of %s (gui --fresh starts without it)\n",
+                     root.c_str());
+    else
+        wb = std::make_unique<Workbench>(root, true);
+    for (const fs::path& m : models)
+        wb->openModel(m);
+    return wb;
+}
+
 int runHeadlessDefault(const fs::path& root, const std::string& outDir, int width, int height,
                        float uiScale) {
     fs::path out = outDir.empty() ? fs::path("out") / "default" : fs::path(outDir);
@@ -125,8 +142,9 @@ Command guiCommand() {
     return {
         "gui", "interactive workbench (default)", false, [](CLI::App& cmd) -> CommandRun {
             struct Args {
-                bool headless = false, restore = false;
+                bool headless = false, restore = false, fresh = false;
                 std::string out, size, uiScale = "auto";
+                std::vector<std::string> models;
             };
             auto a = std::make_shared<Args>();
             // also the program's own options, since `gui` is what runs without a command
@@ -161,6 +179,11 @@ Command guiCommand() {
                                "; shrunk to fit the screen's work area) in UI units; "
                                "headless: the screenshot's");
             cmd.add_option("--ui-scale", a->uiScale, kUiScaleHelp)->capture_default_str();
+            cmd.add_flag("--fresh", a->fresh,
+                         "start with the defaults, not with the state the window had when it last "
+                         "closed on this project (its models, parameters and settings)");
+            cmd.add_option("models", a->models,
+                           ".bssrdf models to open besides the project's (as File > Open model)");
             return [a](CommandContext& ctx) {
                 int width = GuiOptions{}.width, height = GuiOptions{}.height;
                 if (!a->size.empty() && !parseSize(a->size, width, height, 320))
@@ -175,21 +198,40 @@ Command guiCommand() {
                     headless = true;
                 }
                 if (headless) {
+                    for (const auto& [given, flag] :
+                         {std::pair{!a->models.empty(), "a model file"}, {a->fresh, "--fresh"}})
+                        if (given)
+                            throw core::Error(flag, 0,
+                                              "belongs to the window; the headless run records "
+                                              "the default capture (leave it out)");
                     checkScaledSize(width, height, uiScale);
                     return runHeadlessDefault(root, a->out, width, height, uiScale);
                 }
+                std::vector<fs::path> models;
+                for (const std::string& m : a->models) // checked before the window opens
+                    models.push_back(resolveModel(root, m, "gui"));
                 if (a->size.empty())
                     if (auto last = rememberedWindowSize()) std::tie(width, height) = *last;
                 std::fprintf(stderr, "resources: %s\n", root.c_str());
                 auto window =
                     gl::createWindowContext(width, height, "BSSRDF Workbench", true, uiScale);
-                std::unique_ptr<Workbench> wb = guiWorkbench(root, a->restore, true);
+                std::unique_ptr<Workbench> wb = a->restore
+                                                    ? guiWorkbench(root, true, true)
+                                                    : windowWorkbench(root, a->fresh, models);
                 GuiOptions opt;
                 opt.uiScale = uiScale;
                 opt.closeRequest = closeRequestFlag();
                 const int rc = runGui(*wb, *window, opt);
                 if (interrupted())
                     std::fprintf(stderr, "closed the window on %s\n", interruptingSignal().c_str());
+                if (rc == 0) { // the state for the next start (gui --fresh starts without it)
+                    try {
+                        saveSession(*wb, sessionDir(configDir(), root));
+                    } catch (const core::Error& e) {
+                        std::fprintf(stderr, "error: the session was not saved: %s\n", e.what());
+                        return 1;
+                    }
+                }
                 if (rc != kGlResetRestart) return rc;
                 // at the size the window had (in UI units: runGui saved it with the layout)
                 const auto [w, h] = rememberedWindowSize().value_or(std::pair{width, height});

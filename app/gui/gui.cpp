@@ -7,6 +7,7 @@
 
 #include "capture/capture.h"
 #include "captures/capture_io.h"
+#include "captures/session.h"
 #include "core/core.h"
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
@@ -96,10 +97,7 @@ void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffe
 }
 
 std::string iniPath() {
-    const char* xdg = std::getenv("XDG_CONFIG_HOME");
-    const char* home = std::getenv("HOME");
-    fs::path dir = xdg && *xdg ? fs::path(xdg) : fs::path(home ? home : ".") / ".config";
-    dir /= "bssrdf-workbench";
+    const fs::path dir = configDir();
     std::error_code ec;
     fs::create_directories(dir, ec);
     return (dir / "imgui.ini").string();
@@ -180,6 +178,13 @@ std::pair<int, int> applyUiScale(GLFWwindow* win, float scale) {
     return {int(std::lround(fw / scale)), int(std::lround(fh / scale))};
 }
 } // namespace
+
+fs::path configDir() {
+    const char* xdg = std::getenv("XDG_CONFIG_HOME");
+    const char* home = std::getenv("HOME");
+    const fs::path dir = xdg && *xdg ? fs::path(xdg) : fs::path(home ? home : ".") / ".config";
+    return dir / "bssrdf-workbench";
+}
 
 int scaledSize(int units, float uiScale) {
     return std::max(1, int(std::lround(units * uiScale)));
@@ -290,8 +295,9 @@ constexpr const char* kGlResetName = "gl-reset";
 int saveStateAfterReset(Workbench& wb, gl::ResetStatus reset) {
     const std::string reason = gl::describe(reset);
     core::logError(reason + ": the workbench starts again on a new context with its state");
-    const std::filesystem::path request = writeRecordRequest(wb, kGlResetName);
-    core::writeFile(request.parent_path() / "reason.txt", reason);
+    const fs::path dir = glResetRequest(wb.root()).parent_path();
+    saveSession(wb, dir); // (models from elsewhere are opened where they are, not copied)
+    core::writeFile(dir / "reason.txt", reason);
     return kGlResetRestart;
 }
 
@@ -318,18 +324,14 @@ std::filesystem::path glResetRequest(const std::filesystem::path& root) {
 }
 
 std::unique_ptr<Workbench> workbenchAfterReset(const std::filesystem::path& root, bool watch) {
-    const std::filesystem::path request = glResetRequest(root);
-    const capture::Manifest m = capture::readInputs(request);
+    const fs::path dir = glResetRequest(root).parent_path();
     std::string reason = "the GPU driver reset the OpenGL context";
     std::error_code ec;
-    if (std::filesystem::exists(request.parent_path() / "reason.txt", ec))
-        reason = core::readFile(request.parent_path() / "reason.txt");
-    // models from outside the project were saved with the state: they live for the session
-    static ExternalModels external;
-    int traceX = -1, traceY = -1;
-    std::unique_ptr<Workbench> wb =
-        workbenchFromInputs(m, root, external.dir, request.string(), traceX, traceY, watch);
-    std::filesystem::remove_all(request.parent_path(), ec);
+    if (std::filesystem::exists(dir / "reason.txt", ec))
+        reason = core::readFile(dir / "reason.txt");
+    std::unique_ptr<Workbench> wb = restoreSession(dir, root, watch);
+    if (!wb) wb = std::make_unique<Workbench>(root, watch);
+    std::filesystem::remove_all(dir, ec);
     wb->reportActionError("GPU: " + reason +
                           "; the workbench started again on a new OpenGL context with the state "
                           "it had (models, parameters, settings)");

@@ -45,6 +45,10 @@ constexpr int kGlResetRestart = 75;
 std::filesystem::path glResetRequest(const std::filesystem::path& root);
 std::unique_ptr<Workbench> workbenchAfterReset(const std::filesystem::path& root, bool watch);
 
+// The user's configuration folder: $XDG_CONFIG_HOME/bssrdf-workbench, else
+// ~/.config/bssrdf-workbench (the layout file, the sessions: captures/session.h).
+std::filesystem::path configDir();
+
 // The window size the last session saved (Window=W,H in the layout file, imgui.ini under
 // $XDG_CONFIG_HOME or ~/.config/bssrdf-workbench), when it holds two sizes in [320, 16384].
 std::optional<std::pair<int, int>> rememberedWindowSize();

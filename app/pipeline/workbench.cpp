@@ -165,6 +165,7 @@ void Workbench::openModel(const fs::path& file) {
     if (file.extension() != ".bssrdf")
         throw core::Error(file.string(), 0, "not a .bssrdf model file");
     m_library->open(file);
+    core::logInfo("opened " + fs::absolute(file).lexically_normal().string());
     // A model from anywhere is hot-reloaded like those in materials/.
     if (m_watcher) m_watcher->watch(fs::absolute(file).lexically_normal().parent_path());
     update();

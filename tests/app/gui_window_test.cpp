@@ -539,6 +539,45 @@ TEST_F(GuiWindow, ASavedModelIsShownAndABrokenOneNamedWhileTheWindowStays) {
     EXPECT_EQ(p->wait(20), 0) << p->output();
 }
 
+// The window keeps its state for the next start on the project (captures/session.h): a model
+// opened from elsewhere (here on the command line, as `gui FILE`) is opened again where it is;
+// `gui --fresh` starts without it; a model file that is not there is refused before the window.
+TEST_F(GuiWindow, TheNextStartHasTheLastSessionAndFreshStartsWithout) {
+    const fs::path model = m_dir / "mine.bssrdf";
+    fs::copy_file(fs::path(BW_SOURCE_ROOT) / "materials/better_dipole.bssrdf", model);
+    const std::string opened = "[info] opened " + model.string();
+    auto p = start({"gui", "--size", "900x600", model.string()});
+    ASSERT_NE(drawnWindow(*p), 0u) << p->output();
+    ASSERT_TRUE(p->waitForOutput(opened, 30)) << p->output();
+    EXPECT_EQ(p->output().find("restored the last session"), std::string::npos) << p->output();
+    ::kill(p->pid(), SIGINT);
+    ASSERT_EQ(p->wait(20), 0) << p->output();
+    EXPECT_TRUE(fs::exists(m_dir / "config" / "bssrdf-workbench" / "sessions"));
+
+    auto again = start({"gui", "--size", "900x600"});
+    ASSERT_NE(drawnWindow(*again), 0u) << again->output();
+    EXPECT_TRUE(again->waitForOutput(opened, 30)) << again->output();
+    EXPECT_NE(again->output().find("restored the last session of"), std::string::npos)
+        << again->output();
+    ::kill(again->pid(), SIGTERM);
+    ASSERT_EQ(again->wait(20), 0) << again->output();
+
+    auto fresh = start({"gui", "--size", "900x600", "--fresh"});
+    ASSERT_NE(drawnWindow(*fresh), 0u) << fresh->output();
+    ASSERT_TRUE(fresh->waitForOutput("dipole.bssrdf: checking its first evaluation", 30))
+        << fresh->output();
+    EXPECT_EQ(fresh->output().find("mine.bssrdf"), std::string::npos) << fresh->output();
+    EXPECT_EQ(fresh->output().find("restored"), std::string::npos) << fresh->output();
+    ::kill(fresh->pid(), SIGTERM);
+    ASSERT_EQ(fresh->wait(20), 0) << fresh->output();
+
+    auto missing = start({"gui", (m_dir / "gone.bssrdf").string()});
+    const int rc = missing->wait(30);
+    EXPECT_TRUE(rc > 0 && rc < 128) << rc << "\n" << missing->output();
+    EXPECT_NE(missing->output().find("gone.bssrdf"), std::string::npos) << missing->output();
+    EXPECT_EQ(findWindow(m_x->display(), kTitle), 0u);
+}
+
 // --out-dir is where a headless run writes: with a display and no --headless it is refused.
 TEST_F(GuiWindow, OutDirWithADisplayAndNoHeadlessIsRefused) {
     auto p = start({"--out-dir", (m_dir / "out").string()});
