@@ -68,8 +68,14 @@ std::unique_ptr<Workbench> restoreFrom(const fs::path& dir, const fs::path& root
             problems.push_back(std::string(e.what()) +
                                " (the parameters and settings are the defaults)");
             auto fresh = std::make_unique<Workbench>(root, watch);
-            for (auto& entry : wb->library().entries())
-                if (fs::path(entry.displayPath).is_absolute()) fresh->openModel(entry.file);
+            for (auto& entry : wb->library().entries()) {
+                if (!fs::path(entry.displayPath).is_absolute()) continue;
+                try {
+                    fresh->openModel(entry.file);
+                } catch (const core::Error& again) { // gone in between
+                    problems.push_back(again.what());
+                }
+            }
             wb = std::move(fresh);
         }
     }

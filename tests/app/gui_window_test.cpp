@@ -360,6 +360,55 @@ class GuiWindow : public ::testing::Test {
         return {a.width, a.height};
     }
 
+    // The same workbench as the headless GUI draws (gui.h: same panels, same pixels) at UI
+    // `scale`: the menu bar's menus and the panels' tab bars below it (the top 45 units), pixel
+    // for pixel, once the layout has settled (the menu bar's right end shows the run's own
+    // state: hot reload on, not off). Saves what the window showed as `png`.
+    void expectDrawnAsHeadless(Window w, int scale, const std::string& png) {
+        auto shot = start({"screenshot", "--size", "900x600", "--ui-scale", std::to_string(scale),
+                           "--out", (m_dir / "headless.png").string()});
+        ASSERT_EQ(shot->wait(120), 0) << shot->output();
+        const Image headless = readPng(m_dir / "headless.png");
+        ASSERT_EQ(headless.width, 900 * scale);
+        const auto bars = [&](const Image& img) {
+            return pixelsThatDiffer(img, headless, 0, 0, 200 * scale, 20 * scale) +
+                   pixelsThatDiffer(img, headless, 0, 20 * scale, 900 * scale, 45 * scale);
+        };
+        Image img;
+        const auto since = Clock::now();
+        do {
+            img = grab(m_x->display(), w);
+        } while (bars(img) > 0 && secondsSince(since) < 20);
+        save(img, png);
+        EXPECT_EQ(bars(img), 0u) << "the menu bar's menus and the panels' tab bars";
+        EXPECT_GT(distinctColours(img, 0, 45 * scale, img.width, img.height), 40u)
+            << "the panels' contents";
+    }
+
+    // A click on "File" (18, 9 UI units: the menu bar's first item) opens its menu: most of a
+    // 100x60-unit block below it changes. Escape closes it again.
+    void expectClickOpensTheFileMenu(Window w, int scale, const std::string& png) {
+        Display* d = m_x->display();
+        XSetInputFocus(d, w, RevertToParent, CurrentTime); // a window manager's part, here none
+        pointTo(w, 600 * scale, 300 * scale);
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        const Image before = grab(d, w);
+        click(w, 18 * scale, 9 * scale);
+        const auto changed = [&](const Image& open) {
+            return pixelsThatDiffer(before, open, 4 * scale, 24 * scale, 104 * scale, 84 * scale);
+        };
+        const size_t most = size_t(3000 * scale * scale);
+        Image open;
+        const auto since = Clock::now();
+        do {
+            std::this_thread::sleep_for(std::chrono::milliseconds(200));
+            open = grab(d, w);
+        } while (changed(open) < most && secondsSince(since) < 20);
+        save(open, png);
+        EXPECT_GE(changed(open), most) << "the File menu did not open";
+        key(XK_Escape);
+    }
+
     fs::path m_dir;
     std::unique_ptr<XServer> m_x;
     int m_runs = 0;
@@ -372,25 +421,7 @@ TEST_F(GuiWindow, OpensAtItsSizeDrawsAndCtrlCClosesItKeepingTheLayout) {
     const Window w = drawnWindow(*p);
     ASSERT_NE(w, 0u) << "no drawn window within 60 s:\n" << p->output();
     EXPECT_EQ(windowSize(w), std::make_pair(900, 600));
-    // The same workbench as the headless GUI draws (gui.h: same panels, same pixels): the menu
-    // bar's menus and the panels' tab bars below it, pixel for pixel, once the layout has
-    // settled (the menu bar's right end shows the run's own state: hot reload on, not off).
-    auto shot =
-        start({"screenshot", "--size", "900x600", "--out", (m_dir / "headless.png").string()});
-    ASSERT_EQ(shot->wait(120), 0) << shot->output();
-    const Image headless = readPng(m_dir / "headless.png");
-    ASSERT_EQ(headless.width, 900);
-    Image img;
-    const auto since = Clock::now();
-    do {
-        img = grab(m_x->display(), w);
-    } while ((pixelsThatDiffer(img, headless, 0, 0, 200, 20) > 0 ||
-              pixelsThatDiffer(img, headless, 0, 20, 900, 45) > 0) &&
-             secondsSince(since) < 20);
-    save(img, "window_900x600.png");
-    EXPECT_EQ(pixelsThatDiffer(img, headless, 0, 0, 200, 20), 0u) << "the menu bar's menus";
-    EXPECT_EQ(pixelsThatDiffer(img, headless, 0, 20, 900, 45), 0u) << "the panels' tab bars";
-    EXPECT_GT(distinctColours(img, 0, 45, img.width, img.height), 40u) << "the panels' contents";
+    expectDrawnAsHeadless(w, 1, "window_900x600.png");
     ASSERT_TRUE(p->waitForOutput("checking its first evaluation", 30)) << p->output();
     ::kill(p->pid(), SIGINT);
     const int rc = p->wait(20);
@@ -420,37 +451,8 @@ TEST_F(GuiWindow, OnADesktopScaledBy2TheWindowIsTwiceAsLargeAndAnswersTheMouse) 
     const Window w = drawnWindow(*p);
     ASSERT_NE(w, 0u) << p->output();
     EXPECT_EQ(windowSize(w), std::make_pair(1800, 1200));
-    auto shot = start({"screenshot", "--size", "900x600", "--ui-scale", "2", "--out",
-                       (m_dir / "headless.png").string()});
-    ASSERT_EQ(shot->wait(120), 0) << shot->output();
-    const Image headless = readPng(m_dir / "headless.png");
-    ASSERT_EQ(headless.width, 1800);
-    Image img;
-    const auto since = Clock::now();
-    do {
-        img = grab(m_x->display(), w);
-    } while ((pixelsThatDiffer(img, headless, 0, 0, 400, 40) > 0 ||
-              pixelsThatDiffer(img, headless, 0, 40, 1800, 90) > 0) &&
-             secondsSince(since) < 20);
-    save(img, "window_scale2.png");
-    EXPECT_EQ(pixelsThatDiffer(img, headless, 0, 0, 400, 40), 0u) << "the menu bar's menus";
-    EXPECT_EQ(pixelsThatDiffer(img, headless, 0, 40, 1800, 90), 0u) << "the panels' tab bars";
-
-    Display* d = m_x->display();
-    XSetInputFocus(d, w, RevertToParent, CurrentTime);
-    pointTo(w, 1200, 600);
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    const Image before = grab(d, w);
-    click(w, 36, 18); // "File" at (18, 9) in UI units
-    Image open;
-    const auto clicked = Clock::now();
-    do {
-        std::this_thread::sleep_for(std::chrono::milliseconds(200));
-        open = grab(d, w);
-    } while (pixelsThatDiffer(before, open, 8, 48, 208, 168) < 12000 && secondsSince(clicked) < 20);
-    EXPECT_GE(pixelsThatDiffer(before, open, 8, 48, 208, 168), 12000u)
-        << "the File menu did not open";
-    key(XK_Escape);
+    expectDrawnAsHeadless(w, 2, "window_scale2.png");
+    expectClickOpensTheFileMenu(w, 2, "window_scale2_file_menu.png");
     key(XK_q, true);
     EXPECT_EQ(p->wait(20), 0) << p->output();
     EXPECT_NE(layoutFile().find("Window=900,600"), std::string::npos) << layoutFile();
@@ -475,22 +477,7 @@ TEST_F(GuiWindow, AClickOpensTheFileMenuAndCtrlQQuits) {
     auto p = start({"gui", "--size", "900x600"});
     const Window w = drawnWindow(*p);
     ASSERT_NE(w, 0u) << p->output();
-    Display* d = m_x->display();
-    XSetInputFocus(d, w, RevertToParent, CurrentTime); // a window manager's part, here none
-    pointTo(w, 600, 300);
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    const Image before = grab(d, w);
-    click(w, 18, 9); // "File", the menu bar's first item
-    Image open;
-    const auto since = Clock::now();
-    do { // the menu drawn below "File": most of a 100x60 block there changes
-        std::this_thread::sleep_for(std::chrono::milliseconds(200));
-        open = grab(d, w);
-    } while (pixelsThatDiffer(before, open, 4, 24, 104, 84) < 3000 && secondsSince(since) < 20);
-    save(open, "window_file_menu.png");
-    EXPECT_GE(pixelsThatDiffer(before, open, 4, 24, 104, 84), 3000u)
-        << "the File menu did not open";
-    key(XK_Escape);
+    expectClickOpensTheFileMenu(w, 1, "window_file_menu.png");
     key(XK_q, true);
     EXPECT_EQ(p->wait(20), 0) << "Ctrl+Q did not quit:\n" << p->output();
     EXPECT_NE(layoutFile().find("Window=900,600"), std::string::npos) << layoutFile();

@@ -18,7 +18,10 @@ struct SessionFixture {
     fs::path root, elsewhere, model, dir;
     SessionFixture() {
         testsupport::context();
-        root = testsupport::makeProjectRoot("session", {"dipole.bssrdf"});
+        root = testsupport::makeProjectRoot(
+            std::string("session_") +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name(),
+            {"dipole.bssrdf"});
         elsewhere = root.parent_path() / (root.filename().string() + "_elsewhere");
         fs::create_directories(elsewhere);
         testsupport::removeAtExit(elsewhere);
