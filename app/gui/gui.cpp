@@ -26,6 +26,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <tuple>
 
 namespace app {
@@ -34,18 +35,29 @@ namespace fs = std::filesystem;
 namespace {
 UiState* g_ui = nullptr; // the settings handler needs to reach the panel toggles
 
+// The Render panel's renderer family (RenderMode) in the layout file: which of its renderers
+// the window showed is kept with it (brute force and hybrid are settings, in the session).
+constexpr const char* kRendererNames[] = {"point_cloud", "monte_carlo", "texture_space"};
+static_assert(std::size(kRendererNames) == size_t(RenderMode::TextureSpace) + 1);
+
 void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
     return std::strcmp(name, "Panels") == 0 ? static_cast<void*>(g_ui) : nullptr;
 }
 // The saved layout, one "key=value" line each: Models=1 (open), Splits=l,r,b,c (splitter
 // fractions), Float.Render=x0,y0,x1,y1 (a floating panel's window), Tab.centre=Render (the tab
-// an area shows). Unknown or malformed lines are ignored: the defaults stand.
+// an area shows), Renderer=monte_carlo (the Render panel's), Recent=FILE, Window=W,H. Unknown or
+// malformed lines are ignored: the defaults stand.
 void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
     auto* ui = static_cast<UiState*>(entry);
     WorkspaceState& ws = ui->shared.workspace;
     auto fraction = [](float f, float fallback) {
         return std::isfinite(f) && f >= 0.05f && f <= 0.95f ? f : fallback;
     };
+    for (size_t m = 0; m < std::size(kRendererNames); ++m)
+        if (std::string("Renderer=") + kRendererNames[m] == line) {
+            ui->render.mode = static_cast<RenderMode>(m);
+            return;
+        }
     if (std::strncmp(line, "Recent=", 7) == 0 && line[7] && ui->shared.recent.size() < 8) {
         ui->shared.recent.push_back(line + 7);
         return;
@@ -89,6 +101,7 @@ void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffe
         if (ws.selected[static_cast<size_t>(p.area)] == static_cast<int>(p.id))
             buf->appendf("Tab.%s=%s\n", areaName(p.area), p.iniKey);
     }
+    buf->appendf("Renderer=%s\n", kRendererNames[static_cast<size_t>(g_ui->render.mode)]);
     for (const std::string& r : g_ui->shared.recent)
         buf->appendf("Recent=%s\n", r.c_str());
     if (g_ui->shared.windowWidth > 0 && g_ui->shared.windowHeight > 0)
