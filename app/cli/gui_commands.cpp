@@ -208,8 +208,12 @@ Command guiCommand() {
                     return runHeadlessDefault(root, a->out, width, height, uiScale);
                 }
                 std::vector<fs::path> models;
-                for (const std::string& m : a->models) // checked before the window opens
+                for (const std::string& m : a->models) { // checked before the window opens
                     models.push_back(resolveModel(root, m, "gui"));
+                    if (models.back().extension() != ".bssrdf")
+                        throw core::Error(models.back().string(), 0,
+                                          "not a .bssrdf model file (gui opens models)");
+                }
                 if (a->size.empty())
                     if (auto last = rememberedWindowSize()) std::tie(width, height) = *last;
                 std::fprintf(stderr, "resources: %s\n", root.c_str());

@@ -3,6 +3,7 @@
 #include "gui/gui.h"
 #include "gui/imgui_render.h"
 
+#include "gui/file_drop.h"
 #include "gui/fonts.h"
 
 #include "capture/capture.h"
@@ -34,6 +35,9 @@ namespace fs = std::filesystem;
 
 namespace {
 UiState* g_ui = nullptr; // the settings handler needs to reach the panel toggles
+// Files dropped on the window since the last frame (GLFW calls back while it polls events,
+// on this thread; the next frame opens them: file_drop.h).
+std::vector<fs::path> g_dropped;
 
 // The Render panel's renderer family (RenderMode) in the layout file: which of its renderers
 // the window showed is kept with it (brute force and hybrid are settings, in the session).
@@ -384,13 +388,20 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         // however this loop ends
         wb.wakeOnFileChanges([] { glfwPostEmptyEvent(); });
         wakeOnChildOutput([] { glfwPostEmptyEvent(); });
+        glfwSetDropCallback(win, [](GLFWwindow*, int count, const char** paths) {
+            for (int i = 0; i < count; ++i)
+                g_dropped.emplace_back(paths[i]);
+        });
         struct StopWake {
             Workbench& wb;
+            GLFWwindow* win;
             ~StopWake() {
                 wb.wakeOnFileChanges({});
                 wakeOnChildOutput({});
+                glfwSetDropCallback(win, nullptr);
+                g_dropped.clear();
             }
-        } stopWake{wb};
+        } stopWake{wb, win};
         const auto closeRequested = [&] { return opt.closeRequest && opt.closeRequest->load(); };
         while (!glfwWindowShouldClose(win) && !ui.shared.quit && !closeRequested()) {
             // idle without spinning; the watcher is polled below
@@ -401,6 +412,11 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
                     reloadFonts(scale);
                 }
             const auto frame = [&] {
+                if (!g_dropped.empty()) {
+                    const std::vector<fs::path> dropped = std::move(g_dropped);
+                    g_dropped.clear();
+                    openDroppedFiles(wb, ui, dropped);
+                }
                 bool changed = wb.update();
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();

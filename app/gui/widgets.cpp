@@ -241,6 +241,22 @@ bool inputTextCommitted(const char* label, char* buffer, size_t size) {
     return ImGui::IsItemDeactivatedAfterEdit() || (ImGui::IsItemDeactivated() && enter);
 }
 
+bool pathFieldCommitted(const char* label, char* buffer, size_t size, std::string& value) {
+    // the value the field last showed, by its hash, kept in the window's storage under an ID
+    // of its own (a frame's edit in progress is not the value's change)
+    ImGuiStorage* storage = ImGui::GetStateStorage();
+    const ImGuiID shown = ImGui::GetID((std::string(label) + "##shown").c_str());
+    const int hash = int(ImHashStr(value.c_str())) | 1; // never 0, the storage's "none"
+    if (storage->GetInt(shown, 0) != hash) {
+        std::snprintf(buffer, size, "%s", value.c_str());
+        storage->SetInt(shown, hash);
+    }
+    if (!inputTextCommitted(label, buffer, size)) return false;
+    value = buffer;
+    storage->SetInt(shown, int(ImHashStr(value.c_str())) | 1);
+    return true;
+}
+
 void histogram(const char* id, const std::vector<float>& values, ImVec2 size, const char* xName,
                int xFirst, const char* yName) {
     float hi = 0;

@@ -67,6 +67,10 @@ Rect lastItem();
 bool inputIntCommitted(const char* label, int* v, int step = 1, int stepFast = 100);
 bool inputInt2Committed(const char* label, int v[2]);
 bool inputTextCommitted(const char* label, char* buffer, size_t size);
+// A file's path field for the setting `value`: the field shows the value again whenever it
+// changed other than through the field (a restored session, a replayed capture, a dropped
+// file), and a commit sets it (returns true).
+bool pathFieldCommitted(const char* label, char* buffer, size_t size, std::string& value);
 // A bar chart with axes: the y name and maximum above, the first and last x values and the x
 // name below (ImGui's histogram has none); hovering a bar shows its value.
 void histogram(const char* id, const std::vector<float>& values, ImVec2 size, const char* xName,

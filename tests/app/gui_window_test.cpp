@@ -1,11 +1,13 @@
 // The workbench in a real window: the program (BW_EXE) started with a display, an X server of its
 // own (Xvfb, which ./run installs), as a user starts it. Checked from outside, through the X
 // server, as a user would see and use it: the window opens at the size asked for (or the one the
-// last session saved, or shrunk to fit the screen), draws the workbench, answers the mouse and
-// the keyboard through GLFW (a click opens the File menu, Ctrl+Q quits), shows a saved model's
-// new pixels (hot reload) and names a broken one, and closes on SIGINT (Ctrl-C in its terminal)
-// or SIGTERM as File > Quit does: exit 0, the layout saved. Label `window`; the GPU test bundle
-// leaves these out (the machines it runs on have no X server).
+// last session saved, or shrunk to fit the screen; twice the pixels on a desktop that scales by
+// 2), draws the workbench as the headless GUI does, answers the mouse and the keyboard through
+// GLFW (a click opens the File menu, Ctrl+Q quits), opens a file dropped on it from a file
+// manager (XDND), shows a saved model's new pixels (hot reload) and names a broken one, closes
+// on SIGINT (Ctrl-C in its terminal) or SIGTERM as File > Quit does (exit 0, the layout and the
+// session saved), and starts again where it closed. Label `window`; the GPU test bundle leaves
+// these out (the machines it runs on have no X server).
 #include "gl/gl.h"
 #include "scratch_dir.h"
 
@@ -354,6 +356,78 @@ class GuiWindow : public ::testing::Test {
         XFlush(d);
     }
 
+    // Drops `file` on window `w` at (x, y) as a file manager does: the XDND protocol (version
+    // 5) from a window of this test's own: enter with text/uri-list, position, drop; the target
+    // asks for the selection, which this answers with the file's URI, until it says finished.
+    // False when the target never accepted or never finished within 20 s.
+    bool dropFile(Window w, const fs::path& file, int x, int y) {
+        Display* d = m_x->display();
+        const auto atom = [d](const char* name) { return XInternAtom(d, name, False); };
+        const Atom enter = atom("XdndEnter"), position = atom("XdndPosition"),
+                   status = atom("XdndStatus"), drop = atom("XdndDrop"),
+                   finished = atom("XdndFinished"), selection = atom("XdndSelection"),
+                   uriList = atom("text/uri-list"), copy = atom("XdndActionCopy");
+        const Window source = XCreateSimpleWindow(d, DefaultRootWindow(d), 0, 0, 1, 1, 0, 0, 0);
+        XSetSelectionOwner(d, selection, source, CurrentTime);
+        const auto send = [&](Atom type, long l1, long l2, long l3, long l4) {
+            XEvent e{};
+            e.xclient.type = ClientMessage;
+            e.xclient.display = d;
+            e.xclient.window = w;
+            e.xclient.message_type = type;
+            e.xclient.format = 32;
+            e.xclient.data.l[0] = long(source);
+            e.xclient.data.l[1] = l1;
+            e.xclient.data.l[2] = l2;
+            e.xclient.data.l[3] = l3;
+            e.xclient.data.l[4] = l4;
+            XSendEvent(d, w, False, NoEventMask, &e);
+            XFlush(d);
+        };
+        int rx = 0, ry = 0;
+        Window child = 0;
+        XTranslateCoordinates(d, w, DefaultRootWindow(d), x, y, &rx, &ry, &child);
+        send(enter, 5L << 24, long(uriList), None, None);
+        send(position, 0, (long(rx) << 16) | ry, CurrentTime, long(copy));
+        bool accepted = false, dropped = false, done = false;
+        const std::string uri = "file://" + file.string() + "\r\n";
+        const auto since = Clock::now();
+        while (!done && secondsSince(since) < 20) {
+            if (!XPending(d)) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(20));
+                continue;
+            }
+            XEvent e{};
+            XNextEvent(d, &e);
+            if (e.type == ClientMessage && e.xclient.message_type == status) {
+                accepted = (e.xclient.data.l[1] & 1) != 0;
+                if (accepted && !dropped) {
+                    send(drop, 0, CurrentTime, 0, 0);
+                    dropped = true;
+                }
+            } else if (e.type == SelectionRequest) {
+                const XSelectionRequestEvent& r = e.xselectionrequest;
+                XChangeProperty(d, r.requestor, r.property, r.target, 8, PropModeReplace,
+                                reinterpret_cast<const unsigned char*>(uri.data()),
+                                int(uri.size()));
+                XEvent n{};
+                n.xselection.type = SelectionNotify;
+                n.xselection.requestor = r.requestor;
+                n.xselection.selection = r.selection;
+                n.xselection.target = r.target;
+                n.xselection.property = r.property;
+                n.xselection.time = r.time;
+                XSendEvent(d, r.requestor, False, NoEventMask, &n);
+                XFlush(d);
+            } else if (e.type == ClientMessage && e.xclient.message_type == finished) {
+                done = true;
+            }
+        }
+        XDestroyWindow(d, source);
+        XFlush(d);
+        return accepted && done;
+    }
+
     std::pair<int, int> windowSize(Window w) {
         XWindowAttributes a{};
         XGetWindowAttributes(m_x->display(), w, &a);
@@ -528,7 +602,8 @@ TEST_F(GuiWindow, ASavedModelIsShownAndABrokenOneNamedWhileTheWindowStays) {
 
 // The window keeps its state for the next start on the project (captures/session.h): a model
 // opened from elsewhere (here on the command line, as `gui FILE`) is opened again where it is;
-// `gui --fresh` starts without it; a model file that is not there is refused before the window.
+// `gui --fresh` starts without it; a model file that is not there, or not a model, is refused
+// before the window opens.
 TEST_F(GuiWindow, TheNextStartHasTheLastSessionAndFreshStartsWithout) {
     const fs::path model = m_dir / "mine.bssrdf";
     fs::copy_file(fs::path(BW_SOURCE_ROOT) / "materials/better_dipole.bssrdf", model);
@@ -563,6 +638,33 @@ TEST_F(GuiWindow, TheNextStartHasTheLastSessionAndFreshStartsWithout) {
     EXPECT_TRUE(rc > 0 && rc < 128) << rc << "\n" << missing->output();
     EXPECT_NE(missing->output().find("gone.bssrdf"), std::string::npos) << missing->output();
     EXPECT_EQ(findWindow(m_x->display(), kTitle), 0u);
+    fs::copy_file(model, m_dir / "mine.bssrdf.txt");
+    auto notAModel = start({"gui", (m_dir / "mine.bssrdf.txt").string()});
+    const int rc2 = notAModel->wait(30);
+    EXPECT_TRUE(rc2 > 0 && rc2 < 128) << rc2 << "\n" << notAModel->output();
+    EXPECT_NE(notAModel->output().find("not a .bssrdf model file"), std::string::npos)
+        << notAModel->output();
+}
+
+// Files dropped on the window from a file manager (XDND) open as what they are (gui/
+// file_drop.h): a model from elsewhere is opened; a file the workbench does not open is an
+// error naming it, and the window stays.
+TEST_F(GuiWindow, AFileDroppedOnTheWindowOpens) {
+    const fs::path model = m_dir / "dropped.bssrdf", text = m_dir / "notes.txt";
+    fs::copy_file(fs::path(BW_SOURCE_ROOT) / "materials/better_dipole.bssrdf", model);
+    std::ofstream(text) << "not a model\n";
+    auto p = start({"gui", "--size", "900x600", "--fresh"});
+    const Window w = drawnWindow(*p);
+    ASSERT_NE(w, 0u) << p->output();
+    ASSERT_TRUE(dropFile(w, model, 450, 300)) << "the window did not take the drop";
+    EXPECT_TRUE(p->waitForOutput("[info] opened " + model.string(), 30)) << p->output();
+    ASSERT_TRUE(dropFile(w, text, 450, 300));
+    EXPECT_TRUE(
+        p->waitForOutput("dropped " + text.string() + ": not a file the workbench opens", 30))
+        << p->output();
+    EXPECT_TRUE(p->running());
+    ::kill(p->pid(), SIGTERM);
+    EXPECT_EQ(p->wait(20), 0) << p->output();
 }
 
 // --out-dir is where a headless run writes: with a display and no --headless it is refused.

@@ -80,18 +80,15 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         }
         if (l.mode == irradiance::LightMode::Filtered) {
             setItemWidth(260, "texture (empty: checker)");
-            if (inputTextCommitted("texture (empty: checker)", ps.textureBuffer,
-                                   sizeof ps.textureBuffer)) {
-                scene.settings().projectedTextureFile = ps.textureBuffer;
+            if (pathFieldCommitted("texture (empty: checker)", ps.textureBuffer,
+                                   sizeof ps.textureBuffer, scene.settings().projectedTextureFile))
                 scene.reloadFiles();
-            }
         }
     } else {
         setItemWidth(260, "environment (EXR)");
-        if (inputTextCommitted("environment (EXR)", ps.envBuffer, sizeof ps.envBuffer)) {
-            scene.settings().environmentFile = ps.envBuffer;
+        if (pathFieldCommitted("environment (EXR)", ps.envBuffer, sizeof ps.envBuffer,
+                               scene.settings().environmentFile))
             scene.reloadFiles();
-        }
         setItemWidth(120, "intensity");
         ImGui::DragFloat("intensity", &l.envIntensity, 0.01f, 0.0f, 100.0f, "%.3g");
         sameLineItem(120, "rotation");

@@ -91,8 +91,7 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
         ImGui::SetTooltip("GL compute tracer (shaders/pathtrace_sphere.comp, hot-reloaded), a "
                           "slice per frame;\noff: CPU tracer in a background thread");
     setItemWidth(260, "mesh (OBJ, empty: sphere)");
-    if (inputTextCommitted("mesh (OBJ, empty: sphere)", ps.meshBuffer, sizeof ps.meshBuffer))
-        s.mesh = ps.meshBuffer;
+    pathFieldCommitted("mesh (OBJ, empty: sphere)", ps.meshBuffer, sizeof ps.meshBuffer, s.mesh);
     if (!s.mesh.empty())
         hintText("path tracing %s on the CPU and integrating the BSSRDF over it (longest axis "
                  "= 2 x radius)",

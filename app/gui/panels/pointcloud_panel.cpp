@@ -71,10 +71,8 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     SceneStage& scene = wb.scene();
     SceneSettings& s = scene.settings();
     setItemWidth(300, "mesh (OBJ)");
-    if (inputTextCommitted("mesh (OBJ)", ps.meshBuffer, sizeof ps.meshBuffer)) {
-        s.meshFile = ps.meshBuffer;
+    if (pathFieldCommitted("mesh (OBJ)", ps.meshBuffer, sizeof ps.meshBuffer, s.meshFile))
         scene.reloadFiles(); // Enter on the same name reads the file again
-    }
     int n = int(s.points.points);
     setItemWidth(120, "points");
     if (inputIntCommitted("points", &n, 1000, 10000)) s.points.points = size_t(std::max(n, 0));
@@ -102,8 +100,8 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     sameLineIfFits(checkboxWidth("disk cache"));
     ImGui::Checkbox("disk cache", &s.useCache);
     setItemWidth(300, "load PLY (empty: generate)");
-    if (inputTextCommitted("load PLY (empty: generate)", ps.plyBuffer, sizeof ps.plyBuffer))
-        s.pointCloudFile = ps.plyBuffer;
+    pathFieldCommitted("load PLY (empty: generate)", ps.plyBuffer, sizeof ps.plyBuffer,
+                       s.pointCloudFile);
 
     if (scene.generating()) {
         colouredText(ImVec4(1, 0.8f, 0.3f, 1), "generating %zu points ... %.1f s", s.points.points,
