@@ -157,6 +157,7 @@ struct PointCloudPanelState {
     float colorMin = 0, colorMax = 1;
     char meshBuffer[512] = "third_party/bunny/bunny.obj";
     char plyBuffer[512] = "";
+    Rect imageRect; // where the 3D view was drawn last frame (UI units), for clicks in tests
 };
 
 struct OctreePanelState {

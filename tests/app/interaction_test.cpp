@@ -392,3 +392,46 @@ TEST(Interactions, RenderPanelAbSplitShowsBruteForceOrAnotherModel) {
     EXPECT_GT(brighter, compared * 9 / 10);
     EXPECT_TRUE(fx.wb.errors().empty());
 }
+
+// A click on the point cloud's 3D view picks the point drawn under it, at UI scale 1 and at 2 (the
+// view drawn at twice the pixels, the click in UI units): the picked point projects to within
+// a few units of the click.
+TEST(Interactions, AClickOnThePointCloudPicksThePointUnderItAtEveryUiScale) {
+    gl::Context& ctx = testsupport::context();
+    (void)ctx;
+    auto root = testsupport::makeProjectRoot("pickscale", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    testsupport::useSmallScene(wb.scene().settings());
+    for (float scale : {1.0f, 2.0f}) {
+        SCOPED_TRACE("UI scale " + std::to_string(scale));
+        app::HeadlessGui gui(wb, 1280, 720, scale);
+        app::UiState& ui = gui.ui();
+        ui = app::UiState{};
+        ui.shared.show(app::PanelId::PointCloud);
+        gui.frame();
+        wb.finishScene();
+        for (int i = 0; i < 3; ++i)
+            gui.frame();
+        const app::Rect r = ui.pointCloud.imageRect;
+        ASSERT_GT(r.width(), 100.0f);
+        // the middle of the view, where the mesh is (the inspector camera frames it)
+        const float x = r.x0 + 0.5f * r.width(), y = r.y0 + 0.5f * r.height();
+        gui.mouse(x, y, false);
+        gui.frame();
+        gui.mouse(x, y, true);
+        gui.frame();
+        gui.mouse(x, y, false);
+        gui.frame();
+        gui.noMouse();
+        const int picked = ui.pointCloud.picked;
+        const auto& cloud = wb.scene().cloud().points;
+        ASSERT_GE(picked, 0);
+        ASSERT_LT(size_t(picked), cloud.size());
+        const auto& p = cloud[size_t(picked)].p;
+        const glm::vec4 c = ui.shared.inspect.camera.projection() *
+                            ui.shared.inspect.camera.view() * glm::vec4(p[0], p[1], p[2], 1.0f);
+        const float sx = r.x0 + (c.x / c.w * 0.5f + 0.5f) * r.width();
+        const float sy = r.y0 + (0.5f - c.y / c.w * 0.5f) * r.height();
+        EXPECT_LT(std::hypot(sx - x, sy - y), 8.0f) << sx << "," << sy << " for " << x << "," << y;
+    }
+}

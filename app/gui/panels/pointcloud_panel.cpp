@@ -137,7 +137,9 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     const float side = std::max(120.0f, std::min(avail.x, avail.y - 40));
     float px = 0, py = 0;
     std::vector<glm::vec3> pos;
-    if (inspectorImage(wb, ui, *ps.view, ImVec2(side, side), 3.0f, px, py)) {
+    const bool clicked = inspectorImage(wb, ui, *ps.view, ImVec2(side, side), 3.0f, px, py);
+    ps.imageRect = lastItem();
+    if (clicked) {
         pos.resize(cloud.points.size());
         for (size_t i = 0; i < pos.size(); ++i)
             pos[i] = {cloud.points[i].p[0], cloud.points[i].p[1], cloud.points[i].p[2]};
