@@ -39,29 +39,53 @@ UiState* g_ui = nullptr; // the settings handler needs to reach the panel toggle
 // on this thread; the next frame opens them: file_drop.h).
 std::vector<fs::path> g_dropped;
 
-// The Render panel's renderer family (RenderMode) in the layout file: which of its renderers
-// the window showed is kept with it (brute force and hybrid are settings, in the session).
+// The panels' view choices kept in the layout file, each by name: the Render panel's renderer
+// family (brute force and hybrid are settings, in the session) and what it shows, the lit
+// spheres' view, what the point splats are coloured by.
 constexpr const char* kRendererNames[] = {"point_cloud", "monte_carlo", "texture_space"};
 static_assert(std::size(kRendererNames) == size_t(RenderMode::TextureSpace) + 1);
+constexpr const char* kHeatmapNames[] = {"image", "steps", "stack_depth", "relative_error"};
+static_assert(std::size(kHeatmapNames) == size_t(Heatmap::RelativeError) + 1);
+constexpr const char* kSphereViewNames[] = {"path_traced", "integrated", "side_by_side",
+                                            "difference"};
+static_assert(std::size(kSphereViewNames) == size_t(SphereView::Difference) + 1);
+constexpr const char* kPointColorNames[] = {"normal", "area", "irradiance", "radiance"};
+static_assert(std::size(kPointColorNames) == size_t(PointColor::Radiance) + 1);
+
+// "KEY=NAME" with NAME one of `names`: sets `value` and returns true.
+template <class E, size_t N>
+bool readChoice(const char* line, const char* key, const char* const (&names)[N], E& value) {
+    for (size_t i = 0; i < N; ++i)
+        if (std::string(key) + "=" + names[i] == line) {
+            value = static_cast<E>(i);
+            return true;
+        }
+    return false;
+}
+template <class E, size_t N>
+void writeChoice(ImGuiTextBuffer* buf, const char* key, const char* const (&names)[N], E value) {
+    buf->appendf("%s=%s\n", key, names[static_cast<size_t>(value)]);
+}
 
 void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
     return std::strcmp(name, "Panels") == 0 ? static_cast<void*>(g_ui) : nullptr;
 }
 // The saved layout, one "key=value" line each: Models=1 (open), Splits=l,r,b,c (splitter
 // fractions), Float.Render=x0,y0,x1,y1 (a floating panel's window), Tab.centre=Render (the tab
-// an area shows), Renderer=monte_carlo (the Render panel's), Recent=FILE, Window=W,H. Unknown or
-// malformed lines are ignored: the defaults stand.
+// an area shows), Renderer=monte_carlo, Render.show=steps, LitSpheres.view=difference,
+// Points.colour=area (the view choices above), Recent=FILE, Window=W,H. Unknown or malformed
+// lines are ignored: the defaults stand.
 void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
     auto* ui = static_cast<UiState*>(entry);
     WorkspaceState& ws = ui->shared.workspace;
     auto fraction = [](float f, float fallback) {
         return std::isfinite(f) && f >= 0.05f && f <= 0.95f ? f : fallback;
     };
-    for (size_t m = 0; m < std::size(kRendererNames); ++m)
-        if (std::string("Renderer=") + kRendererNames[m] == line) {
-            ui->render.mode = static_cast<RenderMode>(m);
-            return;
-        }
+    if (readChoice(line, "Renderer", kRendererNames, ui->render.mode) ||
+        readChoice(line, "Render.show", kHeatmapNames, ui->render.heatmap) ||
+        readChoice(line, "LitSpheres.view", kSphereViewNames, ui->litSpheres.view) ||
+        readChoice(line, "Points.colour", kPointColorNames, ui->shared.inspect.colorBy))
+        return;
     if (std::strncmp(line, "Recent=", 7) == 0 && line[7] && ui->shared.recent.size() < 8) {
         ui->shared.recent.push_back(line + 7);
         return;
@@ -105,7 +129,10 @@ void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffe
         if (ws.selected[static_cast<size_t>(p.area)] == static_cast<int>(p.id))
             buf->appendf("Tab.%s=%s\n", areaName(p.area), p.iniKey);
     }
-    buf->appendf("Renderer=%s\n", kRendererNames[static_cast<size_t>(g_ui->render.mode)]);
+    writeChoice(buf, "Renderer", kRendererNames, g_ui->render.mode);
+    writeChoice(buf, "Render.show", kHeatmapNames, g_ui->render.heatmap);
+    writeChoice(buf, "LitSpheres.view", kSphereViewNames, g_ui->litSpheres.view);
+    writeChoice(buf, "Points.colour", kPointColorNames, g_ui->shared.inspect.colorBy);
     for (const std::string& r : g_ui->shared.recent)
         buf->appendf("Recent=%s\n", r.c_str());
     if (g_ui->shared.windowWidth > 0 && g_ui->shared.windowHeight > 0)

@@ -159,20 +159,30 @@ TEST(HeadlessGui, LayoutAndPanelVisibilityPersist) {
                                  "Splits=0.3000,0.2000,0.3000,0.5000\nSplits=nan,2,x");
     text = testsupport::replaced(text, "Tab.centre=Render",
                                  "Tab.centre=Octree\nFloat.PencilPlot=100,120,600,500");
-    EXPECT_NE(text.find("Renderer=point_cloud"), std::string::npos) << text;
-    text =
-        testsupport::replaced(text, "Renderer=point_cloud", "Renderer=monte_carlo\nRenderer=bogus");
+    // the panels' view choices by name: the Render panel's renderer and what it shows, the lit
+    // spheres' view, the splats' colour
+    for (const auto& [was, now] :
+         {std::pair{"Renderer=point_cloud", "Renderer=monte_carlo\nRenderer=bogus"},
+          {"Render.show=image", "Render.show=stack_depth"},
+          {"LitSpheres.view=path_traced", "LitSpheres.view=difference"},
+          {"Points.colour=normal", "Points.colour=irradiance\nPoints.colour=7"}}) {
+        EXPECT_NE(text.find(was), std::string::npos) << was << "\n" << text;
+        text = testsupport::replaced(text, was, now);
+    }
     core::writeFile(ini, text);
     {
         app::Workbench wb(root, false);
         ASSERT_EQ(app::runGui(wb, ctx, opt), 0);
     }
     std::string after = core::readFile(ini);
-    for (const char* kept : {"Timings=0", "Splits=0.3000,0.2000,0.3000,0.5000", "Tab.centre=Octree",
-                             "Float.PencilPlot=100,120,600,500", "Renderer=monte_carlo"})
+    for (const char* kept :
+         {"Timings=0", "Splits=0.3000,0.2000,0.3000,0.5000", "Tab.centre=Octree",
+          "Float.PencilPlot=100,120,600,500", "Renderer=monte_carlo", "Render.show=stack_depth",
+          "LitSpheres.view=difference", "Points.colour=irradiance"})
         EXPECT_NE(after.find(kept), std::string::npos) << kept << "\n" << after;
     EXPECT_EQ(after.find("nan"), std::string::npos) << after;
     EXPECT_EQ(after.find("bogus"), std::string::npos) << after;
+    EXPECT_EQ(after.find("colour=7"), std::string::npos) << after;
 
     // the window's size is saved, and the next start opens at it (gui --size overrides)
     EXPECT_NE(after.find("Window=1600,1000"), std::string::npos) << after;
