@@ -3,6 +3,7 @@
 #pragma once
 
 #include "gl/gl.h"
+#include "gui/layout_file.h" // configDir(), rememberedWindowSize()
 #include "gui/ui_state.h"
 #include "pipeline/workbench.h"
 
@@ -44,14 +45,6 @@ struct GuiOptions {
 constexpr int kGlResetRestart = 75;
 std::filesystem::path glResetRequest(const std::filesystem::path& root);
 std::unique_ptr<Workbench> workbenchAfterReset(const std::filesystem::path& root, bool watch);
-
-// The user's configuration folder: $XDG_CONFIG_HOME/bssrdf-workbench, else
-// ~/.config/bssrdf-workbench (the layout file, the sessions: captures/session.h).
-std::filesystem::path configDir();
-
-// The window size the last session saved (Window=W,H in the layout file, imgui.ini under
-// $XDG_CONFIG_HOME or ~/.config/bssrdf-workbench), when it holds two sizes in [320, 16384].
-std::optional<std::pair<int, int>> rememberedWindowSize();
 
 // `units` UI units in pixels at `uiScale` (rounded).
 int scaledSize(int units, float uiScale);
