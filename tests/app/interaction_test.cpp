@@ -416,13 +416,7 @@ TEST(Interactions, AClickOnThePointCloudPicksThePointUnderItAtEveryUiScale) {
         ASSERT_GT(r.width(), 100.0f);
         // the middle of the view, where the mesh is (the inspector camera frames it)
         const float x = r.x0 + 0.5f * r.width(), y = r.y0 + 0.5f * r.height();
-        gui.mouse(x, y, false);
-        gui.frame();
-        gui.mouse(x, y, true);
-        gui.frame();
-        gui.mouse(x, y, false);
-        gui.frame();
-        gui.noMouse();
+        testsupport::clickAt(gui, x, y);
         const int picked = ui.pointCloud.picked;
         const auto& cloud = wb.scene().cloud().points;
         ASSERT_GE(picked, 0);

@@ -71,6 +71,7 @@ TEST(Session, TheNextStartHasTheStateAndOpensAModelFromElsewhereWhereItIs) {
     ASSERT_NE(again, nullptr);
     EXPECT_EQ(app::paramsJson(*again).dump(), app::paramsJson(*wb).dump());
     EXPECT_EQ(settingsOf(*again), settingsOf(*wb));
+    EXPECT_TRUE(again->scene().settings().useCache) << "the point cloud comes from the cache";
     ASSERT_EQ(again->library().entries().size(), 2u);
     const bssrdf::ModelEntry* mine = nullptr;
     for (auto& e : again->library().entries())
