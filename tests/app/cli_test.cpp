@@ -605,6 +605,17 @@ TEST_F(Cli, HeadlessAndOutDirWithAnotherCommandAreRefused) {
     EXPECT_FALSE(fs::exists(dir() / "x"));
 }
 
+// What only the window uses, given to the headless run (which records the default capture), is
+// refused by name, before anything runs.
+TEST_F(Cli, WindowOnlyArgumentsWithHeadlessAreRefused) {
+    expectFailure({"--headless", "--out-dir", "out", "gui", "materials/dipole.bssrdf"},
+                  {"error: a model file: belongs to the window; the headless run records the "
+                   "default capture (leave it out)"});
+    expectFailure({"--headless", "--out-dir", "out", "gui", "--fresh"},
+                  {"error: --fresh: belongs to the window"});
+    EXPECT_FALSE(fs::exists(dir() / "out"));
+}
+
 // ---- help, replay -------------------------------------------------------------------------
 
 TEST_F(Cli, HelpListsSubcommands) {
