@@ -109,7 +109,7 @@ void saveSession(Workbench& wb, const fs::path& dir) {
     std::error_code ec;
     fs::remove_all(tmp, ec);
     fs::create_directories(tmp, ec);
-    if (ec) throw core::Error(tmp.string(), 0, "cannot create the folder: " + ec.message());
+    if (ec) throw core::Error(dir.string(), 0, "cannot write the session there: " + ec.message());
     try {
         capture::writeInputs(tmp / kRequestFile, m);
         core::writeFile(tmp / kSessionFile, session.dump(2) + "\n");

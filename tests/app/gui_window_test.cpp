@@ -53,7 +53,8 @@ class GuiWindow : public ::testing::Test {
                 (std::string("bw_window_") + info->name() + "_" + std::to_string(::getpid()));
         m_x.reset();
         fs::remove_all(m_dir);
-        fs::create_directories(m_dir / "config");
+        m_config = m_dir / "config";
+        fs::create_directories(m_config);
         testsupport::removeAtExit(m_dir);
         m_x = std::make_unique<XServer>(m_dir, width, height);
         ASSERT_EQ(m_x->problem(), "");
@@ -78,7 +79,7 @@ class GuiWindow : public ::testing::Test {
         return std::make_unique<Process>(
             argv,
             std::vector<std::string>{"DISPLAY=" + m_x->name(), "HOME=" + m_dir.string(),
-                                     "XDG_CONFIG_HOME=" + (m_dir / "config").string()},
+                                     "XDG_CONFIG_HOME=" + m_config.string()},
             m_dir / ("workbench" + std::to_string(m_runs++) + ".log"));
     }
 
@@ -102,9 +103,7 @@ class GuiWindow : public ::testing::Test {
             gl::writePng(fs::path(dir) / name, img.width, img.height, img.rgba);
     }
 
-    std::string layoutFile() const {
-        return readText(m_dir / "config" / "bssrdf-workbench" / "imgui.ini");
-    }
+    std::string layoutFile() const { return readText(m_config / "bssrdf-workbench" / "imgui.ini"); }
 
     // Moves the pointer to (x, y) in window `w`'s coordinates.
     void pointTo(Window w, int x, int y) {
@@ -266,7 +265,7 @@ class GuiWindow : public ::testing::Test {
         key(XK_Escape);
     }
 
-    fs::path m_dir;
+    fs::path m_dir, m_config; // the test's folder; the programs' configuration folder
     std::unique_ptr<XServer> m_x;
     int m_runs = 0;
 };
@@ -397,7 +396,7 @@ TEST_F(GuiWindow, TheNextStartHasTheLastSessionAndFreshStartsWithout) {
     EXPECT_EQ(p->output().find("restored the last session"), std::string::npos) << p->output();
     ::kill(p->pid(), SIGINT);
     ASSERT_EQ(p->wait(20), 0) << p->output();
-    EXPECT_TRUE(fs::exists(m_dir / "config" / "bssrdf-workbench" / "sessions"));
+    EXPECT_TRUE(fs::exists(m_config / "bssrdf-workbench" / "sessions"));
 
     auto again = start({"gui", "--size", "900x600"});
     ASSERT_NE(drawnWindow(*again), 0u) << again->output();
@@ -448,6 +447,22 @@ TEST_F(GuiWindow, AFileDroppedOnTheWindowOpens) {
     EXPECT_TRUE(p->running());
     ::kill(p->pid(), SIGTERM);
     EXPECT_EQ(p->wait(20), 0) << p->output();
+}
+
+// A configuration folder that cannot be made (here a file stands where it would be): the window
+// opens and closes as ever, and the session that could not be kept is an error naming where,
+// with exit 1, not a silent loss.
+TEST_F(GuiWindow, ASessionThatCannotBeSavedIsAnErrorWhenTheWindowCloses) {
+    m_config = m_dir / "not_a_folder";
+    std::ofstream(m_config) << "a file\n";
+    auto p = start({"gui", "--size", "900x600"});
+    ASSERT_NE(drawnWindow(*p), 0u) << p->output();
+    ::kill(p->pid(), SIGTERM);
+    EXPECT_EQ(p->wait(20), 1) << p->output();
+    EXPECT_NE(p->output().find("error: the session was not saved: " + m_config.string() +
+                               "/bssrdf-workbench/sessions/"),
+              std::string::npos)
+        << p->output();
 }
 
 // --out-dir is where a headless run writes: with a display and no --headless it is refused.
