@@ -58,7 +58,8 @@ struct ExternalModels {
 };
 // A workbench with a manifest's recorded inputs: the project's models by path, the others from
 // their recorded text written under `externalDir`; params and settings applied (errors name
-// `where`); the traced pixel, if any, in traceX/traceY. `watch`: hot reload (the GUI).
+// `where`), the point-cloud cache off (the scene is generated); the traced pixel, if any, in
+// traceX/traceY. `watch`: hot reload (the GUI).
 std::unique_ptr<Workbench> workbenchFromInputs(const capture::Manifest& m,
                                                const std::filesystem::path& root,
                                                const std::filesystem::path& externalDir,

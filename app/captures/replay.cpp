@@ -155,6 +155,9 @@ std::unique_ptr<Workbench> workbenchFromInputs(const capture::Manifest& m, const
     applyParams(*wb, m.params, where);
     if (!m.settings.contains("plot")) throw core::Error(where, 0, "settings.plot missing");
     applySettingsJson(*wb, m.settings, where, traceX, traceY);
+    // a capture's scene is generated, never read from this machine's point-cloud cache: no
+    // cache hides a change on replay, and recording from a request writes none
+    wb->scene().settings().useCache = false;
     return wb;
 }
 

@@ -62,11 +62,9 @@ std::unique_ptr<Workbench> restoreFrom(const fs::path& dir, const fs::path& root
         try {
             applyParams(*wb, m.params, where);
             int traceX = -1, traceY = -1;
-            // a session is this machine's own: the point-cloud cache stays as it was (a
-            // capture's settings turn it off, so that no cache hides a change on replay)
-            const bool cache = wb->scene().settings().useCache;
+            // a session is this machine's own: the point-cloud cache stays on (a capture's
+            // replay turns it off, workbenchFromInputs)
             applySettingsJson(*wb, m.settings, where, traceX, traceY);
-            wb->scene().settings().useCache = cache;
         } catch (const core::Error& e) {
             // part of it may be applied: start again from the defaults, with the models
             problems.push_back(std::string(e.what()) +

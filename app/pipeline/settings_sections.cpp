@@ -42,12 +42,11 @@ std::vector<SettingsSection> settingsSections(Workbench* wb) {
     material.inCaptures = false; // the manifest's "params" hold the shared material
     SettingsSection scene = section<SceneSettings>("scene", wb ? &wb->scene().settings() : nullptr);
     if (wb) {
-        // read from a capture: the members it does not name keep their values (not the
-        // defaults), the scene regenerates (no cache hides a change) and keeps the recorded
-        // camera instead of fitting one to the mesh
+        // read from a capture or a session: the members it does not name keep their values
+        // (not the defaults), and the scene keeps the recorded camera instead of fitting one to
+        // the mesh
         scene.fromJson = [wb](const json& j, const std::string& file, const std::string& path) {
             core::fromJson(j, wb->scene().settings(), file, path);
-            wb->scene().settings().useCache = false;
             wb->scene().keepCamera();
         };
     }

@@ -145,6 +145,16 @@ TEST(CaptureReplay, SceneRecordedFromTheCacheReplays) {
     std::string out;
     EXPECT_EQ(app::replayCapture(dir, root, false, out), 0) << out;
     EXPECT_NE(out.find("PASS scene.pointcloud"), std::string::npos) << out;
+    {
+        // the replay's workbench generates the cloud though this machine's cache holds it
+        int traceX = -1, traceY = -1;
+        const app::ExternalModels external;
+        auto replayed = app::workbenchFromInputs(capture::readManifest(dir), root, external.dir,
+                                                 dir.string(), traceX, traceY);
+        EXPECT_FALSE(replayed->scene().settings().useCache);
+        replayed->finishScene();
+        EXPECT_FALSE(replayed->scene().cloudFromCache());
+    }
     if (before)
         ::setenv("BSSRDF_WORKBENCH_CACHE", saved.c_str(), 1);
     else
