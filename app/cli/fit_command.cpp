@@ -96,6 +96,16 @@ std::function<void(int, double)> fitProgress(const std::string& what) {
     };
 }
 
+namespace {
+// Ends the fit's progress line with where the fit ended: the last line drawn (at most four a
+// second) may be from before its last evaluations.
+void endFitProgress(const std::string& what, const SearchResult& r) {
+    core::progress("fit%s: %d evaluations, best mean rel_err^2 %s", what.c_str(), r.evaluations,
+                   core::formatNumber(r.bestObjective, 4).c_str());
+    core::progressEnd();
+}
+} // namespace
+
 FitOutcome fitWithUncertainty(const bssrdf::ModelEntry& e, const std::vector<FitVariable>& vars,
                               const std::vector<FitMedium>& media, const FitArgs& a,
                               const FitSettings& s, const std::string& what) {
@@ -103,7 +113,7 @@ FitOutcome fitWithUncertainty(const bssrdf::ModelEntry& e, const std::vector<Fit
     FitOutcome out;
     out.targets = makeTargets(media, a.thetaI, a.paths, 1, what);
     out.result = fitModel(e, vars, out.targets, s, fitProgress(what), cancel);
-    core::progressEnd();
+    endFitProgress(what, out.result);
     out.sigma.assign(vars.size(), std::nan(""));
     if (!a.uncertainty || interrupted()) return out;
     const std::vector<FitTarget> halfA =
@@ -111,9 +121,9 @@ FitOutcome fitWithUncertainty(const bssrdf::ModelEntry& e, const std::vector<Fit
     const std::vector<FitTarget> halfB =
         makeTargets(media, a.thetaI, a.paths / 2, 3, what + " (half B)");
     const FitResult ra = fitModel(e, vars, halfA, s, fitProgress(what + " (half A)"), cancel);
-    core::progressEnd();
+    endFitProgress(what + " (half A)", ra);
     const FitResult rb = fitModel(e, vars, halfB, s, fitProgress(what + " (half B)"), cancel);
-    core::progressEnd();
+    endFitProgress(what + " (half B)", rb);
     for (size_t i = 0; i < vars.size(); ++i) {
         const double stat = std::abs(ra.best[i] - rb.best[i]) / 2;
         const double bias = out.result.best[i] - (ra.best[i] + rb.best[i]) / 2;

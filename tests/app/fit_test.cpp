@@ -245,6 +245,12 @@ TEST_F(FitCli, AMisSetDipoleIsFittedBackAndTheResultLoads) {
     EXPECT_GT(before, 0.5);
     EXPECT_LT(after, 0.1);
     EXPECT_NE(r.output.find("Marble R: rel_err"), std::string::npos) << r.output;
+    // the progress line ends where the fit ended (not at the last line drawn, a quarter second
+    // apart)
+    EXPECT_NE(r.output.find("fit: " + std::to_string(j["evaluations"].get<int>()) +
+                            " evaluations, best mean rel_err^2 "),
+              std::string::npos)
+        << r.output;
     EXPECT_NE(clitest::readText(dir() / "fitted/report.md").find("| Multiplier |"),
               std::string::npos);
     // before and after against the reference, as `compare` draws them
