@@ -203,9 +203,11 @@ shader::Reloaded Renderer::reloadShaders(const std::vector<std::filesystem::path
                 m->tonemapProgram = shader::build(m->src, kTonemapStages, record);
             } else if (m->model) {
                 gl::Program p = bssrdf::buildModelProgram(*m->model, name, m->src, record);
-                if (name == "octree_render.comp") m->renderProgram = std::move(p);
-                if (name == "render_pairs.comp") m->pairsProgram = std::move(p);
-                if (name == "pencil_profile.comp") {
+                if (name == "octree_render.comp") {
+                    m->renderProgram = std::move(p);
+                } else if (name == "render_pairs.comp") {
+                    m->pairsProgram = std::move(p);
+                } else if (name == "pencil_profile.comp") {
                     m->profileProgram = std::move(p);
                     m->tableValid = false;
                     m->table = {};
