@@ -23,7 +23,7 @@ UiState* g_layoutUi = nullptr; // where the handler reads and writes (addLayoutH
 
 // The panels' view choices kept in the layout file, each by name: the Render panel's renderer
 // family (brute force and hybrid are settings, in the session) and what it shows, the lit
-// spheres' view, what the point splats are coloured by.
+// spheres' view, what the point splats are coloured by, the Log panel's least level.
 constexpr const char* kRendererNames[] = {"point_cloud", "monte_carlo", "texture_space"};
 static_assert(std::size(kRendererNames) == size_t(RenderMode::TextureSpace) + 1);
 constexpr const char* kHeatmapNames[] = {"image", "steps", "stack_depth", "relative_error"};
@@ -33,6 +33,20 @@ constexpr const char* kSphereViewNames[] = {"path_traced", "integrated", "side_b
 static_assert(std::size(kSphereViewNames) == size_t(SphereView::Difference) + 1);
 constexpr const char* kPointColorNames[] = {"normal", "area", "irradiance", "radiance"};
 static_assert(std::size(kPointColorNames) == size_t(PointColor::Radiance) + 1);
+// core::LogLevel's order
+constexpr const char* kLogLevelNames[] = {"debug", "info", "warning", "error"};
+// The panels' view numbers kept in the layout file, each within its slider's range: the lit
+// spheres' exposure (EV) and gamma, the slice's colour-scale decades.
+struct ViewNumber {
+    const char* key;
+    float& (*at)(UiState&);
+    float lo, hi;
+};
+constexpr ViewNumber kViewNumbers[] = {
+    {"LitSpheres.exposure", [](UiState& ui) -> float& { return ui.litSpheres.exposure; }, -10, 10},
+    {"LitSpheres.gamma", [](UiState& ui) -> float& { return ui.litSpheres.gamma; }, 0.5f, 4},
+    {"Slice.decades", [](UiState& ui) -> float& { return ui.slice.decades; }, 1, 8},
+};
 
 // "KEY=NAME" with NAME one of `names`: sets `value` and returns true.
 template <class E, size_t N>
@@ -55,8 +69,9 @@ void* panelsReadOpen(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
 // The saved layout, one "key=value" line each: Models=1 (open), Splits=l,r,b,c (splitter
 // fractions), Float.Render=x0,y0,x1,y1 (a floating panel's window), Tab.centre=Render (the tab
 // an area shows), Renderer=monte_carlo, Render.show=steps, LitSpheres.view=difference,
-// Points.colour=area (the view choices above), Recent=FILE, Window=W,H. Unknown or malformed
-// lines are ignored: the defaults stand.
+// Points.colour=area, Log.level=warning (the view choices above), LitSpheres.exposure=1.5,
+// LitSpheres.gamma=2.2, Slice.decades=5 (the view numbers), Recent=FILE, Window=W,H. Unknown or
+// malformed lines, and numbers outside their slider's range, are ignored: the defaults stand.
 void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
     auto* ui = static_cast<UiState*>(entry);
     WorkspaceState& ws = ui->shared.workspace;
@@ -66,8 +81,18 @@ void panelsReadLine(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const cha
     if (readChoice(line, "Renderer", kRendererNames, ui->render.mode) ||
         readChoice(line, "Render.show", kHeatmapNames, ui->render.heatmap) ||
         readChoice(line, "LitSpheres.view", kSphereViewNames, ui->litSpheres.view) ||
-        readChoice(line, "Points.colour", kPointColorNames, ui->shared.inspect.colorBy))
+        readChoice(line, "Points.colour", kPointColorNames, ui->shared.inspect.colorBy) ||
+        readChoice(line, "Log.level", kLogLevelNames, ui->errors.logMinLevel))
         return;
+    for (const ViewNumber& n : kViewNumbers) {
+        float v = 0;
+        char end = 0;
+        if (std::sscanf(line, (std::string(n.key) + "=%f%c").c_str(), &v, &end) == 1 &&
+            std::isfinite(v) && v >= n.lo && v <= n.hi) {
+            n.at(*ui) = v;
+            return;
+        }
+    }
     if (std::strncmp(line, "Recent=", 7) == 0 && line[7] && ui->shared.recent.size() < 8) {
         ui->shared.recent.push_back(line + 7);
         return;
@@ -115,6 +140,10 @@ void panelsWriteAll(ImGuiContext*, ImGuiSettingsHandler* handler, ImGuiTextBuffe
     writeChoice(buf, "Render.show", kHeatmapNames, g_layoutUi->render.heatmap);
     writeChoice(buf, "LitSpheres.view", kSphereViewNames, g_layoutUi->litSpheres.view);
     writeChoice(buf, "Points.colour", kPointColorNames, g_layoutUi->shared.inspect.colorBy);
+    if (g_layoutUi->errors.logMinLevel >= 0 && g_layoutUi->errors.logMinLevel < 4)
+        writeChoice(buf, "Log.level", kLogLevelNames, g_layoutUi->errors.logMinLevel);
+    for (const ViewNumber& n : kViewNumbers)
+        buf->appendf("%s=%g\n", n.key, double(n.at(*g_layoutUi)));
     for (const std::string& r : g_layoutUi->shared.recent)
         buf->appendf("Recent=%s\n", r.c_str());
     if (g_layoutUi->shared.windowWidth > 0 && g_layoutUi->shared.windowHeight > 0)

@@ -1,6 +1,7 @@
 // The layout file, imgui.ini in the user's configuration folder: ImGui's own window settings and
 // a section of ours, [BssrdfWorkbench][Panels], one "key=value" line each — the open panels, the
-// splitters, the floating panels' windows, each area's tab, the panels' view choices, the recent
+// splitters, the floating panels' windows, each area's tab, the panels' view choices and numbers
+// (exposure, gamma, the log's level), the recent
 // models, the window's size in UI units. Unknown or malformed lines are ignored one by one: the
 // defaults stand.
 #pragma once

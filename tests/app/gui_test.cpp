@@ -165,7 +165,12 @@ TEST(HeadlessGui, LayoutAndPanelVisibilityPersist) {
          {std::pair{"Renderer=point_cloud", "Renderer=monte_carlo\nRenderer=bogus"},
           {"Render.show=image", "Render.show=stack_depth"},
           {"LitSpheres.view=path_traced", "LitSpheres.view=difference"},
-          {"Points.colour=normal", "Points.colour=irradiance\nPoints.colour=7"}}) {
+          {"Points.colour=normal", "Points.colour=irradiance\nPoints.colour=7"},
+          {"Log.level=info", "Log.level=warning"},
+          // and its view numbers, within their sliders' ranges
+          {"LitSpheres.exposure=0", "LitSpheres.exposure=1.5\nLitSpheres.exposure=99"},
+          {"LitSpheres.gamma=2.2", "LitSpheres.gamma=1.8\nLitSpheres.gamma=2x"},
+          {"Slice.decades=4", "Slice.decades=6\nSlice.decades=nan"}}) {
         EXPECT_NE(text.find(was), std::string::npos) << was << "\n" << text;
         text = testsupport::replaced(text, was, now);
     }
@@ -178,11 +183,13 @@ TEST(HeadlessGui, LayoutAndPanelVisibilityPersist) {
     for (const char* kept :
          {"Timings=0", "Splits=0.3000,0.2000,0.3000,0.5000", "Tab.centre=Octree",
           "Float.PencilPlot=100,120,600,500", "Renderer=monte_carlo", "Render.show=stack_depth",
-          "LitSpheres.view=difference", "Points.colour=irradiance"})
+          "LitSpheres.view=difference", "Points.colour=irradiance", "Log.level=warning",
+          "LitSpheres.exposure=1.5", "LitSpheres.gamma=1.8", "Slice.decades=6"})
         EXPECT_NE(after.find(kept), std::string::npos) << kept << "\n" << after;
     EXPECT_EQ(after.find("nan"), std::string::npos) << after;
     EXPECT_EQ(after.find("bogus"), std::string::npos) << after;
     EXPECT_EQ(after.find("colour=7"), std::string::npos) << after;
+    EXPECT_EQ(after.find("exposure=99"), std::string::npos) << after;
 
     // the window's size is saved, and the next start opens at it (gui --size overrides)
     EXPECT_NE(after.find("Window=1600,1000"), std::string::npos) << after;
