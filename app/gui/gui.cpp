@@ -4,6 +4,7 @@
 
 #include "gui/file_drop.h"
 #include "gui/fonts.h"
+#include "gui/key_taps.h"
 #include "gui/layout_file.h"
 
 #include "capture/capture.h"
@@ -270,6 +271,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     if (!ctx.headless()) {
         GLFWwindow* win = ctx.window();
         ImGui_ImplGlfw_InitForOpenGL(win, true);
+        installKeyTaps(win); // a shortcut tapped within one frame is seen (key_taps.h)
         ImGui_ImplOpenGL3_Init("#version 450");
         // a save, and a child's output (a model check's verdict, a replay's progress), wake the
         // loop at once instead of at the end of its wait; stopped before the window goes,
@@ -284,6 +286,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             Workbench& wb;
             GLFWwindow* win;
             ~StopWake() {
+                removeKeyTaps();
                 wb.wakeOnFileChanges({});
                 wakeOnChildOutput({});
                 glfwSetDropCallback(win, nullptr);
@@ -308,6 +311,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
                 bool changed = wb.update();
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
+                applyKeyTaps(win);
                 if (const auto units = applyUiScale(win, scale); units.first > 0)
                     std::tie(ui.shared.windowWidth, ui.shared.windowHeight) = units;
                 ImGui::NewFrame();
@@ -327,6 +331,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             };
             if (frameMetReset(wb, frame, rc)) break;
         }
+        removeKeyTaps(); // the backend's callback back, which its shutdown replaces
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
     } else {

@@ -124,15 +124,17 @@ class GuiWindow : public ::testing::Test {
         XTestFakeButtonEvent(d, 1, False, CurrentTime);
         XFlush(d);
     }
-    void key(KeySym sym, bool control = false) {
+    // Presses and releases `sym` (with Control), held `holdMs`; 0: a tap whose press and release
+    // reach the window together, as a quick one does while a frame takes longer than the tap.
+    void key(KeySym sym, bool control = false, int holdMs = 150) {
         Display* d = m_x->display();
         const KeyCode ctrl = XKeysymToKeycode(d, XK_Control_L), k = XKeysymToKeycode(d, sym);
         if (control) XTestFakeKeyEvent(d, ctrl, True, CurrentTime);
-        XFlush(d);
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        if (holdMs > 0) XFlush(d);
+        if (holdMs > 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
         XTestFakeKeyEvent(d, k, True, CurrentTime);
-        XFlush(d);
-        std::this_thread::sleep_for(std::chrono::milliseconds(150));
+        if (holdMs > 0) XFlush(d);
+        std::this_thread::sleep_for(std::chrono::milliseconds(holdMs));
         XTestFakeKeyEvent(d, k, False, CurrentTime);
         if (control) XTestFakeKeyEvent(d, ctrl, False, CurrentTime);
         XFlush(d);
@@ -337,6 +339,20 @@ TEST_F(GuiWindow, AClickOpensTheFileMenuAndCtrlQQuits) {
     key(XK_q, true);
     EXPECT_EQ(p->wait(20), 0) << "Ctrl+Q did not quit:\n" << p->output();
     EXPECT_NE(layoutFile().find("Window=900,600"), std::string::npos) << layoutFile();
+}
+
+// A shortcut typed quickly, its press and release both between two frames (a frame takes
+// 150 ms and more on llvmpipe while the scene renders; a tap is shorter): ImGui 1.86's GLFW
+// backend sets a key's state to its last event, so such a tap was never seen down
+// (gui/key_taps.h). Ctrl+Q tapped so quits.
+TEST_F(GuiWindow, AShortcutTappedWithinOneFrameIsSeen) {
+    auto p = start({"gui", "--size", "900x600"});
+    const Window w = drawnWindow(*p);
+    ASSERT_NE(w, 0u) << p->output();
+    XSetInputFocus(m_x->display(), w, RevertToParent, CurrentTime);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    key(XK_q, true, 0);
+    EXPECT_EQ(p->wait(20), 0) << "a tapped Ctrl+Q did not quit:\n" << p->output();
 }
 
 // A save to a model the window shows: new pixels (the program's own measure, "save to new
