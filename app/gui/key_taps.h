@@ -8,6 +8,8 @@
 // down (with those modifiers) for that frame.
 #pragma once
 
+#include <functional>
+
 struct GLFWwindow;
 
 namespace app {
@@ -18,7 +20,13 @@ void installKeyTaps(GLFWwindow* win);
 void removeKeyTaps();
 // Between ImGui_ImplGlfw_NewFrame and ImGui::NewFrame: a key pressed since the last frame is down
 // in this one, with the modifiers it was pressed with; one that was down only for that reason is
-// set back to GLFW's state of it in the next.
+// set back to GLFW's state of it in the next. A key tapped twice within a frame is down in two
+// frames with one up between them: two presses.
 void applyKeyTaps(GLFWwindow* win);
+
+// What the two above do, without a window: a press (GLFW key code, GLFW_MOD_* bits) as the
+// callback notes it, and the frame's step with `isDown` giving a key's state now.
+void noteKeyPress(int key, int mods);
+void applyKeyTaps(const std::function<bool(int key)>& isDown);
 
 } // namespace app
