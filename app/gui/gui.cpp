@@ -6,6 +6,7 @@
 #include "gui/fonts.h"
 #include "gui/key_taps.h"
 #include "gui/layout_file.h"
+#include "gui/mouse_clicks.h"
 
 #include "capture/capture.h"
 #include "captures/capture_io.h"
@@ -271,7 +272,8 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     if (!ctx.headless()) {
         GLFWwindow* win = ctx.window();
         ImGui_ImplGlfw_InitForOpenGL(win, true);
-        installKeyTaps(win); // a shortcut tapped within one frame is seen (key_taps.h)
+        installKeyTaps(win);     // a shortcut tapped within one frame is seen (key_taps.h)
+        installMouseClicks(win); // a double click is timed by its events (mouse_clicks.h)
         ImGui_ImplOpenGL3_Init("#version 450");
         // a save, and a child's output (a model check's verdict, a replay's progress), wake the
         // loop at once instead of at the end of its wait; stopped before the window goes,
@@ -287,6 +289,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             GLFWwindow* win;
             ~StopWake() {
                 removeKeyTaps();
+                removeMouseClicks();
                 wb.wakeOnFileChanges({});
                 wakeOnChildOutput({});
                 glfwSetDropCallback(win, nullptr);
@@ -312,6 +315,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
                 applyKeyTaps(win);
+                applyMouseClicks(win);
                 if (const auto units = applyUiScale(win, scale); units.first > 0)
                     std::tie(ui.shared.windowWidth, ui.shared.windowHeight) = units;
                 ImGui::NewFrame();
@@ -331,7 +335,8 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             };
             if (frameMetReset(wb, frame, rc)) break;
         }
-        removeKeyTaps(); // the backend's callback back, which its shutdown replaces
+        removeKeyTaps(); // the backend's callbacks back, which its shutdown replaces
+        removeMouseClicks();
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
     } else {
