@@ -4,6 +4,8 @@
 // at once; a text field commits on focus loss, and Enter on an unchanged name commits too.
 #include "gui/widgets.h"
 
+#include "../support/imgui_context.h"
+
 #include <gtest/gtest.h>
 
 #include <imgui.h>
@@ -17,20 +19,13 @@ constexpr int kEnter = 1, kBackspace = 2, kEnd = 3; // our key codes in io.KeysD
 class Fields : public ::testing::Test {
   protected:
     void SetUp() override {
-        ImGui::CreateContext();
         ImGuiIO& io = ImGui::GetIO();
-        io.IniFilename = nullptr;
-        io.DisplaySize = ImVec2(500, 300);
-        io.DeltaTime = 1.0f / 60.0f;
         io.KeyMap[ImGuiKey_Enter] = kEnter;
         io.KeyMap[ImGuiKey_KeyPadEnter] = kEnter;
         io.KeyMap[ImGuiKey_Backspace] = kBackspace;
         io.KeyMap[ImGuiKey_End] = kEnd;
-        unsigned char* px = nullptr;
-        int w = 0, h = 0;
-        io.Fonts->GetTexDataAsRGBA32(&px, &w, &h);
     }
-    void TearDown() override { ImGui::DestroyContext(); }
+    testsupport::ImGuiContextForTest imgui{ImVec2(500, 300), 1.0f / 60.0f};
 
     // One frame drawing `body` in a window at the origin; returns the last item's rectangle.
     ImVec4 frame(const std::function<void()>& body) {

@@ -4,6 +4,8 @@
 // a key still held stays as it is.
 #include "gui/key_taps.h"
 
+#include "../support/imgui_context.h"
+
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 #include <imgui.h>
@@ -15,19 +17,11 @@ namespace {
 class KeyTaps : public ::testing::Test {
   protected:
     void SetUp() override {
-        ImGui::CreateContext();
-        ImGuiIO& io = ImGui::GetIO();
-        io.IniFilename = nullptr;
-        io.DisplaySize = ImVec2(200, 100);
-        io.DeltaTime = 1.0f / 60.0f;
-        unsigned char* px = nullptr;
-        int w = 0, h = 0;
-        io.Fonts->GetTexDataAsRGBA32(&px, &w, &h);
         app::applyKeyTaps([](int) { return false; }); // nothing left from another test
         ImGui::NewFrame();
         ImGui::EndFrame();
     }
-    void TearDown() override { ImGui::DestroyContext(); }
+    testsupport::ImGuiContextForTest imgui{ImVec2(200, 100), 1.0f / 60.0f};
 
     struct Seen {
         bool pressed, down, ctrl;

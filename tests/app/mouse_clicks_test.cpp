@@ -4,6 +4,8 @@
 // clicks are one double click, not two.
 #include "gui/mouse_clicks.h"
 
+#include "../support/imgui_context.h"
+
 #include <gtest/gtest.h>
 #include <imgui.h>
 
@@ -14,20 +16,12 @@ namespace {
 class MouseClicks : public ::testing::Test {
   protected:
     void SetUp() override {
-        ImGui::CreateContext();
-        ImGuiIO& io = ImGui::GetIO();
-        io.IniFilename = nullptr;
-        io.DisplaySize = ImVec2(200, 100);
-        io.MousePos = ImVec2(50, 50);
-        unsigned char* px = nullptr;
-        int w = 0, h = 0;
-        io.Fonts->GetTexDataAsRGBA32(&px, &w, &h);
-        io.DeltaTime = 0.4f;
+        ImGui::GetIO().MousePos = ImVec2(50, 50);
         app::removeMouseClicks(); // nothing left from another test
         for (int f = 0; f < 3; ++f)
             frame();
     }
-    void TearDown() override { ImGui::DestroyContext(); }
+    testsupport::ImGuiContextForTest imgui{ImVec2(200, 100), 0.4f}; // 0.4 s a frame
 
     struct Seen {
         bool clicked, doubleClicked;

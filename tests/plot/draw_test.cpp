@@ -2,6 +2,7 @@
 // font atlas is enough to run frames and inspect the vertices).
 #include "plot/plot_draw.h"
 
+#include "../support/imgui_context.h"
 #include "plot_helpers.h"
 
 #include <gtest/gtest.h>
@@ -13,17 +14,7 @@ namespace {
 
 class PlotDraw : public testing::Test {
   protected:
-    void SetUp() override {
-        ImGui::CreateContext();
-        ImGuiIO& io = ImGui::GetIO();
-        io.DisplaySize = ImVec2(1024, 768);
-        io.DeltaTime = 1.0f / 60.0f;
-        io.IniFilename = nullptr;
-        unsigned char* pixels = nullptr;
-        int w = 0, h = 0;
-        io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
-    }
-    void TearDown() override { ImGui::DestroyContext(); }
+    testsupport::ImGuiContextForTest imgui{ImVec2(1024, 768), 1.0f / 60.0f};
 
     // One frame with the plot in a fixed window; returns the widget's state.
     plot::PlotState frame(ImVec2 mouse, const std::vector<plot::Series>& s, const plot::Axis& x,
