@@ -96,21 +96,26 @@ void reloadFonts(float scale) {
 
 // After the GLFW backend's NewFrame, which sizes the UI in the window's screen coordinates:
 // the UI in units of `scale` framebuffer pixels, and the mouse in those units. Returns the
-// window's size in UI units (what the layout file keeps).
-std::pair<int, int> applyUiScale(GLFWwindow* win, float scale) {
+// window's size in UI units (what the layout file keeps; 0 x 0 while minimised) and the UI units
+// per screen coordinate.
+struct UiUnits {
+    int width = 0, height = 0;
+    float perCoordinate = 1.0f;
+};
+UiUnits applyUiScale(GLFWwindow* win, float scale) {
     ImGuiIO& io = ImGui::GetIO();
     int ww = 0, wh = 0, fw = 0, fh = 0;
     glfwGetWindowSize(win, &ww, &wh);
     glfwGetFramebufferSize(win, &fw, &fh);
     if (ww <= 0 || wh <= 0 || fw <= 0 || fh <= 0)
-        return {0, 0};                                 // minimised: as the backend left it
-    const float perCoordinate = float(fw) / float(ww); // framebuffer pixels per screen coordinate
+        return {0, 0, 1.0f / scale}; // minimised: as the backend left it
+    // framebuffer pixels per screen coordinate, over framebuffer pixels per UI unit
+    const float perCoordinate = float(fw) / float(ww) / scale;
     io.DisplaySize = ImVec2(float(fw) / scale, float(fh) / scale);
     io.DisplayFramebufferScale = ImVec2(scale, scale);
     if (io.MousePos.x > -FLT_MAX / 2 && io.MousePos.y > -FLT_MAX / 2)
-        io.MousePos =
-            ImVec2(io.MousePos.x * perCoordinate / scale, io.MousePos.y * perCoordinate / scale);
-    return {int(std::lround(fw / scale)), int(std::lround(fh / scale))};
+        io.MousePos = ImVec2(io.MousePos.x * perCoordinate, io.MousePos.y * perCoordinate);
+    return {int(std::lround(fw / scale)), int(std::lround(fh / scale)), perCoordinate};
 }
 } // namespace
 
@@ -315,9 +320,12 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
                 applyKeyTaps(win);
-                applyMouseClicks(win);
-                if (const auto units = applyUiScale(win, scale); units.first > 0)
-                    std::tie(ui.shared.windowWidth, ui.shared.windowHeight) = units;
+                const UiUnits units = applyUiScale(win, scale);
+                if (units.width > 0) {
+                    ui.shared.windowWidth = units.width;
+                    ui.shared.windowHeight = units.height;
+                }
+                applyMouseClicks(win, units.perCoordinate);
                 ImGui::NewFrame();
                 drawPanels(wb, ui);
                 ImGui::Render();

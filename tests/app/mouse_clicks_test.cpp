@@ -1,7 +1,8 @@
-// Mouse clicks timed by their events (gui/mouse_clicks.h) with real ImGui frames and no window,
-// at 0.4 s a frame (the scene rendering on llvmpipe): two clicks 0.15 s apart are a double click
-// whether they fall in one frame or in two; 0.5 s apart they are two single clicks; three quick
-// clicks are one double click, not two.
+// Mouse clicks as their events had them (gui/mouse_clicks.h) with real ImGui frames and no
+// window, at 0.4 s a frame (the scene rendering on llvmpipe): two clicks 0.15 s apart are a double
+// click whether they fall in one frame or in two; 0.5 s apart they are two single clicks; three
+// quick clicks are one double click, not two; a click right after the pointer moved from a button
+// onto a tab selects the tab; a press is where it was, not where the pointer is by the frame.
 #include "gui/mouse_clicks.h"
 
 #include "../support/imgui_context.h"
@@ -15,8 +16,9 @@ namespace {
 
 class MouseClicks : public ::testing::Test {
   protected:
+    static inline const ImVec2 kAt{50, 50}; // the pointer, unless a test moves it
     void SetUp() override {
-        ImGui::GetIO().MousePos = ImVec2(50, 50);
+        ImGui::GetIO().MousePos = kAt;
         app::removeMouseClicks(); // nothing left from another test
         for (int f = 0; f < 3; ++f)
             frame();
@@ -42,7 +44,7 @@ class MouseClicks : public ::testing::Test {
         size_t next = 0;
         for (int f = 0; f < frames; ++f) {
             while (next < times.size() && times[next] < 0.4 * (f + 1))
-                app::noteMousePress(0, 100.0 + times[next++]);
+                app::noteMousePress(0, 100.0 + times[next++], kAt);
             const Seen s = frame();
             clicks += s.clicked;
             doubles += s.doubleClicked;
@@ -65,6 +67,77 @@ TEST_F(MouseClicks, ClicksHalfASecondApartAreSingle) {
 
 TEST_F(MouseClicks, ThreeQuickClicksAreOneDoubleClick) {
     EXPECT_EQ(run({0.1, 0.2, 0.3}, 8), std::make_pair(3, 1));
+}
+
+ImVec2 inside(ImVec2 itemMin) {
+    return ImVec2(itemMin.x + 4, itemMin.y + 4);
+}
+
+// A window with two tabs above a button; which tab shows, and where tab B and the button are.
+struct TabsAndButton {
+    char shown = 0;
+    ImVec2 tabB, button;
+};
+TabsAndButton tabsAndButton() {
+    TabsAndButton t;
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(0, 0));
+    ImGui::SetNextWindowSize(ImVec2(200, 100));
+    ImGui::Begin("tabs", nullptr, ImGuiWindowFlags_NoDecoration);
+    if (ImGui::BeginTabBar("bar")) {
+        for (const char* name : {"A", "B"}) {
+            const bool open = ImGui::BeginTabItem(name);
+            if (*name == 'B') t.tabB = inside(ImGui::GetItemRectMin());
+            if (open) {
+                t.shown = *name;
+                ImGui::EndTabItem();
+            }
+        }
+        ImGui::EndTabBar();
+    }
+    ImGui::Button("button");
+    t.button = inside(ImGui::GetItemRectMin());
+    ImGui::End();
+    ImGui::EndFrame();
+    return t;
+}
+
+TEST_F(MouseClicks, AClickRightAfterMovingFromAButtonOntoATabSelectsIt) {
+    ImGuiIO& io = ImGui::GetIO();
+    TabsAndButton t;
+    for (int f = 0; f < 3; ++f) // the tab bar laid out
+        t = tabsAndButton();
+    ASSERT_EQ(t.shown, 'A');
+    io.MousePos = t.button; // the button hovered
+    app::applyMouseClicks([](int) { return false; });
+    tabsAndButton();
+    // moved onto tab B and clicked there, all between two frames
+    io.MousePos = t.tabB;
+    app::noteMousePress(0, 100.0, t.tabB);
+    for (int f = 0; f < 4; ++f) {
+        app::applyMouseClicks([](int) { return false; });
+        t = tabsAndButton();
+    }
+    EXPECT_EQ(t.shown, 'B');
+}
+
+TEST_F(MouseClicks, APressIsWhereItWasNotWhereThePointerIsByTheFrame) {
+    ImGuiIO& io = ImGui::GetIO();
+    app::noteMousePress(0, 100.0, kAt);
+    io.MousePos = ImVec2(150, 80); // dragged on before the frame
+    bool clicked = false;
+    for (int f = 0; f < 3 && !clicked; ++f) {
+        app::applyMouseClicks([](int) { return true; }); // still held
+        ImGui::NewFrame();
+        clicked = ImGui::IsMouseClicked(0);
+        ImGui::EndFrame();
+        if (clicked) {
+            EXPECT_EQ(io.MouseClickedPos[0].x, kAt.x);
+            EXPECT_EQ(io.MouseClickedPos[0].y, kAt.y);
+        }
+        io.MousePos = ImVec2(150, 80); // the pointer as the backend reads it
+    }
+    EXPECT_TRUE(clicked);
 }
 
 } // namespace
