@@ -38,8 +38,8 @@ capture::StageOutput writeCaptureEntry(const fs::path& dir, const CaptureEntry& 
 }
 
 capture::Manifest captureInputs(Workbench& wb, const std::string& name, int traceX, int traceY) {
-    if (!capture::isValidName(name))
-        throw core::Error(name, 0, "invalid capture name (letters, digits, '_', '-', '.' only)");
+    if (const std::string problem = capture::nameProblem(name); !problem.empty())
+        throw core::Error(name, 0, "invalid capture name: " + problem);
     capture::Manifest m;
     m.name = name;
     m.createdUtc = capture::utcNow();

@@ -45,6 +45,7 @@ std::optional<fs::path> drawExportButtons(const char* popupId, char* name, size_
         }
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        closeOnEscape();
         ImGui::EndPopup();
     }
     ImGui::PopID();

@@ -76,8 +76,10 @@ std::optional<fs::path> drawFileDialog(FileDialogState& st, const std::string& e
     if (ImGui::Button("Up") && st.dir.has_parent_path()) enter(st, st.dir.parent_path());
     ImGui::SameLine();
     ImGui::SetNextItemWidth(480);
-    const bool typedEnter = ImGui::InputText("##dialogpath", st.path, sizeof st.path,
-                                             ImGuiInputTextFlags_EnterReturnsTrue);
+    if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+    const bool typedEnter =
+        ImGui::InputText("##dialogpath", st.path, sizeof st.path,
+                         ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
     ImGui::TextDisabled("%s", st.dir.string().c_str());
     if (!st.problem.empty())
         ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", st.problem.c_str());
@@ -122,6 +124,12 @@ std::optional<fs::path> drawFileDialog(FileDialogState& st, const std::string& e
             chosen = p; // a missing or wrong file is the caller's clear error
     }
     return chosen;
+}
+
+bool closeOnEscape() {
+    if (!ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false)) return false;
+    ImGui::CloseCurrentPopup();
+    return true;
 }
 
 } // namespace app

@@ -35,7 +35,8 @@ struct FileDialogState {
 // Shows `file`'s folder with `file` in the path field (e.g. a proposed name to save as).
 void setDialogFile(FileDialogState& st, const std::filesystem::path& file);
 
-// Draws the dialog's body inside an open popup; returns the file the user chose (the action
+// Draws the dialog's body inside an open popup, the path field taking the keyboard when the
+// popup appears (typing replaces the path); returns the file the user chose (the action
 // button, Enter on a file path, or a double click on a file). `extension` filters the files
 // ("" = all); `action` names the button ("Open", or "Save": then a file that exists is marked
 // as the one that will be replaced).
@@ -47,6 +48,10 @@ struct ExportState {
     FileDialogState dialog;
     std::string extension; // of the button that opened the dialog
 };
+
+// Inside an open modal popup: Escape closes it (ImGui 1.86 closes menus and plain popups on
+// Escape, not modals); true when it did.
+bool closeOnEscape();
 
 // Recent files: `path` moved to the front, duplicates removed, at most `keep` kept.
 void rememberRecent(std::vector<std::string>& recent, const std::string& path, size_t keep = 8);

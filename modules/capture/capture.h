@@ -86,7 +86,11 @@ bool isInputKind(std::string_view kind);
 // Kinds compared by z-test at `alpha` (csv_stat; exr_stat: images with a variance per pixel,
 // read and converted to tables by the app, which owns the image format).
 bool isStatisticalKind(std::string_view kind);
-bool isValidName(std::string_view name); // non-empty, [A-Za-z0-9_.-], not "." or ".."
+// A capture's or a stage's name: "" when valid, else why not. [A-Za-z0-9_.-], starting with a
+// letter, a digit or '_' (a leading '.' hides the folder, and "." and ".." are not folders of
+// their own; a leading '-' reads as an option on the command line).
+std::string nameProblem(std::string_view name);
+bool isValidName(std::string_view name); // nameProblem(name) is ""
 bool isHash(std::string_view text);      // "fnv1a64:" + 16 lowercase hex digits
 // "" when `path` is a plain relative path that stays inside its folder, else the reason.
 std::string relativePathProblem(std::string_view path);

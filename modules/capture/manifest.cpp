@@ -172,7 +172,7 @@ class Reader {
         m.name = string(j, {}, "name");
         if (!isValidName(m.name))
             fail(child({}, "name"),
-                 "'" + m.name + "' is not a valid capture name ([A-Za-z0-9_.-])");
+                 "'" + m.name + "' is not a valid capture name: " + nameProblem(m.name));
         m.createdUtc = string(j, {}, "createdUtc");
         m.programVersion = string(j, {}, "programVersion");
         m.glRenderer = string(j, {}, "glRenderer");
@@ -235,12 +235,20 @@ bool isStatisticalKind(std::string_view kind) {
     return kind == "csv_stat" || kind == "exr_stat";
 }
 
-bool isValidName(std::string_view name) {
-    if (name.empty() || name == "." || name == "..") return false;
-    return std::all_of(name.begin(), name.end(), [](char c) {
+std::string nameProblem(std::string_view name) {
+    if (name.empty()) return "a name is needed";
+    if (name.front() == '.' || name.front() == '-')
+        return "starts with '" + std::string(1, name.front()) +
+               "' (a name starts with a letter, a digit or '_')";
+    const bool allowed = std::all_of(name.begin(), name.end(), [](char c) {
         return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
                c == '_' || c == '-' || c == '.';
     });
+    return allowed ? "" : "letters, digits, '_', '-' and '.' only";
+}
+
+bool isValidName(std::string_view name) {
+    return nameProblem(name).empty();
 }
 
 bool isHash(std::string_view text) {

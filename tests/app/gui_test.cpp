@@ -12,6 +12,7 @@
 #include "pathtrace/image_io.h"
 #include "pipeline/pencil_series.h"
 
+#include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_internal.h>
 
@@ -443,6 +444,75 @@ TEST(HeadlessGui, PencilExportAsksWhere) {
     ASSERT_TRUE(fs::exists(target)) << ui.shared.status;
     EXPECT_NE(core::readFile(target).find("r_mm"), std::string::npos);
     EXPECT_EQ(ui.shared.status, "wrote " + target.string());
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+    fs::remove_all(root);
+}
+
+// The dialogs answer the keyboard as they appear: the record dialog's name and the file dialog's
+// path take what is typed (over the old text), Enter records or opens, Escape closes; a name
+// that is not a capture's is said in the dialog and records nothing.
+TEST(HeadlessGui, DialogsTakeTheKeyboardEnterActsEscapeCloses) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("dialogkeys", {"dipole.bssrdf"});
+    fs::create_directories(root / "elsewhere");
+    fs::copy_file(root / "materials/dipole.bssrdf", root / "elsewhere/other.bssrdf");
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui.captures.exe = BW_EXE;
+    ImGuiIO& io = ImGui::GetIO();
+    io.KeyMap[ImGuiKey_Enter] = GLFW_KEY_ENTER; // as the GLFW backend maps them
+    io.KeyMap[ImGuiKey_Escape] = GLFW_KEY_ESCAPE;
+    const auto type = [&](const std::string& text) {
+        io.AddInputCharactersUTF8(text.c_str());
+        gui.frame();
+    };
+    const auto press = [&](int key) {
+        io.KeysDown[key] = true;
+        gui.frame();
+        io.KeysDown[key] = false;
+        gui.frame();
+    };
+    const auto popups = [] { return ImGui::GetCurrentContext()->OpenPopupStack.Size; };
+    const auto open = [&](bool& flag) {
+        flag = true;
+        gui.frame();
+        gui.frame();
+        ASSERT_EQ(popups(), 1);
+    };
+
+    open(ui.menu.recordPopup);
+    type(".hidden");
+    EXPECT_STREQ(ui.menu.nameBuffer, ".hidden") << "typed over the proposed name";
+    press(GLFW_KEY_ENTER);
+    EXPECT_FALSE(ui.captures.recorder) << "an invalid name recorded";
+    EXPECT_EQ(popups(), 1);
+    press(GLFW_KEY_ESCAPE);
+    EXPECT_EQ(popups(), 0) << "Escape left the record dialog open";
+
+    open(ui.menu.recordPopup);
+    type("typed");
+    EXPECT_STREQ(ui.menu.nameBuffer, "typed");
+    press(GLFW_KEY_ENTER);
+    EXPECT_EQ(popups(), 0);
+    ASSERT_TRUE(ui.captures.recorder)
+        << "Enter did not record: " << (wb.errors().empty() ? "" : wb.errors()[0].text);
+    EXPECT_EQ(ui.captures.recording, "typed");
+    ui.captures.recorder->cancel();
+    while (!ui.captures.recorder->done())
+        gui.frame();
+    gui.frame();
+
+    const size_t models = wb.library().entries().size();
+    open(ui.menu.openModelPopup);
+    type((root / "elsewhere/other.bssrdf").string());
+    press(GLFW_KEY_ENTER);
+    EXPECT_EQ(popups(), 0);
+    EXPECT_EQ(wb.library().entries().size(), models + 1) << ui.shared.status;
+    open(ui.menu.openModelPopup);
+    press(GLFW_KEY_ESCAPE);
+    EXPECT_EQ(popups(), 0) << "Escape left the file dialog open";
     for (const auto& e : wb.errors())
         ADD_FAILURE() << e.source << ": " << e.text;
     fs::remove_all(root);

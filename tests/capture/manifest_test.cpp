@@ -269,6 +269,9 @@ TEST(Manifest, NamesHashesAndTime) {
     EXPECT_FALSE(capture::isValidName(""));
     EXPECT_FALSE(capture::isValidName(".."));
     EXPECT_FALSE(capture::isValidName("a/b"));
+    EXPECT_FALSE(capture::isValidName(".hidden")); // a hidden folder the Captures panel skips
+    EXPECT_FALSE(capture::isValidName("-x"));      // an option to the command line
+    EXPECT_EQ(capture::nameProblem("my capture"), "letters, digits, '_', '-' and '.' only");
     EXPECT_TRUE(capture::isHash(core::hashHex("abc")));
     EXPECT_FALSE(capture::isHash("fnv1a64:0123456789ABCDEF"));
     std::string now = capture::utcNow();

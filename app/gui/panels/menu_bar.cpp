@@ -5,6 +5,7 @@
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
 
+#include "capture/capture.h"
 #include "core/core.h"
 
 #include <GLFW/glfw3.h>
@@ -112,6 +113,7 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
         }
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        closeOnEscape();
         ImGui::EndPopup();
     }
     if (ui.menu.mcmlPopup) {
@@ -129,6 +131,7 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
         }
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        closeOnEscape();
         ImGui::EndPopup();
     }
     if (ui.menu.recordPopup) {
@@ -137,17 +140,25 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
     }
     if (ImGui::BeginPopupModal("Record capture", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("Capture name (folder under captures/):");
-        ImGui::InputText("##name", ui.menu.nameBuffer, sizeof ui.menu.nameBuffer);
-        {
-            std::error_code ec;
-            if (fs::exists(wb.root() / "captures" / ui.menu.nameBuffer, ec))
-                ImGui::TextDisabled("(replaces the capture of that name)");
-        }
+        // the name takes the keyboard (typed over) as the dialog appears; Enter records
+        if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+        const bool entered = ImGui::InputText(
+            "##name", ui.menu.nameBuffer, sizeof ui.menu.nameBuffer,
+            ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+        const std::string problem = capture::nameProblem(ui.menu.nameBuffer);
+        std::error_code ec;
+        if (!problem.empty())
+            ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", problem.c_str());
+        else if (fs::exists(wb.root() / "captures" / ui.menu.nameBuffer, ec))
+            ImGui::TextDisabled("(replaces the capture of that name)");
         const bool busy = ui.captures.recorder && !ui.captures.recorder->done();
         if (busy)
             ImGui::TextDisabled("(one recording at a time: %s is under way)",
                                 ui.captures.recording.c_str());
-        if (ImGui::Button("Record") && !busy) {
+        ImGui::BeginDisabled(busy || !problem.empty());
+        const bool record = ImGui::Button("Record");
+        ImGui::EndDisabled();
+        if ((record || entered) && !busy && problem.empty()) {
             try {
                 startRecording(wb, ui.captures, ui.menu.nameBuffer);
                 ui.shared.status = "recording " + std::string(ui.menu.nameBuffer);
@@ -159,6 +170,7 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
         }
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        closeOnEscape();
         ImGui::EndPopup();
     }
 }
