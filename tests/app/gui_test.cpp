@@ -439,7 +439,8 @@ TEST(HeadlessGui, PencilExportAsksWhere) {
     EXPECT_EQ(std::string(d.path),
               (fs::current_path() / "pencil_plot.csv").lexically_normal().string());
     const fs::path target = root / "plot_here.csv";
-    std::snprintf(d.path, sizeof d.path, "%s", target.c_str());
+    ImGui::GetIO().AddInputCharactersUTF8(target.c_str()); // typed over the proposed path
+    gui.frame();
     click({d.actionRect[0], d.actionRect[1], d.actionRect[2], d.actionRect[3]});
     ASSERT_TRUE(fs::exists(target)) << ui.shared.status;
     EXPECT_NE(core::readFile(target).find("r_mm"), std::string::npos);
