@@ -318,7 +318,8 @@ TEST(Interactions, RenderExportAsksWhereAndLogsTheFullPath) {
     ASSERT_GT(ps.exporter.dialog.actionRect[2], ps.exporter.dialog.actionRect[0]) << "no dialog";
     const std::filesystem::path target = fx.root / "exports" / "bunny";
     std::filesystem::create_directories(target.parent_path());
-    std::snprintf(ps.exporter.dialog.path, sizeof ps.exporter.dialog.path, "%s", target.c_str());
+    ImGui::GetIO().AddInputCharactersUTF8(target.c_str()); // typed over the proposed path
+    fx.gui->frame();
     const float* a = ps.exporter.dialog.actionRect;
     click({a[0], a[1], a[2], a[3]});
     EXPECT_EQ(frames(), shown) << "a click on a button rendered the frame again";
