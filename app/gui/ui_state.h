@@ -105,7 +105,8 @@ struct MenuState {
 };
 
 struct ErrorsPanelState {
-    int logMinLevel = 1; // 0 debug .. 3 error (core log levels)
+    int logMinLevel = 1;      // 0 debug .. 3 error (core log levels)
+    Rect copyErrors, copyLog; // the Copy buttons last frame (screen px)
 };
 
 // "From albedo and length" in the Parameters panel: an artist mapping (pipeline/param_mappings.h)

@@ -580,6 +580,45 @@ TEST(CapturesPanel, RecordingRunsInTheBackgroundShowsItsStageAndCancels) {
     fs::remove_all(root);
 }
 
+// The Errors panel's Copy puts every problem on the clipboard as it shows them, file and line
+// included; the Log panel's Copy the lines it shows (its level filter applied).
+TEST(HeadlessGui, ErrorsAndLogCopyWhatTheyShow) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("copyerrors", {"dipole.bssrdf"});
+    core::writeFile(root / "materials/broken.bssrdf",
+                    "analytic radial no_wi no_wo\n::begin shader\n"
+                    "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) { return nope; }\n"
+                    "::end shader\n");
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ImGui::SetClipboardText("");
+    ui.shared.show(app::PanelId::Errors);
+    gui.frame();
+    gui.frame();
+    ASSERT_FALSE(wb.errors().empty());
+    const app::Rect& copyErrors = ui.errors.copyErrors;
+    ASSERT_GT(copyErrors.width(), 0) << "no Copy button";
+    testsupport::click(gui, copyErrors);
+    const std::string copied = ImGui::GetClipboardText();
+    EXPECT_NE(copied.find("broken.bssrdf:3"), std::string::npos) << copied;
+    EXPECT_NE(copied.find("nope"), std::string::npos) << copied;
+    EXPECT_GE(std::count(copied.begin(), copied.end(), '\n'), long(wb.errors().size()));
+    EXPECT_EQ(ui.shared.status.rfind("copied ", 0), 0u) << ui.shared.status;
+
+    core::logInfo("a line to copy");
+    core::logDebug("a debug line the level hides");
+    ui.shared.show(app::PanelId::Log);
+    gui.frame();
+    gui.frame();
+    ASSERT_GT(ui.errors.copyLog.width(), 0) << "no Copy button";
+    testsupport::click(gui, ui.errors.copyLog);
+    const std::string log = ImGui::GetClipboardText();
+    EXPECT_NE(log.find("a line to copy"), std::string::npos) << log;
+    EXPECT_EQ(log.find("a debug line the level hides"), std::string::npos) << log;
+    fs::remove_all(root);
+}
+
 TEST(HeadlessGui, ModelNanValuesAreAnErrorEntryWithTheRadii) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("nanmodel", {"dipole.bssrdf"});
