@@ -619,6 +619,28 @@ TEST(HeadlessGui, ErrorsAndLogCopyWhatTheyShow) {
     fs::remove_all(root);
 }
 
+// View → a closed panel opens it in front (its tab shown, its contents drawn), not behind the
+// tab its area shows; again closes it.
+TEST(HeadlessGui, APanelOpenedFromTheViewMenuIsShown) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("viewmenu", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    gui.frame();
+    ASSERT_FALSE(ui.shared.isOpen(app::PanelId::Fit));
+    ASSERT_NE(testsupport::panelWindow(app::PanelId::Render), nullptr);
+    app::togglePanel(ui.shared, app::PanelId::Fit);
+    gui.frame();
+    gui.frame();
+    EXPECT_NE(testsupport::panelWindow(app::PanelId::Fit), nullptr) << "opened behind Render";
+    app::togglePanel(ui.shared, app::PanelId::Fit);
+    gui.frame();
+    EXPECT_FALSE(ui.shared.isOpen(app::PanelId::Fit));
+    EXPECT_EQ(testsupport::panelWindow(app::PanelId::Fit), nullptr);
+    fs::remove_all(root);
+}
+
 TEST(HeadlessGui, ModelNanValuesAreAnErrorEntryWithTheRadii) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("nanmodel", {"dipole.bssrdf"});

@@ -35,6 +35,13 @@ void openMcmlFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file
     }
 }
 
+void togglePanel(UiShared& ui, PanelId id) {
+    if (ui.isOpen(id))
+        ui.isOpen(id) = false;
+    else
+        ui.show(id);
+}
+
 void drawMenuBar(Workbench& wb, UiState& ui) {
     pollRecording(wb, ui.captures, ui.shared);
     if (ImGui::BeginMainMenuBar()) {
@@ -62,7 +69,8 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
             for (const PanelEntry& p : panelRegistry()) {
                 if (p.menuGroup != group) ImGui::Separator();
                 group = p.menuGroup;
-                ImGui::MenuItem(p.title, nullptr, &ui.shared.isOpen(p.id));
+                if (ImGui::MenuItem(p.title, nullptr, ui.shared.isOpen(p.id)))
+                    togglePanel(ui.shared, p.id);
             }
             ImGui::Separator();
             if (ImGui::BeginMenu("Float")) {

@@ -10,6 +10,8 @@
 namespace app {
 
 void drawMenuBar(Workbench& wb, UiState& ui);
+// View → a panel: closes it if open, else opens it and brings it to the front (its tab shown).
+void togglePanel(UiShared& ui, PanelId id);
 // Opens a model file (relative: to the current folder, else to the root) and remembers it
 // among the recent files; a failure is an Errors entry.
 void openModelFile(Workbench& wb, UiShared& ui, const std::filesystem::path& file);
