@@ -81,7 +81,10 @@ void applyMouseClicks(const std::function<bool(int button)>& isDown) {
         if (!g_pendingPresses[b].empty()) {
             const Press& p = g_pendingPresses[b].front();
             const bool here = !placed || samePixel(io.MousePos, p.pos);
-            if (!placed) io.MousePos = p.pos, placed = true;
+            if (!placed) {
+                io.MousePos = p.pos;
+                placed = true;
+            }
             // Down in the last frame: up in this one. Elsewhere in the last frame (or where
             // another button's press is now): up here in this one, so that the press's item is
             // hovered before it is pressed.

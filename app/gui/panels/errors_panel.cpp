@@ -58,7 +58,7 @@ void drawErrorsPanel(Workbench& wb, ErrorsPanelState& ps, UiShared& ui) {
                     (errors.size() == 1 ? "" : "s");
     }
     ps.copyErrors = lastItem();
-    ImGui::SameLine();
+    sameLineIfFits(buttonWidth("Dismiss action errors"));
     if (ImGui::Button("Dismiss action errors")) wb.clearActionErrors();
 }
 
@@ -68,7 +68,7 @@ void drawLogPanel(Workbench&, ErrorsPanelState& ps, UiShared& ui) {
     ImGui::Combo("level", &minLevel, "debug\0info\0warning\0error\0");
     ImGui::SameLine();
     if (ImGui::Button("Clear")) core::logClear();
-    ImGui::SameLine();
+    sameLineIfFits(buttonWidth("Copy"));
     const bool copy = ImGui::Button("Copy");
     ps.copyLog = lastItem();
     std::string copied;
