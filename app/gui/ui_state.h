@@ -273,6 +273,7 @@ struct SlicePanelState {
 struct TraversalPanelState {
     char filter[64] = "";
     bool showRecurse = true, showNodeEval = true, showPointEval = true;
+    Rect copySteps; // the Copy steps button last frame (screen px)
 };
 
 struct UiState {

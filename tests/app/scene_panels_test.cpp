@@ -97,6 +97,17 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
             bright += px[i] > 150 && px[i + 1] > 150 && px[i + 2] > 150 ? 1 : 0;
         }
     EXPECT_GT(bright, 2000u);
+
+    // The traversal debugger copies its steps as CSV: a comment, a header, a line a step.
+    ImGui::SetClipboardText("");
+    testsupport::click(gui, ui.traversal.copySteps);
+    const std::string csv = ImGui::GetClipboardText();
+    EXPECT_EQ(size_t(std::count(csv.begin(), csv.end(), '\n')),
+              ui.shared.inspect.debug->trace.steps.size() + 2)
+        << csv.substr(0, 400);
+    EXPECT_EQ(csv.find("# traversal of pixel (" + std::to_string(x) + ", " + std::to_string(y)), 0u)
+        << csv.substr(0, 400);
+    EXPECT_NE(csv.find("\n0,0,0,recurse,"), std::string::npos) << csv.substr(0, 400);
     // For looking at the panels: BW_SCENE_PANELS_PNG=/tmp/x.png saves what was drawn.
     if (const char* out = std::getenv("BW_SCENE_PANELS_PNG")) gl::writePng(out, 1600, 1000, px);
     std::filesystem::remove_all(root);

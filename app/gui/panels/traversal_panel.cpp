@@ -3,7 +3,8 @@
 // points), the solid angle, the whole packed stack after the step, the contribution and the
 // running sum — in a scrollable, filterable table; the pixel's radiant exitance from the GPU
 // readback, the CPU replica and brute force side by side; stack overflow and iteration-cap
-// flags shown, never hidden. The Octree panel draws the visited nodes coloured by decision.
+// flags shown, never hidden; the steps shown copied to the clipboard as CSV (to diff two
+// traversals). The Octree panel draws the visited nodes coloured by decision.
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 
@@ -32,6 +33,26 @@ std::string flagText(uint32_t flags) {
     if (flags & octree::kFlagIterationCap) s += "ITERATION CAP ";
     if (flags & render::kFlagLoopLimit) s += "DRIVER LOOP LIMIT ";
     return s.empty() ? "none" : s;
+}
+
+// The steps `rows` of `d`'s trace as CSV: a comment naming the pixel, a header, a line a step
+// with the RGB contribution and running sum in full.
+std::string stepsCsv(const PixelDebug& d, const std::vector<int>& rows) {
+    std::string csv = "# traversal of pixel (" + std::to_string(d.x) + ", " + std::to_string(d.y) +
+                      "), CPU replica\n" +
+                      "step,node,depth,decision,solid_angle,stack_after,contribution_r,"
+                      "contribution_g,contribution_b,running_sum_r,running_sum_g,running_sum_b\n";
+    char line[512];
+    for (int r : rows) {
+        const octree::Step& s = d.trace.steps[size_t(r)];
+        std::snprintf(line, sizeof line, "%d,%u,%u,%s,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", r,
+                      s.node, s.depth, octree::decisionName(s.decision), double(s.solidAngle),
+                      stackText(s.stack).c_str(), double(s.contribution.x),
+                      double(s.contribution.y), double(s.contribution.z), double(s.runningSum.x),
+                      double(s.runningSum.y), double(s.runningSum.z));
+        csv += line;
+    }
+    return csv;
 }
 
 float relDiff(const glm::vec3& a, const glm::vec3& b) {
@@ -119,6 +140,12 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
         rows.push_back(int(i));
     }
     ImGui::Text("%zu of %zu steps", rows.size(), t.steps.size());
+    sameLineIfFits(buttonWidth("Copy steps (CSV)"));
+    if (ImGui::Button("Copy steps (CSV)")) {
+        ImGui::SetClipboardText(stepsCsv(d, rows).c_str());
+        ui.status = "copied " + std::to_string(rows.size()) + " traversal steps";
+    }
+    ps.copySteps = lastItem();
     if (ImGui::BeginTable("trace", 8,
                           ImGuiTableFlags_ScrollX | ImGuiTableFlags_ScrollY |
                               ImGuiTableFlags_RowBg | ImGuiTableFlags_Resizable |
