@@ -66,6 +66,14 @@ std::unique_ptr<Workbench> workbenchFromInputs(const capture::Manifest& m,
                                                const std::string& where, int& traceX, int& traceY,
                                                bool watch = false);
 
+// The input files the settings of a capture's workbench name (mesh, point cloud, environment,
+// projected texture, lit-sphere mesh) resolve inside the capture folder or the project, never
+// elsewhere ("../../etc/passwd", an absolute path outside, a symlink out): a capture may come
+// from someone else. Throws core::Error naming `where` and the setting; checked before anything
+// is read.
+void checkCaptureInputFiles(Workbench& wb, const std::filesystem::path& captureDir,
+                            const std::string& where);
+
 // Records the current state as <root>/captures/<name> (File → Record capture); returns that
 // folder relative to the root.
 std::string recordCapture(Workbench& wb, const std::string& name);

@@ -23,25 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The input files a replayed capture's settings name resolve inside the capture folder or the
-// project (the root holding materials/ and shaders/), never elsewhere ("../../etc/passwd", an
-// absolute path outside, a symlink out): checked before anything is read.
-void checkCaptureInputs(Workbench& wb, const fs::path& captureDir, const std::string& where) {
-    const std::vector<fs::path> folders = {captureDir, wb.root()};
-    const SceneSettings& sc = wb.scene().settings();
-    const std::pair<const char*, const std::string*> inputs[] = {
-        {"settings.scene.mesh", &sc.meshFile},
-        {"settings.scene.point_cloud_file", &sc.pointCloudFile},
-        {"settings.scene.environment", &sc.environmentFile},
-        {"settings.scene.projected_texture", &sc.projectedTextureFile},
-        {"settings.lit_spheres.mesh", &wb.litSphereSettings().mesh}};
-    for (const auto& [key, value] : inputs)
-        if (std::string bad = capture::confinedInputProblem(*value, wb.root(), folders);
-            !bad.empty())
-            throw core::Error(where, 0,
-                              std::string(key) + ": '" + core::printableText(*value) + "' " + bad);
-}
-
 bool isImage(CaptureEntry::Kind k) {
     return k == CaptureEntry::Kind::Exr || k == CaptureEntry::Kind::ExrStat ||
            k == CaptureEntry::Kind::ExrInput;
@@ -124,6 +105,22 @@ capture::Comparison replayStage(capture::StageOutput& rec, const fs::path& captu
 
 } // namespace
 
+void checkCaptureInputFiles(Workbench& wb, const fs::path& captureDir, const std::string& where) {
+    const std::vector<fs::path> folders = {captureDir, wb.root()};
+    const SceneSettings& sc = wb.scene().settings();
+    const std::pair<const char*, const std::string*> inputs[] = {
+        {"settings.scene.mesh", &sc.meshFile},
+        {"settings.scene.point_cloud_file", &sc.pointCloudFile},
+        {"settings.scene.environment", &sc.environmentFile},
+        {"settings.scene.projected_texture", &sc.projectedTextureFile},
+        {"settings.lit_spheres.mesh", &wb.litSphereSettings().mesh}};
+    for (const auto& [key, value] : inputs)
+        if (std::string bad = capture::confinedInputProblem(*value, wb.root(), folders);
+            !bad.empty())
+            throw core::Error(where, 0,
+                              std::string(key) + ": '" + core::printableText(*value) + "' " + bad);
+}
+
 ExternalModels::ExternalModels() {
     static std::atomic<int> count{0}; // two at once in one process get two folders
     dir = fs::temp_directory_path() /
@@ -190,7 +187,7 @@ int replayCapture(const fs::path& captureDir, const fs::path& root, bool update,
         std::unique_ptr<Workbench> owned =
             workbenchFromInputs(m, root, external.dir, where, traceX, traceY);
         Workbench& wb = *owned;
-        checkCaptureInputs(wb, captureDir, where);
+        checkCaptureInputFiles(wb, captureDir, where);
         CaptureEntries captured;
         captured.traceX = traceX;
         captured.traceY = traceY;

@@ -2,6 +2,7 @@
 // default capture recorded and replayed headless plus a screenshot) and `screenshot` (the full
 // GUI run headless for some frames, saved as PNG).
 #include "captures/capture_io.h"
+#include "captures/open_capture.h"
 #include "captures/session.h"
 #include "cli/args.h"
 #include "cli/command.h"
@@ -10,6 +11,7 @@
 #include "core/core.h"
 #include "gl/gl.h"
 #include "gui/gui.h"
+#include "gui/panels/panels.h"
 #include "pipeline/workbench.h"
 #include "probe/child_process.h"
 
@@ -97,6 +99,26 @@ std::unique_ptr<Workbench> windowWorkbench(const fs::path& root, bool fresh,
     return wb;
 }
 
+constexpr const char* kCaptureHelp =
+    "open the state a capture recorded (NAME under captures/, or a capture folder): its models, "
+    "parameters, settings and traced pixel, to look at and change; the project's session and "
+    "layout are left as they were";
+
+// --capture: the capture's folder, its manifest read before any window opens (core::Error).
+fs::path checkedCapture(const fs::path& root, const std::string& given) {
+    const fs::path dir = findCapture(root, given);
+    (void)capture::readManifest(dir);
+    return dir;
+}
+
+// Shows what the opened capture recorded once the layout is loaded.
+std::function<void(UiState&)> showCapture(const OpenedCapture& oc) {
+    Workbench* wb = oc.wb.get();
+    const int x = oc.traceX, y = oc.traceY;
+    const std::string name = oc.name;
+    return [wb, x, y, name](UiState& ui) { showCapturedState(*wb, ui.shared, name, x, y); };
+}
+
 int runHeadlessDefault(const fs::path& root, const std::string& outDir, int width, int height,
                        float uiScale) {
     fs::path out = outDir.empty() ? fs::path("out") / "default" : fs::path(outDir);
@@ -142,8 +164,8 @@ Command guiCommand() {
     return {
         "gui", "interactive workbench (default)", false, [](CLI::App& cmd) -> CommandRun {
             struct Args {
-                bool headless = false, restore = false, fresh = false;
-                std::string out, size, uiScale = "auto";
+                bool headless = false, restore = false, fresh = false, leaveSession = false;
+                std::string out, size, uiScale = "auto", capture;
                 std::vector<std::string> models;
             };
             auto a = std::make_shared<Args>();
@@ -182,6 +204,11 @@ Command guiCommand() {
             cmd.add_flag("--fresh", a->fresh,
                          "start with the defaults, not with the state the window had when it last "
                          "closed on this project (its models, parameters and settings)");
+            cmd.add_option("--capture", a->capture, kCaptureHelp);
+            cmd.add_flag("--leave-session", a->leaveSession,
+                         "keep neither the session nor the layout on close (a window on a "
+                         "capture, started again after a GPU reset)")
+                ->group(""); // the program passes it to itself
             cmd.add_option("models", a->models,
                            ".bssrdf models to open besides the project's (as File > Open model)");
             return [a](CommandContext& ctx) {
@@ -191,7 +218,21 @@ Command guiCommand() {
                                       "expected WxH between 320 and 8192, got '" + a->size + "'");
                 const float uiScale = parseUiScale(a->uiScale);
                 const fs::path& root = ctx.root();
+                const fs::path captureDir =
+                    a->capture.empty() ? fs::path() : checkedCapture(root, a->capture);
+                if (!a->capture.empty() && a->fresh)
+                    throw core::Error("--fresh", 0,
+                                      "a window on a capture starts from the capture, never from "
+                                      "the last session (leave --fresh out)");
                 bool headless = a->headless;
+                if (!a->capture.empty() && (headless || !gl::displayAvailable()))
+                    throw core::Error(
+                        "--capture", 0,
+                        "opens a capture in a window, and there is " +
+                            std::string(headless ? "none (--headless)" : "no display") +
+                            ": `replay " + a->capture +
+                            "` compares it headless, `screenshot --capture " + a->capture +
+                            " --out FILE.png` draws it");
                 if (!headless && !gl::displayAvailable()) {
                     std::printf("no display found (DISPLAY/WAYLAND_DISPLAY unset or "
                                 "unreachable): running the default capture headless\n");
@@ -217,20 +258,39 @@ Command guiCommand() {
                 if (a->size.empty())
                     if (auto last = rememberedWindowSize()) std::tie(width, height) = *last;
                 std::fprintf(stderr, "resources: %s\n", root.c_str());
-                auto window =
-                    gl::createWindowContext(width, height, "BSSRDF Workbench", true, uiScale);
-                std::unique_ptr<Workbench> wb = a->restore
-                                                    ? guiWorkbench(root, true, true)
-                                                    : windowWorkbench(root, a->fresh, models);
+                const std::string title =
+                    a->capture.empty() ? "BSSRDF Workbench"
+                                       : "BSSRDF Workbench - capture " +
+                                             captureDir.lexically_normal().filename().string();
+                auto window = gl::createWindowContext(width, height, title.c_str(), true, uiScale);
                 GuiOptions opt;
                 opt.uiScale = uiScale;
                 opt.closeRequest = closeRequestFlag();
-                const int rc = runGui(*wb, *window, opt);
+                OpenedCapture opened;
+                std::unique_ptr<Workbench> wb;
+                if (!a->capture.empty()) {
+                    opened = openCapture(root, captureDir, true);
+                    for (const fs::path& m : models)
+                        opened.wb->openModel(m);
+                    opt.saveLayout = false;
+                    opt.prepare = showCapture(opened);
+                } else {
+                    opt.saveLayout = !a->leaveSession;
+                    wb = a->restore ? guiWorkbench(root, true, true)
+                                    : windowWorkbench(root, a->fresh, models);
+                }
+                Workbench& shown = opened.wb ? *opened.wb : *wb;
+                const int rc = runGui(shown, *window, opt);
                 if (interrupted())
                     std::fprintf(stderr, "closed the window on %s\n", interruptingSignal().c_str());
-                if (rc == 0) { // the state for the next start (gui --fresh starts without it)
+                if (rc == 0 && (opened.wb || a->leaveSession)) {
+                    std::fprintf(stderr, "the window was on a capture: the project's session and "
+                                         "layout are as they were (File > Record capture keeps "
+                                         "a state)\n");
+                } else if (rc == 0) {
+                    // the state for the next start (gui --fresh starts without it)
                     try {
-                        saveSession(*wb, sessionDir(configDir(), root));
+                        saveSession(shown, sessionDir(configDir(), root));
                     } catch (const core::Error& e) {
                         std::fprintf(stderr, "error: the session was not saved: %s\n", e.what());
                         return 1;
@@ -239,10 +299,12 @@ Command guiCommand() {
                 if (rc != kGlResetRestart) return rc;
                 // at the size the window had (in UI units: runGui saved it with the layout)
                 const auto [w, h] = rememberedWindowSize().value_or(std::pair{width, height});
-                return restartAfterReset(root, {"gui", "--size",
-                                                std::to_string(std::max(w, 320)) + "x" +
-                                                    std::to_string(std::max(h, 320)),
-                                                "--ui-scale", a->uiScale});
+                std::vector<std::string> again = {"gui", "--size",
+                                                  std::to_string(std::max(w, 320)) + "x" +
+                                                      std::to_string(std::max(h, 320)),
+                                                  "--ui-scale", a->uiScale};
+                if (opened.wb || a->leaveSession) again.push_back("--leave-session");
+                return restartAfterReset(root, again);
             };
         }};
 }
@@ -251,7 +313,7 @@ Command screenshotCommand() {
     return {"screenshot", "run the full GUI headless and save a PNG", false,
             [](CLI::App& cmd) -> CommandRun {
                 struct Args {
-                    std::string out, size = defaultSizeText(), uiScale = "auto";
+                    std::string out, size = defaultSizeText(), uiScale = "auto", capture;
                     int frames = GuiOptions{}.frames;
                     bool restore = false;
                 };
@@ -263,6 +325,9 @@ Command screenshotCommand() {
                 cmd.add_option("--size", a->size, "WxH in UI units (the PNG: times --ui-scale)")
                     ->capture_default_str();
                 cmd.add_option("--ui-scale", a->uiScale, kUiScaleHelp)->capture_default_str();
+                cmd.add_option("--capture", a->capture,
+                               "draw the state a capture recorded (NAME under captures/, or a "
+                               "capture folder), as gui --capture opens it");
                 cmd.add_flag("--restore-after-reset", a->restore,
                              "start from the state saved when the GPU driver reset the context")
                     ->group("");
@@ -278,9 +343,18 @@ Command screenshotCommand() {
                     opt.frames = a->frames;
                     opt.screenshotPath = a->out;
                     opt.persistLayout = false;
+                    const fs::path captureDir =
+                        a->capture.empty() ? fs::path() : checkedCapture(root, a->capture);
                     auto gl = gl::createHeadlessContext();
-                    std::unique_ptr<Workbench> wb = guiWorkbench(root, a->restore, false);
-                    const int rc = runGui(*wb, *gl, opt);
+                    OpenedCapture opened;
+                    std::unique_ptr<Workbench> wb;
+                    if (!a->capture.empty() && !a->restore) {
+                        opened = openCapture(root, captureDir, false);
+                        opt.prepare = showCapture(opened);
+                    } else {
+                        wb = guiWorkbench(root, a->restore, false);
+                    }
+                    const int rc = runGui(opened.wb ? *opened.wb : *wb, *gl, opt);
                     if (rc == kGlResetRestart)
                         return restartAfterReset(root, {"screenshot", "--out", a->out, "--frames",
                                                         std::to_string(a->frames), "--size",

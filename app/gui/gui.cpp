@@ -269,9 +269,10 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
     loadFonts(scale);
     static std::string ini; // must outlive the context
     ini = layoutFilePath().string();
-    io.IniFilename = opt.persistLayout ? ini.c_str() : nullptr;
+    io.IniFilename = opt.persistLayout && opt.saveLayout ? ini.c_str() : nullptr;
     addLayoutHandler(ui);
     if (opt.persistLayout) ImGui::LoadIniSettingsFromDisk(ini.c_str());
+    if (opt.prepare) opt.prepare(ui);
 
     int rc = 0;
     if (!ctx.headless()) {
@@ -372,7 +373,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
         }
         ImGui_ImplOpenGL3_Shutdown();
     }
-    if (opt.persistLayout) ImGui::SaveIniSettingsToDisk(ini.c_str());
+    if (opt.persistLayout && opt.saveLayout) ImGui::SaveIniSettingsToDisk(ini.c_str());
     ImGui::DestroyContext();
     g_ui = nullptr;
     return rc;

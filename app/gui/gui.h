@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,6 +34,12 @@ struct GuiOptions {
     int frames = 5;
     std::string screenshotPath; // headless: PNG of what a user would see
     bool persistLayout = true;  // load/save window layout and panel visibility
+    // with persistLayout: save it as well (false: a window on a capture starts from the layout
+    // and leaves it to the project's window)
+    bool saveLayout = true;
+    // called once the layout is loaded, before the first frame (a window on a capture shows
+    // what it recorded: showCapturedState)
+    std::function<void(UiState&)> prepare;
     // window: set (by a signal: cli/interrupt.h) to close it as File > Quit does
     const std::atomic<bool>* closeRequest = nullptr;
 };

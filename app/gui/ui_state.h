@@ -230,6 +230,15 @@ struct CapturesPanelState {
     std::filesystem::path recordRequest; // the state it records (removed when it ends)
     double recordStarted = 0;
     std::string recordOutcome; // how the last recording ended ("" while none has)
+    // "Open in a window": a capture's state in a workbench window of its own (`gui --capture`),
+    // a child process, so this window's state stays as it is; stopped when this window closes
+    struct CaptureWindow {
+        std::string name;
+        std::unique_ptr<ChildProcess> proc;
+    };
+    std::vector<CaptureWindow> windows;
+    Rect openWindow;             // its button last frame (screen px; zero while none shows)
+    std::vector<Rect> nameRects; // each listed capture last frame (screen px)
 };
 
 // The Scoreboard panel: which channels it lists (the table is ScoreboardStage's).

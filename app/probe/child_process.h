@@ -1,7 +1,8 @@
 // A child process of the workbench whose output the GUI reads without blocking: the Captures
-// panel's replay (`bssrdf-workbench --root ROOT replay DIR`) and the check of a new model
-// (model_probe_process.h). Each needs its own GL context and may take seconds or never end; a
-// child can neither freeze nor crash the workbench, and can be killed.
+// panel's replay (`bssrdf-workbench --root ROOT replay DIR`), recording and windows on captures
+// (`gui --capture NAME`), and the check of a new model (model_probe_process.h). Each needs its
+// own GL context and may take seconds or never end; a child can neither freeze nor crash the
+// workbench, and can be killed.
 #pragma once
 
 #include <filesystem>

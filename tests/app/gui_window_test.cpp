@@ -85,10 +85,10 @@ class GuiWindow : public ::testing::Test {
 
     // The window once it is mapped and shows the workbench drawn (its menu bar and panels: many
     // colours where a window not yet drawn is one); 0 if not within `seconds`.
-    Window drawnWindow(Process& p, double seconds = 60) {
+    Window drawnWindow(Process& p, double seconds = 60, const std::string& title = kTitle) {
         const auto start = Clock::now();
         while (secondsSince(start) < seconds && p.running()) {
-            if (Window w = findWindow(m_x->display(), kTitle)) {
+            if (Window w = findWindow(m_x->display(), title)) {
                 const Image img = grab(m_x->display(), w);
                 if (img.width > 0 && distinctColours(img, 0, 0, img.width, img.height) > 40)
                     return w;
@@ -442,6 +442,25 @@ TEST_F(GuiWindow, TheNextStartHasTheLastSessionAndFreshStartsWithout) {
     EXPECT_TRUE(rc2 > 0 && rc2 < 128) << rc2 << "\n" << notAModel->output();
     EXPECT_NE(notAModel->output().find("not a .bssrdf model file"), std::string::npos)
         << notAModel->output();
+}
+
+// A window on a capture (`gui --capture NAME`, as the Captures panel's "Open in a window"
+// starts it): its title names the capture, it shows the recorded state, and closing it leaves
+// the project's session and layout as they were (neither is written).
+TEST_F(GuiWindow, AWindowOnACaptureNamesItAndLeavesTheSessionAsItWas) {
+    auto p = start({"gui", "--size", "900x600", "--capture", "dipole_marble"});
+    const Window w = drawnWindow(*p, 60, std::string(kTitle) + " - capture dipole_marble");
+    ASSERT_NE(w, 0u) << "no drawn window within 60 s:\n" << p->output();
+    EXPECT_EQ(windowSize(w), std::make_pair(900, 600));
+    EXPECT_TRUE(p->waitForOutput("opened capture dipole_marble", 30)) << p->output();
+    save(grab(m_x->display(), w), "window_capture.png");
+    ::kill(p->pid(), SIGTERM);
+    EXPECT_EQ(p->wait(20), 0) << p->output();
+    EXPECT_NE(p->output().find("the project's session and layout are as they were"),
+              std::string::npos)
+        << p->output();
+    EXPECT_FALSE(fs::exists(m_config / "bssrdf-workbench" / "imgui.ini"));
+    EXPECT_FALSE(fs::exists(m_config / "bssrdf-workbench" / "sessions"));
 }
 
 // Files dropped on the window from a file manager (XDND) open as what they are (gui/

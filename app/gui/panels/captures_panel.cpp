@@ -1,7 +1,9 @@
 // Captures panel: the captures under captures/, replayed in a child process (ReplayProcess)
 // with progress and cancel; the report line by line (PASS / FAIL / NOTE / INPUT coloured) and,
 // for every failing image stage, its recorded | replayed | difference picture (written by the
-// replay beside the capture, captures/README.md).
+// replay beside the capture, captures/README.md). A double click on a capture replays it; Open
+// in a window starts `gui --capture NAME` (captures/open_capture.h) as a child: the recorded
+// state in a second window, this one untouched.
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 
@@ -61,6 +63,15 @@ void loadPicture(const std::string& file, CapturesPanelState::Picture& p) {
     stbi_image_free(px);
     p.width = w;
     p.height = h;
+}
+
+// What a child that failed said: its last "error" line, else its whole output.
+std::string errorLine(const std::string& output) {
+    std::string last;
+    std::istringstream in(output);
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("error", 0) == 0) last = line;
+    return last.empty() ? output : last;
 }
 
 ImVec4 lineColor(const std::string& line) {
@@ -126,16 +137,57 @@ void pollRecording(Workbench& wb, CapturesPanelState& ps, UiShared& ui) {
         ps.recordOutcome = "recording of " + ps.recording + " cancelled";
         ui.status = ps.recordOutcome;
     } else {
-        std::string last; // the child's error line, else its whole output
-        std::istringstream in(ps.recorder->output());
-        for (std::string line; std::getline(in, line);)
-            if (line.rfind("error", 0) == 0) last = line;
         ps.recordOutcome = "recording of " + ps.recording + " failed";
         ui.status = ps.recordOutcome;
         wb.reportActionError("record capture " + ps.recording + ": " +
-                             (last.empty() ? ps.recorder->output() : last));
+                             errorLine(ps.recorder->output()));
     }
     ps.listedAt = -1e9; // list the captures again
+}
+
+void startCaptureWindow(Workbench& wb, CapturesPanelState& ps, const std::string& name) {
+    auto proc = std::make_unique<ChildProcess>(
+        std::vector<std::string>{(ps.exe.empty() ? selfExecutable() : ps.exe).string(), "--root",
+                                 wb.root().string(), "gui", "--capture", name},
+        "window on capture " + name);
+    core::logInfo("opened captures/" + name + " in a window of its own (pid " +
+                  std::to_string(proc->pid()) + ")");
+    ps.windows.push_back({name, std::move(proc)});
+}
+
+void pollCaptureWindows(Workbench& wb, CapturesPanelState& ps) {
+    for (auto it = ps.windows.begin(); it != ps.windows.end();) {
+        if (!it->proc->poll()) {
+            ++it;
+            continue;
+        }
+        if (it->proc->exitCode() == 0) {
+            core::logInfo("the window on capture " + it->name + " closed");
+        } else {
+            wb.reportActionError("window on capture " + it->name + ": " +
+                                 errorLine(it->proc->output()) + " (exit status " +
+                                 std::to_string(it->proc->exitCode()) + ")");
+        }
+        it = ps.windows.erase(it);
+    }
+}
+
+void showCapturedState(Workbench& wb, UiShared& ui, const std::string& name, int traceX,
+                       int traceY) {
+    ui.status = "capture " + name;
+    const render::Settings& r = wb.scene().settings().render;
+    if (wb.scene().settings().enabled) {
+        ui.show(PanelId::Render);
+        if (traceX >= 0 && traceY >= 0 && traceX < r.width && traceY < r.height)
+            ui.inspect.pendingPick = std::pair{(float(traceX) + 0.5f) / float(r.width),
+                                               (float(traceY) + 0.5f) / float(r.height)};
+    } else if (wb.litSphereSettings().enabled) {
+        ui.show(PanelId::LitSpheres);
+    } else if (wb.sliceSettings().enabled) {
+        ui.show(PanelId::Slice);
+    } else {
+        ui.show(PanelId::Pencil);
+    }
 }
 
 void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
@@ -149,8 +201,15 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
     ImGui::BeginChild("list", ImVec2(std::min(240.0f, ImGui::GetContentRegionAvail().x * 0.35f), 0),
                       true);
     if (ps.names.empty()) hintText("no captures under captures/ (File → Record capture)");
-    for (const std::string& n : ps.names)
-        if (ImGui::Selectable(n.c_str(), ps.selected == n)) ps.selected = n;
+    bool replayNow = false; // a double click replays, as Replay does
+    ps.nameRects.clear();
+    for (const std::string& n : ps.names) {
+        if (ImGui::Selectable(n.c_str(), ps.selected == n, ImGuiSelectableFlags_AllowDoubleClick)) {
+            ps.selected = n;
+            replayNow = ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left);
+        }
+        ps.nameRects.push_back(lastItem());
+    }
     ImGui::EndChild();
     ImGui::SameLine();
     ImGui::BeginChild("replay", ImVec2(0, 0), false, ImGuiWindowFlags_HorizontalScrollbar);
@@ -173,7 +232,7 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
         ImGui::SameLine();
         if (ImGui::SmallButton("Cancel")) ps.proc->cancel();
     } else if (!ps.selected.empty()) {
-        if (ImGui::Button(("Replay " + ps.selected).c_str())) {
+        if (ImGui::Button(("Replay " + ps.selected).c_str()) || replayNow) {
             try {
                 startReplay(wb, ps, ps.selected);
             } catch (const core::Error& e) {
@@ -181,7 +240,25 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
             }
         }
     } else {
-        hintText("select a capture to replay it: every stage recomputed and compared");
+        hintText("select a capture to replay it (or double click it): every stage recomputed "
+                 "and compared; or open its state in a window of its own");
+    }
+    ps.openWindow = {};
+    if (!ps.selected.empty()) {
+        sameLineIfFits(buttonWidth("Open in a window"));
+        if (ImGui::Button("Open in a window")) {
+            try {
+                startCaptureWindow(wb, ps, ps.selected);
+            } catch (const core::Error& e) {
+                wb.reportActionError(std::string("open capture: ") + e.what());
+            }
+        }
+        ps.openWindow = lastItem();
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("the state %s recorded (models, parameters, settings, traced pixel) "
+                              "in a second workbench window, to look at and change; this window "
+                              "stays as it is",
+                              ps.selected.c_str());
     }
     if (ps.proc) {
         const bool finished = ps.proc->poll();

@@ -44,6 +44,7 @@ void togglePanel(UiShared& ui, PanelId id) {
 
 void drawMenuBar(Workbench& wb, UiState& ui) {
     pollRecording(wb, ui.captures, ui.shared);
+    pollCaptureWindows(wb, ui.captures);
     if (ImGui::BeginMainMenuBar()) {
         if (ImGui::BeginMenu("File")) {
             if (ImGui::MenuItem("Open model...", "Ctrl+O")) ui.menu.openModelPopup = true;

@@ -55,6 +55,18 @@ void startReplay(Workbench& wb, CapturesPanelState& ps, const std::string& name)
 // pollRecording, called every frame, ends one: status line, log, or an Errors entry.
 void startRecording(Workbench& wb, CapturesPanelState& ps, const std::string& name);
 void pollRecording(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
+// "Open in a window": captures/NAME's state in a window of its own, a child process
+// (`gui --capture NAME`; core::Error when it cannot start). pollCaptureWindows, called every
+// frame, reads their output and makes the error of one that fails (no display, a capture that
+// cannot be applied) an Errors entry.
+void startCaptureWindow(Workbench& wb, CapturesPanelState& ps, const std::string& name);
+void pollCaptureWindows(Workbench& wb, CapturesPanelState& ps);
+// A window opened on a capture (`gui --capture`, `screenshot --capture`) shows what it recorded:
+// the render with its traced pixel traced again in the Traversal debugger (a capture of the
+// mesh pipeline), else the lit spheres, the BSSRDF slice or the pencil plot; the status line
+// names the capture.
+void showCapturedState(Workbench& wb, UiShared& ui, const std::string& name, int traceX,
+                       int traceY);
 // The stage a record or replay child reported last ("what: stage NAME" lines), "" before any.
 std::string lastStage(const std::string& output, const std::string& what);
 void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared& ui);

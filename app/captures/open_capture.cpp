@@ -1,0 +1,89 @@
+// A capture's recorded state opened in the window (open_capture.h).
+#include "captures/open_capture.h"
+
+#include "capture/capture.h"
+#include "captures/manifest.h"
+#include "core/core.h"
+#include "core/text.h"
+
+#include <algorithm>
+
+namespace app {
+namespace fs = std::filesystem;
+
+fs::path findCapture(const fs::path& root, const std::string& nameOrFolder) {
+    std::error_code ec;
+    if (nameOrFolder.empty()) throw core::Error("--capture", 0, "expected a capture's name");
+    const fs::path given(nameOrFolder);
+    if (fs::is_regular_file(given / capture::kManifestFileName, ec)) return given;
+    const fs::path inProject = root / "captures" / given;
+    if (given.has_filename() && given.filename() == given &&
+        fs::is_regular_file(inProject / capture::kManifestFileName, ec))
+        return inProject;
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(root / "captures", ec)) {
+        const std::string n = e.path().filename().string();
+        if (!n.empty() && n[0] != '.' &&
+            fs::is_regular_file(e.path() / capture::kManifestFileName, ec))
+            names.push_back(n);
+    }
+    std::sort(names.begin(), names.end());
+    std::string known;
+    for (const std::string& n : names)
+        known += (known.empty() ? "" : ", ") + n;
+    throw core::Error(nameOrFolder, 0,
+                      "no such capture: neither a folder with a " +
+                          std::string(capture::kManifestFileName) + " nor a capture under " +
+                          (root / "captures").string() +
+                          (known.empty() ? " (there are none)" : " (there: " + known + ")"));
+}
+
+OpenedCapture openCapture(const fs::path& root, const fs::path& folder, bool watch) {
+    OpenedCapture out;
+    out.folder = folder;
+    capture::Manifest m = capture::readManifest(folder); // throws, naming the manifest
+    out.name = m.name;
+    const std::string where = (folder / capture::kManifestFileName).string();
+    // What differs from the recording: the project's models edited or gone since (the outputs'
+    // own state is the replay's business, not the state's). Each such model's recorded text is
+    // opened beside it as NAME.recorded, with the recorded parameters, so that the window shows
+    // the state as recorded and today's model on the same plot.
+    out.files = std::make_unique<ExternalModels>();
+    std::vector<std::string> notes, entries;
+    const std::vector<std::string> problems = capture::checkInputs(m, folder, root, &notes);
+    const std::vector<capture::ModelFile> recorded = m.models;
+    for (const capture::ModelFile& mf : recorded) {
+        if (mf.path.rfind(kExternalPrefix, 0) == 0) continue;
+        const std::string prefix = mf.path + ": ";
+        auto problem = std::find_if(problems.begin(), problems.end(),
+                                    [&](const std::string& p) { return p.rfind(prefix, 0) == 0; });
+        if (problem == problems.end()) continue;
+        std::string entry = "capture " + m.name + ": " + *problem;
+        const fs::path path(mf.path);
+        if (path.extension() == ".bssrdf" && !mf.source.empty()) {
+            const std::string copy = path.stem().string() + ".recorded.bssrdf";
+            capture::ModelFile beside = mf;
+            beside.path = kExternalPrefix + copy;
+            m.models.push_back(beside);
+            if (m.params.is_object() && m.params.contains("models") &&
+                m.params["models"].is_object() && m.params["models"].contains(mf.path))
+                m.params["models"][beside.path] = m.params["models"][mf.path];
+            entry += std::string("; the window shows ") +
+                     (fs::exists(root / mf.path) ? "today's file and, beside it, " : "") +
+                     "the recorded text as " + path.stem().string() + ".recorded (" +
+                     (out.files->dir / copy).string() + ")";
+        }
+        entries.push_back(entry);
+    }
+    out.wb = workbenchFromInputs(m, root, out.files->dir, where, out.traceX, out.traceY, watch);
+    checkCaptureInputFiles(*out.wb, folder, where);
+    for (const std::string& e : entries)
+        out.wb->reportActionError(e);
+    for (const std::string& n : notes)
+        if (n.rfind(kExternalPrefix, 0) != 0) core::logInfo("capture " + m.name + ": " + n);
+    core::logInfo("opened capture " + m.name + " (" + folder.string() + ", recorded " +
+                  m.createdUtc + " on " + core::printableText(m.glRenderer) + ")");
+    return out;
+}
+
+} // namespace app
