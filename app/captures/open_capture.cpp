@@ -7,6 +7,7 @@
 #include "core/text.h"
 
 #include <algorithm>
+#include <map>
 
 namespace app {
 namespace fs = std::filesystem;
@@ -36,6 +37,50 @@ fs::path findCapture(const fs::path& root, const std::string& nameOrFolder) {
                           std::string(capture::kManifestFileName) + " nor a capture under " +
                           (root / "captures").string() +
                           (known.empty() ? " (there are none)" : " (there: " + known + ")"));
+}
+
+std::vector<std::string> describeCapture(const fs::path& root, const fs::path& folder) {
+    const capture::Manifest m = capture::readManifest(folder);
+    std::vector<std::string> lines;
+    lines.push_back("recorded " + m.createdUtc + " by version " + m.programVersion +
+                    (m.glRenderer.empty() ? std::string(", no GL")
+                                          : " on " + core::printableText(m.glRenderer)));
+    std::vector<std::string> notes;
+    const std::vector<std::string> problems = capture::checkInputs(m, folder, root, &notes);
+    const auto said = [](const std::vector<std::string>& list, const std::string& path) {
+        const std::string prefix = path + ": ";
+        for (const std::string& p : list)
+            if (p.rfind(prefix, 0) == 0) return p.substr(prefix.size());
+        return std::string();
+    };
+    for (const capture::ModelFile& mf : m.models) {
+        std::string state = said(problems, mf.path);
+        if (state.empty()) state = said(notes, mf.path);
+        if (state.empty()) state = "as recorded";
+        lines.push_back((fs::path(mf.path).extension() == ".bssrdf" ? "model " : "input ") +
+                        mf.path + ": " + state);
+    }
+    if (m.params.is_object() && m.params.contains("shared") && m.params["shared"].is_object()) {
+        const auto& shared = m.params["shared"];
+        const auto preset = shared.find("preset");
+        if (preset != shared.end() && preset->is_string() && !preset->get<std::string>().empty())
+            lines.push_back("preset " + preset->get<std::string>());
+    }
+    if (m.settings.is_object() && m.settings.contains("scene") && m.settings["scene"].is_object() &&
+        m.settings["scene"].contains("trace_pixel")) {
+        const auto& t = m.settings["scene"]["trace_pixel"];
+        if (t.is_array() && t.size() == 2 && t[0].is_number_integer() && t[0].get<int>() >= 0)
+            lines.push_back("traced pixel (" + std::to_string(t[0].get<int>()) + ", " +
+                            std::to_string(t[1].get<int>()) + ")");
+    }
+    std::map<std::string, int> kinds;
+    for (const capture::StageOutput& o : m.outputs)
+        ++kinds[o.kind];
+    std::string stages = std::to_string(m.outputs.size()) + " stage outputs (";
+    for (const auto& [kind, n] : kinds)
+        stages += (stages.back() == '(' ? "" : ", ") + std::to_string(n) + " " + kind;
+    lines.push_back(stages + ")");
+    return lines;
 }
 
 OpenedCapture openCapture(const fs::path& root, const fs::path& folder, bool watch) {

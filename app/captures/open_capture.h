@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace app {
 
@@ -31,6 +32,14 @@ struct OpenedCapture {
     // models edited or gone since (NAME.recorded.bssrdf): kept while the workbench runs
     std::unique_ptr<ExternalModels> files;
 };
+
+// What a capture holds, a line each, for the Captures panel: when, by which program version and
+// on which GL driver it was recorded; each model and whether the project's file is as recorded,
+// edited since (or in comments only), gone, or from outside the project; the preset; the
+// traced pixel; the stages by kind. Throws core::Error naming the manifest when it cannot be
+// read.
+std::vector<std::string> describeCapture(const std::filesystem::path& root,
+                                         const std::filesystem::path& folder);
 
 // The workbench with the capture's inputs (as replay builds it; `watch`: hot reload). Throws
 // core::Error naming the manifest for a capture that cannot be read or applied.

@@ -239,6 +239,11 @@ struct CapturesPanelState {
     std::vector<CaptureWindow> windows;
     Rect openWindow;             // its button last frame (screen px; zero while none shows)
     std::vector<Rect> nameRects; // each listed capture last frame (screen px)
+    // what the selected capture holds (captures/open_capture.h: describeCapture), read when it is
+    // selected and again as the list is
+    std::string described;
+    std::vector<std::string> about;
+    double describedAt = -1e9;
 };
 
 // The Scoreboard panel: which channels it lists (the table is ScoreboardStage's).

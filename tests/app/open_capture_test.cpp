@@ -74,6 +74,10 @@ TEST(OpenCapture, ShowsTheRecordedStateAndTracesItsPixel) {
     ASSERT_EQ(m["settings"]["scene"]["trace_pixel"], json::array({oc.traceX, oc.traceY}));
     ASSERT_GE(oc.traceX, 0);
     EXPECT_TRUE(wb.errors().empty()) << errorsText(wb);
+    const std::vector<std::string> about = app::describeCapture(root, dir);
+    const std::string traced =
+        "traced pixel (" + std::to_string(oc.traceX) + ", " + std::to_string(oc.traceY) + ")";
+    EXPECT_NE(std::find(about.begin(), about.end(), traced), about.end()) << traced;
 
     app::HeadlessGui gui(wb, 1280, 720);
     app::UiState& ui = gui.ui();
@@ -108,8 +112,26 @@ TEST(OpenCapture, AModelEditedOrGoneSinceIsOpenedBesideFromItsRecordedText) {
                                                       "return 2.0*Multiplier/(4.0*PI)");
     ASSERT_NE(doubled, recordedText);
 
+    // what the Captures panel says of it, as recorded and after each change
+    const auto about = [&] {
+        std::string all;
+        for (const std::string& line : app::describeCapture(root, dir))
+            all += line + "\n";
+        return all;
+    };
+    std::string text = about();
+    EXPECT_EQ(text.rfind("recorded 20", 0), 0u) << text;
+    EXPECT_NE(text.find("\nmodel materials/dipole.bssrdf: as recorded\n"), std::string::npos)
+        << text;
+    EXPECT_NE(text.find("\npreset Marble\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("\n2 stage outputs (2 csv)\n"), std::string::npos) << text;
+
     // comments only: the same program, no entry, no copy
     core::writeFile(model, "# a comment added since\n" + recordedText);
+    text = about();
+    EXPECT_NE(text.find("model materials/dipole.bssrdf: only comments or whitespace changed"),
+              std::string::npos)
+        << text;
     {
         app::OpenedCapture oc = app::openCapture(root, dir, false);
         EXPECT_EQ(oc.wb->library().entries().size(), 1u);
@@ -117,6 +139,9 @@ TEST(OpenCapture, AModelEditedOrGoneSinceIsOpenedBesideFromItsRecordedText) {
     }
 
     core::writeFile(model, doubled);
+    text = about();
+    EXPECT_NE(text.find("model materials/dipole.bssrdf: content hash changed"), std::string::npos)
+        << text;
     {
         app::OpenedCapture oc = app::openCapture(root, dir, false);
         app::Workbench& wb = *oc.wb;
@@ -155,6 +180,8 @@ TEST(OpenCapture, AModelEditedOrGoneSinceIsOpenedBesideFromItsRecordedText) {
     }
 
     fs::remove(model);
+    text = about();
+    EXPECT_NE(text.find("model materials/dipole.bssrdf: missing"), std::string::npos) << text;
     {
         app::OpenedCapture oc = app::openCapture(root, dir, false);
         ASSERT_EQ(oc.wb->library().entries().size(), 1u);
@@ -201,6 +228,7 @@ TEST(OpenCapture, BadCapturesAreClearMessages) {
     }
 
     core::writeFile(dir / capture::kManifestFileName, "{ \"format\": ");
+    EXPECT_THROW(app::describeCapture(root, dir), core::Error);
     try {
         app::openCapture(root, dir, false);
         ADD_FAILURE() << "no error";
@@ -269,6 +297,8 @@ TEST(CapturesPanel, OpenInAWindowStartsAChildAndAFailureIsAnErrorsEntry) {
     testsupport::click(gui, ui.captures.nameRects[0]);
     EXPECT_EQ(ui.captures.selected, "marble");
     EXPECT_FALSE(ui.captures.proc) << "a single click replays nothing";
+    ASSERT_FALSE(ui.captures.about.empty()); // what it holds, shown under the buttons
+    EXPECT_EQ(ui.captures.about[0].rfind("recorded ", 0), 0u) << ui.captures.about[0];
     ASSERT_GT(ui.captures.openWindow.width(), 0);
     ASSERT_TRUE(wb.errors().empty()) << errorsText(wb);
     testsupport::click(gui, ui.captures.openWindow); // the child may have ended within it

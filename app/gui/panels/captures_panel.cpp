@@ -9,6 +9,7 @@
 
 #include "capture/capture.h"
 #include "captures/capture_io.h"
+#include "captures/open_capture.h"
 #include "core/core.h"
 
 #include <stb_image.h>
@@ -259,6 +260,34 @@ void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared&) {
                               "in a second workbench window, to look at and change; this window "
                               "stays as it is",
                               ps.selected.c_str());
+    }
+    if (!ps.selected.empty() &&
+        (ps.described != ps.selected || now - ps.describedAt > kCapturesListSeconds)) {
+        ps.described = ps.selected;
+        ps.describedAt = now;
+        try {
+            ps.about = describeCapture(wb.root(), wb.root() / "captures" / ps.selected);
+        } catch (const core::Error& e) {
+            ps.about = {std::string("cannot read it: ") + e.what()};
+        }
+    }
+    if (!ps.selected.empty()) {
+        bool edited = false;
+        for (const std::string& line : ps.about) {
+            // a model that is not as recorded: the replay will say so too
+            const bool differs = line.rfind("model ", 0) == 0 &&
+                                 line.find(": as recorded") == std::string::npos &&
+                                 line.find("only comments") == std::string::npos &&
+                                 line.find("opened from outside") == std::string::npos;
+            if (differs || line.rfind("cannot read", 0) == 0)
+                colouredText(ImVec4(1, 0.8f, 0.4f, 1), "%s", line.c_str());
+            else
+                hintText("%s", line.c_str());
+            edited = edited || differs;
+        }
+        if (edited)
+            hintText("Open in a window shows the recorded text of a model beside today's file");
+        ImGui::Separator();
     }
     if (ps.proc) {
         const bool finished = ps.proc->poll();
