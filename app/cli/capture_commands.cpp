@@ -123,6 +123,8 @@ int runReplay(const fs::path& root, const std::string& dir, bool update) {
     int rc = replayCapture(dir, root, update, text, printStage("replay"));
     std::printf("%s", text.c_str());
     if (!text.empty() && text.back() != '\n') std::printf("\n");
+    if (rc == 1) // where a CI log says FAIL, the way to the state that failed
+        std::printf("look at the recorded state: bssrdf-workbench gui --capture %s\n", dir.c_str());
     return rc;
 }
 

@@ -371,6 +371,11 @@ TEST(CapturesPanel, ReplaysInAChildProcessAndShowsTheDifference) {
     EXPECT_EQ(ui.captures.proc->exitCode(), 1) << ui.captures.report;
     EXPECT_NE(ui.captures.report.find("FAIL scene.render"), std::string::npos)
         << ui.captures.report;
+    // the way to the state that failed, as a CI log shows it
+    EXPECT_NE(ui.captures.report.find(
+                  "look at the recorded state: bssrdf-workbench gui --capture " + dir.string()),
+              std::string::npos)
+        << ui.captures.report;
     gui.frame();
     ASSERT_EQ(ui.captures.pictures.size(), 1u) << ui.captures.report;
     EXPECT_TRUE(ui.captures.pictures[0].problem.empty()) << ui.captures.pictures[0].problem;
