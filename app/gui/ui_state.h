@@ -60,6 +60,13 @@ struct SceneInspect {
     // itself may start a half-resolution one): where, as a fraction of the image.
     std::optional<std::pair<float, float>> pendingPick;
     bool highlightTrace = true; // draw the traced pixel's visited nodes in 3D
+    // The traced pixel follows the render: once a new full-resolution frame is done (ε, the
+    // model, a parameter, a shader, the camera changed) the same pixel is traced again, and the
+    // trace it replaced is kept as `previous` to show what changed; `pinned`, when set, is the
+    // baseline shown instead (the Traversal debugger's Pin).
+    bool follow = true;
+    long long tracedFrame = -1; // the render's frame count (scene.render runs) traced on
+    std::optional<PixelDebug> previous, pinned;
 };
 
 // Where the panels are: the splitters, which panels float (and where), the tab shown in each
@@ -287,7 +294,8 @@ struct SlicePanelState {
 struct TraversalPanelState {
     char filter[64] = "";
     bool showRecurse = true, showNodeEval = true, showPointEval = true;
-    Rect copySteps; // the Copy steps button last frame (screen px)
+    Rect copySteps;      // the Copy steps button last frame (screen px)
+    Rect followBox, pin; // the follow checkbox and the Pin / Unpin button last frame
 };
 
 struct UiState {

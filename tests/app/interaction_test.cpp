@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <thread>
+#include <tuple>
 
 namespace {
 
@@ -107,6 +108,69 @@ TEST(Interactions, ClickOnTheRenderImageTracesThatPixelWithHalfResolutionOn) {
     ASSERT_TRUE(ui.shared.inspect.debug.has_value()) << ui.shared.inspect.debugProblem;
     EXPECT_EQ(ui.shared.inspect.debug->x, qx);
     EXPECT_EQ(ui.shared.inspect.debug->y, qy);
+    EXPECT_TRUE(fx.wb.errors().empty());
+}
+
+namespace {
+// The (node, depth, decision) of every step: what two traversals are compared by.
+std::vector<std::tuple<uint32_t, uint32_t, int>> stepsOf(const app::PixelDebug& d) {
+    std::vector<std::tuple<uint32_t, uint32_t, int>> out;
+    for (const auto& s : d.trace.steps)
+        out.emplace_back(s.node, s.depth, int(s.decision));
+    return out;
+}
+} // namespace
+
+// The traced pixel follows the render: a change of ε re-traces it on the new full-resolution
+// frame and keeps the trace it replaced to compare with; Pin keeps a baseline instead (ε set
+// back gives its steps again); with follow off the trace stays; Unpin forgets the baseline.
+TEST(Interactions, TheTracedPixelFollowsTheRenderAndComparesWithTheTraceBefore) {
+    RenderFixture fx;
+    app::UiState& ui = fx.gui->ui();
+    app::SceneInspect& in = ui.shared.inspect;
+    const auto [px, py] = fx.clickAndTrace(0.52f, 0.55f);
+    ASSERT_TRUE(in.debug && in.debug->hit) << in.debugProblem;
+    EXPECT_FALSE(in.previous);
+    const auto first = stepsOf(*in.debug);
+    fx.gui->frame();
+    ASSERT_GT(ui.traversal.pin.width(), 0) << "no Pin button";
+    testsupport::click(*fx.gui, ui.traversal.pin);
+    ASSERT_TRUE(in.pinned);
+    EXPECT_EQ(stepsOf(*in.pinned), first);
+
+    // ε changed: traced again at the same pixel, the trace before kept
+    float& eps = fx.wb.scene().settings().render.eps;
+    const float eps0 = eps;
+    const auto changeEps = [&](float to) {
+        const long long before = in.tracedFrame;
+        eps = to;
+        for (int i = 0; i < 40 && in.tracedFrame == before; ++i) {
+            fx.wb.finishScene();
+            fx.gui->frame();
+        }
+        return in.tracedFrame != before;
+    };
+    ASSERT_TRUE(changeEps(eps0 * 16)) << "not traced again";
+    ASSERT_TRUE(in.debug && in.previous);
+    EXPECT_EQ(in.debug->x, px);
+    EXPECT_EQ(in.debug->y, py);
+    EXPECT_EQ(stepsOf(*in.previous), first);
+    EXPECT_NE(stepsOf(*in.debug), first) << "eps x16 left the traversal as it was";
+    EXPECT_EQ(stepsOf(*in.pinned), first) << "the pinned baseline changed";
+
+    // ε back: the pinned steps again
+    ASSERT_TRUE(changeEps(eps0));
+    EXPECT_EQ(stepsOf(*in.debug), first);
+    fx.gui->frame();
+
+    // follow off: a new frame leaves the trace as it is
+    ASSERT_GT(ui.traversal.followBox.width(), 0);
+    testsupport::click(*fx.gui, ui.traversal.followBox);
+    ASSERT_FALSE(in.follow);
+    EXPECT_FALSE(changeEps(eps0 * 16));
+    EXPECT_EQ(stepsOf(*in.debug), first);
+    testsupport::click(*fx.gui, ui.traversal.pin); // Unpin
+    EXPECT_FALSE(in.pinned);
     EXPECT_TRUE(fx.wb.errors().empty());
 }
 

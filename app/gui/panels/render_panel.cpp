@@ -410,12 +410,18 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     wb.setInteracting(
         moving || dragging ||
         (ImGui::IsAnyItemActive() && dragged && !imageHeld && !typing && !dividerHeld));
-    // A click is traced on the finished full-resolution frame, wherever the click was made.
+    // A click is traced on the finished full-resolution frame, wherever the click was made; the
+    // traced pixel is traced again on every new such frame (SceneInspect::follow).
+    const bool frameDone =
+        f.width == r.width && f.height == r.height && !scene.rendering() && !imageHeld;
+    const auto stat = scene.stats().find("scene.render");
+    const long long frameCount = stat == scene.stats().end() ? 0 : stat->second.runs;
     if (ui.inspect.pendingPick) {
-        const bool full = f.width == r.width && f.height == r.height;
-        if (full && !scene.rendering() && !imageHeld) {
+        if (frameDone) {
             const auto [u, v] = *ui.inspect.pendingPick;
             ui.inspect.pendingPick.reset();
+            ui.inspect.tracedFrame = frameCount;
+            ui.inspect.previous.reset();
             try {
                 ui.inspect.debug =
                     scene.debugPixel(std::clamp(int(u * float(f.width)), 0, f.width - 1),
@@ -427,6 +433,17 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
             }
         } else {
             hintText("tracing the clicked pixel when the full-resolution frame is done ...");
+        }
+    } else if (ui.inspect.debug && ui.inspect.follow && frameDone &&
+               frameCount != ui.inspect.tracedFrame) {
+        ui.inspect.tracedFrame = frameCount;
+        try {
+            PixelDebug again = scene.debugPixel(ui.inspect.debug->x, ui.inspect.debug->y);
+            ui.inspect.previous = std::move(ui.inspect.debug);
+            ui.inspect.debug = std::move(again);
+            ui.inspect.debugProblem.clear();
+        } catch (const std::exception& e) { // the frame is smaller now: the pixel is gone
+            ui.inspect.debugProblem = e.what();
         }
     }
     if (ui.inspect.debug && ui.inspect.debug->hit) {

@@ -4,7 +4,10 @@
 // running sum — in a scrollable, filterable table; the pixel's radiant exitance from the GPU
 // readback, the CPU replica and brute force side by side; stack overflow and iteration-cap
 // flags shown, never hidden; the steps shown copied to the clipboard as CSV (to diff two
-// traversals). The Octree panel draws the visited nodes coloured by decision.
+// traversals). The pixel is traced again as the render changes (SceneInspect::follow) and the
+// new trace compared with the one it replaced, or with a pinned baseline: steps, evaluations,
+// stack depth, M, and the first step where they part, marked in the table. The Octree panel
+// draws the visited nodes coloured by decision.
 #include "gui/panels/panels.h"
 #include "gui/widgets.h"
 
@@ -58,6 +61,57 @@ std::string stepsCsv(const PixelDebug& d, const std::vector<int>& rows) {
 float relDiff(const glm::vec3& a, const glm::vec3& b) {
     const float den = std::max({std::abs(b.x), std::abs(b.y), std::abs(b.z), 1e-30f});
     return std::max({std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.z - b.z)}) / den;
+}
+
+// The first step where `now` and `before` differ (node, depth or decision); the shorter trace's
+// length when one is a prefix of the other; -1 when they are the same steps.
+int firstDifferentStep(const octree::Trace& now, const octree::Trace& before) {
+    const size_t n = std::min(now.steps.size(), before.steps.size());
+    for (size_t i = 0; i < n; ++i) {
+        const octree::Step &a = now.steps[i], &b = before.steps[i];
+        if (a.node != b.node || a.depth != b.depth || a.decision != b.decision) return int(i);
+    }
+    return now.steps.size() == before.steps.size() ? -1 : int(n);
+}
+
+// What changed from `before` (the trace this one replaced, or the pinned baseline) to `now`.
+void drawComparison(const PixelDebug& now, const PixelDebug& before, bool pinned, int firstDiff) {
+    const octree::Trace &t = now.trace, &b = before.trace;
+    const char* what = pinned ? "the pinned trace" : "the trace before";
+    if (!before.hit) {
+        wrappedText("%s: pixel (%d, %d) showed the background", what, before.x, before.y);
+        return;
+    }
+    if (before.x != now.x || before.y != now.y)
+        wrappedText("%s: pixel (%d, %d)", what, before.x, before.y);
+    const float moved = glm::length(t.xo - b.xo);
+    if (moved > 1e-6f)
+        colouredText(ImVec4(1, 0.8f, 0.4f, 1),
+                     "the pixel shows another surface point than %s (xo moved %.3g mesh units)",
+                     what, double(moved));
+    wrappedText("against %s: steps %zu -> %zu, evaluations %zu -> %zu, max stack depth %u -> "
+                "%u; M change: CPU replica %.2e, GPU %.2e (relative)",
+                what, b.steps.size(), t.steps.size(), b.evaluations.size(), t.evaluations.size(),
+                b.maxStackDepth, t.maxStackDepth, relDiff(t.radiantExitance, b.radiantExitance),
+                relDiff(now.gpuExitance, before.gpuExitance));
+    if (firstDiff < 0) {
+        hintText("the same steps (node, depth, decision) as %s", what);
+    } else if (size_t(firstDiff) < std::min(t.steps.size(), b.steps.size())) {
+        const octree::Step &x = t.steps[size_t(firstDiff)], &y = b.steps[size_t(firstDiff)];
+        if (x.node == y.node)
+            colouredText(ImVec4(1, 0.3f, 1, 1),
+                         "first different step %d: node %u is '%s' now, '%s' before", firstDiff,
+                         x.node, octree::decisionName(x.decision),
+                         octree::decisionName(y.decision));
+        else
+            colouredText(ImVec4(1, 0.3f, 1, 1),
+                         "first different step %d: node %u '%s' now, node %u '%s' before",
+                         firstDiff, x.node, octree::decisionName(x.decision), y.node,
+                         octree::decisionName(y.decision));
+    } else {
+        colouredText(ImVec4(1, 0.3f, 1, 1), "the same first %d steps, then %s", firstDiff,
+                     t.steps.size() > b.steps.size() ? "more now" : "fewer now");
+    }
 }
 
 } // namespace
@@ -117,6 +171,30 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
                      "a criterion test was within %.1e of its threshold: CPU and GPU "
                      "rounding may decide it differently",
                      t.closestMargin);
+    // what a change did to this pixel's traversal (SceneInspect::follow, previous, pinned)
+    const PixelDebug* before = ui.inspect.pinned     ? &*ui.inspect.pinned
+                               : ui.inspect.previous ? &*ui.inspect.previous
+                                                     : nullptr;
+    const int firstDiff = before && before->hit ? firstDifferentStep(t, before->trace) : -1;
+    if (before) drawComparison(d, *before, ui.inspect.pinned.has_value(), firstDiff);
+    ImGui::Checkbox("follow the render", &ui.inspect.follow);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("trace this pixel again on every new full-resolution frame (after a "
+                          "change to eps, the model, a parameter, a shader or the camera) and "
+                          "show what changed");
+    ps.followBox = lastItem();
+    sameLineIfFits(buttonWidth("Unpin the baseline"));
+    if (ui.inspect.pinned ? ImGui::SmallButton("Unpin the baseline")
+                          : ImGui::SmallButton("Pin as baseline")) {
+        if (ui.inspect.pinned)
+            ui.inspect.pinned.reset();
+        else
+            ui.inspect.pinned = d;
+    }
+    ps.pin = lastItem();
+    if (ImGui::IsItemHovered() && !ui.inspect.pinned)
+        ImGui::SetTooltip("compare the traces that follow with this one, not with the one each "
+                          "replaced");
     const bool show3d = ImGui::SmallButton("nodes in 3D");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("show the visited nodes in the Octree panel");
     if (show3d) {
@@ -162,7 +240,10 @@ void drawTraversalPanel(Workbench& wb, TraversalPanelState& ps, UiShared& ui) {
                 const octree::Step& s = t.steps[size_t(rows[size_t(r)])];
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
-                ImGui::Text("%d", rows[size_t(r)]);
+                if (rows[size_t(r)] == firstDiff) // where it parts from the compared trace
+                    colouredText(ImVec4(1, 0.3f, 1, 1), "%d *", rows[size_t(r)]);
+                else
+                    ImGui::Text("%d", rows[size_t(r)]);
                 ImGui::TableNextColumn();
                 ImGui::Text("%u", s.node);
                 ImGui::TableNextColumn();
