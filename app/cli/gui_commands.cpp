@@ -116,7 +116,7 @@ std::function<void(UiState&)> showCapture(const OpenedCapture& oc) {
     Workbench* wb = oc.wb.get();
     const int x = oc.traceX, y = oc.traceY;
     const std::string name = oc.name;
-    return [wb, x, y, name](UiState& ui) { showCapturedState(*wb, ui.shared, name, x, y); };
+    return [wb, x, y, name](UiState& ui) { showCapturedState(*wb, ui, name, x, y); };
 }
 
 int runHeadlessDefault(const fs::path& root, const std::string& outDir, int width, int height,

@@ -81,7 +81,7 @@ TEST(OpenCapture, ShowsTheRecordedStateAndTracesItsPixel) {
 
     app::HeadlessGui gui(wb, 1280, 720);
     app::UiState& ui = gui.ui();
-    app::showCapturedState(wb, ui.shared, oc.name, oc.traceX, oc.traceY);
+    app::showCapturedState(wb, ui, oc.name, oc.traceX, oc.traceY);
     core::Stopwatch clock;
     while (!ui.shared.inspect.debug && clock.ms() < 120000) {
         gui.frame();
@@ -96,6 +96,33 @@ TEST(OpenCapture, ShowsTheRecordedStateAndTracesItsPixel) {
     EXPECT_NE(testsupport::panelWindow(app::PanelId::Traversal), nullptr);
     EXPECT_NE(ui.shared.status.find(oc.name), std::string::npos) << ui.shared.status;
     EXPECT_TRUE(wb.errors().empty()) << errorsText(wb);
+    fs::remove_all(root);
+}
+
+// Each capture opens on the stage it recorded: the lit spheres side by side, the BSSRDF slice,
+// else the pencil plot.
+TEST(OpenCapture, OpensOnTheStageItRecorded) {
+    testsupport::context();
+    auto root =
+        testsupport::makeProjectRoot("opencapstage", {"dipole.bssrdf", "better_dipole.bssrdf"});
+    const std::pair<const char*, app::PanelId> cases[] = {
+        {"dipole_skin1_spheres", app::PanelId::LitSpheres},
+        {"dipoles_slice_60deg", app::PanelId::Slice},
+        {"dipole_marble", app::PanelId::Pencil}};
+    for (const auto& [name, panel] : cases) {
+        SCOPED_TRACE(name);
+        const fs::path dir = testsupport::copyCapture(root, name, name);
+        app::OpenedCapture oc = app::openCapture(root, dir, false);
+        app::HeadlessGui gui(*oc.wb, 1280, 720);
+        app::UiState& ui = gui.ui();
+        app::showCapturedState(*oc.wb, ui, oc.name, oc.traceX, oc.traceY);
+        gui.frame();
+        gui.frame();
+        EXPECT_NE(testsupport::panelWindow(panel), nullptr);
+        if (panel == app::PanelId::LitSpheres) {
+            EXPECT_EQ(ui.litSpheres.view, app::SphereView::SideBySide);
+        }
+    }
     fs::remove_all(root);
 }
 

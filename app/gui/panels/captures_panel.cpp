@@ -173,8 +173,9 @@ void pollCaptureWindows(Workbench& wb, CapturesPanelState& ps) {
     }
 }
 
-void showCapturedState(Workbench& wb, UiShared& ui, const std::string& name, int traceX,
+void showCapturedState(Workbench& wb, UiState& state, const std::string& name, int traceX,
                        int traceY) {
+    UiShared& ui = state.shared;
     ui.status = "capture " + name;
     const render::Settings& r = wb.scene().settings().render;
     if (wb.scene().settings().enabled) {
@@ -184,6 +185,7 @@ void showCapturedState(Workbench& wb, UiShared& ui, const std::string& name, int
                                                (float(traceY) + 0.5f) / float(r.height)};
     } else if (wb.litSphereSettings().enabled) {
         ui.show(PanelId::LitSpheres);
+        state.litSpheres.view = SphereView::SideBySide; // both images it recorded
     } else if (wb.sliceSettings().enabled) {
         ui.show(PanelId::Slice);
     } else {

@@ -129,16 +129,20 @@ void drawLitSpherePanel(Workbench& wb, LitSpherePanelState& ps, UiShared&) {
     const float avail = visibleWidth();
     if (ImGui::BeginTabBar("views")) {
         const char* names[4] = {"Path traced", "BSSRDF integrated", "Side by side", "Difference"};
-        // a view chosen from outside (state restore, tests) selects its tab once
+        // a view chosen from outside (state restore, a capture opened, tests) selects its tab:
+        // SetSelected acts a frame late, and a tab bar drawn for the first time opens its first
+        // tab meanwhile, which must not overwrite the view asked for
         const int shown = static_cast<int>(ps.view);
         const int wanted = shown != ps.viewShown ? shown : -1;
+        int opened = -1;
         for (int i = 0; i < 4; ++i)
             if (ImGui::BeginTabItem(names[i], nullptr,
                                     i == wanted ? ImGuiTabItemFlags_SetSelected : 0)) {
-                ps.view = static_cast<SphereView>(i);
+                opened = i;
                 ImGui::EndTabItem();
             }
-        ps.viewShown = static_cast<int>(ps.view);
+        if (wanted < 0 && opened >= 0) ps.view = static_cast<SphereView>(opened);
+        if (wanted < 0 || opened == wanted) ps.viewShown = static_cast<int>(ps.view);
         ImGui::EndTabBar();
     }
     const bool both = ps.view == SphereView::SideBySide;

@@ -63,10 +63,9 @@ void startCaptureWindow(Workbench& wb, CapturesPanelState& ps, const std::string
 void pollCaptureWindows(Workbench& wb, CapturesPanelState& ps);
 // A window opened on a capture (`gui --capture`, `screenshot --capture`) shows what it recorded:
 // the render with its traced pixel traced again in the Traversal debugger (a capture of the
-// mesh pipeline), else the lit spheres, the BSSRDF slice or the pencil plot; the status line
-// names the capture.
-void showCapturedState(Workbench& wb, UiShared& ui, const std::string& name, int traceX,
-                       int traceY);
+// mesh pipeline), else the lit spheres (side by side), the BSSRDF slice or the pencil plot; the
+// status line names the capture.
+void showCapturedState(Workbench& wb, UiState& ui, const std::string& name, int traceX, int traceY);
 // The stage a record or replay child reported last ("what: stage NAME" lines), "" before any.
 std::string lastStage(const std::string& output, const std::string& what);
 void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared& ui);
