@@ -7,6 +7,7 @@
 #include "core/relative_error.h"
 #include "core/text.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace app {
@@ -180,27 +181,43 @@ plot::Series mcmlSeries(const Workbench::McmlReference& m, bool rTimesR) {
     return s;
 }
 
-std::vector<plot::Series> modelAndReferenceSeries(const Workbench& wb);
+// base: the index of the series of plot.compare_with's model, -1 when it has none.
+std::vector<plot::Series> modelAndReferenceSeries(const Workbench& wb, int& base);
 
 } // namespace
 
 std::vector<plot::Series> plotSeries(const Workbench& wb) {
-    std::vector<plot::Series> out = modelAndReferenceSeries(wb);
+    int base = -1;
+    std::vector<plot::Series> out = modelAndReferenceSeries(wb, base);
+    const PlotSettings& ps = wb.plotSettings();
     if (const auto& m = wb.mcmlReference()) {
-        const PlotSettings& ps = wb.plotSettings();
         plot::Series s = mcmlSeries(*m, ps.rTimesR);
         // compared with the path-traced reference when that is the plot's one reference
         const bool refLast = !out.empty() && out.back().compareTo == int(out.size()) - 1;
         s.compareTo = ps.solo.empty() && refLast ? int(out.size()) - 1 : -1;
         out.push_back(std::move(s));
     }
+    if (base >= 0) // every curve relative to the chosen model's, references included
+        for (plot::Series& s : out)
+            s.compareTo = base;
     return out;
+}
+
+bool comparesWithModel(const Workbench& wb) {
+    const PlotSettings& ps = wb.plotSettings();
+    if (ps.compareWith.empty() || !ps.solo.empty()) return false;
+    const auto it = wb.views().find(ps.compareWith);
+    const auto& entries = wb.library().entries();
+    const bool loaded = std::any_of(entries.begin(), entries.end(),
+                                    [&](const auto& e) { return e.displayPath == ps.compareWith; });
+    return loaded && it != wb.views().end() && it->second.visible && !it->second.profile.r.empty();
 }
 
 namespace {
 
-std::vector<plot::Series> modelAndReferenceSeries(const Workbench& wb) {
+std::vector<plot::Series> modelAndReferenceSeries(const Workbench& wb, int& base) {
     const PlotSettings& ps = wb.plotSettings();
+    base = -1;
     std::vector<plot::Series> out;
     auto valueOf = [&](const glm::dvec3& v, int channel) {
         return channel < 3 ? v[channel] : core::luminance(v);
@@ -235,6 +252,7 @@ std::vector<plot::Series> modelAndReferenceSeries(const Workbench& wb) {
             make(2, name + " B", 0xffff6040u);
         } else {
             make(ps.channel, name, plot::defaultColor(slot));
+            if (e.displayPath == ps.compareWith) base = int(out.size()) - 1;
             // Line styles alternate by slot (thick solid, thin dashed), so curves that coincide,
             // as dipole and better dipole do on Marble, both stay visible; like the colour, a
             // model's style does not change when others are added, removed or hidden.

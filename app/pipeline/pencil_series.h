@@ -29,8 +29,12 @@ std::string errorTooltip(const ScoreboardRow& r);
 
 // The plot's series for the current settings (one per visible model, or R/G/B when soloed),
 // then the path-traced reference when enabled; model labels carry their rel_err against it per
-// channel (on the luminance plot, each of R, G, B), their tooltips its definition.
+// channel (on the luminance plot, each of R, G, B), their tooltips its definition. Each series
+// is compared with (plot::Series::compareTo) the path-traced reference, or with the model
+// plot.compare_with names where comparesWithModel.
 std::vector<plot::Series> plotSeries(const Workbench& wb);
+// plot.compare_with names a model the plot shows (not soloed, visible, evaluated).
+bool comparesWithModel(const Workbench& wb);
 
 // R_p of the hybrid (texspace/hybrid.h) for the pencil plot's marker: the soloed model's three
 // channels, else the Render panel's model on the plot's channel (not luminance), from the

@@ -59,6 +59,9 @@ struct PlotSettings {
     double rMaxMm = 20.0; // used when fixedRange
     double rangeLd = 5.0; // otherwise: this many diffuse mean free paths (largest l_d)
     plot::Relation relation = plot::Relation::Values; // or ratio / difference to the reference
+    // what a ratio / difference is to: the display path of a shown model (every other curve,
+    // the path-traced and the MCML reference relative to it), empty: the path-traced reference
+    std::string compareWith;
 };
 // The description of PlotSettings' members (core/fields.h).
 template <class V> void fields(V& v, PlotSettings& s) {
@@ -71,6 +74,8 @@ template <class V> void fields(V& v, PlotSettings& s) {
     v("r_max_mm", s.rMaxMm, "plot radius with fixed_range, mm", core::Limits{0.01, 1000});
     v("range_ld", s.rangeLd, "plot radius in largest l_d otherwise", core::Limits{0.1, 50});
     v("relation", s.relation, "values, or each model's ratio / difference to the reference");
+    v("compare_with", s.compareWith,
+      "display path of the model a ratio / difference is to (empty: the path-traced reference)");
 }
 
 struct ErrorItem {

@@ -131,6 +131,75 @@ TEST(Reference, SeriesBandAndModelErrors) {
     std::filesystem::remove_all(root);
 }
 
+// A ratio or difference to a model's curve (plot.compare_with): every other curve, and the
+// path-traced reference with its band, relative to that model; the model itself 1. Hidden,
+// soloed or not loaded, the plot compares with the path-traced reference again.
+TEST(Reference, CurvesRelativeToAModelsCurve) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("refmodel", {"dipole.bssrdf", "better_dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.applyPreset(wb.shared(), "Skin1");
+    auto& ps = wb.plotSettings();
+    ps.fixedRange = true;
+    ps.rMaxMm = 8.0;
+    auto& rs = wb.referenceSettings();
+    rs.enabled = true;
+    rs.paths = 20000;
+    rs.bins = 40;
+    wb.update();
+    ASSERT_TRUE(wb.finishReference().problem.empty());
+    wb.update();
+    const std::string dipole = "materials/dipole.bssrdf";
+    ASSERT_NE(wb.library().find(dipole), nullptr);
+    const auto values = plotSeries(wb);
+    ASSERT_EQ(values.size(), 3u); // better_dipole, dipole, the reference
+    EXPECT_FALSE(app::comparesWithModel(wb));
+    const auto index = [&](const std::vector<plot::Series>& all, const std::string& label) {
+        for (size_t i = 0; i < all.size(); ++i)
+            if (all[i].label.rfind(label, 0) == 0) return int(i);
+        return -1;
+    };
+    const int better = index(values, "better_dipole"), base = index(values, "dipole");
+    ASSERT_GE(better, 0);
+    ASSERT_GE(base, 0);
+
+    ps.compareWith = dipole;
+    ASSERT_TRUE(app::comparesWithModel(wb));
+    const auto series = plotSeries(wb);
+    ASSERT_EQ(series.size(), 3u);
+    for (const auto& s : series)
+        EXPECT_EQ(s.compareTo, base) << s.label;
+    const auto ratio = plot::relativeTo(series, plot::Relation::Ratio);
+    ASSERT_EQ(ratio.size(), 3u);
+    const plot::Series &one = ratio[size_t(base)], &b = ratio[size_t(better)], &ref = ratio[2];
+    for (double y : one.y)
+        EXPECT_DOUBLE_EQ(y, 1.0);
+    ASSERT_EQ(b.x, values[size_t(better)].x); // the same radii: no interpolation
+    for (size_t i = 0; i < b.y.size(); ++i)
+        EXPECT_DOUBLE_EQ(b.y[i], values[size_t(better)].y[i] / values[size_t(base)].y[i]);
+    ASSERT_FALSE(ref.y.empty());
+    ASSERT_EQ(ref.bandHi.size(), ref.y.size());
+    for (size_t i = 0; i < ref.y.size(); ++i) { // the reference over the dipole, band alike
+        EXPECT_LE(ref.bandLo[i], ref.y[i]);
+        EXPECT_GE(ref.bandHi[i], ref.y[i]);
+    }
+    EXPECT_NEAR(ref.y[5] / (values[2].y[5]), ref.bandHi[5] / values[2].bandHi[5], 1e-12);
+
+    // hidden, soloed, or gone: the path-traced reference again
+    wb.view(dipole).visible = false;
+    EXPECT_FALSE(app::comparesWithModel(wb));
+    for (const auto& s : plotSeries(wb))
+        EXPECT_EQ(s.compareTo, 1) << s.label; // better_dipole, then the reference
+    wb.view(dipole).visible = true;
+    ps.solo = dipole;
+    EXPECT_FALSE(app::comparesWithModel(wb));
+    ps.solo.clear();
+    ps.compareWith = "materials/nope.bssrdf";
+    EXPECT_FALSE(app::comparesWithModel(wb));
+    EXPECT_EQ(plotSeries(wb).back().compareTo, 2);
+    std::filesystem::remove_all(root);
+}
+
 TEST(Reference, BadMaterialIsAnErrorNotACrash) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("refbad", {"dipole.bssrdf"});

@@ -121,17 +121,43 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     sameLineIfFits(ImGui::CalcTextSize(range).x);
     ImGui::TextDisabled("%s", range);
 
-    // Values, or each model relative to the path-traced reference.
+    // Values, or each curve relative to the path-traced reference or to a model's curve.
     setItemWidth(200, "show");
-    const char* relNames[] = {"values", "ratio to reference", "difference to reference"};
+    const char* relNames[] = {"values", "ratio", "difference"};
     comboEnum("show", ps.relation, relNames);
+    const bool toModel = comparesWithModel(wb);
+    std::string baseName = "path-traced reference";
+    if (toModel)
+        for (const auto& e : wb.library().entries())
+            if (e.displayPath == ps.compareWith) baseName = e.model ? e.model->name : e.displayPath;
+    if (ps.relation != plot::Relation::Values && ps.solo.empty()) {
+        sameLineItem(200, "to");
+        if (ImGui::BeginCombo("to", baseName.c_str())) {
+            if (ImGui::Selectable("path-traced reference", ps.compareWith.empty()))
+                ps.compareWith.clear();
+            for (const auto& e : wb.library().entries()) {
+                const auto v = wb.views().find(e.displayPath);
+                if (v == wb.views().end() || !v->second.visible) continue;
+                const std::string label =
+                    (e.model ? e.model->name : e.displayPath) + "##" + e.displayPath;
+                if (ImGui::Selectable(label.c_str(), ps.compareWith == e.displayPath))
+                    ps.compareWith = e.displayPath;
+            }
+            ImGui::EndCombo();
+        }
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("what every curve is shown relative to: the path-traced reference, "
+                              "or one model's curve (the references then relative to it too)");
+    }
     auto series = plotSeries(wb);
     const bool hasReference = std::any_of(series.begin(), series.end(),
                                           [](const plot::Series& s) { return s.compareTo >= 0; });
     const bool relative = ps.relation != plot::Relation::Values && hasReference;
     if (ps.relation != plot::Relation::Values && !hasReference) {
         ImGui::SameLine();
-        hintText("needs the path-traced reference (below)");
+        hintText(ps.compareWith.empty() || !ps.solo.empty()
+                     ? "needs the path-traced reference (below)"
+                     : "needs the path-traced reference (below) or a shown model to compare with");
     }
     if (relative) series = plot::relativeTo(series, ps.relation);
 
@@ -161,8 +187,9 @@ void drawPencilPanel(Workbench& wb, PencilPanelState& own, UiShared& ui) {
     y.label = ps.rTimesR ? "r * R(r) [1/mm]" : "R(r) [1/mm^2]";
     if (relative) {
         const std::string q = ps.rTimesR ? "r R" : "R";
-        y.label = difference ? q + " - " + q + "_ref" + (ps.rTimesR ? " [1/mm]" : " [1/mm^2]")
-                             : q + " / " + q + "_ref";
+        const std::string base = q + (toModel ? " of " + baseName : "_ref");
+        y.label = difference ? q + " - " + base + (ps.rTimesR ? " [1/mm]" : " [1/mm^2]")
+                             : q + " / " + base;
     }
     const char* chName[4] = {"red", "green", "blue", "luminance"};
     std::string title = "Pencil beam on a semi-infinite slab - " +
