@@ -8,6 +8,7 @@ Command guiCommand();               // gui_commands.cpp
 Command screenshotCommand();        // gui_commands.cpp
 Command profileCommand();           // model_commands.cpp
 Command invertCommand();            // model_commands.cpp
+Command newModelCommand();          // model_commands.cpp
 Command recordCommand();            // capture_commands.cpp
 Command defaultsCommand();          // defaults_command.cpp
 Command replayCommand();            // capture_commands.cpp
@@ -38,6 +39,7 @@ const std::vector<Command>& commands() {
         screenshotCommand(),
         profileCommand(),
         invertCommand(),
+        newModelCommand(),
         recordCommand(),
         defaultsCommand(),
         replayCommand(),

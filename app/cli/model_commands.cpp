@@ -1,5 +1,5 @@
 // `profile` (a model's pencil-beam profile as CSV) and `invert` (R_dr / l_d → σa, σs), on a
-// headless GL context.
+// headless GL context; `new-model` (a model to edit, made from another: pipeline/new_model.h).
 #include "cli/model_commands.h"
 
 #include "cli/args.h"
@@ -11,6 +11,7 @@
 #include "core/fields.h"
 #include "core/text.h"
 #include "gl/gl.h"
+#include "pipeline/new_model.h"
 #include "pipeline/pencil_series.h"
 #include "pipeline/workbench.h"
 
@@ -102,6 +103,30 @@ int runInvert(const fs::path& root, const InvertArgs& a) {
     auto p = effectiveParams(e, s);
     std::printf("sigma_a %s\nsigma_s %s\n", rgb(p.sigmaA).c_str(), rgb(p.sigmaS).c_str());
     return 0;
+}
+
+Command newModelCommand() {
+    return {"new-model", "a new model to edit: materials/NAME.bssrdf made from another", false,
+            [](CLI::App& cmd) -> CommandRun {
+                struct Args {
+                    std::string name, from = kNewModelTemplate;
+                };
+                auto a = std::make_shared<Args>();
+                cmd.add_option("--name", a->name, "the new model's name (materials/NAME.bssrdf)")
+                    ->required();
+                cmd.add_option("--from", a->from, "the model whose text it starts from")
+                    ->capture_default_str();
+                return [a](CommandContext& ctx) {
+                    const fs::path from = resolveModel(ctx.root(), a->from, "--from");
+                    if (std::string bad = newModelProblem(ctx.root(), a->name); !bad.empty())
+                        throw core::Error("--name", 0, "'" + a->name + "': " + bad);
+                    const fs::path file = createModel(ctx.root(), a->name, from);
+                    std::printf("wrote %s (from %s): edit it and save; a running workbench loads "
+                                "it as it appears and at every save\n",
+                                file.c_str(), from.c_str());
+                    return 0;
+                };
+            }};
 }
 
 Command profileCommand() {

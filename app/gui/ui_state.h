@@ -109,6 +109,11 @@ struct MenuState {
     FileDialogState openDialog; // File → Open model
     FileDialogState mcmlDialog; // File → Open MCML reference
     char nameBuffer[128] = "my_capture";
+    // File → New model: its name and the model it starts from (a display path; empty: the
+    // template, pipeline/new_model.h)
+    bool newModelPopup = false;
+    char newModelName[128] = "my_model";
+    std::string newModelFrom;
 };
 
 struct ErrorsPanelState {

@@ -1,9 +1,11 @@
-// Menu bar: File (open model, open an MCML reference, reload all, record capture, quit) and View
-// (toggle panels).
+// Menu bar: File (new model, open model, open an MCML reference, reload all, record capture,
+// quit) and View (toggle panels).
 #include "captures/capture_io.h"
 #include "gui/file_dialog.h"
 #include "gui/panels/panels.h"
 #include "gui/panels/registry.h"
+#include "gui/widgets.h"
+#include "pipeline/new_model.h"
 
 #include "capture/capture.h"
 #include "core/core.h"
@@ -42,11 +44,69 @@ void togglePanel(UiShared& ui, PanelId id) {
         ui.show(id);
 }
 
+namespace {
+
+// File → New model: a name (typed as the dialog appears; Enter creates), the model it starts
+// from, why a name is refused; the model is written to materials/ and opened at once.
+void drawNewModelDialog(Workbench& wb, UiState& ui) {
+    MenuState& m = ui.menu;
+    if (m.newModelPopup) {
+        ImGui::OpenPopup("New model");
+        m.newModelPopup = false;
+    }
+    if (!ImGui::BeginPopupModal("New model", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+    ImGui::TextUnformatted("Name (materials/NAME.bssrdf):");
+    if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+    const bool entered =
+        ImGui::InputText("##newmodel", m.newModelName, sizeof m.newModelName,
+                         ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+    // the model it starts from: any loaded one, by default the template
+    const fs::path templ = wb.root() / kNewModelTemplate;
+    fs::path from = templ;
+    for (const auto& e : wb.library().entries())
+        if (e.displayPath == m.newModelFrom) from = e.file;
+    const std::string shownFrom =
+        from == templ ? std::string(kNewModelTemplate) : core::relativeTo(from, wb.root());
+    setItemWidth(320, "starts from");
+    if (ImGui::BeginCombo("starts from", shownFrom.c_str())) {
+        for (const auto& e : wb.library().entries())
+            if (ImGui::Selectable(e.displayPath.c_str(), e.file == from))
+                m.newModelFrom = e.displayPath;
+        ImGui::EndCombo();
+    }
+    const std::string problem = newModelProblem(wb.root(), m.newModelName);
+    if (!problem.empty()) ImGui::TextColored(ImVec4(1, 0.45f, 0.45f, 1), "%s", problem.c_str());
+    ImGui::TextDisabled("edit it in any editor: each save is loaded (an error goes to Errors)");
+    ImGui::BeginDisabled(!problem.empty());
+    const bool create = ImGui::Button("Create");
+    ImGui::EndDisabled();
+    if ((create || entered) && problem.empty()) {
+        try {
+            const fs::path file = createModel(wb.root(), m.newModelName, from);
+            wb.openModel(file);
+            const std::string abs = fs::absolute(file).lexically_normal().string();
+            ui.shared.status = "created " + core::relativeTo(file, wb.root());
+            core::logInfo("new model: wrote " + abs + " from " + from.string());
+            ui.shared.show(PanelId::Models);
+        } catch (const core::Error& e) {
+            wb.reportActionError(std::string("new model: ") + e.what());
+        }
+        ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    closeOnEscape();
+    ImGui::EndPopup();
+}
+
+} // namespace
+
 void drawMenuBar(Workbench& wb, UiState& ui) {
     pollRecording(wb, ui.captures, ui.shared);
     pollCaptureWindows(wb, ui.captures);
     if (ImGui::BeginMainMenuBar()) {
         if (ImGui::BeginMenu("File")) {
+            if (ImGui::MenuItem("New model...", "Ctrl+N")) ui.menu.newModelPopup = true;
             if (ImGui::MenuItem("Open model...", "Ctrl+O")) ui.menu.openModelPopup = true;
             if (ImGui::BeginMenu("Open recent", !ui.shared.recent.empty())) {
                 std::string pick;
@@ -104,6 +164,7 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
     }
     // ImGui 1.86 indexes io.KeysDown by the platform key code (GLFW_KEY_* here).
     ImGuiIO& io = ImGui::GetIO();
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_N)) ui.menu.newModelPopup = true;
     if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_O)) ui.menu.openModelPopup = true;
     if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_R)) ui.menu.recordPopup = true;
     if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q)) ui.shared.quit = true;
@@ -143,6 +204,7 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
         closeOnEscape();
         ImGui::EndPopup();
     }
+    drawNewModelDialog(wb, ui);
     if (ui.menu.recordPopup) {
         ImGui::OpenPopup("Record capture");
         ui.menu.recordPopup = false;
