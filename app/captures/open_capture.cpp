@@ -15,7 +15,8 @@ namespace fs = std::filesystem;
 fs::path findCapture(const fs::path& root, const std::string& nameOrFolder) {
     std::error_code ec;
     if (nameOrFolder.empty()) throw core::Error("--capture", 0, "expected a capture's name");
-    const fs::path given(nameOrFolder);
+    fs::path given = fs::path(nameOrFolder).lexically_normal();
+    if (!given.has_filename() && given.has_parent_path()) given = given.parent_path(); // "x/"
     if (fs::is_regular_file(given / capture::kManifestFileName, ec)) return given;
     const fs::path inProject = root / "captures" / given;
     if (given.has_filename() && given.filename() == given &&

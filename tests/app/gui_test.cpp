@@ -467,20 +467,10 @@ TEST(HeadlessGui, DialogsTakeTheKeyboardEnterActsEscapeCloses) {
     app::HeadlessGui gui(wb, 1280, 720);
     app::UiState& ui = gui.ui();
     ui.captures.exe = BW_EXE;
-    ImGuiIO& io = ImGui::GetIO();
-    io.KeyMap[ImGuiKey_Enter] = GLFW_KEY_ENTER; // as the GLFW backend maps them
-    io.KeyMap[ImGuiKey_Escape] = GLFW_KEY_ESCAPE;
-    const auto type = [&](const std::string& text) {
-        io.AddInputCharactersUTF8(text.c_str());
-        gui.frame();
-    };
-    const auto press = [&](int key) {
-        io.KeysDown[key] = true;
-        gui.frame();
-        io.KeysDown[key] = false;
-        gui.frame();
-    };
-    const auto popups = [] { return ImGui::GetCurrentContext()->OpenPopupStack.Size; };
+    testsupport::mapDialogKeys();
+    const auto type = [&](const std::string& text) { testsupport::typeText(gui, text); };
+    const auto press = [&](int key) { testsupport::pressKey(gui, key); };
+    const auto popups = testsupport::openPopups;
     const auto open = [&](bool& flag) {
         flag = true;
         gui.frame();

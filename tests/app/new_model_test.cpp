@@ -3,14 +3,13 @@
 // refuse a name that is not a file name, and the model made loads and evaluates as its source.
 #include "../support/cli_runner.h"
 #include "../support/gl_fixture.h"
+#include "../support/gui_windows.h"
 #include "core/core.h"
 #include "gui/gui.h"
 #include "gui/panels/panels.h"
 #include "pipeline/new_model.h"
 
 #include <GLFW/glfw3.h>
-#include <imgui.h>
-#include <imgui_internal.h>
 
 namespace {
 namespace fs = std::filesystem;
@@ -89,20 +88,10 @@ TEST(NewModel, TheDialogCreatesAndOpensIt) {
     app::Workbench wb(root, false);
     app::HeadlessGui gui(wb, 1280, 720);
     app::UiState& ui = gui.ui();
-    ImGuiIO& io = ImGui::GetIO();
-    io.KeyMap[ImGuiKey_Enter] = GLFW_KEY_ENTER;
-    io.KeyMap[ImGuiKey_Escape] = GLFW_KEY_ESCAPE;
-    const auto type = [&](const std::string& text) {
-        io.AddInputCharactersUTF8(text.c_str());
-        gui.frame();
-    };
-    const auto press = [&](int key) {
-        io.KeysDown[key] = true;
-        gui.frame();
-        io.KeysDown[key] = false;
-        gui.frame();
-    };
-    const auto popups = [] { return ImGui::GetCurrentContext()->OpenPopupStack.Size; };
+    testsupport::mapDialogKeys();
+    const auto type = [&](const std::string& text) { testsupport::typeText(gui, text); };
+    const auto press = [&](int key) { testsupport::pressKey(gui, key); };
+    const auto popups = testsupport::openPopups;
     const auto open = [&] {
         ui.menu.newModelPopup = true;
         gui.frame();

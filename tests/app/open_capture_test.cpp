@@ -62,6 +62,9 @@ TEST(OpenCapture, ShowsTheRecordedStateAndTracesItsPixel) {
     const fs::path dir = testsupport::copyCapture(root, "dipole_bunny_scene", "scene");
     EXPECT_EQ(app::findCapture(root, "scene"), root / "captures" / "scene");
     EXPECT_EQ(app::findCapture(root, dir.string()), dir); // a folder anywhere
+    EXPECT_EQ(app::findCapture(root, "scene/"),
+              root / "captures" / "scene"); // as a shell completes
+    EXPECT_EQ(app::findCapture(root, dir.string() + "/"), dir);
     app::OpenedCapture oc = app::openCapture(root, dir, false);
     ASSERT_TRUE(oc.wb);
     app::Workbench& wb = *oc.wb;

@@ -7,6 +7,7 @@
 #include "pipeline/scene_stage.h"
 #include "small_scene.h"
 
+#include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_internal.h>
 
@@ -56,6 +57,28 @@ inline void clickAt(app::HeadlessGui& gui, float x, float y) {
 }
 inline void click(app::HeadlessGui& gui, const app::Rect& r) {
     clickAt(gui, 0.5f * (r.x0 + r.x1), 0.5f * (r.y0 + r.y1));
+}
+
+// The keyboard of a dialog: Enter and Escape mapped as the GLFW backend maps them; text typed
+// in one frame; a key pressed in one frame and released in the next; the popups open (a modal
+// dialog is one).
+inline void mapDialogKeys() {
+    ImGuiIO& io = ImGui::GetIO();
+    io.KeyMap[ImGuiKey_Enter] = GLFW_KEY_ENTER;
+    io.KeyMap[ImGuiKey_Escape] = GLFW_KEY_ESCAPE;
+}
+inline void typeText(app::HeadlessGui& gui, const std::string& text) {
+    ImGui::GetIO().AddInputCharactersUTF8(text.c_str());
+    gui.frame();
+}
+inline void pressKey(app::HeadlessGui& gui, int key) {
+    ImGui::GetIO().KeysDown[key] = true;
+    gui.frame();
+    ImGui::GetIO().KeysDown[key] = false;
+    gui.frame();
+}
+inline int openPopups() {
+    return ImGui::GetCurrentContext()->OpenPopupStack.Size;
 }
 
 } // namespace testsupport
