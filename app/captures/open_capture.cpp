@@ -84,6 +84,16 @@ std::vector<std::string> describeCapture(const fs::path& root, const fs::path& f
     return lines;
 }
 
+namespace {
+// The capture shows only the pencil plot (no scene, lit spheres or slice), as plain values.
+bool showsThePencilPlotAsValues(Workbench& wb) {
+    const PlotSettings& plot = wb.plotSettings();
+    return !wb.scene().settings().enabled && !wb.litSphereSettings().enabled &&
+           !wb.sliceSettings().enabled && plot.relation == plot::Relation::Values &&
+           plot.solo.empty();
+}
+} // namespace
+
 OpenedCapture openCapture(const fs::path& root, const fs::path& folder, bool watch) {
     OpenedCapture out;
     out.folder = folder;
@@ -96,6 +106,8 @@ OpenedCapture openCapture(const fs::path& root, const fs::path& folder, bool wat
     // the state as recorded and today's model on the same plot.
     out.files = std::make_unique<ExternalModels>();
     std::vector<std::string> notes, entries;
+    // the recorded texts of models edited since (their file is there), with their entry's index
+    std::vector<std::pair<fs::path, size_t>> editedCopies;
     const std::vector<std::string> problems = capture::checkInputs(m, folder, root, &notes);
     const std::vector<capture::ModelFile> recorded = m.models;
     for (const capture::ModelFile& mf : recorded) {
@@ -114,6 +126,8 @@ OpenedCapture openCapture(const fs::path& root, const fs::path& folder, bool wat
             if (m.params.is_object() && m.params.contains("models") &&
                 m.params["models"].is_object() && m.params["models"].contains(mf.path))
                 m.params["models"][beside.path] = m.params["models"][mf.path];
+            if (fs::exists(root / mf.path))
+                editedCopies.emplace_back(out.files->dir / copy, entries.size());
             entry += std::string("; the window shows ") +
                      (fs::exists(root / mf.path) ? "today's file and, beside it, " : "") +
                      "the recorded text as " + path.stem().string() + ".recorded (" +
@@ -123,6 +137,19 @@ OpenedCapture openCapture(const fs::path& root, const fs::path& folder, bool wat
     }
     out.wb = workbenchFromInputs(m, root, out.files->dir, where, out.traceX, out.traceY, watch);
     checkCaptureInputFiles(*out.wb, folder, where);
+    if (editedCopies.size() == 1 && showsThePencilPlotAsValues(*out.wb)) {
+        // what the edit changed, at a glance: every curve relative to the recorded model's
+        const fs::path copy = fs::weakly_canonical(editedCopies[0].first);
+        for (const bssrdf::ModelEntry& e : out.wb->library().entries())
+            if (fs::weakly_canonical(e.file) == copy) {
+                PlotSettings& plot = out.wb->plotSettings();
+                plot.relation = plot::Relation::Ratio;
+                plot.compareWith = e.displayPath;
+                entries[editedCopies[0].second] +=
+                    "; the pencil plot shows every curve as its ratio to the "
+                    "recorded one (show: values for the curves as recorded)";
+            }
+    }
     for (const std::string& e : entries)
         out.wb->reportActionError(e);
     for (const std::string& n : notes)

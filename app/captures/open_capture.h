@@ -5,7 +5,8 @@
 // debug interactively what a replay (or CI) only compares. What differs from the recording (a
 // model edited since, a model gone) is an Errors entry, and the model's recorded text is opened
 // beside today's as NAME.recorded with the recorded parameters: the state as recorded and the
-// model as it is now, on one plot.
+// model as it is now, on one plot (a capture of the pencil plot alone with one model edited
+// shows every curve as its ratio to the recorded model's: what the edit changed).
 #pragma once
 
 #include "captures/capture_io.h"

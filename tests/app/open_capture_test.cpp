@@ -12,6 +12,7 @@
 #include "core/core.h"
 #include "gui/gui.h"
 #include "gui/panels/panels.h"
+#include "pipeline/pencil_series.h"
 
 #include <nlohmann/json.hpp>
 
@@ -187,6 +188,13 @@ TEST(OpenCapture, AModelEditedOrGoneSinceIsOpenedBesideFromItsRecordedText) {
         EXPECT_NE(errors.find("today's file and, beside it, the recorded text as dipole.recorded"),
                   std::string::npos)
             << errors;
+        // a capture of the pencil plot alone: every curve as its ratio to the recorded model's
+        EXPECT_EQ(wb.plotSettings().relation, plot::Relation::Ratio);
+        EXPECT_EQ(wb.plotSettings().compareWith, recorded->displayPath);
+        EXPECT_TRUE(app::comparesWithModel(wb));
+        EXPECT_NE(errors.find("the pencil plot shows every curve as its ratio to the recorded one"),
+                  std::string::npos)
+            << errors;
         // the recorded parameters on the copy too: both evaluate the recorded Marble
         EXPECT_EQ(app::paramsJson(wb)["models"]["external/dipole.recorded.bssrdf"],
                   manifestJson(dir)["params"]["models"]["materials/dipole.bssrdf"]);
@@ -220,6 +228,7 @@ TEST(OpenCapture, AModelEditedOrGoneSinceIsOpenedBesideFromItsRecordedText) {
         const std::string errors = errorsText(*oc.wb);
         EXPECT_NE(errors.find("materials/dipole.bssrdf: missing"), std::string::npos) << errors;
         EXPECT_EQ(errors.find("today's file"), std::string::npos) << errors;
+        EXPECT_EQ(oc.wb->plotSettings().relation, plot::Relation::Values); // nothing to compare
         EXPECT_NE(errors.find("the window shows the recorded text as dipole.recorded"),
                   std::string::npos)
             << errors;
