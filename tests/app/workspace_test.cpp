@@ -300,6 +300,50 @@ TEST(WorkspaceLayout, TextBreaksAtSpacesAndCutsOnlyAWordWiderThanTheLine) {
     fs::remove_all(root);
 }
 
+// The menu bar's right end (problems, hot reload, the last status) ends inside the window at
+// 800×600 and UI scale 2, however long the status: a long one is cut, whole characters at a
+// time, and shown whole on hover. (It used to start at a fixed 360 units from the right edge
+// and run past it.)
+TEST(WorkspaceLayout, TheMenuBarsStatusEndsInsideTheWindow) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("layoutstatus", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.reportActionError("a problem, so that the bar says how many");
+    for (float scale : {1.0f, 2.0f}) {
+        SCOPED_TRACE(scale);
+        app::HeadlessGui gui(wb, 800, 600, scale);
+        app::UiState& ui = gui.ui();
+        ui = app::UiState{};
+        ui.shared.isOpen(app::PanelId::Render) = false; // no scene needed here
+        for (const std::string& status :
+             {std::string("opened dipole.bssrdf"), "created materials/" + std::string(40, 'x') +
+                                                       "_\xc3\xa9t\xc3\xa9_\xc3\xa9t\xc3\xa9_" +
+                                                       std::string(30, 'y') + ".bssrdf"}) {
+            ui.shared.status = status;
+            gui.frame();
+            gui.frame();
+            ImGuiWindow* bar = ImGui::FindWindowByName("##MainMenuBar");
+            ASSERT_NE(bar, nullptr);
+            // where the last item ends (ImGui 1.86 keeps no item extent of a menu bar)
+            const float end = bar->DC.CursorPosPrevLine.x;
+            const float edge = bar->Pos.x + bar->Size.x - ImGui::GetStyle().WindowPadding.x;
+            EXPECT_LE(end, edge + 0.5f) << status;
+            EXPECT_GT(end, bar->Pos.x + 0.6f * bar->Size.x) << status; // right-aligned
+            if (status.size() > 60) {                                  // cut to fit
+                EXPECT_NEAR(end, edge, 12.0f * scale) << status;
+            }
+        }
+        // whole characters
+        auto width = [](const std::string& s) { return ImGui::CalcTextSize(s.c_str()).x; };
+        const std::string cut = app::cutToWidth("ab\xc3\xa9\xc3\xa9\xc3\xa9"
+                                                "cd",
+                                                width("ab\xc3\xa9..."));
+        EXPECT_EQ(cut, "ab\xc3\xa9...");
+        EXPECT_EQ(app::cutToWidth("\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9", width("...")), "...");
+    }
+    fs::remove_all(root);
+}
+
 TEST(WorkspaceLayout, SplitterDragsWithTheMouseAndTabsFollowShowRequests) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("layoutdrag", {"dipole.bssrdf"});

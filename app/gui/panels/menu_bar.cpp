@@ -11,6 +11,7 @@
 #include "core/core.h"
 
 #include <GLFW/glfw3.h>
+#include <algorithm>
 #include <imgui.h>
 
 namespace app {
@@ -148,17 +149,38 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
             }
             ImGui::EndMenu();
         }
+        // At the bar's right end: the problem count, hot reload and the last status, ending at
+        // the window's edge; a status longer than the room the menus leave is cut, and shown
+        // whole on hover.
         const size_t n = wb.errors().size();
-        ImGui::SameLine(ImGui::GetWindowWidth() - 360);
-        if (n > 0)
-            ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%zu problem%s", n, n == 1 ? "" : "s");
-        else
-            ImGui::TextDisabled("no problems");
+        const std::string problems =
+            n > 0 ? std::to_string(n) + (n == 1 ? " problem" : " problems") : "no problems";
+        const std::string reload = wb.watching() ? "| hot reload on" : "| hot reload off";
+        const std::string status = ui.shared.status.empty() ? "" : "| " + ui.shared.status;
+        const float gap = ImGui::GetStyle().ItemSpacing.x;
         ImGui::SameLine();
-        ImGui::TextDisabled("| %s", wb.watching() ? "hot reload on" : "hot reload off");
-        if (!ui.shared.status.empty()) {
+        const ImVec2 here = ImGui::GetCursorScreenPos(); // after the menus
+        const float right =
+            ImGui::GetWindowPos().x + ImGui::GetWindowWidth() - ImGui::GetStyle().WindowPadding.x;
+        const float fixed =
+            ImGui::CalcTextSize(problems.c_str()).x + gap + ImGui::CalcTextSize(reload.c_str()).x;
+        const std::string shown =
+            status.empty() ? status
+                           : cutToWidth(status, std::max(0.0f, right - here.x - fixed - gap));
+        const float width =
+            fixed + (shown.empty() ? 0.0f : gap + ImGui::CalcTextSize(shown.c_str()).x);
+        ImGui::SetCursorScreenPos(ImVec2(std::max(here.x, right - width), here.y));
+        if (n > 0)
+            ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", problems.c_str());
+        else
+            ImGui::TextDisabled("%s", problems.c_str());
+        ImGui::SameLine();
+        ImGui::TextDisabled("%s", reload.c_str());
+        if (!shown.empty()) {
             ImGui::SameLine();
-            ImGui::TextDisabled("| %s", ui.shared.status.c_str());
+            ImGui::TextDisabled("%s", shown.c_str());
+            if (shown != status && ImGui::IsItemHovered())
+                ImGui::SetTooltip("%s", ui.shared.status.c_str());
         }
         ImGui::EndMainMenuBar();
     }
