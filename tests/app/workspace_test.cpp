@@ -227,11 +227,15 @@ TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080AndUiScales1To2
 
 // At the smallest window the layout supports, the panels with everything they show while
 // working — the reference's progress, the lit spheres' images and statistics, the BSSRDF
-// slice's maps, each renderer's controls, the A/B split, a traced pixel, a long error — still
-// fit their width.
+// slice's maps, each renderer's controls, the A/B split, a traced pixel, a long error, a model
+// with a long name — still fit their width.
 TEST(WorkspaceLayout, BusyPanelsFitTheirWidthAt800x600) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("layoutbusy", {"dipole.bssrdf"});
+    // and a model whose name is wider than any panel (File → New model takes any length)
+    fs::copy_file(root / "materials" / "dipole.bssrdf",
+                  root / "materials" /
+                      "a_dipole_for_the_skin_of_the_back_of_the_left_hand_measured_in_june.bssrdf");
     app::Workbench wb(root, false);
     testsupport::useSmallScene(wb.scene().settings());
     wb.referenceSettings().enabled = true;

@@ -107,7 +107,7 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared&) {
         }
         const auto& q = *v.effective;
         glm::dvec3 ap = material::reducedAlbedo(q), ld = material::diffuseMeanFreePath(q);
-        ImGui::Text("%s%s", e.model->name.c_str(), v.override ? " (own)" : "");
+        wrappedText("%s%s", e.model->name.c_str(), v.override ? " (own)" : ""); // a long name too
         // as wide as the panel (without an outer width ImGui 1.86 widens the panel to the
         // columns' natural widths, and the whole panel scrolls sideways)
         if (ImGui::BeginTable("inuse", 4, ImGuiTableFlags_SizingStretchSame,
