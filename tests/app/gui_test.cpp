@@ -782,6 +782,8 @@ TEST(FitPanel, FitsAgainstTheReferenceWithoutHoldingTheFramesAndApplies) {
         EXPECT_LT(snap.result->relErrBest[t], snap.result->relErrStart[t]) << snap.targets[t];
     EXPECT_GE(snap.trace.size(), 3u);
     gui.frame();
+    // the result's lines fit the panel, however long the model's path and the optimizer's word
+    testsupport::expectFitsItsWidth(gui, app::PanelId::Fit);
     // until applied, the pencil plot shows the fitted curve beside the model's
     auto fittedCurves = [&] {
         size_t n = 0;

@@ -8,6 +8,7 @@
 #include "small_scene.h"
 
 #include <GLFW/glfw3.h>
+#include <gtest/gtest.h>
 #include <imgui.h>
 #include <imgui_internal.h>
 
@@ -41,6 +42,36 @@ inline ImGuiWindow* panelWindow(app::PanelId id) {
         if (std::string(w->Name).find(key) != std::string::npos) return w;
     }
     return nullptr;
+}
+
+// The panel's controls and text fit its width: nothing runs past the right edge, so the panel
+// never scrolls sideways (ImGui's horizontal scroll range, read two frames after the panel came
+// to the front: the first frame lays out without knowing whether a vertical scrollbar follows,
+// the second lays out with it, the third reads the second's width). And the layout holds
+// still: over the next frames the vertical scrollbar does not come and go (an image sized by
+// the space beside a scrollbar made the Render panel flip between two layouts every frame at
+// some sizes). Content may grow while work runs, so one change is allowed, not a flip back.
+inline void expectFitsItsWidth(app::HeadlessGui& gui, app::PanelId id) {
+    const char* title = app::panelEntry(id).title;
+    gui.frame();
+    gui.frame();
+    gui.frame();
+    const ImGuiWindow* pw = panelWindow(id);
+    ASSERT_NE(pw, nullptr) << title;
+    EXPECT_EQ(pw->ScrollMax.x, 0.0f) << title << ": content " << pw->ContentSize.x << " px wide, "
+                                     << pw->InnerRect.GetWidth() << " px shown";
+    std::string scrollbar(1, pw->ScrollbarY ? '|' : '.');
+    for (int i = 0; i < 3; ++i) {
+        gui.frame();
+        pw = panelWindow(id);
+        ASSERT_NE(pw, nullptr) << title;
+        scrollbar += pw->ScrollbarY ? '|' : '.';
+    }
+    int changes = 0;
+    for (size_t i = 1; i < scrollbar.size(); ++i)
+        changes += scrollbar[i] != scrollbar[i - 1];
+    EXPECT_LE(changes, 1) << title << ": the vertical scrollbar comes and goes over four frames ("
+                          << scrollbar << ")";
 }
 
 // A real click at (x, y), or at the centre of `r`: the pointer arrives, presses, releases and

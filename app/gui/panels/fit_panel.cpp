@@ -92,7 +92,7 @@ void drawFitPanel(Workbench& wb, FitPanelState& ps, UiShared& ui) {
 
     if (snap.result) {
         const FitResult& r = *snap.result;
-        ImGui::Text("%s: %d evaluations, %s", snap.model.c_str(), r.evaluations, r.status.c_str());
+        wrappedText("%s: %d evaluations, %s", snap.model.c_str(), r.evaluations, r.status.c_str());
         if (ImGui::BeginTable("fitted", 3,
                               ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
             for (const char* h : {"parameter", "start", "fitted"})
