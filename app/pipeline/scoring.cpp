@@ -264,9 +264,15 @@ void rankRows(std::vector<ScoreRow>& rows) {
             }
         }
     }
-    std::stable_sort(rows.begin(), rows.end(), [](const ScoreRow& a, const ScoreRow& b) {
-        return std::tie(a.preset, a.channel, a.thetaI, a.rank, a.relErr) <
-               std::tie(b.preset, b.channel, b.thetaI, b.rank, b.relErr);
+    // channels in the order of the pencil plot and every colour triple: R, G, B (then any other
+    // name, alphabetically), not B, G, R as their names sort
+    const auto channelOrder = [](const std::string& c) {
+        return c == "R" ? 0 : c == "G" ? 1 : c == "B" ? 2 : 3;
+    };
+    std::stable_sort(rows.begin(), rows.end(), [&](const ScoreRow& a, const ScoreRow& b) {
+        const int ca = channelOrder(a.channel), cb = channelOrder(b.channel);
+        return std::tie(a.preset, ca, a.channel, a.thetaI, a.rank, a.relErr) <
+               std::tie(b.preset, cb, b.channel, b.thetaI, b.rank, b.relErr);
     });
 }
 

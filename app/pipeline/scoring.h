@@ -79,7 +79,8 @@ ScoreRow scoreAgainstReference(const std::vector<double>& edges, const std::vect
 // 1e-6 l_d to 60 l_d.
 double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::Builtins& b,
                     double ldMm, int channel);
-// Ranks and ties within each (preset, channel, theta_i).
+// Ranks and ties within each (preset, channel, theta_i); the rows ordered by preset, channel (R,
+// G, B, then others), theta_i and rank.
 void rankRows(std::vector<ScoreRow>& rows);
 
 } // namespace app

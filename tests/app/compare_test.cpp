@@ -124,6 +124,28 @@ TEST(CompareScores, DifferencesWithinTheNoiseAreTies) {
     EXPECT_FALSE(rows[3].tie);
 }
 
+// Rows come out by preset, then channel in colour order R, G, B (then other names), then rank,
+// as the pencil plot and every colour triple list them.
+TEST(CompareScores, ChannelsInColourOrder) {
+    std::vector<app::ScoreRow> rows;
+    for (const char* preset : {"Skin1", "Marble"})
+        for (const char* ch : {"B", "lum", "G", "R"})
+            for (double rel : {0.2, 0.1}) {
+                app::ScoreRow r;
+                r.model = rel < 0.15 ? "good" : "poor";
+                r.preset = preset, r.channel = ch, r.relErr = rel, r.relErrSe = 0.001;
+                rows.push_back(r);
+            }
+    app::rankRows(rows);
+    std::string order;
+    for (const app::ScoreRow& r : rows)
+        order += r.preset + "/" + r.channel + "/" + r.model + " ";
+    EXPECT_EQ(order, "Marble/R/good Marble/R/poor Marble/G/good Marble/G/poor Marble/B/good "
+                     "Marble/B/poor Marble/lum/good Marble/lum/poor Skin1/R/good Skin1/R/poor "
+                     "Skin1/G/good Skin1/G/poor Skin1/B/good Skin1/B/poor Skin1/lum/good "
+                     "Skin1/lum/poor ");
+}
+
 namespace {
 
 // A synthetic slice on the scoreboard's oblique bins: R = e^(−r) · (1 + θs/π), S spread over the
