@@ -14,6 +14,7 @@
 
 #include <array>
 #include <atomic>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -320,6 +321,12 @@ struct UiState {
     CapturesPanelState captures;
     SlicePanelState slice;
     ScoreboardPanelState scoreboard;
+    // While recordText is on (tests of what a panel says; off in the program), the text each
+    // panel drew in the last frame it was drawn, as ImGui's log records it: a line per row of
+    // widgets, tree nodes as they are. Text drawn after the panel opened a tooltip or a popup
+    // is not in it (ImGui ends its log at the end of any top-level window).
+    bool recordText = false;
+    std::map<PanelId, std::string> panelText;
 };
 
 } // namespace app

@@ -75,7 +75,13 @@ void drawPanelBody(Workbench& wb, UiState& ui, const PanelEntry& p) {
     // of a narrow area (labels there are short: units go into the value's format).
     const float avail = ImGui::GetContentRegionAvail().x;
     ImGui::PushItemWidth(-std::min(ImGui::GetFontSize() * 9.5f, avail * 0.45f));
+    if (ui.recordText) ImGui::LogToBuffer(0); // 0: no tree node opened for the log
     p.draw(wb, ui);
+    if (ui.recordText) {
+        ImGuiContext& g = *ImGui::GetCurrentContext();
+        ui.panelText[p.id] = g.LogEnabled ? g.LogBuffer.c_str() : "";
+        ImGui::LogFinish();
+    }
     ImGui::PopItemWidth();
     ImGui::EndChild();
 }

@@ -32,6 +32,14 @@ MaterialSettings presetMaterial(const std::vector<material::Preset>& table,
 
 } // namespace
 
+double geometryLdMm(const std::vector<material::Preset>& presetTable, const std::string& preset,
+                    int channel) {
+    const MaterialSettings s = presetMaterial(presetTable, preset);
+    const double sa = s.params.sigmaA[channel], ss = s.params.sigmaS[channel], g = s.params.g;
+    const double ld = 1.0 / std::sqrt(3.0 * sa * (sa + ss * (1 - g)));
+    return std::isfinite(ld) && ld > 0 ? ld : 0.0;
+}
+
 std::vector<GeometryCase> geometryCases(const std::vector<material::Preset>& presetTable,
                                         const std::vector<std::string>& shapes,
                                         const std::vector<std::string>& presets,
@@ -48,9 +56,8 @@ std::vector<GeometryCase> geometryCases(const std::vector<material::Preset>& pre
             for (int c = 0; c < 3; ++c) {
                 const pathtrace::Medium m{s.params.sigmaA[c], s.params.sigmaS[c], s.params.g,
                                           s.params.eta};
-                const double ld =
-                    1.0 / std::sqrt(3.0 * m.sigmaA * (m.sigmaA + m.sigmaS * (1 - m.g)));
-                if (!(std::isfinite(ld) && ld > 0)) {
+                const double ld = geometryLdMm(presetTable, p, c);
+                if (ld == 0) {
                     if (skipped && k == 0)
                         skipped->push_back({p, c, "sigma_a = 0: no diffuse mean free path l_d"});
                     continue;

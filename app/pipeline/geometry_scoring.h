@@ -79,6 +79,10 @@ struct GeometrySkip {
     int channel = 0;
     std::string reason;
 };
+// l_d = 1 / sqrt(3 σa σt') of `preset`'s `channel` (0 R, 1 G, 2 B) in mm, the unit of the
+// suite's lengths; 0 when there is none (σa = 0). core::Error for an unknown preset.
+double geometryLdMm(const std::vector<material::Preset>& presetTable, const std::string& preset,
+                    int channel);
 // The cases of shapes × presets × channels in this order (shape outermost); channels without an
 // l_d (σa = 0) are skipped and said. Specs are checked (core::Error naming `label`).
 std::vector<GeometryCase> geometryCases(const std::vector<material::Preset>& presetTable,

@@ -162,6 +162,13 @@ class Workbench {
     // BSSRDF slice (seed 001): settings, the stage (reference snapshot, model slices).
     SliceSettings& sliceSettings() { return m_sliceSettings; }
     SliceStage& slice() { return *m_slice; }
+    // The display path of the model whose σ the reference, the slice, the lit spheres and the
+    // scene use now (sourceModel), "" when no loaded model is visible and usable. The stages
+    // learn it on their next update; a panel drawn before that asks here.
+    std::string sourceModelPath() const {
+        const bssrdf::ModelEntry* e = sourceModel(nullptr);
+        return e ? e->displayPath : std::string();
+    }
 
     // The scoreboard of the current parameters (scoreboard_stage.h): every model against the
     // pencil plot's reference. Runs while enabled (the GUI: while its panel shows).

@@ -5,12 +5,14 @@
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "core/core.h"
+#include "core/text.h"
 #include "gui/gui.h"
 #include "pipeline/geometry_scoring.h"
 
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 
 namespace {
@@ -120,5 +122,38 @@ TEST(ScoreboardGeometry, RunScoresEveryModelAsTheCliFollowsHotReloadAndCancels) 
     EXPECT_FALSE(tab.enabled);
     gui.frame();
     EXPECT_FALSE(wb.geometry().status().running);
+    fs::remove_all(root);
+}
+
+// The tab states the unit of the suite's lengths, l_d of the preset and channel chosen, before
+// any run (it said "0 mm") and again after either is changed (it kept the last run's), and says
+// when a channel has none.
+TEST(ScoreboardGeometry, StatesTheChosenChannelsLdBeforeARun) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("geometry-ld", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 860);
+    gui.ui().shared.show(app::PanelId::Scoreboard);
+    app::GeometryTabSettings& tab = wb.geometryTab();
+    for (int k = 0; k < 6; ++k) // the docked panel and its tab bar take a few frames to lay out
+        gui.frame();
+    testsupport::click(gui, gui.ui().scoreboard.geometryTabRect);
+    ASSERT_TRUE(gui.ui().scoreboard.geometryTab);
+    ASSERT_FALSE(tab.enabled);
+    // Marble (Jensen et al. 2001), green: σa 0.0041/mm, σs' 2.62/mm, l_d = 1/sqrt(3 σa σt')
+    tab.preset = "Marble";
+    tab.channel = 1;
+    const double marbleG = 1.0 / std::sqrt(3 * 0.0041 * (0.0041 + 2.62));
+    std::string text = testsupport::panelText(gui, app::PanelId::Scoreboard);
+    EXPECT_NE(text.find("l_d of the channel: " + core::formatNumber(marbleG, 3) + " mm"),
+              std::string::npos)
+        << text;
+    tab.channel = 0;
+    const double marbleR = 1.0 / std::sqrt(3 * 0.0021 * (0.0021 + 2.19));
+    text = testsupport::panelText(gui, app::PanelId::Scoreboard);
+    EXPECT_NE(text.find("l_d of the channel: " + core::formatNumber(marbleR, 3) + " mm"),
+              std::string::npos)
+        << text;
+    EXPECT_DOUBLE_EQ(app::geometryLdMm(wb.presets(), "Marble", 0), marbleR);
     fs::remove_all(root);
 }

@@ -232,6 +232,21 @@ TEST(SlicePanel, ClickingABinPicksItForTheExitDirections) {
                      1000, gui.pixels());
 }
 
+// With no model visible the panel says there is none to trace (and, from the workbench's own
+// choice of the source model, only then: not on a frame drawn before the stage's first run).
+TEST(SlicePanel, SaysSoWhenNoModelIsVisible) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("slice_no_model", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    smallSlice(wb.sliceSettings());
+    wb.view("materials/dipole.bssrdf").visible = false;
+    app::HeadlessGui gui(wb, 1280, 720);
+    gui.ui().shared.show(app::PanelId::Slice);
+    gui.frame();
+    const std::string text = testsupport::panelText(gui, app::PanelId::Slice);
+    EXPECT_NE(text.find("No usable model"), std::string::npos) << text;
+}
+
 // The panel states the model's rel_err over the plane as `compare` computes it, and at 1280×720
 // the three maps, the difference map included, are on screen.
 TEST(SlicePanel, StatesRelErrAndShowsTheDifferenceMapAt1280x720) {

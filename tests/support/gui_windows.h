@@ -112,4 +112,25 @@ inline int openPopups() {
     return ImGui::GetCurrentContext()->OpenPopupStack.Size;
 }
 
+// The text panel `id` draws in the next frame (UiState::recordText): what a user reads there,
+// for tests of what a panel says; every run of spaces and line breaks one space (a wrapped
+// sentence reads as one line).
+inline std::string panelText(app::HeadlessGui& gui, app::PanelId id) {
+    gui.ui().recordText = true;
+    gui.ui().panelText.erase(id);
+    gui.frame();
+    gui.ui().recordText = false;
+    const auto it = gui.ui().panelText.find(id);
+    std::string text;
+    if (it != gui.ui().panelText.end())
+        for (const char c : it->second) {
+            const bool space = c == ' ' || c == '\n' || c == '\r' || c == '\t';
+            if (!space)
+                text += c;
+            else if (!text.empty() && text.back() != ' ')
+                text += ' ';
+        }
+    return text;
+}
+
 } // namespace testsupport

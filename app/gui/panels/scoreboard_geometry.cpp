@@ -9,6 +9,7 @@
 #include "core/text.h"
 #include "mesh/suite.h"
 #include "pipeline/geometry_images.h"
+#include "pipeline/geometry_scoring.h"
 
 #include <imgui.h>
 
@@ -89,10 +90,18 @@ void drawGeometryScores(Workbench& wb, ScoreboardPanelState& ps) {
         ps.geometryRun = lastItem();
     }
     shapeChoice(t);
+    // l_d of the preset and channel chosen now, before a run and after a change of either (the
+    // stage knows only its last run's)
+    double ld = 0;
+    try {
+        ld = geometryLdMm(wb.presets(), t.preset, std::clamp(t.channel, 0, 2));
+    } catch (const core::Error&) {
+        ld = st.ldMm();
+    }
     hintText("Each model's BSSRDF-integrated image of a shape (lengths in l_d of the channel: "
-             "%s mm) against the mesh path tracer's image; rel_l2 over the object with both "
+             "%s) against the mesh path tracer's image; rel_l2 over the object with both "
              "images' noise removed, as `compare --geometry`. Click a cell to see its images.",
-             core::formatNumber(st.ldMm(), 3).c_str());
+             ld > 0 ? (core::formatNumber(ld, 3) + " mm").c_str() : "none, sigma_a = 0");
     for (const auto& [name, value] : status.stats) {
         ImGui::TextDisabled("%s %s", name.c_str(), value.c_str());
         ImGui::SameLine();

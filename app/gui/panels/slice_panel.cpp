@@ -203,8 +203,10 @@ void drawControls(Workbench& wb, SlicePanelState& ps) {
         wb.slice().restart();
     }
     sameLineIfFits(200);
+    const std::string source =
+        wb.slice().model().empty() ? wb.sourceModelPath() : wb.slice().model();
     hintText("%s %.3g paths/s | sigma of %s", snap.device.c_str(), snap.pathsPerSecond,
-             wb.slice().model().c_str());
+             source.c_str());
     if (const std::string choice = wb.slice().deviceChoice();
         !choice.empty() && ImGui::IsItemHovered())
         ImGui::SetTooltip("device auto, measured once at start: %s", choice.c_str());
@@ -220,7 +222,9 @@ void drawSlicePanel(Workbench& wb, SlicePanelState& ps, UiShared&) {
     drawControls(wb, ps);
     const SliceSnapshot snap = wb.slice().snapshot();
     const auto& models = wb.slice().models();
-    if (wb.slice().model().empty() && models.empty()) {
+    // asked of the workbench, not the stage: on the frame the tab first shows, the stage has
+    // not run yet and knows no model
+    if (wb.sourceModelPath().empty() && models.empty()) {
         hintText("No usable model: load one in the Models panel (its sigma is the medium).");
         return;
     }
