@@ -166,15 +166,20 @@ void SceneView::draw(int width, int height, const glm::mat4& viewProj, float poi
 }
 
 int pickPoint(const std::vector<glm::vec3>& positions, const glm::mat4& viewProj, int width,
-              int height, float px, float py, float maxPixels) {
-    int best = -1;
-    float bestD2 = maxPixels * maxPixels, bestDepth = 2.0f;
+              int height, float px, float py, float splatPixels, float maxPixels) {
+    const float half = 0.5f * splatPixels + 0.5f; // a pixel whose centre the square touches
+    int best = -1, covering = -1;
+    float bestD2 = maxPixels * maxPixels, bestDepth = 2.0f, coveringDepth = 2.0f;
     for (size_t i = 0; i < positions.size(); ++i) {
         glm::vec4 c = viewProj * glm::vec4(positions[i], 1.0f);
         if (!(c.w > 0)) continue;
         const float sx = (c.x / c.w * 0.5f + 0.5f) * float(width);
         const float sy = (0.5f - c.y / c.w * 0.5f) * float(height);
         const float depth = c.z / c.w;
+        if (std::abs(sx - px) <= half && std::abs(sy - py) <= half && depth < coveringDepth) {
+            covering = int(i);
+            coveringDepth = depth;
+        }
         const float d2 = (sx - px) * (sx - px) + (sy - py) * (sy - py);
         if (d2 < bestD2 - 1.0f || (d2 <= bestD2 + 1.0f && depth < bestDepth)) {
             if (d2 > maxPixels * maxPixels) continue;
@@ -183,7 +188,7 @@ int pickPoint(const std::vector<glm::vec3>& positions, const glm::mat4& viewProj
             bestDepth = depth;
         }
     }
-    return best;
+    return covering >= 0 ? covering : best;
 }
 
 } // namespace app

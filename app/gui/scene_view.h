@@ -42,9 +42,12 @@ class SceneView {
     GLsizei m_pointCount = 0, m_lineVertexCount = 0;
 };
 
-// Index of the point whose projection (viewProj, viewport w × h, pixel (px, py) from the top
-// left) is nearest to the pixel within maxPixels and nearest the camera among ties; −1 if none.
+// Index of the point drawn at pixel (px, py) from the top left (viewProj, viewport w × h):
+// among the points whose square splat of side splatPixels covers the pixel, the one nearest
+// the camera, as the depth test shows it (a point on the far side of the mesh that projects a
+// little closer to the click is hidden behind it); where no splat covers the pixel, the point
+// whose projection is nearest within maxPixels (nearest the camera among ties); −1 if none.
 int pickPoint(const std::vector<glm::vec3>& positions, const glm::mat4& viewProj, int width,
-              int height, float px, float py, float maxPixels = 6.0f);
+              int height, float px, float py, float splatPixels, float maxPixels = 6.0f);
 
 } // namespace app

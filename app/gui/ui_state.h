@@ -172,6 +172,10 @@ struct PointCloudPanelState {
     char meshBuffer[512] = "third_party/bunny/bunny.obj";
     char plyBuffer[512] = "";
     Rect imageRect; // where the 3D view was drawn last frame (UI units), for clicks in tests
+    // Where the picked point's ring was drawn last frame (UI units; x < 0: none) and whether
+    // the point faced the camera (yellow) or away from it (grey, seen through the mesh).
+    glm::vec2 pickedMarker{-1.0f};
+    bool pickedFacing = false;
 };
 
 struct OctreePanelState {

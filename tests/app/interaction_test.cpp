@@ -8,9 +8,13 @@
 #include "../support/gui_windows.h"
 #include "gui/gui.h"
 #include "gui/panels/panels.h"
+#include "gui/scene_view.h"
 #include "pathtrace/image_io.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <chrono>
+#include <cmath>
 #include <thread>
 #include <tuple>
 
@@ -493,4 +497,84 @@ TEST(Interactions, AClickOnThePointCloudPicksThePointUnderItAtEveryUiScale) {
         const float sy = r.y0 + (0.5f - c.y / c.w * 0.5f) * r.height();
         EXPECT_LT(std::hypot(sx - x, sy - y), 8.0f) << sx << "," << sy << " for " << x << "," << y;
     }
+}
+
+// The picked point is ringed in the view where the camera projects it, yellow while it faces
+// the camera; after an orbit to the far side the ring follows the point and turns grey (the
+// point faces away, seen through the mesh). Read from the frame's pixels.
+TEST(Interactions, ThePickedPointIsRingedAndTheRingFollowsAnOrbit) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("pickring", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    testsupport::useSmallScene(wb.scene().settings());
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui.shared.show(app::PanelId::PointCloud);
+    gui.frame();
+    wb.finishScene();
+    for (int i = 0; i < 3; ++i)
+        gui.frame();
+    const app::Rect r = ui.pointCloud.imageRect;
+    ASSERT_GT(r.width(), 100.0f);
+    EXPECT_LT(ui.pointCloud.pickedMarker.x, 0.0f) << "a ring before any pick";
+    const float x = r.x0 + 0.5f * r.width(), y = r.y0 + 0.5f * r.height();
+    testsupport::clickAt(gui, x, y);
+    ASSERT_GE(ui.pointCloud.picked, 0);
+    gui.frame();
+    // pixels of the ring's colour in the 20 × 20 box around `at`
+    const auto ringPixels = [&](glm::vec2 at, bool yellow) {
+        const std::vector<unsigned char> px = gui.pixels();
+        int n = 0;
+        for (int j = int(at.y) - 10; j <= int(at.y) + 10; ++j)
+            for (int i = int(at.x) - 10; i <= int(at.x) + 10; ++i) {
+                if (i < 0 || j < 0 || i >= gui.width() || j >= gui.height()) continue;
+                const unsigned char* c = &px[(size_t(j) * size_t(gui.width()) + size_t(i)) * 4];
+                n += yellow ? (c[0] > 230 && c[1] > 200 && c[2] < 60)
+                            : (std::abs(int(c[0]) - 170) < 8 && std::abs(int(c[1]) - 170) < 8 &&
+                               std::abs(int(c[2]) - 170) < 8);
+            }
+        return n;
+    };
+    const glm::vec2 front = ui.pointCloud.pickedMarker;
+    EXPECT_LT(std::hypot(front.x - x, front.y - y), 8.0f);
+    EXPECT_TRUE(ui.pointCloud.pickedFacing);
+    EXPECT_GT(ringPixels(front, true), 20);
+    // half way round: the same point, now on the far side
+    ui.shared.inspect.camera.yaw += 3.14159265f;
+    gui.frame();
+    gui.frame();
+    const glm::vec2 back = ui.pointCloud.pickedMarker;
+    ASSERT_GE(back.x, 0.0f) << "the point left the view";
+    EXPECT_FALSE(ui.pointCloud.pickedFacing);
+    EXPECT_GT(std::hypot(back.x - front.x, back.y - front.y), 3.0f) << "the ring did not move";
+    EXPECT_GT(ringPixels(back, false), 20);
+    EXPECT_EQ(ringPixels(back, true), 0);
+    EXPECT_TRUE(wb.errors().empty());
+}
+
+// The pick is the point drawn at the pixel: of two points whose splats cover it, the one nearer
+// the camera (the depth test draws it on top), even where the far one projects closer to the
+// click (a click on the bunny picked a point on its far side, facing away); with no splat over
+// the pixel, the nearest projection within reach; none beyond it.
+TEST(Interactions, APickIsThePointDrawnAtThePixel) {
+    const glm::mat4 viewProj = glm::perspective(0.7f, 1.0f, 0.1f, 10.0f) *
+                               glm::lookAt(glm::vec3(0, 0, 3), glm::vec3(0), glm::vec3(0, 1, 0));
+    const int side = 400;
+    const auto project = [&](glm::vec3 p) {
+        const glm::vec4 c = viewProj * glm::vec4(p, 1.0f);
+        return glm::vec2((c.x / c.w * 0.5f + 0.5f) * side, (0.5f - c.y / c.w * 0.5f) * side);
+    };
+    const glm::vec3 back(0.0f, 0.0f, -0.5f); // projects onto the click exactly
+    const glm::vec2 at = project(back);
+    // a point nearer the camera, 1.4 pixels to the right of the click on screen
+    const float shift = 1.4f * 2.0f * 2.5f * std::tan(0.35f) / float(side);
+    const glm::vec3 front(shift, 0.0f, 0.5f);
+    ASSERT_NEAR(project(front).x - at.x, 1.4f, 0.05f);
+    const std::vector<glm::vec3> both{back, front};
+    EXPECT_EQ(app::pickPoint(both, viewProj, side, side, at.x, at.y, 3.0f), 1);
+    // a splat of one pixel does not reach 1.4 pixels: the nearest projection
+    EXPECT_EQ(app::pickPoint(both, viewProj, side, side, at.x, at.y, 1.0f), 0);
+    // nothing within reach
+    EXPECT_EQ(app::pickPoint(both, viewProj, side, side, at.x + 40, at.y, 3.0f), -1);
+    EXPECT_EQ(app::pickPoint(both, viewProj, side, side, at.x + 5, at.y, 3.0f, 6.0f), 1);
 }

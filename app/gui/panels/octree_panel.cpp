@@ -11,6 +11,8 @@
 namespace app {
 namespace {
 
+constexpr float kOctreeSplat = 2.0f; // the points' side in the view, UI units
+
 glm::vec3 decisionColor(octree::Decision d) {
     switch (d) {
     case octree::Decision::Recurse:
@@ -93,12 +95,13 @@ void drawOctreePanel(Workbench& wb, OctreePanelState& ps, UiShared& ui) {
     const ImVec2 avail(visibleWidth(), ImGui::GetContentRegionAvail().y);
     const float side = std::max(120.0f, std::min(avail.x, avail.y - 170));
     float px = 0, py = 0;
-    if (inspectorImage(wb, ui, *ps.view, ImVec2(side, side), 2.0f, px, py)) {
+    if (inspectorImage(wb, ui, *ps.view, ImVec2(side, side), kOctreeSplat, px, py)) {
         std::vector<glm::vec3> pos;
         for (const auto& p : t->points)
             pos.push_back({p.positionArea[0], p.positionArea[1], p.positionArea[2]});
         const render::Camera& cam = ui.inspect.camera;
-        int slot = pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py);
+        int slot = pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py,
+                             kOctreeSplat);
         if (slot >= 0) // select the leaf holding the picked point
             for (uint32_t n = 0; n < t->descriptors.size(); ++n) {
                 const uint32_t d = t->descriptors[n];

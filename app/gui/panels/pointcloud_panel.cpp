@@ -13,6 +13,8 @@
 namespace app {
 namespace {
 
+constexpr float kCloudSplat = 3.0f; // the points' side in the view, UI units
+
 long long runsOf(const SceneStage& s, const char* stage) {
     auto it = s.stats().find(stage);
     return it == s.stats().end() ? 0 : it->second.runs;
@@ -63,6 +65,27 @@ void uploadColors(Workbench& wb, PointCloudPanelState& ps, const UiShared& ui) {
             col[i] = core::colorRamp(hi > lo ? (value[i] - lo) / (hi - lo) : 0.5f);
     }
     ps.view->setPoints(pos, col);
+}
+
+// A ring on the picked point where the camera projects it now (it follows an orbit): yellow
+// when the point faces the camera, grey when it faces away (seen through the mesh).
+void markPickedPoint(PointCloudPanelState& ps, const pointcloud::PointCloud& cloud,
+                     const render::Camera& cam) {
+    ps.pickedMarker = glm::vec2(-1.0f);
+    if (ps.picked < 0 || size_t(ps.picked) >= cloud.points.size()) return;
+    const auto& pt = cloud.points[size_t(ps.picked)];
+    const glm::vec3 p(pt.p[0], pt.p[1], pt.p[2]), n(pt.n[0], pt.n[1], pt.n[2]);
+    const glm::vec4 c = cam.projection() * cam.view() * glm::vec4(p, 1.0f);
+    if (!(c.w > 0)) return;
+    const Rect& r = ps.imageRect;
+    const glm::vec2 at(r.x0 + (c.x / c.w * 0.5f + 0.5f) * r.width(),
+                       r.y0 + (0.5f - c.y / c.w * 0.5f) * r.height());
+    if (at.x < r.x0 || at.x > r.x1 || at.y < r.y0 || at.y > r.y1) return;
+    ps.pickedMarker = at;
+    ps.pickedFacing = glm::dot(n, cam.position() - p) > 0;
+    ImGui::GetWindowDrawList()->AddCircle(
+        ImVec2(at.x, at.y), 6.0f,
+        ps.pickedFacing ? IM_COL32(255, 225, 0, 255) : IM_COL32(170, 170, 170, 255), 16, 2.0f);
 }
 
 } // namespace
@@ -137,14 +160,15 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
     const float side = std::max(120.0f, std::min(avail.x, avail.y - 40));
     float px = 0, py = 0;
     std::vector<glm::vec3> pos;
-    const bool clicked = inspectorImage(wb, ui, *ps.view, ImVec2(side, side), 3.0f, px, py);
+    const bool clicked = inspectorImage(wb, ui, *ps.view, ImVec2(side, side), kCloudSplat, px, py);
     ps.imageRect = lastItem();
     if (clicked) {
         pos.resize(cloud.points.size());
         for (size_t i = 0; i < pos.size(); ++i)
             pos[i] = {cloud.points[i].p[0], cloud.points[i].p[1], cloud.points[i].p[2]};
         render::Camera cam = ui.inspect.camera;
-        ps.picked = pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py);
+        ps.picked = pickPoint(pos, cam.projection() * cam.view(), int(side), int(side), px, py,
+                              kCloudSplat);
         ps.pickedExitance = glm::vec3(-1.0f);
         if (ps.picked >= 0) {
             const auto& p = cloud.points[size_t(ps.picked)];
@@ -155,6 +179,7 @@ void drawPointCloudPanel(Workbench& wb, PointCloudPanelState& ps, UiShared& ui) 
             }
         }
     }
+    markPickedPoint(ps, cloud, ui.inspect.camera);
     if (ps.picked >= 0 && size_t(ps.picked) < cloud.points.size()) {
         const auto& p = cloud.points[size_t(ps.picked)];
         wrappedText("point %d: p (%.4f, %.4f, %.4f)  n (%.3f, %.3f, %.3f)  area %.4g", ps.picked,
