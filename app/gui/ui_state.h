@@ -218,6 +218,7 @@ struct RenderPanelState {
     float split = 0.5f;              // the divider, as a fraction of the image width
     gl::Texture abTex;               // the brute-force image
     long long abFrame = -1;          // the render (run count) whose brute force abTex holds
+    Rect abLabels[2];                // where the "A: ..." and "B: ..." labels were drawn last
     gl::Texture heatTex;
     float heatMax = 0;
 };

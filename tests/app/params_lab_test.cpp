@@ -266,6 +266,8 @@ TEST(ParamsLabPanel, AppliesTheMappingAndMeasuresItWithoutHoldingTheFrames) {
         EXPECT_LT(c.measured, 1.5 * c.albedo);
     }
     gui.frame();
+    EXPECT_GE(testsupport::expectTablesShowTheirCells(app::PanelId::Parameters), 1)
+        << "the measured table";
     ::unsetenv("BSSRDF_WORKBENCH_CACHE");
     fs::remove_all(root);
 }

@@ -101,11 +101,10 @@ TEST(WorkspaceTiling, LimitsHoldFrom800x600AndSplittersMoveTheirBoundary) {
     EXPECT_NEAR(in.width(), 900, 0.01);
 }
 
+using testsupport::expectFitsItsWidth;
 using testsupport::panelWindow;
 using testsupport::rectOf;
 using testsupport::topWindows;
-using testsupport::expectFitsItsWidth;
-
 
 TEST(WorkspaceLayout, EveryPanelFitsTheWindowAt800x600To1920x1080AndUiScales1To2) {
     testsupport::context();
@@ -246,7 +245,18 @@ TEST(WorkspaceLayout, BusyPanelsFitTheirWidthAt800x600) {
             gl::writePng((fs::path(dir) / (std::string("busy-") + p.iniKey + ".png")).string(), 800,
                          600, gui.pixels());
     }
+    // the A/B split's labels, the long model's name on the A side, each on its own side
     ui.shared.show(app::PanelId::Render);
+    for (int k = 0; k < 3; ++k)
+        gui.frame();
+    const app::Rect* labels = ui.render.abLabels;
+    ASSERT_GT(labels[0].width(), 0.0f);
+    ASSERT_GT(labels[1].width(), 0.0f) << "no B label: the brute-force side is not drawn";
+    EXPECT_FALSE(labels[0].overlaps(labels[1]))
+        << "A ends at " << labels[0].x1 << ", B starts at " << labels[1].x0;
+    const float divider = ui.render.imageRect.x0 + ui.render.split * ui.render.imageRect.width();
+    EXPECT_LE(labels[0].x1, divider);
+    EXPECT_LE(labels[1].x1, ui.render.imageRect.x1);
     for (auto mode : {app::RenderMode::MonteCarlo, app::RenderMode::TextureSpace}) {
         ui.render.mode = mode;
         for (bool hybrid : {false, true}) {

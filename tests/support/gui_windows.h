@@ -44,6 +44,36 @@ inline ImGuiWindow* panelWindow(app::PanelId id) {
     return nullptr;
 }
 
+// Every table panel `id` drew in the last frame shows its cells whole: no cell's content runs
+// past its column's right edge, where the table clips it (a cut "0.804 +- 0.00" reads as a
+// different number). Returns how many tables were checked.
+inline int expectTablesShowTheirCells(app::PanelId id) {
+    const ImGuiWindow* panel = panelWindow(id);
+    if (!panel) {
+        ADD_FAILURE() << app::panelEntry(id).title << " was not drawn";
+        return 0;
+    }
+    ImGuiContext& g = *ImGui::GetCurrentContext();
+    int checked = 0;
+    for (int n = 0; n < g.Tables.GetMapSize(); ++n) {
+        const ImGuiTable* t = g.Tables.TryGetMapData(n);
+        if (!t || t->LastFrameActive < g.FrameCount - 1) continue;
+        const ImGuiWindow* w = t->OuterWindow;
+        while (w && w != panel)
+            w = w->ParentWindow;
+        if (!w) continue;
+        ++checked;
+        for (int c = 0; c < t->ColumnsCount; ++c) {
+            const ImGuiTableColumn& col = t->Columns[c];
+            EXPECT_LE(col.ContentMaxXUnfrozen, col.MaxX + 0.5f)
+                << app::panelEntry(id).title << ": table column " << c << " is "
+                << col.MaxX - col.MinX << " wide, its widest cell "
+                << col.ContentMaxXUnfrozen - col.MinX;
+        }
+    }
+    return checked;
+}
+
 // The panel's controls and text fit its width: nothing runs past the right edge, so the panel
 // never scrolls sideways (ImGui's horizontal scroll range, read two frames after the panel came
 // to the front: the first frame lays out without knowing whether a vertical scrollbar follows,
@@ -51,6 +81,7 @@ inline ImGuiWindow* panelWindow(app::PanelId id) {
 // still: over the next frames the vertical scrollbar does not come and go (an image sized by
 // the space beside a scrollbar made the Render panel flip between two layouts every frame at
 // some sizes). Content may grow while work runs, so one change is allowed, not a flip back.
+// Its tables show their cells whole (expectTablesShowTheirCells).
 inline void expectFitsItsWidth(app::HeadlessGui& gui, app::PanelId id) {
     const char* title = app::panelEntry(id).title;
     gui.frame();
@@ -72,6 +103,7 @@ inline void expectFitsItsWidth(app::HeadlessGui& gui, app::PanelId id) {
         changes += scrollbar[i] != scrollbar[i - 1];
     EXPECT_LE(changes, 1) << title << ": the vertical scrollbar comes and goes over four frames ("
                           << scrollbar << ")";
+    expectTablesShowTheirCells(id);
 }
 
 // A real click at (x, y), or at the centre of `r`: the pointer arrives, presses, releases and

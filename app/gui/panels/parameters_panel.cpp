@@ -109,13 +109,21 @@ void drawParametersPanel(Workbench& wb, ParametersPanelState& ps, UiShared&) {
         glm::dvec3 ap = material::reducedAlbedo(q), ld = material::diffuseMeanFreePath(q);
         wrappedText("%s%s", e.model->name.c_str(), v.override ? " (own)" : ""); // a long name too
         // as wide as the panel (without an outer width ImGui 1.86 widens the panel to the
-        // columns' natural widths, and the whole panel scrolls sideways)
-        if (ImGui::BeginTable("inuse", 4, ImGuiTableFlags_SizingStretchSame,
-                              ImVec2(ImGui::GetContentRegionAvail().x, 0))) {
-            auto row = [](const char* name, const glm::dvec3& x, const char* fmt) {
+        // columns' natural widths, and the whole panel scrolls sideways); where a name and
+        // three values do not fit in a row (a narrow column: 800x600), each name on a row of
+        // its own above its values, rather than values cut at the columns' edges
+        const float avail = ImGui::GetContentRegionAvail().x;
+        const ImGuiStyle& style = ImGui::GetStyle();
+        const float cell = ImGui::CalcTextSize("0.00000").x + 2 * style.CellPadding.x;
+        const bool nameBeside =
+            avail >= ImGui::CalcTextSize("l_d [mm]").x + 2 * style.CellPadding.x + 3 * cell;
+        if (ImGui::BeginTable("inuse", nameBeside ? 4 : 3, ImGuiTableFlags_SizingStretchSame,
+                              ImVec2(avail, 0))) {
+            auto row = [nameBeside](const char* name, const glm::dvec3& x, const char* fmt) {
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
                 ImGui::TextDisabled("%s", name);
+                if (!nameBeside) ImGui::TableNextRow();
                 for (int c = 0; c < 3; ++c) {
                     ImGui::TableNextColumn();
                     ImGui::TextDisabled(fmt, x[c]);

@@ -53,6 +53,17 @@ bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
     const Rect r = ps.imageRect;
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const float xs = r.x0 + ps.split * r.width();
+    // each side's label within its side: a long model name is cut with "...", never under
+    // the other label
+    ps.abLabels[0] = ps.abLabels[1] = Rect{};
+    const auto label = [&](int side, const std::string& text, ImU32 colour) {
+        const float x0 = side == 0 ? r.x0 + 4 : xs + 4, x1 = side == 0 ? xs - 4 : r.x1 - 4;
+        if (x1 - x0 < ImGui::CalcTextSize("A: ...").x) return; // the divider at the edge
+        const std::string shown = cutToWidth(text, x1 - x0);
+        const ImVec2 size = ImGui::CalcTextSize(shown.c_str());
+        dl->AddText(ImVec2(x0, r.y0 + 2), colour, shown.c_str());
+        ps.abLabels[side] = {x0, r.y0 + 2, x0 + size.x, r.y0 + 2 + size.y};
+    };
     if (brute) {
         const render::Frame& f = scene.frame();
         const auto st = scene.stats().find("scene.render");
@@ -63,11 +74,9 @@ bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
         }
         dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(ps.abTex.id())),
                      ImVec2(xs, r.y0), ImVec2(r.x1, r.y1), ImVec2(ps.split, 0), ImVec2(1, 1));
-        dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255),
-                    ("B: " + wantName).c_str());
+        label(1, "B: " + wantName, IM_COL32(255, 255, 255, 255));
     } else if (comparison.running()) {
-        dl->AddText(ImVec2(xs + 4, r.y0 + 2), IM_COL32(255, 200, 80, 255),
-                    ("B: " + comparison.name() + " ...").c_str());
+        label(1, "B: " + comparison.name() + " ...", IM_COL32(255, 200, 80, 255));
     } else if (!scene.rendering()) {
         try {
             wb.requestSceneComparison(ps.abWith); // the B side of this view
@@ -77,9 +86,8 @@ bool drawAbSplit(Workbench& wb, RenderPanelState& ps) {
         }
     }
     const SceneModelInput a = wb.sceneModelInput();
-    dl->AddText(
-        ImVec2(r.x0 + 4, r.y0 + 2), IM_COL32(255, 255, 255, 255),
-        ("A: " + (a.entry && a.entry->model ? a.entry->model->name : std::string("?"))).c_str());
+    label(0, "A: " + (a.entry && a.entry->model ? a.entry->model->name : std::string("?")),
+          IM_COL32(255, 255, 255, 255));
     dl->AddLine(ImVec2(xs, r.y0), ImVec2(xs, r.y1), IM_COL32(255, 255, 0, 255), 2.0f);
     // the divider's handle: a strip under the image, dragged sideways
     const ImVec2 keep = ImGui::GetCursorScreenPos();

@@ -110,6 +110,10 @@ void drawProfileScores(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
     const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
                                   ImGuiTableFlags_ScrollX | ImGuiTableFlags_ScrollY |
                                   ImGuiTableFlags_SizingFixedFit;
+    // the frozen columns (channel, model) stay within the panel: ImGui narrows them to it and
+    // cuts a long name at the column's edge; cut here, with "...", it says it was cut (the
+    // row's tooltip names the file)
+    const float modelWidth = std::max(80.0f, 0.6f * ImGui::GetContentRegionAvail().x);
     if (!ImGui::BeginTable("scores", 8, flags)) return;
     ImGui::TableSetupScrollFreeze(2, 1);
     // short headers, so the table fits a 1280-wide window; each explains itself on hover
@@ -156,7 +160,7 @@ void drawProfileScores(Workbench& wb, ScoreboardPanelState& ps, UiShared& ui) {
                               s2.channel.c_str());
         ImGui::PopID();
         ImGui::TableNextColumn();
-        ImGui::TextUnformatted(s2.model.c_str());
+        ImGui::TextUnformatted(cutToWidth(s2.model, modelWidth).c_str());
         ImGui::TableNextColumn();
         ImGui::Text("%s%d", s2.tie ? "=" : "", s2.rank);
         ImGui::TableNextColumn();

@@ -22,7 +22,7 @@ void drawTimingsPanel(Workbench&, UiShared&) {
         for (const auto& t : gl::timings()) {
             ImGui::TableNextRow();
             ImGui::TableNextColumn();
-            ImGui::TextUnformatted(t.stage.c_str());
+            ImGui::TextWrapped("%s", t.stage.c_str()); // a stage named after a long file
             ImGui::TableNextColumn();
             ImGui::Text("%.3f", t.cpuMs);
             ImGui::TableNextColumn();
