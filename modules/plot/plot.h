@@ -109,6 +109,10 @@ struct HoverRow {
 };
 // One row per series: y at x, interpolated linearly between the two neighbouring samples.
 std::vector<HoverRow> sampleAt(const std::vector<Series>& series, double x);
+// A row of the hover readout: "label: y" ("n/a" outside the series' samples; "series N" for an
+// unlabelled one, N from 1), its band as " [lo, hi]" where it has one. The readout's first line
+// names x once for every row (each row is sampled at it).
+std::string hoverRowText(const HoverRow& r, size_t index);
 
 // ---- CSV export (csv.cpp) -----------------------------------------------------------------
 // When every series has the same x grid: wide format "xName,label1,label2,..." with one row

@@ -242,22 +242,26 @@ void drawHover(ImDrawList* dl, const Frame& f, const PlotState& st, const Axis& 
     dl->PopClipRect();
 }
 
+} // namespace
+
+std::string hoverRowText(const HoverRow& r, size_t index) {
+    std::string text = (r.label.empty() ? "series " + std::to_string(index + 1) : r.label) + ": " +
+                       (std::isnan(r.y) ? std::string("n/a") : formatValue(r.y));
+    if (!std::isnan(r.lo) || !std::isnan(r.hi))
+        text += " [" + formatValue(r.lo) + ", " + formatValue(r.hi) + "]";
+    return text;
+}
+
+namespace {
+
 void drawTooltip(const PlotState& st, const Axis& xa) {
     ImGui::BeginTooltip();
     const std::string xName = xa.label.empty() ? "x" : xa.label;
     ImGui::Text("%s = %s", xName.c_str(), formatValue(st.hoverX).c_str());
     if (!st.rows.empty()) ImGui::Separator();
-    for (size_t i = 0; i < st.rows.size(); ++i) {
-        const HoverRow& r = st.rows[i];
-        const std::string label = r.label.empty() ? "series " + std::to_string(i + 1) : r.label;
-        const std::string y = std::isnan(r.y) ? std::string("n/a") : formatValue(r.y);
-        ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(r.color), "%s: (%s, %s)", label.c_str(),
-                           formatValue(r.x).c_str(), y.c_str());
-        if (!std::isnan(r.lo) || !std::isnan(r.hi)) {
-            ImGui::SameLine();
-            ImGui::TextDisabled("[%s, %s]", formatValue(r.lo).c_str(), formatValue(r.hi).c_str());
-        }
-    }
+    for (size_t i = 0; i < st.rows.size(); ++i)
+        ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(st.rows[i].color), "%s",
+                           hoverRowText(st.rows[i], i).c_str());
     ImGui::EndTooltip();
 }
 

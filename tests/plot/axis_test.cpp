@@ -161,6 +161,11 @@ TEST(PlotSample, InterpolatesLinearly) {
     EXPECT_TRUE(std::isnan(rows[1].y));  // outside b's samples
     EXPECT_TRUE(std::isnan(rows[1].lo)); // b has no band
 
+    // the readout names x once above the rows: a row is its label and y (and band)
+    EXPECT_EQ(plot::hoverRowText(rows[0], 0), "a: " + plot::formatValue(12.5) + " [" +
+                                                  plot::formatValue(11.25) + ", " +
+                                                  plot::formatValue(13.75) + "]");
+    EXPECT_EQ(plot::hoverRowText(rows[1], 1), "series 2: n/a"); // unlabelled, outside
     rows = plot::sampleAt(s, 3.0);
     EXPECT_DOUBLE_EQ(rows[0].y, 4.0);
     EXPECT_DOUBLE_EQ(rows[1].y, 4.0); // last sample exactly
