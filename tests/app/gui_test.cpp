@@ -319,6 +319,17 @@ TEST(FileDialog, ListsFoldersAndModelsAndRemembersRecentFiles) {
         EXPECT_NE(errors[0].text.find("a.txt"), std::string::npos) << errors[0].text;
         EXPECT_EQ(ui.shared.recent.size(), 1u); // a failed open is not remembered
     }
+    { // Open MCML reference starts in the project (--root), wherever the program was started
+        app::Workbench wb(root, false);
+        app::HeadlessGui gui(wb, 1280, 720);
+        app::UiState& ui = gui.ui();
+        ui.menu.mcmlPopup = true;
+        gui.frame();
+        gui.frame();
+        ASSERT_NE(ImGui::FindWindowByName("Open MCML reference"), nullptr);
+        ASSERT_NE(fs::absolute(fs::current_path()), fs::absolute(root));
+        EXPECT_EQ(ui.menu.mcmlDialog.dir, fs::absolute(root).lexically_normal());
+    }
     // recent files persist with the layout
     const fs::path config = root / "config";
     ::setenv("XDG_CONFIG_HOME", config.c_str(), 1);

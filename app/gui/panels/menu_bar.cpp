@@ -216,7 +216,7 @@ void drawMenuBar(Workbench& wb, UiState& ui) {
         ImGui::TextDisabled("MCML 1.x output (.mco) of one semi-infinite layer: its R_d(r) is "
                             "drawn in the pencil plot");
         FileDialogState& d = ui.menu.mcmlDialog;
-        if (d.dir.empty()) d.dir = fs::current_path();
+        if (d.dir.empty()) d.dir = wb.root(); // the project's, as Open model's (not the cwd)
         if (auto chosen = drawFileDialog(d, ".mco")) {
             openMcmlFile(wb, ui.shared, *chosen);
             ImGui::CloseCurrentPopup();
