@@ -1,6 +1,8 @@
 // Helpers shared by the scene panels (widgets.h).
 #include "gui/widgets.h"
 
+#include "plot/plot_draw.h"
+
 #include <imgui_internal.h>
 
 #include <algorithm>
@@ -80,14 +82,7 @@ void sameLineItem(float width, const char* label) {
 }
 
 std::string cutToWidth(std::string text, float width) {
-    if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
-    while (!text.empty() && ImGui::CalcTextSize((text + "...").c_str()).x > width) {
-        // a whole UTF-8 character at a time (its continuation bytes are 10xxxxxx)
-        while (text.size() > 1 && (static_cast<unsigned char>(text.back()) & 0xC0) == 0x80)
-            text.pop_back();
-        text.pop_back();
-    }
-    return text + "...";
+    return plot::elided(std::move(text), width); // the plot's titles are cut the same way
 }
 
 std::string breakLines(const std::string& text, float width) {

@@ -48,13 +48,18 @@ struct Frame {
 };
 
 // Returns whether the text is wider than [xMin, xMax] (then it is cut at the panel's edge).
+// Centred on cx within [xMin, xMax]; too wide, cut with "..." there. True when cut.
 bool drawTextCentred(ImDrawList* dl, float cx, float y, float xMin, float xMax, ImU32 col,
                      const std::string& text) {
     if (text.empty()) return false;
     const float w = ImGui::CalcTextSize(text.c_str()).x;
+    if (w > xMax - xMin) {
+        dl->AddText(ImVec2(xMin, y), col, elided(text, xMax - xMin).c_str());
+        return true;
+    }
     const float x = std::max(xMin, std::min(cx - 0.5f * w, xMax - w));
     dl->AddText(ImVec2(x, y), col, text.c_str());
-    return w > xMax - xMin;
+    return false;
 }
 
 void drawGridAndTicks(ImDrawList* dl, const Frame& f, const std::vector<Tick>& xt,
@@ -266,6 +271,16 @@ void drawTooltip(const PlotState& st, const Axis& xa) {
 }
 
 } // namespace
+
+std::string elided(std::string text, float width) {
+    if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+    while (!text.empty() && ImGui::CalcTextSize((text + "...").c_str()).x > width) {
+        while (text.size() > 1 && (static_cast<unsigned char>(text.back()) & 0xC0) == 0x80)
+            text.pop_back(); // a continuation byte: the whole character goes
+        text.pop_back();
+    }
+    return text + "...";
+}
 
 PlotState drawPlot(const char* id, ImVec2 size, const std::vector<Series>& series,
                    const Axis& xAxis, const Axis& yAxis, const std::string& title,

@@ -36,4 +36,8 @@ PlotState drawPlot(const char* id, ImVec2 size, const std::vector<Series>& serie
                    const Axis& xAxis, const Axis& yAxis, const std::string& title,
                    const std::string& subtitle, const PlotOptions& options = {});
 
+// `text` as it fits `width` in the current font: whole, or cut at a character (UTF-8) with
+// "..." so that it says it was cut (a title over a narrow plot; the app's labels).
+std::string elided(std::string text, float width);
+
 } // namespace plot

@@ -121,6 +121,28 @@ TEST_F(PlotDraw, HoverGivesRowsAndTooltip) {
     expectSaneVertices(st);
 }
 
+// A text too wide for its place is cut at a whole character and says so with "..." (the
+// titles of a narrow plot were cut mid-glyph at its edge, "R_d per unit pow").
+TEST_F(PlotDraw, ElidedTextFitsAndSaysItWasCut) {
+    ImGui::NewFrame();
+    const std::string text = "normalised: integral 2 pi r R(r) dr = albedo";
+    EXPECT_EQ(plot::elided(text, 1000), text);
+    const std::string cut = plot::elided(text, 120);
+    EXPECT_LE(ImGui::CalcTextSize(cut.c_str()).x, 120.0f);
+    ASSERT_GT(cut.size(), 3u);
+    EXPECT_EQ(cut.substr(cut.size() - 3), "...");
+    EXPECT_EQ(text.rfind(cut.substr(0, cut.size() - 3), 0), 0u) << cut;
+    // a multi-byte character is kept or dropped whole, never split
+    const std::string greek = "\u03c3\u03c3\u03c3\u03c3\u03c3\u03c3\u03c3\u03c3\u03c3\u03c3";
+    for (float w = 10; w < 120; w += 3) {
+        const std::string g = plot::elided(greek, w);
+        const bool wasCut = g.size() >= 3 && g.compare(g.size() - 3, 3, "...") == 0;
+        const std::string kept = wasCut ? g.substr(0, g.size() - 3) : g;
+        EXPECT_EQ(kept.size() % 2, 0u) << w;
+    }
+    ImGui::EndFrame();
+}
+
 TEST_F(PlotDraw, DegenerateInputsDoNotCrash) {
     std::vector<plot::Series> s(2);
     s[1].x = {1.0};
