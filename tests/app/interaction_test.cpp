@@ -462,6 +462,18 @@ TEST(Interactions, RenderPanelAbSplitShowsBruteForceOrAnotherModel) {
     EXPECT_TRUE(fx.wb.errors().empty());
 }
 
+namespace {
+// The Point cloud panel in front with its scene built; where its 3D view is.
+app::Rect showPointCloud(app::HeadlessGui& gui, app::Workbench& wb) {
+    gui.ui().shared.show(app::PanelId::PointCloud);
+    gui.frame();
+    wb.finishScene();
+    for (int i = 0; i < 3; ++i)
+        gui.frame();
+    return gui.ui().pointCloud.imageRect;
+}
+} // namespace
+
 // A click on the point cloud's 3D view picks the point drawn under it, at UI scale 1 and at 2 (the
 // view drawn at twice the pixels, the click in UI units): the picked point projects to within
 // a few units of the click.
@@ -476,12 +488,7 @@ TEST(Interactions, AClickOnThePointCloudPicksThePointUnderItAtEveryUiScale) {
         app::HeadlessGui gui(wb, 1280, 720, scale);
         app::UiState& ui = gui.ui();
         ui = app::UiState{};
-        ui.shared.show(app::PanelId::PointCloud);
-        gui.frame();
-        wb.finishScene();
-        for (int i = 0; i < 3; ++i)
-            gui.frame();
-        const app::Rect r = ui.pointCloud.imageRect;
+        const app::Rect r = showPointCloud(gui, wb);
         ASSERT_GT(r.width(), 100.0f);
         // the middle of the view, where the mesh is (the inspector camera frames it)
         const float x = r.x0 + 0.5f * r.width(), y = r.y0 + 0.5f * r.height();
@@ -509,12 +516,7 @@ TEST(Interactions, ThePickedPointIsRingedAndTheRingFollowsAnOrbit) {
     testsupport::useSmallScene(wb.scene().settings());
     app::HeadlessGui gui(wb, 1280, 720);
     app::UiState& ui = gui.ui();
-    ui.shared.show(app::PanelId::PointCloud);
-    gui.frame();
-    wb.finishScene();
-    for (int i = 0; i < 3; ++i)
-        gui.frame();
-    const app::Rect r = ui.pointCloud.imageRect;
+    const app::Rect r = showPointCloud(gui, wb);
     ASSERT_GT(r.width(), 100.0f);
     EXPECT_LT(ui.pointCloud.pickedMarker.x, 0.0f) << "a ring before any pick";
     const float x = r.x0 + 0.5f * r.width(), y = r.y0 + 0.5f * r.height();
