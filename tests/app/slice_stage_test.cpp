@@ -232,8 +232,9 @@ TEST(SlicePanel, ClickingABinPicksItForTheExitDirections) {
                      1000, gui.pixels());
 }
 
-// With no model visible the panel says there is none to trace (and, from the workbench's own
-// choice of the source model, only then: not on a frame drawn before the stage's first run).
+// With no model visible the panel says there is none to trace. (That it no longer says so on
+// a frame drawn before the stage's first run, with models loaded, was seen in the window only:
+// headless frames run the stage before the panel's first draw.)
 TEST(SlicePanel, SaysSoWhenNoModelIsVisible) {
     testsupport::context();
     auto root = testsupport::makeProjectRoot("slice_no_model", {"dipole.bssrdf"});
