@@ -286,6 +286,8 @@ bool SceneStage::updateIrradiance(float ior, bool finishOccluded) {
         m_irrKey = key;
         if (st.occludedRunning()) st.cancelOccluded();
         m_occludedActive = false;
+        m_occludedRelError = glm::vec3(0.0f);
+        m_occludedDone = m_occludedTotal = 0;
         try {
             core::Stopwatch clock;
             if (ibl && !st.hasEnvironment())
@@ -318,7 +320,19 @@ bool SceneStage::updateIrradiance(float ior, bool finishOccluded) {
             } while (finishOccluded && !done);
             if (done) m_occludedActive = false;
             std::vector<glm::vec3> e = st.occludedResult();
-            if (!e.empty()) adopt(std::move(e), clock.ms());
+            if (!e.empty()) {
+                glm::dvec3 error(0.0), sum(0.0);
+                const std::vector<glm::vec3> se = st.occludedStdError();
+                for (size_t i = 0; i < e.size() && i < se.size(); ++i) {
+                    error += glm::dvec3(se[i]);
+                    sum += glm::dvec3(e[i]);
+                }
+                for (int c = 0; c < 3; ++c)
+                    m_occludedRelError[c] = sum[c] > 0 ? float(error[c] / sum[c]) : 0.0f;
+                m_occludedDone = st.occludedSamplesDone();
+                m_occludedTotal = st.occludedSamplesTotal();
+                adopt(std::move(e), clock.ms());
+            }
         } catch (const std::exception& e) {
             m_occludedActive = false;
             setProblem("irradiance", e.what());
@@ -328,7 +342,7 @@ bool SceneStage::updateIrradiance(float ior, bool finishOccluded) {
 }
 
 float SceneStage::occludedProgress() const {
-    return m_irradiance_stage ? m_irradiance_stage->occludedProgress() : 0.0f;
+    return m_occludedTotal > 0 ? float(m_occludedDone) / float(m_occludedTotal) : 0.0f;
 }
 bool SceneStage::occludedRunning() const {
     return m_occludedActive;

@@ -171,6 +171,13 @@ class SceneStage : public Stage {
     const std::vector<glm::vec3>& irradiance() const { return m_irradiance; }
     float occludedProgress() const;
     bool occludedRunning() const;
+    // The occluded IBL estimate in use: the samples it averages, of the run's K (0, 0 before
+    // its first step; kept when the run is stopped), and per channel the points' summed
+    // standard error of E_t over their summed E_t (Σ se / Σ E, from
+    // irradiance::Stage::occludedStdError; 0 before two samples).
+    int occludedSamplesDone() const { return m_occludedDone; }
+    int occludedSamplesTotal() const { return m_occludedTotal; }
+    glm::vec3 occludedRelativeError() const { return m_occludedRelError; }
     void cancelOccluded();
     const render::Frame& frame() const { return m_frame; }
     bool hasFrame() const { return m_frame.width > 0; }
@@ -241,6 +248,8 @@ class SceneStage : public Stage {
     std::optional<std::vector<glm::vec3>> m_givenIrradiance;
     long long m_givenIrradianceVersion = 0;
     bool m_occludedActive = false;
+    int m_occludedDone = 0, m_occludedTotal = 0;
+    glm::vec3 m_occludedRelError{0.0f};
     std::unique_ptr<irradiance::Stage> m_irradiance_stage;
     std::unique_ptr<render::Renderer> m_renderer;
     render::Frame m_frame;

@@ -252,6 +252,7 @@ class Stage {
     bool stepOccluded();
     bool occludedRunning() const { return m_occ.active; }
     int occludedSamplesDone() const { return m_occ.done; }
+    int occludedSamplesTotal() const { return m_occ.total; } // K of the last beginOccluded
     float occludedProgress() const; // samples done / K, 0 when nothing was begun
     // The estimate from the samples done so far (mean of Y_k; empty before the first step or
     // after cancel) and its standard error per channel (sqrt of the sample variance / k; 0 for

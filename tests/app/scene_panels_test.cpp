@@ -112,3 +112,71 @@ TEST(ScenePanels, EveryPanelAndModeDraws) {
     if (const char* out = std::getenv("BW_SCENE_PANELS_PNG")) gl::writePng(out, 1600, 1000, px);
     std::filesystem::remove_all(root);
 }
+
+// Occluded IBL is progressive: the Irradiance panel says how many of the K samples the E_t in
+// use averages (kept, marked stopped, when the user stops it), how long the last step took and
+// the standard error of that mean, which it takes from the stage's own per-point errors.
+TEST(ScenePanels, OccludedIblSaysWhichSamplesItAveragesAndTheirStandardError) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("occludedpanel", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1600, 1000);
+    app::UiState& ui = gui.ui();
+    app::SceneSettings& s = wb.scene().settings();
+    testsupport::useSmallScene(s);
+    s.light.mode = irradiance::LightMode::Directional;
+    ui.shared.show(app::PanelId::Irradiance);
+    gui.frame(); // enables the scene (its panel is open)
+    wb.finishScene();
+    std::string text = testsupport::panelText(gui, app::PanelId::Irradiance);
+    EXPECT_NE(text.find("first pass (E_t at the points): "), std::string::npos) << text;
+    EXPECT_NE(text.find(" times (it runs again only when the light or the points change)"),
+              std::string::npos)
+        << text;
+
+    s.light.mode = irradiance::LightMode::OccludedIbl;
+    s.light.occludedTotalSamples = 12;
+    s.light.occludedSamplesPerStep = 4;
+    text = testsupport::panelText(gui, app::PanelId::Irradiance); // its update takes one step
+    app::SceneStage& scene = wb.scene();
+    ASSERT_TRUE(scene.occludedRunning());
+    ASSERT_EQ(scene.occludedSamplesDone(), 4);
+    EXPECT_NE(text.find("4 / 12 samples"), std::string::npos) << text;
+    EXPECT_NE(text.find("progressive: "), std::string::npos) << text;
+    EXPECT_NE(text.find("ms for the last step of 4 samples"), std::string::npos) << text;
+    // Σ standard error / Σ E_t over the points, per channel, from the stage's estimates
+    irradiance::Stage& stage = *scene.irradianceStage();
+    const std::vector<glm::vec3> mean = stage.occludedResult(), se = stage.occludedStdError();
+    ASSERT_EQ(mean.size(), scene.cloud().points.size());
+    ASSERT_EQ(se.size(), mean.size());
+    glm::dvec3 sumSe(0.0), sumE(0.0);
+    for (size_t i = 0; i < mean.size(); ++i) {
+        sumSe += glm::dvec3(se[i]);
+        sumE += glm::dvec3(mean[i]);
+    }
+    char expected[160];
+    std::snprintf(expected, sizeof expected, "standard error: R %.2g %%, G %.2g %%, B %.2g %%",
+                  100 * sumSe.x / sumE.x, 100 * sumSe.y / sumE.y, 100 * sumSe.z / sumE.z);
+    EXPECT_NE(text.find(expected), std::string::npos) << expected << "\n" << text;
+    EXPECT_GT(sumSe.x, 0.0); // four shadow maps over a lit bunny do not agree everywhere
+    EXPECT_LT(sumSe.x, sumE.x);
+
+    // Stopped: the estimate of 4 samples stays in use and the panel says so.
+    scene.cancelOccluded();
+    text = testsupport::panelText(gui, app::PanelId::Irradiance);
+    EXPECT_FALSE(scene.occludedRunning());
+    EXPECT_NE(text.find("4 / 12 samples, stopped"), std::string::npos) << text;
+    EXPECT_NE(text.find("standard error: R "), std::string::npos) << text;
+
+    // A change of the light starts over and runs to its K.
+    s.light.occludedTotalSamples = 8;
+    for (int k = 0; k < 20 && (k == 0 || scene.occludedRunning()); ++k)
+        gui.frame();
+    ASSERT_FALSE(scene.occludedRunning());
+    text = testsupport::panelText(gui, app::PanelId::Irradiance);
+    EXPECT_NE(text.find("8 / 8 samples"), std::string::npos) << text;
+    EXPECT_EQ(text.find("stopped"), std::string::npos) << text;
+    for (const auto& e : wb.errors())
+        ADD_FAILURE() << e.source << ": " << e.text;
+    std::filesystem::remove_all(root);
+}

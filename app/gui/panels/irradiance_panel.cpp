@@ -99,7 +99,11 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
                 l.occludedTotalSamples = std::clamp(l.occludedTotalSamples, 1, 1 << 20);
             sameLineItem(100, "per frame");
             ImGui::SliderInt("per frame", &l.occludedSamplesPerStep, 1, 64);
-            ImGui::ProgressBar(scene.occludedProgress(), ImVec2(240, 0));
+            const int done = scene.occludedSamplesDone(), total = scene.occludedSamplesTotal();
+            const std::string samples =
+                std::to_string(done) + " / " + std::to_string(total) + " samples" +
+                (scene.occludedRunning() || done == total ? "" : ", stopped");
+            ImGui::ProgressBar(scene.occludedProgress(), ImVec2(240, 0), samples.c_str());
             if (scene.occludedRunning()) {
                 sameLineIfFits(buttonWidth("stop"));
                 if (ImGui::SmallButton("stop")) scene.cancelOccluded();
@@ -107,10 +111,24 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
         }
     }
     auto st = scene.stats().find("scene.irradiance");
-    if (st != scene.stats().end())
-        wrappedText("first pass: %.1f ms, %lld runs (re-runs only when the light or the points "
-                    "change)",
-                    st->second.ms, st->second.runs);
+    if (st != scene.stats().end()) {
+        if (l.mode == irradiance::LightMode::OccludedIbl) {
+            // progressive: each frame's step adds samples to the mean in use
+            wrappedText("first pass (E_t at the points), progressive: %.1f ms for the last step of "
+                        "%d samples; it starts over when the light or the points change",
+                        st->second.ms, l.occludedSamplesPerStep);
+            if (scene.occludedSamplesDone() >= 2) {
+                const glm::vec3 rel = 100.0f * scene.occludedRelativeError();
+                wrappedText("standard error: R %.2g %%, G %.2g %%, B %.2g %% of E_t (summed over "
+                            "the points)",
+                            rel.x, rel.y, rel.z);
+            }
+        } else {
+            wrappedText("first pass (E_t at the points): %.1f ms, run %lld times (it runs again "
+                        "only when the light or the points change)",
+                        st->second.ms, st->second.runs);
+        }
+    }
     const auto& e = scene.irradiance();
     if (!e.empty()) {
         glm::vec3 lo(1e30f), hi(-1e30f), sum(0.0f);
