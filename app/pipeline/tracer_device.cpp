@@ -71,8 +71,11 @@ const ThroughputProbe& slabThroughput(const std::filesystem::path& slabShader) {
     std::lock_guard lock(mutex);
     auto it = measured.find(slabShader);
     if (it == measured.end()) {
+        core::Stopwatch clock;
         it = measured.emplace(slabShader, measureSlabThroughput(slabShader, {})).first;
-        core::logInfo("tracer device (measured once): " + it->second.summary());
+        char took[48];
+        std::snprintf(took, sizeof took, " (in %.0f ms)", clock.ms());
+        core::logInfo("tracer device (measured once): " + it->second.summary() + took);
     }
     return it->second;
 }
