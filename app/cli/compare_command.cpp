@@ -80,6 +80,11 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
         shardK = size_t(k);
         shardN = size_t(n);
     }
+    for (double t : a.thetaI)
+        if (!(std::isfinite(t) && t >= 0 && t < 90))
+            throw core::Error("--theta-i", 0,
+                              "incidence angles must be degrees in [0, 90), got " + formatScore(t));
+    if (a.thetaI.empty()) throw core::Error("--theta-i", 0, "give at least one angle");
     const std::vector<ScoreRow> baseline =
         a.baseline.empty() ? std::vector<ScoreRow>{} : capture::readScores(a.baseline);
     // the output folder must be writable before any work is done
@@ -136,12 +141,6 @@ int runCompareCli(const fs::path& root, const CompareArgs& a) {
     for (const auto& name : presets)
         if (!mcoReference && !material::findPreset(wb.presets(), name))
             throw core::Error("--presets", 0, material::unknownPresetMessage(wb.presets(), name));
-
-    for (double t : a.thetaI)
-        if (!(std::isfinite(t) && t >= 0 && t < 90))
-            throw core::Error("--theta-i", 0,
-                              "incidence angles must be degrees in [0, 90), got " + formatScore(t));
-    if (a.thetaI.empty()) throw core::Error("--theta-i", 0, "give at least one angle");
 
     CompareReport report;
     report.paths = a.paths;

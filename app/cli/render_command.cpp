@@ -203,6 +203,35 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
     }
     if (!std::ifstream(a.mesh)) throw core::Error(a.mesh, 0, "--mesh: cannot open the file");
     const fs::path model = resolveModel(root, a.model);
+    // The scene as the arguments give it, checked before the GL context, the model and the
+    // point cloud: a refused combination is an error at once, not after seconds of work.
+    SceneSettings scene = a.scene;
+    scene.enabled = true;
+    scene.useCache = a.useCache;
+    scene.meshFile = fs::absolute(a.mesh).string();
+    if (a.renderer == "bruteforce") scene.render.bruteForce = true;
+    pointcloud::checkOptions(scene.points);
+    if (!a.light.empty()) parseLight(a.light, scene);
+    if (a.occluded) {
+        if (scene.light.mode != irradiance::LightMode::Ibl)
+            throw core::Error("--occluded", 0, "needs --light ibl:FILE.exr");
+        scene.light.mode = irradiance::LightMode::OccludedIbl;
+    }
+    if (a.renderer == "hybrid" && scene.light.mode != irradiance::LightMode::Directional)
+        throw core::Error("--light", 0,
+                          "--renderer hybrid: its local term needs the directional light "
+                          "(--light dir:x,y,z; the light-view map), not image-based lighting");
+    if (a.irradiance) {
+        if (scene.light.mode == irradiance::LightMode::Directional)
+            scene.light.irradiance = glm::vec3(*a.irradiance);
+        else
+            scene.light.envIntensity = *a.irradiance;
+    }
+    if (!scene.environmentFile.empty() && scene.light.mode != irradiance::LightMode::Directional) {
+        scene.environmentFile = fs::absolute(scene.environmentFile).string();
+        if (!std::ifstream(scene.environmentFile))
+            throw core::Error(scene.environmentFile, 0, "--light ibl: cannot open the file");
+    }
     auto ctx = gl::createHeadlessContext(false);
     Workbench wb(root, false, {model});
     auto& e = wb.library().entries().at(0);
@@ -213,30 +242,7 @@ int runRenderCli(const fs::path& root, const RenderArgs& a) {
         material::validate(wb.shared().params, "--scale");
     }
     SceneSettings& s = wb.scene().settings();
-    s = a.scene;
-    s.enabled = true;
-    s.useCache = a.useCache;
-    s.meshFile = fs::absolute(a.mesh).string();
-    if (a.renderer == "bruteforce") s.render.bruteForce = true;
-    pointcloud::checkOptions(s.points);
-    if (!a.light.empty()) parseLight(a.light, s);
-    if (a.occluded) {
-        if (s.light.mode != irradiance::LightMode::Ibl)
-            throw core::Error("--occluded", 0, "needs --light ibl:FILE.exr");
-        s.light.mode = irradiance::LightMode::OccludedIbl;
-    }
-    if (a.irradiance) {
-        if (s.light.mode == irradiance::LightMode::Directional)
-            s.light.irradiance = glm::vec3(*a.irradiance);
-        else
-            s.light.envIntensity = *a.irradiance;
-    }
-    if (!s.environmentFile.empty() && s.light.mode != irradiance::LightMode::Directional) {
-        s.environmentFile = fs::absolute(s.environmentFile).string();
-        // before the mesh, the point cloud and the irradiance, not after them
-        if (!std::ifstream(s.environmentFile))
-            throw core::Error(s.environmentFile, 0, "--light ibl: cannot open the file");
-    }
+    s = scene;
     core::Stopwatch clock;
     // A progress line on stderr: each step as it starts, the point cloud's fraction while it
     // is generated, with the time so far.

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 namespace {
 using namespace clitest;
@@ -102,5 +103,18 @@ TEST_F(TextureSpaceCli, BadInputsAreNamed) {
                   {"--hybrid-k"});
     const std::string sky = (testsupport::sourceRoot() / "materials/env/default_sky.exr").string();
     expectFailure(renderArgs({"--renderer", "hybrid", "--light", "ibl:" + sky, "--out", "a.exr"}),
-                  {"directional light"});
+                  {"--light", "--renderer hybrid", "directional light"});
+    // ...refused before any work: with a mesh that cannot be read, the light is still what is
+    // reported (the mesh would have failed first had the point cloud been started)
+    {
+        std::ofstream(dir() / "garbage.obj") << "v 0 0 0\nv 1 zero 0\nf 1 2 3\n";
+        std::vector<std::string> args = {
+            "render",    "--mesh", "garbage.obj", "--model", "materials/dipole.bssrdf",
+            "--out",     "a.exr",  "--renderer",  "hybrid",  "--light",
+            "ibl:" + sky};
+        const RunResult r = run(args);
+        EXPECT_NE(r.code, 0) << describe(args, r);
+        EXPECT_NE(r.output.find("directional light"), std::string::npos) << describe(args, r);
+        EXPECT_EQ(r.output.find("vertex line"), std::string::npos) << describe(args, r);
+    }
 }
