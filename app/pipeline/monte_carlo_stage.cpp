@@ -13,8 +13,9 @@ integrate::ViewPoints viewPointsOf(SceneStage& scene) {
     const irradiance::Settings& light = scene.settings().light;
     if (light.mode != irradiance::LightMode::Directional)
         throw core::Error("monte carlo", 0,
-                          "the Monte Carlo render has the directional light only (the scene's "
-                          "light is another mode)");
+                          std::string("the Monte Carlo render has the directional light only; "
+                                      "the scene's light is ") +
+                              irradiance::lightModeName(light.mode));
     const render::Readback rb = scene.readback();
     integrate::ViewPoints view;
     view.width = rb.width;

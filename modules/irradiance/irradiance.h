@@ -72,6 +72,20 @@
 namespace irradiance {
 
 enum class LightMode { Directional, Filtered, Ibl, OccludedIbl };
+// The name the Irradiance panel's light list and messages give a mode.
+constexpr const char* lightModeName(LightMode m) {
+    switch (m) {
+    case LightMode::Directional:
+        return "directional";
+    case LightMode::Filtered:
+        return "filtered directional";
+    case LightMode::Ibl:
+        return "image based (IBL)";
+    case LightMode::OccludedIbl:
+        return "occluded IBL";
+    }
+    return "unknown";
+}
 // The lights whose E_t is one shadow-map visibility V times the unshadowed E_u (Stage::factors).
 constexpr bool hasVisibilityFactor(LightMode m) {
     return m == LightMode::Directional || m == LightMode::Filtered;

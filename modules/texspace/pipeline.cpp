@@ -317,8 +317,9 @@ void Pipeline::beginHybrid() {
                           "local filter)");
     if (m_light.mode != irradiance::LightMode::Directional)
         throw core::Error("hybrid", 0,
-                          "the hybrid's local term needs the directional light (the light-view "
-                          "map); the light is another mode");
+                          std::string("the hybrid's local term needs the directional light (the "
+                                      "light-view map); the light is ") +
+                              irradiance::lightModeName(m_light.mode));
     // R_p and the filter from the profile table (the renderer builds it for the current model,
     // material and mesh; its range comes from the mesh's bounds, so an octree of one point on
     // the mesh will do)

@@ -77,6 +77,8 @@ TEST(MonteCarloRender, AgreesWithItselfAndWithThePointCloudRender) {
     wb.finishScene();
     wb.finishMonteCarlo();
     EXPECT_NE(wb.monteCarlo().problem().find("directional light only"), std::string::npos);
+    EXPECT_NE(wb.monteCarlo().problem().find("light is image based (IBL)"), std::string::npos)
+        << wb.monteCarlo().problem();
     bool listed = false;
     for (const auto& e : wb.errors())
         listed |= e.text.find("directional light only") != std::string::npos;

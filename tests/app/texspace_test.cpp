@@ -99,6 +99,7 @@ TEST(TextureSpaceRender, HasThePointCloudRadianceAndKeepsTheLastImageOnBadInput)
     wb.finishScene();
     EXPECT_THROW(wb.finishTextureSpace(), core::Error);
     EXPECT_TRUE(listed(wb, "directional light"));
+    EXPECT_TRUE(listed(wb, "the light is image based (IBL)")); // which light it is
     // texture space itself sees every light of the point-cloud pipeline: under the IBL its
     // image sums to the point-cloud render's as under the directional light
     ts.sampling.hybrid = false;
@@ -237,5 +238,61 @@ TEST(TextureSpaceRender, PencilPlotMarksRpOfTheSelectedModel) {
     EXPECT_NE(testsupport::panelWindow(app::PanelId::Pencil), nullptr);
     if (const char* png = std::getenv("BW_RP_PNG"))
         gl::writePng(png, gui.width(), gui.height(), gui.pixels());
+    std::filesystem::remove_all(root);
+}
+
+// The hybrid under the IBL: the Render panel names the light it cannot use and says that what
+// it shows is the hierarchical render (nothing is in progress); once the stage has an image, a
+// bad setting keeps it, and the panel says the image shown was made before the problem.
+TEST(TextureSpaceRender, TheRenderPanelSaysWhatItShowsWhenTheHybridCannotRun) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("texspace_gui_stopped", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    testsupport::useSmallScene(wb.scene().settings());
+    app::HeadlessGui gui(wb, 1280, 860);
+    gui.ui().shared.show(app::PanelId::Render);
+    gui.ui().render.mode = app::RenderMode::TextureSpace;
+    wb.textureSpaceSettings().sampling.hybrid = true;
+    wb.textureSpaceSettings().sampling.textureSize = 256;
+    wb.textureSpaceSettings().sampling.sampleSets = 2;
+    wb.scene().settings().light.mode = irradiance::LightMode::Ibl;
+    std::string text;
+    for (int i = 0; i < 200 && wb.textureSpace().problems().empty(); ++i) {
+        gui.frame();
+        if (wb.scene().generating()) wb.finishScene();
+    }
+    ASSERT_FALSE(wb.textureSpace().problems().empty());
+    text = testsupport::panelText(gui, app::PanelId::Render);
+    EXPECT_NE(text.find("the light is image based (IBL)"), std::string::npos) << text;
+    EXPECT_NE(text.find("no texture-space image of this view (the problem above); shown: the "
+                        "hierarchical render"),
+              std::string::npos)
+        << text;
+    EXPECT_EQ(text.find("in progress"), std::string::npos) << text;
+
+    // the directional light: the hybrid runs, its image is shown
+    wb.scene().settings().light.mode = irradiance::LightMode::Directional;
+    const texspace::Pipeline* p = nullptr;
+    for (int i = 0; i < 400 && !(p && p->done() && p->setsDone() == 2); ++i) {
+        gui.frame();
+        if (wb.scene().generating()) wb.finishScene();
+        p = wb.textureSpace().pipeline();
+    }
+    ASSERT_TRUE(p && p->setsDone() == 2);
+    EXPECT_TRUE(wb.textureSpace().problems().empty());
+    text = testsupport::panelText(gui, app::PanelId::Render);
+    EXPECT_EQ(text.find("the problem above"), std::string::npos) << text;
+
+    // a bad setting: the last good image stays and the panel says it predates the problem
+    wb.textureSpaceSettings().sampling.samples = 0;
+    for (int i = 0; i < 200 && wb.textureSpace().problems().empty(); ++i) {
+        gui.frame();
+        if (wb.scene().generating()) wb.finishScene();
+    }
+    ASSERT_FALSE(wb.textureSpace().problems().empty());
+    text = testsupport::panelText(gui, app::PanelId::Render);
+    EXPECT_NE(text.find("shown: the last texture-space image, made before the problem above"),
+              std::string::npos)
+        << text;
     std::filesystem::remove_all(root);
 }

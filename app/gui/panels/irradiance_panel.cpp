@@ -46,8 +46,11 @@ void showCubemap(GLuint cube, IrradiancePanelState& ps) {
 void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) {
     SceneStage& scene = wb.scene();
     irradiance::Settings& l = scene.settings().light;
-    const char* modes[] = {"directional", "filtered directional", "image based (IBL)",
-                           "occluded IBL"};
+    using irradiance::LightMode;
+    const char* modes[] = {irradiance::lightModeName(LightMode::Directional),
+                           irradiance::lightModeName(LightMode::Filtered),
+                           irradiance::lightModeName(LightMode::Ibl),
+                           irradiance::lightModeName(LightMode::OccludedIbl)};
     int mode = int(l.mode);
     setItemWidth(200, "light");
     if (ImGui::Combo("light", &mode, modes, 4)) l.mode = irradiance::LightMode(mode);
@@ -124,9 +127,11 @@ void drawIrradiancePanel(Workbench& wb, IrradiancePanelState& ps, UiShared& ui) 
                             rel.x, rel.y, rel.z);
             }
         } else {
-            wrappedText("first pass (E_t at the points): %.1f ms, run %lld times (it runs again "
-                        "only when the light or the points change)",
-                        st->second.ms, st->second.runs);
+            const long long runs = st->second.runs;
+            wrappedText("first pass (E_t at the points): %.1f ms, run %s%s (it runs again only "
+                        "when the light or the points change)",
+                        st->second.ms, runs == 1 ? "once" : std::to_string(runs).c_str(),
+                        runs == 1 ? "" : " times");
         }
     }
     const auto& e = scene.irradiance();

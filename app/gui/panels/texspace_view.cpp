@@ -144,6 +144,13 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
             const std::vector<uint8_t> rgba = tonemap(part, r.exposure, r.gamma);
             gl::uploadRGBA8(ps.tsTex, part.width, part.height, rgba.data());
             tex = ps.tsTex.id();
+            if (!stage.problems().empty())
+                hintText("shown: the last texture-space image, made before the problem above");
+        } else if (!stage.problems().empty()) {
+            // the stage stopped on a problem: nothing is in progress, the frame is the
+            // hierarchical render's
+            hintText("no texture-space image of this view (the problem above); shown: the "
+                     "hierarchical render");
         } else {
             hintText("texture-space image of the full-resolution view in progress ...");
         }
