@@ -112,7 +112,9 @@ Command newModelCommand() {
                     std::string name, from = kNewModelTemplate;
                 };
                 auto a = std::make_shared<Args>();
-                cmd.add_option("--name", a->name, "the new model's name (materials/NAME.bssrdf)")
+                // NAME alone (`new-model mine`) or --name NAME
+                cmd.add_option("name,--name", a->name,
+                               "the new model's name (materials/NAME.bssrdf)")
                     ->required();
                 cmd.add_option("--from", a->from, "the model whose text it starts from")
                     ->capture_default_str();

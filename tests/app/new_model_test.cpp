@@ -61,6 +61,15 @@ TEST(NewModel, TheCommandLineMakesOneFromAnotherAndNeverOverwrites) {
               testsupport::readText(root / "materials/better_dipole.bssrdf"));
     EXPECT_FALSE(fs::exists(root / "materials/other.bssrdf.bssrdf"));
 
+    // the name alone, as a user types it; one name only
+    r = run({"third"});
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(afterFirstLine(testsupport::readText(root / "materials/third.bssrdf")), dipole);
+    r = run({"fourth", "fifth"}); // a usage error (exit 2)
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("not expected: fifth"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(root / "materials/fourth.bssrdf"));
+
     // the models made load and evaluate as their sources do
     app::Workbench wb(root, false);
     for (const auto& [made, source] :
