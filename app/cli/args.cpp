@@ -31,10 +31,37 @@ glm::dvec3 parseRgb(const std::string& text, const std::string& argName) {
     return {v[0], v[1], v[2]};
 }
 
+namespace {
+// "; the models in ROOT/materials: a, b, c": what a misspelt model name could have been
+std::string modelsThere(const fs::path& root) {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(root / "materials", ec))
+        if (e.path().extension() == ".bssrdf") names.push_back(e.path().stem().string());
+    if (names.empty()) return "; no models in " + (root / "materials").string();
+    std::sort(names.begin(), names.end());
+    std::string out = "; the models in " + (root / "materials").string() + ": ";
+    for (size_t i = 0; i < names.size(); ++i)
+        out += (i ? ", " : "") + names[i];
+    return out;
+}
+} // namespace
+
 fs::path resolveModel(const fs::path& root, const std::string& model, const std::string& flag) {
+    const bool isModel = flag == "--model" || flag == "--from";
     fs::path p = model;
     if (!fs::exists(p) && fs::exists(root / p)) p = root / p;
-    if (!fs::exists(p)) throw core::Error(model, 0, flag + ": no such file");
+    // a bare name, as the Models panel lists a model and `new-model` makes one: NAME stands for
+    // materials/NAME.bssrdf
+    if (!fs::exists(p) && isModel && !model.empty() && p.parent_path().empty())
+        for (const fs::path& c :
+             {root / "materials" / model, root / "materials" / (model + ".bssrdf")})
+            if (fs::is_regular_file(c)) {
+                p = c;
+                break;
+            }
+    if (!fs::exists(p))
+        throw core::Error(model, 0, flag + ": no such file" + (isModel ? modelsThere(root) : ""));
     if (fs::is_directory(p))
         throw core::Error(fs::absolute(p).lexically_normal().string(), 0,
                           flag + ": a folder, expected " +

@@ -19,8 +19,10 @@ glm::dvec3 parseRgb(const std::string& text, const std::string& argName);
 
 class Workbench;
 struct MaterialSettings;
-// A model file (or another file the option `flag` names) as given or relative to the root;
-// throws core::Error naming the flag when missing or a folder (naming its full path).
+// A model file (or another file the option `flag` names) as given or relative to the root; for
+// a model (--model, --from) a bare NAME is also materials/NAME.bssrdf of the root. Throws
+// core::Error naming the flag when missing (for a model, listing the root's models) or a folder
+// (naming its full path).
 std::filesystem::path resolveModel(const std::filesystem::path& root, const std::string& model,
                                    const std::string& flag = "--model");
 // Material settings from --preset or --sigma-a/--sigma-s (+ --g, --eta), validated.

@@ -88,6 +88,42 @@ TEST(NewModel, TheCommandLineMakesOneFromAnotherAndNeverOverwrites) {
     fs::remove_all(root);
 }
 
+// A model made by name is used by name: `--model NAME` (and `--from NAME`) stands for
+// materials/NAME.bssrdf of the root when no such file is given; a name that is no model is an
+// error listing the root's models.
+TEST(NewModel, TheCommandsTakeAModelByItsName) {
+    testsupport::context();
+    auto root =
+        testsupport::makeProjectRoot("newmodelname", {"dipole.bssrdf", "better_dipole.bssrdf"});
+    auto run = [&](std::vector<std::string> args) {
+        args.insert(args.begin(), {BW_EXE, "--root", root.string()});
+        return clitest::runCommand(args, root);
+    };
+    clitest::RunResult r = run({"new-model", "mine", "--from", "better_dipole"});
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(afterFirstLine(testsupport::readText(root / "materials/mine.bssrdf")),
+              testsupport::readText(root / "materials/better_dipole.bssrdf"));
+    for (const char* name : {"mine", "mine.bssrdf", "materials/mine.bssrdf"}) {
+        SCOPED_TRACE(name);
+        r = run({"profile", "--model", name, "--preset", "Skin1", "--out", "p.csv"});
+        ASSERT_EQ(r.code, 0) << r.output;
+        EXPECT_NE(testsupport::readText(root / "p.csv").find("# model materials/mine.bssrdf"),
+                  std::string::npos);
+    }
+    r = run({"profile", "--model", "mnie", "--preset", "Skin1", "--out", "q.csv"});
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("mnie: --model: no such file; the models in " +
+                            (root / "materials").string() + ": better_dipole, dipole, mine"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(root / "q.csv"));
+    // only a bare name is looked up in materials/: a path stays the path it is
+    r = run({"profile", "--model", "other/mine", "--preset", "Skin1", "--out", "q.csv"});
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("other/mine: --model: no such file"), std::string::npos) << r.output;
+    fs::remove_all(root);
+}
+
 // File → New model (Ctrl+N): the name takes what is typed, a refused name is said and creates
 // nothing, Enter writes the model from the one chosen and opens it at once; Escape closes.
 TEST(NewModel, TheDialogCreatesAndOpensIt) {
