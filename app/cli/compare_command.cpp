@@ -300,7 +300,9 @@ int finishCompare(const fs::path& out, CompareReport& report, const json& skippe
         j["rows"].push_back(scoreRowJson(r));
     writeReports(out, report, plots);
     core::writeFile(out / "scores.json", j.dump(2) + "\n");
-    std::printf("%zu rows: %s\n", rows.size(), (out / "scores.json").c_str());
+    std::fputs(modelSummaryText(rows).c_str(), stdout);
+    std::printf("%zu rows: %s; reports: %s, %s\n", rows.size(), (out / "scores.json").c_str(),
+                (out / "report.md").c_str(), (out / "report.html").c_str());
 
     if (!failIfWorse) return 0;
     int worse = 0;

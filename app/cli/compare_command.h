@@ -78,6 +78,9 @@ writeProfilePictures(const std::filesystem::path& dir, const ProfileCurves& p);
 // report.md and report.html in `dir` (and the pictures in dir/plots when `pictures`).
 void writeReports(const std::filesystem::path& dir, const CompareReport& r, bool pictures);
 
+// Each model over every row (pipeline/scoring.h, summarizeModels) as a plain-text table: what
+// `compare` prints.
+std::string modelSummaryText(const std::vector<ScoreRow>& rows);
 // rel_err → a report cell's colour from green (0) through yellow (10 %) to red (>= 30 %).
 std::string scoreCellColour(double rel);
 std::string htmlEscape(const std::string& s);

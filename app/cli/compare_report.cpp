@@ -184,7 +184,37 @@ std::string angleList(const std::vector<double>& a) {
     return s;
 }
 
+// "Skin1 B, θi 0°" (or "theta_i 0" in plain text): where a row lies
+std::string rowPlace(const ScoreRow& r, bool plain) {
+    return r.preset + " " + r.channel + ", " + (plain ? "theta_i " : "θi ") +
+           formatScore(r.thetaI, 3) + (plain ? "" : "°");
+}
+
+std::string percent(double v, int digits) {
+    return formatScore(100 * v, digits) + " %";
+}
+
 } // namespace
+
+std::string modelSummaryText(const std::vector<ScoreRow>& rows) {
+    const std::vector<ModelSummary> models = summarizeModels(rows);
+    size_t w = 5;
+    for (const ModelSummary& m : models)
+        w = std::max(w, m.model.size());
+    std::string out;
+    char line[512];
+    std::snprintf(line, sizeof line, "%-*s  %-9s  %-14s  %s\n", int(w), "model", "rank 1",
+                  "median rel_err", "largest rel_err");
+    out += line;
+    for (const ModelSummary& m : models) {
+        const std::string first = std::to_string(m.first) + " / " + std::to_string(m.rows);
+        std::snprintf(line, sizeof line, "%-*s  %-9s  %-14s  %s (%s)\n", int(w), m.model.c_str(),
+                      first.c_str(), percent(m.medianRelErr, 3).c_str(),
+                      percent(m.worst.relErr, 3).c_str(), rowPlace(m.worst, true).c_str());
+        out += line;
+    }
+    return out;
+}
 
 void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
     std::vector<Picture> pics;
@@ -206,8 +236,19 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
           "tracer; at θi > 0 over the plane (ln r, θs), and rel_err_dir also over the exit "
           "directions, against the connections estimate (pipeline/scoring.h, "
           "pipeline/scoring_oblique.h). ± is the standard error from the reference; `=` marks a "
-          "tie with the best of its preset, channel and angle.\n\n"
-       << "| preset | ch | θi | model | rank | rel_err | rel_err_dir | ratio at 1 l_d | ratio at 4 "
+          "tie with the best of its preset, channel and angle. The first table takes each model "
+          "over "
+          "every row: in how many it ranks 1 (ties included), its median rel_err and its "
+          "largest.\n\n";
+    // each model over every row first: how often it ranks 1, its median and largest rel_err
+    const std::vector<ModelSummary> models = summarizeModels(r.rows);
+    md << "| model | rank 1 | median rel_err | largest rel_err |\n|---|---|---|---|\n";
+    for (const ModelSummary& m : models)
+        md << "| " << m.model << " | " << m.first << " / " << m.rows << " | "
+           << percent(m.medianRelErr, 3) << " | " << percent(m.worst.relErr, 3) << " ("
+           << rowPlace(m.worst, false) << ") |\n";
+    md << "\n| preset | ch | θi | model | rank | rel_err | rel_err_dir | ratio at 1 l_d | ratio at "
+          "4 "
           "l_d | total ratio | error > 5 % from (l_d) |\n|---|---|---|---|---|---|---|---|---|---|"
           "---|\n";
     html << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>BSSRDF scoreboard</title>"
@@ -222,7 +263,18 @@ void writeReports(const fs::path& dir, const CompareReport& r, bool pictures) {
             "&theta;<sub>i</sub> = 0 of the radial profile against the slab tracer; at "
             "&theta;<sub>i</sub> &gt; 0 over the plane (ln r, &theta;<sub>s</sub>), and "
             "rel_err_dir also over the exit directions, against the connections estimate. "
-            "&plusmn; is the standard error from the reference; = marks a tie with the best.</p>"
+            "&plusmn; is the standard error from the reference; = marks a tie with the best. The "
+            "first table takes each model over every row: in how many it ranks 1 (ties "
+            "included), its median rel_err and its largest.</p>"
+         << "<table><tr><th>model</th><th>rank 1</th><th>median rel_err</th><th>largest "
+            "rel_err</th></tr>\n";
+    for (const ModelSummary& m : models)
+        html << "<tr><td class=l>" << htmlEscape(m.model) << "</td><td>" << m.first << " / "
+             << m.rows << "</td><td style=\"background:" << scoreCellColour(m.medianRelErr)
+             << ";color:#000\">" << percent(m.medianRelErr, 3) << "</td><td>"
+             << percent(m.worst.relErr, 3) << " (" << htmlEscape(rowPlace(m.worst, false))
+             << ")</td></tr>\n";
+    html << "</table><p></p>\n"
          << "<table><tr><th>preset</th><th>ch</th><th>&theta;<sub>i</sub></th><th>model</th>"
             "<th>rank</th><th>rel_err</th><th>rel_err_dir</th><th>ratio 1 l<sub>d</sub></th>"
             "<th>ratio 4 l<sub>d</sub></th><th>total ratio</th><th>error &gt; 5 % from "

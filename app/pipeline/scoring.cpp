@@ -276,4 +276,30 @@ void rankRows(std::vector<ScoreRow>& rows) {
     });
 }
 
+std::vector<ModelSummary> summarizeModels(const std::vector<ScoreRow>& rows) {
+    std::map<std::string, std::vector<const ScoreRow*>> byModel;
+    for (const ScoreRow& r : rows)
+        byModel[r.model].push_back(&r);
+    std::vector<ModelSummary> out;
+    for (const auto& [model, own] : byModel) {
+        ModelSummary m;
+        m.model = model;
+        m.rows = own.size();
+        std::vector<double> rel;
+        for (const ScoreRow* r : own) {
+            m.first += r->rank == 1;
+            rel.push_back(r->relErr);
+            if (rel.size() == 1 || r->relErr > m.worst.relErr) m.worst = *r;
+        }
+        std::sort(rel.begin(), rel.end());
+        const size_t n = rel.size();
+        m.medianRelErr = n % 2 ? rel[n / 2] : 0.5 * (rel[n / 2 - 1] + rel[n / 2]);
+        out.push_back(std::move(m));
+    }
+    std::stable_sort(out.begin(), out.end(), [](const ModelSummary& a, const ModelSummary& b) {
+        return a.medianRelErr < b.medianRelErr;
+    });
+    return out;
+}
+
 } // namespace app

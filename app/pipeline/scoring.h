@@ -83,4 +83,16 @@ double modelTotalRd(GLuint program, const bssrdf::ModelEntry& e, const bssrdf::B
 // G, B, then others), theta_i and rank.
 void rankRows(std::vector<ScoreRow>& rows);
 
+// One model over every row of a run (every preset, channel and angle it was scored on), ranked
+// rows in: how often it ranks first (ties included), its median rel_err, and its row of the
+// largest rel_err. What `compare` prints and its reports open with.
+struct ModelSummary {
+    std::string model;
+    size_t rows = 0, first = 0; // rows scored, rows where it ranks 1
+    double medianRelErr = 0;    // the middle rel_err (the mean of the two middle ones)
+    ScoreRow worst;             // the row of the largest rel_err
+};
+// In order of median rel_err (then name).
+std::vector<ModelSummary> summarizeModels(const std::vector<ScoreRow>& rows);
+
 } // namespace app

@@ -3,6 +3,7 @@
 // ties within the noise), and the command end to end: scores.json schema, reports, the
 // reference cache, --fail-if-worse and bad inputs.
 #include "../support/cli_fixture.h"
+#include "cli/compare_command.h"
 #include "gui/report_png.h"
 #include "pipeline/scoring.h"
 #include "pipeline/scoring_oblique.h"
@@ -10,8 +11,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <random>
 
@@ -144,6 +147,52 @@ TEST(CompareScores, ChannelsInColourOrder) {
                      "Marble/B/poor Marble/lum/good Marble/lum/poor Skin1/R/good Skin1/R/poor "
                      "Skin1/G/good Skin1/G/poor Skin1/B/good Skin1/B/poor Skin1/lum/good "
                      "Skin1/lum/poor ");
+}
+
+// Each model over every row: rows where it ranks 1 (ties at rank 1 included, a tie at a lower
+// rank not), the median rel_err (the mean of the middle two for an even count), the row of the
+// largest rel_err; models in order of their median.
+TEST(CompareScores, ModelSummariesCountFirstsAndTakeTheMedian) {
+    std::vector<app::ScoreRow> rows;
+    auto add = [&](const char* model, const char* preset, const char* ch, double rel) {
+        app::ScoreRow r;
+        r.model = model, r.preset = preset, r.channel = ch, r.relErr = rel, r.relErrSe = 0.001;
+        rows.push_back(r);
+    };
+    // Marble R: a 0.10 and b 0.1005 tie at rank 1, c 0.40 rank 3
+    add("a", "Marble", "R", 0.10), add("b", "Marble", "R", 0.1005), add("c", "Marble", "R", 0.40);
+    // Marble G: c best; a and b tie at rank 2
+    add("a", "Marble", "G", 0.30), add("b", "Marble", "G", 0.3005), add("c", "Marble", "G", 0.05);
+    // Skin1 R: b best by far
+    add("a", "Skin1", "R", 0.50), add("b", "Skin1", "R", 0.02), add("c", "Skin1", "R", 0.20);
+    // Skin1 G: only a and c
+    add("a", "Skin1", "G", 0.12), add("c", "Skin1", "G", 0.60);
+    app::rankRows(rows);
+    const std::vector<app::ModelSummary> m = app::summarizeModels(rows);
+    ASSERT_EQ(m.size(), 3u);
+    // medians: a {0.10, 0.12, 0.30, 0.50} → 0.21; b {0.02, 0.1005, 0.3005} → 0.1005;
+    // c {0.05, 0.20, 0.40, 0.60} → 0.30
+    EXPECT_EQ(m[0].model, "b");
+    EXPECT_EQ(m[1].model, "a");
+    EXPECT_EQ(m[2].model, "c");
+    EXPECT_DOUBLE_EQ(m[0].medianRelErr, 0.1005);
+    EXPECT_DOUBLE_EQ(m[1].medianRelErr, 0.21);
+    EXPECT_DOUBLE_EQ(m[2].medianRelErr, 0.30);
+    EXPECT_EQ(m[0].rows, 3u);
+    EXPECT_EQ(m[1].rows, 4u);
+    EXPECT_EQ(m[0].first, 2u); // Marble R (tie), Skin1 R; its Marble G tie is at rank 2
+    EXPECT_EQ(m[1].first, 2u); // Marble R (tie), Skin1 G
+    EXPECT_EQ(m[2].first, 1u); // Marble G
+    EXPECT_EQ(m[1].worst.preset, "Skin1");
+    EXPECT_EQ(m[1].worst.channel, "R");
+    EXPECT_EQ(m[2].worst.preset, "Skin1");
+    EXPECT_EQ(m[2].worst.channel, "G");
+    EXPECT_DOUBLE_EQ(m[2].worst.relErr, 0.60);
+    const std::string text = app::modelSummaryText(rows);
+    EXPECT_NE(text.find("b      2 / 3      " + app::formatScore(100 * 0.1005, 3) + " %"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("60 % (Skin1 G, theta_i 0)"), std::string::npos) << text;
 }
 
 namespace {
@@ -280,6 +329,28 @@ TEST_F(CompareCli, WritesScoresAndReportsCachesTheReferenceAndFailsIfWorse) {
     EXPECT_NE(readText(dir() / "cmp/report.html").find("<table>"), std::string::npos);
     EXPECT_NE(readText(dir() / "cmp/report.md").find("| Marble | R | "), std::string::npos);
     EXPECT_NE(r.output.find("6 references traced"), std::string::npos) << r.output;
+    // each model over the run, as scores.json has it: rows where it ranks 1 and its median
+    for (const char* model : {"dipole", "better_dipole"}) {
+        std::vector<double> rel;
+        int first = 0;
+        for (const auto& row : j["rows"])
+            if (row["model"] == model) {
+                rel.push_back(row["rel_err"].get<double>());
+                first += row["rank"].get<int>() == 1;
+            }
+        ASSERT_EQ(rel.size(), 6u);
+        std::sort(rel.begin(), rel.end());
+        const std::string line = std::string(model) + std::string(15 - strlen(model), ' ') +
+                                 std::to_string(first) + " / 6      " +
+                                 app::formatScore(100 * 0.5 * (rel[2] + rel[3]), 3) + " %";
+        EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+        EXPECT_NE(readText(dir() / "cmp/report.md")
+                      .find("| " + std::string(model) + " | " + std::to_string(first) + " / 6 | "),
+                  std::string::npos);
+    }
+    EXPECT_NE(r.output.find("12 rows: cmp/scores.json; reports: cmp/report.md, cmp/report.html"),
+              std::string::npos)
+        << r.output;
 
     // the second run takes the references from the cache; the same models are not worse
     std::vector<std::string> again = args;
