@@ -138,8 +138,10 @@ int finishRun(const fs::path& out, GeometryReport& report, const json& run,
     size_t problems = 0;
     for (const GeometryRow& r : report.rows)
         problems += !r.score.problem.empty();
-    std::printf("%zu rows (%zu without a score: see \"problem\"): %s\n", report.rows.size(),
-                problems, (out / "scores.json").c_str());
+    std::fputs(geometrySummaryText(report).c_str(), stdout);
+    std::printf("%zu rows (%zu without a score: see \"problem\"): %s; reports: %s, %s\n",
+                report.rows.size(), problems, (out / "scores.json").c_str(),
+                (out / "report.md").c_str(), (out / "report.html").c_str());
     if (!failIfWorse) return 0;
     int worse = 0;
     for (const GeometryRow& br : baseline) {

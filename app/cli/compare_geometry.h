@@ -61,6 +61,8 @@ struct GeometryReport {
     std::vector<GeometryRow> rows;
 };
 void writeGeometryReports(const std::filesystem::path& dir, const GeometryReport& r);
+// The reports' model × shape summary as plain text: what `compare --geometry` prints.
+std::string geometrySummaryText(const GeometryReport& r);
 std::string geometryPictureName(const std::string& shape, const std::string& preset,
                                 const std::string& channel);
 

@@ -37,11 +37,70 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The summary's cell of a model and a shape: the median rel_l2 over its presets and channels
+// (NaN when none has a score) and how often it ranks first.
+struct SummaryCell {
+    double median = std::nan("");
+    int firsts = 0;
+};
+std::map<std::pair<std::string, std::string>, SummaryCell> summaryCells(const GeometryReport& r) {
+    std::map<std::pair<std::string, std::string>, std::vector<double>> byModelShape;
+    std::map<std::pair<std::string, std::string>, SummaryCell> cells;
+    for (const GeometryRow& row : r.rows) {
+        if (!row.score.problem.empty()) continue;
+        byModelShape[{row.model, row.shape}].push_back(row.score.relL2);
+        cells[{row.model, row.shape}].firsts += row.rank == 1;
+    }
+    for (auto& [key, v] : byModelShape)
+        cells[key].median = median(v);
+    return cells;
+}
+
+std::string summaryText(const SummaryCell& c) {
+    return std::isfinite(c.median)
+               ? geometryPercent(c.median) + " (" + std::to_string(c.firsts) + ")"
+               : "—";
+}
+
 } // namespace
 
+std::string geometrySummaryText(const GeometryReport& r) {
+    const auto cells = summaryCells(r);
+    size_t w = 5;
+    for (const std::string& m : r.models)
+        w = std::max(w, m.size());
+    std::vector<size_t> widths;
+    for (const std::string& shape : r.shapes) {
+        size_t cw = shape.size();
+        for (const std::string& model : r.models)
+            if (const auto it = cells.find({model, shape}); it != cells.end())
+                cw = std::max(cw, summaryText(it->second).size());
+        widths.push_back(cw);
+    }
+    // "—" is one column wide and three bytes long: pad by what a terminal shows
+    const auto pad = [](const std::string& t, size_t width) {
+        const size_t shown = t == "—" ? 1 : t.size();
+        return t + std::string(width > shown ? width - shown : 0, ' ');
+    };
+    std::string out =
+        "median rel_l2 over presets and channels (times ranked first)\n" + pad("model", w);
+    for (size_t k = 0; k < r.shapes.size(); ++k)
+        out += "  " + pad(r.shapes[k], widths[k]);
+    out += "\n";
+    for (const std::string& model : r.models) {
+        out += pad(model, w);
+        for (size_t k = 0; k < r.shapes.size(); ++k) {
+            const auto it = cells.find({model, r.shapes[k]});
+            out += "  " + pad(it == cells.end() ? "—" : summaryText(it->second), widths[k]);
+        }
+        out.erase(out.find_last_not_of(' ') + 1); // no padding after the last column
+        out += "\n";
+    }
+    return out;
+}
+
 void writeGeometryReports(const fs::path& dir, const GeometryReport& r) {
-    std::map<std::pair<std::string, std::string>, std::vector<double>> byModelShape;
-    std::map<std::pair<std::string, std::string>, int> firsts;
+    const auto cells = summaryCells(r);
     std::map<std::tuple<std::string, std::string, std::string, std::string>, const GeometryRow*>
         cell;                                                 // (shape, model, preset, channel)
     std::vector<std::pair<std::string, std::string>> columns; // (preset, channel) in row order
@@ -50,9 +109,6 @@ void writeGeometryReports(const fs::path& dir, const GeometryReport& r) {
         if (std::find(columns.begin(), columns.end(), std::pair{row.preset, row.channel}) ==
             columns.end())
             columns.emplace_back(row.preset, row.channel);
-        if (!row.score.problem.empty()) continue;
-        byModelShape[{row.model, row.shape}].push_back(row.score.relL2);
-        firsts[{row.model, row.shape}] += row.rank == 1;
     }
     const GeometrySettings& s = r.settings;
     std::ostringstream md, html;
@@ -92,12 +148,9 @@ void writeGeometryReports(const fs::path& dir, const GeometryReport& r) {
         md << "| " << model << " |";
         html << "<tr><td class=l>" << htmlEscape(model) << "</td>";
         for (const std::string& shape : r.shapes) {
-            const auto it = byModelShape.find({model, shape});
-            const double m = it == byModelShape.end() ? std::nan("") : median(it->second);
-            const std::string text =
-                std::isfinite(m)
-                    ? geometryPercent(m) + " (" + std::to_string(firsts[{model, shape}]) + ")"
-                    : "—";
+            const auto it = cells.find({model, shape});
+            const double m = it == cells.end() ? std::nan("") : it->second.median;
+            const std::string text = it == cells.end() ? "—" : summaryText(it->second);
             md << " " << text << " |";
             html << "<td"
                  << (std::isfinite(m)

@@ -14,6 +14,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <random>
+#include <regex>
+#include <sstream>
 
 namespace {
 namespace fs = std::filesystem;
@@ -129,6 +131,28 @@ class GeometryCli : public CliFixture {
 
 } // namespace
 
+namespace {
+// The cells of a model's row in report.md's summary ("| dipole | 42.2 % (0) | 34 % (3) |")
+// and of its line in what `compare --geometry` printed (columns two spaces or more apart):
+// the same, in the same order.
+std::vector<std::string> summaryCells(const std::string& text, const std::string& model,
+                                      bool markdown) {
+    const size_t start = markdown ? text.find("## Summary") : text.find("median rel_l2 over");
+    if (start == std::string::npos) return {};
+    std::istringstream in(text.substr(start));
+    const std::regex sep(markdown ? "\\s*\\|\\s*" : "\\s{2,}");
+    for (std::string line; std::getline(in, line);) {
+        if (markdown && line.rfind("| " + model + " |", 0) != 0) continue;
+        if (!markdown && line.rfind(model + "  ", 0) != 0) continue;
+        std::vector<std::string> cells;
+        for (std::sregex_token_iterator it(line.begin(), line.end(), sep, -1), end; it != end; ++it)
+            if (!it->str().empty()) cells.push_back(*it);
+        return cells; // the model's name first
+    }
+    return {};
+}
+} // namespace
+
 TEST_F(GeometryCli, WritesScoresReportsAndPicturesCachesReferencesAndFailsIfWorse) {
     ::setenv("BSSRDF_WORKBENCH_CACHE", (dir() / "cache").c_str(), 1);
     RunResult r = run(args("g1"));
@@ -167,6 +191,13 @@ TEST_F(GeometryCli, WritesScoresReportsAndPicturesCachesReferencesAndFailsIfWors
     EXPECT_NE(md.find("images/corner_s-3__Skin1_G.png"), std::string::npos);
     EXPECT_TRUE(fs::exists(dir() / "g1/images/slab_t-0.5_w-6_view-front__Skin1_R.png"));
     EXPECT_NE(readText(dir() / "g1/report.html").find("<table>"), std::string::npos);
+    // the summary is printed as the report has it
+    for (const char* model : {"better_dipole", "dipole"}) {
+        const std::vector<std::string> cells = summaryCells(md, model, true);
+        ASSERT_EQ(cells.size(), 3u) << md; // the model, two shapes
+        EXPECT_EQ(summaryCells(r.output, model, false), cells) << r.output;
+    }
+    EXPECT_NE(r.output.find("reports: g1/report.md, g1/report.html"), std::string::npos);
 
     // again: every reference from the cache, the same scores, not worse than itself
     std::vector<std::string> again = args("g2");
@@ -244,6 +275,11 @@ TEST_F(GeometryCli, AModelThatCannotBeIntegratedIsSaidPerCase) {
     }
     EXPECT_NE(r.output.find("negative"), std::string::npos);
     EXPECT_NE(readText(dir() / "neg/report.md").find("no image"), std::string::npos);
+    // no score on the shape: "—" in the report's summary and in the printed one
+    const std::vector<std::string> cells =
+        summaryCells(readText(dir() / "neg/report.md"), "negative", true);
+    EXPECT_EQ(cells, (std::vector<std::string>{"negative", "—"}));
+    EXPECT_EQ(summaryCells(r.output, "negative", false), cells) << r.output;
 }
 
 TEST_F(GeometryCli, BadInputsNameTheirArgument) {
