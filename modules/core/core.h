@@ -67,8 +67,19 @@ const char* logLevelName(LogLevel level);
 // padding). Whatever goes to stderr next through here — the log's echo, progressEnd() before a
 // command's result or its `error: …` — first ends the line, so no message starts after a
 // percentage. Thread-safe (progress callbacks come from worker threads).
+// When stderr is not a terminal (a file, a pipe, a CI log) a rewritten line would pile up as one
+// line of carriage returns: there each update is a line of its own, printed at once when its
+// phase (the text without its numbers) is new and otherwise at most every kProgressLineSeconds;
+// progressEnd() prints the newest line not printed yet, so the log shows where the run ended.
 void progress(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 void progressEnd(); // ends an open progress line with a newline; nothing when none is open
+inline constexpr double kProgressLineSeconds = 5.0;
+enum class ProgressMode {
+    Auto,    // InPlace when stderr is a terminal at the first progress line, else Lines
+    InPlace, // "\r" rewrites
+    Lines,   // a line each, throttled
+};
+void setProgressMode(ProgressMode mode);
 
 // ---- files and text -------------------------------------------------------------------------
 // Reads a whole file as bytes; throws Error(path, 0, ...) when it cannot be opened.

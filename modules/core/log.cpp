@@ -1,12 +1,17 @@
 // core log: thread-safe bounded in-memory log, mirrored to stderr above an echo level; the
-// progress line on stderr that the log's echo (and a command's error) first ends.
+// progress line on stderr that the log's echo (and a command's error) first ends: rewritten in
+// place on a terminal, a line at a time (throttled) in a file or a CI log.
 #include "core.h"
 
+#include <cctype>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
 #include <deque>
 #include <mutex>
+#include <string>
+
+#include <unistd.h>
 
 namespace core {
 namespace {
@@ -17,9 +22,45 @@ constexpr size_t kMaxEntries = 4000;
 const auto g_start = std::chrono::steady_clock::now();
 
 std::mutex g_progressMutex;
+ProgressMode g_progressMode = ProgressMode::Auto;
 bool g_progressOpen = false;
 size_t g_progressWidth = 0; // characters the open line shows
+// Lines: the last line printed, its phase and time, and a newer line not printed yet
+std::string g_progressPhase, g_progressPending;
+std::chrono::steady_clock::time_point g_progressPrinted;
+
+bool inPlace() {
+    if (g_progressMode == ProgressMode::Auto)
+        g_progressMode = isatty(fileno(stderr)) ? ProgressMode::InPlace : ProgressMode::Lines;
+    return g_progressMode == ProgressMode::InPlace;
+}
+
+// A progress line without its numbers and spaces: "slab:%paths/s" for "slab:  12.5%  3e+05
+// paths/s". Lines of one phase differ only in their numbers.
+std::string phaseOf(const std::string& text) {
+    std::string out;
+    for (char c : text)
+        if (!std::isdigit(static_cast<unsigned char>(c)) && c != '.' && c != ' ' && c != '+' &&
+            c != '-')
+            out += c;
+    return out;
+}
+
+void printLine(const std::string& text) {
+    std::fprintf(stderr, "%s\n", text.c_str());
+    std::fflush(stderr);
+    g_progressPhase = phaseOf(text);
+    g_progressPrinted = std::chrono::steady_clock::now();
+    g_progressPending.clear();
+}
 } // namespace
+
+void setProgressMode(ProgressMode mode) {
+    std::lock_guard lock(g_progressMutex);
+    g_progressMode = mode;
+    g_progressPhase.clear();
+    g_progressPending.clear();
+}
 
 void progress(const char* fmt, ...) {
     char text[512];
@@ -29,6 +70,23 @@ void progress(const char* fmt, ...) {
     va_end(args);
     const size_t n = std::strlen(text);
     std::lock_guard lock(g_progressMutex);
+    if (!inPlace()) {
+        // a line each: at once for a new phase, else at most every kProgressLineSeconds (the
+        // newest of the lines between is printed when the run ends)
+        const double since =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - g_progressPrinted)
+                .count();
+        if (phaseOf(text) != g_progressPhase) {
+            // where the last phase ended, then the new one
+            if (!g_progressPending.empty()) printLine(g_progressPending);
+            printLine(text);
+        } else if (since >= kProgressLineSeconds) {
+            printLine(text);
+        } else {
+            g_progressPending = text;
+        }
+        return;
+    }
     // spaces over what the last line showed beyond this one
     const int pad = g_progressWidth > n ? int(g_progressWidth - n) : 0;
     std::fprintf(stderr, "\r%s%*s", text, pad, "");
@@ -39,6 +97,8 @@ void progress(const char* fmt, ...) {
 
 void progressEnd() {
     std::lock_guard lock(g_progressMutex);
+    if (!g_progressPending.empty()) printLine(g_progressPending); // where the run ended
+    g_progressPhase.clear();
     if (!g_progressOpen) return;
     std::fputc('\n', stderr);
     std::fflush(stderr);

@@ -39,6 +39,7 @@ template <class Body> std::string stderrOf(Body body) {
 } // namespace
 
 TEST(Progress, LinesAreRewrittenInPlaceAndEndedBeforeTheNextMessage) {
+    core::setProgressMode(core::ProgressMode::InPlace); // as on a terminal
     const std::string out = stderrOf([] {
         core::progress("slab: %5.1f%%", 50.0);
         core::progress("slab: %d%%", 7); // shorter: spaces over the rest of the last one
@@ -50,4 +51,27 @@ TEST(Progress, LinesAreRewrittenInPlaceAndEndedBeforeTheNextMessage) {
     });
     EXPECT_EQ(out, "\rslab:  50.0%\rslab: 7%    \n[warning] a warning\n\rrender: irradiance\n"
                    "[warning] after the end\n");
+    core::setProgressMode(core::ProgressMode::Auto);
+}
+
+// Not on a terminal (a file, as here; a pipe, a CI log): a line per update, the first of each
+// phase at once, the rest of the phase at most every kProgressLineSeconds; the newest line not
+// printed comes before the next phase, a log message, or at progressEnd.
+TEST(Progress, ElsewhereEachUpdateIsALineAndAPhaseIsThrottled) {
+    core::setProgressMode(core::ProgressMode::Auto); // stderr is the file: lines
+    const std::string out = stderrOf([] {
+        core::progress("slab: %5.1f%%", 10.0);
+        core::progress("slab: %5.1f%%", 20.0); // within the interval: held
+        core::progress("slab: %5.1f%%", 30.0);
+        core::logWarn("a warning"); // the newest held line first
+        core::progress("slab: %5.1f%%", 40.0);
+        core::progress("render: mesh %d%%", 5); // a new phase: the held line, then this
+        core::progress("render: mesh %d%%", 50);
+        core::progress("render: points"); // the phase changed again
+        core::progressEnd();
+        core::progressEnd(); // nothing held: nothing written
+    });
+    EXPECT_EQ(out, "slab:  10.0%\nslab:  30.0%\n[warning] a warning\nslab:  40.0%\n"
+                   "render: mesh 5%\nrender: mesh 50%\nrender: points\n");
+    EXPECT_EQ(out.find('\r'), std::string::npos);
 }
