@@ -33,4 +33,18 @@ std::vector<Diagnostic> parseDriverLog(std::string_view log, const SourceMap& ma
 // "could not parse driver log; raw log:\n" followed by the raw log.
 std::string formatDiagnostics(std::string_view rawLog, const SourceMap& map);
 
+// The name an error message says is not declared, as each compiler words it: Mesa "`x'
+// undeclared" and "no function with name 'x'", NVIDIA 'undefined variable "x"', glslang "'x' :
+// undeclared identifier" and "'x' : no matching overloaded function found"; empty for any other
+// message.
+std::string undeclaredName(std::string_view message);
+
+// The identifier of `source` (the assembled GLSL, so the model's own names and the builtins the
+// workbench declares) or GLSL built-in function nearest to `name` by optimal string alignment
+// distance (an insertion, deletion, substitution or swap of neighbours costs 1): within 1 for a
+// name of up to 7 characters, 2 beyond; the first such in source order among the nearest; empty
+// when none is that near or the name is shorter than 3 characters. Written here: no Debian
+// package offers an edit distance for C++.
+std::string nearestIdentifier(const std::string& name, std::string_view source);
+
 } // namespace shader

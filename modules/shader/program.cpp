@@ -121,9 +121,18 @@ gl::Program link(const std::vector<StageSource>& stages, const std::string& blam
         const std::string all = formatDiagnostics(e.log(), map);
         const std::vector<Diagnostic> diagnostics = parseDriverLog(e.log(), map);
         for (size_t i = 0; i < diagnostics.size(); ++i)
-            if (diagnostics[i].severity == "error")
-                throw core::Error(diagnostics[i].file, diagnostics[i].line,
-                                  firstErrorWithItsCascade(diagnostics, i));
+            if (diagnostics[i].severity == "error") {
+                std::string text = firstErrorWithItsCascade(diagnostics, i);
+                // an undeclared name that is a typo of a declared one: say which
+                const std::string name = undeclaredName(diagnostics[i].message);
+                const std::string near =
+                    name.empty() ? "" : nearestIdentifier(name, stages.at(which).source.glsl);
+                if (!near.empty())
+                    text.insert(text.find('\n') == std::string::npos ? text.size()
+                                                                     : text.find('\n'),
+                                "; did you mean `" + near + "'?");
+                throw core::Error(diagnostics[i].file, diagnostics[i].line, text);
+            }
         const std::string file = !blame.empty()      ? blame
                                  : map.files.empty() ? std::string("<shader>")
                                                      : map.files.front();

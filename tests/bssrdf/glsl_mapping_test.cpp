@@ -60,6 +60,35 @@ TEST(GlslMapping, TypeErrorsAndUndeclaredNamesLandOnTheirLines) {
     EXPECT_EQ(f.problem->line, lineOf(typed, "vec2(1.0, Fdr)")) << f.problem->text();
 }
 
+// A misspelt name is an undeclared one that is near a declared one: the message says which.
+TEST(GlslMapping, AMisspeltNameSaysWhichNameItIsNear) {
+    std::string text = replaced(dipole(), "    SigmaTr = sqrt(3.0*SigmaA*SigmaTPrime);",
+                                "    SigmaTr = sqrt(3.0*SigmaA*SigmaTPrme);");
+    auto p = loadModelText("typo", "typo.bssrdf", text);
+    auto& e = p.lib->entries().at(0);
+    ASSERT_TRUE(e.problem.has_value());
+    EXPECT_EQ(e.problem->line, lineOf(text, "SigmaTPrme")) << e.problem->text();
+    const std::string headline = e.problem->message.substr(0, e.problem->message.find('\n'));
+    EXPECT_NE(headline.find("SigmaTPrme"), std::string::npos) << e.problem->text();
+    EXPECT_NE(headline.find("; did you mean `SigmaTPrime'?"), std::string::npos)
+        << e.problem->text();
+    // a built-in function
+    text = replaced(dipole(), "    SigmaTr = sqrt(3.0*SigmaA*SigmaTPrime);",
+                    "    SigmaTr = sqtr(3.0*SigmaA*SigmaTPrime);");
+    auto q = loadModelText("typo_fn", "typo_fn.bssrdf", text);
+    ASSERT_TRUE(q.lib->entries().at(0).problem.has_value());
+    EXPECT_NE(q.lib->entries().at(0).problem->message.find("did you mean `sqrt'?"),
+              std::string::npos)
+        << q.lib->entries().at(0).problem->text();
+    // a name near nothing suggests nothing
+    text = replaced(dipole(), "    SigmaTr = sqrt(3.0*SigmaA*SigmaTPrime);",
+                    "    SigmaTr = sqrt(3.0*SigmaA*Qwertyuiop);");
+    auto u = loadModelText("far", "far.bssrdf", text);
+    ASSERT_TRUE(u.lib->entries().at(0).problem.has_value());
+    EXPECT_EQ(u.lib->entries().at(0).problem->message.find("did you mean"), std::string::npos)
+        << u.lib->entries().at(0).problem->text();
+}
+
 // An error is one headline, never listed twice (it was: the mapped message and the driver's line
 // again), with what the compiler said after it folded below it: "N more compiler messages", then
 // each distinct message once with its count (it was six and more lines, repeats included). How

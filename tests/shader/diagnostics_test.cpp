@@ -111,3 +111,33 @@ TEST(BssrdfDiagnostics, UnparsableLogIsReturnedRaw) {
     EXPECT_EQ(shader::formatDiagnostics(raw, sampleMap()),
               "could not parse driver log; raw log:\n" + raw);
 }
+
+// The undeclared name, as each compiler words it (Mesa's from llvmpipe; NVIDIA's and glslang's
+// as their compilers print them); other messages name none.
+TEST(BssrdfDiagnostics, TheUndeclaredNameIsReadFromEachCompilersWording) {
+    EXPECT_EQ(shader::undeclaredName("`SigmaTPrme' undeclared"), "SigmaTPrme");
+    EXPECT_EQ(shader::undeclaredName("no function with name 'exq'"), "exq");
+    EXPECT_EQ(shader::undeclaredName("undefined variable \"SigmaTPrme\""), "SigmaTPrme");
+    EXPECT_EQ(shader::undeclaredName("'SigmaTPrme' : undeclared identifier"), "SigmaTPrme");
+    EXPECT_EQ(shader::undeclaredName("'exq' : no matching overloaded function found"), "exq");
+    EXPECT_EQ(shader::undeclaredName("syntax error, unexpected ';'"), "");
+    EXPECT_EQ(shader::undeclaredName("operands to arithmetic operators must be numeric"), "");
+}
+
+// The nearest identifier of the source (or a built-in function): one edit for short names, two
+// for longer ones, a swap of neighbours one edit; the name itself, numbers' suffixes and
+// names too far or too short suggest nothing.
+TEST(BssrdfDiagnostics, TheNearestIdentifierIsOneOrTwoEditsAway) {
+    const std::string src = "vec3 SigmaTPrime = SigmaA + SigmaS; float A = 1.0e3f;\n"
+                            "vec3 SigmaTPrme2 = vec3(0.0); float Lu = 2.0;";
+    EXPECT_EQ(shader::nearestIdentifier("SigmaTPrme", src), "SigmaTPrime");  // first in source
+    EXPECT_EQ(shader::nearestIdentifier("SigmaTPirme", src), "SigmaTPrime"); // a swap
+    EXPECT_EQ(shader::nearestIdentifier("SgmaTPrme", src), "SigmaTPrime");   // two edits
+    EXPECT_EQ(shader::nearestIdentifier("exq", src), "exp");                 // a built-in
+    EXPECT_EQ(shader::nearestIdentifier("sqtr", src), "sqrt");
+    EXPECT_EQ(shader::nearestIdentifier("SigmaQQQ", src), ""); // three edits
+    EXPECT_EQ(shader::nearestIdentifier("Sgma", src), "");     // short: one edit at most
+    EXPECT_EQ(shader::nearestIdentifier("Lx", src), "");       // shorter than 3
+    EXPECT_EQ(shader::nearestIdentifier("e3g", src), "");      // "1.0e3f" is a number
+    EXPECT_EQ(shader::nearestIdentifier("SigmaTPrime", "vec3 SigmaTPrime;"), ""); // itself
+}
