@@ -77,6 +77,8 @@ MaterialSettings settingsFromArgs(Workbench& wb, const std::string& preset,
     if (!preset.empty()) {
         if (!sigmaA.empty() || !sigmaS.empty())
             throw core::Error("--preset", 0, "give either --preset or --sigma-a/--sigma-s");
+        if (!material::findPreset(wb.presets(), preset)) // named by the argument
+            throw core::Error("--preset", 0, material::unknownPresetMessage(wb.presets(), preset));
         wb.applyPreset(s, preset); // σs = σ′s/(1−g), η from the preset
     } else {
         if (sigmaA.empty() || sigmaS.empty())

@@ -278,8 +278,10 @@ TEST_F(Cli, AFolderAsModelAndAMistypedPresetAreOneClearError) {
 
     r = run({"profile", "--model", kDipole, "--preset", "Marbel", "--out", "x.csv"});
     EXPECT_EQ(r.code, 1) << r.output;
-    EXPECT_TRUE(contains(r.output, "unknown preset 'Marbel' (did you mean 'Marble'? known: "))
-        << r.output;
+    EXPECT_TRUE(
+        contains(r.output,
+                 "error: --preset: unknown preset 'Marbel' (did you mean 'Marble'? known: "))
+        << r.output; // named by its argument
     EXPECT_TRUE(contains(r.output, "Skin1")) << r.output;
     r = run({"profile", "--model", kDipole, "--preset", "Quartz", "--out", "x.csv"});
     EXPECT_TRUE(contains(r.output, "unknown preset 'Quartz' (known: ")) << r.output;
