@@ -36,13 +36,19 @@ bool inPlace() {
 }
 
 // A progress line without its numbers and spaces: "slab:%paths/s" for "slab:  12.5%  3e+05
-// paths/s". Lines of one phase differ only in their numbers.
+// paths/s" (an exponent's e included). Lines of one phase differ only in their numbers.
 std::string phaseOf(const std::string& text) {
+    const auto digit = [&](size_t i) {
+        return i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]));
+    };
     std::string out;
-    for (char c : text)
-        if (!std::isdigit(static_cast<unsigned char>(c)) && c != '.' && c != ' ' && c != '+' &&
-            c != '-')
-            out += c;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        const bool exponent =
+            (c == 'e' || c == 'E') && i > 0 && (digit(i - 1)) &&
+            (digit(i + 1) || ((i + 1 < text.size()) && (text[i + 1] == '+' || text[i + 1] == '-')));
+        if (!digit(i) && !exponent && c != '.' && c != ' ' && c != '+' && c != '-') out += c;
+    }
     return out;
 }
 

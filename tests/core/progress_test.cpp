@@ -67,11 +67,15 @@ TEST(Progress, ElsewhereEachUpdateIsALineAndAPhaseIsThrottled) {
         core::progress("slab: %5.1f%%", 40.0);
         core::progress("render: mesh %d%%", 5); // a new phase: the held line, then this
         core::progress("render: mesh %d%%", 50);
-        core::progress("render: points"); // the phase changed again
+        core::progress("render: points");                   // the phase changed again
+        core::progress("render: points %g paths/s", 3e5);   // a new phase: "paths/s"
+        core::progress("render: points %g paths/s", 2.5e6); // "2.5e+06": the same phase, held
+        core::progress("render: points %g paths/s", 2.6e6); // held instead
         core::progressEnd();
         core::progressEnd(); // nothing held: nothing written
     });
     EXPECT_EQ(out, "slab:  10.0%\nslab:  30.0%\n[warning] a warning\nslab:  40.0%\n"
-                   "render: mesh 5%\nrender: mesh 50%\nrender: points\n");
+                   "render: mesh 5%\nrender: mesh 50%\nrender: points\n"
+                   "render: points 300000 paths/s\nrender: points 2.6e+06 paths/s\n");
     EXPECT_EQ(out.find('\r'), std::string::npos);
 }
