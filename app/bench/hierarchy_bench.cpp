@@ -4,6 +4,7 @@
 #include "bench/bench.h"
 
 #include "core/core.h"
+#include "core/statistics.h"
 #include "gl/gl.h"
 #include "pipeline/workbench.h"
 
@@ -14,11 +15,6 @@
 namespace app {
 namespace {
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
 // Median traversal time (ms) of `frames` renders; leaves the last readback in `out`.
 double timeRender(render::Renderer& r, const render::Settings& s, int frames,
                   render::Readback& out) {
@@ -26,7 +22,7 @@ double timeRender(render::Renderer& r, const render::Settings& s, int frames,
     for (int i = 0; i < frames; ++i)
         ms.push_back(r.render(s).traverseMs);
     out = r.readback();
-    return median(ms);
+    return core::median(ms);
 }
 
 } // namespace

@@ -7,6 +7,7 @@
 
 #include "core/core.h"
 #include "core/fields.h"
+#include "core/statistics.h"
 #include "mesh/suite.h"
 #include "pipeline/geometry_images.h"
 
@@ -30,13 +31,6 @@ std::string cellText(const GeometryRow& r) {
            (r.tie ? "=" : "") + std::to_string(r.rank) + ")";
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // The summary's cell of a model and a shape: the median rel_l2 over its presets and channels
 // (NaN when none has a score) and how often it ranks first.
 struct SummaryCell {
@@ -52,7 +46,7 @@ std::map<std::pair<std::string, std::string>, SummaryCell> summaryCells(const Ge
         cells[{row.model, row.shape}].firsts += row.rank == 1;
     }
     for (auto& [key, v] : byModelShape)
-        cells[key].median = median(v);
+        cells[key].median = core::median(v);
     return cells;
 }
 

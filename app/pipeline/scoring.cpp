@@ -4,6 +4,7 @@
 #include "core/core.h"
 #include "core/fields.h"
 #include "core/relative_error.h"
+#include "core/statistics.h"
 
 #include <nlohmann/json.hpp>
 
@@ -291,9 +292,7 @@ std::vector<ModelSummary> summarizeModels(const std::vector<ScoreRow>& rows) {
             rel.push_back(r->relErr);
             if (rel.size() == 1 || r->relErr > m.worst.relErr) m.worst = *r;
         }
-        std::sort(rel.begin(), rel.end());
-        const size_t n = rel.size();
-        m.medianRelErr = n % 2 ? rel[n / 2] : 0.5 * (rel[n / 2 - 1] + rel[n / 2]);
+        m.medianRelErr = core::median(std::move(rel));
         out.push_back(std::move(m));
     }
     std::stable_sort(out.begin(), out.end(), [](const ModelSummary& a, const ModelSummary& b) {

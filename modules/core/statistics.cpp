@@ -1,9 +1,17 @@
-// core statistics: the normal quantile by bisection (see statistics.h).
+// core statistics: the median; the normal quantile by bisection (see statistics.h).
 #include "core/statistics.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace core {
+
+double median(std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
 
 double normalUpperQuantile(double p) {
     // bisection on the upper tail Q(z) = erfc(z/√2)/2, monotone decreasing in z

@@ -1,4 +1,4 @@
-// The normal quantile every z-test uses (core/statistics.h) against tabulated values.
+// The normal quantile every z-test uses (core/statistics.h) against tabulated values; the median.
 #include "core/statistics.h"
 
 #include <gtest/gtest.h>
@@ -22,4 +22,11 @@ TEST(CoreStatistics, BonferroniSplitsAlphaOverTestsAndTails) {
     // 100 two-sided tests at family alpha 1e-3: each tail gets 5e-6
     EXPECT_DOUBLE_EQ(core::bonferroniZ(1e-3, 100), core::normalUpperQuantile(5e-6));
     EXPECT_NEAR(core::bonferroniZ(0.05, 1), 1.959964, 1e-5);
+}
+
+TEST(CoreStatistics, MedianIsTheMiddleValueOrTheMeanOfTheTwoMiddleOnes) {
+    EXPECT_EQ(core::median({3.0, 1.0, 2.0}), 2.0);
+    EXPECT_EQ(core::median({4.0, 1.0, 3.0, 2.0}), 2.5);
+    EXPECT_EQ(core::median({7.0}), 7.0);
+    EXPECT_TRUE(std::isnan(core::median({})));
 }
