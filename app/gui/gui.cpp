@@ -303,9 +303,14 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
             }
         } stopWake{wb, win};
         const auto closeRequested = [&] { return opt.closeRequest && opt.closeRequest->load(); };
+        FramePacing pacing; // full rate while anything moves, else a frame now and then
         while (!glfwWindowShouldClose(win) && !ui.shared.quit && !closeRequested()) {
             // idle without spinning; the watcher is polled below
-            glfwWaitEventsTimeout(kFrameWaitSeconds);
+            const double asked = pacing.nextWait();
+            const double waitStart = glfwGetTime();
+            glfwWaitEventsTimeout(asked);
+            const double waitEnd = glfwGetTime();
+            pacing.waited(asked, waitEnd - waitStart, waitEnd);
             if (opt.uiScale <= 0) // the window went to a screen that scales differently
                 if (const float now = gl::contentScale(win); now != scale) {
                     scale = now;
@@ -317,7 +322,7 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
                     g_dropped.clear();
                     openDroppedFiles(wb, ui, dropped);
                 }
-                bool changed = wb.update();
+                const bool changed = wb.update();
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
                 applyKeyTaps(win);
@@ -341,6 +346,8 @@ int runGui(Workbench& wb, gl::Context& ctx, const GuiOptions& opt) {
                 glfwSwapBuffers(win);
                 if (changed) wb.framePresented();
                 gl::collectTimings();
+                pacing.framed(changed || wb.working() || ImGui::GetIO().WantTextInput,
+                              glfwGetTime());
             };
             if (frameMetReset(wb, frame, rc)) break;
         }

@@ -3,7 +3,8 @@
 #pragma once
 
 #include "gl/gl.h"
-#include "gui/layout_file.h" // configDir(), rememberedWindowSize()
+#include "gui/frame_pacing.h" // kFrameWaitSeconds: the reload bench paces a pass by it
+#include "gui/layout_file.h"  // configDir(), rememberedWindowSize()
 #include "gui/ui_state.h"
 #include "pipeline/workbench.h"
 
@@ -17,10 +18,6 @@
 #include <vector>
 
 namespace app {
-
-// The windowed frame loop sleeps up to this long before each frame unless an event ends the
-// sleep (input, a save, a child's output); the reload bench paces one of its passes by it.
-inline constexpr double kFrameWaitSeconds = 0.03;
 
 struct GuiOptions {
     // The window's (or headless screenshot's) size in UI units: uiScale screen pixels each.

@@ -436,6 +436,12 @@ ReferenceSnapshot Workbench::finishReference() {
     return m_reference->finish(referenceInputs());
 }
 
+bool Workbench::working() const {
+    if (m_library->checking() || m_scene->occludedRunning()) return true;
+    return std::any_of(m_pipeline.begin(), m_pipeline.end(),
+                       [](const PipelineStep& step) { return step.stage->status().running; });
+}
+
 void Workbench::framePresented() {
     if (!m_pendingSaveTime) return;
     glFinish();

@@ -94,6 +94,10 @@ class Workbench {
     bool update();
     // Called after a frame with the new results is on screen: closes the save→pixels clock.
     void framePresented();
+    // Work under way that the next updates will show: a stage running (its StageStatus, the
+    // scene's occluded irradiance) or a model under its check. The windowed loop draws at its
+    // full rate while this holds (gui/frame_pacing.h).
+    bool working() const;
 
     void reloadAll();
     void openModel(const std::filesystem::path& file);

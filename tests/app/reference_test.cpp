@@ -477,3 +477,20 @@ TEST(Reference, GpuTracerIsSlicedPerFrameAndHotReloads) {
     EXPECT_TRUE(wb.reference().snapshot().problem.empty()) << wb.reference().snapshot().problem;
     std::filesystem::remove_all(root);
 }
+
+// What the windowed loop's pacing asks (gui/frame_pacing.h): the workbench is working while the
+// reference's run is under way (one slice per frame on the GPU), and not once it is done.
+TEST(Reference, TheWorkbenchIsWorkingWhileTheRunIsUnderWay) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("refworking", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    wb.update();
+    EXPECT_FALSE(wb.working()); // nothing enabled: nothing to do
+    wb.referenceSettings() = {true, 4000, 30, 3, app::TracerDevice::Gpu};
+    wb.update();
+    ASSERT_LT(wb.reference().snapshot().pathsDone, 4000u);
+    EXPECT_TRUE(wb.working());
+    wb.finishReference();
+    wb.update();
+    EXPECT_FALSE(wb.working());
+}
