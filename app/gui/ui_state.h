@@ -8,6 +8,7 @@
 #include "gui/file_dialog.h"
 #include "gui/scene_view.h"
 #include "gui/workspace_layout.h"
+#include "pathtrace/lit_sphere.h"
 #include "pipeline/params_lab.h"
 #include "pipeline/scene_stage.h"
 #include "probe/child_process.h"
@@ -221,6 +222,14 @@ struct RenderPanelState {
     Rect abLabels[2];                // where the "A: ..." and "B: ..." labels were drawn last
     gl::Texture heatTex;
     float heatMax = 0;
+    // The image shown when it is not the frame's own (the Monte Carlo or texture-space render,
+    // a heatmap): the pixel probe and the export read it. Width 0 while the frame is shown.
+    struct ShownImage {
+        std::string what; // "Monte Carlo render", "steps heatmap", ...
+        int width = 0, height = 0;
+        std::vector<uint8_t> rgba;           // as shown: tone mapped, misses in the background
+        std::optional<pathtrace::Image> hdr; // the estimate (mean, variance); none: a colour map
+    } shown;
 };
 
 // The Captures panel: the captures found, the selected one, a replay running in a child

@@ -51,6 +51,20 @@ std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float 
     return out;
 }
 
+void paintMisses(std::vector<uint8_t>& rgba, const std::vector<glm::vec4>& hits,
+                 glm::vec3 background) {
+    if (rgba.size() != 4 * hits.size()) return;
+    uint8_t bg[3];
+    for (int c = 0; c < 3; ++c) // as the GPU stores a display value into RGBA8
+        bg[c] = uint8_t(std::clamp(background[c], 0.0f, 1.0f) * 255.0f + 0.5f);
+    for (size_t p = 0; p < hits.size(); ++p)
+        if (!(hits[p].w >= 0.5f)) {
+            for (int c = 0; c < 3; ++c)
+                rgba[4 * p + size_t(c)] = bg[c];
+            rgba[4 * p + 3] = 255;
+        }
+}
+
 std::array<uint8_t, 3> divergingColor(float t) {
     if (std::isnan(t)) return {255, 0, 255}; // magenta, as the images show a NaN
     t = std::clamp(t, -1.0f, 1.0f);

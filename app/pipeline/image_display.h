@@ -5,6 +5,9 @@
 
 #include "pathtrace/lit_sphere.h"
 
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -18,6 +21,14 @@ pathtrace::Image combine(const pathtrace::Image& a, const pathtrace::Image& b);
 // RGBA8 for display: value · 2^exposure, then ^(1/gamma), clamped; a pixel with a NaN or
 // infinite value (a model that returned one) is magenta, never black.
 std::vector<uint8_t> tonemap(const pathtrace::Image& img, float exposure, float gamma);
+
+// The pixels of `rgba` (RGBA8, as tonemap makes it) whose `hits` entry has w < 0.5 (a G-buffer
+// or read-back of the same frame: w = 1 hit, 0 miss) in `background`, a display colour, as the
+// renderer's tone mapping shows a miss (render::Settings::background, render_tonemap.comp): an
+// image of the frame by another renderer (Monte Carlo, texture space) shows its misses as the
+// frame does. Nothing changes when the sizes differ.
+void paintMisses(std::vector<uint8_t>& rgba, const std::vector<glm::vec4>& hits,
+                 glm::vec3 background);
 
 // Signed difference a − b of the luminance, mapped to blue (negative) – black – red
 // (positive) with |a − b| = range at full saturation.

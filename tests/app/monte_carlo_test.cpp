@@ -3,13 +3,18 @@
 // sampling agree per pixel (z, Bonferroni); its radiance is the point-cloud renderer's (same light,
 // Fresnel terms, 1/π and scale: the brute-force point-cloud sum agrees up to the point
 // discretisation and the shadow map); the IBL modes are refused with a problem, not a crash;
-// the panel shows the image.
+// the panel shows the image (misses in the frame's background) and exports it.
 #include "../support/gl_fixture.h"
 #include "../support/gui_windows.h"
 #include "../support/image_agreement.h"
 #include "core/statistics.h"
 #include "gui/gui.h"
+#include "gui/panels/panels.h"
+#include "pathtrace/image_io.h"
+#include "pipeline/image_display.h"
 #include "pipeline/workbench.h"
+
+#include <stb_image.h>
 
 #include <gtest/gtest.h>
 
@@ -106,5 +111,64 @@ TEST(MonteCarloRender, TheRenderPanelShowsIt) {
     EXPECT_TRUE(wb.errors().empty());
     if (const char* png = std::getenv("BW_MC_PNG"))
         gl::writePng(png, gui.width(), gui.height(), gui.pixels());
+
+    // What the panel shows is the Monte Carlo image, its misses in the frame's background (as
+    // the hierarchical frame shows them), and that is what Export writes: the estimate as EXR
+    // (mean and variance), the image as shown as PNG; the pixel probe reads it too.
+    app::RenderPanelState& ps = gui.ui().render;
+    ASSERT_EQ(ps.shown.what, "Monte Carlo render");
+    const render::Readback rb = wb.scene().readback();
+    const litsphere::Image mc = wb.monteCarlo().image();
+    ASSERT_EQ(ps.shown.width, rb.width);
+    ASSERT_EQ(ps.shown.height, rb.height);
+    const glm::vec3 bg = wb.scene().settings().render.background;
+    const std::vector<uint8_t> toned =
+        app::tonemap(mc, wb.scene().settings().render.exposure, wb.scene().settings().render.gamma);
+    size_t misses = 0, hits = 0;
+    for (size_t p = 0; p < rb.hdr.size(); ++p) {
+        const uint8_t* c = &ps.shown.rgba[4 * p];
+        if (rb.position[p].w < 0.5f) {
+            ++misses;
+            for (int k = 0; k < 3; ++k)
+                ASSERT_EQ(c[k], uint8_t(bg[k] * 255.0f + 0.5f)) << "miss " << p;
+        } else {
+            ++hits;
+            for (int k = 0; k < 3; ++k)
+                ASSERT_EQ(c[k], toned[4 * p + size_t(k)]) << "hit " << p;
+        }
+    }
+    EXPECT_GT(misses, 0u);
+    EXPECT_GT(hits, 0u);
+    const auto exr = root / "mc.exr", png = root / "mc.png";
+    app::exportRenderView(wb, ps, exr);
+    app::exportRenderView(wb, ps, png);
+    const pathtrace::Image written = pathtrace::readExr(exr);
+    EXPECT_EQ(written.mean, mc.mean);
+    EXPECT_EQ(written.variance, mc.variance);
+    int w = 0, h = 0, n = 0;
+    unsigned char* px = stbi_load(png.c_str(), &w, &h, &n, 4);
+    ASSERT_NE(px, nullptr);
+    EXPECT_TRUE(std::equal(px, px + size_t(w) * size_t(h) * 4, ps.shown.rgba.begin()));
+    stbi_image_free(px);
+    // a heatmap over it exports as the colour map it is (PNG) and says so for EXR
+    ps.heatmap = app::Heatmap::Steps;
+    gui.frame();
+    EXPECT_EQ(ps.shown.what, "traversal steps heatmap");
+    app::exportRenderView(wb, ps, png);
+    try {
+        app::exportRenderView(wb, ps, exr);
+        ADD_FAILURE() << "a heatmap written as EXR";
+    } catch (const core::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("colour map: it exports as .png"), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("mc.exr"), std::string::npos) << e.what();
+    }
+    // back to the image in the point cloud's renderer: the frame itself
+    ps.heatmap = app::Heatmap::Image;
+    ps.mode = app::RenderMode::PointCloud;
+    gui.frame();
+    EXPECT_EQ(ps.shown.width, 0);
+    app::exportRenderView(wb, ps, exr);
+    EXPECT_EQ(pathtrace::readExr(exr).mean, app::hdrImage(rb).mean);
     std::filesystem::remove_all(root);
 }

@@ -200,6 +200,18 @@ TEST(TextureSpaceRender, TheRenderPanelShowsItAndEveryStage) {
         if (const char* dir = std::getenv("BW_TS_PNG_DIR"))
             gl::writePng(std::string(dir) + "/view" + std::to_string(int(v)) + ".png", gui.width(),
                          gui.height(), gui.pixels());
+        if (v != app::TextureSpaceView::Render) continue;
+        // the render over the frame: the estimate (probe, export), misses in the background
+        const app::RenderPanelState::ShownImage& shown = gui.ui().render.shown;
+        EXPECT_EQ(shown.what, "texture-space render");
+        ASSERT_TRUE(shown.hdr);
+        EXPECT_EQ(shown.hdr->mean, wb.textureSpace().radiance().mean);
+        const render::Readback rb = wb.scene().readback();
+        ASSERT_EQ(shown.rgba.size(), 4 * rb.position.size());
+        const glm::vec3 bg = wb.scene().settings().render.background;
+        for (size_t q = 0; q < rb.position.size(); ++q)
+            if (rb.position[q].w < 0.5f)
+                ASSERT_EQ(shown.rgba[4 * q + 2], uint8_t(bg.z * 255 + 0.5f));
     }
     EXPECT_TRUE(wb.errors().empty());
     std::filesystem::remove_all(root);

@@ -43,8 +43,18 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
 // The last sample set's texels as dots over the render image drawn at ps.imageRect.
 void drawSamplesOnMesh(Workbench& wb, RenderPanelState& ps, const render::Settings& r,
                        float pixelScale);
-// Writes the Render panel's shown frame: .exr (HDR L_o, linear) or .png (tone-mapped, as
-// shown). Throws core::Error naming the path (no finished frame, other extension, I/O).
+// The shown frame's read-back (the pixel probe, the export, the misses of another renderer's
+// image), read again only when a new frame is shown; nullptr while a frame is in progress.
+const render::Readback* shownReadback(SceneStage& scene, RenderPanelState& ps);
+// Shows another renderer's estimate of the frame (Monte Carlo, texture space) in `tex`: tone
+// mapped as the frame, its misses in the frame's background colour (paintMisses), and kept as
+// ps.shown for the pixel probe and the export. Returns the texture to draw.
+GLuint showEstimate(SceneStage& scene, RenderPanelState& ps, const std::string& what,
+                    const pathtrace::Image& img, gl::Texture& tex);
+// Writes the Render panel's shown image: .exr (HDR L_o, linear, with the variance of the mean
+// where it is an estimate) or .png (tone-mapped, as shown): the frame, or the Monte Carlo or
+// texture-space render or the heatmap shown over it (a heatmap only as .png). Throws
+// core::Error naming the path (no finished frame, other extension, I/O).
 void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem::path& path);
 void drawCapturesPanel(Workbench& wb, CapturesPanelState& ps, UiShared& ui);
 void drawFitPanel(Workbench& wb, FitPanelState& ps, UiShared& ui);

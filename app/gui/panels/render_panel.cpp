@@ -133,24 +133,15 @@ ImVec2 uvUnderMouse(const Rect& r) {
                   (m.y - r.y0) / std::max(1.0f, r.height()));
 }
 
-// The frame's read-back buffers, read again only when a new frame is shown.
-const render::Readback* shownReadback(SceneStage& scene, RenderPanelState& ps) {
-    if (scene.rendering()) return nullptr; // the renderer holds a frame in progress
-    const auto st = scene.stats().find("scene.render");
-    const long long runs = st != scene.stats().end() ? st->second.runs : 0;
-    if (ps.readbackRuns != runs || ps.readback.width == 0) {
-        ps.readback = scene.readback();
-        ps.readbackRuns = runs;
-    }
-    return ps.readback.width > 0 ? &ps.readback : nullptr;
-}
-
 // Hovering the image: a magnified 9 × 9 pixel neighbourhood and the pixel's values.
 void probePixel(SceneStage& scene, RenderPanelState& ps, ImVec2 uv) {
     const render::Readback* rb = shownReadback(scene, ps);
     if (!rb) return;
     const int x = std::clamp(int(uv.x * float(rb->width)), 0, rb->width - 1);
     const int y = std::clamp(int(uv.y * float(rb->height)), 0, rb->height - 1);
+    // another renderer's image over the frame: its colours, and its estimate first
+    const RenderPanelState::ShownImage& shown = ps.shown;
+    const bool over = shown.width == rb->width && shown.height == rb->height;
     ImGui::BeginTooltip();
     constexpr int kHalf = 4;
     constexpr float kCell = 12.0f;
@@ -162,7 +153,8 @@ void probePixel(SceneStage& scene, RenderPanelState& ps, ImVec2 uv) {
             const ImVec2 a(o.x + float(dx + kHalf) * kCell, o.y + float(dy + kHalf) * kCell);
             ImU32 col = IM_COL32(40, 40, 40, 255);
             if (xx >= 0 && yy >= 0 && xx < rb->width && yy < rb->height) {
-                const unsigned char* c = &rb->ldr[4 * rb->index(xx, yy)];
+                const size_t q = 4 * rb->index(xx, yy);
+                const unsigned char* c = over ? &shown.rgba[q] : &rb->ldr[q];
                 col = IM_COL32(c[0], c[1], c[2], 255);
             }
             dl->AddRectFilled(a, ImVec2(a.x + kCell, a.y + kCell), col);
@@ -172,6 +164,16 @@ void probePixel(SceneStage& scene, RenderPanelState& ps, ImVec2 uv) {
     ImGui::Dummy(ImVec2((2 * kHalf + 1) * kCell, (2 * kHalf + 1) * kCell));
     const size_t p = rb->index(x, y);
     ImGui::Text("pixel (%d, %d) of %dx%d", x, y, rb->width, rb->height);
+    if (over && shown.hdr && rb->position[p].w > 0.5f) {
+        const float* m = &shown.hdr->mean[3 * p];
+        const float* v = &shown.hdr->variance[3 * p];
+        ImGui::Text("%s", shown.what.c_str());
+        ImGui::Text("L_o  %.5g %.5g %.5g", m[0], m[1], m[2]);
+        ImGui::Text(" +-  %.2g %.2g %.2g (standard error)", std::sqrt(std::max(v[0], 0.0f)),
+                    std::sqrt(std::max(v[1], 0.0f)), std::sqrt(std::max(v[2], 0.0f)));
+        ImGui::TextDisabled("the %s frame's:",
+                            scene.settings().render.bruteForce ? "brute-force" : "hierarchical");
+    }
     if (rb->position[p].w > 0.5f) {
         ImGui::Text("L_o  %.5g %.5g %.5g", rb->hdr[p].x, rb->hdr[p].y, rb->hdr[p].z);
         ImGui::Text("M    %.5g %.5g %.5g", rb->exitance[p].x, rb->exitance[p].y, rb->exitance[p].z);
@@ -204,10 +206,47 @@ void drawExport(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
 
 } // namespace
 
+const render::Readback* shownReadback(SceneStage& scene, RenderPanelState& ps) {
+    if (scene.rendering()) return nullptr; // the renderer holds a frame in progress
+    const auto st = scene.stats().find("scene.render");
+    const long long runs = st != scene.stats().end() ? st->second.runs : 0;
+    if (ps.readbackRuns != runs || ps.readback.width == 0) {
+        ps.readback = scene.readback();
+        ps.readbackRuns = runs;
+    }
+    return ps.readback.width > 0 ? &ps.readback : nullptr;
+}
+
+GLuint showEstimate(SceneStage& scene, RenderPanelState& ps, const std::string& what,
+                    const pathtrace::Image& img, gl::Texture& tex) {
+    const render::Settings& r = scene.settings().render;
+    RenderPanelState::ShownImage& shown = ps.shown;
+    shown.what = what;
+    shown.width = img.width;
+    shown.height = img.height;
+    shown.rgba = tonemap(img, r.exposure, r.gamma);
+    if (const render::Readback* rb = shownReadback(scene, ps);
+        rb && rb->width == img.width && rb->height == img.height)
+        paintMisses(shown.rgba, rb->hdr, r.background);
+    shown.hdr = img;
+    gl::uploadRGBA8(tex, img.width, img.height, shown.rgba.data());
+    return tex.id();
+}
+
 void exportRenderView(Workbench& wb, RenderPanelState& ps, const std::filesystem::path& path) {
     const std::string ext = path.extension().string();
     if (ext != ".exr" && ext != ".png")
         throw core::Error(path.string(), 0, "the view exports as .exr or .png, not '" + ext + "'");
+    if (const RenderPanelState::ShownImage& shown = ps.shown; shown.width > 0) {
+        if (ext == ".png")
+            gl::writePng(path, shown.width, shown.height, shown.rgba);
+        else if (shown.hdr)
+            pathtrace::writeExr(path, *shown.hdr);
+        else
+            throw core::Error(path.string(), 0,
+                              "the shown " + shown.what + " is a colour map: it exports as .png");
+        return;
+    }
     const render::Readback* rb = shownReadback(wb.scene(), ps);
     if (!rb) throw core::Error(path.string(), 0, "no finished frame to export yet");
     if (ext == ".exr")
@@ -323,6 +362,7 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                           f.width, f.height, f.gbufferMs, f.profileMs, f.traverseMs, f.dispatches,
                           f.bands, f.tonemapMs, renders);
     GLuint tex = f.ldr;
+    ps.shown.width = 0; // the frame's own, unless a view below shows another image
     if (ps.mode == RenderMode::MonteCarlo) {
         MonteCarloSettings& mc = wb.monteCarloSettings();
         samplingChoice("sampling", mc.sampling, mc.axes);
@@ -342,11 +382,8 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
             wrappedText("Monte Carlo %llu / %d spp, %.1f s, relative standard error %.3g",
                         (unsigned long long)m.sppDone(), mc.spp, m.seconds(),
                         sum2 > 0 ? std::sqrt(var / sum2) : 0.0);
-            if (img.width == f.width && img.height == f.height) {
-                const std::vector<uint8_t> rgba = tonemap(img, r.exposure, r.gamma);
-                gl::uploadRGBA8(ps.mcTex, img.width, img.height, rgba.data());
-                tex = ps.mcTex.id();
-            }
+            if (img.width == f.width && img.height == f.height)
+                tex = showEstimate(scene, ps, "Monte Carlo render", img, ps.mcTex);
         } else {
             hintText("waiting for the full-resolution frame ...");
         }
@@ -376,6 +413,10 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
                 rb, render::heatValues(rb, q, brute ? *brute : kNone, ps.heatMax), ps.heatMax);
             gl::uploadRGBA8(ps.heatTex, rb.width, rb.height, rgba.data());
             tex = ps.heatTex.id();
+            ps.shown = {ps.heatmap == Heatmap::Steps        ? "traversal steps heatmap"
+                        : ps.heatmap == Heatmap::StackDepth ? "stack depth heatmap"
+                                                            : "relative error heatmap",
+                        rb.width, rb.height, std::move(rgba), std::nullopt};
             rampBar(0, ps.heatMax,
                     ps.heatmap == Heatmap::RelativeError ? "(magenta: flagged pixel)"
                                                          : "(magenta: flagged)");

@@ -68,7 +68,6 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
                           GLuint& tex) {
     TextureSpaceSettings& ts = wb.textureSpaceSettings();
     texspace::Settings& s = ts.sampling;
-    const render::Settings& r = wb.scene().settings().render;
     static const char* const kSizes[] = {"16", "32", "64", "128", "256", "512", "1024", "2048"};
     int sizeIndex = std::clamp(int(std::lround(std::log2(double(s.textureSize)))) - 4, 0, 7);
     setItemWidth(90, "texture");
@@ -141,9 +140,11 @@ bool drawTextureSpaceView(Workbench& wb, RenderPanelState& ps, const render::Fra
                                       : ps.tsView == TextureSpaceView::Global ? p->globalRadiance()
                                                                               : img;
         if (part.width == f.width && part.height == f.height && part.width > 0) {
-            const std::vector<uint8_t> rgba = tonemap(part, r.exposure, r.gamma);
-            gl::uploadRGBA8(ps.tsTex, part.width, part.height, rgba.data());
-            tex = ps.tsTex.id();
+            const char* what = !s.hybrid                               ? "texture-space render"
+                               : ps.tsView == TextureSpaceView::Local  ? "hybrid's local term"
+                               : ps.tsView == TextureSpaceView::Global ? "hybrid's global term"
+                                                                       : "hybrid render";
+            tex = showEstimate(wb.scene(), ps, what, part, ps.tsTex);
             if (!stage.problems().empty())
                 hintText("shown: the last texture-space image, made before the problem above");
         } else if (!stage.problems().empty()) {
