@@ -57,7 +57,9 @@ int writeTextureSpace(Workbench& wb, const RenderArgs& a, core::Stopwatch& clock
     pathtrace::writeExr(a.out, img);
     if (!a.png.empty()) {
         const render::Settings& r = wb.scene().settings().render;
-        gl::writePng(a.png, img.width, img.height, tonemap(img, r.exposure, r.gamma));
+        std::vector<uint8_t> rgba = tonemap(img, r.exposure, r.gamma);
+        paintMisses(rgba, wb.scene().readback().hdr, r.background); // as the frame's PNG has them
+        gl::writePng(a.png, img.width, img.height, rgba);
     }
     if (!a.stageImages.empty()) {
         const fs::path dir = a.stageImages;

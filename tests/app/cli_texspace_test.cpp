@@ -1,12 +1,13 @@
 // `bssrdf-workbench render --renderer texture-space` end to end: the EXR (R, G, B and their
 // variances over the sample sets, read back), two seeds agreeing per pixel (z, Bonferroni), the
-// stage images, and every rejected input named.
+// PNG's misses in the background colour, the stage images, and every rejected input named.
 #include "../support/cli_fixture.h"
 #include "../support/gl_fixture.h"
 #include "../support/image_agreement.h"
 #include "pathtrace/image_io.h"
 
 #include <gtest/gtest.h>
+#include <stb_image.h>
 
 #include <filesystem>
 #include <fstream>
@@ -39,10 +40,21 @@ TEST_F(TextureSpaceCli, WritesTheImageWithVariancesAndTwoSeedsAgree) {
          {"eprime.png", "atlas.png", "samples.png", "cdf_level0.png", "cdf_level8.png"})
         EXPECT_TRUE(std::filesystem::exists(dir() / "stages" / f)) << f;
     // another seed of the draws: an independent estimate of the same texel sum
-    std::vector<std::string> b = renderArgs({"--renderer", "texture-space", "--texture-size", "256",
-                                             "--samples", "400", "--sets", "40", "--out", "b.exr"});
+    std::vector<std::string> b =
+        renderArgs({"--renderer", "texture-space", "--texture-size", "256", "--samples", "400",
+                    "--sets", "40", "--out", "b.exr", "--png", "b.png"});
     r = run(b);
     ASSERT_EQ(r.code, 0) << describe(b, r);
+    // the PNG shows the misses as the hierarchical frame's PNG does: in the background colour
+    // (render::Settings::background, 0.12 0.12 0.14), not black; the corner is a miss
+    int w = 0, h = 0, n = 0;
+    unsigned char* px = stbi_load((dir() / "b.png").c_str(), &w, &h, &n, 4);
+    ASSERT_NE(px, nullptr);
+    EXPECT_EQ(w, 64);
+    EXPECT_EQ(int(px[0]), 31);
+    EXPECT_EQ(int(px[1]), 31);
+    EXPECT_EQ(int(px[2]), 36);
+    stbi_image_free(px);
     const pathtrace::Image ia = pathtrace::readExr(dir() / "a.exr");
     const pathtrace::Image ib = pathtrace::readExr(dir() / "b.exr");
     ASSERT_EQ(ia.width, 64);
