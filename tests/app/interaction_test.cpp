@@ -95,11 +95,14 @@ TEST(Interactions, ClickOnTheRenderImageTracesThatPixelWithHalfResolutionOn) {
     const float yaw = fx.wb.scene().settings().render.camera.yaw;
     auto [x, y] = fx.at(0.52f, 0.55f);
     fx.press(x, y);
+    // (each step of the drag begins a half-resolution frame; whether one is finished within a
+    // UI frame's budget depends on the machine's load, so the frame begun is what is checked)
     bool sawHalf = false;
     for (int i = 1; i <= 8; ++i) {
         fx.gui->mouse(x + 6.0f * float(i), y, true);
         fx.gui->frame();
-        sawHalf |= fx.wb.scene().frame().width == 48;
+        const render::Renderer* r = fx.wb.scene().renderer();
+        sawHalf |= fx.wb.scene().frame().width == 48 || (r && r->currentFrame().width == 48);
     }
     fx.release(x + 48, y);
     EXPECT_NE(fx.wb.scene().settings().render.camera.yaw, yaw);
