@@ -390,7 +390,10 @@ void drawRenderPanel(Workbench& wb, RenderPanelState& ps, UiShared& ui) {
     }
     if (ps.mode == RenderMode::TextureSpace && drawTextureSpaceView(wb, ps, f, tex)) return;
     if (ps.heatmap != Heatmap::Image) {
-        render::Readback rb = scene.readback();
+        // the shown frame's read-back once per frame rendered (a frame in progress: each time)
+        const render::Readback* done = shownReadback(scene, ps);
+        const render::Readback inProgress = done ? render::Readback{} : scene.readback();
+        const render::Readback& rb = done ? *done : inProgress;
         const std::vector<glm::vec4>* brute = scene.comparison().bruteForceResult();
         if (ps.heatmap == Heatmap::RelativeError && !brute) {
             if (scene.comparison().running()) {
