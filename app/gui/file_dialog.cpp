@@ -4,6 +4,7 @@
 #include "core/core.h"
 
 #include <imgui.h>
+#include <imgui_internal.h>
 
 #include <algorithm>
 #include <cstring>
@@ -126,10 +127,27 @@ std::optional<fs::path> drawFileDialog(FileDialogState& st, const std::string& e
     return chosen;
 }
 
+namespace {
+int g_escapeTakenFrame = -1; // the frame whose Escape closeTopPopupOnEscape used
+bool escapePressed() {
+    return ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false) &&
+           g_escapeTakenFrame != ImGui::GetFrameCount();
+}
+} // namespace
+
 bool closeOnEscape() {
-    if (!ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false)) return false;
+    if (!escapePressed()) return false;
     ImGui::CloseCurrentPopup();
     return true;
+}
+
+void closeTopPopupOnEscape() {
+    ImGuiContext& g = *ImGui::GetCurrentContext();
+    if (g.OpenPopupStack.Size == 0 || !escapePressed()) return;
+    const ImGuiWindow* top = g.OpenPopupStack.back().Window;
+    if (!top || (top->Flags & ImGuiWindowFlags_Modal)) return;
+    ImGui::ClosePopupToLevel(g.OpenPopupStack.Size - 1, true);
+    g_escapeTakenFrame = ImGui::GetFrameCount();
 }
 
 } // namespace app

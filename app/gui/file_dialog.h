@@ -49,9 +49,15 @@ struct ExportState {
     std::string extension; // of the button that opened the dialog
 };
 
-// Inside an open modal popup: Escape closes it (ImGui 1.86 closes menus and plain popups on
-// Escape, not modals); true when it did.
+// Inside an open popup (a modal dialog, a menu): Escape closes it; true when it did. Not when
+// closeTopPopupOnEscape took this frame's Escape for another popup.
 bool closeOnEscape();
+// Once a frame, before the panels draw: Escape closes the topmost open popup unless it is a modal
+// dialog (which closes itself with closeOnEscape, keeping its own state): a combo's list, a
+// context menu, a tab bar's list. ImGui 1.86 closes popups on Escape only with keyboard
+// navigation on, which the workbench leaves off (arrow keys edit its fields); written by hand for
+// that. An Escape that closed a popup here closes nothing else in its frame.
+void closeTopPopupOnEscape();
 
 // Recent files: `path` moved to the front, duplicates removed, at most `keep` kept.
 void rememberRecent(std::vector<std::string>& recent, const std::string& path, size_t keep = 8);

@@ -2,6 +2,7 @@
 #include "gui/gui.h"
 #include "gui/imgui_render.h"
 
+#include "gui/file_dialog.h"
 #include "gui/file_drop.h"
 #include "gui/fonts.h"
 #include "gui/key_taps.h"
@@ -39,6 +40,7 @@ UiState* g_ui = nullptr; // the UI state of the frame loop (HeadlessGui::ui())
 std::vector<fs::path> g_dropped;
 
 void drawPanels(Workbench& wb, UiState& ui) {
+    closeTopPopupOnEscape(); // a combo's list, a context menu (file_dialog.h)
     drawMenuBar(wb, ui);
     // The scene pipeline runs while one of its panels is shown (its tab or floating window).
     bool scene = false;

@@ -843,3 +843,39 @@ TEST(FitPanel, AReloadDuringAFitRestartsIt) {
     EXPECT_TRUE(snap.result->converged) << snap.result->status;
     fs::remove_all(root);
 }
+
+// Escape closes an open combo's list as it closes a dialog (ImGui 1.86 alone does not, without
+// keyboard navigation): the Pencil plot's y-axis combo opened by a click, closed by Escape, its
+// value unchanged; a modal dialog still closes itself on its Escape.
+TEST(HeadlessGui, EscapeClosesAComboList) {
+    testsupport::context();
+    auto root = testsupport::makeProjectRoot("escapecombo", {"dipole.bssrdf"});
+    app::Workbench wb(root, false);
+    app::HeadlessGui gui(wb, 1280, 720);
+    app::UiState& ui = gui.ui();
+    ui.shared.show(app::PanelId::Pencil);
+    testsupport::mapDialogKeys();
+    gui.frame();
+    gui.frame();
+    const ImGuiWindow* panel = testsupport::panelWindow(app::PanelId::Pencil);
+    ASSERT_NE(panel, nullptr);
+    // the panel's first item: the y-axis scale combo
+    const ImVec2 first = panel->ContentRegionRect.Min;
+    testsupport::clickAt(gui, first.x + 12, first.y + 6);
+    ASSERT_EQ(testsupport::openPopups(), 1);
+    const ImGuiWindow* list = ImGui::GetCurrentContext()->OpenPopupStack.back().Window;
+    ASSERT_NE(list, nullptr);
+    EXPECT_EQ(std::string(list->Name).rfind("##Combo", 0), 0u) << list->Name;
+    const auto scale = wb.plotSettings().yScale;
+    testsupport::pressKey(gui, GLFW_KEY_ESCAPE);
+    EXPECT_EQ(testsupport::openPopups(), 0) << "Escape left the combo's list open";
+    EXPECT_EQ(wb.plotSettings().yScale, scale);
+    // a dialog: its own Escape (closeOnEscape), not taken twice
+    ui.menu.recordPopup = true;
+    gui.frame();
+    gui.frame();
+    ASSERT_EQ(testsupport::openPopups(), 1);
+    testsupport::pressKey(gui, GLFW_KEY_ESCAPE);
+    EXPECT_EQ(testsupport::openPopups(), 0) << "Escape left the record dialog open";
+    fs::remove_all(root);
+}
