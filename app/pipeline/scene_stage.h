@@ -215,10 +215,15 @@ class SceneStage : public Stage {
         return model.entry ? model.builtins.ior : m_settings.light.ior;
     }
     bool updateRender(const SceneModelInput& model, bool interacting, bool finishNow);
+
+  public:
     // Interactive renders: traversal dispatches of this many loop iterations per pixel, and
     // about this much traversal time per update (the rest of the frame continues next update).
+    // The texture-space stage's sets render in such dispatches too.
     static constexpr uint32_t kInteractiveIterations = 32;
     static constexpr double kFrameBudgetMs = 30.0;
+
+  private:
     core::Stopwatch m_renderClock;
     void applyCloud(pointcloud::PointCloud cloud, bool fromCache, double ms);
     std::filesystem::path resolve(const std::string& file) const;

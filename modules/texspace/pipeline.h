@@ -210,6 +210,7 @@ class Pipeline {
     // L_o (rgb, w = hit) of the last set alone (with the hybrid's local term): one frame's image.
     const std::vector<glm::vec4>& lastSetRadiance() const { return m_lastL; }
     render::Renderer& renderer() { return *m_renderer; }
+    const render::Renderer& renderer() const { return *m_renderer; }
 
     // Hot reload of the irradiance, sampling and render programs whose files include one of
     // `changed` (a failure keeps the last good program); when something was rebuilt the light

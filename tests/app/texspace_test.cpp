@@ -191,6 +191,12 @@ TEST(TextureSpaceRender, TheRenderPanelShowsItAndEveryStage) {
     EXPECT_TRUE(wb.textureSpaceSettings().enabled);
     ASSERT_NE(p, nullptr);
     EXPECT_EQ(p->setsDone(), 4);
+    // a set's sum over its N texels per pixel ran in short dispatches, as the scene's frames do,
+    // so that no UI frame waited for a whole sum
+    const render::Frame& last = p->renderer().currentFrame();
+    EXPECT_EQ(last.iterationsPerDispatch, app::SceneStage::kInteractiveIterations);
+    EXPECT_GE(size_t(last.dispatches),
+              p->lastSet().texel.size() / app::SceneStage::kInteractiveIterations); // distinct
     for (auto v : {app::TextureSpaceView::Render, app::TextureSpaceView::Irradiance,
                    app::TextureSpaceView::CdfLevel, app::TextureSpaceView::Samples,
                    app::TextureSpaceView::Atlas}) {
