@@ -92,9 +92,10 @@ double wallSeconds() {
     return duration<double>(system_clock::now().time_since_epoch()).count();
 }
 
-// The windowed GUI's pacing (gui.cpp): before each frame it sleeps up to kFrameWaitSeconds unless
-// a wake ends the sleep; the bench wakes it from the same sources the window is woken by (the file
-// watcher, and with childWakes a child's output: the check's verdict).
+// The windowed GUI's pacing while anything moves (gui/frame_pacing.h; a save's wake starts that):
+// before each frame it sleeps up to kFrameWaitSeconds unless a wake ends the sleep; the bench
+// wakes it from the same sources the window is woken by (the file watcher, and with childWakes a
+// child's output: the check's verdict).
 class WindowPacing {
   public:
     WindowPacing(Workbench& wb, bool childWakes) : m_wb(wb) {
