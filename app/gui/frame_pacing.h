@@ -6,8 +6,7 @@
 //   - moving: input or a wake (a save, a child's output) in the last kSettleSeconds (ImGui lays
 //     out a new window over two frames and a hovered item's tooltip follows the pointer); the
 //     workbench changed something in its last update or has work under way (Workbench::working:
-//     a stage running, a model under its check, a save whose pixels are not on screen yet); a
-//     text field taking input (its caret blinks);
+//     a stage running, a model under its check); a text field taking input (its caret blinks);
 //   - idle: still a frame every kIdleWaitSeconds, so what changes without an event (an Errors
 //     entry that expires, a worker thread's result) shows within that.
 // Any event or wake ends either wait at once: idling never delays an answer to the user.

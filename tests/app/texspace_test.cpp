@@ -215,9 +215,11 @@ TEST(TextureSpaceRender, TheRenderPanelShowsItAndEveryStage) {
         const render::Readback rb = wb.scene().readback();
         ASSERT_EQ(shown.rgba.size(), 4 * rb.position.size());
         const glm::vec3 bg = wb.scene().settings().render.background;
-        for (size_t q = 0; q < rb.position.size(); ++q)
-            if (rb.position[q].w < 0.5f)
+        for (size_t q = 0; q < rb.position.size(); ++q) {
+            if (rb.position[q].w < 0.5f) {
                 ASSERT_EQ(shown.rgba[4 * q + 2], uint8_t(bg.z * 255 + 0.5f));
+            }
+        }
     }
     EXPECT_TRUE(wb.errors().empty());
     std::filesystem::remove_all(root);

@@ -141,7 +141,10 @@ void probePixel(SceneStage& scene, RenderPanelState& ps, ImVec2 uv) {
     const int y = std::clamp(int(uv.y * float(rb->height)), 0, rb->height - 1);
     // another renderer's image over the frame: its colours, and its estimate first
     const RenderPanelState::ShownImage& shown = ps.shown;
-    const bool over = shown.width == rb->width && shown.height == rb->height;
+    const bool over = shown.width == rb->width && shown.height == rb->height &&
+                      shown.rgba.size() == 4 * rb->hdr.size();
+    const bool estimate = over && shown.hdr && shown.hdr->mean.size() == 3 * rb->hdr.size() &&
+                          shown.hdr->variance.size() == shown.hdr->mean.size();
     ImGui::BeginTooltip();
     constexpr int kHalf = 4;
     constexpr float kCell = 12.0f;
@@ -164,7 +167,7 @@ void probePixel(SceneStage& scene, RenderPanelState& ps, ImVec2 uv) {
     ImGui::Dummy(ImVec2((2 * kHalf + 1) * kCell, (2 * kHalf + 1) * kCell));
     const size_t p = rb->index(x, y);
     ImGui::Text("pixel (%d, %d) of %dx%d", x, y, rb->width, rb->height);
-    if (over && shown.hdr && rb->position[p].w > 0.5f) {
+    if (estimate && rb->position[p].w > 0.5f) {
         const float* m = &shown.hdr->mean[3 * p];
         const float* v = &shown.hdr->variance[3 * p];
         ImGui::Text("%s", shown.what.c_str());
